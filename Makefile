@@ -1,0 +1,256 @@
+# libc4gopen: one Makefile drives everything. Out-of-tree: make BUILD=/some/dir
+#   make            library (static + shared) and tools
+#   make check      every test and quality gate (installs missing deps first)
+#   make demo       a real session on loopback, printed
+#   make bench      benchmarks with an in-run baseline
+#   make coverage   line/branch coverage of lib/ (gated)
+#   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each)
+#   make install    PREFIX=/usr/local DESTDIR=
+
+BUILD ?= build
+PREFIX ?= /usr/local
+DESTDIR ?=
+FUZZ_SECONDS ?= 30
+CLANG ?= clang
+CXX ?= g++
+ARM_CC ?= arm-none-eabi-gcc
+
+VERSION := $(shell sed -n 's/^\#define C4G_VERSION_STRING "\(.*\)"/\1/p' include/c4gopen.h)
+MAJOR := $(firstword $(subst ., ,$(VERSION)))
+SONAME := libc4gopen.so.$(MAJOR)
+
+# Make's built-in CC=cc defeats "CC ?= gcc": detect GCC from its banner.
+IS_GCC := $(shell $(CC) --version 2>/dev/null | grep -c 'Free Software Foundation')
+
+WARN_LIB := -Wall -Wextra -Werror -Wconversion -Wsign-conversion -Wdouble-promotion \
+  -Wfloat-equal -Wundef -Wshadow -Wcast-qual -Wcast-align -Wswitch-enum -Wswitch-default \
+  -Wstrict-prototypes -Wmissing-prototypes -Wmissing-declarations -Wredundant-decls \
+  -Wnested-externs -Wold-style-definition -Wbad-function-cast -Wvla -Wwrite-strings \
+  -Wformat=2 -Wnull-dereference -Wtype-limits -fno-common
+WARN_GCC := -Wlogical-op -Wduplicated-cond -Wduplicated-branches -Wjump-misses-init \
+  -Wcast-align=strict -Wstack-usage=2048
+ifeq ($(IS_GCC),0)
+WARN_GCC :=
+endif
+LIB_CFLAGS := -std=c99 -pedantic-errors $(WARN_LIB) $(WARN_GCC) -Iinclude
+OPT ?= -O2
+CFLAGS ?= -g
+TOOL_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -pedantic -Wall -Wextra \
+  -Werror -Wshadow -Wstrict-prototypes -Wvla -Iinclude
+TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror -Iinclude
+
+LIB_SRCS := $(sort $(wildcard lib/*.c))
+LIB_HDRS := $(wildcard include/*.h) $(wildcard lib/*.h)
+LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/obj/%.o)
+LIB_PICS := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
+STATIC := $(BUILD)/lib/libc4gopen.a
+SHARED := $(BUILD)/lib/libc4gopen.so.$(VERSION)
+
+UNIT_SRCS := $(sort $(wildcard tests/test_*.c))
+UNIT_BINS := $(UNIT_SRCS:tests/%.c=$(BUILD)/tests/%)
+FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_NAMES := $(FUZZ_SRCS:tests/fuzz/%.c=%)
+
+# Tools: every directory tools/NAME becomes $(BUILD)/bin/NAME. tools/NAME/tool.mk may
+# set NAME_LDLIBS; C++ sources (*.cpp) link with $(CXX).
+TOOL_NAMES := $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c tools/*/*.cpp))))
+TOOL_NAMES := $(sort $(TOOL_NAMES))
+-include $(wildcard tools/*/tool.mk)
+TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
+COMMON_TOOL_SRCS := $(wildcard tools/common/*.c)
+TOOL_NAMES := $(filter-out common,$(TOOL_NAMES))
+TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
+
+DEPS_STAMP := $(BUILD)/.deps-ok
+
+.PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
+  unit sanitize audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
+  e2e docs-examples fuzz-build
+
+all: lib tools
+
+deps: $(DEPS_STAMP)
+$(DEPS_STAMP): scripts/deps.sh
+	@mkdir -p $(@D)
+	@sh scripts/deps.sh
+	@touch $@
+
+lib: $(STATIC) $(SHARED) $(BUILD)/lib/c4gopen.pc
+
+$(BUILD)/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/pic/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -fPIC -c $< -o $@
+
+$(STATIC): $(LIB_OBJS)
+	@mkdir -p $(@D)
+	rm -f $@
+	ar rcs $@ $^
+
+$(SHARED): $(LIB_PICS)
+	@mkdir -p $(@D)
+	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^
+	ln -sf libc4gopen.so.$(VERSION) $(BUILD)/lib/$(SONAME)
+	ln -sf $(SONAME) $(BUILD)/lib/libc4gopen.so
+
+$(BUILD)/lib/c4gopen.pc: scripts/c4gopen.pc.in include/c4gopen.h
+	@mkdir -p $(@D)
+	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $< > $@
+
+# ---- tools
+tools: $(TOOL_BINS)
+
+define tool_rule
+$(1)_CSRCS := $$(wildcard tools/$(1)/*.c) $$(COMMON_TOOL_SRCS)
+$(1)_CXXSRCS := $$(wildcard tools/$(1)/*.cpp)
+$(1)_OBJS := $$($(1)_CSRCS:%.c=$$(BUILD)/tobj/%.o) $$($(1)_CXXSRCS:%.cpp=$$(BUILD)/tobj/%.o)
+$$(BUILD)/bin/$(1): $$($(1)_OBJS) $$(STATIC)
+	@mkdir -p $$(@D)
+	$$(if $$($(1)_CXXSRCS),$$(CXX),$$(CC)) -o $$@ $$($(1)_OBJS) $$(STATIC) $$($(1)_LDLIBS) -lm
+endef
+$(foreach t,$(TOOL_NAMES),$(eval $(call tool_rule,$(t))))
+
+$(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(TOOL_CFLAGS) -Itools/common $(OPT) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
+
+# ---- unit tests (CMocka)
+TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude -g
+$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h)
+	@mkdir -p $(@D)
+	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -DSHARED_DIR='"$(CURDIR)/../shared"' \
+	  -o $@ $< $(STATIC) -lcmocka -lm
+
+unit: $(UNIT_BINS)
+	@sh scripts/run-tests.sh unit $(UNIT_BINS)
+
+# ---- ASan + UBSan build of the unit tests (library compiled in)
+SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+sanitize: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)/san
+	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
+	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
+	    -DSHARED_DIR='"$(CURDIR)/../shared"' -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
+
+# ---- coverage of lib/ (gcov + lcov): 100% lines, >= 95% branches
+COV_LINES ?= 100
+COV_BRANCHES ?= 95
+coverage: | $(DEPS_STAMP)
+	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
+	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
+	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
+	    -DSHARED_DIR='"$(CURDIR)/../shared"' -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
+	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
+
+# ---- fuzzing (libFuzzer via clang), bounded
+fuzz-build: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)/fuzz
+	@set -e; for n in $(FUZZ_NAMES); do \
+	  $(CLANG) -std=c99 -g -O1 -Iinclude -fsanitize=fuzzer,address,undefined \
+	    -fno-sanitize-recover=all -o $(BUILD)/fuzz/$$n tests/fuzz/$$n.c $(LIB_SRCS); done
+fuzz: fuzz-build
+	@sh scripts/run-fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_NAMES)
+
+# ---- symbol audit, cross builds, qemu smoke test
+audit: $(STATIC)
+	@sh scripts/check-symbols.sh nm $(STATIC)
+
+ARM_FLAGS := -std=c99 -pedantic-errors $(WARN_LIB) -Iinclude -Os -ffreestanding
+cross: | $(DEPS_STAMP)
+	@rm -rf $(BUILD)/arm $(BUILD)/armbe && mkdir -p $(BUILD)/arm $(BUILD)/armbe
+	@set -e; for f in $(LIB_SRCS); do \
+	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-m4 -mthumb -c $$f -o $(BUILD)/arm/$$(basename $$f .c).o; \
+	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-r5 -marm -mbig-endian -c $$f -o $(BUILD)/armbe/$$(basename $$f .c).o; done
+	@arm-none-eabi-ar rcs $(BUILD)/arm/libc4gopen.a $(BUILD)/arm/*.o
+	@arm-none-eabi-ar rcs $(BUILD)/armbe/libc4gopen.a $(BUILD)/armbe/*.o
+	@sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/arm/libc4gopen.a
+	@sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/armbe/libc4gopen.a
+	@echo "cross: cortex-m4 thumb size:"; arm-none-eabi-size -t $(BUILD)/arm/libc4gopen.a | tail -1
+	@echo "cross: cortex-r5 big-endian OK"
+
+qemu-smoke: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)/qemu
+	$(ARM_CC) -std=c99 -O1 -Iinclude -marm -mcpu=arm926ej-s --specs=rdimon.specs \
+	  -DFIXTURE_INIT='"$(CURDIR)/../shared/vectors/init-fig10-1.bin"' \
+	  tests/target/target_smoke.c $(LIB_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
+	qemu-arm $(BUILD)/qemu/target_smoke.elf
+
+# ---- static analysis
+cppcheck: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)
+	cppcheck --quiet --std=c99 --language=c --enable=warning,style,performance,portability \
+	  --inline-suppr --error-exitcode=2 --suppress=missingIncludeSystem -Iinclude $(LIB_SRCS)
+misra: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)
+	@rm -f $(BUILD)/misra.txt
+	cppcheck --quiet --std=c99 --language=c --addon=misra --inline-suppr \
+	  --suppressions-list=scripts/cppcheck-misra.supp -Iinclude --error-exitcode=3 \
+	  --output-file=$(BUILD)/misra.txt $(LIB_SRCS)
+	@if [ -s $(BUILD)/misra.txt ]; then cat $(BUILD)/misra.txt; echo "misra: findings above (see docs/misra-deviations.md)"; exit 1; fi
+	@echo "misra: clean (deviations: docs/misra-deviations.md)"
+clang-tidy: | $(DEPS_STAMP)
+	clang-tidy --quiet $(LIB_SRCS) -- -std=c99 -Iinclude
+analyzer: | $(DEPS_STAMP)
+	@mkdir -p $(BUILD)/fanalyzer
+	@set -e; for f in $(LIB_SRCS); do gcc -std=c99 -fanalyzer -Werror -Iinclude -c $$f -o $(BUILD)/fanalyzer/$$(basename $$f .c).o; done
+	@echo "analyzer: gcc -fanalyzer clean"
+static-analysis: cppcheck misra clang-tidy analyzer
+
+# ---- end-to-end tests (real processes, loopback) and doc examples
+e2e: all
+	@sh scripts/run-e2e.sh $(BUILD)
+docs-examples: $(STATIC)
+	@sh scripts/docs-examples.sh $(BUILD)
+
+# ---- the two README commands
+check: $(DEPS_STAMP)
+	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory unit
+	@$(MAKE) --no-print-directory sanitize
+	@$(MAKE) --no-print-directory coverage
+	@$(MAKE) --no-print-directory audit
+	@$(MAKE) --no-print-directory static-analysis
+	@$(MAKE) --no-print-directory cross
+	@$(MAKE) --no-print-directory qemu-smoke
+	@$(MAKE) --no-print-directory docs-examples
+	@$(MAKE) --no-print-directory e2e
+	@$(MAKE) --no-print-directory fuzz
+	@echo "check: all gates passed"
+
+demo: all
+	@sh scripts/demo.sh $(BUILD)
+
+bench: $(DEPS_STAMP)
+	@$(MAKE) --no-print-directory all
+	@sh scripts/bench.sh $(BUILD)
+
+# ---- install
+install: lib tools
+	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin \
+	  $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+	install -m 644 include/*.h $(DESTDIR)$(PREFIX)/include/
+	install -m 644 $(STATIC) $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(SHARED) $(DESTDIR)$(PREFIX)/lib/
+	ln -sf libc4gopen.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(PREFIX)/lib/libc4gopen.so
+	install -m 644 $(BUILD)/lib/c4gopen.pc $(DESTDIR)$(PREFIX)/lib/pkgconfig/
+	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
+	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/include/,$(notdir $(wildcard include/*.h)))
+	rm -f $(DESTDIR)$(PREFIX)/lib/libc4gopen.a $(DESTDIR)$(PREFIX)/lib/libc4gopen.so*
+	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
+	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+
+clean:
+	rm -rf $(BUILD)

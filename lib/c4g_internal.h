@@ -1,0 +1,78 @@
+/* SPDX-License-Identifier: MIT */
+/* Internal helpers: explicit little-endian access (never cast a buffer onto a struct). */
+#ifndef C4G_INTERNAL_H
+#define C4G_INTERNAL_H
+
+#include "c4gopen.h"
+#include <string.h>
+
+static inline uint32_t c4g_get_u32le(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8U) | ((uint32_t)p[2] << 16U) |
+           ((uint32_t)p[3] << 24U);
+}
+
+static inline void c4g_put_u32le(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)(v & 0xFFU);
+    p[1] = (uint8_t)((v >> 8U) & 0xFFU);
+    p[2] = (uint8_t)((v >> 16U) & 0xFFU);
+    p[3] = (uint8_t)((v >> 24U) & 0xFFU);
+}
+
+/* Two's complement reinterpretation, well defined for every value. */
+static inline int32_t c4g_get_i32le(const uint8_t *p)
+{
+    uint32_t u = c4g_get_u32le(p);
+    int32_t r;
+    (void)memcpy(&r, &u, sizeof r);
+    return r;
+}
+
+static inline void c4g_put_i32le(uint8_t *p, int32_t v)
+{
+    uint32_t u;
+    (void)memcpy(&u, &v, sizeof u);
+    c4g_put_u32le(p, u);
+}
+
+static inline float c4g_get_f32le(const uint8_t *p)
+{
+    uint32_t u = c4g_get_u32le(p);
+    float f;
+    (void)memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static inline uint32_t c4g_f32_bits(float f)
+{
+    uint32_t u;
+    (void)memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static inline void c4g_put_f32le(uint8_t *p, float f)
+{
+    c4g_put_u32le(p, c4g_f32_bits(f));
+}
+
+/* Finite test on the bit pattern: no libm, no FP exceptions, same on every target. */
+static inline int c4g_f32_finite(float f)
+{
+    return ((c4g_f32_bits(f) & 0x7F800000U) != 0x7F800000U) ? 1 : 0;
+}
+
+static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t field,
+                                uint32_t offset, int32_t arm, int32_t axis, int64_t value)
+{
+    if (d != NULL) {
+        d->status = st;
+        d->field = field;
+        d->offset = offset;
+        d->arm = (int16_t)arm;
+        d->axis = (int16_t)axis;
+        d->value = value;
+    }
+}
+
+#endif /* C4G_INTERNAL_H */

@@ -1,0 +1,22 @@
+#!/bin/sh
+# Builds and runs every bench/bench_*.c (each prints its own table with an in-run
+# baseline), then every bench/*.sh with the build directory as $1.
+set -eu
+build=$1
+mkdir -p "$build/bench"
+for f in bench/bench_*.c; do
+  [ -f "$f" ] || continue
+  b="$build/bench/$(basename "$f" .c)"
+  ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -o "$b" "$f" \
+    "$build/lib/libc4gopen.a" -lm
+  echo "== $(basename "$f" .c)"
+  "$b"
+  if command -v valgrind >/dev/null 2>&1 && grep -q CALLGRIND_OK "$f"; then
+    "$b" --callgrind-report 2>/dev/null || true
+  fi
+done
+for s in bench/*.sh; do
+  [ -f "$s" ] || continue
+  echo "== $(basename "$s" .sh)"
+  sh "$s" "$build"
+done

@@ -1,0 +1,18 @@
+#!/bin/sh
+# Bounded libFuzzer runs: each target for $2 seconds from its seed corpus in fixtures/fuzz/NAME.
+set -eu
+dir=$1; secs=$2; shift 2
+for n in "$@"; do
+  corpus="$dir/corpus-$n"
+  rm -rf "$corpus"; mkdir -p "$corpus"
+  [ -d "fixtures/fuzz/$n" ] && cp fixtures/fuzz/"$n"/* "$corpus"/ 2>/dev/null || true
+  log="$dir/$n.log"
+  if ! "$dir/$n" -max_total_time="$secs" -timeout=5 -rss_limit_mb=2048 -print_final_stats=1 \
+       -artifact_prefix="$dir/$n-" "$corpus" >"$log" 2>&1; then
+    tail -n 40 "$log" >&2
+    echo "fuzz: $n FAILED (log: $log)" >&2
+    exit 1
+  fi
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+  echo "fuzz: $n ok, $execs executions in ${secs}s"
+done
