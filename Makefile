@@ -79,11 +79,11 @@ lib: $(STATIC) $(SHARED) $(BUILD)/lib/c4gopen.pc
 
 $(BUILD)/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
+	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/pic/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -fPIC -c $< -o $@
+	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -fPIC -c $< -o $@
 
 $(STATIC): $(LIB_OBJS)
 	@mkdir -p $(@D)

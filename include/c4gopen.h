@@ -374,20 +374,25 @@ typedef struct c4g_session {
     c4g_axis_map_t map;          /**< its axis maps */
     c4g_counters_t counters;
     c4g_timing_t timing;
-    c4g_ctrl_packet_t last_rx;   /**< last accepted cyclic packet */
-    int32_t last_num;            /**< NUM of the last accepted packet, -1 none */
+    c4g_ctrl_packet_t rx[2];     /**< decode double buffer; rx[cur] is the last accepted */
+    uint32_t cur;                /**< index of the last accepted cyclic packet in rx[] */
+    uint32_t have_cyclic;        /**< rx[cur] holds a packet */
+    int32_t last_num;            /**< NUM of the newest accepted packet, -1 none */
     int32_t pending_num;         /**< NUM to answer (after an accepted rx), -1 none */
     c4g_rx_kind_t pending_kind;  /**< what the pending reply answers */
-    uint32_t pending_len;        /**< bytes of the pending sync packet to echo */
+    uint32_t pending_len;        /**< bytes of the pending sync/init packet to echo */
     uint8_t pending_raw[C4G_INIT_SIZE]; /**< received bytes echoed in sync/init replies */
     uint32_t sync_seen;          /**< sync packets since the last init */
     uint32_t post_sync_left;     /**< post-init sync packets still expected */
     uint32_t restart_pending;    /**< 506 seen, init packet expected without sync */
     uint32_t frozen;             /**< passive freezing (502 .. 503) */
-    uint32_t drives;             /**< last INFPAR drive bytes (C4G_STS_MOVING per arm) */
-    uint64_t last_rx_ns;
-    uint64_t pending_rx_ns;
+    uint32_t drives;             /**< bit a set: arm a reports C4G_STS_MOVING */
+    uint64_t last_rx_ns;         /**< time of the newest accepted datagram */
+    uint64_t last_cyclic_ns;     /**< time of the previous cyclic packet */
+    uint64_t pending_rx_ns;      /**< receive time of the packet being answered */
+    uint64_t lost_timeout_ns;    /**< effective loss timeout */
     uint32_t have_rx_time;
+    uint32_t have_cyclic_time;
 } c4g_session_t;
 
 /** Result of one c4g_session_rx call. */

@@ -1,0 +1,336 @@
+/* SPDX-License-Identifier: MIT */
+/* Initialization packet (1200 bytes, 300 little-endian fields) and the axis index maps. */
+#include "c4g_internal.h"
+
+#define PER_ARM_BYTES (4U * C4G_AXES_PER_ARM)
+#define MAX_PERIOD_MS 1000
+
+typedef int32_t arm_ints_t[C4G_ARMS][C4G_AXES_PER_ARM];
+typedef float arm_floats_t[C4G_ARMS][C4G_AXES_PER_ARM];
+
+static uint32_t block_off(uint32_t base, uint32_t arm, uint32_t axis)
+{
+    return base + (arm * PER_ARM_BYTES) + (4U * axis);
+}
+
+static void get_ints(const uint8_t *buf, uint32_t base, arm_ints_t dst)
+{
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            dst[arm][ax] = c4g_get_i32le(&buf[block_off(base, arm, ax)]);
+        }
+    }
+}
+
+static void get_floats(const uint8_t *buf, uint32_t base, arm_floats_t dst)
+{
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            dst[arm][ax] = c4g_get_f32le(&buf[block_off(base, arm, ax)]);
+        }
+    }
+}
+
+static void put_ints(uint8_t *buf, uint32_t base, const arm_ints_t src)
+{
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            c4g_put_i32le(&buf[block_off(base, arm, ax)], src[arm][ax]);
+        }
+    }
+}
+
+static void put_floats(uint8_t *buf, uint32_t base, const arm_floats_t src)
+{
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            c4g_put_f32le(&buf[block_off(base, arm, ax)], src[arm][ax]);
+        }
+    }
+}
+
+/* Every float of a block finite; @p nonneg additionally demands >= 0. */
+static c4g_status_t check_floats(const arm_floats_t v, uint32_t base, c4g_field_t field,
+                                 int nonneg, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+        for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
+            const float f = v[arm][ax];
+            if (c4g_f32_finite(f) == 0) {
+                st = C4G_ERR_NONFINITE;
+            } else if ((nonneg != 0) && (f < 0.0F)) {
+                st = C4G_ERR_RANGE;
+            } else {
+                continue;
+            }
+            c4g_diag_set(diag, st, field, block_off(base, arm, ax), (int32_t)arm, (int32_t)ax,
+                         (int64_t)c4g_f32_bits(f));
+        }
+    }
+    return st;
+}
+
+static c4g_status_t check_header(const c4g_init_t *in, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    if (in->num != C4G_INIT_NUM) {
+        st = C4G_ERR_NUM;
+        c4g_diag_set(diag, st, C4G_FIELD_NUM, 0U, -1, -1, in->num);
+    } else if (in->n_field_pck != C4G_FIELDS_PER_PACKET) {
+        st = C4G_ERR_INIT_FIELDS;
+        c4g_diag_set(diag, st, C4G_FIELD_NFIELDPCK, 4U, -1, -1, in->n_field_pck);
+    } else if (in->n_field_ax != C4G_FIELDS_PER_AXIS) {
+        st = C4G_ERR_INIT_FIELDS;
+        c4g_diag_set(diag, st, C4G_FIELD_NFIELDAX, 8U, -1, -1, in->n_field_ax);
+    } else if ((in->n_ax_open < 1) || (in->n_ax_open > (int32_t)C4G_MAX_AXES)) {
+        st = C4G_ERR_AXES;
+        c4g_diag_set(diag, st, C4G_FIELD_NAXOPEN, 12U, -1, -1, in->n_ax_open);
+    } else if ((in->period_ms < 1) || (in->period_ms > MAX_PERIOD_MS)) {
+        st = C4G_ERR_PERIOD;
+        c4g_diag_set(diag, st, C4G_FIELD_PERIOD, C4G_INIT_OFF_PERIOD, -1, -1, in->period_ms);
+    } else {
+        /* header consistent */
+    }
+    return st;
+}
+
+static c4g_status_t check_modes(const c4g_init_t *in, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+        for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
+            const int32_t m = in->open_mask[arm][ax];
+            /* 0xFF: open, start-up mode not specified (manual chapter 10). */
+            if ((m != C4G_OPEN_AX_NONE) && (c4g_mode_is_known(m) == 0)) {
+                st = C4G_ERR_MODE;
+                c4g_diag_set(diag, st, C4G_FIELD_OPENMASK,
+                             block_off(C4G_INIT_OFF_OPENMASK, arm, ax), (int32_t)arm,
+                             (int32_t)ax, m);
+            }
+        }
+    }
+    return st;
+}
+
+/* OpenAx: 0..nAxOpen-1 or 0xFF, each OPEN index exactly once. Fills @p map if given. */
+static c4g_status_t check_open_ax(const c4g_init_t *in, c4g_axis_map_t *map, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint8_t used[C4G_MAX_AXES];
+    uint32_t count = 0U;
+    uint32_t arm;
+    uint32_t ax;
+    (void)memset(used, 0, sizeof used);
+    if (map != NULL) {
+        (void)memset(map, 0, sizeof *map);
+        (void)memset(map->open_of, C4G_OPEN_AX_NONE, sizeof map->open_of);
+    }
+    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+        for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
+            const int32_t v = in->open_ax[arm][ax];
+            if (v == C4G_OPEN_AX_NONE) {
+                continue;
+            }
+            if ((v < 0) || (v >= in->n_ax_open) || (used[v] != 0U)) {
+                st = C4G_ERR_INIT_MAP;
+                c4g_diag_set(diag, st, C4G_FIELD_OPENAX, block_off(C4G_INIT_OFF_OPENAX, arm, ax),
+                             (int32_t)arm, (int32_t)ax, v);
+            } else {
+                used[v] = 1U;
+                count++;
+                if (map != NULL) {
+                    map->arm_of[v] = (uint8_t)arm;
+                    map->logical_of[v] = (uint8_t)ax;
+                    map->open_of[arm][ax] = (uint8_t)v;
+                    map->n_axes_arm[arm]++;
+                }
+            }
+        }
+    }
+    if ((st == C4G_OK) && (count != (uint32_t)in->n_ax_open)) {
+        st = C4G_ERR_INIT_MAP;
+        c4g_diag_set(diag, st, C4G_FIELD_NAXOPEN, 12U, -1, -1, (int64_t)count);
+    }
+    if ((map != NULL) && (st == C4G_OK)) {
+        map->n_axes = count;
+    }
+    return st;
+}
+
+c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    if (init != NULL) {
+        st = check_header(init, diag);
+        if (st == C4G_OK) {
+            st = check_modes(init, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_open_ax(init, NULL, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_floats(init->cal_data, C4G_INIT_OFF_CALDATA, C4G_FIELD_CALDATA, 0, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_floats(init->az_lim, C4G_INIT_OFF_AZLIM, C4G_FIELD_AZLIM, 1, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_floats(init->ax_info, C4G_INIT_OFF_AXINFO, C4G_FIELD_AXINFO, 0, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_floats(init->tx_rate, C4G_INIT_OFF_TXRATE, C4G_FIELD_TXRATE, 0, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_floats(init->follow_error, C4G_INIT_OFF_FOLLOWERROR,
+                              C4G_FIELD_FOLLOWERROR, 1, diag);
+        }
+    } else {
+        c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    }
+    return st;
+}
+
+c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    if ((buf != NULL) && (out != NULL)) {
+        (void)memset(out, 0, sizeof *out);
+        if (len != C4G_INIT_SIZE) {
+            st = C4G_ERR_LENGTH;
+            c4g_diag_set(diag, st, C4G_FIELD_LENGTH, 0U, -1, -1, (int64_t)len);
+        } else {
+            uint32_t k;
+            out->num = c4g_get_i32le(&buf[0]);
+            out->n_field_pck = c4g_get_i32le(&buf[4]);
+            out->n_field_ax = c4g_get_i32le(&buf[8]);
+            out->n_ax_open = c4g_get_i32le(&buf[12]);
+            get_ints(buf, C4G_INIT_OFF_OPENMASK, out->open_mask);
+            for (k = 0U; k < C4G_N_FIELD_TYPES; k++) {
+                out->field_type[k] = c4g_get_i32le(&buf[C4G_INIT_OFF_TYPES + (4U * k)]);
+            }
+            out->period_ms = c4g_get_i32le(&buf[C4G_INIT_OFF_PERIOD]);
+            get_ints(buf, C4G_INIT_OFF_OPENAX, out->open_ax);
+            get_floats(buf, C4G_INIT_OFF_CALDATA, out->cal_data);
+            get_floats(buf, C4G_INIT_OFF_AZLIM, out->az_lim);
+            out->version_major = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION]);
+            out->version_minor = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION + 4U]);
+            out->version_build = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION + 8U]);
+            get_floats(buf, C4G_INIT_OFF_AXINFO, out->ax_info);
+            get_floats(buf, C4G_INIT_OFF_TXRATE, out->tx_rate);
+            get_floats(buf, C4G_INIT_OFF_FOLLOWERROR, out->follow_error);
+            st = c4g_init_validate(out, diag);
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_init_encode(const c4g_init_t *init, uint8_t *buf, size_t cap, size_t *out_len)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((init != NULL) && (buf != NULL) && (out_len != NULL)) {
+        *out_len = 0U;
+        st = c4g_init_validate(init, NULL);
+        if ((st == C4G_OK) && (cap < C4G_INIT_SIZE)) {
+            st = C4G_ERR_CAPACITY;
+        }
+        if (st == C4G_OK) {
+            uint32_t k;
+            c4g_put_i32le(&buf[0], init->num);
+            c4g_put_i32le(&buf[4], init->n_field_pck);
+            c4g_put_i32le(&buf[8], init->n_field_ax);
+            c4g_put_i32le(&buf[12], init->n_ax_open);
+            put_ints(buf, C4G_INIT_OFF_OPENMASK, init->open_mask);
+            for (k = 0U; k < C4G_N_FIELD_TYPES; k++) {
+                c4g_put_i32le(&buf[C4G_INIT_OFF_TYPES + (4U * k)], init->field_type[k]);
+            }
+            c4g_put_i32le(&buf[C4G_INIT_OFF_PERIOD], init->period_ms);
+            put_ints(buf, C4G_INIT_OFF_OPENAX, init->open_ax);
+            put_floats(buf, C4G_INIT_OFF_CALDATA, init->cal_data);
+            put_floats(buf, C4G_INIT_OFF_AZLIM, init->az_lim);
+            c4g_put_i32le(&buf[C4G_INIT_OFF_VERSION], init->version_major);
+            c4g_put_i32le(&buf[C4G_INIT_OFF_VERSION + 4U], init->version_minor);
+            c4g_put_i32le(&buf[C4G_INIT_OFF_VERSION + 8U], init->version_build);
+            put_floats(buf, C4G_INIT_OFF_AXINFO, init->ax_info);
+            put_floats(buf, C4G_INIT_OFF_TXRATE, init->tx_rate);
+            put_floats(buf, C4G_INIT_OFF_FOLLOWERROR, init->follow_error);
+            *out_len = C4G_INIT_SIZE;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_axis_map_build(const c4g_init_t *init, c4g_axis_map_t *map, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    if ((init != NULL) && (map != NULL)) {
+        st = check_header(init, diag);
+        if (st == C4G_OK) {
+            st = check_open_ax(init, map, diag);
+        }
+        if (st != C4G_OK) {
+            (void)memset(map, 0, sizeof *map);
+        }
+    }
+    return st;
+}
+
+/* Figure 10.1 of the manual: 6 axes on ARM 1, 2 ms, version 3.11.115. */
+static const float fig_cal[6] = {0.142965F, 0.170353F, 0.222660F, 0.405883F, 0.039380F, 0.355824F};
+static const float fig_azlim[6] = {24.5F, 24.5F, 24.5F, 9.5F, 9.5F, 9.5F};
+static const float fig_axinfo[6] = {0.0F, 0.0F, 0.0F, -0.0200F, 0.0204F, 0.0200F};
+static const float fig_txrate[6] = {-181.587296F, 159.260864F, 162.473694F,
+                                    72.585968F,   78.750000F,  -50.000000F};
+static const float fig_follow[6] = {7.5F, 7.5F, 7.5F, 7.5F, 7.5F, 0.0F};
+static const int32_t fig_types[C4G_N_FIELD_TYPES] = {1, 2, 3, 1, 2, 2, 2, 2, 2, 3, 3, 3};
+
+c4g_status_t c4g_init_fig10_1(c4g_init_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (out != NULL) {
+        uint32_t arm;
+        uint32_t ax;
+        (void)memset(out, 0, sizeof *out);
+        out->num = C4G_INIT_NUM;
+        out->n_field_pck = C4G_FIELDS_PER_PACKET;
+        out->n_field_ax = C4G_FIELDS_PER_AXIS;
+        out->n_ax_open = 6;
+        for (ax = 0U; ax < C4G_N_FIELD_TYPES; ax++) {
+            out->field_type[ax] = fig_types[ax];
+        }
+        out->period_ms = 2;
+        for (arm = 0U; arm < C4G_ARMS; arm++) {
+            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+                out->open_ax[arm][ax] = C4G_OPEN_AX_NONE;
+            }
+        }
+        for (ax = 0U; ax < 6U; ax++) {
+            out->open_ax[0][ax] = (int32_t)ax;
+            out->cal_data[0][ax] = fig_cal[ax];
+            out->az_lim[0][ax] = fig_azlim[ax];
+            out->ax_info[0][ax] = fig_axinfo[ax];
+            out->tx_rate[0][ax] = fig_txrate[ax];
+            out->follow_error[0][ax] = fig_follow[ax];
+        }
+        out->version_major = 3;
+        out->version_minor = 11;
+        out->version_build = 115;
+        st = C4G_OK;
+    }
+    return st;
+}

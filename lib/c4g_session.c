@@ -1,0 +1,402 @@
+/* SPDX-License-Identifier: MIT */
+/* PC-side session engine: start-up handshake (FIELD-FACTS), NUM policy, counters and
+ * the chapter 22 timing statistics. I/O-free: the caller passes datagrams and times. */
+#include "c4g_internal.h"
+
+#define DEFAULT_POST_INIT_SYNC 2U
+#define LOST_PERIODS 10U            /* the controller itself gives up after 10 missed replies */
+#define NS_PER_MS 1000000U
+#define NUM_MODULO 0x8000
+#define NUM_HALF 0x4000
+#define MAX_POST_INIT_SYNC 100U
+
+c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (cfg != NULL) {
+        cfg->num_policy = C4G_NUM_PLUS_ONE;
+        cfg->lost_timeout_ns = 0U;
+        cfg->post_init_sync = DEFAULT_POST_INIT_SYNC;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (s != NULL) {
+        c4g_session_config_t c;
+        st = C4G_OK;
+        if (cfg != NULL) {
+            c = *cfg;
+        } else {
+            (void)c4g_session_config_default(&c);
+        }
+        if (((c.num_policy != C4G_NUM_PLUS_ONE) && (c.num_policy != C4G_NUM_ECHO)) ||
+            (c.post_init_sync > MAX_POST_INIT_SYNC)) {
+            st = C4G_ERR_ARG;
+        } else {
+            (void)memset(s, 0, sizeof *s);
+            s->cfg = c;
+            s->phase = C4G_PHASE_WAIT_INIT;
+            s->last_num = -1;
+            s->pending_num = -1;
+            s->pending_kind = C4G_RX_DROPPED;
+        }
+    }
+    return st;
+}
+
+static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *res)
+{
+    c4g_malformed_t why = C4G_MAL_LENGTH;
+    if (st == C4G_ERR_NUM) {
+        why = C4G_MAL_NUM;
+    } else if (st == C4G_ERR_MODE) {
+        why = C4G_MAL_MODE;
+    } else if (st == C4G_ERR_NONFINITE) {
+        why = C4G_MAL_NONFINITE;
+    } else if (st != C4G_ERR_LENGTH) {
+        why = C4G_MAL_INIT; /* every other reason comes from the init validator */
+    } else {
+        /* length: the default */
+    }
+    s->counters.malformed[why]++;
+    s->counters.malformed_total++;
+    res->kind = C4G_RX_DROPPED;
+    res->events |= C4G_EV_MALFORMED;
+}
+
+/* NUM bookkeeping: SMP+ counts 0..0x7FFF and wraps to 0. */
+static void track_num(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
+{
+    if (s->last_num < 0) {
+        s->last_num = num;
+    } else {
+        const int32_t delta = (num - s->last_num + NUM_MODULO) % NUM_MODULO;
+        if (delta == 0) {
+            s->counters.duplicates++;
+            res->events |= C4G_EV_DUPLICATE;
+        } else if (delta >= NUM_HALF) {
+            s->counters.out_of_order++;
+            res->events |= C4G_EV_OUT_OF_ORDER;
+        } else {
+            if (delta > 1) {
+                s->counters.gaps++;
+                s->counters.missed += (uint64_t)delta - 1U;
+                res->events |= C4G_EV_GAP;
+            }
+            s->last_num = num;
+        }
+    }
+}
+
+static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const uint8_t *buf,
+                      size_t len, uint64_t now_ns)
+{
+    s->pending_kind = kind;
+    s->pending_num = num;
+    s->pending_rx_ns = now_ns;
+    s->pending_len = 0U;
+    if (kind != C4G_RX_CYCLIC) {
+        /* Sync replies echo at most 732 bytes; the init echo is the full 1200. */
+        const size_t keep = (kind == C4G_RX_INIT) ? C4G_INIT_SIZE
+                            : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
+        (void)memcpy(s->pending_raw, buf, keep);
+        s->pending_len = (uint32_t)keep;
+    }
+}
+
+static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                    c4g_rx_result_t *res)
+{
+    c4g_init_t init;
+    c4g_axis_map_t map;
+    c4g_status_t st = c4g_init_decode(buf, len, &init, &res->diag);
+    if (st == C4G_OK) {
+        st = c4g_axis_map_build(&init, &map, &res->diag);
+    }
+    if (st != C4G_OK) {
+        count_malformed(s, st, res);
+    } else {
+        s->init = init;
+        s->map = map;
+        s->counters.init++;
+        /* After a cold restart 2 syncs follow the init; after 506 none do. */
+        s->post_sync_left = ((s->sync_seen > 0U) && (s->restart_pending == 0U))
+                                ? s->cfg.post_init_sync : 0U;
+        s->phase = (s->post_sync_left > 0U) ? C4G_PHASE_POST_SYNC : C4G_PHASE_CYCLIC;
+        s->sync_seen = 0U;
+        s->restart_pending = 0U;
+        s->frozen = 0U;
+        s->have_cyclic = 0U;
+        s->have_cyclic_time = 0U;
+        s->last_num = C4G_INIT_NUM;
+        s->lost_timeout_ns = (s->cfg.lost_timeout_ns != 0U)
+                                 ? s->cfg.lost_timeout_ns
+                                 : ((uint64_t)LOST_PERIODS * (uint64_t)init.period_ms * NS_PER_MS);
+        s->timing.nominal_period_ns = (int64_t)init.period_ms * (int64_t)NS_PER_MS;
+        res->kind = C4G_RX_INIT;
+        res->events |= C4G_EV_INIT;
+        arm_reply(s, C4G_RX_INIT, C4G_INIT_NUM, buf, len, now_ns);
+    }
+}
+
+static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                    c4g_rx_result_t *res)
+{
+    if (len < 4U) {
+        c4g_diag_set(&res->diag, C4G_ERR_LENGTH, C4G_FIELD_LENGTH, 0U, -1, -1, (int64_t)len);
+        count_malformed(s, C4G_ERR_LENGTH, res);
+    } else {
+        const int32_t num = c4g_get_i32le(buf);
+        if ((num < 0) || (num > C4G_NUM_MAX)) {
+            c4g_diag_set(&res->diag, C4G_ERR_NUM, C4G_FIELD_NUM, 0U, -1, -1, num);
+            count_malformed(s, C4G_ERR_NUM, res);
+        } else {
+            s->counters.sync++;
+            if (s->phase == C4G_PHASE_POST_SYNC) {
+                s->post_sync_left--;
+                if (s->post_sync_left == 0U) {
+                    s->phase = C4G_PHASE_CYCLIC;
+                }
+                track_num(s, num, res);
+            } else {
+                s->sync_seen++;
+                s->phase = C4G_PHASE_WAIT_INIT;
+            }
+            res->kind = C4G_RX_SYNC;
+            arm_reply(s, C4G_RX_SYNC, num, buf, len, now_ns);
+        }
+    }
+}
+
+static uint32_t drive_mask(uint32_t infpar)
+{
+    uint32_t mask = 0U;
+    uint32_t arm;
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        if (c4g_arm_byte(infpar, arm) == C4G_STS_MOVING) {
+            mask |= (1U << arm);
+        }
+    }
+    return mask;
+}
+
+static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
+{
+    uint32_t i;
+    for (i = 0U; i < p->n_axes; i++) {
+        switch (p->ax[i].mode) {
+        case C4G_MODE_EXIT_OPEN:
+            res->events |= C4G_EV_END;
+            break;
+        case C4G_MODE_SVR_RESTART:
+            res->events |= C4G_EV_RESTART;
+            break;
+        case C4G_MODE_FREEZING_P_IN:
+            res->events |= C4G_EV_FREEZE_IN;
+            break;
+        case C4G_MODE_FREEZING_P_OUT:
+            res->events |= C4G_EV_FREEZE_OUT;
+            break;
+        default:
+            /* not a session-level mode */
+            break;
+        }
+    }
+    if ((res->events & C4G_EV_FREEZE_IN) != 0U) {
+        s->frozen = 1U;
+    }
+    if ((res->events & C4G_EV_FREEZE_OUT) != 0U) {
+        s->frozen = 0U;
+    }
+    if ((res->events & C4G_EV_RESTART) != 0U) {
+        s->restart_pending = 1U;
+    }
+    if ((res->events & C4G_EV_END) != 0U) {
+        s->phase = C4G_PHASE_ENDED;
+    }
+}
+
+static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                      c4g_rx_result_t *res)
+{
+    const uint32_t next = s->cur ^ 1U;
+    c4g_ctrl_packet_t *p = &s->rx[next];
+    const c4g_status_t st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag);
+    if ((st != C4G_OK) && (s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
+        /* A controller that went silent and restarted cold opens with sync packets. */
+        on_sync(s, buf, len, now_ns, res);
+    } else if (st != C4G_OK) {
+        count_malformed(s, st, res);
+    } else {
+        const uint32_t drives = drive_mask(p->infpar);
+        s->cur = next;
+        s->have_cyclic = 1U;
+        s->counters.cyclic++;
+        if (s->counters.cyclic == 1U) {
+            res->events |= C4G_EV_CYCLIC_START;
+        }
+        if (s->phase == C4G_PHASE_LOST) {
+            s->phase = C4G_PHASE_CYCLIC;
+        }
+        if (drives != s->drives) {
+            s->drives = drives;
+            res->events |= C4G_EV_DRIVES;
+        }
+        track_num(s, p->num, res);
+        if (s->have_cyclic_time != 0U) {
+            const int64_t inter = (int64_t)(now_ns - s->last_cyclic_ns);
+            c4g_timing_t *t = &s->timing;
+            if ((t->samples_inter == 0U) || (inter < t->min_inter_ns)) {
+                t->min_inter_ns = inter;
+            }
+            if ((t->samples_inter == 0U) || (inter > t->max_inter_ns)) {
+                t->max_inter_ns = inter;
+            }
+            t->samples_inter++;
+        }
+        s->last_cyclic_ns = now_ns;
+        s->have_cyclic_time = 1U;
+        scan_special_modes(s, p, res);
+        res->kind = C4G_RX_CYCLIC;
+        res->pkt = p;
+        arm_reply(s, C4G_RX_CYCLIC, p->num, buf, len, now_ns);
+    }
+}
+
+/* Loss check shared by rx and poll; passive freezing suspends it. */
+static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
+{
+    uint32_t ev = 0U;
+    if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
+        (s->frozen == 0U) && (s->have_rx_time != 0U) && (now_ns > s->last_rx_ns) &&
+        ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
+        s->phase = C4G_PHASE_LOST;
+        s->counters.lost_events++;
+        s->pending_num = -1;
+        ev = C4G_EV_LOST;
+    }
+    return ev;
+}
+
+c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                            c4g_rx_result_t *res)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((s != NULL) && (res != NULL) && ((buf != NULL) || (len == 0U))) {
+        (void)memset(res, 0, sizeof *res);
+        res->diag.arm = -1;
+        res->diag.axis = -1;
+        st = C4G_OK;
+        if (s->phase == C4G_PHASE_ENDED) {
+            st = C4G_ERR_ENDED;
+        } else {
+            s->counters.rx++;
+            s->pending_num = -1;
+            res->events |= check_lost(s, now_ns);
+            if (len == C4G_INIT_SIZE) {
+                on_init(s, buf, len, now_ns, res);
+            } else if ((s->phase == C4G_PHASE_WAIT_INIT) || (s->phase == C4G_PHASE_POST_SYNC)) {
+                on_sync(s, buf, len, now_ns, res);
+            } else {
+                on_cyclic(s, buf, len, now_ns, res);
+            }
+            if (res->kind != C4G_RX_DROPPED) {
+                s->last_rx_ns = now_ns;
+                s->have_rx_time = 1U;
+            }
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
+                               size_t cap, size_t *out_len)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((s != NULL) && (buf != NULL) && (out_len != NULL)) {
+        const int32_t num = c4g_reply_num(s->pending_num, s->cfg.num_policy);
+        size_t n = 0U;
+        *out_len = 0U;
+        if (s->pending_num < 0) {
+            st = C4G_ERR_STATE;
+        } else if (s->pending_kind == C4G_RX_CYCLIC) {
+            if (tx == NULL) {
+                st = C4G_ERR_NULL;
+            } else if (tx->n_axes != s->map.n_axes) {
+                st = C4G_ERR_AXES;
+            } else {
+                st = c4g_pc_encode(tx, buf, cap, &n);
+            }
+        } else {
+            n = (s->pending_kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE;
+            if (cap < n) {
+                st = C4G_ERR_CAPACITY;
+            } else {
+                (void)memcpy(buf, s->pending_raw, s->pending_len);
+                (void)memset(&buf[s->pending_len], 0, n - s->pending_len);
+                st = C4G_OK;
+            }
+        }
+        if (st == C4G_OK) {
+            c4g_put_i32le(buf, num);
+            *out_len = n;
+            s->counters.tx++;
+            if (s->pending_kind != C4G_RX_CYCLIC) {
+                s->pending_num = -1;
+            } else {
+                s->pending_kind = C4G_RX_DROPPED; /* marks "answered, cycle time pending" */
+            }
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (s != NULL) {
+        st = C4G_ERR_STATE;
+        if ((s->pending_num >= 0) && (s->pending_kind == C4G_RX_DROPPED)) {
+            c4g_timing_t *t = &s->timing;
+            const int64_t cyc = (int64_t)(now_ns - s->pending_rx_ns);
+            t->last_cycle_ns = cyc;
+            if ((t->samples_cycle == 0U) || (cyc > t->worst_cycle_ns)) {
+                t->worst_cycle_ns = cyc;
+            }
+            t->samples_cycle++;
+            s->pending_num = -1;
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_session_poll(c4g_session_t *s, uint64_t now_ns, uint32_t *events)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((s != NULL) && (events != NULL)) {
+        *events = check_lost(s, now_ns);
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_session_timing(const c4g_session_t *s, c4g_timing_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((s != NULL) && (out != NULL)) {
+        *out = s->timing;
+        if ((out->nominal_period_ns > 0) && (out->samples_inter > 0U)) {
+            out->min_jitter_ns = out->min_inter_ns - out->nominal_period_ns;
+            out->max_jitter_ns = out->max_inter_ns - out->nominal_period_ns;
+            out->min_jitter_pct = ((double)out->min_jitter_ns * 100.0) / (double)out->nominal_period_ns;
+            out->max_jitter_pct = ((double)out->max_jitter_ns * 100.0) / (double)out->nominal_period_ns;
+        }
+        st = C4G_OK;
+    }
+    return st;
+}
