@@ -321,8 +321,8 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
         const int32_t num = c4g_reply_num(s->pending_num, s->cfg.num_policy);
         size_t n = 0U;
         *out_len = 0U;
-        if (s->pending_num < 0) {
-            st = C4G_ERR_STATE;
+        if ((s->pending_num < 0) || (s->pending_kind == C4G_RX_DROPPED)) {
+            st = C4G_ERR_STATE; /* nothing received to answer, or answered already */
         } else if (s->pending_kind == C4G_RX_CYCLIC) {
             if (tx == NULL) {
                 st = C4G_ERR_NULL;

@@ -1,0 +1,469 @@
+/* SPDX-License-Identifier: MIT */
+/* Session engine: FIELD-FACTS handshake, NUM policies, counters, timing, special modes. */
+#include "test_helpers.h"
+
+#define MS 1000000ULL
+
+static uint8_t fig[1200];
+
+static int load(void **state)
+{
+    (void)state;
+    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", fig, sizeof fig), 1200);
+    return 0;
+}
+
+typedef struct {
+    c4g_session_t s;
+    c4g_rx_result_t r;
+    uint8_t out[1300];
+    size_t out_len;
+    uint64_t t;
+} fx_t;
+
+static c4g_rx_kind_t feed(fx_t *f, const uint8_t *buf, size_t len)
+{
+    f->t += 2 * MS;
+    assert_int_equal(c4g_session_rx(&f->s, buf, len, f->t, &f->r), C4G_OK);
+    return f->r.kind;
+}
+
+static void sync_packet(uint8_t *b, int32_t num)
+{
+    memset(b, 0, 732);
+    th_put_u32(b, (uint32_t)num);
+    b[20] = 0x5A;   /* something to echo */
+}
+
+/* Cold start: 9 syncs, init (NUM 10), 2 syncs; returns with the session in CYCLIC. */
+static void cold_start(fx_t *f, c4g_num_policy_t pol)
+{
+    c4g_session_config_t cfg;
+    uint8_t b[732];
+    int32_t num;
+    assert_int_equal(c4g_session_config_default(&cfg), C4G_OK);
+    cfg.num_policy = pol;
+    assert_int_equal(c4g_session_init(&f->s, &cfg), C4G_OK);
+    f->t = 1000 * MS;
+    for (num = 1; num <= 9; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed(f, b, sizeof b), C4G_RX_SYNC);
+        assert_int_equal(f->s.phase, C4G_PHASE_WAIT_INIT);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+        assert_int_equal(f->out_len, 732);
+        assert_int_equal((int32_t)th_get_u32(f->out), c4g_reply_num(num, pol));
+        assert_int_equal(f->out[20], 0x5A);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_ERR_STATE);
+    }
+    assert_int_equal(feed(f, fig, sizeof fig), C4G_RX_INIT);
+    assert_true(f->r.events & C4G_EV_INIT);
+    assert_int_equal(f->s.phase, C4G_PHASE_POST_SYNC);
+    assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    assert_int_equal(f->out_len, 1200);
+    assert_int_equal(th_get_u32(f->out), pol == C4G_NUM_PLUS_ONE ? 11 : 10);
+    assert_memory_equal(&f->out[4], &fig[4], 1196);
+    for (num = 11; num <= 12; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed(f, b, sizeof b), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+        assert_int_equal(f->out_len, 732);
+        assert_int_equal((int32_t)th_get_u32(f->out), c4g_reply_num(num, pol));
+    }
+    assert_int_equal(f->s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(f->s.counters.sync, 11);
+    assert_int_equal(f->s.counters.init, 1);
+    assert_int_equal(f->s.map.n_axes, 6);
+}
+
+static void cyclic(fx_t *f, int32_t num, int32_t mode)
+{
+    uint8_t b[732];
+    c4g_pc_packet_t tx;
+    size_t len = th_ctrl_bytes(b, sizeof b, num, 6, mode);
+    assert_int_equal(feed(f, b, len), C4G_RX_CYCLIC);
+    assert_non_null(f->r.pkt);
+    assert_int_equal(f->r.pkt->num, num);
+    assert_int_equal(c4g_pc_reply_neutral(f->r.pkt, &tx), C4G_OK);
+    assert_int_equal(c4g_session_reply(&f->s, &tx, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    assert_int_equal(f->out_len, 228);
+    assert_int_equal(c4g_session_sent(&f->s, f->t + 100000), C4G_OK);
+}
+
+static void test_handshake_plus_one(void **state)
+{
+    fx_t f;
+    int32_t num;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    for (num = 13; num < 1013; num++) {
+        cyclic(&f, num, 0);
+        assert_int_equal(th_get_u32(f.out), (uint32_t)num + 1);
+        assert_int_equal(th_get_u32(&f.out[4]), 0);     /* INFPAR 0 */
+        assert_int_equal(th_get_u32(&f.out[12]), 0);    /* mode echoed */
+    }
+    assert_true(f.r.events == 0);
+    assert_int_equal(f.s.counters.cyclic, 1000);
+    assert_int_equal(f.s.counters.tx, 9 + 1 + 2 + 1000);
+    assert_int_equal(f.s.counters.rx, 9 + 1 + 2 + 1000);
+    assert_int_equal(f.s.counters.gaps, 0);
+    assert_int_equal(f.s.counters.malformed_total, 0);
+}
+
+static void test_handshake_echo(void **state)
+{
+    fx_t f;
+    (void)state;
+    cold_start(&f, C4G_NUM_ECHO);
+    cyclic(&f, 13, 10);
+    assert_int_equal(th_get_u32(f.out), 13);
+    assert_int_equal(th_get_u32(&f.out[12]), 10);
+    /* mode 10: D1 copied back (1.0f for axis 0) */
+    assert_memory_equal(&f.out[16], "\x00\x00\x80\x3f", 4);
+}
+
+static void test_num_wrap(void **state)
+{
+    fx_t f;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    f.s.last_num = 0x7FFD;
+    cyclic(&f, 0x7FFE, 0);
+    assert_int_equal(th_get_u32(f.out), 0x7FFF);
+    cyclic(&f, 0x7FFF, 0);
+    assert_int_equal(th_get_u32(f.out), 1);          /* field library: wraps to 1 */
+    cyclic(&f, 0, 0);                                 /* SMP+ wraps to 0: no gap */
+    assert_int_equal(th_get_u32(f.out), 1);
+    assert_int_equal(f.s.counters.gaps, 0);
+    assert_int_equal(f.s.counters.out_of_order, 0);
+}
+
+static void test_gaps_duplicates_reorder(void **state)
+{
+    fx_t f;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    cyclic(&f, 16, 0);                     /* 14, 15 never seen */
+    assert_true(f.r.events & C4G_EV_GAP);
+    assert_int_equal(f.s.counters.gaps, 1);
+    assert_int_equal(f.s.counters.missed, 2);
+    cyclic(&f, 16, 0);
+    assert_true(f.r.events & C4G_EV_DUPLICATE);
+    assert_int_equal(f.s.counters.duplicates, 1);
+    cyclic(&f, 15, 0);                     /* late: answered, counted, newest kept */
+    assert_true(f.r.events & C4G_EV_OUT_OF_ORDER);
+    assert_int_equal(th_get_u32(f.out), 16);
+    assert_int_equal(f.s.last_num, 16);
+    cyclic(&f, 17, 0);
+    assert_int_equal(f.r.events, 0);
+    assert_int_equal(f.s.counters.out_of_order, 1);
+}
+
+static void test_malformed_counted_not_answered(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    size_t len;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, 0);
+    assert_int_equal(feed(&f, b, len - 1), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_MALFORMED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_LENGTH);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_ERR_STATE);
+    len = th_ctrl_bytes(b, sizeof b, 14, 5, 0);     /* valid packet, wrong axis count */
+    assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, 0);
+    th_put_u32(&b[12 + 36], 4242);
+    assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.axis, 1);
+    th_put_u32(&b[12 + 36], 0);
+    th_put_u32(&b[12 + 36 + 8], 0x7FC00000u);
+    assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+    th_put_u32(&b[12 + 36 + 8], 0);
+    th_put_u32(b, 0x9000);
+    assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+    assert_int_equal(feed(&f, b, 0), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_LENGTH], 3);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_MODE], 1);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NONFINITE], 1);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 1);
+    assert_int_equal(f.s.counters.malformed_total, 6);
+    cyclic(&f, 14, 0);                        /* the session goes on */
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+}
+
+static void test_bad_init_rejected(void **state)
+{
+    fx_t f;
+    uint8_t b[1200];
+    (void)state;
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 0;
+    memcpy(b, fig, sizeof b);
+    th_put_u32(b, 9);   /* init whose NUM is not 10 */
+    assert_int_equal(feed(&f, b, sizeof b), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_NUM);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 1);
+    memcpy(b, fig, sizeof b);
+    th_put_u32(&b[12], 0);
+    assert_int_equal(feed(&f, b, sizeof b), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_INIT], 1);
+    assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+    /* short sync packets */
+    assert_int_equal(feed(&f, b, 3), C4G_RX_DROPPED);
+    th_put_u32(b, 0x8000);
+    assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 2);
+    /* a sync longer than 732 bytes is echoed truncated to 732 */
+    memset(b, 0x11, sizeof b);
+    th_put_u32(b, 3);
+    assert_int_equal(feed(&f, b, 1000), C4G_RX_SYNC);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, 731, &f.out_len), C4G_ERR_CAPACITY);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(f.out_len, 732);
+    assert_int_equal(f.out[731], 0x11);
+}
+
+static void test_restart_506(void **state)
+{
+    fx_t f;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    cyclic(&f, 14, C4G_MODE_SVR_RESTART);
+    assert_true(f.r.events & C4G_EV_RESTART);
+    /* client restart: the init packet comes first, no sync before or after */
+    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(th_get_u32(f.out), 11);
+    cyclic(&f, 11, 0);
+    assert_int_equal(f.s.counters.init, 2);
+    assert_int_equal(f.s.counters.gaps, 0);
+}
+
+static void test_init_without_sync(void **state)
+{
+    fx_t f;
+    (void)state;
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 0;
+    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, 1199, &f.out_len), C4G_ERR_CAPACITY);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    cyclic(&f, 11, 0);
+    assert_true(f.r.events & C4G_EV_CYCLIC_START);
+}
+
+static void test_end_504(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    size_t len;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, C4G_MODE_EXIT_OPEN);       /* the 504 packet itself is answered */
+    assert_true(f.r.events & C4G_EV_END);
+    assert_int_equal(f.s.phase, C4G_PHASE_ENDED);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, 0);
+    assert_int_equal(c4g_session_rx(&f.s, b, len, f.t, &f.r), C4G_ERR_ENDED);
+}
+
+static void test_lost_and_passive_freezing(void **state)
+{
+    fx_t f;
+    uint32_t ev = 0;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    assert_int_equal(f.s.lost_timeout_ns, 20 * MS);   /* 10 periods of 2 ms */
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 20 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 20 * MS + 1, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    assert_int_equal(f.s.phase, C4G_PHASE_LOST);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 40 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);                          /* reported once */
+    f.t += 100 * MS;
+    cyclic(&f, 14, 0);                                /* the controller came back */
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(f.s.counters.lost_events, 1);
+    /* passive freezing suspends the timer */
+    cyclic(&f, 15, C4G_MODE_FREEZING_P_IN);
+    assert_true(f.r.events & C4G_EV_FREEZE_IN);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 5000 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);
+    f.t += 5000 * MS;
+    cyclic(&f, 16, C4G_MODE_FREEZING_P_OUT);
+    assert_true(f.r.events & C4G_EV_FREEZE_OUT);
+    assert_int_equal(f.r.events & C4G_EV_LOST, 0);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 21 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+}
+
+static void test_lost_then_cold_restart(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    uint32_t ev;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    f.t += 1000 * MS;
+    sync_packet(b, 1);                                /* 732 bytes: not a 6-axis packet */
+    assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
+    assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(f.s.phase, C4G_PHASE_POST_SYNC);
+}
+
+static void test_drives_event(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    size_t len;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    len = th_ctrl_bytes(b, sizeof b, 13, 6, 0);
+    th_put_u32(&b[4], 0x00000005u);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_true(f.r.events & C4G_EV_DRIVES);
+    assert_int_equal(f.s.drives, 1);
+    th_put_u32(b, 14);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_int_equal(f.r.events & C4G_EV_DRIVES, 0);
+}
+
+static void test_timing(void **state)
+{
+    c4g_session_t s;
+    c4g_rx_result_t r;
+    c4g_timing_t t;
+    uint8_t b[732], out[732];
+    size_t len, n;
+    c4g_pc_packet_t tx;
+    static const uint64_t gaps_us[] = {2000, 1900, 2300, 2000};
+    uint64_t now = 5 * MS;
+    unsigned i;
+    (void)state;
+    assert_int_equal(c4g_session_init(&s, NULL), C4G_OK);
+    assert_int_equal(c4g_session_rx(&s, fig, sizeof fig, now, &r), C4G_OK);
+    assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out + 0, &n), C4G_ERR_CAPACITY);
+    for (i = 0; i < 5; i++) {
+        if (i > 0) {
+            now += gaps_us[i - 1] * 1000;
+        }
+        len = th_ctrl_bytes(b, sizeof b, 11 + (int32_t)i, 6, 0);
+        assert_int_equal(c4g_session_rx(&s, b, len, now, &r), C4G_OK);
+        assert_int_equal(c4g_session_sent(&s, now), C4G_ERR_STATE);   /* not answered yet */
+        assert_int_equal(c4g_pc_reply_neutral(r.pkt, &tx), C4G_OK);
+        assert_int_equal(c4g_session_reply(&s, &tx, out, sizeof out, &n), C4G_OK);
+        assert_int_equal(c4g_session_sent(&s, now + 50000 + 10000 * i), C4G_OK);
+        assert_int_equal(c4g_session_sent(&s, now), C4G_ERR_STATE);
+    }
+    assert_int_equal(c4g_session_timing(&s, &t), C4G_OK);
+    assert_int_equal(t.nominal_period_ns, 2000000);
+    assert_int_equal(t.samples_inter, 4);
+    assert_int_equal(t.samples_cycle, 5);
+    assert_int_equal(t.min_inter_ns, 1900000);
+    assert_int_equal(t.max_inter_ns, 2300000);
+    assert_int_equal(t.min_jitter_ns, -100000);
+    assert_int_equal(t.max_jitter_ns, 300000);
+    assert_float_equal(t.min_jitter_pct, -5.0, 1e-9);
+    assert_float_equal(t.max_jitter_pct, 15.0, 1e-9);
+    assert_int_equal(t.worst_cycle_ns, 90000);
+    assert_int_equal(t.last_cycle_ns, 90000);
+}
+
+static void test_api_misuse(void **state)
+{
+    c4g_session_t s;
+    c4g_session_config_t cfg;
+    c4g_rx_result_t r;
+    c4g_pc_packet_t tx;
+    uint8_t out[732], b[732];
+    size_t n, len;
+    uint32_t ev;
+    c4g_timing_t t;
+    (void)state;
+    assert_int_equal(c4g_session_config_default(NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_init(NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_config_default(&cfg), C4G_OK);
+    cfg.num_policy = (c4g_num_policy_t)7;
+    assert_int_equal(c4g_session_init(&s, &cfg), C4G_ERR_ARG);
+    cfg.num_policy = C4G_NUM_ECHO;
+    cfg.post_init_sync = 1000;
+    assert_int_equal(c4g_session_init(&s, &cfg), C4G_ERR_ARG);
+    cfg.post_init_sync = 0;
+    cfg.lost_timeout_ns = 5 * MS;
+    assert_int_equal(c4g_session_init(&s, &cfg), C4G_OK);
+    assert_int_equal(c4g_session_rx(NULL, b, 1, 0, &r), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_rx(&s, NULL, 1, 0, &r), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_rx(&s, b, 1, 0, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply(NULL, NULL, out, sizeof out, &n), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply(&s, NULL, NULL, sizeof out, &n), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_sent(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_poll(NULL, 0, &ev), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_poll(&s, 0, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_timing(NULL, &t), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_timing(&s, NULL), C4G_ERR_NULL);
+    /* init with post_init_sync = 0 even after syncs; explicit loss timeout */
+    sync_packet(b, 1);
+    assert_int_equal(c4g_session_rx(&s, b, sizeof b, 0, &r), C4G_OK);
+    assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out, &n), C4G_OK);
+    assert_int_equal(c4g_session_rx(&s, fig, sizeof fig, 1, &r), C4G_OK);
+    assert_int_equal(s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(s.lost_timeout_ns, 5 * MS);
+    len = th_ctrl_bytes(b, sizeof b, 11, 6, 0);
+    assert_int_equal(c4g_session_rx(&s, b, len, 2, &r), C4G_OK);
+    assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out, &n), C4G_ERR_NULL);
+    assert_int_equal(c4g_pc_reply_neutral(r.pkt, &tx), C4G_OK);
+    tx.n_axes = 5;
+    assert_int_equal(c4g_session_reply(&s, &tx, out, sizeof out, &n), C4G_ERR_AXES);
+    tx.n_axes = 6;
+    tx.ax[0].target_pos = 0.0f / 0.0f;
+    assert_int_equal(c4g_session_reply(&s, &tx, out, sizeof out, &n), C4G_ERR_NONFINITE);
+    tx.ax[0].target_pos = 0.0f;
+    assert_int_equal(c4g_session_reply(&s, &tx, out, sizeof out, &n), C4G_OK);
+    assert_int_equal(th_get_u32(out), 11);          /* echo policy */
+    assert_int_equal(c4g_session_reply(&s, &tx, out, sizeof out, &n), C4G_ERR_STATE);
+    /* timing with no samples: zeros */
+    assert_int_equal(c4g_session_timing(&s, &t), C4G_OK);
+    assert_int_equal(t.samples_inter, 0);
+    assert_int_equal(t.min_jitter_ns, 0);
+    /* loss detected inside rx when poll was never called */
+    len = th_ctrl_bytes(b, sizeof b, 12, 6, 0);
+    assert_int_equal(c4g_session_rx(&s, b, len, 2 + 6 * MS, &r), C4G_OK);
+    assert_true(r.events & C4G_EV_LOST);
+    assert_int_equal(r.kind, C4G_RX_CYCLIC);
+    /* time going backwards never declares a loss */
+    assert_int_equal(c4g_session_poll(&s, 0, &ev), C4G_OK);
+    assert_int_equal(ev, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_handshake_plus_one),
+        cmocka_unit_test(test_handshake_echo),
+        cmocka_unit_test(test_num_wrap),
+        cmocka_unit_test(test_gaps_duplicates_reorder),
+        cmocka_unit_test(test_malformed_counted_not_answered),
+        cmocka_unit_test(test_bad_init_rejected),
+        cmocka_unit_test(test_restart_506),
+        cmocka_unit_test(test_init_without_sync),
+        cmocka_unit_test(test_end_504),
+        cmocka_unit_test(test_lost_and_passive_freezing),
+        cmocka_unit_test(test_lost_then_cold_restart),
+        cmocka_unit_test(test_drives_event),
+        cmocka_unit_test(test_timing),
+        cmocka_unit_test(test_api_misuse),
+    };
+    return cmocka_run_group_tests_name("session", tests, load, NULL);
+}
