@@ -1,0 +1,51 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g_pcap: a small pcap writer for UDP/IPv4/Ethernet frames (tools only, uses libpcap).
+ *
+ * Every datagram is written as an Ethernet II + IPv4 + UDP frame (DLT_EN10MB) with a
+ * correct IPv4 header checksum and UDP checksum, so Wireshark/tshark dissect it and
+ * `tshark -r FILE -T fields -e udp.payload` prints exactly the payload bytes.
+ *
+ * Linking: every tools/common source is linked into every tool, so this file references libpcap
+ * weakly and links without -lpcap. A tool that writes pcaps must link -lpcap
+ * (NAME_LDLIBS += -lpcap in its tool.mk) and call C4G_PCAP_ANCHOR() once (e.g. in its
+ * --version output), which makes a strong reference: with --as-needed (this toolchain's
+ * default) a library referenced only weakly is dropped. c4g_pcap_open() reports
+ * "libpcap not linked" instead of crashing when that was forgotten.
+ */
+#ifndef C4G_PCAP_H
+#define C4G_PCAP_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <time.h>
+#include <pcap/pcap.h>
+
+/** Keep libpcap linked (strong reference); evaluates to libpcap's version string. */
+#define C4G_PCAP_ANCHOR() pcap_lib_version()
+
+typedef struct c4g_pcap c4g_pcap_t;
+
+/**
+ * Create (truncate) @p path as a pcap file (Ethernet link type, snaplen 65535).
+ * @return the writer, or NULL with a message in @p err (may be NULL).
+ */
+c4g_pcap_t *c4g_pcap_open(const char *path, char *err, size_t errlen);
+
+/**
+ * Append one UDP datagram as an Ethernet/IPv4/UDP frame.
+ * @param ts       capture time (CLOCK_REALTIME); NULL = now
+ * @param src_ip   IPv4 address in host byte order (e.g. 0x7F000001 for 127.0.0.1)
+ * @param len      payload bytes, at most 65507
+ * @return 0 on success, -1 on a bad argument or write error.
+ */
+int c4g_pcap_write_udp(c4g_pcap_t *w, const struct timespec *ts, uint32_t src_ip,
+                       uint16_t src_port, uint32_t dst_ip, uint16_t dst_port,
+                       const uint8_t *payload, size_t len);
+
+/** Frames written so far. */
+unsigned long c4g_pcap_frames(const c4g_pcap_t *w);
+
+/** Flush and close; @p w may be NULL. @return 0, or -1 if a write failed at any time. */
+int c4g_pcap_close(c4g_pcap_t *w);
+
+#endif /* C4G_PCAP_H */
