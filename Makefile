@@ -180,7 +180,7 @@ cross: | $(DEPS_STAMP)
 qemu-smoke: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/qemu
 	$(ARM_CC) -std=c99 -O1 -Iinclude -marm -mcpu=arm926ej-s --specs=rdimon.specs \
-	  -DFIXTURE_INIT='"$(CURDIR)/../shared/vectors/init-fig10-1.bin"' \
+	  -DFIXTURE_INIT='"$(CURDIR)/fixtures/vectors/init-fig10-1.bin"' \
 	  tests/target/target_smoke.c $(LIB_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
 	qemu-arm $(BUILD)/qemu/target_smoke.elf
 

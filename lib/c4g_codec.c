@@ -4,11 +4,15 @@
 
 #define AXIS_FLOATS 8U
 
+/* Place value of each arm's byte: multiplication instead of a variable shift. */
+static const uint32_t arm_place[C4G_ARMS] = {0x1U, 0x100U, 0x10000U, 0x1000000U};
+
 uint8_t c4g_arm_byte(uint32_t word, uint32_t arm)
 {
     uint8_t b = 0U;
     if (arm < C4G_ARMS) {
-        b = (uint8_t)((word >> (8U * arm)) & 0xFFU);
+        const uint32_t shifted = word / arm_place[arm];
+        b = (uint8_t)(shifted & 0xFFU);
     }
     return b;
 }
@@ -17,8 +21,8 @@ uint32_t c4g_arm_byte_set(uint32_t word, uint32_t arm, uint8_t value)
 {
     uint32_t w = word;
     if (arm < C4G_ARMS) {
-        const uint32_t shift = 8U * arm;
-        w = (w & ~(0xFFU << shift)) | ((uint32_t)value << shift);
+        const uint32_t place = arm_place[arm];
+        w = (w & ~(0xFFU * place)) | ((uint32_t)value * place);
     }
     return w;
 }
@@ -99,6 +103,9 @@ static c4g_status_t check_num(int32_t num, c4g_diag_t *diag)
 static c4g_status_t decode_axis(const uint8_t *p, uint32_t index, int32_t *mode,
                                 float *const fields[AXIS_FLOATS], c4g_diag_t *diag)
 {
+    static const c4g_field_t float_field[AXIS_FLOATS] = {
+        C4G_FIELD_D1, C4G_FIELD_D2, C4G_FIELD_D3, C4G_FIELD_D4,
+        C4G_FIELD_D5, C4G_FIELD_EXT1, C4G_FIELD_EXT2, C4G_FIELD_EXT3};
     c4g_status_t st = C4G_OK;
     const uint32_t base = C4G_HEADER_SIZE + (index * C4G_AXIS_SIZE);
     uint32_t k;
@@ -111,7 +118,7 @@ static c4g_status_t decode_axis(const uint8_t *p, uint32_t index, int32_t *mode,
         const float f = c4g_get_f32le(&p[4U + (4U * k)]);
         if (c4g_f32_finite(f) == 0) {
             st = C4G_ERR_NONFINITE;
-            c4g_diag_set(diag, st, (c4g_field_t)((uint32_t)C4G_FIELD_D1 + k), base + 4U + (4U * k),
+            c4g_diag_set(diag, st, float_field[k], base + 4U + (4U * k),
                          -1, (int32_t)index, (int64_t)c4g_f32_bits(f));
         } else {
             *fields[k] = f;

@@ -291,16 +291,15 @@ c4g_status_t c4g_axis_map_build(const c4g_init_t *init, c4g_axis_map_t *map, c4g
 }
 
 /* Figure 10.1 of the manual: 6 axes on ARM 1, 2 ms, version 3.11.115. */
-static const float fig_cal[6] = {0.142965F, 0.170353F, 0.222660F, 0.405883F, 0.039380F, 0.355824F};
-static const float fig_azlim[6] = {24.5F, 24.5F, 24.5F, 9.5F, 9.5F, 9.5F};
-static const float fig_axinfo[6] = {0.0F, 0.0F, 0.0F, -0.0200F, 0.0204F, 0.0200F};
-static const float fig_txrate[6] = {-181.587296F, 159.260864F, 162.473694F,
-                                    72.585968F,   78.750000F,  -50.000000F};
-static const float fig_follow[6] = {7.5F, 7.5F, 7.5F, 7.5F, 7.5F, 0.0F};
-static const int32_t fig_types[C4G_N_FIELD_TYPES] = {1, 2, 3, 1, 2, 2, 2, 2, 2, 3, 3, 3};
-
 c4g_status_t c4g_init_fig10_1(c4g_init_t *out)
 {
+    static const float fig_cal[6] = {0.142965F, 0.170353F, 0.222660F, 0.405883F, 0.039380F, 0.355824F};
+    static const float fig_azlim[6] = {24.5F, 24.5F, 24.5F, 9.5F, 9.5F, 9.5F};
+    static const float fig_axinfo[6] = {0.0F, 0.0F, 0.0F, -0.0200F, 0.0204F, 0.0200F};
+    static const float fig_txrate[6] = {-181.587296F, 159.260864F, 162.473694F,
+                                        72.585968F,   78.750000F,  -50.000000F};
+    static const float fig_follow[6] = {7.5F, 7.5F, 7.5F, 7.5F, 7.5F, 0.0F};
+    static const int32_t fig_types[C4G_N_FIELD_TYPES] = {1, 2, 3, 1, 2, 2, 2, 2, 2, 3, 3, 3};
     c4g_status_t st = C4G_ERR_NULL;
     if (out != NULL) {
         uint32_t arm;

@@ -25,6 +25,8 @@ static inline int32_t c4g_get_i32le(const uint8_t *p)
 {
     uint32_t u = c4g_get_u32le(p);
     int32_t r;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
     (void)memcpy(&r, &u, sizeof r);
     return r;
 }
@@ -32,6 +34,8 @@ static inline int32_t c4g_get_i32le(const uint8_t *p)
 static inline void c4g_put_i32le(uint8_t *p, int32_t v)
 {
     uint32_t u;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
     (void)memcpy(&u, &v, sizeof u);
     c4g_put_u32le(p, u);
 }
@@ -40,6 +44,8 @@ static inline float c4g_get_f32le(const uint8_t *p)
 {
     uint32_t u = c4g_get_u32le(p);
     float f;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
     (void)memcpy(&f, &u, sizeof f);
     return f;
 }
@@ -47,6 +53,8 @@ static inline float c4g_get_f32le(const uint8_t *p)
 static inline uint32_t c4g_f32_bits(float f)
 {
     uint32_t u;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
     (void)memcpy(&u, &f, sizeof u);
     return u;
 }

@@ -175,11 +175,13 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
 static uint32_t drive_mask(uint32_t infpar)
 {
     uint32_t mask = 0U;
+    uint32_t bit = 1U;
     uint32_t arm;
     for (arm = 0U; arm < C4G_ARMS; arm++) {
         if (c4g_arm_byte(infpar, arm) == C4G_STS_MOVING) {
-            mask |= (1U << arm);
+            mask |= bit;
         }
+        bit *= 2U;
     }
     return mask;
 }
@@ -248,7 +250,8 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         }
         track_num(s, p->num, res);
         if (s->have_cyclic_time != 0U) {
-            const int64_t inter = (int64_t)(now_ns - s->last_cyclic_ns);
+            const uint64_t elapsed = now_ns - s->last_cyclic_ns;
+            const int64_t inter = (int64_t)elapsed;
             c4g_timing_t *t = &s->timing;
             if ((t->samples_inter == 0U) || (inter < t->min_inter_ns)) {
                 t->min_inter_ns = inter;
@@ -332,7 +335,11 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
                 st = c4g_pc_encode(tx, buf, cap, &n);
             }
         } else {
-            n = (s->pending_kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE;
+            if (s->pending_kind == C4G_RX_INIT) {
+                n = C4G_INIT_SIZE;
+            } else {
+                n = C4G_SYNC_REPLY_SIZE;
+            }
             if (cap < n) {
                 st = C4G_ERR_CAPACITY;
             } else {
@@ -362,7 +369,8 @@ c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)
         st = C4G_ERR_STATE;
         if ((s->pending_num >= 0) && (s->pending_kind == C4G_RX_DROPPED)) {
             c4g_timing_t *t = &s->timing;
-            const int64_t cyc = (int64_t)(now_ns - s->pending_rx_ns);
+            const uint64_t elapsed = now_ns - s->pending_rx_ns;
+            const int64_t cyc = (int64_t)elapsed;
             t->last_cycle_ns = cyc;
             if ((t->samples_cycle == 0U) || (cyc > t->worst_cycle_ns)) {
                 t->worst_cycle_ns = cyc;
