@@ -39,7 +39,8 @@ static const char k_close[ACTION_CLOSE_LEN] = {'C', 'L', 'O', 'S', 'E'};
 const char *c4g_cell_strerror(int status)
 {
     /* index = -status - 201 */
-    static const char *const k_status_text[STATUS_COUNT] = {
+    /* char arrays, not pointers: a pointer table lands in .data.rel.ro under PIE */
+    static const char k_status_text[STATUS_COUNT][64] = {
         "cell: null pointer argument",
         "cell: output buffer too small",
         "cell: argument out of range",
@@ -94,7 +95,7 @@ const char *c4g_cell_error_text(int32_t code, int *project)
 
 const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd)
 {
-    static const char *const k_cmd_names[C4G_CELL_CMD_COUNT_] = {
+    static const char k_cmd_names[C4G_CELL_CMD_COUNT_][6] = {
         "STA", "SRVON", "SRVOF", "OVR", "MOV", "STP", "RST", "CLO", "ACQ", "HND", "ITR", "PNP"};
     const char *name = "???";
     if ((uint32_t)cmd < (uint32_t)C4G_CELL_CMD_COUNT_) {
@@ -341,6 +342,29 @@ static c4g_cell_status_t take_field(cursor_t *c, const field_fmt_t *f, c4g_cell_
             st = fail_at(c, st, c->pos + bad, part, axis);
         } else {
             c->pos += f->width;
+        }
+    }
+    return st;
+}
+
+c4g_cell_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
+                                        int32_t *out, c4g_cell_diag_t *diag)
+{
+    c4g_cell_status_t st = C4G_CELL_OK;
+    const field_fmt_t *f = fmt_of(unit);
+    if ((buf == NULL) || (out == NULL)) {
+        st = C4G_CELL_ERR_NULL;
+    } else if (f == NULL) {
+        st = C4G_CELL_ERR_ARG;
+    } else {
+        cursor_t c = {buf, len, 0U, diag};
+        int32_t v = 0;
+        st = take_field(&c, f, C4G_CELL_PART_VALUE, -1, &v);
+        if (st == C4G_CELL_OK) {
+            st = expect_end(&c);
+        }
+        if (st == C4G_CELL_OK) {
+            *out = v;
         }
     }
     return st;
