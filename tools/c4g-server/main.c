@@ -1,0 +1,726 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-server: the PC side of C4G Open. Binds the UDP port, accepts packets only from
+ * the controller's address, runs the libc4gopen session engine and answers every
+ * packet with a per-arm behaviour passed through the PC-side safety filter.
+ *
+ * The real-time loop (STYLE R15): recvfrom -> c4g_session_rx -> behaviour -> safety
+ * filter -> c4g_session_reply -> sendto -> c4g_session_sent. Nothing on that path
+ * allocates or does file I/O: logs, pcap and moni rows go through a lock-free ring
+ * (tools/common/c4g_rtlog.h) to a writer thread. */
+#include "srv.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <getopt.h>
+#include <ini.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+void srv_config_default(srv_config_t *c);
+int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
+                     size_t errlen);
+void srv_report(srv_t *S, FILE *out, const char *why, int code);
+int srv_json(srv_t *S, const char *path, const char *why, int code);
+void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec);
+int srv_outputs_open(srv_t *S);
+void srv_outputs_close(srv_t *S);
+
+static srv_t g_srv; /* static: large, and locked by mlockall */
+static volatile sig_atomic_t g_stop;
+
+static void on_signal(int sig)
+{
+    g_stop = sig;
+}
+
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000ULL + (uint64_t)ts.tv_nsec;
+}
+
+void srv_log(srv_t *S, uint64_t t_ns, const char *fmt, ...)
+{
+    va_list ap;
+    c4g_rtlog_rec_t *rec;
+    int n;
+    if (S->cfg.quiet && !S->log_fp) {
+        return;
+    }
+    rec = c4g_rtlog_reserve(&S->log);
+    if (rec == NULL) {
+        return; /* counted as dropped */
+    }
+    va_start(ap, fmt);
+    n = vsnprintf((char *)rec->data, C4G_RTLOG_SLOT_BYTES, fmt, ap);
+    va_end(ap);
+    if (n < 0) {
+        n = 0;
+    } else if ((size_t)n >= C4G_RTLOG_SLOT_BYTES) {
+        n = (int)C4G_RTLOG_SLOT_BYTES - 1;
+    }
+    rec->kind = LOG_TEXT;
+    rec->t_ns = t_ns;
+    rec->len = (uint32_t)n;
+    c4g_rtlog_commit(&S->log);
+}
+
+static const char *const usage_text[] = {
+"Usage: c4g-server [OPTIONS]\n",
+"The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n",
+"controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n",
+"sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n",
+"a built-in behaviour for the open mode the controller selects, through the PC-side\n",
+"safety filter (following error -> 508, current saturation to AzLim, delta-current\n",
+"clamp, stroke ends and reference continuity -> 505).\n",
+"\n",
+"Network:\n",
+"  -p, --port N             UDP port to bind (default 1000)\n",
+"  -b, --bind ADDR          local address (default 0.0.0.0)\n",
+"  -c, --controller ADDR    accept packets only from ADDR (default 10.2.12.150, the\n",
+"                           manual's SMP+ address); 'any' accepts every source.\n",
+"                           Other sources are dropped and counted (\"foreign\").\n",
+"      --num-policy P       plus1 (field library, default: reply NUM+1, 0x7FFF->1)\n",
+"                           or echo (manual text: reply with the same NUM)\n",
+"      --lost-timeout-ms N  silence that counts as a lost controller (default 10 periods)\n",
+"      --idle-timeout S     give up if no packet at all arrives within S s (default: wait)\n",
+"      --max-seconds S      stop after S s in total (default: no limit)\n",
+"      --persist            keep serving after 504 or a lost controller\n",
+"      --config FILE        INI file: [server] [rt] [output] [test] sections take the\n",
+"                           long option names as keys, [arm1]..[arm4] the per-arm ones\n",
+"Real time:\n",
+"      --rt                 --mlock and SCHED_FIFO priority 80\n",
+"      --mlock              mlockall(MCL_CURRENT|MCL_FUTURE) and prefault the stack\n",
+"      --prio N             SCHED_FIFO priority 1..99 for the packet loop\n",
+"      --cpu N              pin the packet loop to CPU N\n",
+"      --rt-strict          a refused real-time setting is fatal (exit 2); by default\n",
+"                           the server says what was refused and why, and continues\n",
+"      --spin               busy-poll the socket (lowest latency, burns a CPU)\n",
+"      --poll-us N          non-blocking recvfrom + clock_nanosleep(TIMER_ABSTIME) every\n",
+"                           N us instead of a blocking wait\n",
+"      --late-us N          reply deadline counted as \"late\" (default 500, T_CYCLE1)\n",
+"Per-arm behaviours (apply to every arm, or to the arm named by the last --arm N):\n",
+"      --arm N              following per-arm options apply to arm N (1..4)\n",
+"      --axes LIST          logical axes driven, e.g. 1,2,3 (default all)\n",
+"      --sine A,F[,C]       modes 1/4/5: raised cosine A turns, F Hz, C cycles (default\n",
+"                           0.1,0.5,1), then EXIT_FROM_OPEN\n",
+"      --traj FILE          modes 1/4/5: follow a trajectory CSV (t,ax1..axN offsets)\n",
+"      --hold               modes 1/4/5: hold the entry position for --duration\n",
+"      --offset A,R[,H]     mode 7: offset step to A turns over R s, hold H s (0.05,0.5,0.5)\n",
+"      --vel A,F[,C]        mode 8: zero-mean velocity addition (0.0005,1,1)\n",
+"      --ff FILE            mode 9: current feedforward parameter file (all arms)\n",
+"      --duration S         modes 1 (hold), 2, 9: time before EXIT_FROM_OPEN (default 2)\n",
+"      --gains KP,KD[,KI]   modes 1/2 joint PD(+I) [A/turn, A/(turn/tick), A/(turn s)]\n",
+"      --i-max A            integrator limit (anti-windup), default AzLim\n",
+"      --scs S              soft-control-switching ramp of the PC current limit (0 = off)\n",
+"      --no-exit            never send EXIT_FROM_OPEN (the controller ends the mode)\n",
+"      --max-step T         reference continuity limit [turns/tick] -> 505 (0 = off)\n",
+"      --stroke MIN,MAX     stroke ends for PC absolute references [turns] -> 505\n",
+"      --fe-limit T         following-error threshold override (default: init packet)\n",
+"Outputs:\n",
+"      --pcap FILE          every datagram in and out (written by the log thread)\n",
+"      --moni FILE          moni CSV, one row per axis per cyclic packet\n",
+"      --moni-type N        0 = full rx/tx rows (default), 19..24 = the manual's types\n",
+"      --json FILE          JSON summary at exit ('-' = stdout)\n",
+"      --log FILE           log lines (default stderr)\n",
+"  -v, --verbose            log every mode change and session event\n",
+"  -q, --quiet              no log lines, no text report (JSON still written)\n",
+"Test hooks:\n",
+"      --skip-replies AT[,N]  do not answer cyclic packets AT..AT+N-1\n",
+"      --inject 505@N | 508@N[:AXIS]  request drive off / following error at packet N\n",
+"      --freeze AT,MS       active freezing: at packet AT reply 500, pause MS ms, then\n",
+"                           re-activate with EXIT_FROM_OPEN\n",
+"  -h, --help               this text\n",
+"  -V, --version            library version\n",
+"\n",
+"Exit codes: 0 ended by 504 (or after it with --persist and a signal), 1 bad option or\n",
+"input file, 2 setup failure (socket, bind, thread, refused RT setting with\n",
+"--rt-strict), 3 controller lost, 4 --idle-timeout / --max-seconds reached, 5 stopped by\n",
+"SIGINT/SIGTERM. The chapter 22 timing report, the counters and the safety events are\n",
+"printed at every exit that follows a session.\n",
+"\n",
+"Examples:\n",
+"  c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150\n",
+"  c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim\n",
+"  c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1\n",
+"  c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv\n",
+"  c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward\n",
+"  c4g-server --config fixtures/server/server_example.ini\n",
+NULL};
+
+struct ini_ctx {
+    srv_config_t *cfg;
+    const char *path;
+    int failed;
+};
+
+static int on_ini(void *user, const char *section, const char *name, const char *value)
+{
+    struct ini_ctx *ic = (struct ini_ctx *)user;
+    char err[256];
+    int arm = -1, lo, hi, a;
+    if (strncmp(section, "arm", 3) == 0) {
+        arm = atoi(section + 3) - 1;
+        if (arm < 0 || arm >= (int)C4G_ARMS || section[4] != '\0') {
+            fprintf(stderr, "c4g-server: %s: section [%s]: want [arm1]..[arm4]\n", ic->path,
+                    section);
+            ic->failed = 1;
+            return 0;
+        }
+    } else if (section[0] != '\0' && strcmp(section, "server") != 0 &&
+               strcmp(section, "rt") != 0 && strcmp(section, "output") != 0 &&
+               strcmp(section, "test") != 0 && strcmp(section, "arms") != 0) {
+        fprintf(stderr, "c4g-server: %s: unknown section [%s]\n", ic->path, section);
+        ic->failed = 1;
+        return 0;
+    }
+    lo = (arm < 0) ? 0 : arm;
+    hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
+    for (a = lo; a <= hi; a++) {
+        if (srv_config_apply(ic->cfg, name, value, a, err, sizeof err) != 0) {
+            fprintf(stderr, "c4g-server: %s: [%s] %s\n", ic->path, section, err);
+            ic->failed = 1;
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int parse_args(srv_config_t *cfg, int argc, char **argv)
+{
+    static const struct option longopts[] = {
+        {"port", required_argument, NULL, 'p'}, {"bind", required_argument, NULL, 'b'},
+        {"controller", required_argument, NULL, 'c'}, {"num-policy", required_argument, NULL, 0},
+        {"lost-timeout-ms", required_argument, NULL, 0}, {"idle-timeout", required_argument, NULL, 0},
+        {"max-seconds", required_argument, NULL, 0}, {"persist", no_argument, NULL, 0},
+        {"config", required_argument, NULL, 0}, {"rt", no_argument, NULL, 0},
+        {"mlock", no_argument, NULL, 0}, {"prio", required_argument, NULL, 0},
+        {"cpu", required_argument, NULL, 0}, {"rt-strict", no_argument, NULL, 0},
+        {"spin", no_argument, NULL, 0}, {"poll-us", required_argument, NULL, 0},
+        {"late-us", required_argument, NULL, 0}, {"arm", required_argument, NULL, 0},
+        {"axes", required_argument, NULL, 0}, {"sine", required_argument, NULL, 0},
+        {"traj", required_argument, NULL, 0}, {"hold", no_argument, NULL, 0},
+        {"offset", required_argument, NULL, 0}, {"vel", required_argument, NULL, 0},
+        {"ff", required_argument, NULL, 0}, {"duration", required_argument, NULL, 0},
+        {"gains", required_argument, NULL, 0}, {"i-max", required_argument, NULL, 0},
+        {"scs", required_argument, NULL, 0}, {"no-exit", no_argument, NULL, 0},
+        {"max-step", required_argument, NULL, 0}, {"stroke", required_argument, NULL, 0},
+        {"fe-limit", required_argument, NULL, 0}, {"pcap", required_argument, NULL, 0},
+        {"moni", required_argument, NULL, 0}, {"moni-type", required_argument, NULL, 0},
+        {"json", required_argument, NULL, 0}, {"log", required_argument, NULL, 0},
+        {"verbose", no_argument, NULL, 'v'}, {"quiet", no_argument, NULL, 'q'},
+        {"skip-replies", required_argument, NULL, 0}, {"inject", required_argument, NULL, 0},
+        {"freeze", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
+    int arm = -1, c, idx;
+    char err[256];
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":p:b:c:vqhV", longopts, &idx)) != -1) {
+        const char *name;
+        int a, lo, hi;
+        switch (c) {
+        case 'p': name = "port"; break;
+        case 'b': name = "bind"; break;
+        case 'c': name = "controller"; break;
+        case 'v': name = "verbose"; break;
+        case 'q': name = "quiet"; break;
+        case 'h': { int u; for (u = 0; usage_text[u] != NULL; u++) fputs(usage_text[u], stdout); } exit(0);
+        case 'V': printf("c4g-server %s (libc4gopen %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING); exit(0);
+        case 0: name = longopts[idx].name; break;
+        case ':':
+            fprintf(stderr, "c4g-server: option '%s' needs a value (see --help)\n", argv[optind - 1]);
+            return -1;
+        default:
+            fprintf(stderr, "c4g-server: unknown option '%s' (see --help)\n", argv[optind - 1]);
+            return -1;
+        }
+        if (strcmp(name, "arm") == 0) {
+            char *end;
+            long v = strtol(optarg, &end, 10);
+            if (*end != '\0' || v < 1 || v > (long)C4G_ARMS) {
+                fprintf(stderr, "c4g-server: --arm: bad value '%s' (want 1..4)\n", optarg);
+                return -1;
+            }
+            arm = (int)v - 1;
+            continue;
+        }
+        if (strcmp(name, "config") == 0) {
+            struct ini_ctx ic;
+            int r;
+            ic.cfg = cfg;
+            ic.path = optarg;
+            ic.failed = 0;
+            r = ini_parse(optarg, on_ini, &ic);
+            if (r < 0) {
+                fprintf(stderr, "c4g-server: %s: cannot open: %s\n", optarg, strerror(errno));
+                return -1;
+            }
+            if (r > 0 || ic.failed) {
+                if (!ic.failed) {
+                    fprintf(stderr, "c4g-server: %s:%d: INI syntax error\n", optarg, r);
+                } else if (r > 0) {
+                    fprintf(stderr, "c4g-server: %s:%d: (line of the error above)\n", optarg, r);
+                }
+                return -1;
+            }
+            continue;
+        }
+        lo = (arm < 0) ? 0 : arm;
+        hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
+        for (a = lo; a <= hi; a++) {
+            if (srv_config_apply(cfg, name, (longopts[idx].has_arg || c != 0) ? optarg : NULL, a,
+                                 err, sizeof err) != 0) {
+                fprintf(stderr, "c4g-server: --%s\n", err);
+                return -1;
+            }
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "c4g-server: unexpected argument '%s' (see --help)\n", argv[optind]);
+        return -1;
+    }
+    return 0;
+}
+
+static int load_files(srv_config_t *cfg)
+{
+    char err[600];
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        const srv_arm_cfg_t *A = &cfg->arm[a];
+        uint32_t b;
+        int shared = 0;
+        if (A->src != SRC_FILE) {
+            continue;
+        }
+        for (b = 0U; b < a; b++) { /* same file as an earlier arm: copy, don't re-read */
+            if (cfg->arm[b].src == SRC_FILE && strcmp(cfg->arm[b].traj_path, A->traj_path) == 0) {
+                memcpy(&srv_traj[a], &srv_traj[b], sizeof srv_traj[a]);
+                shared = 1;
+                break;
+            }
+        }
+        if (!shared && srv_load_traj(A->traj_path, &srv_traj[a], err, sizeof err) != 0) {
+            fprintf(stderr, "c4g-server: trajectory: %s\n", err);
+            return -1;
+        }
+    }
+    if (cfg->arm[0].ff_path[0] != '\0' &&
+        srv_load_ff(cfg->arm[0].ff_path, cfg->ff, err, sizeof err) != 0) {
+        fprintf(stderr, "c4g-server: feedforward: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
+
+static int open_socket(srv_t *S)
+{
+    struct sockaddr_in sa;
+    int fd, one = 1, rcv = 1 << 20;
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)S->cfg.port);
+    if (inet_pton(AF_INET, S->cfg.bind_addr, &sa.sin_addr) != 1) {
+        fprintf(stderr, "c4g-server: --bind: '%s' is not an IPv4 address\n", S->cfg.bind_addr);
+        return -1;
+    }
+    memset(&S->ctrl, 0, sizeof S->ctrl);
+    if (strcmp(S->cfg.ctrl_addr, "any") != 0 &&
+        inet_pton(AF_INET, S->cfg.ctrl_addr, &S->ctrl.sin_addr) != 1) {
+        fprintf(stderr, "c4g-server: --controller: '%s' is not an IPv4 address or 'any'\n",
+                S->cfg.ctrl_addr);
+        return -1;
+    }
+    fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0) {
+        fprintf(stderr, "c4g-server: socket: %s\n", strerror(errno));
+        return -2;
+    }
+    (void)setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
+    if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
+        const int e = errno;
+        fprintf(stderr, "c4g-server: bind %s:%u: %s%s\n", S->cfg.bind_addr, S->cfg.port, strerror(e),
+                (e == EACCES && S->cfg.port < 1024U)
+                    ? " (ports below 1024 need root or CAP_NET_BIND_SERVICE)" : "");
+        close(fd);
+        return -2;
+    }
+    return fd;
+}
+
+/* Wait until the socket is readable or timeout_ns passed; 1 readable, 0 timeout. */
+static int wait_readable(const srv_t *S, int fd, uint64_t timeout_ns)
+{
+    if (S->cfg.spin || S->cfg.poll_us > 0U) {
+        const uint64_t end = now_ns() + timeout_ns;
+        struct timespec next;
+        char b;
+        clock_gettime(CLOCK_MONOTONIC, &next);
+        for (;;) {
+            const ssize_t n = recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT);
+            if (n >= 0) {
+                return 1;
+            }
+            if (g_stop || now_ns() >= end) {
+                return 0;
+            }
+            if (S->cfg.poll_us > 0U) {
+                next.tv_nsec += (long)S->cfg.poll_us * 1000L;
+                while (next.tv_nsec >= 1000000000L) {
+                    next.tv_nsec -= 1000000000L;
+                    next.tv_sec++;
+                }
+                (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
+            }
+        }
+    } else {
+        struct pollfd p;
+        int ms = (int)(timeout_ns / 1000000ULL);
+        p.fd = fd;
+        p.events = POLLIN;
+        p.revents = 0;
+        if (ms < 1) {
+            ms = 1;
+        }
+        return (poll(&p, 1, ms) > 0) ? 1 : 0;
+    }
+}
+
+static void pause_ms(double ms)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)(ms / 1000.0);
+    ts.tv_nsec = (long)((ms - (double)ts.tv_sec * 1000.0) * 1e6);
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR && !g_stop) {
+    }
+}
+
+static void hist_add(srv_stats_t *st, int64_t ns)
+{
+    uint64_t us = (ns > 0) ? (uint64_t)ns / 1000U : 0U;
+    if (us > SRV_HIST_US) {
+        us = SRV_HIST_US;
+    }
+    st->hist[us]++;
+    st->hist_n++;
+    st->cycle_sum_us += (double)ns / 1000.0;
+    if (ns > st->cycle_max_ns) {
+        st->cycle_max_ns = ns;
+    }
+}
+
+static void log_datagram(srv_t *S, uint32_t kind, uint64_t t, const uint8_t *buf, size_t n,
+                         const struct sockaddr_in *peer)
+{
+    c4g_rtlog_rec_t *rec;
+    if (S->pcap_fp == NULL) {
+        return;
+    }
+    rec = c4g_rtlog_reserve(&S->log);
+    if (rec == NULL) {
+        return;
+    }
+    if (n > C4G_RTLOG_SLOT_BYTES - 8U) {
+        n = C4G_RTLOG_SLOT_BYTES - 8U;
+    }
+    rec->kind = kind;
+    rec->t_ns = t;
+    memcpy(rec->data, &peer->sin_addr.s_addr, 4U);
+    memcpy(rec->data + 4, &peer->sin_port, 2U);
+    memcpy(rec->data + 6, &S->local_port, 2U);
+    memcpy(rec->data + 8, buf, n);
+    rec->len = (uint32_t)(n + 8U);
+    c4g_rtlog_commit(&S->log);
+}
+
+static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4g_pc_packet_t *tx)
+{
+    c4g_rtlog_rec_t *rec;
+    if (S->moni_fp == NULL) {
+        return;
+    }
+    rec = c4g_rtlog_reserve(&S->log);
+    if (rec == NULL) {
+        return;
+    }
+    rec->kind = LOG_MONI;
+    rec->t_ns = t;
+    memcpy(rec->data, rx, sizeof *rx);
+    memcpy(rec->data + sizeof *rx, tx, sizeof *tx);
+    rec->len = (uint32_t)(sizeof *rx + sizeof *tx);
+    c4g_rtlog_commit(&S->log);
+}
+
+/* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
+static int serve(srv_t *S, int fd)
+{
+    static uint8_t in[2048];
+    static uint8_t out[C4G_INIT_SIZE];
+    static c4g_pc_packet_t tx;
+    c4g_session_t *s = &S->session;
+    const uint64_t start = now_ns();
+    int thaw = 0;
+    for (;;) {
+        struct sockaddr_in peer;
+        socklen_t plen = sizeof peer;
+        c4g_rx_result_t res;
+        uint64_t t_rx, t_tx;
+        ssize_t n;
+        size_t len, olen = 0U;
+        int send_it = 0;
+        if (g_stop) {
+            return EXIT_SIGNAL;
+        }
+        if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
+            return EXIT_TIMEOUT;
+        }
+        if (!wait_readable(S, fd, 1000000ULL)) {
+            uint32_t ev = 0U;
+            const uint64_t t = now_ns();
+            (void)c4g_session_poll(s, t, &ev);
+            if ((ev & C4G_EV_LOST) != 0U) {
+                srv_log(S, t, "controller lost: no packet for %.1f ms",
+                        (double)s->lost_timeout_ns * 1e-6);
+                if (!S->cfg.persist) {
+                    return EXIT_LOST;
+                }
+            }
+            if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
+                (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
+                return EXIT_TIMEOUT;
+            }
+            continue;
+        }
+        n = recvfrom(fd, in, sizeof in, MSG_TRUNC, (struct sockaddr *)&peer, &plen);
+        t_rx = now_ns();
+        if (n < 0) {
+            continue; /* EINTR or a transient error */
+        }
+        if (S->ctrl.sin_addr.s_addr != 0U && peer.sin_addr.s_addr != S->ctrl.sin_addr.s_addr) {
+            S->stats.foreign++;
+            if (S->stats.foreign <= 10U || S->cfg.verbose) {
+                char a[INET_ADDRSTRLEN];
+                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
+                srv_log(S, t_rx, "dropped %zd-byte datagram from foreign source %s:%u", n, a,
+                        (unsigned)ntohs(peer.sin_port));
+            }
+            continue;
+        }
+        if ((size_t)n > sizeof in) {
+            S->stats.oversize++;
+            len = sizeof in;
+        } else {
+            len = (size_t)n;
+        }
+        if (thaw) {
+            /* Active freezing is over: drop what queued during the pause, answer the newest. */
+            ssize_t m;
+            struct sockaddr_in p2;
+            socklen_t l2 = sizeof p2;
+            while ((m = recvfrom(fd, in, sizeof in, MSG_DONTWAIT | MSG_TRUNC,
+                                 (struct sockaddr *)&p2, &l2)) >= 0) {
+                if (p2.sin_addr.s_addr == peer.sin_addr.s_addr) {
+                    len = ((size_t)m > sizeof in) ? sizeof in : (size_t)m;
+                    peer = p2;
+                }
+                l2 = sizeof p2;
+            }
+            t_rx = now_ns();
+        }
+        log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
+        if (c4g_session_rx(s, in, len, t_rx, &res) != C4G_OK) {
+            continue;
+        }
+        if ((res.events & C4G_EV_MALFORMED) != 0U) {
+            srv_log(S, t_rx, "dropped malformed %zu-byte datagram: %s (field %s, offset %u, axis %d, value %lld)",
+                    len, c4g_strerror(res.diag.status), c4g_field_name(res.diag.field),
+                    (unsigned)res.diag.offset, (int)res.diag.axis, (long long)res.diag.value);
+            continue;
+        }
+        if ((res.events & C4G_EV_LOST) != 0U) {
+            S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
+            srv_log(S, t_rx, "long gap: more than %.1f ms without a packet",
+                    (double)s->lost_timeout_ns * 1e-6);
+        }
+        if ((res.events & C4G_EV_INIT) != 0U) {
+            S->stats.inits++;
+            srv_behave_reset(S);
+            srv_log(S, t_rx, "init packet: %u open axes, period %d ms, version %d.%d.%d",
+                    (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
+                    (int)s->init.version_minor, (int)s->init.version_build);
+        }
+        if ((res.events & C4G_EV_RESTART) != 0U) {
+            S->stats.restarts++;
+            srv_log(S, t_rx, "506: client restart, a new init packet follows");
+        }
+        if ((res.events & C4G_EV_FREEZE_IN) != 0U) {
+            S->stats.frozen_passive++;
+            srv_log(S, t_rx, "502: passive freezing (loss check suspended)");
+        }
+        if ((res.events & C4G_EV_FREEZE_OUT) != 0U) {
+            srv_log(S, t_rx, "503: passive freezing over");
+        }
+        if ((res.events & C4G_EV_DRIVES) != 0U) {
+            srv_log(S, t_rx, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
+        }
+        if ((res.events & C4G_EV_CYCLIC_START) != 0U) {
+            srv_log(S, t_rx, "cyclic communication started");
+        }
+        if (res.kind == C4G_RX_SYNC || res.kind == C4G_RX_INIT) {
+            send_it = (c4g_session_reply(s, NULL, out, sizeof out, &olen) == C4G_OK);
+        } else if (res.kind == C4G_RX_CYCLIC) {
+            const uint64_t k = s->counters.cyclic;
+            srv_behave_step(S, res.pkt, &tx, t_rx);
+            if (thaw) {
+                uint32_t a;
+                for (a = 0U; a < C4G_ARMS; a++) {
+                    if (s->map.n_axes_arm[a] > 0U) {
+                        tx.infpar = c4g_arm_byte_set(tx.infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
+                    }
+                }
+                srv_log(S, t_rx, "active freezing over: EXIT_FROM_OPEN sent");
+                thaw = 0;
+            }
+            if (S->cfg.inject_at == k && S->cfg.inject_mode == 505) {
+                S->safety.drive_off_latched = 1;
+                S->safety.injected++;
+            }
+            if (S->cfg.inject_at == k && S->cfg.inject_mode == 508 &&
+                (uint32_t)S->cfg.inject_axis < tx.n_axes) {
+                S->ax[S->cfg.inject_axis].fe_latched = 1;
+                S->safety.injected++;
+            }
+            srv_safety_filter(S, res.pkt, &tx, t_rx);
+            if (S->cfg.freeze_at == k) {
+                uint32_t i;
+                for (i = 0U; i < tx.n_axes; i++) {
+                    tx.ax[i].mode = C4G_MODE_FREEZING_A;
+                }
+            }
+            if (S->cfg.skip_at > 0U && k >= S->cfg.skip_at && k < S->cfg.skip_at + S->cfg.skip_count) {
+                S->stats.skipped++;
+            } else {
+                const c4g_status_t st = c4g_session_reply(s, &tx, out, sizeof out, &olen);
+                if (st == C4G_OK) {
+                    send_it = 1;
+                } else {
+                    /* the encoder refused the reply (NaN, unknown mode): answer neutral */
+                    S->stats.encode_errors++;
+                    (void)c4g_pc_reply_neutral(res.pkt, &tx);
+                    send_it = (c4g_session_reply(s, &tx, out, sizeof out, &olen) == C4G_OK);
+                }
+            }
+        }
+        if (send_it) {
+            if (sendto(fd, out, olen, 0, (struct sockaddr *)&peer, plen) != (ssize_t)olen) {
+                S->stats.send_errors++;
+            }
+            t_tx = now_ns();
+            if (res.kind == C4G_RX_CYCLIC) {
+                const int64_t cyc = (int64_t)(t_tx - t_rx);
+                (void)c4g_session_sent(s, t_tx);
+                hist_add(&S->stats, cyc);
+                if (cyc > (int64_t)S->cfg.late_us * 1000) {
+                    S->stats.late++;
+                }
+                log_moni(S, t_rx, res.pkt, &tx);
+            }
+            log_datagram(S, LOG_PCAP_TX, t_tx, out, olen, &peer);
+        }
+        if (res.kind == C4G_RX_CYCLIC && S->cfg.freeze_at == s->counters.cyclic) {
+            S->stats.freezes++;
+            srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
+            pause_ms(S->cfg.freeze_ms);
+            thaw = 1;
+        }
+        if ((res.events & C4G_EV_END) != 0U) {
+            srv_log(S, t_rx, "504: end of communication");
+            if (!S->cfg.persist) {
+                return EXIT_END;
+            }
+            (void)c4g_session_init(s, &s->cfg);
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    srv_t *S = &g_srv;
+    c4g_session_config_t scfg;
+    struct sigaction sa;
+    int fd, code;
+    const char *why;
+
+    srv_config_default(&S->cfg);
+    if (parse_args(&S->cfg, argc, argv) != 0 || load_files(&S->cfg) != 0) {
+        return EXIT_USAGE;
+    }
+    (void)c4g_session_config_default(&scfg);
+    scfg.num_policy = S->cfg.num_policy;
+    scfg.lost_timeout_ns = S->cfg.lost_timeout_ns;
+    if (c4g_session_init(&S->session, &scfg) != C4G_OK) {
+        fprintf(stderr, "c4g-server: session configuration refused\n");
+        return EXIT_USAGE;
+    }
+    srv_behave_reset(S);
+    fd = open_socket(S);
+    if (fd < 0) {
+        return (fd == -1) ? EXIT_USAGE : EXIT_SETUP;
+    }
+    S->local_port = htons((uint16_t)S->cfg.port);
+    if (srv_outputs_open(S) != 0) {
+        close(fd);
+        return EXIT_SETUP;
+    }
+    c4g_rtlog_init(&S->log, srv_sink, S);
+    if (c4g_rtlog_start(&S->log) != 0) {
+        fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
+        close(fd);
+        return EXIT_SETUP;
+    }
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    /* RT settings last: the writer thread stays SCHED_OTHER; memory is locked from here */
+    if (srv_rt_setup(&S->cfg, stderr) != 0) {
+        c4g_rtlog_stop(&S->log);
+        close(fd);
+        return EXIT_SETUP;
+    }
+    if (!S->cfg.quiet) {
+        fprintf(stderr, "c4g-server: listening on %s:%u, controller %s, NUM policy %s\n",
+                S->cfg.bind_addr, S->cfg.port, S->cfg.ctrl_addr,
+                S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1");
+    }
+    S->t0_ns = now_ns();
+    code = serve(S, fd);
+    c4g_rtlog_stop(&S->log);
+    close(fd);
+    switch (code) {
+    case EXIT_END: why = "504 from the controller (end of communication)"; break;
+    case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
+    case EXIT_TIMEOUT: why = (S->session.counters.rx == 0U) ? "idle timeout: no controller"
+                                                            : "--max-seconds reached"; break;
+    case EXIT_SIGNAL: why = "stopped by a signal"; break;
+    default: why = "?"; break;
+    }
+    if (!S->cfg.quiet) {
+        srv_report(S, stdout, why, code);
+    }
+    if (S->cfg.json_path[0] != '\0' && srv_json(S, S->cfg.json_path, why, code) != 0) {
+        code = EXIT_SETUP;
+    }
+    srv_outputs_close(S);
+    return code;
+}

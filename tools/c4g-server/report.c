@@ -1,0 +1,348 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-server outputs: the log writer thread's sink (text log, pcap, moni CSV) and the
+ * exit report (chapter 22 timing, counters, safety events) as text and JSON. Nothing
+ * here runs on the real-time path. */
+#include "srv.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <string.h>
+#include <time.h>
+
+static uint64_t wall_offset_ns; /* CLOCK_REALTIME - CLOCK_MONOTONIC at start */
+
+static void put32(FILE *fp, uint32_t v)
+{
+    unsigned char b[4];
+    b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8);
+    b[2] = (unsigned char)(v >> 16); b[3] = (unsigned char)(v >> 24);
+    fwrite(b, 1, 4, fp);
+}
+
+static void put16(FILE *fp, uint16_t v)
+{
+    unsigned char b[2];
+    b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8);
+    fwrite(b, 1, 2, fp);
+}
+
+int srv_outputs_open(srv_t *S)
+{
+    struct timespec r, m;
+    clock_gettime(CLOCK_REALTIME, &r);
+    clock_gettime(CLOCK_MONOTONIC, &m);
+    wall_offset_ns = ((uint64_t)r.tv_sec * 1000000000ULL + (uint64_t)r.tv_nsec) -
+                     ((uint64_t)m.tv_sec * 1000000000ULL + (uint64_t)m.tv_nsec);
+    S->log_fp = NULL;
+    S->pcap_fp = NULL;
+    S->moni_fp = NULL;
+    if (S->cfg.log_path[0] != '\0') {
+        S->log_fp = fopen(S->cfg.log_path, "w");
+        if (S->log_fp == NULL) {
+            fprintf(stderr, "c4g-server: --log %s: %s\n", S->cfg.log_path, strerror(errno));
+            return -1;
+        }
+    }
+    if (S->cfg.pcap_path[0] != '\0') {
+        S->pcap_fp = fopen(S->cfg.pcap_path, "wb");
+        if (S->pcap_fp == NULL) {
+            fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, strerror(errno));
+            return -1;
+        }
+        /* classic pcap, little-endian, microseconds, LINKTYPE_RAW (101): IPv4 packets */
+        put32(S->pcap_fp, 0xA1B2C3D4U);
+        put16(S->pcap_fp, 2U);
+        put16(S->pcap_fp, 4U);
+        put32(S->pcap_fp, 0U);
+        put32(S->pcap_fp, 0U);
+        put32(S->pcap_fp, 65535U);
+        put32(S->pcap_fp, 101U);
+    }
+    if (S->cfg.moni_path[0] != '\0') {
+        S->moni_fp = fopen(S->cfg.moni_path, "w");
+        if (S->moni_fp == NULL) {
+            fprintf(stderr, "c4g-server: --moni %s: %s\n", S->cfg.moni_path, strerror(errno));
+            return -1;
+        }
+        if (S->cfg.moni_type == 0) {
+            fputs("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,"
+                  "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", S->moni_fp);
+        } else {
+            fprintf(S->moni_fp, "# moni type %d (manual chapter 16)\nt_s,num,axis,v1,v2,v3,v4,v5,mode\n",
+                    S->cfg.moni_type);
+        }
+    }
+    return 0;
+}
+
+void srv_outputs_close(srv_t *S)
+{
+    if (S->log_fp != NULL) fclose(S->log_fp);
+    if (S->pcap_fp != NULL) fclose(S->pcap_fp);
+    if (S->moni_fp != NULL) fclose(S->moni_fp);
+    S->log_fp = S->pcap_fp = S->moni_fp = NULL;
+}
+
+static uint16_t ip_csum(const unsigned char *h)
+{
+    uint32_t s = 0U;
+    int i;
+    for (i = 0; i < 20; i += 2) {
+        s += ((uint32_t)h[i] << 8) | h[i + 1];
+    }
+    while (s >> 16) {
+        s = (s & 0xFFFFU) + (s >> 16);
+    }
+    return (uint16_t)~s;
+}
+
+/* rec->data: peer addr (4, network order), peer port (2), local port (2), payload. */
+static void write_pcap(srv_t *S, const c4g_rtlog_rec_t *rec)
+{
+    unsigned char h[28];
+    uint32_t peer, local = htonl(0x7F000001U);
+    uint16_t pport, lport, ck;
+    const uint32_t plen = rec->len - 8U;
+    const uint64_t t = rec->t_ns + wall_offset_ns;
+    const int rx = (rec->kind == LOG_PCAP_RX);
+    memcpy(&peer, rec->data, 4U);
+    memcpy(&pport, rec->data + 4, 2U);
+    memcpy(&lport, rec->data + 6, 2U);
+    if (inet_pton(AF_INET, S->cfg.bind_addr, &local) != 1 || local == 0U) {
+        local = peer; /* bound to any: show the peer's address family (loopback) */
+    }
+    memset(h, 0, sizeof h);
+    h[0] = 0x45;
+    h[2] = (unsigned char)((plen + 28U) >> 8);
+    h[3] = (unsigned char)(plen + 28U);
+    h[8] = 64;
+    h[9] = 17;
+    memcpy(h + 12, rx ? &peer : &local, 4U);
+    memcpy(h + 16, rx ? &local : &peer, 4U);
+    ck = ip_csum(h);
+    h[10] = (unsigned char)(ck >> 8);
+    h[11] = (unsigned char)ck;
+    memcpy(h + 20, rx ? &pport : &lport, 2U);
+    memcpy(h + 22, rx ? &lport : &pport, 2U);
+    h[24] = (unsigned char)((plen + 8U) >> 8);
+    h[25] = (unsigned char)(plen + 8U);
+    put32(S->pcap_fp, (uint32_t)(t / 1000000000ULL));
+    put32(S->pcap_fp, (uint32_t)((t % 1000000000ULL) / 1000U));
+    put32(S->pcap_fp, plen + 28U);
+    put32(S->pcap_fp, plen + 28U);
+    fwrite(h, 1, sizeof h, S->pcap_fp);
+    fwrite(rec->data + 8, 1, plen, S->pcap_fp);
+}
+
+static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
+{
+    c4g_ctrl_packet_t rx;
+    c4g_pc_packet_t tx;
+    const double t = (double)(rec->t_ns - S->t0_ns) * 1e-9;
+    const c4g_axis_map_t *m = &S->session.map;
+    uint32_t i;
+    memcpy(&rx, rec->data, sizeof rx);
+    memcpy(&tx, rec->data + sizeof rx, sizeof tx);
+    for (i = 0U; i < rx.n_axes && i < C4G_MAX_AXES; i++) {
+        const c4g_ctrl_axis_t *r = &rx.ax[i];
+        const c4g_pc_axis_t *o = &tx.ax[i];
+        double v[5];
+        switch (S->cfg.moni_type) {
+        case 19: v[0] = o->target_pos; v[1] = o->target_vel; v[2] = o->measure; v[3] = o->vel_add; v[4] = o->current_add; break;
+        case 20: v[0] = r->target_pos; v[1] = r->target_vel; v[2] = r->actual_pos; v[3] = r->actual_vel; v[4] = r->current_ref; break;
+        case 21: v[0] = o->target_pos; v[1] = o->target_vel; v[2] = r->target_pos; v[3] = r->actual_pos; v[4] = r->current_ref; break;
+        case 22: v[0] = o->vel_add; v[1] = o->current_add; v[2] = r->target_pos; v[3] = r->actual_pos; v[4] = r->current_ref; break;
+        case 23: v[0] = r->target_pos; v[1] = r->current_ref; v[2] = r->ext[0]; v[3] = r->ext[1]; v[4] = o->current_add; break;
+        case 24: v[0] = r->target_pos; v[1] = r->current_ref; v[2] = r->ext[0]; v[3] = r->ext[1]; v[4] = o->vel_add; break;
+        default:
+            fprintf(S->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
+                    "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (int)rx.num, (unsigned)i + 1U,
+                    (unsigned)m->arm_of[i] + 1U, (unsigned)m->logical_of[i] + 1U, (int)r->mode,
+                    (double)r->target_pos, (double)r->target_vel, (double)r->actual_pos,
+                    (double)r->actual_vel, (double)r->current_ref, (double)r->ext[0],
+                    (double)r->ext[1], (double)r->ext[2], (unsigned)tx.infpar, (int)o->mode,
+                    (double)o->target_pos, (double)o->target_vel, (double)o->measure,
+                    (double)o->vel_add, (double)o->current_add);
+            continue;
+        }
+        fprintf(S->moni_fp, "%.6f,%d,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", t, (int)rx.num,
+                (unsigned)i + 1U, v[0], v[1], v[2], v[3], v[4],
+                (int)(S->cfg.moni_type == 20 ? r->mode : o->mode));
+    }
+}
+
+void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
+{
+    srv_t *S = (srv_t *)ctx;
+    switch (rec->kind) {
+    case LOG_TEXT: {
+        FILE *fp = (S->log_fp != NULL) ? S->log_fp : stderr;
+        if (S->cfg.quiet && S->log_fp == NULL) {
+            break;
+        }
+        fprintf(fp, "c4g-server: [%10.6f] %.*s\n", (double)(rec->t_ns - S->t0_ns) * 1e-9,
+                (int)rec->len, (const char *)rec->data);
+        break;
+    }
+    case LOG_PCAP_RX:
+    case LOG_PCAP_TX:
+        if (S->pcap_fp != NULL && rec->len >= 8U) {
+            write_pcap(S, rec);
+        }
+        break;
+    case LOG_MONI:
+        if (S->moni_fp != NULL) {
+            write_moni(S, rec);
+        }
+        break;
+    default:
+        break;
+    }
+}
+
+static double pct_us(const srv_stats_t *st, double p)
+{
+    uint64_t want, acc = 0U;
+    uint32_t i;
+    if (st->hist_n == 0U) {
+        return 0.0;
+    }
+    want = (uint64_t)(p * (double)st->hist_n + 0.999999);
+    if (want < 1U) want = 1U;
+    for (i = 0U; i <= SRV_HIST_US; i++) {
+        acc += st->hist[i];
+        if (acc >= want) {
+            return (double)i;
+        }
+    }
+    return (double)SRV_HIST_US;
+}
+
+static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
+                                                      "init", "phase"};
+
+void srv_report(srv_t *S, FILE *out, const char *why, int code)
+{
+    c4g_timing_t t;
+    const c4g_counters_t *c = &S->session.counters;
+    const srv_stats_t *st = &S->stats;
+    const srv_safety_t *sf = &S->safety;
+    uint32_t k;
+    (void)c4g_session_timing(&S->session, &t);
+    fprintf(out, "c4g-server: session ended: %s (exit code %d)\n", why, code);
+    fprintf(out, "== Timing (manual chapter 22, PC point of view)\n");
+    fprintf(out, "Nominal Inter-Packets Period = %.9f s\n", (double)t.nominal_period_ns * 1e-9);
+    fprintf(out, "Worst cycle time = %.9f s\n", (double)t.worst_cycle_ns * 1e-9);
+    fprintf(out, "Measured Inter-Packets Period range = [%+.9f; %+.9f] s\n",
+            (double)t.min_inter_ns * 1e-9, (double)t.max_inter_ns * 1e-9);
+    fprintf(out, "Jitter range = [%+.9f; %+.9f] s\n", (double)t.min_jitter_ns * 1e-9,
+            (double)t.max_jitter_ns * 1e-9);
+    fprintf(out, "Percentage jitter range = [%+.9f; %+.9f] %%\n", t.min_jitter_pct, t.max_jitter_pct);
+    fprintf(out, "Cycle time (rx -> sent): samples %llu, mean %.1f us, p50 %.0f us, p99 %.0f us, "
+            "p99.9 %.0f us, max %.1f us; later than %u us: %llu\n",
+            (unsigned long long)st->hist_n, st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0,
+            pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle_max_ns / 1000.0,
+            S->cfg.late_us, (unsigned long long)st->late);
+    fprintf(out, "== Counters\n");
+    fprintf(out, "rx %llu, tx %llu, sync %llu, init %llu, cyclic %llu\n",
+            (unsigned long long)c->rx, (unsigned long long)c->tx, (unsigned long long)c->sync,
+            (unsigned long long)c->init, (unsigned long long)c->cyclic);
+    fprintf(out, "gaps %llu (missed %llu), duplicates %llu, out of order %llu, lost %llu, long gaps %llu\n",
+            (unsigned long long)c->gaps, (unsigned long long)c->missed,
+            (unsigned long long)c->duplicates, (unsigned long long)c->out_of_order,
+            (unsigned long long)c->lost_events, (unsigned long long)st->long_gaps);
+    fprintf(out, "malformed %llu (", (unsigned long long)c->malformed_total);
+    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
+        fprintf(out, "%s%s %llu", k ? ", " : "", mal_names[k], (unsigned long long)c->malformed[k]);
+    }
+    fprintf(out, "), foreign %llu, oversize %llu\n", (unsigned long long)st->foreign,
+            (unsigned long long)st->oversize);
+    fprintf(out, "replies skipped %llu, send errors %llu, encode errors %llu, log records dropped %llu\n",
+            (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
+            (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped);
+    fprintf(out, "restarts (506) %llu, passive freezings %llu, active freezings %llu, drive-on ends %llu, "
+            "mode changes %llu\n", (unsigned long long)st->restarts,
+            (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
+            (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes);
+    fprintf(out, "EXIT_FROM_OPEN packets per arm: %llu %llu %llu %llu\n",
+            (unsigned long long)st->exits_sent[0], (unsigned long long)st->exits_sent[1],
+            (unsigned long long)st->exits_sent[2], (unsigned long long)st->exits_sent[3]);
+    fprintf(out, "== Safety events\n");
+    fprintf(out, "following error (508) replies %llu, drive off (505) replies %llu, current "
+            "saturations %llu, delta-current clamps %llu, stroke %llu, continuity %llu, "
+            "non-finite %llu, injected %llu\n",
+            (unsigned long long)sf->follow_error, (unsigned long long)sf->drive_off,
+            (unsigned long long)sf->cur_saturated, (unsigned long long)sf->delta_clamped,
+            (unsigned long long)sf->stroke, (unsigned long long)sf->continuity,
+            (unsigned long long)sf->nonfinite, (unsigned long long)sf->injected);
+    fprintf(out, "first safety event: %s\n", sf->first[0] ? sf->first : "none");
+    fflush(out);
+}
+
+int srv_json(srv_t *S, const char *path, const char *why, int code)
+{
+    c4g_timing_t t;
+    const c4g_counters_t *c = &S->session.counters;
+    const srv_stats_t *st = &S->stats;
+    const srv_safety_t *sf = &S->safety;
+    FILE *fp = (strcmp(path, "-") == 0) ? stdout : fopen(path, "w");
+    uint32_t k;
+    if (fp == NULL) {
+        fprintf(stderr, "c4g-server: --json %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    (void)c4g_session_timing(&S->session, &t);
+    fprintf(fp, "{\"tool\":\"c4g-server\",\"version\":\"%s\",\"exit_code\":%d,\"reason\":\"%s\",",
+            C4G_VERSION_STRING, code, why);
+    fprintf(fp, "\"num_policy\":\"%s\",\"axes\":%u,\"period_ms\":%d,",
+            S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1", (unsigned)S->session.map.n_axes,
+            (int)S->session.init.period_ms);
+    fprintf(fp, "\"timing\":{\"nominal_period_ns\":%lld,\"worst_cycle_ns\":%lld,"
+            "\"min_inter_ns\":%lld,\"max_inter_ns\":%lld,\"min_jitter_ns\":%lld,"
+            "\"max_jitter_ns\":%lld,\"min_jitter_pct\":%.6f,\"max_jitter_pct\":%.6f,"
+            "\"cycle_samples\":%llu,\"cycle_mean_us\":%.3f,\"cycle_p50_us\":%.0f,"
+            "\"cycle_p99_us\":%.0f,\"cycle_p999_us\":%.0f,\"cycle_max_us\":%.3f,"
+            "\"late_us\":%u,\"late\":%llu},",
+            (long long)t.nominal_period_ns, (long long)t.worst_cycle_ns, (long long)t.min_inter_ns,
+            (long long)t.max_inter_ns, (long long)t.min_jitter_ns, (long long)t.max_jitter_ns,
+            t.min_jitter_pct, t.max_jitter_pct, (unsigned long long)st->hist_n,
+            st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0, pct_us(st, 0.5),
+            pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle_max_ns / 1000.0, S->cfg.late_us,
+            (unsigned long long)st->late);
+    fprintf(fp, "\"counters\":{\"rx\":%llu,\"tx\":%llu,\"sync\":%llu,\"init\":%llu,\"cyclic\":%llu,"
+            "\"gaps\":%llu,\"missed\":%llu,\"duplicates\":%llu,\"out_of_order\":%llu,"
+            "\"lost\":%llu,\"long_gaps\":%llu,\"malformed\":%llu,",
+            (unsigned long long)c->rx, (unsigned long long)c->tx, (unsigned long long)c->sync,
+            (unsigned long long)c->init, (unsigned long long)c->cyclic, (unsigned long long)c->gaps,
+            (unsigned long long)c->missed, (unsigned long long)c->duplicates,
+            (unsigned long long)c->out_of_order, (unsigned long long)c->lost_events,
+            (unsigned long long)st->long_gaps, (unsigned long long)c->malformed_total);
+    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
+        fprintf(fp, "\"malformed_%s\":%llu,", mal_names[k], (unsigned long long)c->malformed[k]);
+    }
+    fprintf(fp, "\"foreign\":%llu,\"oversize\":%llu,\"skipped\":%llu,\"send_errors\":%llu,"
+            "\"encode_errors\":%llu,\"log_dropped\":%llu,\"restarts\":%llu,\"inits\":%llu,"
+            "\"passive_freezings\":%llu,\"active_freezings\":%llu,\"drive_on_end\":%llu,"
+            "\"mode_changes\":%llu,\"exits_sent\":[%llu,%llu,%llu,%llu]},",
+            (unsigned long long)st->foreign, (unsigned long long)st->oversize,
+            (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
+            (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped,
+            (unsigned long long)st->restarts, (unsigned long long)st->inits,
+            (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
+            (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes,
+            (unsigned long long)st->exits_sent[0], (unsigned long long)st->exits_sent[1],
+            (unsigned long long)st->exits_sent[2], (unsigned long long)st->exits_sent[3]);
+    fprintf(fp, "\"safety\":{\"follow_error_508\":%llu,\"drive_off_505\":%llu,"
+            "\"current_saturations\":%llu,\"delta_clamps\":%llu,\"stroke\":%llu,"
+            "\"continuity\":%llu,\"nonfinite\":%llu,\"injected\":%llu,\"first\":\"%s\"}}\n",
+            (unsigned long long)sf->follow_error, (unsigned long long)sf->drive_off,
+            (unsigned long long)sf->cur_saturated, (unsigned long long)sf->delta_clamped,
+            (unsigned long long)sf->stroke, (unsigned long long)sf->continuity,
+            (unsigned long long)sf->nonfinite, (unsigned long long)sf->injected, sf->first);
+    if (fp != stdout) {
+        fclose(fp);
+    } else {
+        fflush(fp);
+    }
+    return 0;
+}

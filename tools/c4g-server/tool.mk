@@ -1,0 +1,1 @@
+c4g-server_LDLIBS := -linih -lpthread

@@ -1,0 +1,143 @@
+/* SPDX-License-Identifier: MIT */
+/* Lock-free SPSC record ring + writer thread (see c4g_rtlog.h for the memory model). */
+#include "c4g_rtlog.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#define RING_MASK (C4G_RTLOG_SLOTS - 1U)
+
+void c4g_rtlog_init(c4g_rtlog_t *r, c4g_rtlog_sink_fn sink, void *ctx)
+{
+    r->head = 0U;
+    r->tail = 0U;
+    r->stop = 0U;
+    r->dropped = 0U;
+    r->written = 0U;
+    r->high_water = 0U;
+    r->sink = sink;
+    r->ctx = ctx;
+    r->running = 0;
+    r->poll_us = 1000U;
+}
+
+c4g_rtlog_rec_t *c4g_rtlog_reserve(c4g_rtlog_t *r)
+{
+    const uint32_t h = r->head; /* only this thread writes head */
+    const uint32_t t = __atomic_load_n(&r->tail, __ATOMIC_ACQUIRE);
+    const uint32_t used = h - t;
+    if (used >= C4G_RTLOG_SLOTS) {
+        r->dropped++;
+        return NULL;
+    }
+    if (used + 1U > r->high_water) {
+        r->high_water = used + 1U;
+    }
+    return &r->slot[h & RING_MASK];
+}
+
+void c4g_rtlog_commit(c4g_rtlog_t *r)
+{
+    __atomic_store_n(&r->head, r->head + 1U, __ATOMIC_RELEASE);
+}
+
+int c4g_rtlog_put(c4g_rtlog_t *r, uint32_t kind, uint64_t t_ns, const void *data, size_t len)
+{
+    c4g_rtlog_rec_t *rec = c4g_rtlog_reserve(r);
+    if (rec == NULL) {
+        return -1;
+    }
+    if (len > C4G_RTLOG_SLOT_BYTES) {
+        len = C4G_RTLOG_SLOT_BYTES;
+    }
+    rec->kind = kind;
+    rec->t_ns = t_ns;
+    rec->len = (uint32_t)len;
+    if (len > 0U) {
+        memcpy(rec->data, data, len);
+    }
+    c4g_rtlog_commit(r);
+    return 0;
+}
+
+int c4g_rtlog_printf(c4g_rtlog_t *r, uint32_t kind, uint64_t t_ns, const char *fmt, ...)
+{
+    va_list ap;
+    int n;
+    c4g_rtlog_rec_t *rec = c4g_rtlog_reserve(r);
+    if (rec == NULL) {
+        return -1;
+    }
+    va_start(ap, fmt);
+    n = vsnprintf((char *)rec->data, C4G_RTLOG_SLOT_BYTES, fmt, ap);
+    va_end(ap);
+    if (n < 0) {
+        n = 0;
+    }
+    if ((size_t)n >= C4G_RTLOG_SLOT_BYTES) {
+        n = (int)C4G_RTLOG_SLOT_BYTES - 1;
+    }
+    rec->kind = kind;
+    rec->t_ns = t_ns;
+    rec->len = (uint32_t)n;
+    c4g_rtlog_commit(r);
+    return 0;
+}
+
+/* Consume everything published so far; returns the number of records handled. */
+static unsigned drain(c4g_rtlog_t *r)
+{
+    unsigned n = 0U;
+    uint32_t t = r->tail; /* only this thread writes tail */
+    const uint32_t h = __atomic_load_n(&r->head, __ATOMIC_ACQUIRE);
+    while (t != h) {
+        if (r->sink != NULL) {
+            r->sink(r->ctx, &r->slot[t & RING_MASK]);
+        }
+        t++;
+        r->written++;
+        n++;
+        __atomic_store_n(&r->tail, t, __ATOMIC_RELEASE);
+    }
+    return n;
+}
+
+static void *writer(void *arg)
+{
+    c4g_rtlog_t *r = (c4g_rtlog_t *)arg;
+    for (;;) {
+        const uint32_t stop = __atomic_load_n(&r->stop, __ATOMIC_ACQUIRE);
+        if (drain(r) == 0U) {
+            struct timespec ts;
+            if (stop != 0U) {
+                break;
+            }
+            ts.tv_sec = 0;
+            ts.tv_nsec = (long)r->poll_us * 1000L;
+            nanosleep(&ts, NULL);
+        }
+    }
+    return NULL;
+}
+
+int c4g_rtlog_start(c4g_rtlog_t *r)
+{
+    int e = pthread_create(&r->thread, NULL, writer, r);
+    if (e == 0) {
+        r->running = 1;
+    }
+    return e;
+}
+
+void c4g_rtlog_stop(c4g_rtlog_t *r)
+{
+    if (r->running) {
+        __atomic_store_n(&r->stop, 1U, __ATOMIC_RELEASE);
+        pthread_join(r->thread, NULL);
+        r->running = 0;
+    } else {
+        (void)drain(r); /* no thread: drain synchronously */
+    }
+}
