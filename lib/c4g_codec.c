@@ -99,102 +99,119 @@ static c4g_status_t check_num(int32_t num, c4g_diag_t *diag)
     return st;
 }
 
-/* Decode one axis: mode + 8 floats, validated; fields[] point into the typed struct. */
-static c4g_status_t decode_axis(const uint8_t *p, uint32_t index, int32_t *mode,
-                                float *const fields[AXIS_FLOATS], c4g_diag_t *diag)
+/* One axis on the wire: SM + D1..D5 + EXT1..EXT3. The raw helpers take one pointer or
+ * value per field so that, inlined, they compile to straight loads and stores for both
+ * packet directions (one implementation, two typed structs). */
+#define EXP_MASK 0x7F800000U
+
+#define EXP_LSB 0x00800000U
+
+/* Bit 31 of the result is set iff the exponent is all ones (NaN or infinity): adding one
+ * exponent LSB carries into bit 31 only then. Branch-free so that OR-ing eight of them
+ * vectorises; nonfinite() below is the single-value form. */
+static inline uint32_t exp_carry(uint32_t bits)
+{
+    return (bits & EXP_MASK) + EXP_LSB;
+}
+
+static inline uint32_t nonfinite(uint32_t bits)
+{
+    return exp_carry(bits) >> 31U;
+}
+
+/* Modes 0..17 that exist, as a bit set: the hot path avoids the full switch. */
+#define LOW_MODES_MASK 0x2DFFFU /* 0-12, 14, 15, 17 */
+#define LOW_MODES_LIMIT 18
+
+static inline int mode_known_fast(int32_t mode)
+{
+    int known;
+    if ((mode >= 0) && (mode < LOW_MODES_LIMIT)) {
+        known = ((LOW_MODES_MASK & (1UL << (uint32_t)mode)) != 0U) ? 1 : 0;
+    } else {
+        known = c4g_mode_is_known(mode);
+    }
+    return known;
+}
+
+/* Returns non-zero if a float field is NaN/inf (the slow path names it); values stored anyway. */
+static C4G_HOT_INLINE uint32_t get_axis(const uint8_t *p, int32_t *mode, float *f0, float *f1, float *f2,
+                                float *f3, float *f4, float *f5, float *f6, float *f7)
+{
+    /* Unrolled like put_axis, for the same reason. */
+    const uint32_t u0 = c4g_get_u32le(&p[4]);
+    const uint32_t u1 = c4g_get_u32le(&p[8]);
+    const uint32_t u2 = c4g_get_u32le(&p[12]);
+    const uint32_t u3 = c4g_get_u32le(&p[16]);
+    const uint32_t u4 = c4g_get_u32le(&p[20]);
+    const uint32_t u5 = c4g_get_u32le(&p[24]);
+    const uint32_t u6 = c4g_get_u32le(&p[28]);
+    const uint32_t u7 = c4g_get_u32le(&p[32]);
+    *mode = c4g_get_i32le(p);
+    *f0 = c4g_f32_from_bits(u0);
+    *f1 = c4g_f32_from_bits(u1);
+    *f2 = c4g_f32_from_bits(u2);
+    *f3 = c4g_f32_from_bits(u3);
+    *f4 = c4g_f32_from_bits(u4);
+    *f5 = c4g_f32_from_bits(u5);
+    *f6 = c4g_f32_from_bits(u6);
+    *f7 = c4g_f32_from_bits(u7);
+    return (exp_carry(u0) | exp_carry(u1) | exp_carry(u2) | exp_carry(u3) | exp_carry(u4) |
+            exp_carry(u5) | exp_carry(u6) | exp_carry(u7)) >> 31U;
+}
+
+/* Writes the axis; returns non-zero on NaN/inf (the caller then voids the packet). */
+static C4G_HOT_INLINE uint32_t put_axis(uint8_t *p, int32_t mode, float f0, float f1, float f2, float f3,
+                                float f4, float f5, float f6, float f7)
+{
+    /* Unrolled on purpose: a loop here gets vectorised into byte shuffles that cost
+     * more than the straight 32-bit stores the compiler merges this into. */
+    const uint32_t u0 = c4g_f32_bits(f0);
+    const uint32_t u1 = c4g_f32_bits(f1);
+    const uint32_t u2 = c4g_f32_bits(f2);
+    const uint32_t u3 = c4g_f32_bits(f3);
+    const uint32_t u4 = c4g_f32_bits(f4);
+    const uint32_t u5 = c4g_f32_bits(f5);
+    const uint32_t u6 = c4g_f32_bits(f6);
+    const uint32_t u7 = c4g_f32_bits(f7);
+    c4g_put_i32le(p, mode);
+    c4g_put_u32le(&p[4], u0);
+    c4g_put_u32le(&p[8], u1);
+    c4g_put_u32le(&p[12], u2);
+    c4g_put_u32le(&p[16], u3);
+    c4g_put_u32le(&p[20], u4);
+    c4g_put_u32le(&p[24], u5);
+    c4g_put_u32le(&p[28], u6);
+    c4g_put_u32le(&p[32], u7);
+    return (exp_carry(u0) | exp_carry(u1) | exp_carry(u2) | exp_carry(u3) | exp_carry(u4) |
+            exp_carry(u5) | exp_carry(u6) | exp_carry(u7)) >> 31U;
+}
+
+/* Slow path, only on error: name the field in the diagnostic. */
+static c4g_status_t axis_error(int32_t mode, uint32_t bad, const uint8_t *p, uint32_t index,
+                               c4g_diag_t *diag)
 {
     static const c4g_field_t float_field[AXIS_FLOATS] = {
         C4G_FIELD_D1, C4G_FIELD_D2, C4G_FIELD_D3, C4G_FIELD_D4,
         C4G_FIELD_D5, C4G_FIELD_EXT1, C4G_FIELD_EXT2, C4G_FIELD_EXT3};
-    c4g_status_t st = C4G_OK;
     const uint32_t base = C4G_HEADER_SIZE + (index * C4G_AXIS_SIZE);
-    uint32_t k;
-    *mode = c4g_get_i32le(p);
-    if (c4g_mode_is_known(*mode) == 0) {
-        st = C4G_ERR_MODE;
-        c4g_diag_set(diag, st, C4G_FIELD_SM, base, -1, (int32_t)index, (int64_t)*mode);
-    }
-    for (k = 0U; (k < AXIS_FLOATS) && (st == C4G_OK); k++) {
-        const float f = c4g_get_f32le(&p[4U + (4U * k)]);
-        if (c4g_f32_finite(f) == 0) {
-            st = C4G_ERR_NONFINITE;
-            c4g_diag_set(diag, st, float_field[k], base + 4U + (4U * k),
-                         -1, (int32_t)index, (int64_t)c4g_f32_bits(f));
-        } else {
-            *fields[k] = f;
-        }
-    }
-    return st;
-}
-
-static c4g_status_t encode_axis(uint8_t *p, uint32_t index, int32_t mode,
-                                const float *const fields[AXIS_FLOATS])
-{
     c4g_status_t st = C4G_OK;
-    uint32_t k;
-    (void)index;
     if (c4g_mode_is_known(mode) == 0) {
         st = C4G_ERR_MODE;
-    }
-    for (k = 0U; (k < AXIS_FLOATS) && (st == C4G_OK); k++) {
-        if (c4g_f32_finite(*fields[k]) == 0) {
-            st = C4G_ERR_NONFINITE;
-        } else {
-            c4g_put_f32le(&p[4U + (4U * k)], *fields[k]);
+        c4g_diag_set(diag, st, C4G_FIELD_SM, base, -1, (int32_t)index, (int64_t)mode);
+    } else if (bad != 0U) {
+        uint32_t k = 0U;
+        while ((k < (AXIS_FLOATS - 1U)) &&
+               (nonfinite(c4g_get_u32le(&p[4U + (4U * k)])) == 0U)) {
+            k++;
         }
-    }
-    if (st == C4G_OK) {
-        c4g_put_i32le(p, mode);
+        st = C4G_ERR_NONFINITE;
+        c4g_diag_set(diag, st, float_field[k], base + 4U + (4U * k), -1, (int32_t)index,
+                     (int64_t)c4g_get_u32le(&p[4U + (4U * k)]));
+    } else {
+        /* axis valid */
     }
     return st;
-}
-
-static void ctrl_fields(c4g_ctrl_axis_t *a, float *f[AXIS_FLOATS])
-{
-    f[0] = &a->target_pos;
-    f[1] = &a->target_vel;
-    f[2] = &a->actual_pos;
-    f[3] = &a->actual_vel;
-    f[4] = &a->current_ref;
-    f[5] = &a->ext[0];
-    f[6] = &a->ext[1];
-    f[7] = &a->ext[2];
-}
-
-static void pc_fields(c4g_pc_axis_t *a, float *f[AXIS_FLOATS])
-{
-    f[0] = &a->target_pos;
-    f[1] = &a->target_vel;
-    f[2] = &a->measure;
-    f[3] = &a->vel_add;
-    f[4] = &a->current_add;
-    f[5] = &a->ext[0];
-    f[6] = &a->ext[1];
-    f[7] = &a->ext[2];
-}
-
-static void ctrl_fields_const(const c4g_ctrl_axis_t *a, const float *f[AXIS_FLOATS])
-{
-    f[0] = &a->target_pos;
-    f[1] = &a->target_vel;
-    f[2] = &a->actual_pos;
-    f[3] = &a->actual_vel;
-    f[4] = &a->current_ref;
-    f[5] = &a->ext[0];
-    f[6] = &a->ext[1];
-    f[7] = &a->ext[2];
-}
-
-static void pc_fields_const(const c4g_pc_axis_t *a, const float *f[AXIS_FLOATS])
-{
-    f[0] = &a->target_pos;
-    f[1] = &a->target_vel;
-    f[2] = &a->measure;
-    f[3] = &a->vel_add;
-    f[4] = &a->current_add;
-    f[5] = &a->ext[0];
-    f[6] = &a->ext[1];
-    f[7] = &a->ext[2];
 }
 
 static c4g_status_t decode_header(const uint8_t *buf, size_t len, uint32_t n_axes, int32_t *num,
@@ -219,14 +236,25 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
         uint32_t i;
-        (void)memset(out, 0, sizeof *out);
+        out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         for (i = 0U; (i < n) && (st == C4G_OK); i++) {
-            float *f[AXIS_FLOATS];
-            ctrl_fields(&out->ax[i], f);
-            st = decode_axis(&buf[C4G_CYCLIC_SIZE(i)], i, &out->ax[i].mode, f, diag);
+            const uint8_t *p = &buf[C4G_CYCLIC_SIZE(i)];
+            c4g_ctrl_axis_t *a = &out->ax[i];
+            const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
+                                          &a->actual_pos, &a->actual_vel, &a->current_ref,
+                                          &a->ext[0], &a->ext[1], &a->ext[2]);
+            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+                st = axis_error(a->mode, bad, p, i, diag);
+            }
         }
-        out->n_axes = (st == C4G_OK) ? n : 0U;
+        if (st == C4G_OK) {
+            out->n_axes = n;
+            /* deterministic output: axes past n are zero */
+            (void)memset(&out->ax[n], 0, (C4G_MAX_AXES - n) * sizeof out->ax[0]);
+        } else {
+            (void)memset(out, 0, sizeof *out);
+        }
     } else {
         c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
     }
@@ -241,14 +269,25 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
         uint32_t i;
-        (void)memset(out, 0, sizeof *out);
+        out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         for (i = 0U; (i < n) && (st == C4G_OK); i++) {
-            float *f[AXIS_FLOATS];
-            pc_fields(&out->ax[i], f);
-            st = decode_axis(&buf[C4G_CYCLIC_SIZE(i)], i, &out->ax[i].mode, f, diag);
+            const uint8_t *p = &buf[C4G_CYCLIC_SIZE(i)];
+            c4g_pc_axis_t *a = &out->ax[i];
+            const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
+                                          &a->measure, &a->vel_add, &a->current_add, &a->ext[0],
+                                          &a->ext[1], &a->ext[2]);
+            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+                st = axis_error(a->mode, bad, p, i, diag);
+            }
         }
-        out->n_axes = (st == C4G_OK) ? n : 0U;
+        if (st == C4G_OK) {
+            out->n_axes = n;
+            /* deterministic output: axes past n are zero */
+            (void)memset(&out->ax[n], 0, (C4G_MAX_AXES - n) * sizeof out->ax[0]);
+        } else {
+            (void)memset(out, 0, sizeof *out);
+        }
     } else {
         c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
     }
@@ -273,6 +312,23 @@ static c4g_status_t encode_header(int32_t num, uint32_t infpar, uint32_t cmd, ui
     return st;
 }
 
+/* A failed encode must not leave a half-written packet that someone might send. */
+static c4g_status_t encode_result(uint32_t bad, int32_t mode, uint8_t *buf, size_t cap)
+{
+    c4g_status_t st = C4G_OK;
+    if (c4g_mode_is_known(mode) == 0) {
+        st = C4G_ERR_MODE;
+    } else if (bad != 0U) {
+        st = C4G_ERR_NONFINITE;
+    } else {
+        /* axis valid */
+    }
+    if (st != C4G_OK) {
+        (void)memset(buf, 0, (cap < C4G_HEADER_SIZE) ? cap : C4G_HEADER_SIZE);
+    }
+    return st;
+}
+
 c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
                              size_t *out_len)
 {
@@ -282,9 +338,14 @@ c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t 
         *out_len = 0U;
         st = encode_header(pkt->num, pkt->infpar, pkt->cmd, pkt->n_axes, buf, cap);
         for (i = 0U; (i < pkt->n_axes) && (st == C4G_OK); i++) {
-            const float *f[AXIS_FLOATS];
-            ctrl_fields_const(&pkt->ax[i], f);
-            st = encode_axis(&buf[C4G_CYCLIC_SIZE(i)], i, pkt->ax[i].mode, f);
+            const c4g_ctrl_axis_t *a = &pkt->ax[i];
+            const uint32_t bad =
+                put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
+                         a->actual_pos, a->actual_vel, a->current_ref, a->ext[0], a->ext[1],
+                         a->ext[2]);
+            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+                st = encode_result(bad, a->mode, buf, cap);
+            }
         }
         if (st == C4G_OK) {
             *out_len = C4G_CYCLIC_SIZE(pkt->n_axes);
@@ -302,9 +363,13 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
         *out_len = 0U;
         st = encode_header(pkt->num, pkt->infpar, pkt->cmd, pkt->n_axes, buf, cap);
         for (i = 0U; (i < pkt->n_axes) && (st == C4G_OK); i++) {
-            const float *f[AXIS_FLOATS];
-            pc_fields_const(&pkt->ax[i], f);
-            st = encode_axis(&buf[C4G_CYCLIC_SIZE(i)], i, pkt->ax[i].mode, f);
+            const c4g_pc_axis_t *a = &pkt->ax[i];
+            const uint32_t bad =
+                put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
+                         a->measure, a->vel_add, a->current_add, a->ext[0], a->ext[1], a->ext[2]);
+            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+                st = encode_result(bad, a->mode, buf, cap);
+            }
         }
         if (st == C4G_OK) {
             *out_len = C4G_CYCLIC_SIZE(pkt->n_axes);
@@ -320,18 +385,22 @@ c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *
         st = C4G_ERR_AXES;
         if ((rx->n_axes >= 1U) && (rx->n_axes <= C4G_MAX_AXES)) {
             uint32_t i;
-            (void)memset(tx, 0, sizeof *tx);
             tx->num = rx->num;
+            tx->infpar = 0U;
+            tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
+            (void)memset(tx->ax, 0, sizeof tx->ax);
             for (i = 0U; i < rx->n_axes; i++) {
-                tx->ax[i].mode = rx->ax[i].mode;
-                if (rx->ax[i].mode == C4G_MODE_0_DEBUG) {
+                const c4g_ctrl_axis_t *r = &rx->ax[i];
+                c4g_pc_axis_t *a = &tx->ax[i];
+                a->mode = r->mode;
+                if (r->mode == C4G_MODE_0_DEBUG) {
                     /* Mode 0': the field library copies D1..D5 back unchanged. */
-                    tx->ax[i].target_pos = rx->ax[i].target_pos;
-                    tx->ax[i].target_vel = rx->ax[i].target_vel;
-                    tx->ax[i].measure = rx->ax[i].actual_pos;
-                    tx->ax[i].vel_add = rx->ax[i].actual_vel;
-                    tx->ax[i].current_add = rx->ax[i].current_ref;
+                    a->target_pos = r->target_pos;
+                    a->target_vel = r->target_vel;
+                    a->measure = r->actual_pos;
+                    a->vel_add = r->actual_vel;
+                    a->current_add = r->current_ref;
                 }
             }
             st = C4G_OK;

@@ -6,6 +6,14 @@
 #include "c4gopen.h"
 #include <string.h>
 
+/* Hot-path helpers that must inline for the per-tick budget (bench/bench_wire.c);
+ * plain inline on compilers without the attribute. */
+#if defined(__GNUC__) || defined(__clang__)
+#define C4G_HOT_INLINE __attribute__((always_inline)) inline
+#else
+#define C4G_HOT_INLINE inline
+#endif
+
 static inline uint32_t c4g_get_u32le(const uint8_t *p)
 {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8U) | ((uint32_t)p[2] << 16U) |
@@ -40,14 +48,18 @@ static inline void c4g_put_i32le(uint8_t *p, int32_t v)
     c4g_put_u32le(p, u);
 }
 
-static inline float c4g_get_f32le(const uint8_t *p)
+static inline float c4g_f32_from_bits(uint32_t u)
 {
-    uint32_t u = c4g_get_u32le(p);
     float f;
     /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
     /* cppcheck-suppress misra-c2012-21.15 */
     (void)memcpy(&f, &u, sizeof f);
     return f;
+}
+
+static inline float c4g_get_f32le(const uint8_t *p)
+{
+    return c4g_f32_from_bits(c4g_get_u32le(p));
 }
 
 static inline uint32_t c4g_f32_bits(float f)

@@ -190,6 +190,9 @@ static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g
 {
     uint32_t i;
     for (i = 0U; i < p->n_axes; i++) {
+        if (p->ax[i].mode < C4G_MODE_FREEZING_A) {
+            continue; /* hot path: no special mode */
+        }
         switch (p->ax[i].mode) {
         case C4G_MODE_EXIT_OPEN:
             res->events |= C4G_EV_END;

@@ -11,9 +11,6 @@ for f in bench/bench_*.c; do
     "$build/lib/libc4gopen.a" -lm
   echo "== $(basename "$f" .c)"
   "$b"
-  if command -v valgrind >/dev/null 2>&1 && grep -q CALLGRIND_OK "$f"; then
-    "$b" --callgrind-report 2>/dev/null || true
-  fi
 done
 for s in bench/*.sh; do
   [ -f "$s" ] || continue
