@@ -1,0 +1,1 @@
+cell-cli_LDLIBS := -ledit -linih

@@ -1,0 +1,37 @@
+/* SPDX-License-Identifier: MIT */
+/* cell_common: what cell-sim and cell-cli share (device names, default ports,
+ * host:port parsing, monotonic time, socket helpers). No main(), no heavy deps. */
+#ifndef CELL_COMMON_H
+#define CELL_COMMON_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define CELL_DEVICES 3
+#define CELL_DEV_ROBOT 0
+#define CELL_DEV_PLATFORM 1
+#define CELL_DEV_CONDITIONING 2
+
+/* "robot", "platform", "conditioning" */
+const char *cell_dev_name(int dev);
+/* Spec ports: 2001, 2002, 2003. */
+unsigned cell_dev_default_port(int dev);
+/* Device from a name or a unique prefix ("r", "plat", "cond"); -1 if none. */
+int cell_dev_parse(const char *s);
+
+/* Monotonic clock in ns. */
+uint64_t cell_now_ns(void);
+
+/* "host:port", "host" (port unchanged) or ":port"; 0 on success, -1 on error. */
+int cell_parse_hostport(const char *s, char *host, size_t host_cap, unsigned *port);
+/* Strict unsigned/double parsing of a whole string; 0 on success. */
+int cell_parse_uint(const char *s, unsigned long max, unsigned long *out);
+int cell_parse_double(const char *s, double *out);
+
+/* Non-blocking TCP connect to host:port (IPv4 literal or name) with a timeout.
+ * Returns a blocking fd, or -1 with *err set to a static description. */
+int cell_tcp_connect(const char *host, unsigned port, int timeout_ms, const char **err);
+/* "a.b.c.d:port" of a socket's peer (or "?"). */
+void cell_peer_string(int fd, char *buf, size_t cap);
+
+#endif /* CELL_COMMON_H */
