@@ -1,9 +1,761 @@
 /* SPDX-License-Identifier: MIT */
-/* Control layer: modes, safety filter, kinematics (placeholder until filled in). */
-#include "c4gopen.h"
+/* Control context: per-tick step (state machines, prepared reply) and finish (request
+ * overlays, per-mode packet rules, mode-10 copy-back, safety filter), PC requests,
+ * user limits, and the control-layer status texts. */
+#include "c4g_ctl_util.h"
+
+#define N_FLOATS 8U
+#define NO_AXIS 0xFFU
+
+/* ------------------------------------------------------------------ statuses */
+
+static const char *const ctl_text[] = {
+    "control layer",
+    "mode change not allowed from the arm's current mode",
+    "refused: the arm is driving on (501)",
+    "mode not offered by the controller",
+    "active freezing only from mode 0",
+    "refused: the arm's drives are off",
+    "a mode request is already pending on this arm",
+    "a field the mode requires was not filled (arm sent 505)",
+    "exit from open asked while in mode 0",
+    "the arm is already leaving its mode",
+    "refused: the arm is frozen",
+    "refused: a drive off / following error is latched",
+    "packet does not match the control context",
+    "kinematics: zero transmission ratio",
+    "invalid limits (or a zero current limit for modes 1/2)",
+    "the reply carried a forbidden mode: restored",
+};
 
 const char *c4g_control_strerror(int status)
 {
-    (void)status;
-    return "unknown control-layer status";
+    const char *text = "unknown control-layer status";
+    if ((status <= -100) && (status > C4G_ERR_CTL_LAST_)) {
+        text = ctl_text[-(status + 100)];
+    }
+    return text;
+}
+
+float c4g_unset(void)
+{
+    return ctl_unset();
+}
+
+int c4g_is_unset(float f)
+{
+    return ctl_is_unset(f);
+}
+
+/* ------------------------------------------------------------------ helpers */
+
+static float *axis_float(c4g_pc_axis_t *a, uint32_t k)
+{
+    float *f;
+    switch (k) {
+    case 0U: f = &a->target_pos; break;
+    case 1U: f = &a->target_vel; break;
+    case 2U: f = &a->measure; break;
+    case 3U: f = &a->vel_add; break;
+    case 4U: f = &a->current_add; break;
+    case 5U: f = &a->ext[0]; break;
+    case 6U: f = &a->ext[1]; break;
+    default: f = &a->ext[2]; break;
+    }
+    return f;
+}
+
+static int abs_target(int32_t m)
+{
+    return ((m == C4G_MODE_1) || (m == C4G_MODE_1_STANDBY) || (m == C4G_MODE_4)) ? 1 : 0;
+}
+
+static int delta_target(int32_t m)
+{
+    return ((m == C4G_MODE_5) || (m == C4G_MODE_7)) ? 1 : 0;
+}
+
+static int current_mode(int32_t m)
+{
+    return ((c4g_mode_pc_loops(m) != 0) && (c4g_mode_is_available(m) != 0)) ? 1 : 0;
+}
+
+/* Following error checked where the PC generates targets or closes loops. */
+static int fe_mode(int32_t m)
+{
+    return ((c4g_mode_is_available(m) != 0) &&
+            ((c4g_mode_pc_trajectory(m) != 0) || (c4g_mode_pc_loops(m) != 0)))
+               ? 1
+               : 0;
+}
+
+static float tighter(float ctl_value, float user)
+{
+    float r = ctl_value;
+    if ((user > 0.0F) && ((ctl_value <= 0.0F) || (user < ctl_value))) {
+        r = user;
+    }
+    return r;
+}
+
+static void copy_back(const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    tx->target_pos = rx->target_pos;
+    tx->target_vel = rx->target_vel;
+    tx->measure = rx->actual_pos;
+    tx->vel_add = rx->actual_vel;
+    tx->current_add = rx->current_ref;
+}
+
+/* Mode the axis finally carries: safety latches and active freezing override. */
+static int32_t overlay_mode(const c4g_ctl_t *ctl, uint32_t i, int32_t base)
+{
+    const c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
+    int32_t m = base;
+    if ((ctl->fe_latch[i] != 0U) || ((sm->latch & C4G_LATCH_FOLLOW_ERROR) != 0U)) {
+        m = C4G_MODE_FOLLOW_ERROR;
+    } else if ((sm->latch & C4G_LATCH_DRIVE_OFF) != 0U) {
+        m = C4G_MODE_DRIVE_OFF;
+    } else if (sm->frozen == C4G_MODE_FREEZING_A) {
+        m = C4G_MODE_FREEZING_A;
+    } else {
+        /* the prepared mode */
+    }
+    return m;
+}
+
+/* ------------------------------------------------------------------ init and limits */
+
+c4g_status_t c4g_ctl_init(c4g_ctl_t *ctl, const c4g_init_t *init, const c4g_ctl_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (init != NULL)) {
+        c4g_ctl_config_t c;
+        (void)c4g_ctl_config_default(&c);
+        if (cfg != NULL) {
+            c = *cfg;
+        }
+        st = C4G_OK;
+        if ((c4g_f32_finite(c.moving_eps) == 0) || (c.moving_eps < 0.0F)) {
+            st = C4G_ERR_ARG;
+        }
+        if (st == C4G_OK) {
+            st = c4g_init_validate(init, NULL);
+        }
+        if (st == C4G_OK) {
+            (void)memset(ctl, 0, sizeof *ctl);
+            ctl->cfg = c;
+            st = c4g_axis_map_build(init, &ctl->map, NULL);
+        }
+        if (st == C4G_OK) {
+            uint32_t a;
+            uint32_t i;
+            for (a = 0U; a < C4G_ARMS; a++) {
+                (void)c4g_arm_sm_init(&ctl->arm[a], ctl->map.n_axes_arm[a]);
+                ctl->kin_ok[a] = (c4g_kin_from_init(init, a, &ctl->kin[a]) == C4G_OK) ? 1U : 0U;
+            }
+            for (i = 0U; i < ctl->map.n_axes; i++) {
+                const uint32_t arm = ctl->map.arm_of[i];
+                const uint32_t lax = ctl->map.logical_of[i];
+                ctl->ctl_fe[i] = init->follow_error[arm][lax];
+                ctl->ctl_az[i] = init->az_lim[arm][lax];
+                ctl->lim[i].follow_error = ctl->ctl_fe[i];
+                ctl->lim[i].current_max = ctl->ctl_az[i];
+            }
+        }
+    }
+    return st;
+}
+
+static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
+{
+    c4g_status_t st = C4G_OK;
+    const float v[8] = {lim->follow_error, lim->current_max, lim->max_step, lim->max_vel,
+                        lim->motor_min, lim->motor_max, lim->joint_min, lim->joint_max};
+    uint32_t k;
+    for (k = 0U; k < 8U; k++) {
+        if (c4g_f32_finite(v[k]) == 0) {
+            st = C4G_ERR_NONFINITE;
+        }
+    }
+    if ((st == C4G_OK) && ((lim->follow_error < 0.0F) || (lim->current_max < 0.0F) ||
+                           (lim->max_step < 0.0F) || (lim->max_vel < 0.0F))) {
+        st = ctl_st(C4G_ERR_CTL_LIMITS);
+    }
+    return st;
+}
+
+/* Joint stroke ends need every logical axis up to the arm's last open one, and its ratios. */
+static c4g_status_t joint_span(const c4g_ctl_t *ctl, uint32_t arm, uint32_t *n_out)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t n = 0U;
+    uint32_t j;
+    for (j = 0U; j < C4G_AXES_PER_ARM; j++) {
+        if (ctl->map.open_of[arm][j] != NO_AXIS) {
+            n = j + 1U;
+        }
+    }
+    for (j = 0U; (j < n) && (st == C4G_OK); j++) {
+        if (ctl->map.open_of[arm][j] == NO_AXIS) {
+            st = C4G_ERR_NOT_OPEN;
+        } else if ((ctl->kin_ok[arm] == 0U) ||
+                   ((ctl->kin[arm].kr[j] <= 0.0) && (ctl->kin[arm].kr[j] >= 0.0))) {
+            st = ctl_st(C4G_ERR_CTL_SINGULAR);
+        } else {
+            /* usable */
+        }
+    }
+    *n_out = n;
+    return st;
+}
+
+c4g_status_t c4g_ctl_set_limits(c4g_ctl_t *ctl, uint32_t arm, uint32_t axis,
+                                const c4g_axis_limits_t *lim)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (lim != NULL)) {
+        uint32_t idx = NO_AXIS;
+        uint32_t n = 0U;
+        st = C4G_ERR_ARG;
+        if ((arm < C4G_ARMS) && (axis < C4G_AXES_PER_ARM)) {
+            idx = ctl->map.open_of[arm][axis];
+            st = (idx == NO_AXIS) ? C4G_ERR_NOT_OPEN : check_limits(lim);
+        }
+        if ((st == C4G_OK) && (lim->joint_min < lim->joint_max)) {
+            st = joint_span(ctl, arm, &n);
+        }
+        if (st == C4G_OK) {
+            uint32_t i;
+            ctl->lim[idx] = *lim;
+            ctl->lim[idx].follow_error = tighter(ctl->ctl_fe[idx], lim->follow_error);
+            ctl->lim[idx].current_max = tighter(ctl->ctl_az[idx], lim->current_max);
+            ctl->joint_on[arm] = 0U;
+            for (i = 0U; i < ctl->map.n_axes; i++) {
+                if ((ctl->map.arm_of[i] == arm) && (ctl->lim[i].joint_min < ctl->lim[i].joint_max)) {
+                    ctl->joint_on[arm] = 1U;
+                }
+            }
+            if (n > 0U) {
+                ctl->n_joint[arm] = n;
+            }
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ step */
+
+static c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t i;
+    if (rx->n_axes != ctl->map.n_axes) {
+        st = ctl_st(C4G_ERR_CTL_PACKET);
+    }
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes) && (st == C4G_OK); i++) {
+        const c4g_ctrl_axis_t *a = &rx->ax[i];
+        const float f[N_FLOATS] = {a->target_pos, a->target_vel, a->actual_pos, a->actual_vel,
+                                   a->current_ref, a->ext[0], a->ext[1], a->ext[2]};
+        uint32_t k;
+        if (c4g_mode_is_known(a->mode) == 0) {
+            st = C4G_ERR_MODE;
+        }
+        for (k = 0U; (k < N_FLOATS) && (st == C4G_OK); k++) {
+            if (c4g_f32_finite(f[k]) == 0) {
+                st = C4G_ERR_NONFINITE;
+            }
+        }
+    }
+    return st;
+}
+
+/* The arm's view of a packet: special > non-zero > 0; mixed when axes disagree. */
+static void arm_view(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint32_t arm,
+                     int32_t *mode, uint32_t *mixed, uint32_t *moving)
+{
+    int32_t m = C4G_MODE_0;
+    int32_t first = -1;
+    uint32_t i;
+    *mixed = 0U;
+    *moving = 0U;
+    for (i = 0U; i < rx->n_axes; i++) {
+        if (ctl->map.arm_of[i] == arm) {
+            const int32_t am = rx->ax[i].mode;
+            if (first < 0) {
+                first = am;
+            } else if (am != first) {
+                *mixed = 1U;
+            } else {
+                /* same as the first axis */
+            }
+            if ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m) == 0)) {
+                m = am;
+            } else if ((m == C4G_MODE_0) && (am != C4G_MODE_0)) {
+                m = am;
+            } else {
+                /* keep the higher-priority mode found first */
+            }
+            if (ctl_absf(rx->ax[i].target_vel) > ctl->cfg.moving_eps) {
+                *moving = 1U;
+            }
+        }
+    }
+    *mode = m;
+}
+
+/* Reply data of one axis before the caller fills it. */
+static void prepare_axis(c4g_ctl_t *ctl, const c4g_ctrl_axis_t *rx, uint32_t i,
+                         c4g_pc_axis_t *tx)
+{
+    c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
+    int32_t mode = rx->mode;
+    int32_t shown;
+    if ((sm->req_mode != 0) && (sm->req_queued == 0U) && (sm->mode == C4G_MODE_0)) {
+        mode = sm->req_mode; /* the request goes out with the data of its mode */
+    }
+    ctl->prep_mode[i] = mode;
+    shown = overlay_mode(ctl, i, mode);
+    tx->mode = shown;
+    if (shown != mode) {
+        if (ctl->have_last != 0U) {
+            *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
+        }
+        tx->mode = shown;
+    } else if (mode == C4G_MODE_0_DEBUG) {
+        copy_back(rx, tx);
+    } else {
+        const uint32_t req = c4g_mode_pc_fields(mode);
+        uint32_t k;
+        for (k = 0U; k < 5U; k++) {
+            if ((req & (1UL << k)) != 0U) {
+                *axis_float(tx, k) = ctl_unset();
+            }
+        }
+    }
+}
+
+c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                          c4g_pc_packet_t *tx, c4g_ctl_report_t *rep)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+        c4g_ctl_report_t local;
+        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
+        (void)memset(r, 0, sizeof *r);
+        st = check_rx(ctl, rx);
+        if (st == C4G_OK) {
+            uint32_t a;
+            uint32_t i;
+            for (a = 0U; a < C4G_ARMS; a++) {
+                c4g_arm_sm_t *sm = &ctl->arm[a];
+                if (sm->n_axes > 0U) {
+                    int32_t mode = 0;
+                    uint32_t mixed = 0U;
+                    uint32_t moving = 0U;
+                    uint32_t ev = 0U;
+                    arm_view(ctl, rx, a, &mode, &mixed, &moving);
+                    (void)c4g_arm_sm_update(sm, &ctl->cfg, mode, mixed,
+                                            c4g_arm_byte(rx->infpar, a), moving, now_ns, &ev);
+                    if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
+                        for (i = 0U; i < ctl->map.n_axes; i++) {
+                            ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
+                        }
+                    }
+                    if ((sm->req_mode != 0) && (sm->req_queued == 0U) &&
+                        (sm->mode == C4G_MODE_0)) {
+                        sm->req_ticks++;
+                    }
+                    r->arm_events[a] = ev;
+                    r->events |= ev;
+                }
+            }
+            (void)memset(tx, 0, sizeof *tx);
+            tx->num = rx->num;
+            tx->n_axes = rx->n_axes;
+            for (i = 0U; i < rx->n_axes; i++) {
+                prepare_axis(ctl, &rx->ax[i], i, &tx->ax[i]);
+            }
+            ctl->stepped = 1U;
+            ctl->step_num = rx->num;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ finish: the filter */
+
+/* Required fields unset -> MISSING; any other non-finite value -> NONFINITE. */
+static uint32_t axis_data_check(c4g_pc_axis_t *tx, uint32_t required)
+{
+    uint32_t r = 0U;
+    uint32_t k;
+    for (k = 0U; k < N_FLOATS; k++) {
+        const float f = *axis_float(tx, k);
+        if ((k < 5U) && ((required & (1UL << k)) != 0U) && (ctl_is_unset(f) != 0)) {
+            r |= C4G_SF_MISSING;
+        } else if (c4g_f32_finite(f) == 0) {
+            r |= C4G_SF_NONFINITE;
+        } else {
+            /* fine */
+        }
+    }
+    return r;
+}
+
+/* Position target checks of the modes where the PC generates the trajectory. */
+static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
+                               const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    const c4g_axis_limits_t *l = &ctl->lim[i];
+    uint32_t f = 0U;
+    float o = tx->target_pos;
+    float abs_pos;
+    if (abs_target(m) != 0) {
+        const float prev = ((ctl->have_last != 0U) && (ctl->last_mode[i] == m))
+                               ? ctl->last_safe[i].target_pos
+                               : rx->target_pos;
+        f |= c4g_sf_step(prev, tx->target_pos, l->max_step, &o);
+        tx->target_pos = o;
+        abs_pos = o;
+    } else {
+        f |= c4g_sf_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
+        tx->target_pos = o;
+        abs_pos = rx->target_pos + o;
+    }
+    if (m != C4G_MODE_7) {
+        f |= c4g_sf_velocity(tx->target_vel, l->max_vel, &o);
+        tx->target_vel = o;
+    }
+    if ((c4g_sf_stroke(abs_pos, l->motor_min, l->motor_max, &o) & C4G_SF_STROKE) != 0U) {
+        f |= C4G_SF_STROKE;
+        tx->target_pos = (abs_target(m) != 0) ? o : (o - rx->target_pos);
+    } else if (c4g_f32_finite(abs_pos) == 0) {
+        f |= C4G_SF_NONFINITE;
+    } else {
+        /* inside the stroke */
+    }
+    return f;
+}
+
+static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
+                            const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    const c4g_axis_limits_t *l = &ctl->lim[i];
+    uint32_t f = 0U;
+    float o = 0.0F;
+    if ((abs_target(m) != 0) || (delta_target(m) != 0)) {
+        f |= filter_targets(ctl, i, m, rx, tx);
+    }
+    if (current_mode(m) != 0) {
+        f |= c4g_sf_current(tx->current_add, l->current_max, &o);
+        tx->current_add = o;
+    } else if (m == C4G_MODE_9) {
+        f |= c4g_sf_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
+        tx->current_add = o;
+    } else {
+        /* no current from the PC in this mode */
+    }
+    return f;
+}
+
+/* Following error (15.7) on the final targets: the axis carries 508 (field library). */
+static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, int32_t m, const c4g_ctrl_axis_t *rx,
+                          const c4g_pc_axis_t *tx, float *fe_out)
+{
+    uint32_t f = 0U;
+    if (fe_mode(m) != 0) {
+        const float ref = (abs_target(m) != 0) ? tx->target_pos : rx->target_pos;
+        f = c4g_sf_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
+        if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
+            ctl->fe_latch[i] = 1U;
+            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
+        }
+    }
+    return f;
+}
+
+/* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
+ * the motor targets back for the axes the PC drives. */
+static void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                          c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
+{
+    const uint32_t n = ctl->n_joint[arm];
+    double qm[C4G_AXES_PER_ARM];
+    double q[C4G_AXES_PER_ARM];
+    uint32_t j;
+    uint32_t changed = 0U;
+    for (j = 0U; j < n; j++) {
+        const uint32_t i = ctl->map.open_of[arm][j];
+        const int32_t m = ctl->prep_mode[i];
+        double v = (double)rx->ax[i].target_pos;
+        if (abs_target(m) != 0) {
+            v = (double)tx->ax[i].target_pos;
+        } else if (delta_target(m) != 0) {
+            v += (double)tx->ax[i].target_pos;
+        } else {
+            /* SMP+ target */
+        }
+        qm[j] = v;
+    }
+    if (c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) {
+        for (j = 0U; j < n; j++) {
+            const uint32_t i = ctl->map.open_of[arm][j];
+            const c4g_axis_limits_t *l = &ctl->lim[i];
+            if ((l->joint_min < l->joint_max) &&
+                ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
+                q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
+                r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
+                changed = 1U;
+            }
+        }
+    }
+    if ((changed != 0U) && (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
+        for (j = 0U; j < n; j++) {
+            const uint32_t i = ctl->map.open_of[arm][j];
+            const int32_t m = ctl->prep_mode[i];
+            if (abs_target(m) != 0) {
+                tx->ax[i].target_pos = (float)qm[j];
+            } else if (delta_target(m) != 0) {
+                tx->ax[i].target_pos = (float)(qm[j] - (double)rx->ax[i].target_pos);
+            } else {
+                /* the PC does not drive this axis */
+            }
+        }
+    }
+}
+
+/* EXIT_FROM_OPEN bytes, and the END phase on the first packet carrying one. */
+static uint32_t exit_bytes(c4g_ctl_t *ctl, c4g_ctl_report_t *r)
+{
+    uint32_t infpar = 0U;
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        c4g_arm_sm_t *sm = &ctl->arm[a];
+        if (sm->exit_req != 0U) {
+            infpar = c4g_arm_byte_set(infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
+            sm->exit_ticks++;
+            if (sm->exit_ticks == 1U) {
+                uint32_t ev = C4G_CEV_EXIT_SENT;
+                if ((sm->frozen != C4G_MODE_FREEZING_A) && (sm->phase != C4G_MPH_END)) {
+                    sm->phase = C4G_MPH_END;
+                    sm->phase_since_ns = sm->mode_since_ns;
+                    ev |= C4G_CEV_END;
+                }
+                r->arm_events[a] |= ev;
+                r->events |= ev;
+            }
+        }
+    }
+    return infpar;
+}
+
+/* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
+static c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t bad_arm[C4G_ARMS] = {0U, 0U, 0U, 0U};
+    uint32_t i;
+    for (i = 0U; i < tx->n_axes; i++) {
+        const uint32_t f = r->axis_flags[i];
+        if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
+            bad_arm[ctl->map.arm_of[i]] = 1U;
+            st = ((f & C4G_SF_MISSING) != 0U) ? ctl_st(C4G_ERR_CTL_MISSING_DATA)
+                 : ((st == C4G_OK) ? C4G_ERR_NONFINITE : st);
+            if (ctl->have_last != 0U) {
+                tx->ax[i] = ctl->last_safe[i];
+            } else {
+                (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
+            }
+            r->axis_flags[i] |= C4G_SF_HELD;
+        }
+    }
+    for (i = 0U; i < C4G_ARMS; i++) {
+        if (bad_arm[i] != 0U) {
+            ctl->arm[i].latch |= C4G_LATCH_DRIVE_OFF;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+                            c4g_ctl_report_t *rep)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+        c4g_ctl_report_t local;
+        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
+        if (rep == NULL) {
+            (void)memset(&local, 0, sizeof local);
+        }
+        st = C4G_ERR_STATE;
+        if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
+            (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
+            c4g_status_t fault;
+            uint32_t i;
+            uint32_t a;
+            st = C4G_OK;
+            tx->infpar = exit_bytes(ctl, r);
+            for (i = 0U; i < tx->n_axes; i++) {
+                const int32_t m = ctl->prep_mode[i];
+                const int32_t shown = overlay_mode(ctl, i, m);
+                uint32_t f = 0U;
+                r->follow_err[i] = 0.0F;
+                if ((tx->ax[i].mode != m) && (tx->ax[i].mode != shown)) {
+                    f |= C4G_SF_MODE_RESTORED; /* only the request API changes modes */
+                    st = ctl_st(C4G_ERR_CTL_MODE_RESTORED);
+                }
+                tx->ax[i].mode = m;
+                if (m == C4G_MODE_0_DEBUG) {
+                    copy_back(&rx->ax[i], &tx->ax[i]);
+                    f |= C4G_SF_COPY_BACK;
+                }
+                f |= axis_data_check(&tx->ax[i], (shown == m) ? c4g_mode_pc_fields(m) : 0U);
+                if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
+                    f |= filter_axis(ctl, i, m, &rx->ax[i], &tx->ax[i]);
+                }
+                r->axis_flags[i] |= f;
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                if ((ctl->joint_on[a] != 0U) && (ctl->arm[a].n_axes > 0U)) {
+                    filter_joints(ctl, a, rx, tx, r);
+                }
+            }
+            for (i = 0U; i < tx->n_axes; i++) {
+                /* A clamp may overflow: check once more before anything goes out. */
+                r->axis_flags[i] |= axis_data_check(&tx->ax[i], 0U);
+                if ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
+                    r->axis_flags[i] |= filter_fe(ctl, i, ctl->prep_mode[i], &rx->ax[i],
+                                                  &tx->ax[i], &r->follow_err[i]);
+                }
+            }
+            fault = arm_faults(ctl, tx, r);
+            st = (fault != C4G_OK) ? fault : st;
+            for (i = 0U; i < tx->n_axes; i++) {
+                const int32_t shown = overlay_mode(ctl, i, ctl->prep_mode[i]);
+                c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
+                tx->ax[i].mode = shown;
+                if (shown == C4G_MODE_DRIVE_OFF) {
+                    r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
+                } else if (shown == C4G_MODE_FOLLOW_ERROR) {
+                    r->axis_flags[i] |= C4G_SF_FE_SENT;
+                } else {
+                    /* no safety request on this axis */
+                }
+                if (sm->latch != 0U) {
+                    sm->latch_sent = 1U;
+                }
+                if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
+                    r->n_filtered++;
+                    r->arm_events[ctl->map.arm_of[i]] |= C4G_CEV_SAFETY;
+                    r->events |= C4G_CEV_SAFETY;
+                }
+                ctl->last_safe[i] = tx->ax[i];
+                ctl->last_mode[i] = ctl->prep_mode[i];
+            }
+            ctl->have_last = 1U;
+            ctl->stepped = 0U;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ requests */
+
+static c4g_status_t request(c4g_ctl_t *ctl, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (ctl != NULL) {
+        st = C4G_ERR_ARG;
+        if (arm < C4G_ARMS) {
+            st = c4g_arm_sm_check(&ctl->arm[arm], kind, mode);
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_MODE, mode);
+    if ((st == C4G_OK) && (current_mode(mode) != 0)) {
+        uint32_t i;
+        /* Modes 1 and 2 send currents: a zero limit would drop the arm. */
+        for (i = 0U; i < ctl->map.n_axes; i++) {
+            if ((ctl->map.arm_of[i] == arm) && (ctl->lim[i].current_max <= 0.0F)) {
+                st = ctl_st(C4G_ERR_CTL_LIMITS);
+            }
+        }
+    }
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        sm->req_mode = mode;
+        sm->req_ticks = 0U;
+        sm->req_queued = ((sm->mode != C4G_MODE_0) || (sm->exit_req != 0U) || (sm->leaving != 0U))
+                             ? 1U
+                             : 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_request_exit(c4g_ctl_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_EXIT, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        if ((sm->exit_req == 0U) && (sm->leaving == 0U)) {
+            sm->exit_req = 1U;
+            sm->exit_ticks = 0U;
+            sm->exit_from = sm->mode;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_DRIVE_OFF, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        sm->latch |= C4G_LATCH_DRIVE_OFF;
+        sm->latch_sent = 0U;
+        sm->req_mode = 0;
+        sm->req_queued = 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_FOLLOW_ERROR, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        sm->latch |= C4G_LATCH_FOLLOW_ERROR;
+        sm->latch_sent = 0U;
+        sm->req_mode = 0;
+        sm->req_queued = 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_request_freeze(c4g_ctl_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_FREEZE, 0);
+    if (st == C4G_OK) {
+        ctl->arm[arm].frozen = C4G_MODE_FREEZING_A;
+    }
+    return st;
+}
+
+c4g_status_t c4g_ctl_cancel(c4g_ctl_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (ctl != NULL) {
+        st = C4G_ERR_ARG;
+        if (arm < C4G_ARMS) {
+            ctl->arm[arm].req_mode = 0;
+            ctl->arm[arm].req_queued = 0U;
+            st = C4G_OK;
+        }
+    }
+    return st;
 }

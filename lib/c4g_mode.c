@@ -1,0 +1,576 @@
+/* SPDX-License-Identifier: MIT */
+/* Mode table and predicates, controller transition rules, the per-arm state machine and
+ * the PC request rules (manual chapters 13, 14, 15, 24; FIELD-FACTS mode list). */
+#include "c4g_ctl_util.h"
+
+#define AV C4G_MF_AVAILABLE
+#define TRJ C4G_MF_PC_TRAJ
+#define LOOP C4G_MF_PC_LOOPS
+#define SPC C4G_MF_SPECIAL
+#define SBY C4G_MF_STANDBY
+#define PCR C4G_MF_PC_REQUEST
+#define REQ C4G_MF_REQUESTABLE
+#define F1 C4G_PCF_D1
+#define F2 C4G_PCF_D2
+#define F3 C4G_PCF_D3
+#define F4 C4G_PCF_D4
+#define F5 C4G_PCF_D5
+
+#define N_MODES 30U
+
+/* FIELD-FACTS "What the PC must fill per mode"; stand-by modes of 1 and 2 keep the loop
+ * data (the PC holds the robot while SMP+ switches back, 24.2.3-4); 17/170 carry null data. */
+static const c4g_mode_info_t mode_table[N_MODES] = {
+    {C4G_MODE_0, "MODE_0", "SMP+ generates the trajectory and closes the loops; PC data ignored",
+     AV, 0U, C4G_MODE_0},
+    {C4G_MODE_0_DEBUG, "MODE_0_DEBUG", "mode 0': debug echo, the PC copies D1..D5 back",
+     AV | REQ, F1 | F2, C4G_MODE_0_DEBUG},
+    {C4G_MODE_1, "MODE_1", "PC generates the trajectory and closes the loops (currents)",
+     AV | TRJ | LOOP | REQ, F1 | F2 | F4 | F5, C4G_MODE_1},
+    {C4G_MODE_1_STANDBY, "MODE_1_STANDBY", "mode 1 exit: PC holds the robot while SMP+ switches back",
+     AV | TRJ | LOOP | SBY, F1 | F2 | F4 | F5, C4G_MODE_1},
+    {C4G_MODE_2, "MODE_2", "SMP+ generates the trajectory, the PC closes the loops (currents)",
+     AV | LOOP | REQ, F4 | F5, C4G_MODE_2},
+    {C4G_MODE_2_STANDBY, "MODE_2_STANDBY", "mode 2 exit (set by PDL2): PC loops while SMP+ switches back",
+     AV | LOOP | SBY, F4 | F5, C4G_MODE_2},
+    {C4G_MODE_3, "MODE_3", "SMP+ velocity target, PC velocity loop (not available)",
+     LOOP, F5, C4G_MODE_3},
+    {C4G_MODE_4, "MODE_4", "PC generates absolute position targets, SMP+ closes the loops",
+     AV | TRJ | REQ, F1 | F2, C4G_MODE_4},
+    {C4G_MODE_4_STANDBY, "MODE_4_STANDBY", "mode 4 stand-by", AV | SBY, 0U, C4G_MODE_4},
+    {C4G_MODE_5, "MODE_5", "PC generates relative position targets, SMP+ closes the loops",
+     AV | TRJ | REQ, F1 | F2, C4G_MODE_5},
+    {C4G_MODE_5_STANDBY, "MODE_5_STANDBY", "mode 5 stand-by", AV | SBY, 0U, C4G_MODE_5},
+    {C4G_MODE_6, "MODE_6", "PC generates velocity targets (not available)", TRJ, F2, C4G_MODE_6},
+    {C4G_MODE_7, "MODE_7", "PC adds a position delta to the SMP+ trajectory",
+     AV | TRJ | REQ, F1, C4G_MODE_7},
+    {C4G_MODE_7_STANDBY, "MODE_7_STANDBY", "mode 7 exit: SMP+ ends its motion, PC sends a null delta",
+     AV | SBY, 0U, C4G_MODE_7},
+    {C4G_MODE_7_STANDBY_EXIT, "MODE_7_STANDBY_EXIT", "mode 7 exit: null references, then mode 0",
+     AV | SBY, 0U, C4G_MODE_7},
+    {C4G_MODE_8, "MODE_8", "PC adds a velocity contribution to the SMP+ trajectory",
+     AV | REQ, F4, C4G_MODE_8},
+    {C4G_MODE_9, "MODE_9", "PC adds a current contribution to the SMP+ control",
+     AV | REQ, F5, C4G_MODE_9},
+    {C4G_MODE_101, "MODE_101", "accelerometer measure from the PC (not available)", 0U, F3,
+     C4G_MODE_101},
+    {C4G_MODE_102, "MODE_102", "vision measure from the PC (not available)", 0U, F3, C4G_MODE_102},
+    {C4G_MODE_103, "MODE_103", "force measure from the PC (not available)", 0U, F3, C4G_MODE_103},
+    {C4G_MODE_201, "MODE_201", "PC cartesian position target (not available)", TRJ, 0U,
+     C4G_MODE_201},
+    {C4G_MODE_202, "MODE_202", "PC cartesian position delta (not available)", TRJ, 0U,
+     C4G_MODE_202},
+    {C4G_MODE_FREEZING_A, "FREEZING_A", "active freezing: SMP+ stops checking the PC (from mode 0)",
+     AV | SPC, 0U, C4G_MODE_FREEZING_A},
+    {C4G_MODE_DRIVING_ON, "DRIVING_ON", "drive on in progress: mode requests are ignored",
+     AV | SPC, 0U, C4G_MODE_DRIVING_ON},
+    {C4G_MODE_FREEZING_P_IN, "FREEZING_P_IN", "passive freezing: SMP+ stops sending",
+     AV | SPC, 0U, C4G_MODE_FREEZING_P_IN},
+    {C4G_MODE_FREEZING_P_OUT, "FREEZING_P_OUT", "passive freezing over", AV | SPC, 0U,
+     C4G_MODE_FREEZING_P_OUT},
+    {C4G_MODE_EXIT_OPEN, "EXIT_OPEN", "end of communication", AV | SPC, 0U, C4G_MODE_EXIT_OPEN},
+    {C4G_MODE_DRIVE_OFF, "DRIVE_OFF", "PC request: drive off", AV | SPC | PCR, 0U,
+     C4G_MODE_DRIVE_OFF},
+    {C4G_MODE_SVR_RESTART, "SVR_RESTART", "client restart: a new initialization packet follows",
+     AV | SPC, 0U, C4G_MODE_SVR_RESTART},
+    {C4G_MODE_FOLLOW_ERROR, "FOLLOW_ERROR", "PC request: following error", AV | SPC | PCR, 0U,
+     C4G_MODE_FOLLOW_ERROR},
+};
+
+const c4g_mode_info_t *c4g_mode_info(int32_t mode)
+{
+    const c4g_mode_info_t *info = NULL;
+    uint32_t i;
+    for (i = 0U; (i < N_MODES) && (info == NULL); i++) {
+        if (mode_table[i].code == mode) {
+            info = &mode_table[i];
+        }
+    }
+    return info;
+}
+
+static uint32_t mode_flags(int32_t mode)
+{
+    const c4g_mode_info_t *info = c4g_mode_info(mode);
+    return (info != NULL) ? info->flags : 0U;
+}
+
+static int has_flag(int32_t mode, uint32_t flag)
+{
+    return ((mode_flags(mode) & flag) != 0U) ? 1 : 0;
+}
+
+const char *c4g_mode_name(int32_t mode)
+{
+    const c4g_mode_info_t *info = c4g_mode_info(mode);
+    return (info != NULL) ? info->name : "UNKNOWN";
+}
+
+const char *c4g_mode_description(int32_t mode)
+{
+    const c4g_mode_info_t *info = c4g_mode_info(mode);
+    return (info != NULL) ? info->description : "unknown mode";
+}
+
+int c4g_mode_is_available(int32_t mode)
+{
+    return has_flag(mode, C4G_MF_AVAILABLE);
+}
+
+int c4g_mode_pc_trajectory(int32_t mode)
+{
+    return has_flag(mode, C4G_MF_PC_TRAJ);
+}
+
+int c4g_mode_pc_loops(int32_t mode)
+{
+    return has_flag(mode, C4G_MF_PC_LOOPS);
+}
+
+int c4g_mode_is_special(int32_t mode)
+{
+    return has_flag(mode, C4G_MF_SPECIAL);
+}
+
+int c4g_mode_is_standby(int32_t mode)
+{
+    return has_flag(mode, C4G_MF_STANDBY);
+}
+
+uint32_t c4g_mode_pc_fields(int32_t mode)
+{
+    const c4g_mode_info_t *info = c4g_mode_info(mode);
+    return (info != NULL) ? info->pc_fields : 0U;
+}
+
+int32_t c4g_mode_operating(int32_t mode)
+{
+    const c4g_mode_info_t *info = c4g_mode_info(mode);
+    return (info != NULL) ? info->operating : -1;
+}
+
+/* An operating mode the controller can enter from mode 0 (not stand-by, not special). */
+static int enterable(int32_t mode)
+{
+    const uint32_t f = mode_flags(mode);
+    return (((f & C4G_MF_AVAILABLE) != 0U) && ((f & (C4G_MF_STANDBY | C4G_MF_SPECIAL)) == 0U))
+               ? 1
+               : 0;
+}
+
+/* Stand-by sequences of chapter 24: 1->11, 2->12, 4->14, 5->15, 7->17, 7->170, 17->170. */
+static int standby_step(int32_t from, int32_t to)
+{
+    int ok = 0;
+    if (c4g_mode_is_standby(to) != 0) {
+        if (c4g_mode_operating(to) == from) {
+            ok = 1;
+        } else if ((from == C4G_MODE_7_STANDBY) && (to == C4G_MODE_7_STANDBY_EXIT)) {
+            ok = 1;
+        } else {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+static int idle_mode(int32_t mode)
+{
+    return ((mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG)) ? 1 : 0;
+}
+
+/* Transitions into a special mode. */
+static int to_special(int32_t from, int32_t to)
+{
+    int ok;
+    switch (to) {
+    case C4G_MODE_DRIVING_ON:   /* drive on happens in mode 0 (chapter 11) */
+    case C4G_MODE_FREEZING_A:   /* active freezing only from mode 0 (15.1) */
+        ok = idle_mode(from);
+        break;
+    case C4G_MODE_FREEZING_P_OUT:
+        ok = (from == C4G_MODE_FREEZING_P_IN) ? 1 : 0;
+        break;
+    default: /* 502, 504, 506 any time; 505 / 508 are echoes of PC requests */
+        ok = 1;
+        break;
+    }
+    return ok;
+}
+
+int c4g_mode_transition_ok(int32_t from, int32_t to)
+{
+    int ok = 0;
+    if ((c4g_mode_is_known(from) == 0) || (c4g_mode_is_known(to) == 0)) {
+        ok = 0;
+    } else if ((from == to) || (to == C4G_MODE_0)) {
+        ok = 1; /* mode 0 can always be forced (505, 508, selector, exits) */
+    } else if (c4g_mode_is_special(to) != 0) {
+        ok = to_special(from, to);
+    } else if ((idle_mode(from) != 0) || (from == C4G_MODE_DRIVING_ON) ||
+               (from == C4G_MODE_FREEZING_P_OUT)) {
+        ok = enterable(to); /* after drive on the mode set by PC or PDL2 (15.2) */
+    } else {
+        ok = standby_step(from, to);
+    }
+    return ok;
+}
+
+/* ------------------------------------------------------------------ state machine */
+
+c4g_status_t c4g_ctl_config_default(c4g_ctl_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (cfg != NULL) {
+        cfg->request_timeout_ticks = 100U;
+        cfg->start_ns = 0U;
+        cfg->moving_eps = 0.0F;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (sm != NULL) {
+        st = C4G_ERR_ARG;
+        if (n_axes <= C4G_AXES_PER_ARM) {
+            (void)memset(sm, 0, sizeof *sm);
+            sm->n_axes = n_axes;
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
+static c4g_fsm_state_t infer_fsm(const c4g_arm_sm_t *sm)
+{
+    c4g_fsm_state_t s = C4G_FSM_UNKNOWN;
+    const int32_t m = sm->mode;
+    if ((sm->drive_on == 0U) || (c4g_mode_is_special(m) != 0)) {
+        s = C4G_FSM_UNKNOWN;
+    } else if (idle_mode(m) != 0) {
+        s = (sm->moving != 0U) ? C4G_FSM_S10 : C4G_FSM_S00;
+    } else {
+        const int32_t op = c4g_mode_operating(m);
+        /* OPEN TYPE A: no SMP+ trajectory (1, 4, 5); TYPE B when SMP+ moves too. */
+        if ((op == C4G_MODE_1) || (op == C4G_MODE_4) || (op == C4G_MODE_5)) {
+            s = C4G_FSM_S01;
+        } else {
+            s = (sm->moving != 0U) ? C4G_FSM_S11 : C4G_FSM_S01;
+        }
+    }
+    return s;
+}
+
+/* Special mode entered / left: flags and events. */
+static uint32_t special_change(c4g_arm_sm_t *sm, int32_t old, int32_t mode)
+{
+    uint32_t ev = 0U;
+    if (old == C4G_MODE_DRIVING_ON) {
+        ev |= C4G_CEV_DRIVING_ON_END;
+    }
+    if ((old == C4G_MODE_FREEZING_A) && (sm->frozen == C4G_MODE_FREEZING_A)) {
+        sm->frozen = 0;
+        sm->exit_req = 0U;
+        ev |= C4G_CEV_FREEZE_A_END;
+    }
+    switch (mode) {
+    case C4G_MODE_DRIVING_ON:
+        ev |= C4G_CEV_DRIVING_ON;
+        break;
+    case C4G_MODE_FREEZING_A:
+        if (sm->frozen != C4G_MODE_FREEZING_A) {
+            ev |= C4G_CEV_FREEZE_A;
+        }
+        sm->frozen = C4G_MODE_FREEZING_A;
+        break;
+    case C4G_MODE_FREEZING_P_IN:
+        sm->frozen = C4G_MODE_FREEZING_P_IN;
+        ev |= C4G_CEV_FREEZE_P_IN;
+        break;
+    case C4G_MODE_FREEZING_P_OUT:
+        if (sm->frozen == C4G_MODE_FREEZING_P_IN) {
+            sm->frozen = 0;
+        }
+        ev |= C4G_CEV_FREEZE_P_OUT;
+        break;
+    case C4G_MODE_EXIT_OPEN:
+        sm->ended = 1U;
+        ev |= C4G_CEV_END_COMM;
+        break;
+    case C4G_MODE_SVR_RESTART:
+        sm->restart = 1U;
+        ev |= C4G_CEV_RESTART;
+        break;
+    default:
+        break;
+    }
+    return ev;
+}
+
+/* Requests when the mode changed. */
+static uint32_t requests_on_change(c4g_arm_sm_t *sm, int32_t mode)
+{
+    uint32_t ev = 0U;
+    if ((sm->exit_req != 0U) && (sm->frozen != C4G_MODE_FREEZING_A)) {
+        sm->exit_req = 0U; /* the controller acted on the exit */
+        sm->leaving = 1U;
+    }
+    if ((sm->leaving != 0U) && (idle_mode(mode) != 0)) {
+        sm->leaving = 0U;
+        ev |= C4G_CEV_EXIT_DONE;
+    }
+    if (sm->req_mode != 0) {
+        if (mode == sm->req_mode) {
+            sm->req_mode = 0;
+            sm->req_queued = 0U;
+            ev |= C4G_CEV_REQ_ACCEPTED;
+        } else if ((sm->req_queued != 0U) && (sm->leaving != 0U) &&
+                   (c4g_mode_is_standby(mode) != 0)) {
+            /* still leaving the previous mode: keep waiting for mode 0 */
+        } else if ((sm->req_queued != 0U) && (mode == C4G_MODE_0)) {
+            sm->req_queued = 0U; /* mode 0 reached: the request goes out from now on */
+            sm->req_ticks = 0U;
+        } else {
+            sm->req_mode = 0; /* DRIVING ON, PDL2 or an error took the arm elsewhere */
+            sm->req_queued = 0U;
+            ev |= C4G_CEV_REQ_DROPPED;
+        }
+    }
+    return ev;
+}
+
+static uint32_t enter_mode(c4g_arm_sm_t *sm, int32_t old, int32_t mode, uint64_t now_ns)
+{
+    uint32_t ev = C4G_CEV_MODE_CHANGE;
+    if ((sm->started != 0U) && (c4g_mode_transition_ok(old, mode) == 0)) {
+        ev |= C4G_CEV_UNEXPECTED;
+    }
+    sm->prev_mode = old;
+    sm->mode = mode;
+    sm->mode_since_ns = now_ns;
+    sm->ticks_in_mode = 0U;
+    ev |= special_change(sm, old, mode);
+    ev |= requests_on_change(sm, mode);
+    if (c4g_mode_is_special(mode) != 0) {
+        sm->phase = C4G_MPH_SPECIAL;
+        sm->phase_since_ns = now_ns;
+    } else if (idle_mode(mode) != 0) {
+        if ((mode == C4G_MODE_0) && (sm->op_mode != 0)) {
+            ev |= C4G_CEV_MODE0;
+        }
+        sm->op_mode = 0;
+        sm->phase = C4G_MPH_NONE;
+        sm->phase_since_ns = now_ns;
+    } else if (c4g_mode_is_standby(mode) != 0) {
+        if (sm->phase != C4G_MPH_END) {
+            ev |= C4G_CEV_END;
+            sm->phase_since_ns = now_ns;
+        }
+        sm->op_mode = c4g_mode_operating(mode);
+        sm->phase = C4G_MPH_END;
+    } else {
+        sm->op_mode = mode;
+        sm->phase = C4G_MPH_START;
+        sm->phase_since_ns = now_ns;
+        ev |= C4G_CEV_START;
+    }
+    return ev;
+}
+
+/* Same mode as the previous packet: phases advance, requests age. */
+static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint64_t now_ns)
+{
+    uint32_t ev = 0U;
+    if (sm->ticks_in_mode < UINT32_MAX) {
+        sm->ticks_in_mode++;
+    }
+    if (sm->phase == C4G_MPH_START) {
+        const int32_t op = sm->op_mode;
+        const int counted = ((op == C4G_MODE_1) || (op == C4G_MODE_2)) ? 1 : 0;
+        /* Modes 1 and 2: SMP+ ramps its switching counter for start_ns (24.2.3-4). */
+        if ((counted == 0) || ((now_ns - sm->phase_since_ns) >= cfg->start_ns)) {
+            sm->phase = C4G_MPH_CRUISE;
+            sm->phase_since_ns = now_ns;
+            ev |= C4G_CEV_CRUISE;
+        }
+    }
+    if ((sm->req_mode != 0) && (sm->req_queued == 0U) &&
+        (sm->req_ticks >= cfg->request_timeout_ticks)) {
+        sm->req_mode = 0;
+        ev |= C4G_CEV_REQ_TIMEOUT;
+    }
+    if (sm->exit_req != 0U) {
+        if ((sm->frozen == C4G_MODE_FREEZING_A) &&
+            ((sm->mode != C4G_MODE_FREEZING_A) || (sm->exit_ticks >= cfg->request_timeout_ticks))) {
+            /* The exit went out; the controller is in mode 0 (it need not echo 500). */
+            if (sm->exit_ticks >= 1U) {
+                sm->frozen = 0;
+                sm->exit_req = 0U;
+                ev |= C4G_CEV_FREEZE_A_END;
+            }
+        } else if (sm->exit_ticks >= cfg->request_timeout_ticks) {
+            sm->exit_req = 0U;
+            sm->phase = (sm->phase == C4G_MPH_END) ? C4G_MPH_CRUISE : sm->phase;
+            ev |= C4G_CEV_REQ_TIMEOUT;
+        } else {
+            /* still waiting for the controller */
+        }
+    }
+    if ((sm->req_mode != 0) && (sm->req_queued != 0U) && (sm->exit_req == 0U) &&
+        (sm->leaving == 0U) && (sm->mode != C4G_MODE_0)) {
+        sm->req_mode = 0; /* the exit it waited behind was not taken */
+        sm->req_queued = 0U;
+        ev |= C4G_CEV_REQ_DROPPED;
+    }
+    return ev;
+}
+
+c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, int32_t mode,
+                               uint32_t mixed, uint8_t drive_byte, uint32_t moving,
+                               uint64_t now_ns, uint32_t *events)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((sm != NULL) && (cfg != NULL) && (events != NULL)) {
+        uint32_t ev = 0U;
+        const uint32_t drive_on = (drive_byte == (uint8_t)C4G_STS_MOVING) ? 1U : 0U;
+        *events = 0U;
+        st = C4G_ERR_MODE;
+        if (c4g_mode_is_known(mode) != 0) {
+            if ((sm->started != 0U) && (drive_on != sm->drive_on)) {
+                ev |= (drive_on != 0U) ? C4G_CEV_DRIVE_ON : C4G_CEV_DRIVE_OFF;
+            }
+            sm->drive_on = drive_on;
+            sm->moving = (moving != 0U) ? 1U : 0U;
+            if ((mixed != 0U) && (sm->mixed == 0U)) {
+                ev |= C4G_CEV_MIXED;
+            }
+            sm->mixed = (mixed != 0U) ? 1U : 0U;
+            if ((sm->started == 0U) || (mode != sm->mode)) {
+                ev |= enter_mode(sm, sm->mode, mode, now_ns);
+            } else {
+                ev |= stay_in_mode(sm, cfg, now_ns);
+            }
+            sm->started = 1U;
+            sm->driving_on = (mode == C4G_MODE_DRIVING_ON) ? 1U : 0U;
+            /* A 505 / 508 latch ends once it went out and the drives are off (15.5, 15.7). */
+            if ((sm->latch != 0U) && (sm->latch_sent != 0U) && (drive_on == 0U)) {
+                sm->latch = 0U;
+                sm->latch_sent = 0U;
+                ev |= C4G_CEV_LATCH_CLEARED;
+            }
+            sm->fsm = infer_fsm(sm);
+            *events = ev;
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ request rules */
+
+static c4g_status_t check_mode_req(const c4g_arm_sm_t *sm, int32_t mode)
+{
+    c4g_status_t st = C4G_OK;
+    if (c4g_mode_is_known(mode) == 0) {
+        st = C4G_ERR_MODE;
+    } else if (has_flag(mode, C4G_MF_REQUESTABLE) == 0) {
+        st = ctl_st(C4G_ERR_CTL_NOT_OFFERED);
+    } else if (sm->driving_on != 0U) {
+        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+    } else if (sm->latch != 0U) {
+        st = ctl_st(C4G_ERR_CTL_LATCHED);
+    } else if (sm->frozen != 0) {
+        st = ctl_st(C4G_ERR_CTL_FROZEN);
+    } else if (sm->drive_on == 0U) {
+        st = ctl_st(C4G_ERR_CTL_DRIVES_OFF);
+    } else if (sm->req_mode != 0) {
+        st = ctl_st(C4G_ERR_CTL_PENDING);
+    } else if (((sm->mode == C4G_MODE_0) && (sm->mixed == 0U)) || (sm->exit_req != 0U) ||
+               (sm->leaving != 0U)) {
+        st = C4G_OK; /* from mode 0, or queued behind an exit from open */
+    } else {
+        st = ctl_st(C4G_ERR_CTL_FORBIDDEN);
+    }
+    return st;
+}
+
+static c4g_status_t check_exit(const c4g_arm_sm_t *sm)
+{
+    c4g_status_t st = C4G_OK;
+    const int32_t m = sm->mode;
+    if (sm->frozen == C4G_MODE_FREEZING_A) {
+        st = C4G_OK; /* the way out of an active freezing (15.1) */
+    } else if (sm->driving_on != 0U) {
+        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+    } else if (sm->frozen != 0) {
+        st = ctl_st(C4G_ERR_CTL_FROZEN);
+    } else if ((sm->exit_req != 0U) || (sm->leaving != 0U)) {
+        st = C4G_OK; /* idempotent */
+    } else if (idle_mode(m) != 0) {
+        st = ctl_st(C4G_ERR_CTL_NOT_IN_OPEN);
+    } else if (c4g_mode_is_standby(m) != 0) {
+        st = ctl_st(C4G_ERR_CTL_LEAVING);
+    } else if ((m == C4G_MODE_2) || (c4g_mode_is_special(m) != 0)) {
+        st = ctl_st(C4G_ERR_CTL_FORBIDDEN); /* mode 2 ends by PDL2 setting 12 (24.2.4) */
+    } else {
+        st = C4G_OK;
+    }
+    return st;
+}
+
+static c4g_status_t check_freeze(const c4g_arm_sm_t *sm)
+{
+    c4g_status_t st = C4G_OK;
+    if (sm->frozen == C4G_MODE_FREEZING_A) {
+        st = C4G_OK; /* idempotent */
+    } else if (sm->driving_on != 0U) {
+        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+    } else if (sm->latch != 0U) {
+        st = ctl_st(C4G_ERR_CTL_LATCHED);
+    } else if (sm->frozen != 0) {
+        st = ctl_st(C4G_ERR_CTL_FROZEN);
+    } else if (sm->req_mode != 0) {
+        st = ctl_st(C4G_ERR_CTL_PENDING);
+    } else if ((sm->mode != C4G_MODE_0) || (sm->mixed != 0U) || (sm->exit_req != 0U) ||
+               (sm->leaving != 0U)) {
+        st = ctl_st(C4G_ERR_CTL_NOT_MODE0); /* 15.1: only from mode 0 */
+    } else {
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_arm_sm_check(const c4g_arm_sm_t *sm, c4g_req_kind_t kind, int32_t mode)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (sm != NULL) {
+        if (sm->n_axes == 0U) {
+            st = C4G_ERR_NOT_OPEN;
+        } else if (sm->ended != 0U) {
+            st = C4G_ERR_ENDED;
+        } else {
+            switch (kind) {
+            case C4G_REQ_MODE:
+                st = check_mode_req(sm, mode);
+                break;
+            case C4G_REQ_EXIT:
+                st = check_exit(sm);
+                break;
+            case C4G_REQ_FREEZE:
+                st = check_freeze(sm);
+                break;
+            case C4G_REQ_DRIVE_OFF:
+            case C4G_REQ_FOLLOW_ERROR:
+                st = C4G_OK; /* safety requests are never refused */
+                break;
+            default:
+                st = C4G_ERR_ARG;
+                break;
+            }
+        }
+    }
+    return st;
+}

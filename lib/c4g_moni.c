@@ -1,0 +1,280 @@
+/* SPDX-License-Identifier: MIT */
+/* Monitoring records equivalent to the controller's moni types 19..24 (manual chapter 16)
+ * and a CSV formatter into caller buffers (no stdio: numbers are formatted here).
+ * The manual speaks from the SMP+: its "RX packet" is the PC's reply (pc_*), its
+ * "TX packet" the controller's packet (smp_*). */
+#include "c4g_ctl_util.h"
+
+#define N_TYPES 6U
+#define N_VALUES 5U
+#define FMT_TMP 48U
+#define FIXED_LIMIT 1.0e9
+#define SCALE 1000000.0
+#define SCALE_U 1000000U
+
+typedef enum src {
+    PC_D1 = 0, PC_D2, PC_D3, PC_D4, PC_D5, SMP_D1, SMP_D2, SMP_D3, SMP_D4, SMP_D5, SMP_E1, SMP_E2
+} src_t;
+
+static const src_t moni_src[N_TYPES][N_VALUES] = {
+    {PC_D1, PC_D2, PC_D3, PC_D4, PC_D5},      /* 19: the whole packet from the PC */
+    {SMP_D1, SMP_D2, SMP_D3, SMP_D4, SMP_D5}, /* 20: the whole packet from SMP+ */
+    {PC_D1, PC_D2, SMP_D1, SMP_D3, SMP_D5},   /* 21: mode 5 */
+    {PC_D4, PC_D5, SMP_D1, SMP_D3, SMP_D5},   /* 22: mode 2 */
+    {SMP_D1, SMP_D5, SMP_E1, SMP_E2, PC_D5},  /* 23: mode 9 */
+    {SMP_D1, SMP_D5, SMP_E1, SMP_E2, PC_D4},  /* 24: mode 8 */
+};
+
+static const char *const src_name[] = {
+    "pc_d1", "pc_d2", "pc_d3", "pc_d4", "pc_d5", "smp_d1", "smp_d2", "smp_d3", "smp_d4",
+    "smp_d5", "smp_e1", "smp_e2",
+};
+
+static float src_value(src_t s, const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx)
+{
+    float v;
+    switch (s) {
+    case PC_D1: v = tx->target_pos; break;
+    case PC_D2: v = tx->target_vel; break;
+    case PC_D3: v = tx->measure; break;
+    case PC_D4: v = tx->vel_add; break;
+    case PC_D5: v = tx->current_add; break;
+    case SMP_D1: v = rx->target_pos; break;
+    case SMP_D2: v = rx->target_vel; break;
+    case SMP_D3: v = rx->actual_pos; break;
+    case SMP_D4: v = rx->actual_vel; break;
+    case SMP_D5: v = rx->current_ref; break;
+    case SMP_E1: v = rx->ext[0]; break;
+    case SMP_E2:
+    default: v = rx->ext[1]; break;
+    }
+    return v;
+}
+
+static int type_ok(uint32_t type)
+{
+    return ((type >= C4G_MONI_FIRST) && (type <= C4G_MONI_LAST)) ? 1 : 0;
+}
+
+c4g_status_t c4g_moni_record(uint32_t type, const c4g_ctrl_packet_t *rx,
+                             const c4g_pc_packet_t *tx, uint32_t axis, c4g_moni_rec_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((rx != NULL) && (tx != NULL) && (out != NULL)) {
+        if (type_ok(type) == 0) {
+            st = C4G_ERR_ARG;
+        } else if ((axis >= rx->n_axes) || (axis >= tx->n_axes) || (axis >= C4G_MAX_AXES)) {
+            st = C4G_ERR_AXES;
+        } else {
+            uint32_t k;
+            const uint32_t t = type - C4G_MONI_FIRST;
+            out->type = type;
+            out->num = rx->num;
+            out->axis = axis;
+            out->mode = rx->ax[axis].mode;
+            for (k = 0U; k < N_VALUES; k++) {
+                out->v[k] = src_value(moni_src[t][k], &rx->ax[axis], &tx->ax[axis]);
+            }
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ text output */
+
+typedef struct out_buf {
+    char *p;
+    size_t cap;
+    size_t len;
+    int overflow;
+} out_buf_t;
+
+static void put_char(out_buf_t *o, char c)
+{
+    /* one byte is always kept for the terminating NUL */
+    if ((o->len + 1U) < o->cap) {
+        o->p[o->len] = c;
+        o->len++;
+    } else {
+        o->overflow = 1;
+    }
+}
+
+static void put_str(out_buf_t *o, const char *s)
+{
+    size_t i = 0U;
+    while (s[i] != '\0') {
+        put_char(o, s[i]);
+        i++;
+    }
+}
+
+/* Decimal digits of @p v, at least @p min_digits (zero padded). */
+static void put_u64(out_buf_t *o, uint64_t v, uint32_t min_digits)
+{
+    char d[24];
+    uint32_t n = 0U;
+    uint64_t x = v;
+    do {
+        d[n] = (char)('0' + (int)(x % 10U));
+        x /= 10U;
+        n++;
+    } while ((x != 0U) && (n < 20U));
+    while (n < min_digits) {
+        d[n] = '0';
+        n++;
+    }
+    while (n > 0U) {
+        n--;
+        put_char(o, d[n]);
+    }
+}
+
+static void put_i64(out_buf_t *o, int64_t v)
+{
+    if (v < 0) {
+        put_char(o, '-');
+        put_u64(o, (uint64_t)(-(v + 1)) + 1U, 1U);
+    } else {
+        put_u64(o, (uint64_t)v, 1U);
+    }
+}
+
+/* |d| < 1e9: fixed point, C4G_MONI_DECIMALS decimals, round half away from zero. */
+static void put_fixed(out_buf_t *o, double d, int neg)
+{
+    const uint64_t u = (uint64_t)((d * SCALE) + 0.5);
+    if ((neg != 0) && (u != 0U)) {
+        put_char(o, '-');
+    }
+    put_u64(o, u / SCALE_U, 1U);
+    put_char(o, '.');
+    put_u64(o, u % SCALE_U, C4G_MONI_DECIMALS);
+}
+
+/* |d| >= 1e9 (float: below 3.5e38): d.dddddde+XX. */
+static void put_sci(out_buf_t *o, double d, int neg)
+{
+    double m = d;
+    uint32_t e = 0U;
+    uint64_t u;
+    while ((m >= 10.0) && (e < 60U)) {
+        m /= 10.0;
+        e++;
+    }
+    u = (uint64_t)((m * SCALE) + 0.5);
+    if (u >= (10U * SCALE_U)) {
+        u /= 10U; /* rounding carried into a new digit */
+        e++;
+    }
+    if (neg != 0) {
+        put_char(o, '-');
+    }
+    put_u64(o, u / SCALE_U, 1U);
+    put_char(o, '.');
+    put_u64(o, u % SCALE_U, C4G_MONI_DECIMALS);
+    put_str(o, "e+");
+    put_u64(o, e, 2U);
+}
+
+static void put_float(out_buf_t *o, float v)
+{
+    const uint32_t bits = c4g_f32_bits(v);
+    const int neg = ((bits & 0x80000000U) != 0U) ? 1 : 0;
+    if (c4g_f32_finite(v) == 0) {
+        if ((bits & 0x007FFFFFU) != 0U) {
+            put_str(o, "nan");
+        } else {
+            put_str(o, (neg != 0) ? "-inf" : "inf");
+        }
+    } else {
+        const double d = (neg != 0) ? -(double)v : (double)v;
+        if (d < FIXED_LIMIT) {
+            put_fixed(o, d, neg);
+        } else {
+            put_sci(o, d, neg);
+        }
+    }
+}
+
+static c4g_status_t finish_out(out_buf_t *o, size_t *len)
+{
+    c4g_status_t st = C4G_ERR_CAPACITY;
+    if ((o->overflow == 0) && (o->cap > 0U)) {
+        o->p[o->len] = '\0';
+        *len = o->len;
+        st = C4G_OK;
+    } else {
+        if (o->cap > 0U) {
+            o->p[0] = '\0';
+        }
+        *len = 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_fmt_float(float v, char *buf, size_t cap, size_t *len)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((buf != NULL) && (len != NULL)) {
+        out_buf_t o = {NULL, 0U, 0U, 0};
+        o.p = buf;
+        o.cap = cap;
+        put_float(&o, v);
+        st = finish_out(&o, len);
+    }
+    return st;
+}
+
+c4g_status_t c4g_moni_csv_header(uint32_t type, char *buf, size_t cap, size_t *len)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((buf != NULL) && (len != NULL)) {
+        st = C4G_ERR_ARG;
+        *len = 0U;
+        if (type_ok(type) != 0) {
+            out_buf_t o = {NULL, 0U, 0U, 0};
+            uint32_t k;
+            o.p = buf;
+            o.cap = cap;
+            put_str(&o, "type,num,axis,mode");
+            for (k = 0U; k < N_VALUES; k++) {
+                put_char(&o, ',');
+                put_str(&o, src_name[moni_src[type - C4G_MONI_FIRST][k]]);
+            }
+            put_char(&o, '\n');
+            st = finish_out(&o, len);
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_moni_csv_row(const c4g_moni_rec_t *rec, char *buf, size_t cap, size_t *len)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((rec != NULL) && (buf != NULL) && (len != NULL)) {
+        st = C4G_ERR_ARG;
+        *len = 0U;
+        if (type_ok(rec->type) != 0) {
+            out_buf_t o = {NULL, 0U, 0U, 0};
+            uint32_t k;
+            o.p = buf;
+            o.cap = cap;
+            put_u64(&o, rec->type, 1U);
+            put_char(&o, ',');
+            put_i64(&o, rec->num);
+            put_char(&o, ',');
+            put_u64(&o, rec->axis, 1U);
+            put_char(&o, ',');
+            put_i64(&o, rec->mode);
+            for (k = 0U; k < N_VALUES; k++) {
+                put_char(&o, ',');
+                put_float(&o, rec->v[k]);
+            }
+            put_char(&o, '\n');
+            st = finish_out(&o, len);
+        }
+    }
+    return st;
+}
