@@ -1,0 +1,244 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim robot model: J*acc = Kt*i - Fv*vel - Fc*sign(vel) - gravity, DSA P/PI loops
+ * with anti-windup and current saturation, encoder quantization and noise. */
+#include "model.h"
+
+#include <math.h>
+
+#define TWO_PI 6.283185307179586
+#define STICK_VEL 1e-6   /* turns/s: below this an axis can stick (Coulomb) */
+#define ACC_FRACTION 0.25 /* trapezoid: accel and decel each take this share of the move */
+
+void sim_rng_seed(sim_rng_t *r, uint64_t seed)
+{
+    r->s = seed ^ 0x9E3779B97F4A7C15ULL;
+    if (r->s == 0U) {
+        r->s = 0x2545F4914F6CDD1DULL;
+    }
+    r->have_spare = 0;
+    r->spare = 0.0;
+}
+
+uint64_t sim_rng_next(sim_rng_t *r)
+{
+    uint64_t x = r->s;
+    x ^= x >> 12;
+    x ^= x << 25;
+    x ^= x >> 27;
+    r->s = x;
+    return x * 0x2545F4914F6CDD1DULL;
+}
+
+double sim_rng_uniform(sim_rng_t *r)
+{
+    return (double)(sim_rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+double sim_rng_gauss(sim_rng_t *r)
+{
+    double u1;
+    double u2;
+    double m;
+    if (r->have_spare) {
+        r->have_spare = 0;
+        return r->spare;
+    }
+    do {
+        u1 = sim_rng_uniform(r);
+    } while (u1 <= 1e-300);
+    u2 = sim_rng_uniform(r);
+    m = sqrt(-2.0 * log(u1));
+    r->spare = m * sin(TWO_PI * u2);
+    r->have_spare = 1;
+    return m * cos(TWO_PI * u2);
+}
+
+void sim_axis_params_default(sim_axis_params_t *p, unsigned logical)
+{
+    /* Figure 10.1 values for axes 1..6 (reused cyclically for further axes). */
+    static const double cal[6] = {0.142965, 0.170353, 0.222660, 0.405883, 0.039380, 0.355824};
+    static const double azl[6] = {24.5, 24.5, 24.5, 9.5, 9.5, 9.5};
+    static const double axi[6] = {0.0, 0.0, 0.0, -0.0200, 0.0204, 0.0200};
+    static const double txr[6] = {-181.587296, 159.260864, 162.473694, 72.585968, 78.75, -50.0};
+    static const double fol[6] = {7.5, 7.5, 7.5, 7.5, 7.5, 0.0};
+    static const double jm[6] = {4e-4, 4e-4, 3e-4, 1e-4, 1e-4, 8e-5};
+    const unsigned k = logical % 6U;
+    p->j = jm[k];
+    p->kt = (k < 3U) ? 0.8 : 0.5;
+    p->fv = 1e-3;
+    p->fc = (k < 3U) ? 0.15 : 0.05;
+    p->gravity = (logical == 1U) ? 6.0 : ((logical == 2U) ? 3.0 : 0.0);
+    p->kp = 40.0;
+    /* Velocity loop bandwidth about 150 rad/s: kv = w * 2 pi J / Kt. */
+    p->kv = 150.0 * TWO_PI * p->j / p->kt;
+    p->ki = p->kv * 40.0;
+    p->az_lim = azl[k];
+    p->tx_rate = txr[k];
+    p->cal = cal[k];
+    p->ax_info = axi[k];
+    p->follow_error = fol[k];
+    p->counts = 16384.0;
+    p->noise = 2e-5;
+    p->vel_filter = 0.25;
+    p->vmax = 20.0;
+    p->amax = 200.0;
+    p->pos0 = 0.0;
+    p->startup_mode = 0;
+}
+
+static double quantize(double x, double counts)
+{
+    return (counts > 0.0) ? floor(x * counts + 0.5) / counts : x;
+}
+
+static double measure(const sim_axis_params_t *p, double pos, sim_rng_t *rng)
+{
+    const double n = (p->noise > 0.0) ? p->noise * sim_rng_gauss(rng) : 0.0;
+    return quantize(pos + n, p->counts);
+}
+
+void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)
+{
+    a->pos = p->pos0;
+    a->vel = 0.0;
+    a->integ = 0.0;
+    a->cur = 0.0;
+    a->meas_pos = measure(p, a->pos, rng);
+    a->prev_meas = a->meas_pos;
+    a->meas_vel = 0.0;
+    a->saturated = 0;
+    a->drive_on = 0;
+}
+
+double sim_axis_gravity(const sim_axis_params_t *p, double pos)
+{
+    const double ratio = (fabs(p->tx_rate) > 1e-9) ? p->tx_rate : 1.0;
+    return p->gravity * sin(TWO_PI * pos / ratio);
+}
+
+static double clampd(double x, double lim)
+{
+    return (x > lim) ? lim : ((x < -lim) ? -lim : x);
+}
+
+void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t *in,
+                   double dt, sim_rng_t *rng)
+{
+    double share = in->pc_share;
+    double rho;
+    double vel_cmd;
+    double e;
+    double i_reg;
+    double i_tot;
+    double torque;
+    double acc;
+    double raw_vel;
+
+    /* Encoder. */
+    a->meas_pos = measure(p, a->pos, rng);
+    raw_vel = (a->meas_pos - a->prev_meas) / dt;
+    a->prev_meas = a->meas_pos;
+    a->meas_vel += p->vel_filter * (raw_vel - a->meas_vel);
+
+    if (!a->drive_on) {
+        /* Brakes engaged, no current. */
+        a->vel = 0.0;
+        a->integ = 0.0;
+        a->cur = 0.0;
+        a->saturated = 0;
+        return;
+    }
+    share = (share < 0.0) ? 0.0 : ((share > 1.0) ? 1.0 : share);
+    rho = 1.0 - share;
+
+    /* DSA: P position loop, PI velocity loop; the regulator is limited to rho*AzLim
+     * (soft control switching, chapter 12) and its integrator cannot wind up. */
+    vel_cmd = p->kp * (in->pos_ref - a->meas_pos) + in->vel_ff + in->vel_add;
+    e = vel_cmd - a->meas_vel;
+    i_reg = p->kv * e + a->integ;
+    if (fabs(i_reg) < rho * p->az_lim || (i_reg > 0.0) != (e > 0.0)) {
+        a->integ += p->ki * e * dt;
+    }
+    a->integ = clampd(a->integ, rho * p->az_lim);
+    i_reg = clampd(p->kv * e + a->integ, rho * p->az_lim);
+    i_tot = i_reg + share * in->cur_pc + in->cur_add;
+    a->saturated = fabs(i_tot) > p->az_lim;
+    a->cur = clampd(i_tot, p->az_lim);
+
+    /* Plant (semi-implicit Euler), Coulomb friction with sticking. */
+    torque = p->kt * a->cur - sim_axis_gravity(p, a->pos);
+    if (fabs(a->vel) < STICK_VEL && fabs(torque) <= p->fc) {
+        a->vel = 0.0;
+        return;
+    }
+    {
+        const double w = TWO_PI * a->vel;
+        const double dir = (fabs(a->vel) >= STICK_VEL) ? ((a->vel > 0.0) ? 1.0 : -1.0)
+                                                        : ((torque > 0.0) ? 1.0 : -1.0);
+        const double net = torque - p->fv * w - p->fc * dir;
+        const double v_old = a->vel;
+        acc = net / (p->j * TWO_PI);
+        a->vel += acc * dt;
+        /* Friction cannot reverse the motion within one step. */
+        if (v_old != 0.0 && (a->vel > 0.0) != (v_old > 0.0) && fabs(torque) <= p->fc) {
+            a->vel = 0.0;
+        }
+        a->pos += a->vel * dt;
+    }
+}
+
+double sim_trap_min_time(double d, double vmax, double amax)
+{
+    const double ad = fabs(d);
+    double t1;
+    double t2;
+    if (ad <= 0.0) {
+        return 0.0;
+    }
+    /* Peak velocity v = d / (T (1 - f)), acceleration a = v / (f T). */
+    t1 = (vmax > 0.0) ? ad / (vmax * (1.0 - ACC_FRACTION)) : 0.0;
+    t2 = (amax > 0.0) ? sqrt(ad / (amax * ACC_FRACTION * (1.0 - ACC_FRACTION))) : 0.0;
+    return (t1 > t2) ? t1 : t2;
+}
+
+void sim_trap_plan(sim_trap_t *t, double p0, double p1, double duration)
+{
+    t->p0 = p0;
+    t->d = p1 - p0;
+    t->t_total = (duration > 0.0) ? duration : 0.0;
+    t->t_acc = ACC_FRACTION * t->t_total;
+}
+
+void sim_trap_eval(const sim_trap_t *t, double time, double *pos, double *vel)
+{
+    double s;
+    double v;
+    const double T = t->t_total;
+    const double ta = t->t_acc;
+    if (T <= 0.0 || time >= T) {
+        *pos = t->p0 + t->d;
+        *vel = 0.0;
+        return;
+    }
+    if (time < 0.0) {
+        time = 0.0;
+    }
+    /* Normalised: peak velocity vp = 1 / (T - ta). */
+    {
+        const double vp = 1.0 / (T - ta);
+        const double a = vp / ta;
+        if (time < ta) {
+            s = 0.5 * a * time * time;
+            v = a * time;
+        } else if (time < T - ta) {
+            s = 0.5 * a * ta * ta + vp * (time - ta);
+            v = vp;
+        } else {
+            const double r = T - time;
+            s = 1.0 - 0.5 * a * r * r;
+            v = a * r;
+        }
+    }
+    *pos = t->p0 + t->d * s;
+    *vel = t->d * v;
+}

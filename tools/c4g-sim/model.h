@@ -1,0 +1,89 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim robot model: one motor-side axis with its DSA position/velocity loop. */
+#ifndef SIM_MODEL_H
+#define SIM_MODEL_H
+
+#include <stdint.h>
+
+/** Deterministic PRNG (xorshift64*), Gaussian by Box-Muller. */
+typedef struct sim_rng {
+    uint64_t s;
+    int have_spare;
+    double spare;
+} sim_rng_t;
+
+void sim_rng_seed(sim_rng_t *r, uint64_t seed);
+uint64_t sim_rng_next(sim_rng_t *r);
+double sim_rng_uniform(sim_rng_t *r); /* [0, 1) */
+double sim_rng_gauss(sim_rng_t *r);   /* N(0, 1) */
+
+/** Axis parameters (motor side). Positions in motor turns, velocities in turns/s. */
+typedef struct sim_axis_params {
+    double j;            /* inertia seen by the motor [kg m^2] */
+    double kt;           /* torque constant [Nm/A] */
+    double fv;           /* viscous friction [Nm/(rad/s)] */
+    double fc;           /* Coulomb friction [Nm] */
+    double gravity;      /* gravity torque amplitude at the motor [Nm] (axes 2 and 3) */
+    double kp;           /* DSA position gain [1/s] */
+    double kv;           /* DSA velocity gain [A/(turn/s)] */
+    double ki;           /* DSA velocity integral gain [A/turn] */
+    double az_lim;       /* current saturation [A] */
+    double tx_rate;      /* motor turns per joint turn (sign = direction) */
+    double cal;          /* calibration constant [turns] (init packet) */
+    double ax_info;      /* kinematic influence coefficient (init packet) */
+    double follow_error; /* following-error threshold [turns], 0 = off */
+    double counts;       /* encoder counts per motor turn */
+    double noise;        /* position measurement noise, sigma [turns] */
+    double vel_filter;   /* velocity measurement low-pass, 0 < a <= 1 (1 = none) */
+    double vmax;         /* trajectory velocity limit [turns/s] */
+    double amax;         /* trajectory acceleration limit [turns/s^2] */
+    double pos0;         /* start position [turns] */
+    int startup_mode;    /* start-up mode (init packet OpenMask) */
+} sim_axis_params_t;
+
+/** What the SMP+ hands the DSA for one period. */
+typedef struct sim_dsa_in {
+    double pos_ref;      /* position reference [turns] */
+    double vel_ff;       /* velocity feed-forward [turns/s] */
+    double vel_add;      /* mode 8: velocity addition [turns/s] */
+    double cur_add;      /* mode 9: current addition [A] */
+    double cur_pc;       /* modes 1, 2: PC current [A] */
+    double pc_share;     /* control switching share 0 (DSA) .. 1 (PC) */
+} sim_dsa_in_t;
+
+/** Axis state. */
+typedef struct sim_axis {
+    double pos;          /* true position [turns] */
+    double vel;          /* true velocity [turns/s] */
+    double integ;        /* velocity loop integrator [A] */
+    double cur;          /* current command after saturation [A] */
+    double meas_pos;     /* encoder position (quantized, noisy) [turns] */
+    double meas_vel;     /* measured velocity [turns/s] */
+    double prev_meas;
+    int saturated;       /* last step hit AzLim */
+    int drive_on;
+} sim_axis_t;
+
+/** Default parameters for logical axis @p logical (0-based) of figure 10.1 style arms. */
+void sim_axis_params_default(sim_axis_params_t *p, unsigned logical);
+void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng);
+/** Gravity torque at the motor [Nm] for @p pos. */
+double sim_axis_gravity(const sim_axis_params_t *p, double pos);
+/** One DSA step of @p dt seconds (loop + plant). Drive off: brakes hold the axis. */
+void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t *in,
+                   double dt, sim_rng_t *rng);
+
+/** Trapezoidal profile (synchronised multi-axis moves share one duration). */
+typedef struct sim_trap {
+    double p0, d;        /* start, signed distance [turns] */
+    double t_total;      /* duration [s] */
+    double t_acc;        /* accelerating (and decelerating) time [s] */
+} sim_trap_t;
+
+/** Shortest duration of a move of |d| under vmax/amax with the accel fraction used. */
+double sim_trap_min_time(double d, double vmax, double amax);
+void sim_trap_plan(sim_trap_t *t, double p0, double p1, double duration);
+/** Position and velocity at time @p t into the move (clamped to [0, t_total]). */
+void sim_trap_eval(const sim_trap_t *t, double time, double *pos, double *vel);
+
+#endif

@@ -1,0 +1,826 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim controller: modes (chapter 14), special modes (15), state machine (24),
+ * errors (17), PDL2-like scenario interpreter (figure 24.4). No I/O but the log. */
+#include "sim.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+
+#define SUBSTEPS_PER_MS 2   /* DSA at 2 kHz */
+
+static void logf_(sim_t *s, const char *fmt, ...)
+{
+    va_list ap;
+    if (s->log == NULL) {
+        return;
+    }
+    va_start(ap, fmt);
+    fprintf(s->log, "c4g-sim: tick %lu: ", s->tick);
+    vfprintf(s->log, fmt, ap);
+    fputc('\n', s->log);
+    va_end(ap);
+}
+
+void sim_raise(sim_t *s, c4g_ctrl_error_t code, int a1, int a2)
+{
+    sim_error_t *e;
+    char armtxt[16];
+    if (s->n_err >= SIM_MAX_ERRORS) {
+        return;
+    }
+    e = &s->err[s->n_err++];
+    e->code = code;
+    e->tick = s->tick;
+    switch (code) {
+    case C4G_CERR_CONFIGURATION_AX:
+        snprintf(e->text, sizeof e->text, "C4GOpen: Arm %d Axis %d not present", a1, a2);
+        break;
+    case C4G_CERR_FOLLOW_ERROR:
+        /* The manual's message has "arm %s". */
+        snprintf(armtxt, sizeof armtxt, "%d", a1);
+        snprintf(e->text, sizeof e->text, "C4GOpen: arm %s axis %d Following error out of range",
+                 armtxt, a2);
+        break;
+    case C4G_CERR_OPT_HW:
+        snprintf(e->text, sizeof e->text, "C4GOpen: software option not allowed for arm %d", a1);
+        break;
+    case C4G_CERR_SET_0_MODALITY:
+        snprintf(e->text, sizeof e->text, "C4GOpen: arm %d , forced 0 modality", a1);
+        break;
+    default:
+        snprintf(e->text, sizeof e->text, "%s", c4g_ctrl_error_message(code));
+        break;
+    }
+    if (s->log != NULL) {
+        fprintf(s->log, "c4g-sim: tick %lu: %s: %s\n", s->tick, c4g_ctrl_error_name(code), e->text);
+    }
+}
+
+int sim_has_error(const sim_t *s, const char *name)
+{
+    int i;
+    for (i = 0; i < s->n_err; i++) {
+        if (strcmp(c4g_ctrl_error_name(s->err[i].code), name) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static void arm_drive_off(sim_t *s, int arm)
+{
+    int i;
+    s->arm[arm].drive = DRV_OFF;
+    s->arm[arm].moving = 0;
+    s->arm[arm].frozen_a = 0;
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        if (x->arm == arm) {
+            x->m.drive_on = 0;
+            x->set_mode = C4G_MODE_0;
+            x->req_mode = -1;
+            x->counter = 0;
+            x->standby_ticks = 0;
+            x->pos_i = x->m.meas_pos;
+            x->vel_i = 0.0;
+            x->offset = 0.0;
+        }
+    }
+}
+
+void sim_all_drive_off(sim_t *s)
+{
+    int a;
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        arm_drive_off(s, a);
+    }
+}
+
+int sim_checks_suspended(const sim_t *s)
+{
+    int a;
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        if (s->arm[a].frozen_a) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
+{
+    int a;
+    int l;
+    int n = 0;
+    memset(s, 0, sizeof *s);
+    s->cfg = *cfg;
+    s->log = log;
+    s->scn = scn;
+    s->override = 1.0;
+    s->period = (double)cfg->period_ms / 1000.0;
+    sim_rng_seed(&s->rng, cfg->seed);
+    if (sim_config_axes(cfg) < 0) {
+        sim_raise(s, C4G_CERR_CONFIG, 0, 0);
+        return -1;
+    }
+    for (a = 0; a < cfg->n_arms; a++) {
+        if (!cfg->option_ok[a]) {
+            sim_raise(s, C4G_CERR_OPT_HW, a + 1, 0);
+            return -1;
+        }
+    }
+    /* Initialization packet (FIELD-FACTS order): figure 10.1 shape, our axes. */
+    (void)c4g_init_fig10_1(&s->init);
+    s->init.period_ms = cfg->period_ms;
+    s->init.version_major = cfg->version[0];
+    s->init.version_minor = cfg->version[1];
+    s->init.version_build = cfg->version[2];
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        for (l = 0; l < (int)C4G_AXES_PER_ARM; l++) {
+            const sim_axis_params_t *p = &cfg->ax[a][l];
+            const int open = (a < cfg->n_arms) && ((cfg->open_mask[a] >> l) & 1U);
+            s->init.open_ax[a][l] = open ? n : C4G_OPEN_AX_NONE;
+            s->init.open_mask[a][l] = open ? p->startup_mode : 0;
+            s->init.cal_data[a][l] = open ? (float)p->cal : 0.0F;
+            s->init.az_lim[a][l] = open ? (float)p->az_lim : 0.0F;
+            s->init.ax_info[a][l] = open ? (float)p->ax_info : 0.0F;
+            s->init.tx_rate[a][l] = open ? (float)p->tx_rate : 0.0F;
+            s->init.follow_error[a][l] = open ? (float)p->follow_error : 0.0F;
+            if (open) {
+                sim_ax_t *x = &s->ax[n];
+                x->arm = a;
+                x->logical = l;
+                x->p = &s->cfg.ax[a][l];
+                sim_axis_reset(&x->m, x->p, &s->rng);
+                x->mode = p->startup_mode;
+                x->set_mode = p->startup_mode;
+                x->req_mode = -1;
+                x->pos_i = x->m.meas_pos;
+                x->pos_ref = x->pos_i;
+                x->prev_tick_meas = x->m.meas_pos;
+                n++;
+            }
+        }
+    }
+    s->init.n_ax_open = n;
+    s->n_axes = n;
+    if (c4g_init_validate(&s->init, NULL) != C4G_OK ||
+        c4g_axis_map_build(&s->init, &s->map, NULL) != C4G_OK) {
+        sim_raise(s, C4G_CERR_CONFIG, 0, 0);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- scenario ------------------------------------------------------------ */
+
+static int arm_axes(const sim_t *s, int arm)
+{
+    int i;
+    int k = 0;
+    for (i = 0; i < s->n_axes; i++) {
+        k += (s->ax[i].arm == arm);
+    }
+    return k;
+}
+
+static sim_ax_t *find_axis(sim_t *s, int arm, int logical)
+{
+    int i;
+    for (i = 0; i < s->n_axes; i++) {
+        if (s->ax[i].arm == arm && s->ax[i].logical == logical) {
+            return &s->ax[i];
+        }
+    }
+    return NULL;
+}
+
+static int arm_in_transition(const sim_t *s, int arm)
+{
+    int i;
+    for (i = 0; i < s->n_axes; i++) {
+        const sim_ax_t *x = &s->ax[i];
+        if (x->arm == arm && (x->set_mode == C4G_MODE_1_STANDBY || x->set_mode == C4G_MODE_2_STANDBY ||
+                              x->set_mode == C4G_MODE_4_STANDBY || x->set_mode == C4G_MODE_5_STANDBY ||
+                              x->set_mode == C4G_MODE_7_STANDBY ||
+                              x->set_mode == C4G_MODE_7_STANDBY_EXIT)) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static void start_move(sim_t *s, const scn_cmd_t *c)
+{
+    const int arm = c->arm - 1;
+    double dur = 0.0;
+    int i;
+    int k = 0;
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        if (x->arm == arm) {
+            const double tgt = (k < c->n) ? ((c->op == SCN_MOVE) ? c->v[k] : x->pos_i + c->v[k]) : x->pos_i;
+            const double ov = (s->override > 0.01) ? s->override : 0.01;
+            const double t = sim_trap_min_time(tgt - x->pos_i, x->p->vmax * ov, x->p->amax * ov * ov);
+            if (t > dur) {
+                dur = t;
+            }
+            x->trap.p0 = x->pos_i;
+            x->trap.d = tgt - x->pos_i;
+            k++;
+        }
+    }
+    /* Whole ticks, all axes of the arm synchronised. */
+    dur = ceil(dur / s->period) * s->period;
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        if (x->arm == arm) {
+            sim_trap_plan(&x->trap, x->trap.p0, x->trap.p0 + x->trap.d, dur);
+        }
+    }
+    s->arm[arm].moving = 1;
+    s->arm[arm].move_t = 0.0;
+}
+
+static void request_mode(sim_t *s, const scn_cmd_t *c)
+{
+    const int arm = c->arm - 1;
+    int l;
+    for (l = 0; l < (int)C4G_AXES_PER_ARM; l++) {
+        sim_ax_t *x;
+        if (c->axes_mask != 0U && !((c->axes_mask >> l) & 1U)) {
+            continue;
+        }
+        x = find_axis(s, arm, l);
+        if (x == NULL) {
+            if (c->axes_mask != 0U) {
+                sim_raise(s, C4G_CERR_CONFIGURATION_AX, c->arm, l + 1);
+            }
+            continue;
+        }
+        x->req_mode = c->iv;
+    }
+    if (arm_axes(s, arm) == 0) {
+        sim_raise(s, C4G_CERR_CONFIGURATION_AX, c->arm, 1);
+    }
+}
+
+static void expect_fail(sim_t *s, const scn_cmd_t *c, const char *fmt, double got, double want)
+{
+    s->expect_failed++;
+    if (s->log != NULL) {
+        fprintf(s->log, "c4g-sim: scenario line %d: %s failed: ", c->line, scn_op_name(c->op));
+        fprintf(s->log, fmt, got, want);
+        fputc('\n', s->log);
+    }
+}
+
+/* Execute one command; returns 1 if it blocks (the interpreter stays on it). */
+static int run_cmd(sim_t *s, const scn_cmd_t *c, int first)
+{
+    const int arm = c->arm - 1;
+    int a;
+    switch (c->op) {
+    case SCN_DRIVE_ON:
+        if (first) {
+            for (a = 0; a < s->cfg.n_arms; a++) {
+                if ((c->arm == 0 || a == arm) && s->arm[a].drive == DRV_OFF) {
+                    int i;
+                    s->arm[a].drive = DRV_DRIVING_ON;
+                    s->arm[a].drive_ticks = (long)ceil(s->cfg.drive_on_ms / (1000.0 * s->period));
+                    for (i = 0; i < s->n_axes; i++) {
+                        if (s->ax[i].arm == a) {
+                            s->ax[i].m.drive_on = 1;
+                            s->ax[i].hold = s->ax[i].m.meas_pos;
+                            s->ax[i].pos_i = s->ax[i].hold;
+                            s->ax[i].m.integ = 0.0;
+                        }
+                    }
+                }
+            }
+        }
+        for (a = 0; a < s->cfg.n_arms; a++) {
+            if ((c->arm == 0 || a == arm) && s->arm[a].drive != DRV_ON) {
+                return 1;
+            }
+        }
+        return 0;
+    case SCN_DRIVE_OFF:
+        for (a = 0; a < (int)C4G_ARMS; a++) {
+            if (c->arm == 0 || a == arm) {
+                arm_drive_off(s, a);
+            }
+        }
+        return 0;
+    case SCN_MOVE:
+    case SCN_MOVE_REL:
+        if (first) {
+            if (s->arm[arm].drive != DRV_ON) {
+                logf_(s, "scenario line %d: MOVE with the drives of arm %d off: aborted", c->line, c->arm);
+                s->scn_aborted = 1;
+                return 1;
+            }
+            start_move(s, c);
+        }
+        return c->nowait ? 0 : s->arm[arm].moving;
+    case SCN_WAIT_MOVE:
+        return s->arm[arm].moving;
+    case SCN_DELAY:
+        if (first) {
+            s->wait_until = s->tick + (unsigned long)ceil(c->ms / (1000.0 * s->period));
+        }
+        return s->tick < s->wait_until;
+    case SCN_MODE:
+        request_mode(s, c);
+        return 0;
+    case SCN_CMD:
+        s->arm[arm].cmd = c->iv;
+        return 0;
+    case SCN_WAIT_PC:
+        if (first) {
+            s->wait_pc_deadline = (c->ms > 0.0) ? s->tick + (unsigned long)ceil(c->ms / (1000.0 * s->period)) : 0UL;
+        }
+        if (s->arm[arm].exit_seen && !arm_in_transition(s, arm)) {
+            s->arm[arm].exit_seen = 0;
+            return 0;
+        }
+        if (s->wait_pc_deadline != 0UL && s->tick >= s->wait_pc_deadline) {
+            logf_(s, "scenario line %d: WAIT PC timed out after %.0f ms", c->line, c->ms);
+            s->scn_timeout = 1;
+            s->scn_aborted = 1;
+        }
+        return 1;
+    case SCN_FREEZE:
+        if (first) {
+            s->special_out = C4G_MODE_FREEZING_P_IN;
+            s->freeze_ticks = (long)ceil(c->ms / (1000.0 * s->period));
+            if (s->freeze_ticks < 1) {
+                s->freeze_ticks = 1;
+            }
+            return 1;
+        }
+        return s->freeze_ticks > 0;
+    case SCN_RESTART:
+        if (first) {
+            s->special_out = C4G_MODE_SVR_RESTART;
+            s->restart_req = 1;
+            return 1;
+        }
+        return s->restart_req != 0;
+    case SCN_EXIT_OPEN:
+        if (first) {
+            s->special_out = C4G_MODE_EXIT_OPEN;
+        }
+        s->exit_open_req = 1;
+        return 1;
+    case SCN_OVERRIDE:
+        s->override = c->ms / 100.0;
+        return 0;
+    case SCN_SELECTOR:
+        if (c->iv != s->selector_prog) {
+            int i;
+            int forced[C4G_ARMS] = {0, 0, 0, 0};
+            s->selector_prog = c->iv;
+            for (i = 0; i < s->n_axes; i++) {
+                sim_ax_t *x = &s->ax[i];
+                if (x->set_mode != C4G_MODE_0) {
+                    x->set_mode = C4G_MODE_0;
+                    x->pos_i = x->m.meas_pos;
+                    x->offset = 0.0;
+                    x->counter = 0;
+                    forced[x->arm] = 1;
+                }
+            }
+            for (a = 0; a < (int)C4G_ARMS; a++) {
+                if (forced[a]) {
+                    sim_raise(s, C4G_CERR_SET_0_MODALITY, a + 1, 0);
+                }
+            }
+        }
+        return 0;
+    case SCN_EXPECT_POS:
+    case SCN_EXPECT_MODE: {
+        sim_ax_t *x = find_axis(s, arm, c->iv - 1);
+        if (x == NULL) {
+            expect_fail(s, c, "axis not open (%g, %g)", 0.0, 0.0);
+        } else if (c->op == SCN_EXPECT_POS) {
+            if (fabs(x->m.meas_pos - c->v[0]) > c->v[1]) {
+                expect_fail(s, c, "position %.6f, expected %.6f", x->m.meas_pos, c->v[0]);
+            } else {
+                s->expect_passed++;
+            }
+        } else if (x->mode != (int)c->v[0]) {
+            expect_fail(s, c, "mode %g, expected %g", (double)x->mode, c->v[0]);
+        } else {
+            s->expect_passed++;
+        }
+        return 0;
+    }
+    case SCN_EXPECT_ERROR:
+        if ((strcmp(c->name, "NONE") == 0) ? (s->n_err != 0) : !sim_has_error(s, c->name)) {
+            expect_fail(s, c, "errors raised: %g (%g)", (double)s->n_err, 0.0);
+        } else {
+            s->expect_passed++;
+        }
+        return 0;
+    case SCN_END:
+        s->scn_done = 1;
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+static void run_scenario(sim_t *s)
+{
+    int guard = 0;
+    if (s->scn == NULL || s->scn_done || s->scn_aborted) {
+        return;
+    }
+    while (s->pc < s->scn->n && guard++ < SCN_MAX_CMDS) {
+        const int first = !s->waiting;
+        const scn_cmd_t *c = &s->scn->cmd[s->pc];
+        if (c->op != SCN_DRIVE_ON && c->op != SCN_DRIVE_OFF && c->op != SCN_DELAY &&
+            c->op != SCN_RESTART && c->op != SCN_FREEZE && c->op != SCN_EXIT_OPEN &&
+            c->op != SCN_OVERRIDE && c->op != SCN_SELECTOR && c->op != SCN_END &&
+            c->op != SCN_EXPECT_ERROR && c->arm > s->cfg.n_arms) {
+            logf_(s, "scenario line %d: arm %d is not configured: aborted", c->line, c->arm);
+            s->scn_aborted = 1;
+            return;
+        }
+        if (run_cmd(s, c, first)) {
+            s->waiting = 1;
+            return;
+        }
+        s->waiting = 0;
+        s->pc++;
+    }
+    if (s->pc >= s->scn->n) {
+        s->scn_done = 1;
+    }
+}
+
+/* ---- modes --------------------------------------------------------------- */
+
+static int is_pc_current_mode(int m)
+{
+    return m == C4G_MODE_1 || m == C4G_MODE_1_STANDBY || m == C4G_MODE_2 || m == C4G_MODE_2_STANDBY;
+}
+
+static void enter_mode(sim_t *s, sim_ax_t *x, int m)
+{
+    if (!c4g_mode_is_known(m) || m == C4G_MODE_3 || m == C4G_MODE_6 || (m >= 101 && m <= 202) ||
+        m == C4G_MODE_DRIVING_ON || m == C4G_MODE_EXIT_OPEN || m == C4G_MODE_SVR_RESTART ||
+        m == C4G_MODE_FREEZING_P_IN || m == C4G_MODE_FREEZING_P_OUT) {
+        logf_(s, "mode %d requested on arm %d axis %d: not available, ignored", m, x->arm + 1,
+              x->logical + 1);
+        s->mode_rejected++;
+        return;
+    }
+    if (s->arm[x->arm].drive == DRV_DRIVING_ON) {
+        /* Chapter 15.2: no mode change while driving on. */
+        s->mode_rejected++;
+        return;
+    }
+    if (m == C4G_MODE_5 && x->set_mode != C4G_MODE_5) {
+        x->pos_k = x->pos_i;
+    }
+    if (m == C4G_MODE_7 && x->set_mode != C4G_MODE_7) {
+        x->offset = 0.0;
+    }
+    if ((m == C4G_MODE_1 || m == C4G_MODE_2) && !is_pc_current_mode(x->set_mode)) {
+        x->counter = 0;
+    }
+    if (m == C4G_MODE_4_STANDBY || m == C4G_MODE_5_STANDBY || m == C4G_MODE_7_STANDBY_EXIT) {
+        x->standby_ticks = 1;
+    }
+    x->set_mode = m;
+}
+
+/* EXIT_FROM_OPEN from the PC for one axis (chapter 24.2). */
+static void exit_from_open(sim_t *s, sim_ax_t *x)
+{
+    switch (x->set_mode) {
+    case C4G_MODE_1:
+        x->set_mode = C4G_MODE_1_STANDBY;
+        break;
+    case C4G_MODE_2:
+        x->set_mode = C4G_MODE_2_STANDBY;
+        break;
+    case C4G_MODE_4:
+        x->pos_i = x->pos_ref;
+        x->vel_i = 0.0;
+        x->set_mode = C4G_MODE_4_STANDBY;
+        x->standby_ticks = 1;
+        break;
+    case C4G_MODE_5:
+        x->pos_i = x->pos_k; /* pos_i updated to the accumulated pos_k */
+        x->set_mode = C4G_MODE_5_STANDBY;
+        x->standby_ticks = 1;
+        break;
+    case C4G_MODE_7:
+        x->pos_i += x->offset;
+        x->trap.p0 += x->offset;
+        x->offset = 0.0;
+        if (s->arm[x->arm].moving) {
+            x->set_mode = C4G_MODE_7_STANDBY;
+        } else {
+            x->set_mode = C4G_MODE_7_STANDBY_EXIT;
+            x->standby_ticks = 1;
+        }
+        break;
+    case C4G_MODE_8:
+    case C4G_MODE_9:
+    case C4G_MODE_FREEZING_A:
+        x->set_mode = C4G_MODE_0;
+        break;
+    default:
+        break;
+    }
+}
+
+static void apply_reply(sim_t *s, const c4g_pc_packet_t *r)
+{
+    int i;
+    int a;
+    int exit_arm[C4G_ARMS] = {0, 0, 0, 0};
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        exit_arm[a] = c4g_arm_byte(r->infpar, (uint32_t)a) == C4G_EXIT_FROM_OPEN;
+        if (exit_arm[a] && a < s->cfg.n_arms) {
+            s->arm[a].exit_seen = 1;
+            s->arm[a].frozen_a = 0;
+        }
+    }
+    for (i = 0; i < s->n_axes && i < (int)r->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        const int m = r->ax[i].mode;
+        x->rx = r->ax[i];
+        if (m == C4G_MODE_DRIVE_OFF || m == C4G_MODE_FOLLOW_ERROR) {
+            if (s->arm[x->arm].drive != DRV_OFF) {
+                if (m == C4G_MODE_DRIVE_OFF) {
+                    sim_raise(s, C4G_CERR_DRIVEOFF_SERVER, 0, 0);
+                } else {
+                    sim_raise(s, C4G_CERR_FOLLOW_ERROR, x->arm + 1, x->logical + 1);
+                }
+                arm_drive_off(s, x->arm);
+                s->scn_aborted = 1;
+            }
+        } else if (m == C4G_MODE_FREEZING_A) {
+            if (!s->arm[x->arm].frozen_a && x->set_mode == C4G_MODE_0) {
+                logf_(s, "active freezing (500) on arm %d", x->arm + 1);
+            }
+            if (x->set_mode == C4G_MODE_0 || x->set_mode == C4G_MODE_FREEZING_A) {
+                s->arm[x->arm].frozen_a = 1;
+                x->set_mode = C4G_MODE_FREEZING_A;
+            }
+        } else if (m == C4G_MODE_2_STANDBY && x->set_mode == C4G_MODE_2) {
+            x->set_mode = C4G_MODE_2_STANDBY;
+        } else if (m != x->mode) {
+            s->mode_mismatch++;
+        }
+    }
+    for (i = 0; i < s->n_axes; i++) {
+        if (exit_arm[s->ax[i].arm]) {
+            exit_from_open(s, &s->ax[i]);
+        }
+    }
+}
+
+/* DSA inputs for one axis in the mode of the packet the reply answered. */
+static void dsa_inputs(sim_t *s, sim_ax_t *x, sim_dsa_in_t *in)
+{
+    const double T = s->period;
+    const c4g_pc_axis_t *r = &x->rx;
+    memset(in, 0, sizeof *in);
+    in->pos_ref = x->pos_i;
+    in->vel_ff = x->vel_i;
+    if (s->arm[x->arm].drive == DRV_DRIVING_ON) {
+        in->pos_ref = x->hold;
+        in->vel_ff = 0.0;
+        return;
+    }
+    switch (x->mode) {
+    case C4G_MODE_0_DEBUG:
+        in->pos_ref = r->target_pos;
+        in->vel_ff = r->target_vel / T;
+        break;
+    case C4G_MODE_1:
+    case C4G_MODE_1_STANDBY:
+        in->pos_ref = r->target_pos;
+        in->vel_ff = r->target_vel / T;
+        in->vel_add = r->vel_add / T;
+        in->cur_pc = r->current_add;
+        break;
+    case C4G_MODE_2:
+    case C4G_MODE_2_STANDBY:
+        in->vel_add = r->vel_add / T;
+        in->cur_pc = r->current_add;
+        break;
+    case C4G_MODE_4:
+        in->pos_ref = r->target_pos;
+        in->vel_ff = r->target_vel / T;
+        break;
+    case C4G_MODE_4_STANDBY:
+        in->pos_ref = x->pos_i;
+        in->vel_ff = 0.0;
+        break;
+    case C4G_MODE_5:
+        x->pos_k += x->vel_i * T + s->override * r->target_vel;
+        in->pos_ref = x->pos_k;
+        in->vel_ff = x->vel_i + s->override * r->target_vel / T;
+        break;
+    case C4G_MODE_7:
+        x->offset += r->target_pos;
+        in->pos_ref = x->pos_i + x->offset;
+        break;
+    case C4G_MODE_8:
+        in->vel_add = r->vel_add / T;
+        break;
+    case C4G_MODE_9:
+        in->cur_add = r->current_add;
+        break;
+    default:
+        break;
+    }
+    if (is_pc_current_mode(x->mode)) {
+        in->pc_share = (s->cfg.switch_ms > 0.0)
+                           ? (double)x->counter / ceil(s->cfg.switch_ms / (1000.0 * T)) : 1.0;
+    }
+}
+
+static void advance_trajectory(sim_t *s)
+{
+    int a;
+    int i;
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        if (s->arm[a].moving) {
+            s->arm[a].move_t += s->period;
+        }
+    }
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        if (s->arm[x->arm].moving) {
+            sim_trap_eval(&x->trap, s->arm[x->arm].move_t, &x->pos_i, &x->vel_i);
+        } else {
+            x->vel_i = 0.0;
+        }
+    }
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        if (s->arm[a].moving) {
+            int done = 1;
+            for (i = 0; i < s->n_axes; i++) {
+                if (s->ax[i].arm == a && s->arm[a].move_t < s->ax[i].trap.t_total) {
+                    done = 0;
+                }
+            }
+            if (done) {
+                s->arm[a].moving = 0;
+            }
+        }
+    }
+}
+
+/* Mode bookkeeping after the period: switching counters, stand-by exits, requests. */
+static void update_modes(sim_t *s)
+{
+    int i;
+    const long nsw = (long)ceil(s->cfg.switch_ms / (1000.0 * s->period));
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        switch (x->set_mode) {
+        case C4G_MODE_1:
+        case C4G_MODE_2:
+            if (x->counter < nsw) {
+                x->counter++;
+            }
+            break;
+        case C4G_MODE_1_STANDBY:
+        case C4G_MODE_2_STANDBY:
+            if (x->counter > 0) {
+                x->counter--;
+            }
+            if (x->counter <= 0) {
+                if (x->set_mode == C4G_MODE_1_STANDBY) {
+                    x->pos_i = x->m.meas_pos; /* SMP+ takes over where the robot is */
+                }
+                x->set_mode = C4G_MODE_0;
+            }
+            break;
+        case C4G_MODE_4_STANDBY:
+        case C4G_MODE_5_STANDBY:
+        case C4G_MODE_7_STANDBY_EXIT:
+            if (--x->standby_ticks < 0) {
+                x->set_mode = C4G_MODE_0;
+            }
+            break;
+        case C4G_MODE_7_STANDBY:
+            if (!s->arm[x->arm].moving) {
+                x->set_mode = C4G_MODE_7_STANDBY_EXIT;
+                x->standby_ticks = 0;
+            }
+            break;
+        default:
+            break;
+        }
+        if (x->req_mode >= 0) {
+            const int m = x->req_mode;
+            x->req_mode = -1;
+            enter_mode(s, x, m);
+        }
+    }
+}
+
+static void check_following(sim_t *s)
+{
+    int i;
+    if (!s->cfg.check_follow) {
+        return;
+    }
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        const double fe = x->p->follow_error;
+        if (fe <= 0.0 || !x->m.drive_on || x->mode == C4G_MODE_1 || x->mode == C4G_MODE_1_STANDBY) {
+            continue;
+        }
+        if (fabs(x->pos_ref - x->m.meas_pos) > fe) {
+            sim_raise(s, C4G_CERR_FOLLOW_ERROR, x->arm + 1, x->logical + 1);
+            arm_drive_off(s, x->arm);
+            s->scn_aborted = 1;
+        }
+    }
+}
+
+void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
+{
+    int i;
+    int a;
+    memset(out, 0, sizeof *out);
+    out->n_axes = (uint32_t)s->n_axes;
+    for (a = 0; a < s->cfg.n_arms; a++) {
+        if (s->arm[a].drive == DRV_ON) {
+            out->infpar = c4g_arm_byte_set(out->infpar, (uint32_t)a, C4G_STS_MOVING);
+        }
+        out->cmd = c4g_arm_byte_set(out->cmd, (uint32_t)a, (uint8_t)s->arm[a].cmd);
+    }
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        c4g_ctrl_axis_t *o = &out->ax[i];
+        x->mode = (s->arm[x->arm].drive == DRV_DRIVING_ON) ? C4G_MODE_DRIVING_ON : x->set_mode;
+        o->mode = (s->special_out != 0) ? s->special_out : x->mode;
+        o->target_pos = (float)x->pos_ref;
+        o->target_vel = (float)(x->vel_ref * s->period);
+        o->actual_pos = (float)x->m.meas_pos;
+        o->actual_vel = (float)x->act_vel_tick;
+        o->current_ref = (float)x->m.cur;
+        o->ext[0] = (float)(sim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
+        o->ext[1] = (float)x->p->j;                                     /* diagonal inertia */
+        o->ext[2] = 0.0F;
+    }
+    s->special_out = 0;
+}
+
+void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
+{
+    int i;
+    int a;
+    int k;
+    const int sub = SUBSTEPS_PER_MS * s->cfg.period_ms;
+    const double dt = s->period / (double)sub;
+    sim_dsa_in_t in[C4G_MAX_AXES];
+
+    s->tick++;
+    if (reply != NULL) {
+        apply_reply(s, reply);
+    }
+    run_scenario(s);
+    /* Drive-on phase (501) countdown. */
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        if (s->arm[a].drive == DRV_DRIVING_ON && --s->arm[a].drive_ticks <= 0) {
+            s->arm[a].drive = DRV_ON;
+            logf_(s, "arm %d drives on", a + 1);
+        }
+    }
+    advance_trajectory(s);
+    for (i = 0; i < s->n_axes; i++) {
+        dsa_inputs(s, &s->ax[i], &in[i]);
+        s->ax[i].pos_ref = in[i].pos_ref;
+        s->ax[i].vel_ref = in[i].vel_ff;
+    }
+    for (k = 0; k < sub; k++) {
+        for (i = 0; i < s->n_axes; i++) {
+            sim_axis_step(&s->ax[i].m, s->ax[i].p, &in[i], dt, &s->rng);
+        }
+    }
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        x->act_vel_tick = x->m.meas_pos - x->prev_tick_meas;
+        x->prev_tick_meas = x->m.meas_pos;
+        if (x->set_mode == C4G_MODE_0 || x->set_mode == C4G_MODE_FREEZING_A) {
+            /* nothing: pos_i is the SMP+ trajectory */
+        }
+    }
+    check_following(s);
+    update_modes(s);
+    sim_fill(s, out);
+}
