@@ -391,7 +391,6 @@ typedef struct c4g_session {
     uint64_t last_cyclic_ns;     /**< time of the previous cyclic packet */
     uint64_t pending_rx_ns;      /**< receive time of the packet being answered */
     uint64_t lost_timeout_ns;    /**< effective loss timeout */
-    uint32_t have_rx_time;
     uint32_t have_cyclic_time;
 } c4g_session_t;
 

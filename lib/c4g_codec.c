@@ -187,19 +187,18 @@ static C4G_HOT_INLINE uint32_t put_axis(uint8_t *p, int32_t mode, float f0, floa
             exp_carry(u5) | exp_carry(u6) | exp_carry(u7)) >> 31U;
 }
 
-/* Slow path, only on error: name the field in the diagnostic. */
-static c4g_status_t axis_error(int32_t mode, uint32_t bad, const uint8_t *p, uint32_t index,
-                               c4g_diag_t *diag)
+/* Slow path, only on error (unknown mode or NaN/inf): name the field in the diagnostic. */
+static c4g_status_t axis_error(int32_t mode, const uint8_t *p, uint32_t index, c4g_diag_t *diag)
 {
     static const c4g_field_t float_field[AXIS_FLOATS] = {
         C4G_FIELD_D1, C4G_FIELD_D2, C4G_FIELD_D3, C4G_FIELD_D4,
         C4G_FIELD_D5, C4G_FIELD_EXT1, C4G_FIELD_EXT2, C4G_FIELD_EXT3};
     const uint32_t base = C4G_HEADER_SIZE + (index * C4G_AXIS_SIZE);
-    c4g_status_t st = C4G_OK;
+    c4g_status_t st;
     if (c4g_mode_is_known(mode) == 0) {
         st = C4G_ERR_MODE;
         c4g_diag_set(diag, st, C4G_FIELD_SM, base, -1, (int32_t)index, (int64_t)mode);
-    } else if (bad != 0U) {
+    } else {
         uint32_t k = 0U;
         while ((k < (AXIS_FLOATS - 1U)) &&
                (nonfinite(c4g_get_u32le(&p[4U + (4U * k)])) == 0U)) {
@@ -208,8 +207,6 @@ static c4g_status_t axis_error(int32_t mode, uint32_t bad, const uint8_t *p, uin
         st = C4G_ERR_NONFINITE;
         c4g_diag_set(diag, st, float_field[k], base + 4U + (4U * k), -1, (int32_t)index,
                      (int64_t)c4g_get_u32le(&p[4U + (4U * k)]));
-    } else {
-        /* axis valid */
     }
     return st;
 }
@@ -245,7 +242,7 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                                           &a->actual_pos, &a->actual_vel, &a->current_ref,
                                           &a->ext[0], &a->ext[1], &a->ext[2]);
             if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
-                st = axis_error(a->mode, bad, p, i, diag);
+                st = axis_error(a->mode, p, i, diag);
             }
         }
         if (st == C4G_OK) {
@@ -278,7 +275,7 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                                           &a->measure, &a->vel_add, &a->current_add, &a->ext[0],
                                           &a->ext[1], &a->ext[2]);
             if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
-                st = axis_error(a->mode, bad, p, i, diag);
+                st = axis_error(a->mode, p, i, diag);
             }
         }
         if (st == C4G_OK) {
@@ -312,21 +309,12 @@ static c4g_status_t encode_header(int32_t num, uint32_t infpar, uint32_t cmd, ui
     return st;
 }
 
-/* A failed encode must not leave a half-written packet that someone might send. */
-static c4g_status_t encode_result(uint32_t bad, int32_t mode, uint8_t *buf, size_t cap)
+/* A failed encode must not leave a half-written packet that someone might send: the
+ * header (cap >= 48 was checked) is zeroed, so the bytes are not a valid packet. */
+static c4g_status_t encode_error(int32_t mode, uint8_t *buf)
 {
-    c4g_status_t st = C4G_OK;
-    if (c4g_mode_is_known(mode) == 0) {
-        st = C4G_ERR_MODE;
-    } else if (bad != 0U) {
-        st = C4G_ERR_NONFINITE;
-    } else {
-        /* axis valid */
-    }
-    if (st != C4G_OK) {
-        (void)memset(buf, 0, (cap < C4G_HEADER_SIZE) ? cap : C4G_HEADER_SIZE);
-    }
-    return st;
+    (void)memset(buf, 0, C4G_HEADER_SIZE);
+    return (c4g_mode_is_known(mode) == 0) ? C4G_ERR_MODE : C4G_ERR_NONFINITE;
 }
 
 c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
@@ -344,7 +332,7 @@ c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t 
                          a->actual_pos, a->actual_vel, a->current_ref, a->ext[0], a->ext[1],
                          a->ext[2]);
             if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
-                st = encode_result(bad, a->mode, buf, cap);
+                st = encode_error(a->mode, buf);
             }
         }
         if (st == C4G_OK) {
@@ -368,7 +356,7 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
                 put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
                          a->measure, a->vel_add, a->current_add, a->ext[0], a->ext[1], a->ext[2]);
             if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
-                st = encode_result(bad, a->mode, buf, cap);
+                st = encode_error(a->mode, buf);
             }
         }
         if (st == C4G_OK) {

@@ -71,9 +71,8 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
 /* NUM bookkeeping: SMP+ counts 0..0x7FFF and wraps to 0. */
 static void track_num(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
 {
-    if (s->last_num < 0) {
-        s->last_num = num;
-    } else {
+    /* only called after an init packet, which sets last_num to 10 */
+    {
         const int32_t delta = (num - s->last_num + NUM_MODULO) % NUM_MODULO;
         if (delta == 0) {
             s->counters.duplicates++;
@@ -231,7 +230,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     const uint32_t next = s->cur ^ 1U;
     c4g_ctrl_packet_t *p = &s->rx[next];
     const c4g_status_t st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag);
-    if ((st != C4G_OK) && (s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
+    if ((st != C4G_OK) && (s->phase == C4G_PHASE_LOST)) {
         /* A controller that went silent and restarted cold opens with sync packets. */
         on_sync(s, buf, len, now_ns, res);
     } else if (st != C4G_OK) {
@@ -278,7 +277,7 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
-        (s->frozen == 0U) && (s->have_rx_time != 0U) && (now_ns > s->last_rx_ns) &&
+        (s->frozen == 0U) && (now_ns > s->last_rx_ns) &&
         ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
         s->phase = C4G_PHASE_LOST;
         s->counters.lost_events++;
@@ -312,7 +311,6 @@ c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, ui
             }
             if (res->kind != C4G_RX_DROPPED) {
                 s->last_rx_ns = now_ns;
-                s->have_rx_time = 1U;
             }
         }
     }

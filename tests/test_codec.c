@@ -210,6 +210,36 @@ static void test_encode_refuses(void **state)
     assert_int_equal(c4g_ctrl_encode(&p, buf, sizeof buf, &len), C4G_ERR_NONFINITE);
 }
 
+static void test_more_rejections(void **state)
+{
+    uint8_t buf[C4G_MAX_CYCLIC_SIZE];
+    c4g_ctrl_packet_t p;
+    c4g_pc_packet_t q;
+    c4g_diag_t d;
+    size_t len = th_ctrl_bytes(buf, sizeof buf, 5, 2, 0);
+    (void)state;
+    th_put_u32(&buf[12], 0xFFFFFFFFu);          /* mode -1 */
+    assert_int_equal(c4g_ctrl_decode(buf, len, 2, &p, &d), C4G_ERR_MODE);
+    assert_int_equal(d.value, -1);
+    assert_int_equal(p.n_axes, 0);
+    assert_int_equal(c4g_pc_decode(buf, len, 2, &q, &d), C4G_ERR_MODE);
+    assert_int_equal(q.n_axes, 0);
+    th_put_u32(&buf[12], 13);                   /* 13 is not a mode (0..17 has gaps) */
+    assert_int_equal(c4g_ctrl_decode(buf, len, 2, &p, &d), C4G_ERR_MODE);
+    th_put_u32(&buf[12], 17);
+    assert_int_equal(c4g_ctrl_decode(buf, len, 2, &p, &d), C4G_OK);
+    th_put_u32(&buf[12 + 36 + 4 + 28], 0x7F800000u);   /* +inf in EXT3, the last slot */
+    assert_int_equal(c4g_ctrl_decode(buf, len, 2, &p, &d), C4G_ERR_NONFINITE);
+    assert_int_equal(d.field, C4G_FIELD_EXT3);
+    assert_int_equal(d.offset, 12 + 36 + 32);
+    th_ctrl_packet(&p, 1, 3, 0);
+    p.ax[0].mode = 16;
+    memset(buf, 0x77, sizeof buf);
+    assert_int_equal(c4g_ctrl_encode(&p, buf, sizeof buf, &len), C4G_ERR_MODE);
+    assert_int_equal(len, 0);
+    assert_int_equal(th_get_u32(buf), 0);       /* header voided: not a valid packet */
+}
+
 static void test_nulls(void **state)
 {
     uint8_t buf[64] = {0};
@@ -222,6 +252,9 @@ static void test_nulls(void **state)
     assert_int_equal(d.status, C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_decode(buf, 48, 0, NULL, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_pc_decode(NULL, 48, 0, &q, &d), C4G_ERR_NULL);
+    assert_int_equal(c4g_pc_decode(buf, 48, 0, NULL, &d), C4G_ERR_NULL);
+    assert_int_equal(c4g_pc_encode(&q, NULL, 64, &len), C4G_ERR_NULL);
+    assert_int_equal(c4g_pc_encode(&q, buf, 64, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_encode(NULL, buf, 64, &len), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_encode(&p, NULL, 64, &len), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_encode(&p, buf, 64, NULL), C4G_ERR_NULL);
@@ -345,6 +378,7 @@ int main(void)
         cmocka_unit_test(test_bad_num),
         cmocka_unit_test(test_bad_mode_and_nonfinite),
         cmocka_unit_test(test_encode_refuses),
+        cmocka_unit_test(test_more_rejections),
         cmocka_unit_test(test_nulls),
         cmocka_unit_test(test_arm_bytes),
         cmocka_unit_test(test_reply_num),

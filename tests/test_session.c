@@ -215,7 +215,9 @@ static void test_bad_init_rejected(void **state)
     assert_int_equal(feed(&f, b, 3), C4G_RX_DROPPED);
     th_put_u32(b, 0x8000);
     assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
-    assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 2);
+    th_put_u32(b, 0xFFFFFFFFu);
+    assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 3);
     /* a sync longer than 732 bytes is echoed truncated to 732 */
     memset(b, 0x11, sizeof b);
     th_put_u32(b, 3);
@@ -242,6 +244,43 @@ static void test_restart_506(void **state)
     cyclic(&f, 11, 0);
     assert_int_equal(f.s.counters.init, 2);
     assert_int_equal(f.s.counters.gaps, 0);
+}
+
+static void test_restart_then_cold_sync(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, C4G_MODE_SVR_RESTART);
+    /* ... but the controller was then cold-restarted: syncs, init, and no post syncs,
+     * because a restart was pending (the 506 path announces no syncs after init) */
+    {
+        uint32_t ev = 0;
+        assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS, &ev), C4G_OK);
+        assert_int_equal(ev, C4G_EV_LOST);
+        f.t += 1000 * MS;
+    }
+    sync_packet(b, 1);
+    assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
+    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+}
+
+static void test_other_special_modes_pass(void **state)
+{
+    fx_t f;
+    static const int32_t modes[] = {C4G_MODE_FREEZING_A, C4G_MODE_DRIVING_ON, C4G_MODE_DRIVE_OFF,
+                                    C4G_MODE_FOLLOW_ERROR};
+    unsigned i;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    for (i = 0; i < 4; i++) {
+        cyclic(&f, 13 + (int32_t)i, modes[i]);
+        assert_int_equal(f.r.events & (C4G_EV_END | C4G_EV_RESTART | C4G_EV_FREEZE_IN), 0);
+        assert_int_equal(th_get_u32(&f.out[12]), (uint32_t)modes[i]);   /* echoed */
+    }
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
 }
 
 static void test_init_without_sync(void **state)
@@ -412,6 +451,11 @@ static void test_api_misuse(void **state)
     assert_int_equal(c4g_session_poll(NULL, 0, &ev), C4G_ERR_NULL);
     assert_int_equal(c4g_session_poll(&s, 0, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_session_timing(NULL, &t), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_timing(&s, &t), C4G_OK);       /* before any init */
+    assert_int_equal(t.nominal_period_ns, 0);
+    assert_int_equal(t.max_jitter_ns, 0);
+    assert_int_equal(c4g_session_rx(&s, NULL, 0, 0, &r), C4G_OK);   /* empty datagram */
+    assert_int_equal(r.kind, C4G_RX_DROPPED);
     assert_int_equal(c4g_session_timing(&s, NULL), C4G_ERR_NULL);
     /* init with post_init_sync = 0 even after syncs; explicit loss timeout */
     sync_packet(b, 1);
@@ -457,6 +501,8 @@ int main(void)
         cmocka_unit_test(test_malformed_counted_not_answered),
         cmocka_unit_test(test_bad_init_rejected),
         cmocka_unit_test(test_restart_506),
+        cmocka_unit_test(test_restart_then_cold_sync),
+        cmocka_unit_test(test_other_special_modes_pass),
         cmocka_unit_test(test_init_without_sync),
         cmocka_unit_test(test_end_504),
         cmocka_unit_test(test_lost_and_passive_freezing),
