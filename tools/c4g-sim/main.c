@@ -317,6 +317,24 @@ static int num_ok(const app_t *a, int32_t sent, int32_t got)
     }
 }
 
+/* A reply to one of the 16 packets before the outstanding one (it came too late). */
+static int is_stale(const app_t *a, int32_t cur, int32_t got)
+{
+    int p;
+    for (p = 0; p < 2; p++) {
+        int32_t d;
+        const int32_t sent = (p == 0) ? got : got - 1;
+        if ((p == 0 && a->detected == SIM_NUM_PLUS_ONE) || (p == 1 && a->detected == SIM_NUM_ECHO)) {
+            continue;
+        }
+        d = (cur - sent + 0x8000) % 0x8000;
+        if (d >= 1 && d <= 16) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
                       uint64_t t)
 {
@@ -345,7 +363,7 @@ static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct soc
     }
     num = get_num(buf);
     if (!num_ok(a, o->num, num)) {
-        if (a->prev_num >= 0 && num_ok(a, a->prev_num, num)) {
+        if (is_stale(a, o->num, num)) {
             a->st.stale++;
         } else {
             a->st.wrong_num++;

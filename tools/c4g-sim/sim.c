@@ -575,7 +575,8 @@ static void apply_reply(sim_t *s, const c4g_pc_packet_t *r)
                 x->set_mode = C4G_MODE_FREEZING_A;
             }
         } else if (m == C4G_MODE_2_STANDBY && x->set_mode == C4G_MODE_2) {
-            x->set_mode = C4G_MODE_2_STANDBY;
+            x->set_mode = C4G_MODE_2_STANDBY; /* the PC ends mode 2 (chapter 24.2.4) */
+            s->arm[x->arm].exit_seen = 1;
         } else if (m != x->mode) {
             s->mode_mismatch++;
         }
@@ -768,8 +769,9 @@ void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
         c4g_ctrl_axis_t *o = &out->ax[i];
         x->mode = (s->arm[x->arm].drive == DRV_DRIVING_ON) ? C4G_MODE_DRIVING_ON : x->set_mode;
         o->mode = (s->special_out != 0) ? s->special_out : x->mode;
-        o->target_pos = (float)x->pos_ref;
-        o->target_vel = (float)(x->vel_ref * s->period);
+        /* D1, D2: the SMP+ target; in mode 10 the trajectory the PC must copy back. */
+        o->target_pos = (float)((x->mode == C4G_MODE_0_DEBUG) ? x->pos_i : x->pos_ref);
+        o->target_vel = (float)(((x->mode == C4G_MODE_0_DEBUG) ? x->vel_i : x->vel_ref) * s->period);
         o->actual_pos = (float)x->m.meas_pos;
         o->actual_vel = (float)x->act_vel_tick;
         o->current_ref = (float)x->m.cur;
