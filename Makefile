@@ -168,7 +168,7 @@ ARM_FLAGS := -std=c99 -pedantic-errors $(WARN_LIB) -Iinclude -Os -ffreestanding
 cross: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/arm $(BUILD)/armbe && mkdir -p $(BUILD)/arm $(BUILD)/armbe
 	@set -e; for f in $(LIB_SRCS); do \
-	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-m4 -mthumb -c $$f -o $(BUILD)/arm/$$(basename $$f .c).o; \
+	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -c $$f -o $(BUILD)/arm/$$(basename $$f .c).o; \
 	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-r5 -marm -mbig-endian -c $$f -o $(BUILD)/armbe/$$(basename $$f .c).o; done
 	@arm-none-eabi-ar rcs $(BUILD)/arm/libc4gopen.a $(BUILD)/arm/*.o
 	@arm-none-eabi-ar rcs $(BUILD)/armbe/libc4gopen.a $(BUILD)/armbe/*.o

@@ -125,9 +125,12 @@ static inline uint32_t nonfinite(uint32_t bits)
 
 static inline int mode_known_fast(int32_t mode)
 {
-    int known;
+    int known = 0;
     if ((mode >= 0) && (mode < LOW_MODES_LIMIT)) {
-        known = ((LOW_MODES_MASK & (1UL << (uint32_t)mode)) != 0U) ? 1 : 0;
+        const uint32_t shifted = LOW_MODES_MASK >> (uint32_t)mode;
+        if ((shifted & 1U) != 0U) {
+            known = 1;
+        }
     } else {
         known = c4g_mode_is_known(mode);
     }

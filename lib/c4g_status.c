@@ -48,7 +48,8 @@ const char *c4g_field_name(c4g_field_t field)
         "TxRate", "FollowError",
     };
     const char *name = "?";
-    if (((int)field >= 0) && ((int)field < (int)C4G_FIELD_COUNT_)) {
+    /* unsigned compare: enums may be unsigned (e.g. -fshort-enums on ARM EABI) */
+    if ((uint32_t)field < (uint32_t)C4G_FIELD_COUNT_) {
         name = field_names[field];
     }
     return name;
@@ -89,7 +90,7 @@ static const ctrl_error_text_t *ctrl_error_entry(c4g_ctrl_error_t err)
          "or from PROG to AUTO when the modality was different from 0."},
     };
     const ctrl_error_text_t *e = NULL;
-    if (((int)err >= 0) && ((int)err < (int)C4G_CERR_COUNT_)) {
+    if ((uint32_t)err < (uint32_t)C4G_CERR_COUNT_) {
         e = &ctrl_errors[err];
     }
     return e;
