@@ -31,6 +31,7 @@ void sim_device_init(sim_device_t *d, int kind, double speed_factor)
         static const double hi[4] = {200.0, 200.0, 200.0, 3.1416};
         static const double v[4] = {50.0, 50.0, 50.0, 1.0}; /* mm/s, rad/s */
         d->n_axes = 4;
+        d->home[2] = 50.0; /* above the work plane */
         memcpy(d->lo, lo, sizeof lo);
         memcpy(d->hi, hi, sizeof hi);
         memcpy(d->vmax, v, sizeof v);

@@ -1,0 +1,108 @@
+#!/bin/sh
+# cell-cli against a real cell-sim on 127.0.0.1:21011-21013: one-shot, --json,
+# exit codes, scripts (stdin and file, ER handling, wait), the spec's pick-and-place
+# task end to end, config file, timeouts, and the REPL through a pty.
+set -u
+build=$1
+cli=$build/bin/cell-cli
+tmp=$(mktemp -d)
+pids=''
+cleanup() { for p in $pids; do kill "$p" 2>/dev/null; done; rm -rf "$tmp"; }
+trap cleanup EXIT INT TERM
+fail=0
+pass() { echo "PASS: $*"; }
+bad() { echo "FAIL: $*"; fail=1; }
+expect_rc() { # want got what
+  if [ "$1" -eq "$2" ]; then pass "$3 (exit $2)"; else bad "$3: exit $2, want $1"; fi
+}
+
+"$build/bin/cell-sim" -p 21011 -s 20 >"$tmp/sim.log" 2>&1 & pids="$pids $!"
+i=0
+while ! python3 -c "import socket; socket.create_connection(('127.0.0.1',21013),0.2)" 2>/dev/null; do
+  i=$((i + 1)); [ $i -gt 50 ] && { echo "FAIL: cell-sim did not start"; exit 1; }; sleep 0.1
+done
+c() { "$cli" -p 21011 "$@"; }
+
+# one-shot
+out=$(c robot sta); rc=$?
+expect_rc 0 $rc "one-shot robot sta"
+echo "$out" | grep -q "robot: stopped, servo off, override 100 %, error +00000 (no error)" && pass "STA shown readable" || bad "STA text: $out"
+echo "$out" | grep -q "50.000" && pass "STA table has z=50.000" || bad "STA table: $out"
+out=$(c --json platform sta); rc=$?
+expect_rc 0 $rc "--json platform sta"
+[ "$out" = '{"device":"platform","request":"STA","raw":"OKF+00.0000+00.0000F+00100+00000","reply":"OK","moving":false,"servo":false,"override":100,"error":0,"error_text":"no error","position":{"a":0.0000,"b":0.0000}}' ] && pass "--json STA object" || bad "--json: $out"
+out=$(c robot mov abs x=10 y=-2 z=5.999 c=-1.2322); rc=$?
+expect_rc 1 $rc "MOV with servo off -> ER"
+echo "$out" | grep -q "ER +00104  servo is off (project code)" && pass "ER explained" || bad "ER text: $out"
+c --json raw robot SRVON >/dev/null; expect_rc 0 $? "raw SRVON"
+out=$(c robot mov abs x=10 y=-2 z=5.999 c=-1.2322); expect_rc 0 $? "spec MOV example"
+out=$(c raw robot 'MOVA+010.000-002.000+005.999-01.2322'); rc=$?
+expect_rc 1 $rc "raw MOV while moving -> ER"
+echo "$out" | grep -q "+00107" && pass "busy explained" || bad "busy: $out"
+printf 'wait robot stopped 10\nrobot sta\n' | c >"$tmp/o" 2>&1; expect_rc 0 $? "script from stdin with wait"
+grep -q "10.000      -2.000       5.999     -1.2322" "$tmp/o" && pass "arrived at the spec's pose" || { bad "pose after wait"; cat "$tmp/o"; }
+out=$(c --json raw robot STA); [ "$(echo "$out" | sed 's/.*"raw":"\([^"]*\)".*/\1/')" = "OKF+010.000-002.000+005.999-01.2322T+00100+00104" ] && pass "raw STA = spec example reply (override 100, servo-off error latched)" || bad "raw STA: $out"
+# usage errors: exit 2, message names the problem
+c robot mov abs x=1 y=2 2>"$tmp/e"; expect_rc 2 $? "missing axis"
+grep -q "missing z=" "$tmp/e" && pass "missing axis named" || bad "msg: $(cat "$tmp/e")"
+c robot ovr 101 2>"$tmp/e"; expect_rc 2 $? "override 101"
+c robot mov abs x=1000 y=0 z=0 c=0 2>"$tmp/e"; expect_rc 2 $? "x=1000 out of range"
+grep -q "out of range" "$tmp/e" && pass "range error named" || bad "msg: $(cat "$tmp/e")"
+c frobnicate 2>/dev/null; expect_rc 2 $? "unknown command"
+"$cli" --bogus 2>/dev/null; expect_rc 2 $? "unknown option"
+# workspace error from the device
+out=$(c robot mov abs x=300 y=0 z=0 c=0); expect_rc 1 $? "workspace limit"
+echo "$out" | grep -q "+00105" && pass "workspace ER shown" || bad "$out"
+# connection refused / reply timeout: exit 3
+"$cli" -p 21991 robot sta 2>"$tmp/e"; expect_rc 3 $? "connection refused"
+grep -q "connection refused" "$tmp/e" && pass "refusal named" || bad "msg: $(cat "$tmp/e")"
+python3 -c "
+import socket,time
+s=socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1',21019)); s.listen(1)
+c,_=s.accept(); time.sleep(3)" & pids="$pids $!"
+sleep 0.3
+"$cli" --robot 127.0.0.1:21019 -t 300 robot sta 2>"$tmp/e"; expect_rc 3 $? "reply timeout"
+grep -q "no reply within 300 ms" "$tmp/e" && pass "timeout named" || bad "msg: $(cat "$tmp/e")"
+# repeat / interval
+n=$(c --json -r 5 -i 0.05 robot sta | grep -c '"reply":"OK"'); [ "$n" -eq 5 ] && pass "-r 5 gives 5 replies" || bad "-r 5 gave $n"
+# scripts: first ER stops (exit 1) unless --keep-going
+printf 'robot sta\nraw robot XYZ\nrobot sta\n' >"$tmp/s1"
+n=$(c -f "$tmp/s1" 2>/dev/null | grep -c "robot: "); rc=$?
+c -f "$tmp/s1" >/dev/null 2>&1; expect_rc 1 $? "script stops at the first ER"
+[ "$n" -eq 2 ] && pass "script stopped after the ER line" || bad "script ran $n commands"
+n=$(c -k -f "$tmp/s1" 2>/dev/null | grep -c "robot: ")
+[ "$n" -eq 3 ] && pass "--keep-going runs on" || bad "--keep-going ran $n"
+c -k -f "$tmp/s1" >/dev/null 2>&1; expect_rc 1 $? "--keep-going still reports the ER"
+printf 'robot sta\nrobot flyaway\n' >"$tmp/s2"
+c -f "$tmp/s2" 2>"$tmp/e" >/dev/null; expect_rc 2 $? "script syntax error"
+grep -q "s2:2: unknown command 'flyaway'" "$tmp/e" && pass "syntax error with file:line" || bad "msg: $(cat "$tmp/e")"
+# config file: ports from the file, options override it
+cat >"$tmp/cfg.ini" <<INI
+[robot]
+host = 127.0.0.1
+port = 21011
+[platform]
+port = 21012
+[cli]
+reply_timeout_ms = 1500
+INI
+"$cli" -c "$tmp/cfg.ini" robot sta >/dev/null; expect_rc 0 $? "config file"
+printf '[robot]\nprot = 1\n' >"$tmp/bad.ini"
+"$cli" -c "$tmp/bad.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config typo rejected"
+# the spec's section 6 pick-and-place task, end to end
+c -f fixtures/cell/pick_and_place.cell >"$tmp/pp" 2>&1; rc=$?
+expect_rc 0 $rc "pick_and_place.cell"
+[ "$(grep -c ": OK$" "$tmp/pp")" -eq 18 ] && pass "pick-and-place: every instruction OK" || { bad "pick-and-place replies"; cat "$tmp/pp"; }
+grep -q "40.000      25.000       8.000     -0.5000" "$tmp/pp" && pass "robot ends at the place pose" || bad "final robot pose"
+grep -q "0.7854     -0.2618" "$tmp/pp" && pass "platform ends at the pick orientation" || bad "final platform pose"
+grep -q "conditioning 127.0.0.1:[0-9]* command: HND+00001CLOSE: blow off" "$tmp/sim.log" && pass "blow pulse reached the conditioning controller" || bad "blow pulse not logged"
+# CLO closes; the next command reconnects
+printf 'robot clo\nrobot sta\n' | c >/dev/null 2>&1; expect_rc 0 $? "CLO then reconnect"
+# help, version
+"$cli" --help | grep -q "Examples:" && pass "--help has examples" || bad "--help"
+"$cli" --version | grep -q "^cell-cli [0-9]" && pass "--version" || bad "--version"
+c help mov | grep -q "absolute needs every axis" && pass "help mov" || bad "help mov"
+# REPL through a pty
+mkdir -p "$tmp/home"
+timeout 60 python3 tests/e2e/cell_cli_pty.py "$cli" 21011 "$tmp/home" || fail=1
+exit $fail

@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+# Drive cell-cli's REPL through a pseudo-terminal: commands, help, TAB completion,
+# history across runs (run by cell_cli.sh).
+import os, pty, select, sys, time
+
+cli, port, home = sys.argv[1], sys.argv[2], sys.argv[3]
+fails = []
+
+def check(what, ok, detail=""):
+    print(("PASS" if ok else "FAIL") + f": {what} {detail}")
+    if not ok:
+        fails.append(what)
+
+def session(keys, settle=0.6):
+    pid, fd = pty.fork()
+    if pid == 0:
+        os.environ["HOME"] = home
+        os.environ["TERM"] = "dumb"
+        os.execv(cli, [cli, "-p", port])
+    out = b""
+    def drain(t):
+        nonlocal out
+        end = time.time() + t
+        while time.time() < end:
+            r, _, _ = select.select([fd], [], [], 0.05)
+            if r:
+                try:
+                    out += os.read(fd, 4096)
+                except OSError:
+                    return
+    drain(settle)
+    for k in keys:
+        os.write(fd, k)
+        drain(0.4)
+    os.write(fd, b"\x04")  # EOF leaves the REPL
+    drain(0.5)
+    _, status = os.waitpid(pid, 0)
+    os.close(fd)
+    return out.decode(errors="replace"), os.waitstatus_to_exitcode(status)
+
+out, rc = session([b"robot sta\r", b"help ovr\r", b"platform servo on\r", b"bogus\r"])
+check("REPL banner", "Type help." in out)
+check("REPL STA table", "x [mm]" in out and "c [rad]" in out)
+check("REPL per-command help", "set the override 0..100 %" in out)
+check("REPL command OK", "platform: OK" in out)
+check("REPL error message, carries on", "unknown device or command 'bogus'" in out)
+check("REPL exit status 0 on EOF", rc == 0, f"(rc {rc})")
+# TAB completion: "rob<TAB> st<TAB><TAB>" -> "robot sta" (st: sta or stp -> list); use unique prefixes
+out, rc = session([b"rob\t", b"ov\t", b"70\r", b"rob\t", b"sta\r"])
+check("TAB completes the device and the command", "robot: OK" in out and "override 70 %" in out,
+      "")
+# history across runs: the file was written, and Up-arrow recalls the last command
+hist = os.path.join(home, ".cell_cli_history")
+check("history file written", os.path.exists(hist) and "robot" in open(hist).read() and "ovr" in open(hist).read())
+out, rc = session([b"\x1b[A\r"])
+check("history recalled in a new run (Up arrow)", "override 70 %" in out)
+print("pty checks:", "FAILED " + ", ".join(fails) if fails else "all passed")
+sys.exit(1 if fails else 0)

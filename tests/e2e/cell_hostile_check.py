@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+# Hostile clients against cell-sim while a well-behaved client keeps getting correct
+# replies (run by cell_hostile.sh). Loopback only.
+import os, random, resource, socket, struct, sys, threading, time
+
+base = int(sys.argv[1])
+fails = []
+soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
+
+def conn(port=base, timeout=5):
+    return socket.create_connection(("127.0.0.1", port), timeout=timeout)
+
+# The well-behaved client: STA / OVR in a loop, checking every reply and its latency.
+stop = threading.Event()
+stats = {"n": 0, "bad": 0, "worst": 0.0}
+def good_client():
+    s = conn(); f = s.makefile("rb")
+    i = 0
+    while not stop.is_set():
+        ovr = 10 + (i % 90)
+        t = time.monotonic()
+        s.sendall(b"OVR%+06d\r\n" % ovr)
+        a = f.readline()
+        s.sendall(b"STA\r\n")
+        b = f.readline()
+        dt = time.monotonic() - t
+        stats["worst"] = max(stats["worst"], dt)
+        if a != b"OK\r\n" or len(b) != 50 or not b.startswith(b"OK") or b[36:42] != b"%+06d" % ovr:
+            stats["bad"] += 1
+            print(f"bad reply: {a!r} {b!r}")
+        stats["n"] += 1
+        i += 1
+        time.sleep(0.005)
+    s.close()
+g = threading.Thread(target=good_client); g.start()
+
+def check(what, ok, detail=""):
+    print(("PASS" if ok else "FAIL") + f": {what} {detail}")
+    if not ok:
+        fails.append(what)
+
+# 1) a 64 KiB line without CR LF: one ER+00102, the connection stays usable
+s = conn(); f = s.makefile("rb")
+s.sendall(b"X" * 65536)
+s.sendall(b"\r\nSTA\r\n")
+r1 = f.readline(); r2 = f.readline()
+check("64 KiB line without CR LF is rejected once", r1 == b"ER+00102\r\n", repr(r1))
+check("the same connection works after it", len(r2) == 50, repr(r2[:12]))
+s.close()
+
+# 2) 1000 connections opened and dropped (in waves of 250 held open, then closed;
+#    some with an abortive RST, some mid-line)
+opened = 0
+for wave in range(4):
+    socks = []
+    for k in range(250):
+        try:
+            c = conn(base + (k % 3))
+            socks.append(c)
+            opened += 1
+        except OSError as e:
+            print("connect failed:", e)
+    for k, c in enumerate(socks):
+        if k % 3 == 0:
+            c.sendall(b"MOVA+01")              # abrupt disconnect mid-line
+        if k % 2 == 0:
+            c.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))  # RST
+        c.close()
+check("1000 connections opened and dropped", opened == 1000, f"({opened})")
+
+# 3) garbage: random bytes, then a valid request on the same connection
+rnd = random.Random(1234)
+s = conn(); f = s.makefile("rb")
+garbage = b"\n".join(bytes(rnd.randrange(256) for _ in range(rnd.randrange(1, 120))).replace(b"\n", b"")
+                     for _ in range(300))
+s.sendall(garbage + b"\nSTA\r\n")
+replies = []
+while True:
+    line = f.readline()
+    replies.append(line)
+    if len(line) == 50 or not line:
+        break
+check("garbage gets one ER reply per line", len(replies) == 301 and all(x.startswith(b"ER+001") for x in replies[:-1]), f"({len(replies) - 1} ER)")
+check("valid request after garbage", len(replies[-1]) == 50)
+s.close()
+
+# 4) a client sending 1 byte per second ("STA\r\n" over ~5 s) while others are served
+s = conn(timeout=10); f = s.makefile("rb")
+before = stats["n"]
+for ch in b"STA\r\n":
+    s.sendall(bytes([ch]))
+    time.sleep(1.0)
+r = f.readline()
+check("1 byte/s sender gets its reply", len(r) == 50, repr(r[:12]))
+check("others served meanwhile", stats["n"] - before > 100, f"({stats['n'] - before} round trips)")
+s.close()
+
+# 5) a client that never reads its replies (pipelines 2 MB of STA) does not block others
+s = conn(); s.setblocking(False)
+sent = 0
+t0 = time.monotonic()
+while time.monotonic() - t0 < 2.0:
+    try:
+        sent += s.send(b"STA\r\n" * 2000)
+    except BlockingIOError:
+        time.sleep(0.05)
+before = stats["n"]; time.sleep(1.0)
+check("non-reading client: others still served", stats["n"] - before > 20, f"({stats['n'] - before} round trips, it sent {sent} bytes)")
+s.close()
+
+# 6) a silent client: connects, says nothing
+silent = conn()
+time.sleep(0.5)
+
+stop.set(); g.join()
+silent.close()
+check("well-behaved client: every reply correct", stats["bad"] == 0 and stats["n"] > 200,
+      f"({stats['n']} round trips, {stats['bad']} bad, worst {stats['worst'] * 1000:.1f} ms)")
+check("well-behaved client: worst round trip < 1 s", stats["worst"] < 1.0)
+# finally the server is alive and answers a fresh connection
+s = conn(); f = s.makefile("rb"); s.sendall(b"STA\r\n")
+check("cell-sim alive at the end", len(f.readline()) == 50)
+print("hostile checks:", "FAILED " + ", ".join(fails) if fails else "all passed")
+sys.exit(1 if fails else 0)
