@@ -324,7 +324,8 @@ static int is_stale(const app_t *a, int32_t cur, int32_t got)
     for (p = 0; p < 2; p++) {
         int32_t d;
         const int32_t sent = (p == 0) ? got : got - 1;
-        if ((p == 0 && a->detected == SIM_NUM_PLUS_ONE) || (p == 1 && a->detected == SIM_NUM_ECHO)) {
+        const int use = (a->sim.cfg.policy == SIM_NUM_EITHER) ? a->detected : (int)a->sim.cfg.policy;
+        if ((p == 0 && use == SIM_NUM_PLUS_ONE) || (p == 1 && use == SIM_NUM_ECHO)) {
             continue;
         }
         d = (cur - sent + 0x8000) % 0x8000;
