@@ -36,6 +36,7 @@ fi
 
 next_port; start_pc $PORT
 run_sim -p $PORT -S fixtures/scenarios/freeze.scn --csv "$T/e.csv" --json >"$T/e.json"; rc=$?
+[ $rc -eq 0 ] || cat "$T/e.json"
 expect_eq "freeze: exit status" $rc 0
 silent=$(awk -F, 'NR > 1 && $4 == 0' "$T/e.csv" | wc -l)
 expect_eq "freeze: ticks without a packet (200 ms at 2 ms)" "$silent" 99

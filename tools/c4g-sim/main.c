@@ -305,8 +305,8 @@ static int num_ok(const app_t *a, int32_t sent, int32_t got)
     case SIM_NUM_ECHO:
         return got == sent;
     default:
-        /* "either": the PC may use one or the other, but consistently; the first accepted
-         * reply decides (otherwise a late plus-one reply would pass as the next echo). */
+        /* "either": the PC may use one or the other, but consistently; its echo of the
+         * init packet decides (otherwise a late plus-one reply would pass as the next echo). */
         if (a->detected == SIM_NUM_PLUS_ONE) {
             return got == plus;
         }
@@ -406,7 +406,9 @@ static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct soc
         return;
     }
     o->answered = 1;
-    if (a->detected < 0 && a->sim.cfg.policy == SIM_NUM_EITHER) {
+    /* "either" locks on the init echo: its 1200 bytes cannot be confused with a late
+     * reply to a sync packet, so its NUM (11 or 10) shows the PC's policy. */
+    if (o->kind == OK_INIT && a->sim.cfg.policy == SIM_NUM_EITHER) {
         a->detected = (num == o->num) ? SIM_NUM_ECHO : SIM_NUM_PLUS_ONE;
     }
     if (o->kind == OK_CYCLIC) {
