@@ -1,7 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server behaviours (per arm, chosen by the mode the controller reports) and the
- * PC-side safety filter. Runs on the real-time path: no allocation, no I/O (log lines
- * go through the rtlog ring), loops bounded by the axis count. */
+/* c4g-server behaviours (per arm, chosen by the mode the controller reports) on top of
+ * the library's control layer: c4g_ctl_step prepares the reply (mode echo, mode-10 copy,
+ * required fields marked unset), a behaviour fills the fields of the mode, requests
+ * (exit from open, 505, 508, active freezing) go through c4g_ctl_request_*, and
+ * c4g_ctl_finish applies the packet rules and the PC-side safety filter. Runs on the
+ * real-time path: no allocation, no I/O (log lines go through the rtlog ring), loops
+ * bounded by the axis count. */
 #include "srv.h"
 
 #include <math.h>
@@ -18,7 +22,6 @@ void srv_behave_reset(srv_t *S)
         memset(&S->ax[i], 0, sizeof S->ax[i]);
         S->ax[i].mode = -1;
     }
-    S->safety.drive_off_latched = 0;
 }
 
 static double period_s(const srv_t *S)
@@ -147,6 +150,8 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     }
     if (old >= 0) {
         S->stats.mode_changes++;
+    }
+    if (old >= 0 && (S->cfg.verbose || S->session.map.logical_of[i] == 0U)) {
         srv_log(S, t_ns, "axis %u: mode %d -> %d", (unsigned)i + 1U, (int)old, (int)mode);
     }
     /* Stand-by modes continue the regulator of their main mode. */
@@ -161,141 +166,127 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
         X->v_prev = (double)r->target_vel;
         X->done = 0;
     }
-    if (mode == C4G_MODE_0 || mode == C4G_MODE_0_DEBUG) {
-        X->fe_latched = 0;
-    }
     X->mode = mode;
 }
 
-void srv_behave_step(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns)
+
+/* Control layer set-up after an accepted init packet: state machines, user limits. */
+void srv_behave_init(srv_t *S, uint64_t t_ns)
 {
     const c4g_axis_map_t *m = &S->session.map;
-    const double dt = period_s(S);
-    uint32_t arm_open[C4G_ARMS] = {0U, 0U, 0U, 0U};
-    uint32_t arm_done[C4G_ARMS] = {1U, 1U, 1U, 1U};
-    uint32_t i, a;
-
-    /* Start from the field library's neutral reply: mode echo, INFPAR = CMD = 0, mode-10 copy. */
-    (void)c4g_pc_reply_neutral(rx, tx);
-
-    for (i = 0U; i < rx->n_axes; i++) {
-        const c4g_ctrl_axis_t *r = &rx->ax[i];
-        c4g_pc_axis_t *o = &tx->ax[i];
-        srv_axis_t *X = &S->ax[i];
-        const uint32_t arm = m->arm_of[i];
-        const uint32_t lax = m->logical_of[i];
+    c4g_status_t st;
+    uint32_t i;
+    srv_behave_reset(S);
+    (void)c4g_ctl_config_default(&S->ctl_cfg);
+    S->ctl_cfg.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
+    st = c4g_ctl_init(&S->ctl, &S->session.init, &S->ctl_cfg);
+    S->ctl_ok = (st == C4G_OK);
+    if (!S->ctl_ok) {
+        srv_log(S, t_ns, "control layer refused the init packet: %s", c4g_strerror(st));
+        return;
+    }
+    for (i = 0U; i < m->n_axes; i++) {
+        const uint32_t arm = m->arm_of[i], lax = m->logical_of[i];
         const srv_arm_cfg_t *A = &S->cfg.arm[arm];
-        const int driven = ((A->axes >> lax) & 1U) != 0U;
-        double t;
-        int done = 1;
-        if (r->mode != X->mode) {
-            enter_mode(S, i, r->mode, r, t_ns);
+        c4g_axis_limits_t lim;
+        memset(&lim, 0, sizeof lim);
+        lim.follow_error = (float)A->fe_limit;
+        lim.max_step = (float)A->max_step;
+        if (A->have_stroke) {
+            lim.motor_min = (float)A->pos_min[lax];
+            lim.motor_max = (float)A->pos_max[lax];
         }
-        t = (double)X->ticks * dt;
-        if (!driven || X->fe_latched) {
-            X->ticks++;
-            if (is_open_mode(r->mode)) {
-                arm_open[arm] = 1U;
-            }
-            continue;
-        }
-        switch (r->mode) {
-        case C4G_MODE_4:
-        case C4G_MODE_5: {
-            const double q = gen_offset(A, arm, lax, t, &done);
-            const double ref = X->start + q;
-            if (r->mode == C4G_MODE_4) {
-                o->target_pos = (float)ref;          /* absolute */
-            } else {
-                o->target_pos = (float)q;            /* relative to the entry position */
-            }
-            o->target_vel = (float)(q - X->q_prev);  /* delta turns this tick */
-            X->q_prev = q;
-            break;
-        }
-        case C4G_MODE_7: {
-            const double off = offset_profile(A, t, &done);
-            o->target_pos = (float)(off - X->q_prev); /* per-tick position addition */
-            X->q_prev = off;
-            break;
-        }
-        case C4G_MODE_7_STANDBY:
-        case C4G_MODE_7_STANDBY_EXIT:
-            break; /* null delta */
-        case C4G_MODE_8: {
-            const double f = (A->vel_freq > 0.0) ? A->vel_freq : 1.0;
-            const double tend = A->vel_cycles / f;
-            if (t < tend) {
-                done = 0;
-                o->vel_add = (float)(A->vel_amp * sin(2.0 * PI * f * t)); /* zero mean */
-            }
-            break;
-        }
-        case C4G_MODE_9: {
-            const srv_ff_t *p = &S->cfg.ff[arm][lax];
-            done = (t >= A->duration) ? 1 : 0;
-            if (!done && p->set) {
-                const double v = (double)r->target_vel;
-                const double acc = v - X->v_prev;
-                const double sg = (v > 0.0) ? 1.0 : ((v < 0.0) ? -1.0 : 0.0);
-                o->current_add = (float)(p->c0 + p->cv * v + p->cc * sg + p->ca * acc +
-                                         p->gs * sin(p->gscale * (double)r->target_pos + p->gphase));
-            }
-            X->v_prev = (double)r->target_vel;
-            break;
-        }
-        case C4G_MODE_1:
-        case C4G_MODE_1_STANDBY: {
-            /* PC trajectory (the generator, or hold) and PC loops. */
-            double q = X->q_prev;
-            if (r->mode == C4G_MODE_1) {
-                q = gen_offset(A, arm, lax, t, &done);
-                if (A->src != SRC_NONE && t < A->duration) {
-                    done = 0; /* hold at least `duration` */
-                }
-            }
-            {
-                const double ref = X->start + q;
-                const double vref = q - X->q_prev;
-                o->target_pos = (float)ref;
-                o->target_vel = (float)vref;
-                o->vel_add = 0.0f;
-                o->current_add = (float)pd_current(S, i, A, ref, vref, r, t);
-            }
-            X->q_prev = q;
-            break;
-        }
-        case C4G_MODE_2:
-        case C4G_MODE_2_STANDBY:
-            /* SMP+ trajectory, PC loops: current from the PD on the SMP+ target. */
-            done = (A->duration > 0.0 && t >= A->duration) ? 1 : 0;
-            o->vel_add = 0.0f;
-            o->current_add = (float)pd_current(S, i, A, (double)r->target_pos,
-                                               (double)r->target_vel, r, t);
-            break;
-        default:
-            break; /* neutral reply */
-        }
-        if (is_open_mode(r->mode)) {
-            arm_open[arm] = 1U;
-            if (!done) {
-                arm_done[arm] = 0U;
-            } else if (!X->done) {
-                X->done = 1;
-                srv_log(S, t_ns, "axis %u: mode %d behaviour done after %u ticks", (unsigned)i + 1U,
-                        (int)r->mode, (unsigned)X->ticks);
-            }
-        }
-        X->ticks++;
-    }
-    for (a = 0U; a < C4G_ARMS; a++) {
-        S->arm_busy[a] = arm_open[a];
-        if (arm_open[a] && arm_done[a] && S->cfg.arm[a].exit_open) {
-            /* mode 2 ends with the controller's stand-by, unless a duration was given */
-            tx->infpar = c4g_arm_byte_set(tx->infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
-            S->stats.exits_sent[a]++;
+        st = c4g_ctl_set_limits(&S->ctl, arm, lax, &lim);
+        if (st != C4G_OK) {
+            srv_log(S, t_ns, "limits of arm %u axis %u refused: %s", (unsigned)arm + 1U,
+                    (unsigned)lax + 1U, c4g_strerror(st));
         }
     }
+}
+
+/* Fill the fields mode @p pm requires for axis i; returns 1 when its behaviour is done. */
+static int fill_axis(srv_t *S, uint32_t i, int32_t pm, const c4g_ctrl_axis_t *r, c4g_pc_axis_t *o,
+                     int driven, double t)
+{
+    const c4g_axis_map_t *m = &S->session.map;
+    srv_axis_t *X = &S->ax[i];
+    const uint32_t arm = m->arm_of[i];
+    const uint32_t lax = m->logical_of[i];
+    const srv_arm_cfg_t *A = &S->cfg.arm[arm];
+    int done = 1;
+    switch (pm) {
+    case C4G_MODE_4:
+    case C4G_MODE_5: {
+        const double q = driven ? gen_offset(A, arm, lax, t, &done) : 0.0;
+        const double dq = q - X->q_prev;
+        if (pm == C4G_MODE_4) {
+            o->target_pos = (float)(X->start + q); /* absolute */
+        } else {
+            o->target_pos = (float)dq;             /* relative: this tick's step */
+        }
+        o->target_vel = (float)dq;                 /* delta turns this tick */
+        X->q_prev = q;
+        break;
+    }
+    case C4G_MODE_7: {
+        const double off = driven ? offset_profile(A, t, &done) : 0.0;
+        o->target_pos = (float)(off - X->q_prev);  /* per-tick position addition */
+        X->q_prev = off;
+        break;
+    }
+    case C4G_MODE_8: {
+        const double f = (A->vel_freq > 0.0) ? A->vel_freq : 1.0;
+        o->vel_add = 0.0f;
+        if (driven && t < A->vel_cycles / f) {
+            done = 0;
+            o->vel_add = (float)(A->vel_amp * sin(2.0 * PI * f * t)); /* zero mean */
+        }
+        break;
+    }
+    case C4G_MODE_9: {
+        const srv_ff_t *p = &S->cfg.ff[arm][lax];
+        const double v = (double)r->target_vel;
+        o->current_add = 0.0f;
+        done = (t >= A->duration) ? 1 : 0;
+        if (driven && !done && p->set) {
+            const double acc = v - X->v_prev;
+            const double sg = (v > 0.0) ? 1.0 : ((v < 0.0) ? -1.0 : 0.0);
+            o->current_add = (float)(p->c0 + p->cv * v + p->cc * sg + p->ca * acc +
+                                     p->gs * sin(p->gscale * (double)r->target_pos + p->gphase));
+        }
+        X->v_prev = v;
+        break;
+    }
+    case C4G_MODE_1:
+    case C4G_MODE_1_STANDBY: {
+        /* PC trajectory (generator, or hold) and PC loops (PD + anti-windup). */
+        double q = X->q_prev;
+        if (pm == C4G_MODE_1 && driven) {
+            q = gen_offset(A, arm, lax, t, &done);
+            if (A->src != SRC_NONE && t < A->duration) {
+                done = 0; /* hold at least `duration` */
+            }
+        }
+        o->target_pos = (float)(X->start + q);
+        o->target_vel = (float)(q - X->q_prev);
+        o->vel_add = 0.0f;
+        o->current_add = (float)pd_current(S, i, A, X->start + q, q - X->q_prev, r, t);
+        X->q_prev = q;
+        break;
+    }
+    case C4G_MODE_2:
+    case C4G_MODE_2_STANDBY:
+        /* SMP+ trajectory, PC loops: current from the PD on the SMP+ target. PDL2 ends
+         * mode 2 by setting 12 (the control layer refuses a PC exit from mode 2). */
+        o->vel_add = 0.0f;
+        o->current_add = (float)pd_current(S, i, A, (double)r->target_pos, (double)r->target_vel,
+                                           r, t);
+        done = 0;
+        break;
+    default:
+        break; /* the prepared reply is complete (echo, zero data, mode-10 copy) */
+    }
+    return done;
 }
 
 static void safety_event(srv_t *S, uint64_t t_ns, const char *what, uint32_t i, double v, double lim)
@@ -308,104 +299,134 @@ static void safety_event(srv_t *S, uint64_t t_ns, const char *what, uint32_t i, 
     srv_log(S, t_ns, "SAFETY %s axis %u value %.6g limit %.6g", what, (unsigned)i + 1U, v, lim);
 }
 
-/* PC-side safety filter (FIELD-FACTS "PC-side safety", manual 14.17.2 and 15.7).
- * Stand-in until the control layer's filter is available: same rules, applied to the
- * reply after the behaviours. */
-void srv_safety_filter(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns)
+static void note_flags(srv_t *S, uint32_t i, uint32_t f, float fe, const c4g_ctrl_packet_t *rx,
+                       const c4g_pc_packet_t *tx, uint64_t t_ns)
+{
+    srv_safety_t *sf = &S->safety;
+    const uint32_t arm = S->session.map.arm_of[i], lax = S->session.map.logical_of[i];
+    if (f == 0U) {
+        return;
+    }
+    if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
+        safety_event(S, t_ns, "following error", i, (double)fe, (double)S->ctl.lim[i].follow_error);
+    }
+    if ((f & C4G_SF_FE_SENT) != 0U) sf->follow_error++;
+    if ((f & C4G_SF_DRIVE_OFF) != 0U) sf->drive_off++;
+    if ((f & C4G_SF_CURRENT) != 0U) sf->cur_saturated++;
+    if ((f & C4G_SF_DCURRENT) != 0U) sf->delta_clamped++;
+    if ((f & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+        sf->stroke++;
+        safety_event(S, t_ns, "stroke end", i, (double)tx->ax[i].target_pos,
+                     (double)S->ctl.lim[i].motor_max);
+    }
+    if ((f & (C4G_SF_STEP | C4G_SF_VELOCITY)) != 0U) {
+        sf->continuity++;
+        safety_event(S, t_ns, "reference step/velocity limited", i, (double)tx->ax[i].target_pos,
+                     (double)S->ctl.lim[i].max_step);
+    }
+    if ((f & (C4G_SF_NONFINITE | C4G_SF_MISSING)) != 0U) {
+        sf->nonfinite++;
+        safety_event(S, t_ns, (f & C4G_SF_MISSING) ? "missing mode data" : "non-finite value", i,
+                     0.0, 0.0);
+    }
+    (void)rx;
+    (void)arm;
+    (void)lax;
+}
+
+/* Build the reply to one cyclic packet. Returns 0 (tx ready to encode), -1 when the
+ * control layer refused the packet (tx is then the neutral reply). */
+int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns)
 {
     const c4g_axis_map_t *m = &S->session.map;
-    int drive_off = S->safety.drive_off_latched;
-    uint32_t i;
+    const double dt = period_s(S);
+    c4g_ctl_report_t rep;
+    uint32_t arm_open[C4G_ARMS] = {0U, 0U, 0U, 0U};
+    uint32_t arm_done[C4G_ARMS] = {1U, 1U, 1U, 1U};
+    uint32_t i, a;
+    c4g_status_t st;
+
+    if (!S->ctl_ok || c4g_ctl_step(&S->ctl, rx, t_ns, tx, &rep) != C4G_OK) {
+        (void)c4g_pc_reply_neutral(rx, tx);
+        return -1;
+    }
+    if ((rep.events & C4G_CEV_DRIVING_ON_END) != 0U) {
+        S->stats.drive_on_end++;
+        srv_log(S, t_ns, "drive-on finished (501 left)");
+    }
     for (i = 0U; i < rx->n_axes; i++) {
         const c4g_ctrl_axis_t *r = &rx->ax[i];
-        c4g_pc_axis_t *o = &tx->ax[i];
         srv_axis_t *X = &S->ax[i];
         const uint32_t arm = m->arm_of[i];
         const uint32_t lax = m->logical_of[i];
-        const srv_arm_cfg_t *A = &S->cfg.arm[arm];
-        const double lim = azlim(S, i);
-        const int32_t mode = r->mode;
-        int k;
-        const float *f[5];
-        f[0] = &o->target_pos; f[1] = &o->target_vel; f[2] = &o->measure;
-        f[3] = &o->vel_add; f[4] = &o->current_add;
-        for (k = 0; k < 5; k++) {
-            if (!isfinite(*f[k])) {
-                S->safety.nonfinite++;
-                safety_event(S, t_ns, "non-finite reference", i, 0.0, 0.0);
-                drive_off = 1;
-            }
+        const int driven = ((S->cfg.arm[arm].axes >> lax) & 1U) != 0U;
+        int done;
+        if (r->mode != X->mode) {
+            enter_mode(S, i, r->mode, r, t_ns);
         }
-        /* absolute current: saturate to +/- AzLim */
-        if ((mode == C4G_MODE_1 || mode == C4G_MODE_2 || mode == C4G_MODE_1_STANDBY ||
-             mode == C4G_MODE_2_STANDBY) && lim > 0.0 && fabs((double)o->current_add) > lim) {
-            S->safety.cur_saturated++;
-            o->current_add = (float)((o->current_add > 0.0f) ? lim : -lim);
-        }
-        /* delta current: SMP+ current + delta stays within +/- AzLim */
-        if (mode == C4G_MODE_9 && lim > 0.0) {
-            const double tot = (double)r->current_ref + (double)o->current_add;
-            if (tot > lim) {
-                S->safety.delta_clamped++;
-                o->current_add = (float)(lim - (double)r->current_ref);
-            } else if (tot < -lim) {
-                S->safety.delta_clamped++;
-                o->current_add = (float)(-lim - (double)r->current_ref);
-            }
-        }
-        /* stroke ends and continuity of PC-generated absolute references (14.17.2) */
-        if (mode == C4G_MODE_4 || mode == C4G_MODE_1) {
-            const double ref = (double)o->target_pos;
-            if (A->have_stroke && (ref < A->pos_min[lax] || ref > A->pos_max[lax])) {
-                S->safety.stroke++;
-                safety_event(S, t_ns, "stroke end", i, ref,
-                             ref < A->pos_min[lax] ? A->pos_min[lax] : A->pos_max[lax]);
-                drive_off = 1;
-            }
-            if (A->max_step > 0.0 && X->have_ref_prev && fabs(ref - X->ref_prev) > A->max_step) {
-                S->safety.continuity++;
-                safety_event(S, t_ns, "reference step", i, ref - X->ref_prev, A->max_step);
-                drive_off = 1;
-            }
-            X->ref_prev = ref;
-            X->have_ref_prev = 1;
-        }
-        /* following error |target - actual| > threshold -> 508 on this axis */
-        if (mode == C4G_MODE_1 || mode == C4G_MODE_2 || mode == C4G_MODE_4 || mode == C4G_MODE_5 ||
-            mode == C4G_MODE_1_STANDBY || mode == C4G_MODE_2_STANDBY || X->fe_latched) {
-            const double thr = (A->fe_limit > 0.0) ? A->fe_limit
-                                                   : (double)S->session.init.follow_error[arm][lax];
-            const double fe = fabs((double)r->target_pos - (double)r->actual_pos);
-            if ((thr > 0.0 && fe > thr) || X->fe_latched) {
-                if (!X->fe_latched) {
-                    safety_event(S, t_ns, "following error", i, fe, thr);
-                }
-                X->fe_latched = 1;
-                if (mode != C4G_MODE_0 && mode != C4G_MODE_DRIVING_ON) {
-                    o->mode = C4G_MODE_FOLLOW_ERROR;
-                    S->safety.follow_error++;
+        done = fill_axis(S, i, tx->ax[i].mode, r, &tx->ax[i], driven, (double)X->ticks * dt);
+        X->ticks++;
+        if (is_open_mode(r->mode) && r->mode != C4G_MODE_2) {
+            arm_open[arm] = 1U;
+            if (!done) {
+                arm_done[arm] = 0U;
+            } else if (!X->done) {
+                X->done = 1;
+                if (lax == 0U || S->cfg.verbose) {
+                    srv_log(S, t_ns, "axis %u: mode %d behaviour done after %u ticks",
+                            (unsigned)i + 1U, (int)r->mode, (unsigned)X->ticks);
                 }
             }
         }
     }
-    if (drive_off) {
-        if (!S->safety.drive_off_latched) {
-            srv_log(S, t_ns, "SAFETY drive off requested (505 on every axis)");
-        }
-        S->safety.drive_off_latched = 1;
-        for (i = 0U; i < tx->n_axes; i++) {
-            tx->ax[i].mode = C4G_MODE_DRIVE_OFF;
-            tx->ax[i].target_pos = 0.0f;
-            tx->ax[i].target_vel = 0.0f;
-            tx->ax[i].measure = 0.0f;
-            tx->ax[i].vel_add = 0.0f;
-            tx->ax[i].current_add = 0.0f;
-        }
-        tx->infpar = 0U;
-        S->safety.drive_off++;
-        /* The request ends once the controller reports its drives off. */
-        if (S->session.drives == 0U) {
-            S->safety.drive_off_latched = 0;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        S->arm_busy[a] = arm_open[a];
+        if (arm_open[a] && arm_done[a] && S->cfg.arm[a].exit_open &&
+            S->ctl.arm[a].exit_req == 0U && S->ctl.arm[a].leaving == 0U) {
+            st = c4g_ctl_request_exit(&S->ctl, a);
+            if (st == C4G_OK) {
+                srv_log(S, t_ns, "arm %u: EXIT_FROM_OPEN requested", (unsigned)a + 1U);
+            }
         }
     }
+    /* test hooks: requests through the control layer, like a user program would */
+    if (S->cfg.inject_at == S->cyc_k && S->cfg.inject_mode != 0) {
+        const uint32_t ia = ((uint32_t)S->cfg.inject_axis < m->n_axes) ? m->arm_of[S->cfg.inject_axis] : 0U;
+        st = (S->cfg.inject_mode == C4G_MODE_DRIVE_OFF) ? c4g_ctl_request_drive_off(&S->ctl, ia)
+                                                        : c4g_ctl_request_follow_error(&S->ctl, ia);
+        S->safety.injected++;
+        srv_log(S, t_ns, "injected %d on arm %u: %s", S->cfg.inject_mode, (unsigned)ia + 1U,
+                c4g_strerror(st));
+    }
+    if (S->cfg.freeze_at == S->cyc_k) {
+        for (a = 0U; a < C4G_ARMS; a++) {
+            if (m->n_axes_arm[a] > 0U) {
+                st = c4g_ctl_request_freeze(&S->ctl, a);
+                srv_log(S, t_ns, "active freezing requested on arm %u: %s", (unsigned)a + 1U,
+                        c4g_strerror(st));
+            }
+        }
+    }
+    if (S->thaw) {
+        for (a = 0U; a < C4G_ARMS; a++) {
+            if (m->n_axes_arm[a] > 0U) {
+                (void)c4g_ctl_request_exit(&S->ctl, a);
+            }
+        }
+        srv_log(S, t_ns, "active freezing over: EXIT_FROM_OPEN requested");
+        S->thaw = 0;
+    }
+    st = c4g_ctl_finish(&S->ctl, rx, tx, &rep);
+    if (st != C4G_OK) {
+        srv_log(S, t_ns, "control layer: %s", c4g_strerror(st));
+    }
+    for (a = 0U; a < C4G_ARMS; a++) {
+        if (c4g_arm_byte(tx->infpar, a) == C4G_EXIT_FROM_OPEN) {
+            S->stats.exits_sent[a]++;
+        }
+    }
+    for (i = 0U; i < rx->n_axes; i++) {
+        note_flags(S, i, rep.axis_flags[i], rep.follow_err[i], rx, tx, t_ns);
+    }
+    return 0;
 }

@@ -8,6 +8,7 @@
  * allocates or does file I/O: logs, pcap and moni rows go through a lock-free ring
  * (tools/common/c4g_rtlog.h) to a writer thread. */
 #include "srv.h"
+#include "c4g_pcap.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -220,7 +221,7 @@ static int parse_args(srv_config_t *cfg, int argc, char **argv)
         {"skip-replies", required_argument, NULL, 0}, {"inject", required_argument, NULL, 0},
         {"freeze", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
-    int arm = -1, c, idx;
+    int arm = -1, c, idx = 0;
     char err[256];
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":p:b:c:vqhV", longopts, &idx)) != -1) {
@@ -233,7 +234,7 @@ static int parse_args(srv_config_t *cfg, int argc, char **argv)
         case 'v': name = "verbose"; break;
         case 'q': name = "quiet"; break;
         case 'h': { int u; for (u = 0; usage_text[u] != NULL; u++) fputs(usage_text[u], stdout); } exit(0);
-        case 'V': printf("c4g-server %s (libc4gopen %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING); exit(0);
+        case 'V': printf("c4g-server %s (libc4gopen %s, %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING, C4G_PCAP_ANCHOR()); exit(0);
         case 0: name = longopts[idx].name; break;
         case ':':
             fprintf(stderr, "c4g-server: option '%s' needs a value (see --help)\n", argv[optind - 1]);
@@ -276,7 +277,7 @@ static int parse_args(srv_config_t *cfg, int argc, char **argv)
         lo = (arm < 0) ? 0 : arm;
         hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
         for (a = lo; a <= hi; a++) {
-            if (srv_config_apply(cfg, name, (longopts[idx].has_arg || c != 0) ? optarg : NULL, a,
+            if (srv_config_apply(cfg, name, (c != 0 || longopts[idx].has_arg) ? optarg : NULL, a,
                                  err, sizeof err) != 0) {
                 fprintf(stderr, "c4g-server: --%s\n", err);
                 return -1;
@@ -324,7 +325,7 @@ static int load_files(srv_config_t *cfg)
 static int open_socket(srv_t *S)
 {
     struct sockaddr_in sa;
-    int fd, one = 1, rcv = 1 << 20;
+    int fd, rcv = 1 << 20;
     memset(&sa, 0, sizeof sa);
     sa.sin_family = AF_INET;
     sa.sin_port = htons((uint16_t)S->cfg.port);
@@ -344,7 +345,6 @@ static int open_socket(srv_t *S)
         fprintf(stderr, "c4g-server: socket: %s\n", strerror(errno));
         return -2;
     }
-    (void)setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
     if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
         const int e = errno;
@@ -422,7 +422,7 @@ static void log_datagram(srv_t *S, uint32_t kind, uint64_t t, const uint8_t *buf
                          const struct sockaddr_in *peer)
 {
     c4g_rtlog_rec_t *rec;
-    if (S->pcap_fp == NULL) {
+    if (S->pcap == NULL) {
         return;
     }
     rec = c4g_rtlog_reserve(&S->log);
@@ -553,7 +553,7 @@ static int serve(srv_t *S, int fd)
         }
         if ((res.events & C4G_EV_INIT) != 0U) {
             S->stats.inits++;
-            srv_behave_reset(S);
+            srv_behave_init(S, t_rx);
             srv_log(S, t_rx, "init packet: %u open axes, period %d ms, version %d.%d.%d",
                     (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
                     (int)s->init.version_minor, (int)s->init.version_build);
@@ -579,32 +579,11 @@ static int serve(srv_t *S, int fd)
             send_it = (c4g_session_reply(s, NULL, out, sizeof out, &olen) == C4G_OK);
         } else if (res.kind == C4G_RX_CYCLIC) {
             const uint64_t k = s->counters.cyclic;
-            srv_behave_step(S, res.pkt, &tx, t_rx);
-            if (thaw) {
-                uint32_t a;
-                for (a = 0U; a < C4G_ARMS; a++) {
-                    if (s->map.n_axes_arm[a] > 0U) {
-                        tx.infpar = c4g_arm_byte_set(tx.infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
-                    }
-                }
-                srv_log(S, t_rx, "active freezing over: EXIT_FROM_OPEN sent");
-                thaw = 0;
-            }
-            if (S->cfg.inject_at == k && S->cfg.inject_mode == 505) {
-                S->safety.drive_off_latched = 1;
-                S->safety.injected++;
-            }
-            if (S->cfg.inject_at == k && S->cfg.inject_mode == 508 &&
-                (uint32_t)S->cfg.inject_axis < tx.n_axes) {
-                S->ax[S->cfg.inject_axis].fe_latched = 1;
-                S->safety.injected++;
-            }
-            srv_safety_filter(S, res.pkt, &tx, t_rx);
-            if (S->cfg.freeze_at == k) {
-                uint32_t i;
-                for (i = 0U; i < tx.n_axes; i++) {
-                    tx.ax[i].mode = C4G_MODE_FREEZING_A;
-                }
+            S->cyc_k = k;
+            S->thaw = thaw;
+            thaw = 0;
+            if (srv_reply(S, res.pkt, &tx, t_rx) != 0) {
+                S->stats.encode_errors++;
             }
             if (S->cfg.skip_at > 0U && k >= S->cfg.skip_at && k < S->cfg.skip_at + S->cfg.skip_count) {
                 S->stats.skipped++;
@@ -636,7 +615,8 @@ static int serve(srv_t *S, int fd)
             }
             log_datagram(S, LOG_PCAP_TX, t_tx, out, olen, &peer);
         }
-        if (res.kind == C4G_RX_CYCLIC && S->cfg.freeze_at == s->counters.cyclic) {
+        if (res.kind == C4G_RX_CYCLIC && S->cfg.freeze_at == s->counters.cyclic &&
+            tx.ax[0].mode == C4G_MODE_FREEZING_A) {
             S->stats.freezes++;
             srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
             pause_ms(S->cfg.freeze_ms);

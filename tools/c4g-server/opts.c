@@ -64,9 +64,9 @@ void srv_config_default(srv_config_t *c)
         A->vel_freq = 1.0;
         A->vel_cycles = 1.0;
         A->duration = 2.0;
-        A->kp = 200.0;
-        A->kd = 2000.0;
-        A->ki = 0.0;
+        A->kp = 30.0;
+        A->kd = 200.0;
+        A->ki = 300.0;
         A->exit_open = 1;
     }
 }

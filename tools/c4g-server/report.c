@@ -3,6 +3,7 @@
  * exit report (chapter 22 timing, counters, safety events) as text and JSON. Nothing
  * here runs on the real-time path. */
 #include "srv.h"
+#include "c4g_pcap.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -10,21 +11,6 @@
 #include <time.h>
 
 static uint64_t wall_offset_ns; /* CLOCK_REALTIME - CLOCK_MONOTONIC at start */
-
-static void put32(FILE *fp, uint32_t v)
-{
-    unsigned char b[4];
-    b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8);
-    b[2] = (unsigned char)(v >> 16); b[3] = (unsigned char)(v >> 24);
-    fwrite(b, 1, 4, fp);
-}
-
-static void put16(FILE *fp, uint16_t v)
-{
-    unsigned char b[2];
-    b[0] = (unsigned char)v; b[1] = (unsigned char)(v >> 8);
-    fwrite(b, 1, 2, fp);
-}
 
 int srv_outputs_open(srv_t *S)
 {
@@ -34,7 +20,7 @@ int srv_outputs_open(srv_t *S)
     wall_offset_ns = ((uint64_t)r.tv_sec * 1000000000ULL + (uint64_t)r.tv_nsec) -
                      ((uint64_t)m.tv_sec * 1000000000ULL + (uint64_t)m.tv_nsec);
     S->log_fp = NULL;
-    S->pcap_fp = NULL;
+    S->pcap = NULL;
     S->moni_fp = NULL;
     if (S->cfg.log_path[0] != '\0') {
         S->log_fp = fopen(S->cfg.log_path, "w");
@@ -44,19 +30,12 @@ int srv_outputs_open(srv_t *S)
         }
     }
     if (S->cfg.pcap_path[0] != '\0') {
-        S->pcap_fp = fopen(S->cfg.pcap_path, "wb");
-        if (S->pcap_fp == NULL) {
-            fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, strerror(errno));
+        char err[256];
+        S->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
+        if (S->pcap == NULL) {
+            fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, err);
             return -1;
         }
-        /* classic pcap, little-endian, microseconds, LINKTYPE_RAW (101): IPv4 packets */
-        put32(S->pcap_fp, 0xA1B2C3D4U);
-        put16(S->pcap_fp, 2U);
-        put16(S->pcap_fp, 4U);
-        put32(S->pcap_fp, 0U);
-        put32(S->pcap_fp, 0U);
-        put32(S->pcap_fp, 65535U);
-        put32(S->pcap_fp, 101U);
     }
     if (S->cfg.moni_path[0] != '\0') {
         S->moni_fp = fopen(S->cfg.moni_path, "w");
@@ -78,60 +57,42 @@ int srv_outputs_open(srv_t *S)
 void srv_outputs_close(srv_t *S)
 {
     if (S->log_fp != NULL) fclose(S->log_fp);
-    if (S->pcap_fp != NULL) fclose(S->pcap_fp);
+    if (S->pcap != NULL && c4g_pcap_close(S->pcap) != 0) {
+        fprintf(stderr, "c4g-server: --pcap %s: write error\n", S->cfg.pcap_path);
+    }
+    S->pcap = NULL;
     if (S->moni_fp != NULL) fclose(S->moni_fp);
-    S->log_fp = S->pcap_fp = S->moni_fp = NULL;
+    S->log_fp = S->moni_fp = NULL;
 }
 
-static uint16_t ip_csum(const unsigned char *h)
-{
-    uint32_t s = 0U;
-    int i;
-    for (i = 0; i < 20; i += 2) {
-        s += ((uint32_t)h[i] << 8) | h[i + 1];
-    }
-    while (s >> 16) {
-        s = (s & 0xFFFFU) + (s >> 16);
-    }
-    return (uint16_t)~s;
-}
-
-/* rec->data: peer addr (4, network order), peer port (2), local port (2), payload. */
+/* rec->data: peer addr (4, network order), peer port (2), local port (2), payload.
+ * Written with the shared tools/common/c4g_pcap writer (Ethernet/IPv4/UDP frames), the
+ * same format as c4g-sim's --pcap. */
 static void write_pcap(srv_t *S, const c4g_rtlog_rec_t *rec)
 {
-    unsigned char h[28];
-    uint32_t peer, local = htonl(0x7F000001U);
-    uint16_t pport, lport, ck;
-    const uint32_t plen = rec->len - 8U;
+    uint32_t peer, local;
+    uint16_t pport, lport;
+    struct timespec ts;
     const uint64_t t = rec->t_ns + wall_offset_ns;
     const int rx = (rec->kind == LOG_PCAP_RX);
     memcpy(&peer, rec->data, 4U);
     memcpy(&pport, rec->data + 4, 2U);
     memcpy(&lport, rec->data + 6, 2U);
+    peer = ntohl(peer);
+    pport = ntohs(pport);
+    lport = ntohs(lport);
     if (inet_pton(AF_INET, S->cfg.bind_addr, &local) != 1 || local == 0U) {
-        local = peer; /* bound to any: show the peer's address family (loopback) */
+        local = peer; /* bound to any: the reply leaves from the address it was sent to */
+    } else {
+        local = ntohl(local);
     }
-    memset(h, 0, sizeof h);
-    h[0] = 0x45;
-    h[2] = (unsigned char)((plen + 28U) >> 8);
-    h[3] = (unsigned char)(plen + 28U);
-    h[8] = 64;
-    h[9] = 17;
-    memcpy(h + 12, rx ? &peer : &local, 4U);
-    memcpy(h + 16, rx ? &local : &peer, 4U);
-    ck = ip_csum(h);
-    h[10] = (unsigned char)(ck >> 8);
-    h[11] = (unsigned char)ck;
-    memcpy(h + 20, rx ? &pport : &lport, 2U);
-    memcpy(h + 22, rx ? &lport : &pport, 2U);
-    h[24] = (unsigned char)((plen + 8U) >> 8);
-    h[25] = (unsigned char)(plen + 8U);
-    put32(S->pcap_fp, (uint32_t)(t / 1000000000ULL));
-    put32(S->pcap_fp, (uint32_t)((t % 1000000000ULL) / 1000U));
-    put32(S->pcap_fp, plen + 28U);
-    put32(S->pcap_fp, plen + 28U);
-    fwrite(h, 1, sizeof h, S->pcap_fp);
-    fwrite(rec->data + 8, 1, plen, S->pcap_fp);
+    ts.tv_sec = (time_t)(t / 1000000000ULL);
+    ts.tv_nsec = (long)(t % 1000000000ULL);
+    if (c4g_pcap_write_udp(S->pcap, &ts, rx ? peer : local, rx ? pport : lport,
+                           rx ? local : peer, rx ? lport : pport, rec->data + 8,
+                           rec->len - 8U) != 0) {
+        S->pcap_errors++;
+    }
 }
 
 static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
@@ -186,7 +147,7 @@ void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
     }
     case LOG_PCAP_RX:
     case LOG_PCAP_TX:
-        if (S->pcap_fp != NULL && rec->len >= 8U) {
+        if (S->pcap != NULL && rec->len >= 8U) {
             write_pcap(S, rec);
         }
         break;

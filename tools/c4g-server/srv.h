@@ -80,7 +80,6 @@ typedef struct srv_axis {
     double integ;           /* integrator state [A] */
     double v_prev;          /* previous target velocity (mode 9 acceleration) */
     int done;               /* behaviour finished (exit from open requested) */
-    int fe_latched;         /* 508 requested for this axis */
 } srv_axis_t;
 
 /* Safety events and counters (reported at exit). */
@@ -93,7 +92,6 @@ typedef struct srv_safety {
     uint64_t continuity;        /* reference step violations */
     uint64_t nonfinite;         /* NaN/inf produced by a behaviour */
     uint64_t injected;          /* --inject requests */
-    int drive_off_latched;
     char first[256];            /* first safety event, human-readable */
 } srv_safety_t;
 
@@ -161,8 +159,15 @@ typedef struct srv {
     srv_safety_t safety;
     srv_stats_t stats;
     uint32_t arm_busy[C4G_ARMS];  /* arm has an axis in an open mode with a behaviour */
+    c4g_ctl_t ctl;                /* library control layer: state machines, rules, safety */
+    c4g_ctl_config_t ctl_cfg;
+    int ctl_ok;                   /* ctl initialised from the current init packet */
+    uint64_t cyc_k;               /* cyclic packet number (session counter) being answered */
+    int thaw;                     /* active freezing over: request EXIT_FROM_OPEN */
     c4g_rtlog_t log;
-    FILE *log_fp, *pcap_fp, *moni_fp;
+    FILE *log_fp, *moni_fp;
+    struct c4g_pcap *pcap;        /* tools/common/c4g_pcap writer (log thread only) */
+    uint64_t pcap_errors;
     struct sockaddr_in ctrl;      /* controller filter (sin_addr.s_addr 0 = any) */
     uint16_t local_port;
     uint64_t t0_ns;
@@ -172,8 +177,8 @@ extern srv_traj_t srv_traj[C4G_ARMS];
 
 /* behave.c */
 void srv_behave_reset(srv_t *S);
-void srv_behave_step(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns);
-void srv_safety_filter(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns);
+void srv_behave_init(srv_t *S, uint64_t t_ns);
+int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns);
 
 /* files.c */
 int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen);

@@ -1,1 +1,1 @@
-c4g-server_LDLIBS := -linih -lpthread
+c4g-server_LDLIBS := -linih -lpthread -lpcap
