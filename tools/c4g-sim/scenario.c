@@ -25,7 +25,7 @@ const char *scn_op_name(scn_op_t op)
     return ((int)op >= 1 && (int)op <= (int)SCN_END) ? op_names[op] : "?";
 }
 
-static int fail(char *err, size_t errlen, int line, const char *fmt, ...)
+static int scn_fail(char *err, size_t errlen, int line, const char *fmt, ...)
 {
     va_list ap;
     char msg[256];
@@ -75,9 +75,9 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
     int i = 1;
     memset(c, 0, sizeof *c);
     c->line = line;
-#define NEED(k, what) do { if (nt <= (k)) return fail(err, errlen, line, "%s: missing %s", t[0], what); } while (0)
+#define NEED(k, what) do { if (nt <= (k)) return scn_fail(err, errlen, line, "%s: missing %s", t[0], what); } while (0)
 #define ARM(k) do { NEED(k, "arm"); if (parse_int(t[k], 1, 4, &c->arm) != 0) \
-        return fail(err, errlen, line, "arm '%s' is not 1..4", t[k]); } while (0)
+        return scn_fail(err, errlen, line, "arm '%s' is not 1..4", t[k]); } while (0)
     if (kw(t[0], "DRIVE")) {
         NEED(1, "ON or OFF");
         if (kw(t[1], "ON")) {
@@ -85,7 +85,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         } else if (kw(t[1], "OFF")) {
             c->op = SCN_DRIVE_OFF;
         } else {
-            return fail(err, errlen, line, "DRIVE: expected ON or OFF, got '%s'", t[1]);
+            return scn_fail(err, errlen, line, "DRIVE: expected ON or OFF, got '%s'", t[1]);
         }
         i = 2;
         if (nt > 2) {
@@ -105,15 +105,15 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
                 break;
             }
             if (c->n >= SCN_MAX_VALUES) {
-                return fail(err, errlen, line, "%s: more than %d targets", t[0], SCN_MAX_VALUES);
+                return scn_fail(err, errlen, line, "%s: more than %d targets", t[0], SCN_MAX_VALUES);
             }
             if (parse_num(t[i], &c->v[c->n]) != 0) {
-                return fail(err, errlen, line, "%s: target %d '%s' is not a number", t[0], c->n + 1, t[i]);
+                return scn_fail(err, errlen, line, "%s: target %d '%s' is not a number", t[0], c->n + 1, t[i]);
             }
             c->n++;
         }
         if (c->n == 0) {
-            return fail(err, errlen, line, "%s: no targets", t[0]);
+            return scn_fail(err, errlen, line, "%s: no targets", t[0]);
         }
     } else if (kw(t[0], "WAIT")) {
         NEED(1, "MOVE or PC");
@@ -127,7 +127,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
                 i++;
             }
             if (!kw(nt > i ? t[i] : NULL, "PC")) {
-                return fail(err, errlen, line, "WAIT: expected MOVE, PC or FOR PC");
+                return scn_fail(err, errlen, line, "WAIT: expected MOVE, PC or FOR PC");
             }
             c->op = SCN_WAIT_PC;
             i++;
@@ -136,7 +136,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
             if (nt > i && kw(t[i], "TIMEOUT")) {
                 NEED(i + 1, "timeout [ms]");
                 if (parse_num(t[i + 1], &c->ms) != 0 || c->ms < 0.0) {
-                    return fail(err, errlen, line, "WAIT PC: bad timeout '%s'", t[i + 1]);
+                    return scn_fail(err, errlen, line, "WAIT PC: bad timeout '%s'", t[i + 1]);
                 }
                 i += 2;
             }
@@ -145,7 +145,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         c->op = kw(t[0], "DELAY") ? SCN_DELAY : SCN_FREEZE;
         NEED(1, "time [ms]");
         if (parse_num(t[1], &c->ms) != 0 || c->ms < 0.0 || c->ms > 3.6e6) {
-            return fail(err, errlen, line, "%s: bad time '%s' (ms, 0..3600000)", t[0], t[1]);
+            return scn_fail(err, errlen, line, "%s: bad time '%s' (ms, 0..3600000)", t[0], t[1]);
         }
         i = 2;
     } else if (kw(t[0], "MODE")) {
@@ -153,19 +153,19 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         ARM(1);
         NEED(2, "mode");
         if (parse_int(t[2], 0, 1000, &c->iv) != 0) {
-            return fail(err, errlen, line, "MODE: bad mode '%s'", t[2]);
+            return scn_fail(err, errlen, line, "MODE: bad mode '%s'", t[2]);
         }
         i = 3;
         if (nt > 3 && kw(t[3], "AXES")) {
             for (i = 4; i < nt; i++) {
                 int ax;
                 if (parse_int(t[i], 1, 10, &ax) != 0) {
-                    return fail(err, errlen, line, "MODE: axis '%s' is not 1..10", t[i]);
+                    return scn_fail(err, errlen, line, "MODE: axis '%s' is not 1..10", t[i]);
                 }
                 c->axes_mask |= 1U << (ax - 1);
             }
             if (c->axes_mask == 0U) {
-                return fail(err, errlen, line, "MODE: AXES without axes");
+                return scn_fail(err, errlen, line, "MODE: AXES without axes");
             }
         }
     } else if (kw(t[0], "CMD")) {
@@ -173,7 +173,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         ARM(1);
         NEED(2, "value");
         if (parse_int(t[2], 0, 255, &c->iv) != 0) {
-            return fail(err, errlen, line, "CMD: value '%s' is not 0..255", t[2]);
+            return scn_fail(err, errlen, line, "CMD: value '%s' is not 0..255", t[2]);
         }
         i = 3;
     } else if (kw(t[0], "RESTART")) {
@@ -181,7 +181,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
     } else if (kw(t[0], "EXIT")) {
         NEED(1, "OPEN");
         if (!kw(t[1], "OPEN")) {
-            return fail(err, errlen, line, "EXIT: expected OPEN");
+            return scn_fail(err, errlen, line, "EXIT: expected OPEN");
         }
         c->op = SCN_EXIT_OPEN;
         i = 2;
@@ -189,7 +189,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         c->op = SCN_OVERRIDE;
         NEED(1, "percent");
         if (parse_num(t[1], &c->ms) != 0 || c->ms < 0.0 || c->ms > 100.0) {
-            return fail(err, errlen, line, "OVERRIDE: '%s' is not 0..100", t[1]);
+            return scn_fail(err, errlen, line, "OVERRIDE: '%s' is not 0..100", t[1]);
         }
         i = 2;
     } else if (kw(t[0], "SELECTOR")) {
@@ -200,7 +200,7 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
         } else if (kw(t[1], "PROG")) {
             c->iv = 1;
         } else {
-            return fail(err, errlen, line, "SELECTOR: expected AUTO or PROG, got '%s'", t[1]);
+            return scn_fail(err, errlen, line, "SELECTOR: expected AUTO or PROG, got '%s'", t[1]);
         }
         i = 2;
     } else if (kw(t[0], "EXPECT")) {
@@ -211,18 +211,18 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
             ARM(2);
             NEED(3, "axis");
             if (parse_int(t[3], 1, 10, &c->iv) != 0) {
-                return fail(err, errlen, line, "EXPECT: axis '%s' is not 1..10", t[3]);
+                return scn_fail(err, errlen, line, "EXPECT: axis '%s' is not 1..10", t[3]);
             }
             NEED(4, "value");
             if (parse_num(t[4], &c->v[0]) != 0) {
-                return fail(err, errlen, line, "EXPECT: value '%s' is not a number", t[4]);
+                return scn_fail(err, errlen, line, "EXPECT: value '%s' is not a number", t[4]);
             }
             c->n = 1;
             i = 5;
             if (pos) {
                 NEED(5, "tolerance");
                 if (parse_num(t[5], &c->v[1]) != 0 || c->v[1] < 0.0) {
-                    return fail(err, errlen, line, "EXPECT POS: bad tolerance '%s'", t[5]);
+                    return scn_fail(err, errlen, line, "EXPECT POS: bad tolerance '%s'", t[5]);
                 }
                 c->n = 2;
                 i = 6;
@@ -231,20 +231,20 @@ static int parse_line(char **t, int nt, scn_cmd_t *c, int line, char *err, size_
             c->op = SCN_EXPECT_ERROR;
             NEED(2, "error name (or NONE)");
             if (strlen(t[2]) >= sizeof c->name) {
-                return fail(err, errlen, line, "EXPECT ERROR: name too long");
+                return scn_fail(err, errlen, line, "EXPECT ERROR: name too long");
             }
             strcpy(c->name, t[2]);
             i = 3;
         } else {
-            return fail(err, errlen, line, "EXPECT: expected POS, MODE or ERROR, got '%s'", t[1]);
+            return scn_fail(err, errlen, line, "EXPECT: expected POS, MODE or ERROR, got '%s'", t[1]);
         }
     } else if (kw(t[0], "END")) {
         c->op = SCN_END;
     } else {
-        return fail(err, errlen, line, "unknown command '%s'", t[0]);
+        return scn_fail(err, errlen, line, "unknown command '%s'", t[0]);
     }
     if (i < nt) {
-        return fail(err, errlen, line, "%s: unexpected '%s'", scn_op_name(c->op), t[i]);
+        return scn_fail(err, errlen, line, "%s: unexpected '%s'", scn_op_name(c->op), t[i]);
     }
 #undef NEED
 #undef ARM
@@ -268,10 +268,10 @@ int scn_parse(const char *text, size_t len, scn_t *out, char *err, size_t errlen
         line++;
         while (pos < len && text[pos] != '\n') {
             if (text[pos] == '\0') {
-                return fail(err, errlen, line, "NUL byte in the scenario");
+                return scn_fail(err, errlen, line, "NUL byte in the scenario");
             }
             if (k + 1U >= sizeof buf) {
-                return fail(err, errlen, line, "line longer than %d characters", MAX_LINE - 1);
+                return scn_fail(err, errlen, line, "line longer than %d characters", MAX_LINE - 1);
             }
             buf[k++] = text[pos++];
         }
@@ -290,7 +290,7 @@ int scn_parse(const char *text, size_t len, scn_t *out, char *err, size_t errlen
                 break;
             }
             if (nt >= MAX_TOK) {
-                return fail(err, errlen, line, "more than %d words", MAX_TOK);
+                return scn_fail(err, errlen, line, "more than %d words", MAX_TOK);
             }
             tok[nt++] = p;
             while (*p != '\0' && !isspace((unsigned char)*p)) {
@@ -304,7 +304,7 @@ int scn_parse(const char *text, size_t len, scn_t *out, char *err, size_t errlen
             continue;
         }
         if (out->n >= SCN_MAX_CMDS) {
-            return fail(err, errlen, line, "more than %d commands", SCN_MAX_CMDS);
+            return scn_fail(err, errlen, line, "more than %d commands", SCN_MAX_CMDS);
         }
         if (parse_line(tok, nt, &out->cmd[out->n], line, err, errlen) != 0) {
             return -1;
