@@ -145,7 +145,6 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     srv_axis_t *X = &S->ax[i];
     const int32_t old = X->mode;
     if ((old == C4G_MODE_DRIVING_ON) && (mode != C4G_MODE_DRIVING_ON)) {
-        S->stats.drive_on_end++;
         srv_log(S, t_ns, "axis %u: drive-on finished (501 -> %d)", (unsigned)i + 1U, (int)mode);
     }
     if (old >= 0) {

@@ -1,0 +1,39 @@
+#!/bin/sh
+# c4g-server end to end, one test per supported mode (0, 10, 1, 2, 4, 5, 7, 8, 9): real
+# processes, real UDP on 127.0.0.1. The controller is c4g-sim running a scenario from
+# fixtures/server/; the assertions are on what the simulated robot did (the scenario's
+# EXPECT lines, the final positions) and on both summaries.
+. tests/e2e/server_helpers/lib.sh "$1"
+[ -x "$SIM" ] || { echo "server_modes: $SIM not built"; exit 1; }
+
+mode_test() {  # mode_test MODE PORT EXPECTED_POS_AX1 [server args...]
+    m=$1; port=$2; want=$3; shift 3
+    echo "mode $m:"
+    SIM_ARGS=""
+    run_sim "m$m" "$port" "fixtures/server/sim_mode$m.scn" "$@"
+    ok "mode $m: c4g-sim exit 0 (scenario EXPECTs passed, no controller error)" eq "$SIMRC" 0
+    ok "mode $m: no EXPECT failed" eq "$(jv "$T/m$m.sim.json" expect_failed)" 0
+    ok "mode $m: no controller error" has "$T/m$m.sim.json" '"errors":\[\]'
+    ok "mode $m: robot axis 1 at $want" near "$(simpos "$T/m$m.sim.json" 1)" "$want" 0.05
+    ok "mode $m: server ended by 504 (exit 0)" eq "$SRC" 0
+    ok "mode $m: server answered every packet it accepted" eq "$(jv "$T/m$m.json" rx)" "$(jv "$T/m$m.json" tx)"
+    ok "mode $m: no safety event" eq "$(jv "$T/m$m.json" drive_off_505)$(jv "$T/m$m.json" follow_error_508)" 00
+    [ "$FAILS" -eq 0 ] || dump "m$m"
+}
+
+mode_test 0 31010 0.5
+mode_test 10 31011 1
+mode_test 4 31012 0.45 --sine 0.25,0.5,0.5
+ok "mode 4: server sent EXIT_FROM_OPEN on arm 1" ge "$(grep -o '"exits_sent":\[[0-9]*' "$T/m4.json" | cut -d[ -f2)" 1
+mode_test 5 31013 0.125 --sine 0.25,0.5,0.5
+mode_test 7 31014 1.1 --offset 0.1,0.5,0.5
+mode_test 8 31015 -1 --vel 0.0005,1,1
+mode_test 9 31016 0.5 --ff fixtures/server/ff_example.txt --duration 1 --moni "$T/m9.moni"
+# moni columns: ... 6 rx_mode ... 16 tx_mode ... 21 tx_d5
+ok "mode 9: the server sent a current feedforward (D5) in mode 9" \
+    ge "$(awk -F, '$6 == 9 && $21 != 0 { n++ } END { print n + 0 }' "$T/m9.moni")" 100
+mode_test 1 31017 0 --hold --duration 1 --gains 30,200,300 --moni "$T/m1.moni"
+ok "mode 1: the PC current held axis 2 against gravity (|D5| > 1 A)" \
+    ge "$(awk -F, '$3 == 2 && $6 == 1 { v = $21 < 0 ? -$21 : $21; if (v > m) m = v } END { print m + 0 }' "$T/m1.moni")" 1
+mode_test 2 31018 0.5 --gains 30,200,300
+finish
