@@ -160,9 +160,11 @@ static int cyclic(long tick)
         if (sendto(ffd, b, n, 0, (struct sockaddr *)&srv, sizeof srv) < 0) perror("ctrl_stub: foreign sendto");
     }
     if (o.garbage_every > 0 && tick % o.garbage_every == 0) {
-        uint8_t g[C4G_MAX_CYCLIC_SIZE]; size_t gl = n; float nanf_ = NAN; int32_t badm = 77;
+        uint8_t g[1500]; size_t gl = n; float nanf_ = NAN; int32_t badm = 77;
         memcpy(g, b, n);
-        switch ((tick / o.garbage_every) % 5) {
+        switch ((tick / o.garbage_every) % 7) {
+        case 5: memset(g, 0xA5, sizeof g); gl = sizeof g; break;    /* oversize */
+        case 6: memset(g, 0x5A, C4G_INIT_SIZE); g[0] = 10; g[1] = g[2] = g[3] = 0; gl = C4G_INIT_SIZE; break; /* bad init */
         case 0: gl = n - 5; break;                                  /* truncated */
         case 1: memcpy(g + 12 + 4, &nanf_, 4); break;               /* NaN in D1 */
         case 2: memcpy(g + 12, &badm, 4); break;                    /* unknown mode */
