@@ -47,8 +47,13 @@ int srv_outputs_open(srv_t *S)
             fputs("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,"
                   "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", S->moni_fp);
         } else {
-            fprintf(S->moni_fp, "# moni type %d (manual chapter 16)\nt_s,num,axis,v1,v2,v3,v4,v5,mode\n",
+            char hdr[256];
+            size_t hl = 0U;
+            fprintf(S->moni_fp, "# moni type %d (manual chapter 16), rows from c4g_moni_csv_row\n",
                     S->cfg.moni_type);
+            if (c4g_moni_csv_header((uint32_t)S->cfg.moni_type, hdr, sizeof hdr, &hl) == C4G_OK) {
+                fwrite(hdr, 1, hl, S->moni_fp);
+            }
         }
     }
     return 0;
@@ -107,15 +112,17 @@ static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
     for (i = 0U; i < rx.n_axes && i < C4G_MAX_AXES; i++) {
         const c4g_ctrl_axis_t *r = &rx.ax[i];
         const c4g_pc_axis_t *o = &tx.ax[i];
-        double v[5];
-        switch (S->cfg.moni_type) {
-        case 19: v[0] = o->target_pos; v[1] = o->target_vel; v[2] = o->measure; v[3] = o->vel_add; v[4] = o->current_add; break;
-        case 20: v[0] = r->target_pos; v[1] = r->target_vel; v[2] = r->actual_pos; v[3] = r->actual_vel; v[4] = r->current_ref; break;
-        case 21: v[0] = o->target_pos; v[1] = o->target_vel; v[2] = r->target_pos; v[3] = r->actual_pos; v[4] = r->current_ref; break;
-        case 22: v[0] = o->vel_add; v[1] = o->current_add; v[2] = r->target_pos; v[3] = r->actual_pos; v[4] = r->current_ref; break;
-        case 23: v[0] = r->target_pos; v[1] = r->current_ref; v[2] = r->ext[0]; v[3] = r->ext[1]; v[4] = o->current_add; break;
-        case 24: v[0] = r->target_pos; v[1] = r->current_ref; v[2] = r->ext[0]; v[3] = r->ext[1]; v[4] = o->vel_add; break;
-        default:
+        if (S->cfg.moni_type >= 19) {
+            c4g_moni_rec_t mr;
+            char row[C4G_MONI_ROW_MAX + 8U];
+            size_t rl = 0U;
+            if (c4g_moni_record((uint32_t)S->cfg.moni_type, &rx, &tx, i, &mr) == C4G_OK &&
+                c4g_moni_csv_row(&mr, row, sizeof row, &rl) == C4G_OK) {
+                fwrite(row, 1, rl, S->moni_fp);
+            }
+            continue;
+        }
+        {
             fprintf(S->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
                     "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (int)rx.num, (unsigned)i + 1U,
                     (unsigned)m->arm_of[i] + 1U, (unsigned)m->logical_of[i] + 1U, (int)r->mode,
@@ -124,11 +131,7 @@ static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
                     (double)r->ext[1], (double)r->ext[2], (unsigned)tx.infpar, (int)o->mode,
                     (double)o->target_pos, (double)o->target_vel, (double)o->measure,
                     (double)o->vel_add, (double)o->current_add);
-            continue;
         }
-        fprintf(S->moni_fp, "%.6f,%d,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", t, (int)rx.num,
-                (unsigned)i + 1U, v[0], v[1], v[2], v[3], v[4],
-                (int)(S->cfg.moni_type == 20 ? r->mode : o->mode));
     }
 }
 

@@ -25,7 +25,7 @@ static struct {
     phase_t ph[MAXPH]; int nph; int cold; int moving;
     long restart_at; long pfreeze_at; int pfreeze_ms; long garbage_every;
     long foreign_every; char foreign[64]; double fe_thr; long fe_push_at;
-    double azlim; double dist; double gain; int reply_us; int quiet;
+    double azlim; double dist; double gain; int reply_us; int quiet; long num_start;
 } o;
 
 static int fd, ffd = -1;
@@ -55,7 +55,8 @@ static void badf(const char *what, long a, long b)
     bad++;
     if (bad <= 10) fprintf(stderr, "ctrl_stub: BAD reply (NUM %d): %s (got %ld, want %ld)\n", (int)num, what, a, b);
 }
-static int32_t want_num(int32_t n) { return c4g_reply_num(n, o.policy ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE); }
+/* FIELD-FACTS, written out here (not the library's c4g_reply_num): +1, 0x7FFF wraps to 1 */
+static int32_t want_num(int32_t n) { return o.policy ? n : (n >= 0x7FFF ? 1 : n + 1); }
 static int32_t next_num(void) { num = (num >= C4G_NUM_MAX) ? 0 : num + 1; return num; }
 
 /* Wait for the reply to the datagram just sent; returns its length or -1. */
@@ -268,6 +269,7 @@ int main(int argc, char **argv)
         else if (OPT("--dist")) o.dist = atof(v);
         else if (OPT("--gain")) o.gain = atof(v);
         else if (OPT("--reply-us")) o.reply_us = atoi(v);
+        else if (OPT("--num-start")) o.num_start = atol(v);
         else { fprintf(stderr, "ctrl_stub: unknown option %s\n", k); return 1; }
     }
     if (o.reply_us == 0) o.reply_us = o.period_ms * 900;
@@ -286,6 +288,7 @@ int main(int argc, char **argv)
     for (i = 0; i < 20; i++) { start[i] = 1.0 + i; pos[i] = tgt[i] = start[i]; }
     next_ns = now_ns();
     if (o.cold) { handshake_sync(9); send_init(); handshake_sync(2); } else send_init();
+    if (o.num_start > 0) num = (int32_t)o.num_start - 1; /* jump near the wrap (server sees a gap) */
     {
         int ph;
         for (ph = 0; ph < o.nph && !err_udp; ph++) {

@@ -1,0 +1,90 @@
+/* SPDX-License-Identifier: MIT */
+/* Minimal C4G Open PC program: answers the controller and, when an arm enters mode 4,
+ * moves every axis of it +0.1 motor turns along a raised cosine, then exits from open.
+ * Plain POSIX; build: cc -std=c99 -D_POSIX_C_SOURCE=200809L -Iinclude mode4_loop.c \
+ *   build/lib/libc4gopen.a -lm        run: ./a.out [PORT]    (ends on 504) */
+#include "c4gopen.h"
+#include <arpa/inet.h>
+#include <math.h>
+#include <sched.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <time.h>
+
+#define PI 3.14159265358979323846
+
+static uint64_t now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (uint64_t)t.tv_sec * 1000000000ULL + (uint64_t)t.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    static c4g_session_t s;  /* large: static, locked by mlockall */
+    static c4g_ctl_t ctl;
+    static double start[C4G_MAX_AXES];
+    static uint32_t ticks[C4G_MAX_AXES];
+    struct sched_param sp = {0};
+    struct sockaddr_in me = {0}, peer;
+    uint8_t in[1500], out[C4G_INIT_SIZE];
+    int fd = socket(AF_INET, SOCK_DGRAM, 0);
+
+    me.sin_family = AF_INET;
+    me.sin_port = htons((uint16_t)(argc > 1 ? atoi(argv[1]) : 1000));
+    if (fd < 0 || bind(fd, (struct sockaddr *)&me, sizeof me) != 0) {
+        perror("bind");
+        return 1;
+    }
+    sp.sched_priority = 80; /* real time if allowed; say so if not */
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0 || sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
+        fprintf(stderr, "warning: no mlockall/SCHED_FIFO (need root or CAP_SYS_NICE)\n");
+    c4g_session_init(&s, NULL);
+    for (;;) {
+        socklen_t pl = sizeof peer;
+        c4g_rx_result_t res;
+        c4g_pc_packet_t tx;
+        size_t len;
+        const ssize_t n = recvfrom(fd, in, sizeof in, 0, (struct sockaddr *)&peer, &pl);
+        const uint64_t t_rx = now_ns();
+        if (n < 0 || c4g_session_rx(&s, in, (size_t)n, t_rx, &res) != C4G_OK ||
+            res.kind == C4G_RX_DROPPED)
+            continue;                                  /* malformed: counted, not answered */
+        if (res.kind == C4G_RX_INIT)
+            c4g_ctl_init(&ctl, &s.init, NULL);
+        if (res.kind == C4G_RX_CYCLIC) {
+            c4g_ctl_step(&ctl, res.pkt, t_rx, &tx, NULL); /* echo modes, mark needed fields */
+            for (uint32_t i = 0; i < tx.n_axes; i++) {
+                const uint32_t arm = s.map.arm_of[i];
+                if (res.pkt->ax[i].mode != C4G_MODE_4) {
+                    ticks[i] = 0;
+                    continue;
+                }
+                if (ticks[i]++ == 0)
+                    start[i] = res.pkt->ax[i].target_pos; /* continuity: start where we are */
+                const double x = fmin(ticks[i] * s.init.period_ms * 1e-3 / 2.0, 1.0); /* 2 s */
+                const double q = 0.05 * (1.0 - cos(PI * x)), dq = 0.05 * PI * sin(PI * x) *
+                                 (s.init.period_ms * 1e-3 / 2.0);
+                tx.ax[i].target_pos = (float)(start[i] + q);  /* D1: absolute target */
+                tx.ax[i].target_vel = (float)dq;              /* D2: delta turns per tick */
+                if (x >= 1.0)
+                    c4g_ctl_request_exit(&ctl, arm);          /* EXIT_FROM_OPEN */
+            }
+            c4g_ctl_finish(&ctl, res.pkt, &tx, NULL);      /* rules + safety filter */
+        }
+        if (c4g_session_reply(&s, &tx, out, sizeof out, &len) == C4G_OK)
+            sendto(fd, out, len, 0, (struct sockaddr *)&peer, pl);
+        c4g_session_sent(&s, now_ns());
+        if (res.events & C4G_EV_END)
+            break;                                         /* 504: end of communication */
+    }
+    c4g_timing_t t;
+    c4g_session_timing(&s, &t);
+    printf("cyclic %llu, malformed %llu, worst cycle %.1f us, jitter [%+.1f; %+.1f] us\n",
+           (unsigned long long)s.counters.cyclic, (unsigned long long)s.counters.malformed_total,
+           t.worst_cycle_ns / 1e3, t.min_jitter_ns / 1e3, t.max_jitter_ns / 1e3);
+    return 0;
+}
