@@ -94,8 +94,8 @@ typedef struct c4g_mode_info {
     int32_t operating;       /**< operating mode it belongs to (1 for 11, 7 for 170), or itself */
 } c4g_mode_info_t;
 
-/** Table row of @p mode, or NULL for an unknown code. O(number of modes). */
-const c4g_mode_info_t *c4g_mode_info(int32_t mode);
+/** Fill @p out with the table row of @p mode. @return OK, NULL, C4G_ERR_MODE (unknown). O(modes). */
+c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out);
 /** Constant name of @p mode ("MODE_4"), "UNKNOWN" for an unknown code. */
 const char *c4g_mode_name(int32_t mode);
 /** One-line description of @p mode, "unknown mode" for an unknown code. */
@@ -158,7 +158,7 @@ typedef enum c4g_fsm_state {
 #define C4G_CEV_REQ_TIMEOUT 0x00001000U  /**< a request got no answer in time: dropped */
 #define C4G_CEV_REQ_DROPPED 0x00002000U  /**< the controller went elsewhere: request dropped */
 #define C4G_CEV_EXIT_DONE 0x00004000U    /**< mode 0 reached after an exit from open */
-#define C4G_CEV_FREEZE_A 0x00008000U     /**< active freezing began (500) */
+#define C4G_CEV_FREEZE_A 0x00008000U     /**< the controller reports active freezing (500) */
 #define C4G_CEV_FREEZE_A_END 0x00010000U /**< active freezing over */
 #define C4G_CEV_FREEZE_P_IN 0x00020000U  /**< 502 seen */
 #define C4G_CEV_FREEZE_P_OUT 0x00040000U /**< 503 seen */

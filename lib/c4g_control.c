@@ -9,7 +9,8 @@
 
 /* ------------------------------------------------------------------ statuses */
 
-static const char *const ctl_text[] = {
+/* Text in the rows (no pointer table: .rodata). */
+static const char ctl_text[16][64] = {
     "control layer",
     "mode change not allowed from the arm's current mode",
     "refused: the arm is driving on (501)",

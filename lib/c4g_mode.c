@@ -20,7 +20,17 @@
 
 /* FIELD-FACTS "What the PC must fill per mode"; stand-by modes of 1 and 2 keep the loop
  * data (the PC holds the robot while SMP+ switches back, 24.2.3-4); 17/170 carry null data. */
-static const c4g_mode_info_t mode_table[N_MODES] = {
+/* Strings live inside the rows (no pointer table: .rodata, no relocations). */
+typedef struct mode_row {
+    int32_t code;
+    char name[24];
+    char description[72];
+    uint32_t flags;
+    uint32_t pc_fields;
+    int32_t operating;
+} mode_row_t;
+
+static const mode_row_t mode_table[N_MODES] = {
     {C4G_MODE_0, "MODE_0", "SMP+ generates the trajectory and closes the loops; PC data ignored",
      AV, 0U, C4G_MODE_0},
     {C4G_MODE_0_DEBUG, "MODE_0_DEBUG", "mode 0': debug echo, the PC copies D1..D5 back",
@@ -77,22 +87,41 @@ static const c4g_mode_info_t mode_table[N_MODES] = {
      C4G_MODE_FOLLOW_ERROR},
 };
 
-const c4g_mode_info_t *c4g_mode_info(int32_t mode)
+static const mode_row_t *find_mode(int32_t mode)
 {
-    const c4g_mode_info_t *info = NULL;
+    const mode_row_t *row = NULL;
     uint32_t i;
-    for (i = 0U; (i < N_MODES) && (info == NULL); i++) {
+    for (i = 0U; (i < N_MODES) && (row == NULL); i++) {
         if (mode_table[i].code == mode) {
-            info = &mode_table[i];
+            row = &mode_table[i];
         }
     }
-    return info;
+    return row;
+}
+
+c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (out != NULL) {
+        const mode_row_t *row = find_mode(mode);
+        st = C4G_ERR_MODE;
+        if (row != NULL) {
+            out->code = row->code;
+            out->name = row->name;
+            out->description = row->description;
+            out->flags = row->flags;
+            out->pc_fields = row->pc_fields;
+            out->operating = row->operating;
+            st = C4G_OK;
+        }
+    }
+    return st;
 }
 
 static uint32_t mode_flags(int32_t mode)
 {
-    const c4g_mode_info_t *info = c4g_mode_info(mode);
-    return (info != NULL) ? info->flags : 0U;
+    const mode_row_t *row = find_mode(mode);
+    return (row != NULL) ? row->flags : 0U;
 }
 
 static int has_flag(int32_t mode, uint32_t flag)
@@ -102,14 +131,14 @@ static int has_flag(int32_t mode, uint32_t flag)
 
 const char *c4g_mode_name(int32_t mode)
 {
-    const c4g_mode_info_t *info = c4g_mode_info(mode);
-    return (info != NULL) ? info->name : "UNKNOWN";
+    const mode_row_t *row = find_mode(mode);
+    return (row != NULL) ? row->name : "UNKNOWN";
 }
 
 const char *c4g_mode_description(int32_t mode)
 {
-    const c4g_mode_info_t *info = c4g_mode_info(mode);
-    return (info != NULL) ? info->description : "unknown mode";
+    const mode_row_t *row = find_mode(mode);
+    return (row != NULL) ? row->description : "unknown mode";
 }
 
 int c4g_mode_is_available(int32_t mode)
@@ -139,14 +168,14 @@ int c4g_mode_is_standby(int32_t mode)
 
 uint32_t c4g_mode_pc_fields(int32_t mode)
 {
-    const c4g_mode_info_t *info = c4g_mode_info(mode);
-    return (info != NULL) ? info->pc_fields : 0U;
+    const mode_row_t *row = find_mode(mode);
+    return (row != NULL) ? row->pc_fields : 0U;
 }
 
 int32_t c4g_mode_operating(int32_t mode)
 {
-    const c4g_mode_info_t *info = c4g_mode_info(mode);
-    return (info != NULL) ? info->operating : -1;
+    const mode_row_t *row = find_mode(mode);
+    return (row != NULL) ? row->operating : -1;
 }
 
 /* An operating mode the controller can enter from mode 0 (not stand-by, not special). */
@@ -281,10 +310,8 @@ static uint32_t special_change(c4g_arm_sm_t *sm, int32_t old, int32_t mode)
         ev |= C4G_CEV_DRIVING_ON;
         break;
     case C4G_MODE_FREEZING_A:
-        if (sm->frozen != C4G_MODE_FREEZING_A) {
-            ev |= C4G_CEV_FREEZE_A;
-        }
         sm->frozen = C4G_MODE_FREEZING_A;
+        ev |= C4G_CEV_FREEZE_A;
         break;
     case C4G_MODE_FREEZING_P_IN:
         sm->frozen = C4G_MODE_FREEZING_P_IN;

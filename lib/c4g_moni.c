@@ -25,7 +25,7 @@ static const src_t moni_src[N_TYPES][N_VALUES] = {
     {SMP_D1, SMP_D5, SMP_E1, SMP_E2, PC_D4},  /* 24: mode 8 */
 };
 
-static const char *const src_name[] = {
+static const char src_name[12][8] = {
     "pc_d1", "pc_d2", "pc_d3", "pc_d4", "pc_d5", "smp_d1", "smp_d2", "smp_d3", "smp_d4",
     "smp_d5", "smp_e1", "smp_e2",
 };
