@@ -64,7 +64,7 @@ TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
 DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
-  unit sanitize audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
+  unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
   e2e docs-examples fuzz-build
 
 all: lib tools
@@ -103,13 +103,20 @@ $(BUILD)/lib/c4gopen.pc: scripts/c4gopen.pc.in include/c4gopen.h
 # ---- tools
 tools: $(TOOL_BINS)
 
+# tools/common/*.c: an archive, so each tool links only the shared pieces it uses
+TOOLCOMMON := $(BUILD)/lib/libtoolcommon.a
+$(TOOLCOMMON): $(COMMON_TOOL_SRCS:%.c=$(BUILD)/tobj/%.o)
+	@mkdir -p $(@D)
+	rm -f $@
+	ar rcs $@ $^
+
 define tool_rule
-$(1)_CSRCS := $$(wildcard tools/$(1)/*.c) $$(COMMON_TOOL_SRCS)
+$(1)_CSRCS := $$(wildcard tools/$(1)/*.c)
 $(1)_CXXSRCS := $$(wildcard tools/$(1)/*.cpp)
 $(1)_OBJS := $$($(1)_CSRCS:%.c=$$(BUILD)/tobj/%.o) $$($(1)_CXXSRCS:%.cpp=$$(BUILD)/tobj/%.o)
-$$(BUILD)/bin/$(1): $$($(1)_OBJS) $$(STATIC)
+$$(BUILD)/bin/$(1): $$($(1)_OBJS) $$(TOOLCOMMON) $$(STATIC)
 	@mkdir -p $$(@D)
-	$$(if $$($(1)_CXXSRCS),$$(CXX),$$(CC)) -o $$@ $$($(1)_OBJS) $$(STATIC) $$($(1)_LDLIBS) -lm
+	$$(if $$($(1)_CXXSRCS),$$(CXX),$$(CC)) -o $$@ $$($(1)_OBJS) $$(TOOLCOMMON) $$(STATIC) $$($(1)_LDLIBS) -lm
 endef
 $(foreach t,$(TOOL_NAMES),$(eval $(call tool_rule,$(t))))
 
@@ -139,6 +146,13 @@ sanitize: | $(DEPS_STAMP)
 	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
 	    -DSHARED_DIR='"$(CURDIR)/../shared"' -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
 	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
+
+# ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
+valgrind: $(UNIT_BINS)
+	@set -e; for t in $(UNIT_BINS); do \
+	  valgrind -q --error-exitcode=1 --leak-check=full $$t >/dev/null 2>$(BUILD)/valgrind.log || \
+	    { cat $(BUILD)/valgrind.log; echo "valgrind: $$t FAILED"; exit 1; }; done
+	@echo "valgrind: $(words $(UNIT_BINS)) test binaries clean"
 
 # ---- coverage of lib/ (gcov + lcov): 100% lines, >= 95% branches
 COV_LINES ?= 100
@@ -216,6 +230,7 @@ check: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit
 	@$(MAKE) --no-print-directory sanitize
+	@$(MAKE) --no-print-directory valgrind
 	@$(MAKE) --no-print-directory coverage
 	@$(MAKE) --no-print-directory audit
 	@$(MAKE) --no-print-directory static-analysis
