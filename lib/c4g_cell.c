@@ -29,42 +29,34 @@ static const char k_heads[C4G_CELL_CMD_COUNT_][HEAD_LEN] = {
     {'M', 'O', 'V'}, {'S', 'T', 'P'}, {'R', 'S', 'T'}, {'C', 'L', 'O'},
     {'A', 'C', 'Q'}, {'H', 'N', 'D'}, {'I', 'T', 'R'}, {'P', 'N', 'P'}};
 
-#define STATUS_FIRST 201
-#define STATUS_COUNT 16
-#define STATUS_LAST (STATUS_FIRST + STATUS_COUNT)
 
 static const char k_open[ACTION_OPEN_LEN] = {'O', 'P', 'E', 'N'};
 static const char k_close[ACTION_CLOSE_LEN] = {'C', 'L', 'O', 'S', 'E'};
 
+/* Switches over string literals: a pointer table would land in .data.rel.ro under
+   PIE, and a 2-D char table is a partial initialization (MISRA 9.3). */
 const char *c4g_cell_strerror(int status)
 {
-    /* index = -status - 201 */
-    /* char arrays, not pointers: a pointer table lands in .data.rel.ro under PIE */
-    static const char k_status_text[STATUS_COUNT][64] = {
-        "cell: null pointer argument",
-        "cell: output buffer too small",
-        "cell: argument out of range",
-        "cell: wrong line length for this instruction or reply",
-        "cell: missing CR LF terminator, or CR/LF inside the line",
-        "cell: unknown instruction or reply head",
-        "cell: sign character must be '+' or '-'",
-        "cell: digit expected",
-        "cell: '.' expected",
-        "cell: 'T' or 'F' expected",
-        "cell: MOV mode must be 'A' or 'R'",
-        "cell: HND action must be OPEN or CLOSE",
-        "cell: value out of range",
-        "cell: NaN or infinity",
-        "cell: axis count must be 2 (platform) or 4 (robot)",
-        "cell: line longer than the splitter limit",
-    };
     const char *text = "unknown cell-protocol status";
-    if (status == 0) {
-        text = "ok";
-    } else if ((status <= -STATUS_FIRST) && (status > -STATUS_LAST)) {
-        text = k_status_text[(-status) - STATUS_FIRST];
-    } else {
-        /* not a cell status: keep the default */
+    switch (status) {
+    case 0: text = "ok"; break;
+    case -201: text = "cell: null pointer argument"; break;
+    case -202: text = "cell: output buffer too small"; break;
+    case -203: text = "cell: argument out of range"; break;
+    case -204: text = "cell: wrong line length for this instruction or reply"; break;
+    case -205: text = "cell: missing CR LF terminator, or CR/LF inside the line"; break;
+    case -206: text = "cell: unknown instruction or reply head"; break;
+    case -207: text = "cell: sign character must be '+' or '-'"; break;
+    case -208: text = "cell: digit expected"; break;
+    case -209: text = "cell: '.' expected"; break;
+    case -210: text = "cell: 'T' or 'F' expected"; break;
+    case -211: text = "cell: MOV mode must be 'A' or 'R'"; break;
+    case -212: text = "cell: HND action must be OPEN or CLOSE"; break;
+    case -213: text = "cell: value out of range"; break;
+    case -214: text = "cell: NaN or infinity"; break;
+    case -215: text = "cell: axis count must be 2 (platform) or 4 (robot)"; break;
+    case -216: text = "cell: line longer than the splitter limit"; break;
+    default: break; /* not a cell status: keep the default */
     }
     return text;
 }
@@ -95,11 +87,22 @@ const char *c4g_cell_error_text(int32_t code, int *project)
 
 const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd)
 {
-    static const char k_cmd_names[C4G_CELL_CMD_COUNT_][6] = {
-        "STA", "SRVON", "SRVOF", "OVR", "MOV", "STP", "RST", "CLO", "ACQ", "HND", "ITR", "PNP"};
     const char *name = "???";
-    if ((uint32_t)cmd < (uint32_t)C4G_CELL_CMD_COUNT_) {
-        name = k_cmd_names[cmd];
+    switch (cmd) {
+    case C4G_CELL_CMD_STA: name = "STA"; break;
+    case C4G_CELL_CMD_SRVON: name = "SRVON"; break;
+    case C4G_CELL_CMD_SRVOF: name = "SRVOF"; break;
+    case C4G_CELL_CMD_OVR: name = "OVR"; break;
+    case C4G_CELL_CMD_MOV: name = "MOV"; break;
+    case C4G_CELL_CMD_STP: name = "STP"; break;
+    case C4G_CELL_CMD_RST: name = "RST"; break;
+    case C4G_CELL_CMD_CLO: name = "CLO"; break;
+    case C4G_CELL_CMD_ACQ: name = "ACQ"; break;
+    case C4G_CELL_CMD_HND: name = "HND"; break;
+    case C4G_CELL_CMD_ITR: name = "ITR"; break;
+    case C4G_CELL_CMD_PNP: name = "PNP"; break;
+    case C4G_CELL_CMD_COUNT_:
+    default: break;
     }
     return name;
 }

@@ -744,6 +744,11 @@ static void test_texts(void **state)
     assert_string_equal(c4g_cell_cmd_name(C4G_CELL_CMD_SRVOF), "SRVOF");
     assert_string_equal(c4g_cell_cmd_name(C4G_CELL_CMD_PNP), "PNP");
     assert_string_equal(c4g_cell_cmd_name(C4G_CELL_CMD_COUNT_), "???");
+    static const char *const names[] = {"STA", "SRVON", "SRVOF", "OVR", "MOV", "STP",
+                                        "RST", "CLO", "ACQ", "HND", "ITR", "PNP"};
+    for (int k = 0; k < C4G_CELL_CMD_COUNT_; k++) {
+        assert_string_equal(c4g_cell_cmd_name((c4g_cell_cmd_t)k), names[k]);
+    }
     assert_string_equal(c4g_cell_cmd_name((c4g_cell_cmd_t)-1), "???");
 }
 
