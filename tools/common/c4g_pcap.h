@@ -5,12 +5,8 @@
  * correct IPv4 header checksum and UDP checksum, so Wireshark/tshark dissect it and
  * `tshark -r FILE -T fields -e udp.payload` prints exactly the payload bytes.
  *
- * Linking: every tools/common source is linked into every tool, so this file references libpcap
- * weakly and links without -lpcap. A tool that writes pcaps must link -lpcap
- * (NAME_LDLIBS += -lpcap in its tool.mk) and call C4G_PCAP_ANCHOR() once (e.g. in its
- * --version output), which makes a strong reference: with --as-needed (this toolchain's
- * default) a library referenced only weakly is dropped. c4g_pcap_open() reports
- * "libpcap not linked" instead of crashing when that was forgotten.
+ * Linking: tools/common is an archive; a tool that uses this writer links -lpcap
+ * (NAME_LDLIBS += -lpcap in its tool.mk).
  */
 #ifndef C4G_PCAP_H
 #define C4G_PCAP_H
@@ -20,7 +16,7 @@
 #include <time.h>
 #include <pcap/pcap.h>
 
-/** Keep libpcap linked (strong reference); evaluates to libpcap's version string. */
+/** libpcap's version string (shown by the tools' --version). */
 #define C4G_PCAP_ANCHOR() pcap_lib_version()
 
 typedef struct c4g_pcap c4g_pcap_t;
