@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -346,6 +347,12 @@ static int open_socket(srv_t *S)
         return -2;
     }
     (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
+    {
+        struct timeval tv;
+        tv.tv_sec = 0;
+        tv.tv_usec = 1000; /* the blocking wait wakes every 1 ms for the loss check */
+        (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    }
     if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
         const int e = errno;
         fprintf(stderr, "c4g-server: bind %s:%u: %s%s\n", S->cfg.bind_addr, S->cfg.port, strerror(e),
@@ -460,6 +467,26 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
+/* No datagram for a while: lost-controller and idle checks. Exit code, or -1. */
+static int on_idle(srv_t *S, uint64_t start)
+{
+    uint32_t ev = 0U;
+    const uint64_t t = now_ns();
+    c4g_session_t *s = &S->session;
+    (void)c4g_session_poll(s, t, &ev);
+    if ((ev & C4G_EV_LOST) != 0U) {
+        srv_log(S, t, "controller lost: no packet for %.1f ms", (double)s->lost_timeout_ns * 1e-6);
+        if (!S->cfg.persist) {
+            return EXIT_LOST;
+        }
+    }
+    if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
+        (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
+        return EXIT_TIMEOUT;
+    }
+    return -1;
+}
+
 /* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
 static int serve(srv_t *S, int fd)
 {
@@ -483,27 +510,22 @@ static int serve(srv_t *S, int fd)
         if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
             return EXIT_TIMEOUT;
         }
-        if (!wait_readable(S, fd, 1000000ULL)) {
-            uint32_t ev = 0U;
-            const uint64_t t = now_ns();
-            (void)c4g_session_poll(s, t, &ev);
-            if ((ev & C4G_EV_LOST) != 0U) {
-                srv_log(S, t, "controller lost: no packet for %.1f ms",
-                        (double)s->lost_timeout_ns * 1e-6);
-                if (!S->cfg.persist) {
-                    return EXIT_LOST;
-                }
-            }
-            if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
-                (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
-                return EXIT_TIMEOUT;
-            }
-            continue;
+        if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
+            n = -1;
+            errno = EAGAIN;
+        } else {
+            /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
+            n = recvfrom(fd, in, sizeof in, MSG_TRUNC, (struct sockaddr *)&peer, &plen);
         }
-        n = recvfrom(fd, in, sizeof in, MSG_TRUNC, (struct sockaddr *)&peer, &plen);
         t_rx = now_ns();
         if (n < 0) {
-            continue; /* EINTR or a transient error */
+            if (errno == EAGAIN || errno == EWOULDBLOCK) {
+                const int code = on_idle(S, start);
+                if (code >= 0) {
+                    return code;
+                }
+            }
+            continue; /* timeout, EINTR or a transient error */
         }
         if (S->ctrl.sin_addr.s_addr != 0U && peer.sin_addr.s_addr != S->ctrl.sin_addr.s_addr) {
             S->stats.foreign++;
