@@ -36,4 +36,17 @@ mode_test 1 31017 0 --hold --duration 1 --gains 30,200,300 --moni "$T/m1.moni"
 ok "mode 1: the PC closed the loops (D1 target and D5 current in every mode-1 reply)" \
     eq "$(awk -F, '$6 == 1 && ($17 == "" || $21 == 0) { n++ } END { print n + 0 }' "$T/m1.moni")" 0
 mode_test 2 31018 0.5 --gains 30,200,300
+
+echo "per-arm behaviours (arm 1 mode 4 on axes 1-2, arm 2 mode 7, at the same time):"; F0=$FAILS
+SIM_ARGS="--axes 6,4"
+run_sim arms 31019 fixtures/server/sim_two_arms.scn --arm 1 --axes 1,2 --sine 0.25,0.5,0.5 \
+    --arm 2 --offset 0.1,0.3,0.2
+ok "two arms: sim scenario passed" eq "$SIMRC" 0
+ok "two arms: arm 1 axis 1 moved +0.25" near "$(simpos "$T/arms.sim.json" 1)" 0.25 0.02
+ok "two arms: arm 1 axis 3 (not selected) stayed" near "$(simpos "$T/arms.sim.json" 3)" 0 0.02
+ok "two arms: arm 2 axis 1 (OPEN index 7) offset +0.1" near "$(simpos "$T/arms.sim.json" 7)" 0.1 0.02
+ok "two arms: EXIT_FROM_OPEN sent on both arms" has "$T/arms.json" '"exits_sent":\[[1-9][0-9]*,[1-9]'
+ok "two arms: server ended by 504" eq "$SRC" 0
+[ "$FAILS" -eq "$F0" ] || dump arms
+SIM_ARGS=""
 finish
