@@ -49,4 +49,18 @@ ok "two arms: EXIT_FROM_OPEN sent on both arms" has "$T/arms.json" '"exits_sent"
 ok "two arms: server ended by 504" eq "$SRC" 0
 [ "$FAILS" -eq "$F0" ] || dump arms
 SIM_ARGS=""
+
+echo "trajectory file and 20 axes (controller stub, every reply checked byte by byte):"; F0=$FAILS
+build_stub
+run_stub traj 31009 --script 0:20,4:exit,0:20,504:1 -- --traj fixtures/server/traj_example.csv
+ok "traj: mode 4 ended with EXIT_FROM_OPEN" eq "$(kv "$T/traj.stub" ph1_exit)" 1
+ok "traj: axis 1 followed the file (peak offset 0.2 turns)" near "$(kv "$T/traj.stub" ph1_maxdev)" 0.2 0.005
+ok "traj: axis 1 back at the start (last row 0)" near "$(kv "$T/traj.stub" ph1_end)" 0 0.001
+ok "traj: every reply right" eq "$(kv "$T/traj.stub" bad)" 0
+run_stub ax20 31008 --arms 10,10 --period-ms 1 --script 0:20,4:exit,0:20,504:1 -- --sine 0.1,1,1
+ok "20 axes: mode 4 ended with EXIT_FROM_OPEN" eq "$(kv "$T/ax20.stub" ph1_exit)" 1
+ok "20 axes: every reply right (732-byte cyclic replies)" eq "$(kv "$T/ax20.stub" bad)" 0
+ok "20 axes: server saw 20 axes" eq "$(jv "$T/ax20.json" axes)" 20
+ok "20 axes: EXIT_FROM_OPEN on arm 2 too" has "$T/ax20.json" '"exits_sent":\[[1-9][0-9]*,[1-9]'
+[ "$FAILS" -eq "$F0" ] || { dump traj; dump ax20; }
 finish
