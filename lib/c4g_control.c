@@ -9,31 +9,61 @@
 
 /* ------------------------------------------------------------------ statuses */
 
-/* Text in the rows (no pointer table: .rodata). */
-static const char ctl_text[16][64] = {
-    "control layer",
-    "mode change not allowed from the arm's current mode",
-    "refused: the arm is driving on (501)",
-    "mode not offered by the controller",
-    "active freezing only from mode 0",
-    "refused: the arm's drives are off",
-    "a mode request is already pending on this arm",
-    "a field the mode requires was not filled (arm sent 505)",
-    "exit from open asked while in mode 0",
-    "the arm is already leaving its mode",
-    "refused: the arm is frozen",
-    "refused: a drive off / following error is latched",
-    "packet does not match the control context",
-    "kinematics: zero transmission ratio",
-    "invalid limits (or a zero current limit for modes 1/2)",
-    "the reply carried a forbidden mode: restored",
-};
-
+/* A switch over literals: no pointer table (.data.rel.ro under PIE), no char table (9.3). */
 const char *c4g_control_strerror(int status)
 {
     const char *text = "unknown control-layer status";
-    if ((status <= -100) && (status > C4G_ERR_CTL_LAST_)) {
-        text = ctl_text[-(status + 100)];
+    switch (status) {
+    case -100:
+        text = "control layer";
+        break;
+    case -101:
+        text = "mode change not allowed from the arm's current mode";
+        break;
+    case -102:
+        text = "refused: the arm is driving on (501)";
+        break;
+    case -103:
+        text = "mode not offered by the controller";
+        break;
+    case -104:
+        text = "active freezing only from mode 0";
+        break;
+    case -105:
+        text = "refused: the arm's drives are off";
+        break;
+    case -106:
+        text = "a mode request is already pending on this arm";
+        break;
+    case -107:
+        text = "a field the mode requires was not filled (arm sent 505)";
+        break;
+    case -108:
+        text = "exit from open asked while in mode 0";
+        break;
+    case -109:
+        text = "the arm is already leaving its mode";
+        break;
+    case -110:
+        text = "refused: the arm is frozen";
+        break;
+    case -111:
+        text = "refused: a drive off / following error is latched";
+        break;
+    case -112:
+        text = "packet does not match the control context";
+        break;
+    case -113:
+        text = "kinematics: zero transmission ratio";
+        break;
+    case -114:
+        text = "invalid limits (or a zero current limit for modes 1/2)";
+        break;
+    case -115:
+        text = "the reply carried a forbidden mode: restored";
+        break;
+    default:
+        break;
     }
     return text;
 }
@@ -153,7 +183,10 @@ c4g_status_t c4g_ctl_init(c4g_ctl_t *ctl, const c4g_init_t *init, const c4g_ctl_
             uint32_t i;
             for (a = 0U; a < C4G_ARMS; a++) {
                 (void)c4g_arm_sm_init(&ctl->arm[a], ctl->map.n_axes_arm[a]);
-                ctl->kin_ok[a] = (c4g_kin_from_init(init, a, &ctl->kin[a]) == C4G_OK) ? 1U : 0U;
+                ctl->kin_ok[a] = 0U;
+                if (c4g_kin_from_init(init, a, &ctl->kin[a]) == C4G_OK) {
+                    ctl->kin_ok[a] = 1U;
+                }
             }
             for (i = 0U; i < ctl->map.n_axes; i++) {
                 const uint32_t arm = ctl->map.arm_of[i];
@@ -290,12 +323,10 @@ static void arm_view(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint32_t
             } else {
                 /* same as the first axis */
             }
-            if ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m) == 0)) {
+            /* special > non-zero > 0: the first of the highest class wins */
+            if (((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m) == 0)) ||
+                ((m == C4G_MODE_0) && (am != C4G_MODE_0))) {
                 m = am;
-            } else if ((m == C4G_MODE_0) && (am != C4G_MODE_0)) {
-                m = am;
-            } else {
-                /* keep the higher-priority mode found first */
             }
             if (ctl_absf(rx->ax[i].target_vel) > ctl->cfg.moving_eps) {
                 *moving = 1U;
@@ -342,7 +373,9 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_ctl_report_t local;
-        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
+        c4g_ctl_report_t *r;
+        (void)memset(&local, 0, sizeof local);
+        r = (rep != NULL) ? rep : &local;
         (void)memset(r, 0, sizeof *r);
         st = check_rx(ctl, rx);
         if (st == C4G_OK) {
@@ -561,8 +594,13 @@ static c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_repo
         const uint32_t f = r->axis_flags[i];
         if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
             bad_arm[ctl->map.arm_of[i]] = 1U;
-            st = ((f & C4G_SF_MISSING) != 0U) ? ctl_st(C4G_ERR_CTL_MISSING_DATA)
-                 : ((st == C4G_OK) ? C4G_ERR_NONFINITE : st);
+            if ((f & C4G_SF_MISSING) != 0U) {
+                st = ctl_st(C4G_ERR_CTL_MISSING_DATA);
+            } else if (st == C4G_OK) {
+                st = C4G_ERR_NONFINITE;
+            } else {
+                /* keep the missing-data status */
+            }
             if (ctl->have_last != 0U) {
                 tx->ax[i] = ctl->last_safe[i];
             } else {
@@ -585,10 +623,9 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_ctl_report_t local;
-        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
-        if (rep == NULL) {
-            (void)memset(&local, 0, sizeof local);
-        }
+        c4g_ctl_report_t *r;
+        (void)memset(&local, 0, sizeof local);
+        r = (rep != NULL) ? rep : &local;
         st = C4G_ERR_STATE;
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
@@ -691,9 +728,10 @@ c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode)
         c4g_arm_sm_t *sm = &ctl->arm[arm];
         sm->req_mode = mode;
         sm->req_ticks = 0U;
-        sm->req_queued = ((sm->mode != C4G_MODE_0) || (sm->exit_req != 0U) || (sm->leaving != 0U))
-                             ? 1U
-                             : 0U;
+        sm->req_queued = 0U;
+        if ((sm->mode != C4G_MODE_0) || (sm->exit_req != 0U) || (sm->leaving != 0U)) {
+            sm->req_queued = 1U; /* goes out once mode 0 is reached */
+        }
     }
     return st;
 }

@@ -48,10 +48,11 @@ c4g_status_t c4g_kin_from_init(const c4g_init_t *init, uint32_t arm, c4g_kin_t *
 
 static int kin_finite(const c4g_kin_t *kin)
 {
-    int ok = ((ctl_f64_finite(kin->k54) != 0) && (ctl_f64_finite(kin->k64) != 0) &&
-              (ctl_f64_finite(kin->k65) != 0) && (ctl_f64_finite(kin->period_s) != 0))
-                 ? 1
-                 : 0;
+    int ok = 0;
+    if ((ctl_f64_finite(kin->k54) != 0) && (ctl_f64_finite(kin->k64) != 0) &&
+        (ctl_f64_finite(kin->k65) != 0) && (ctl_f64_finite(kin->period_s) != 0)) {
+        ok = 1;
+    }
     uint32_t i;
     for (i = 0U; i < C4G_AXES_PER_ARM; i++) {
         if ((ctl_f64_finite(kin->kr[i]) == 0) || (ctl_f64_finite(kin->cal[i]) == 0)) {
@@ -167,9 +168,11 @@ c4g_status_t c4g_kin_link_to_motor(const c4g_kin_t *kin, const double *q, uint32
 {
     c4g_status_t st = conv_check(kin, q, n, qm);
     if (st == C4G_OK) {
-        double x[C4G_AXES_PER_ARM] = {0.0};
-        double y[C4G_AXES_PER_ARM] = {0.0};
+        double x[C4G_AXES_PER_ARM];
+        double y[C4G_AXES_PER_ARM];
         uint32_t i;
+        (void)memset(x, 0, sizeof x);
+        (void)memset(y, 0, sizeof y);
         for (i = 0U; i < n; i++) {
             x[i] = q[i] / unit_scale(kin, i);
         }
@@ -190,9 +193,11 @@ c4g_status_t c4g_kin_motor_to_link(const c4g_kin_t *kin, const double *qm, uint3
 {
     c4g_status_t st = conv_check(kin, qm, n, q);
     if (st == C4G_OK) {
-        double x[C4G_AXES_PER_ARM] = {0.0};
-        double y[C4G_AXES_PER_ARM] = {0.0};
+        double x[C4G_AXES_PER_ARM];
+        double y[C4G_AXES_PER_ARM];
         uint32_t i;
+        (void)memset(x, 0, sizeof x);
+        (void)memset(y, 0, sizeof y);
         for (i = 0U; i < n; i++) {
             y[i] = qm[i] - kin->cal[i];
         }
@@ -213,9 +218,11 @@ c4g_status_t c4g_kin_link_vel_to_motor(const c4g_kin_t *kin, const double *v, ui
 {
     c4g_status_t st = conv_check(kin, v, n, vm);
     if (st == C4G_OK) {
-        double x[C4G_AXES_PER_ARM] = {0.0};
-        double y[C4G_AXES_PER_ARM] = {0.0};
+        double x[C4G_AXES_PER_ARM];
+        double y[C4G_AXES_PER_ARM];
         uint32_t i;
+        (void)memset(x, 0, sizeof x);
+        (void)memset(y, 0, sizeof y);
         /* per second -> per controller tick */
         for (i = 0U; i < n; i++) {
             x[i] = (v[i] * kin->period_s) / unit_scale(kin, i);
@@ -237,8 +244,9 @@ c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const double *vm, u
         st = C4G_ERR_PERIOD;
     }
     if (st == C4G_OK) {
-        double x[C4G_AXES_PER_ARM] = {0.0};
+        double x[C4G_AXES_PER_ARM];
         uint32_t i;
+        (void)memset(x, 0, sizeof x);
         kr_inverse(kin, vm, n, x);
         for (i = 0U; i < n; i++) {
             x[i] = (x[i] * unit_scale(kin, i)) / kin->period_s;

@@ -20,75 +20,49 @@
 
 /* FIELD-FACTS "What the PC must fill per mode"; stand-by modes of 1 and 2 keep the loop
  * data (the PC holds the robot while SMP+ switches back, 24.2.3-4); 17/170 carry null data. */
-/* Strings live inside the rows (no pointer table: .rodata, no relocations). */
 typedef struct mode_row {
     int32_t code;
-    char name[24];
-    char description[72];
     uint32_t flags;
     uint32_t pc_fields;
     int32_t operating;
 } mode_row_t;
 
-static const mode_row_t mode_table[N_MODES] = {
-    {C4G_MODE_0, "MODE_0", "SMP+ generates the trajectory and closes the loops; PC data ignored",
-     AV, 0U, C4G_MODE_0},
-    {C4G_MODE_0_DEBUG, "MODE_0_DEBUG", "mode 0': debug echo, the PC copies D1..D5 back",
-     AV | REQ, F1 | F2, C4G_MODE_0_DEBUG},
-    {C4G_MODE_1, "MODE_1", "PC generates the trajectory and closes the loops (currents)",
-     AV | TRJ | LOOP | REQ, F1 | F2 | F4 | F5, C4G_MODE_1},
-    {C4G_MODE_1_STANDBY, "MODE_1_STANDBY", "mode 1 exit: PC holds the robot while SMP+ switches back",
-     AV | TRJ | LOOP | SBY, F1 | F2 | F4 | F5, C4G_MODE_1},
-    {C4G_MODE_2, "MODE_2", "SMP+ generates the trajectory, the PC closes the loops (currents)",
-     AV | LOOP | REQ, F4 | F5, C4G_MODE_2},
-    {C4G_MODE_2_STANDBY, "MODE_2_STANDBY", "mode 2 exit (set by PDL2): PC loops while SMP+ switches back",
-     AV | LOOP | SBY, F4 | F5, C4G_MODE_2},
-    {C4G_MODE_3, "MODE_3", "SMP+ velocity target, PC velocity loop (not available)",
-     LOOP, F5, C4G_MODE_3},
-    {C4G_MODE_4, "MODE_4", "PC generates absolute position targets, SMP+ closes the loops",
-     AV | TRJ | REQ, F1 | F2, C4G_MODE_4},
-    {C4G_MODE_4_STANDBY, "MODE_4_STANDBY", "mode 4 stand-by", AV | SBY, 0U, C4G_MODE_4},
-    {C4G_MODE_5, "MODE_5", "PC generates relative position targets, SMP+ closes the loops",
-     AV | TRJ | REQ, F1 | F2, C4G_MODE_5},
-    {C4G_MODE_5_STANDBY, "MODE_5_STANDBY", "mode 5 stand-by", AV | SBY, 0U, C4G_MODE_5},
-    {C4G_MODE_6, "MODE_6", "PC generates velocity targets (not available)", TRJ, F2, C4G_MODE_6},
-    {C4G_MODE_7, "MODE_7", "PC adds a position delta to the SMP+ trajectory",
-     AV | TRJ | REQ, F1, C4G_MODE_7},
-    {C4G_MODE_7_STANDBY, "MODE_7_STANDBY", "mode 7 exit: SMP+ ends its motion, PC sends a null delta",
-     AV | SBY, 0U, C4G_MODE_7},
-    {C4G_MODE_7_STANDBY_EXIT, "MODE_7_STANDBY_EXIT", "mode 7 exit: null references, then mode 0",
-     AV | SBY, 0U, C4G_MODE_7},
-    {C4G_MODE_8, "MODE_8", "PC adds a velocity contribution to the SMP+ trajectory",
-     AV | REQ, F4, C4G_MODE_8},
-    {C4G_MODE_9, "MODE_9", "PC adds a current contribution to the SMP+ control",
-     AV | REQ, F5, C4G_MODE_9},
-    {C4G_MODE_101, "MODE_101", "accelerometer measure from the PC (not available)", 0U, F3,
-     C4G_MODE_101},
-    {C4G_MODE_102, "MODE_102", "vision measure from the PC (not available)", 0U, F3, C4G_MODE_102},
-    {C4G_MODE_103, "MODE_103", "force measure from the PC (not available)", 0U, F3, C4G_MODE_103},
-    {C4G_MODE_201, "MODE_201", "PC cartesian position target (not available)", TRJ, 0U,
-     C4G_MODE_201},
-    {C4G_MODE_202, "MODE_202", "PC cartesian position delta (not available)", TRJ, 0U,
-     C4G_MODE_202},
-    {C4G_MODE_FREEZING_A, "FREEZING_A", "active freezing: SMP+ stops checking the PC (from mode 0)",
-     AV | SPC, 0U, C4G_MODE_FREEZING_A},
-    {C4G_MODE_DRIVING_ON, "DRIVING_ON", "drive on in progress: mode requests are ignored",
-     AV | SPC, 0U, C4G_MODE_DRIVING_ON},
-    {C4G_MODE_FREEZING_P_IN, "FREEZING_P_IN", "passive freezing: SMP+ stops sending",
-     AV | SPC, 0U, C4G_MODE_FREEZING_P_IN},
-    {C4G_MODE_FREEZING_P_OUT, "FREEZING_P_OUT", "passive freezing over", AV | SPC, 0U,
-     C4G_MODE_FREEZING_P_OUT},
-    {C4G_MODE_EXIT_OPEN, "EXIT_OPEN", "end of communication", AV | SPC, 0U, C4G_MODE_EXIT_OPEN},
-    {C4G_MODE_DRIVE_OFF, "DRIVE_OFF", "PC request: drive off", AV | SPC | PCR, 0U,
-     C4G_MODE_DRIVE_OFF},
-    {C4G_MODE_SVR_RESTART, "SVR_RESTART", "client restart: a new initialization packet follows",
-     AV | SPC, 0U, C4G_MODE_SVR_RESTART},
-    {C4G_MODE_FOLLOW_ERROR, "FOLLOW_ERROR", "PC request: following error", AV | SPC | PCR, 0U,
-     C4G_MODE_FOLLOW_ERROR},
-};
+
 
 static const mode_row_t *find_mode(int32_t mode)
 {
+    static const mode_row_t mode_table[N_MODES] = {
+        {C4G_MODE_0, AV, 0U, C4G_MODE_0},
+        {C4G_MODE_0_DEBUG, AV | REQ, F1 | F2, C4G_MODE_0_DEBUG},
+        {C4G_MODE_1, AV | TRJ | LOOP | REQ, F1 | F2 | F4 | F5, C4G_MODE_1},
+        {C4G_MODE_1_STANDBY, AV | TRJ | LOOP | SBY, F1 | F2 | F4 | F5, C4G_MODE_1},
+        {C4G_MODE_2, AV | LOOP | REQ, F4 | F5, C4G_MODE_2},
+        {C4G_MODE_2_STANDBY, AV | LOOP | SBY, F4 | F5, C4G_MODE_2},
+        {C4G_MODE_3, LOOP, F5, C4G_MODE_3},
+        {C4G_MODE_4, AV | TRJ | REQ, F1 | F2, C4G_MODE_4},
+        {C4G_MODE_4_STANDBY, AV | SBY, 0U, C4G_MODE_4},
+        {C4G_MODE_5, AV | TRJ | REQ, F1 | F2, C4G_MODE_5},
+        {C4G_MODE_5_STANDBY, AV | SBY, 0U, C4G_MODE_5},
+        {C4G_MODE_6, TRJ, F2, C4G_MODE_6},
+        {C4G_MODE_7, AV | TRJ | REQ, F1, C4G_MODE_7},
+        {C4G_MODE_7_STANDBY, AV | SBY, 0U, C4G_MODE_7},
+        {C4G_MODE_7_STANDBY_EXIT, AV | SBY, 0U, C4G_MODE_7},
+        {C4G_MODE_8, AV | REQ, F4, C4G_MODE_8},
+        {C4G_MODE_9, AV | REQ, F5, C4G_MODE_9},
+        {C4G_MODE_101, 0U, F3, C4G_MODE_101},
+        {C4G_MODE_102, 0U, F3, C4G_MODE_102},
+        {C4G_MODE_103, 0U, F3, C4G_MODE_103},
+        {C4G_MODE_201, TRJ, 0U, C4G_MODE_201},
+        {C4G_MODE_202, TRJ, 0U, C4G_MODE_202},
+        {C4G_MODE_FREEZING_A, AV | SPC, 0U, C4G_MODE_FREEZING_A},
+        {C4G_MODE_DRIVING_ON, AV | SPC, 0U, C4G_MODE_DRIVING_ON},
+        {C4G_MODE_FREEZING_P_IN, AV | SPC, 0U, C4G_MODE_FREEZING_P_IN},
+        {C4G_MODE_FREEZING_P_OUT, AV | SPC, 0U, C4G_MODE_FREEZING_P_OUT},
+        {C4G_MODE_EXIT_OPEN, AV | SPC, 0U, C4G_MODE_EXIT_OPEN},
+        {C4G_MODE_DRIVE_OFF, AV | SPC | PCR, 0U, C4G_MODE_DRIVE_OFF},
+        {C4G_MODE_SVR_RESTART, AV | SPC, 0U, C4G_MODE_SVR_RESTART},
+        {C4G_MODE_FOLLOW_ERROR, AV | SPC | PCR, 0U, C4G_MODE_FOLLOW_ERROR},
+    };
     const mode_row_t *row = NULL;
     uint32_t i;
     for (i = 0U; (i < N_MODES) && (row == NULL); i++) {
@@ -107,8 +81,8 @@ c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out)
         st = C4G_ERR_MODE;
         if (row != NULL) {
             out->code = row->code;
-            out->name = row->name;
-            out->description = row->description;
+            out->name = c4g_mode_name(mode);
+            out->description = c4g_mode_description(mode);
             out->flags = row->flags;
             out->pc_fields = row->pc_fields;
             out->operating = row->operating;
@@ -129,16 +103,146 @@ static int has_flag(int32_t mode, uint32_t flag)
     return ((mode_flags(mode) & flag) != 0U) ? 1 : 0;
 }
 
+/* Switches over string literals: a pointer table would land in .data.rel.ro under PIE,
+ * a char table is a partial initialization (MISRA 9.3). */
 const char *c4g_mode_name(int32_t mode)
 {
-    const mode_row_t *row = find_mode(mode);
-    return (row != NULL) ? row->name : "UNKNOWN";
+    const char *t;
+    switch (mode) {
+    case C4G_MODE_0: t = "MODE_0"; break;
+    case C4G_MODE_0_DEBUG: t = "MODE_0_DEBUG"; break;
+    case C4G_MODE_1: t = "MODE_1"; break;
+    case C4G_MODE_1_STANDBY: t = "MODE_1_STANDBY"; break;
+    case C4G_MODE_2: t = "MODE_2"; break;
+    case C4G_MODE_2_STANDBY: t = "MODE_2_STANDBY"; break;
+    case C4G_MODE_3: t = "MODE_3"; break;
+    case C4G_MODE_4: t = "MODE_4"; break;
+    case C4G_MODE_4_STANDBY: t = "MODE_4_STANDBY"; break;
+    case C4G_MODE_5: t = "MODE_5"; break;
+    case C4G_MODE_5_STANDBY: t = "MODE_5_STANDBY"; break;
+    case C4G_MODE_6: t = "MODE_6"; break;
+    case C4G_MODE_7: t = "MODE_7"; break;
+    case C4G_MODE_7_STANDBY: t = "MODE_7_STANDBY"; break;
+    case C4G_MODE_7_STANDBY_EXIT: t = "MODE_7_STANDBY_EXIT"; break;
+    case C4G_MODE_8: t = "MODE_8"; break;
+    case C4G_MODE_9: t = "MODE_9"; break;
+    case C4G_MODE_101: t = "MODE_101"; break;
+    case C4G_MODE_102: t = "MODE_102"; break;
+    case C4G_MODE_103: t = "MODE_103"; break;
+    case C4G_MODE_201: t = "MODE_201"; break;
+    case C4G_MODE_202: t = "MODE_202"; break;
+    case C4G_MODE_FREEZING_A: t = "FREEZING_A"; break;
+    case C4G_MODE_DRIVING_ON: t = "DRIVING_ON"; break;
+    case C4G_MODE_FREEZING_P_IN: t = "FREEZING_P_IN"; break;
+    case C4G_MODE_FREEZING_P_OUT: t = "FREEZING_P_OUT"; break;
+    case C4G_MODE_EXIT_OPEN: t = "EXIT_OPEN"; break;
+    case C4G_MODE_DRIVE_OFF: t = "DRIVE_OFF"; break;
+    case C4G_MODE_SVR_RESTART: t = "SVR_RESTART"; break;
+    case C4G_MODE_FOLLOW_ERROR: t = "FOLLOW_ERROR"; break;
+    default: t = "UNKNOWN"; break;
+    }
+    return t;
 }
 
 const char *c4g_mode_description(int32_t mode)
 {
-    const mode_row_t *row = find_mode(mode);
-    return (row != NULL) ? row->description : "unknown mode";
+    const char *t;
+    switch (mode) {
+    case C4G_MODE_0:
+        t = "SMP+ generates the trajectory and closes the loops; PC data ignored";
+        break;
+    case C4G_MODE_0_DEBUG:
+        t = "mode 0': debug echo, the PC copies D1..D5 back";
+        break;
+    case C4G_MODE_1:
+        t = "PC generates the trajectory and closes the loops (currents)";
+        break;
+    case C4G_MODE_1_STANDBY:
+        t = "mode 1 exit: PC holds the robot while SMP+ switches back";
+        break;
+    case C4G_MODE_2:
+        t = "SMP+ generates the trajectory, the PC closes the loops (currents)";
+        break;
+    case C4G_MODE_2_STANDBY:
+        t = "mode 2 exit (set by PDL2): PC loops while SMP+ switches back";
+        break;
+    case C4G_MODE_3:
+        t = "SMP+ velocity target, PC velocity loop (not available)";
+        break;
+    case C4G_MODE_4:
+        t = "PC generates absolute position targets, SMP+ closes the loops";
+        break;
+    case C4G_MODE_4_STANDBY:
+        t = "mode 4 stand-by";
+        break;
+    case C4G_MODE_5:
+        t = "PC generates relative position targets, SMP+ closes the loops";
+        break;
+    case C4G_MODE_5_STANDBY:
+        t = "mode 5 stand-by";
+        break;
+    case C4G_MODE_6:
+        t = "PC generates velocity targets (not available)";
+        break;
+    case C4G_MODE_7:
+        t = "PC adds a position delta to the SMP+ trajectory";
+        break;
+    case C4G_MODE_7_STANDBY:
+        t = "mode 7 exit: SMP+ ends its motion, PC sends a null delta";
+        break;
+    case C4G_MODE_7_STANDBY_EXIT:
+        t = "mode 7 exit: null references, then mode 0";
+        break;
+    case C4G_MODE_8:
+        t = "PC adds a velocity contribution to the SMP+ trajectory";
+        break;
+    case C4G_MODE_9:
+        t = "PC adds a current contribution to the SMP+ control";
+        break;
+    case C4G_MODE_101:
+        t = "accelerometer measure from the PC (not available)";
+        break;
+    case C4G_MODE_102:
+        t = "vision measure from the PC (not available)";
+        break;
+    case C4G_MODE_103:
+        t = "force measure from the PC (not available)";
+        break;
+    case C4G_MODE_201:
+        t = "PC cartesian position target (not available)";
+        break;
+    case C4G_MODE_202:
+        t = "PC cartesian position delta (not available)";
+        break;
+    case C4G_MODE_FREEZING_A:
+        t = "active freezing: SMP+ stops checking the PC (from mode 0)";
+        break;
+    case C4G_MODE_DRIVING_ON:
+        t = "drive on in progress: mode requests are ignored";
+        break;
+    case C4G_MODE_FREEZING_P_IN:
+        t = "passive freezing: SMP+ stops sending";
+        break;
+    case C4G_MODE_FREEZING_P_OUT:
+        t = "passive freezing over";
+        break;
+    case C4G_MODE_EXIT_OPEN:
+        t = "end of communication";
+        break;
+    case C4G_MODE_DRIVE_OFF:
+        t = "PC request: drive off";
+        break;
+    case C4G_MODE_SVR_RESTART:
+        t = "client restart: a new initialization packet follows";
+        break;
+    case C4G_MODE_FOLLOW_ERROR:
+        t = "PC request: following error";
+        break;
+    default:
+        t = "unknown mode";
+        break;
+    }
+    return t;
 }
 
 int c4g_mode_is_available(int32_t mode)
@@ -192,12 +296,9 @@ static int standby_step(int32_t from, int32_t to)
 {
     int ok = 0;
     if (c4g_mode_is_standby(to) != 0) {
-        if (c4g_mode_operating(to) == from) {
+        if ((c4g_mode_operating(to) == from) ||
+            ((from == C4G_MODE_7_STANDBY) && (to == C4G_MODE_7_STANDBY_EXIT))) {
             ok = 1;
-        } else if ((from == C4G_MODE_7_STANDBY) && (to == C4G_MODE_7_STANDBY_EXIT)) {
-            ok = 1;
-        } else {
-            ok = 0;
         }
     }
     return ok;
@@ -218,7 +319,10 @@ static int to_special(int32_t from, int32_t to)
         ok = idle_mode(from);
         break;
     case C4G_MODE_FREEZING_P_OUT:
-        ok = (from == C4G_MODE_FREEZING_P_IN) ? 1 : 0;
+        ok = 0;
+        if (from == C4G_MODE_FREEZING_P_IN) {
+            ok = 1;
+        }
         break;
     default: /* 502, 504, 506 any time; 505 / 508 are echoes of PC requests */
         ok = 1;
@@ -416,7 +520,10 @@ static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint
     }
     if (sm->phase == C4G_MPH_START) {
         const int32_t op = sm->op_mode;
-        const int counted = ((op == C4G_MODE_1) || (op == C4G_MODE_2)) ? 1 : 0;
+        int counted = 0;
+        if ((op == C4G_MODE_1) || (op == C4G_MODE_2)) {
+            counted = 1;
+        }
         /* Modes 1 and 2: SMP+ ramps its switching counter for start_ns (24.2.3-4). */
         if ((counted == 0) || ((now_ns - sm->phase_since_ns) >= cfg->start_ns)) {
             sm->phase = C4G_MPH_CRUISE;
@@ -461,27 +568,39 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, in
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((sm != NULL) && (cfg != NULL) && (events != NULL)) {
-        uint32_t ev = 0U;
-        const uint32_t drive_on = (drive_byte == (uint8_t)C4G_STS_MOVING) ? 1U : 0U;
+        uint32_t drive_on = 0U;
+        if (drive_byte == (uint8_t)C4G_STS_MOVING) {
+            drive_on = 1U;
+        }
         *events = 0U;
         st = C4G_ERR_MODE;
         if (c4g_mode_is_known(mode) != 0) {
+            uint32_t ev = 0U;
             if ((sm->started != 0U) && (drive_on != sm->drive_on)) {
                 ev |= (drive_on != 0U) ? C4G_CEV_DRIVE_ON : C4G_CEV_DRIVE_OFF;
             }
             sm->drive_on = drive_on;
-            sm->moving = (moving != 0U) ? 1U : 0U;
+            sm->moving = 0U;
+            if (moving != 0U) {
+                sm->moving = 1U;
+            }
             if ((mixed != 0U) && (sm->mixed == 0U)) {
                 ev |= C4G_CEV_MIXED;
             }
-            sm->mixed = (mixed != 0U) ? 1U : 0U;
+            sm->mixed = 0U;
+            if (mixed != 0U) {
+                sm->mixed = 1U;
+            }
             if ((sm->started == 0U) || (mode != sm->mode)) {
                 ev |= enter_mode(sm, sm->mode, mode, now_ns);
             } else {
                 ev |= stay_in_mode(sm, cfg, now_ns);
             }
             sm->started = 1U;
-            sm->driving_on = (mode == C4G_MODE_DRIVING_ON) ? 1U : 0U;
+            sm->driving_on = 0U;
+            if (mode == C4G_MODE_DRIVING_ON) {
+                sm->driving_on = 1U;
+            }
             /* A 505 / 508 latch ends once it went out and the drives are off (15.5, 15.7). */
             if ((sm->latch != 0U) && (sm->latch_sent != 0U) && (drive_on == 0U)) {
                 sm->latch = 0U;
@@ -524,26 +643,36 @@ static c4g_status_t check_mode_req(const c4g_arm_sm_t *sm, int32_t mode)
     return st;
 }
 
-static c4g_status_t check_exit(const c4g_arm_sm_t *sm)
+/* May the arm's mode @p m be left with EXIT_FROM_OPEN? */
+static c4g_status_t exit_from_mode(int32_t m)
 {
     c4g_status_t st = C4G_OK;
-    const int32_t m = sm->mode;
-    if (sm->frozen == C4G_MODE_FREEZING_A) {
-        st = C4G_OK; /* the way out of an active freezing (15.1) */
-    } else if (sm->driving_on != 0U) {
-        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
-    } else if (sm->frozen != 0) {
-        st = ctl_st(C4G_ERR_CTL_FROZEN);
-    } else if ((sm->exit_req != 0U) || (sm->leaving != 0U)) {
-        st = C4G_OK; /* idempotent */
-    } else if (idle_mode(m) != 0) {
+    if (idle_mode(m) != 0) {
         st = ctl_st(C4G_ERR_CTL_NOT_IN_OPEN);
     } else if (c4g_mode_is_standby(m) != 0) {
         st = ctl_st(C4G_ERR_CTL_LEAVING);
     } else if ((m == C4G_MODE_2) || (c4g_mode_is_special(m) != 0)) {
         st = ctl_st(C4G_ERR_CTL_FORBIDDEN); /* mode 2 ends by PDL2 setting 12 (24.2.4) */
     } else {
-        st = C4G_OK;
+        /* an operating mode the PC may end */
+    }
+    return st;
+}
+
+static c4g_status_t check_exit(const c4g_arm_sm_t *sm)
+{
+    c4g_status_t st = C4G_OK;
+    /* An active freezing is always left with an exit (15.1); a repeated exit is a no-op. */
+    if (sm->frozen != C4G_MODE_FREEZING_A) {
+        if (sm->driving_on != 0U) {
+            st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+        } else if (sm->frozen != 0) {
+            st = ctl_st(C4G_ERR_CTL_FROZEN);
+        } else if ((sm->exit_req == 0U) && (sm->leaving == 0U)) {
+            st = exit_from_mode(sm->mode);
+        } else {
+            /* already sent: idempotent */
+        }
     }
     return st;
 }
@@ -551,21 +680,21 @@ static c4g_status_t check_exit(const c4g_arm_sm_t *sm)
 static c4g_status_t check_freeze(const c4g_arm_sm_t *sm)
 {
     c4g_status_t st = C4G_OK;
-    if (sm->frozen == C4G_MODE_FREEZING_A) {
-        st = C4G_OK; /* idempotent */
-    } else if (sm->driving_on != 0U) {
-        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
-    } else if (sm->latch != 0U) {
-        st = ctl_st(C4G_ERR_CTL_LATCHED);
-    } else if (sm->frozen != 0) {
-        st = ctl_st(C4G_ERR_CTL_FROZEN);
-    } else if (sm->req_mode != 0) {
-        st = ctl_st(C4G_ERR_CTL_PENDING);
-    } else if ((sm->mode != C4G_MODE_0) || (sm->mixed != 0U) || (sm->exit_req != 0U) ||
-               (sm->leaving != 0U)) {
-        st = ctl_st(C4G_ERR_CTL_NOT_MODE0); /* 15.1: only from mode 0 */
-    } else {
-        st = C4G_OK;
+    if (sm->frozen != C4G_MODE_FREEZING_A) { /* already frozen: idempotent */
+        if (sm->driving_on != 0U) {
+            st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+        } else if (sm->latch != 0U) {
+            st = ctl_st(C4G_ERR_CTL_LATCHED);
+        } else if (sm->frozen != 0) {
+            st = ctl_st(C4G_ERR_CTL_FROZEN);
+        } else if (sm->req_mode != 0) {
+            st = ctl_st(C4G_ERR_CTL_PENDING);
+        } else if ((sm->mode != C4G_MODE_0) || (sm->mixed != 0U) || (sm->exit_req != 0U) ||
+                   (sm->leaving != 0U)) {
+            st = ctl_st(C4G_ERR_CTL_NOT_MODE0); /* 15.1: only from mode 0 */
+        } else {
+            /* from mode 0: allowed */
+        }
     }
     return st;
 }

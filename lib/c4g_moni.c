@@ -7,7 +7,6 @@
 
 #define N_TYPES 6U
 #define N_VALUES 5U
-#define FMT_TMP 48U
 #define FIXED_LIMIT 1.0e9
 #define SCALE 1000000.0
 #define SCALE_U 1000000U
@@ -25,10 +24,7 @@ static const src_t moni_src[N_TYPES][N_VALUES] = {
     {SMP_D1, SMP_D5, SMP_E1, SMP_E2, PC_D4},  /* 24: mode 8 */
 };
 
-static const char src_name[12][8] = {
-    "pc_d1", "pc_d2", "pc_d3", "pc_d4", "pc_d5", "smp_d1", "smp_d2", "smp_d3", "smp_d4",
-    "smp_d5", "smp_e1", "smp_e2",
-};
+
 
 static float src_value(src_t s, const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx)
 {
@@ -49,6 +45,27 @@ static float src_value(src_t s, const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *
     default: v = rx->ext[1]; break;
     }
     return v;
+}
+
+static const char *src_name(src_t s)
+{
+    const char *t;
+    switch (s) {
+    case PC_D1: t = "pc_d1"; break;
+    case PC_D2: t = "pc_d2"; break;
+    case PC_D3: t = "pc_d3"; break;
+    case PC_D4: t = "pc_d4"; break;
+    case PC_D5: t = "pc_d5"; break;
+    case SMP_D1: t = "smp_d1"; break;
+    case SMP_D2: t = "smp_d2"; break;
+    case SMP_D3: t = "smp_d3"; break;
+    case SMP_D4: t = "smp_d4"; break;
+    case SMP_D5: t = "smp_d5"; break;
+    case SMP_E1: t = "smp_e1"; break;
+    case SMP_E2:
+    default: t = "smp_e2"; break;
+    }
+    return t;
 }
 
 static int type_ok(uint32_t type)
@@ -113,11 +130,12 @@ static void put_str(out_buf_t *o, const char *s)
 /* Decimal digits of @p v, at least @p min_digits (zero padded). */
 static void put_u64(out_buf_t *o, uint64_t v, uint32_t min_digits)
 {
+    static const char digits[] = "0123456789";
     char d[24];
     uint32_t n = 0U;
     uint64_t x = v;
     do {
-        d[n] = (char)('0' + (int)(x % 10U));
+        d[n] = digits[x % 10U];
         x /= 10U;
         n++;
     } while ((x != 0U) && (n < 20U));
@@ -144,7 +162,8 @@ static void put_i64(out_buf_t *o, int64_t v)
 /* |d| < 1e9: fixed point, C4G_MONI_DECIMALS decimals, round half away from zero. */
 static void put_fixed(out_buf_t *o, double d, int neg)
 {
-    const uint64_t u = (uint64_t)((d * SCALE) + 0.5);
+    const double r = (d * SCALE) + 0.5;
+    const uint64_t u = (uint64_t)r;
     if ((neg != 0) && (u != 0U)) {
         put_char(o, '-');
     }
@@ -157,17 +176,20 @@ static void put_fixed(out_buf_t *o, double d, int neg)
 static void put_sci(out_buf_t *o, double d, int neg)
 {
     double m = d;
+    double r;
     uint32_t e = 0U;
+    uint32_t k;
     uint64_t u;
-    while ((m >= 10.0) && (e < 60U)) {
-        m /= 10.0;
-        e++;
+    for (k = 0U; k < 40U; k++) { /* float: at most 10^38 */
+        if (m >= 10.0) {
+            m /= 10.0;
+            e++;
+        }
     }
-    u = (uint64_t)((m * SCALE) + 0.5);
-    if (u >= (10U * SCALE_U)) {
-        u /= 10U; /* rounding carried into a new digit */
-        e++;
-    }
+    /* No carry into a new digit is possible: adjacent floats differ by at least 2^-24
+     * relative, more than the 5e-8 rounding window just below a power of ten. */
+    r = (m * SCALE) + 0.5;
+    u = (uint64_t)r;
     if (neg != 0) {
         put_char(o, '-');
     }
@@ -181,7 +203,10 @@ static void put_sci(out_buf_t *o, double d, int neg)
 static void put_float(out_buf_t *o, float v)
 {
     const uint32_t bits = c4g_f32_bits(v);
-    const int neg = ((bits & 0x80000000U) != 0U) ? 1 : 0;
+    int neg = 0;
+    if ((bits & 0x80000000U) != 0U) {
+        neg = 1;
+    }
     if (c4g_f32_finite(v) == 0) {
         if ((bits & 0x007FFFFFU) != 0U) {
             put_str(o, "nan");
@@ -241,7 +266,7 @@ c4g_status_t c4g_moni_csv_header(uint32_t type, char *buf, size_t cap, size_t *l
             put_str(&o, "type,num,axis,mode");
             for (k = 0U; k < N_VALUES; k++) {
                 put_char(&o, ',');
-                put_str(&o, src_name[moni_src[type - C4G_MONI_FIRST][k]]);
+                put_str(&o, src_name(moni_src[type - C4G_MONI_FIRST][k]));
             }
             put_char(&o, '\n');
             st = finish_out(&o, len);

@@ -33,14 +33,13 @@ uint32_t c4g_sf_follow_error(float pos_ref, float pos_mis, float threshold, floa
     float e = 0.0F;
     if ((c4g_f32_finite(pos_ref) != 0) && (c4g_f32_finite(pos_mis) != 0)) {
         e = ctl_absf(pos_ref - pos_mis);
-        if (c4g_f32_finite(e) == 0) {
-            r = C4G_SF_FOLLOW_ERROR; /* overflow of the difference: certainly too far */
-        } else if (limit_ok(threshold) == 0) {
-            r = C4G_SF_BAD_LIMIT;
-        } else if ((threshold > 0.0F) && (e > threshold)) {
+        r = 0U; /* threshold 0: no threshold from the controller (FIELD-FACTS) */
+        /* an overflowing difference is certainly too far */
+        if ((c4g_f32_finite(e) == 0) || ((threshold > 0.0F) && (e > threshold))) {
             r = C4G_SF_FOLLOW_ERROR;
-        } else {
-            r = 0U; /* threshold 0: no threshold from the controller (FIELD-FACTS) */
+        }
+        if ((c4g_f32_finite(e) != 0) && (limit_ok(threshold) == 0)) {
+            r = C4G_SF_BAD_LIMIT;
         }
     }
     if (err != NULL) {

@@ -21,7 +21,9 @@ c4g_status_t c4g_scs_linear(uint64_t t_ns, uint64_t t1_ns, uint64_t t2_ns, c4g_s
                 chi = 1.0F;
             } else {
                 /* Ratio of two ns spans; float keeps 24 bits, ample for a gain. */
-                chi = (float)(t_ns - t1_ns) / (float)(t2_ns - t1_ns);
+                const uint64_t num = t_ns - t1_ns;
+                const uint64_t den = t2_ns - t1_ns;
+                chi = (float)num / (float)den;
                 chi = (chi > 1.0F) ? 1.0F : chi;
             }
             out->chi = chi;

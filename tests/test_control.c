@@ -307,6 +307,33 @@ static void test_nonfinite_holds(void **state)
     assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
 }
 
+static void test_mixed_arm(void **state)
+{
+    c4g_ctl_t ctl;
+    c4g_init_t in = fig();
+    c4g_ctrl_packet_t rx;
+    c4g_pc_packet_t tx;
+    c4g_ctl_report_t rep;
+    (void)state;
+    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    mk_rx(&rx, 1, 6, 0, 5);
+    rx.ax[1].mode = 4;
+    rx.ax[3].mode = 4;
+    assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(ctl.arm[0].mode, 4);   /* an open mode wins over 0 */
+    assert_int_equal(ctl.arm[0].mixed, 1);
+    assert_true(rep.events & C4G_CEV_MIXED);
+    assert_int_equal(tx.ax[0].mode, 0);     /* each axis echoes its own mode */
+    assert_int_equal(tx.ax[1].mode, 4);
+    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_ERR_CTL_FORBIDDEN);
+    mk_rx(&rx, 2, 6, 0, 5);
+    rx.ax[1].mode = 4;
+    rx.ax[2].mode = 502;                    /* a special mode wins over everything */
+    rx.ax[4].mode = 503;
+    assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    assert_int_equal(ctl.arm[0].mode, 502);
+}
+
 static void test_mode_restored(void **state)
 {
     c4g_ctl_t ctl;
@@ -779,6 +806,7 @@ int main(void)
         cmocka_unit_test(test_neutral_and_copy_back),
         cmocka_unit_test(test_required_fields),
         cmocka_unit_test(test_nonfinite_holds),
+        cmocka_unit_test(test_mixed_arm),
         cmocka_unit_test(test_mode_restored),
         cmocka_unit_test(test_request_mode_flow),
         cmocka_unit_test(test_request_current_limits),
