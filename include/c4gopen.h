@@ -309,7 +309,10 @@ typedef enum c4g_rx_kind {
 #define C4G_EV_CYCLIC_START 0x0002U  /**< first cyclic packet of the session */
 #define C4G_EV_RESTART 0x0004U       /**< 506 seen: a new init packet will follow */
 #define C4G_EV_END 0x0008U           /**< 504 seen: end of communication */
-#define C4G_EV_LOST 0x0010U          /**< controller silent longer than the loss timeout */
+#define C4G_EV_LOST 0x0010U          /**< controller silent longer than the loss timeout; set by
+                                          c4g_session_poll, or by c4g_session_rx together with
+                                          the packet that ended the silence (kind CYCLIC: the
+                                          controller is back; SYNC: it restarted cold) */
 #define C4G_EV_GAP 0x0020U           /**< NUM skipped one or more packets */
 #define C4G_EV_DUPLICATE 0x0040U     /**< same NUM as the previous packet */
 #define C4G_EV_OUT_OF_ORDER 0x0080U  /**< NUM older than the previous packet */
@@ -386,6 +389,7 @@ typedef struct c4g_session {
     uint32_t post_sync_left;     /**< post-init sync packets still expected */
     uint32_t restart_pending;    /**< 506 seen, init packet expected without sync */
     uint32_t frozen;             /**< passive freezing (502 .. 503) */
+    uint32_t frozen_active;      /**< active freezing: PC sent 500, until its EXIT_FROM_OPEN */
     uint32_t drives;             /**< bit a set: arm a reports C4G_STS_MOVING */
     uint64_t last_rx_ns;         /**< time of the newest accepted datagram */
     uint64_t last_cyclic_ns;     /**< time of the previous cyclic packet */
@@ -430,7 +434,9 @@ c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);
 
 /**
  * Check for a lost controller when no datagram arrived. Sets @p events
- * (C4G_EV_LOST once) and moves the phase to LOST. Passive freezing suspends it.
+ * (C4G_EV_LOST once) and moves the phase to LOST. Passive freezing (502 .. 503 from the
+ * controller) and active freezing (a reply of ours carrying 500, until a reply of ours
+ * carries EXIT_FROM_OPEN) suspend it: manual 15.1 and 15.3.
  */
 c4g_status_t c4g_session_poll(c4g_session_t *s, uint64_t now_ns, uint32_t *events);
 

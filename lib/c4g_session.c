@@ -129,6 +129,7 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         s->sync_seen = 0U;
         s->restart_pending = 0U;
         s->frozen = 0U;
+        s->frozen_active = 0U;
         s->have_cyclic = 0U;
         s->have_cyclic_time = 0U;
         s->last_num = C4G_INIT_NUM;
@@ -277,7 +278,7 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
-        (s->frozen == 0U) && (now_ns > s->last_rx_ns) &&
+        (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns) &&
         ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
         s->phase = C4G_PHASE_LOST;
         s->counters.lost_events++;
@@ -317,6 +318,24 @@ c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, ui
     return st;
 }
 
+/* Active freezing is the PC's own request: 500 in a reply starts it (only mode 0 may
+ * enter it, which the control layer enforces), EXIT_FROM_OPEN on any arm ends it. */
+static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
+{
+    uint32_t i;
+    uint32_t arm;
+    for (i = 0U; i < tx->n_axes; i++) {
+        if (tx->ax[i].mode == C4G_MODE_FREEZING_A) {
+            s->frozen_active = 1U;
+        }
+    }
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        if (c4g_arm_byte(tx->infpar, arm) == C4G_EXIT_FROM_OPEN) {
+            s->frozen_active = 0U;
+        }
+    }
+}
+
 c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
                                size_t cap, size_t *out_len)
 {
@@ -334,6 +353,9 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
                 st = C4G_ERR_AXES;
             } else {
                 st = c4g_pc_encode(tx, buf, cap, &n);
+                if (st == C4G_OK) {
+                    track_active_freezing(s, tx);
+                }
             }
         } else {
             if (s->pending_kind == C4G_RX_INIT) {

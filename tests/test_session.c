@@ -343,6 +343,36 @@ static void test_lost_and_passive_freezing(void **state)
     assert_int_equal(ev, C4G_EV_LOST);
 }
 
+static void test_active_freezing(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    c4g_pc_packet_t tx;
+    uint32_t ev = 0;
+    size_t len;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    cyclic(&f, 13, 0);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, 0);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_int_equal(c4g_pc_reply_neutral(f.r.pkt, &tx), C4G_OK);
+    tx.ax[0].mode = C4G_MODE_FREEZING_A;           /* the PC freezes (manual 15.1) */
+    assert_int_equal(c4g_session_reply(&f.s, &tx, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(f.s.frozen_active, 1);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 3000 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);                        /* a long non-real-time pause is fine */
+    f.t += 3000 * MS;
+    len = th_ctrl_bytes(b, sizeof b, 15, 6, 0);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_int_equal(f.r.events & C4G_EV_LOST, 0);
+    assert_int_equal(c4g_pc_reply_neutral(f.r.pkt, &tx), C4G_OK);
+    tx.infpar = c4g_arm_byte_set(0, 0, C4G_EXIT_FROM_OPEN);
+    assert_int_equal(c4g_session_reply(&f.s, &tx, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(f.s.frozen_active, 0);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 21 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);              /* the check is back on */
+}
+
 static void test_lost_then_cold_restart(void **state)
 {
     fx_t f;
@@ -506,6 +536,7 @@ int main(void)
         cmocka_unit_test(test_init_without_sync),
         cmocka_unit_test(test_end_504),
         cmocka_unit_test(test_lost_and_passive_freezing),
+        cmocka_unit_test(test_active_freezing),
         cmocka_unit_test(test_lost_then_cold_restart),
         cmocka_unit_test(test_drives_event),
         cmocka_unit_test(test_timing),
