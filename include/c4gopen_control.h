@@ -96,6 +96,8 @@ typedef struct c4g_mode_info {
 
 /** Fill @p out with the table row of @p mode. @return OK, NULL, C4G_ERR_MODE (unknown). O(modes). */
 c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out);
+/** C4G_MF_* flags of @p mode, 0 for an unknown code. O(1). */
+uint32_t c4g_mode_flags(int32_t mode);
 /** Constant name of @p mode ("MODE_4"), "UNKNOWN" for an unknown code. */
 const char *c4g_mode_name(int32_t mode);
 /** One-line description of @p mode, "unknown mode" for an unknown code. */
@@ -376,6 +378,7 @@ typedef struct c4g_ctl {
     uint32_t n_joint[C4G_ARMS];         /**< logical axes in the arm's joint check */
     c4g_arm_sm_t arm[C4G_ARMS];
     int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_ctl_step prepared per axis */
+    uint32_t prep_rules[C4G_MAX_AXES];  /**< internal: what the filter does with that mode */
     uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
     c4g_pc_axis_t last_safe[C4G_MAX_AXES]; /**< last values sent */
     int32_t last_mode[C4G_MAX_AXES];    /**< last mode sent */

@@ -2,9 +2,8 @@
 /* Control context: per-tick step (state machines, prepared reply) and finish (request
  * overlays, per-mode packet rules, mode-10 copy-back, safety filter), PC requests,
  * user limits, and the control-layer status texts. */
-#include "c4g_ctl_util.h"
+#include "c4g_ctl_sf.h"
 
-#define N_FLOATS 8U
 #define NO_AXIS 0xFFU
 
 /* ------------------------------------------------------------------ statuses */
@@ -80,44 +79,32 @@ int c4g_is_unset(float f)
 
 /* ------------------------------------------------------------------ helpers */
 
-static float *axis_float(c4g_pc_axis_t *a, uint32_t k)
+/* What the control layer does with an axis in a mode; the low bits are C4G_PCF_*. */
+#define R_ABS 0x0100U   /* D1 is an absolute target (1, 11, 4) */
+#define R_DELTA 0x0200U /* D1 is a per-tick delta (5, 7) */
+#define R_VEL 0x0400U   /* D2 is a velocity reference (1, 11, 4, 5) */
+#define R_CUR 0x0800U   /* D5 is the current (1, 11, 2, 12) */
+#define R_DCUR 0x1000U  /* D5 is a delta current (9) */
+#define R_FE 0x2000U    /* following error checked: the PC generates targets or closes loops */
+#define R_COPY 0x4000U  /* mode 0': copy back */
+#define R_FIELDS 0x001FU
+
+static uint32_t mode_rules(int32_t m)
 {
-    float *f;
-    switch (k) {
-    case 0U: f = &a->target_pos; break;
-    case 1U: f = &a->target_vel; break;
-    case 2U: f = &a->measure; break;
-    case 3U: f = &a->vel_add; break;
-    case 4U: f = &a->current_add; break;
-    case 5U: f = &a->ext[0]; break;
-    case 6U: f = &a->ext[1]; break;
-    default: f = &a->ext[2]; break;
+    uint32_t k;
+    switch (m) {
+    case C4G_MODE_1:
+    case C4G_MODE_1_STANDBY: k = R_ABS | R_VEL | R_CUR | R_FE; break;
+    case C4G_MODE_4: k = R_ABS | R_VEL | R_FE; break;
+    case C4G_MODE_5: k = R_DELTA | R_VEL | R_FE; break;
+    case C4G_MODE_7: k = R_DELTA | R_FE; break;
+    case C4G_MODE_2:
+    case C4G_MODE_2_STANDBY: k = R_CUR | R_FE; break;
+    case C4G_MODE_9: k = R_DCUR; break;
+    case C4G_MODE_0_DEBUG: k = R_COPY; break;
+    default: k = 0U; break;
     }
-    return f;
-}
-
-static int abs_target(int32_t m)
-{
-    return ((m == C4G_MODE_1) || (m == C4G_MODE_1_STANDBY) || (m == C4G_MODE_4)) ? 1 : 0;
-}
-
-static int delta_target(int32_t m)
-{
-    return ((m == C4G_MODE_5) || (m == C4G_MODE_7)) ? 1 : 0;
-}
-
-static int current_mode(int32_t m)
-{
-    return ((c4g_mode_pc_loops(m) != 0) && (c4g_mode_is_available(m) != 0)) ? 1 : 0;
-}
-
-/* Following error checked where the PC generates targets or closes loops. */
-static int fe_mode(int32_t m)
-{
-    return ((c4g_mode_is_available(m) != 0) &&
-            ((c4g_mode_pc_trajectory(m) != 0) || (c4g_mode_pc_loops(m) != 0)))
-               ? 1
-               : 0;
+    return k | c4g_mode_pc_fields(m);
 }
 
 static float tighter(float ctl_value, float user)
@@ -138,21 +125,43 @@ static void copy_back(const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
     tx->current_add = rx->current_ref;
 }
 
-/* Mode the axis finally carries: safety latches and active freezing override. */
-static int32_t overlay_mode(const c4g_ctl_t *ctl, uint32_t i, int32_t base)
+/* Mode every axis of an arm carries because of a latch or an active freezing, 0 if none. */
+static int32_t arm_overlay(const c4g_arm_sm_t *sm)
 {
-    const c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
-    int32_t m = base;
-    if ((ctl->fe_latch[i] != 0U) || ((sm->latch & C4G_LATCH_FOLLOW_ERROR) != 0U)) {
+    int32_t m = 0;
+    if ((sm->latch & C4G_LATCH_FOLLOW_ERROR) != 0U) {
         m = C4G_MODE_FOLLOW_ERROR;
     } else if ((sm->latch & C4G_LATCH_DRIVE_OFF) != 0U) {
         m = C4G_MODE_DRIVE_OFF;
     } else if (sm->frozen == C4G_MODE_FREEZING_A) {
         m = C4G_MODE_FREEZING_A;
     } else {
+        /* the prepared modes go out */
+    }
+    return m;
+}
+
+/* Mode the axis finally carries: safety latches and active freezing override. */
+static int32_t overlay_mode(const c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
+                            int32_t base)
+{
+    int32_t m = base;
+    if (ctl->fe_latch[i] != 0U) {
+        m = C4G_MODE_FOLLOW_ERROR;
+    } else if (over[ctl->map.arm_of[i]] != 0) {
+        m = over[ctl->map.arm_of[i]];
+    } else {
         /* the prepared mode */
     }
     return m;
+}
+
+static void arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
+{
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        over[a] = arm_overlay(&ctl->arm[a]);
+    }
 }
 
 /* ------------------------------------------------------------------ init and limits */
@@ -289,82 +298,90 @@ static c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
     }
     for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes) && (st == C4G_OK); i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
-        const float f[N_FLOATS] = {a->target_pos, a->target_vel, a->actual_pos, a->actual_vel,
-                                   a->current_ref, a->ext[0], a->ext[1], a->ext[2]};
-        uint32_t k;
+        const uint32_t bad = ctl_nonfinite_bit(a->target_pos) | ctl_nonfinite_bit(a->target_vel) |
+                             ctl_nonfinite_bit(a->actual_pos) | ctl_nonfinite_bit(a->actual_vel) |
+                             ctl_nonfinite_bit(a->current_ref) | ctl_nonfinite_bit(a->ext[0]) |
+                             ctl_nonfinite_bit(a->ext[1]) | ctl_nonfinite_bit(a->ext[2]);
         if (c4g_mode_is_known(a->mode) == 0) {
             st = C4G_ERR_MODE;
-        }
-        for (k = 0U; (k < N_FLOATS) && (st == C4G_OK); k++) {
-            if (c4g_f32_finite(f[k]) == 0) {
-                st = C4G_ERR_NONFINITE;
-            }
+        } else if (bad != 0U) {
+            st = C4G_ERR_NONFINITE;
+        } else {
+            /* valid axis */
         }
     }
     return st;
 }
 
-/* The arm's view of a packet: special > non-zero > 0; mixed when axes disagree. */
-static void arm_view(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint32_t arm,
-                     int32_t *mode, uint32_t *mixed, uint32_t *moving)
+/* Per-arm view of a packet in one pass: special > non-zero > 0 (the first of the highest
+ * class wins), mixed when the arm's axes disagree, moving when SMP+ moves some axis. */
+typedef struct arm_view {
+    int32_t mode;
+    int32_t first;
+    uint32_t seen;
+    uint32_t mixed;
+    uint32_t moving;
+} arm_view_t;
+
+static void arm_views(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, arm_view_t v[C4G_ARMS])
 {
-    int32_t m = C4G_MODE_0;
-    int32_t first = -1;
     uint32_t i;
-    *mixed = 0U;
-    *moving = 0U;
+    (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
     for (i = 0U; i < rx->n_axes; i++) {
-        if (ctl->map.arm_of[i] == arm) {
-            const int32_t am = rx->ax[i].mode;
-            if (first < 0) {
-                first = am;
-            } else if (am != first) {
-                *mixed = 1U;
-            } else {
-                /* same as the first axis */
-            }
-            /* special > non-zero > 0: the first of the highest class wins */
-            if (((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m) == 0)) ||
-                ((m == C4G_MODE_0) && (am != C4G_MODE_0))) {
-                m = am;
-            }
-            if (ctl_absf(rx->ax[i].target_vel) > ctl->cfg.moving_eps) {
-                *moving = 1U;
+        arm_view_t *w = &v[ctl->map.arm_of[i]];
+        const int32_t am = rx->ax[i].mode;
+        if (w->seen == 0U) {
+            w->first = am;
+            w->seen = 1U;
+        } else if (am != w->first) {
+            w->mixed = 1U;
+        } else {
+            /* same as the first axis */
+        }
+        if (am != w->mode) {
+            if ((w->mode == C4G_MODE_0) ||
+                ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(w->mode) == 0))) {
+                w->mode = am;
             }
         }
+        if (ctl_absf(rx->ax[i].target_vel) > ctl->cfg.moving_eps) {
+            w->moving = 1U;
+        }
     }
-    *mode = m;
 }
 
 /* Reply data of one axis before the caller fills it. */
-static void prepare_axis(c4g_ctl_t *ctl, const c4g_ctrl_axis_t *rx, uint32_t i,
-                         c4g_pc_axis_t *tx)
+static void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
+                         const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
 {
-    c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
+    const c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
     int32_t mode = rx->mode;
     int32_t shown;
+    uint32_t rules;
     if ((sm->req_mode != 0) && (sm->req_queued == 0U) && (sm->mode == C4G_MODE_0)) {
         mode = sm->req_mode; /* the request goes out with the data of its mode */
     }
+    rules = mode_rules(mode);
     ctl->prep_mode[i] = mode;
-    shown = overlay_mode(ctl, i, mode);
-    tx->mode = shown;
+    ctl->prep_rules[i] = rules;
+    shown = overlay_mode(ctl, over, i, mode);
     if (shown != mode) {
         if (ctl->have_last != 0U) {
             *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
         }
-        tx->mode = shown;
-    } else if (mode == C4G_MODE_0_DEBUG) {
+    } else if ((rules & R_COPY) != 0U) {
         copy_back(rx, tx);
+    } else if ((rules & R_FIELDS) != 0U) {
+        const float u = ctl_unset();
+        tx->target_pos = ((rules & C4G_PCF_D1) != 0U) ? u : 0.0F;
+        tx->target_vel = ((rules & C4G_PCF_D2) != 0U) ? u : 0.0F;
+        tx->measure = ((rules & C4G_PCF_D3) != 0U) ? u : 0.0F;
+        tx->vel_add = ((rules & C4G_PCF_D4) != 0U) ? u : 0.0F;
+        tx->current_add = ((rules & C4G_PCF_D5) != 0U) ? u : 0.0F;
     } else {
-        const uint32_t req = c4g_mode_pc_fields(mode);
-        uint32_t k;
-        for (k = 0U; k < 5U; k++) {
-            if ((req & (1UL << k)) != 0U) {
-                *axis_float(tx, k) = ctl_unset();
-            }
-        }
+        /* nothing to fill: data zero */
     }
+    tx->mode = shown;
 }
 
 c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
@@ -379,18 +396,18 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
         (void)memset(r, 0, sizeof *r);
         st = check_rx(ctl, rx);
         if (st == C4G_OK) {
+            arm_view_t v[C4G_ARMS];
+            int32_t over[C4G_ARMS];
             uint32_t a;
             uint32_t i;
+            arm_views(ctl, rx, v);
             for (a = 0U; a < C4G_ARMS; a++) {
                 c4g_arm_sm_t *sm = &ctl->arm[a];
                 if (sm->n_axes > 0U) {
-                    int32_t mode = 0;
-                    uint32_t mixed = 0U;
-                    uint32_t moving = 0U;
                     uint32_t ev = 0U;
-                    arm_view(ctl, rx, a, &mode, &mixed, &moving);
-                    (void)c4g_arm_sm_update(sm, &ctl->cfg, mode, mixed,
-                                            c4g_arm_byte(rx->infpar, a), moving, now_ns, &ev);
+                    (void)c4g_arm_sm_update(sm, &ctl->cfg, v[a].mode, v[a].mixed,
+                                            c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns,
+                                            &ev);
                     if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
                         for (i = 0U; i < ctl->map.n_axes; i++) {
                             ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
@@ -404,11 +421,14 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
                     r->events |= ev;
                 }
             }
-            (void)memset(tx, 0, sizeof *tx);
             tx->num = rx->num;
+            tx->infpar = 0U;
+            tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
+            arm_overlays(ctl, over);
             for (i = 0U; i < rx->n_axes; i++) {
-                prepare_axis(ctl, &rx->ax[i], i, &tx->ax[i]);
+                (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
+                prepare_axis(ctl, over, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
             ctl->step_num = rx->num;
@@ -419,51 +439,64 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
 
 /* ------------------------------------------------------------------ finish: the filter */
 
-/* Required fields unset -> MISSING; any other non-finite value -> NONFINITE. */
-static uint32_t axis_data_check(c4g_pc_axis_t *tx, uint32_t required)
+static uint32_t axis_data_slow(const c4g_pc_axis_t *tx, uint32_t required);
+
+/* One float of the reply: non-finite is MISSING when it is the unset marker of a required
+ * field, else NONFINITE. The common (finite) case is one mask test. */
+static uint32_t value_check(float f, uint32_t required)
 {
     uint32_t r = 0U;
-    uint32_t k;
-    for (k = 0U; k < N_FLOATS; k++) {
-        const float f = *axis_float(tx, k);
-        if ((k < 5U) && ((required & (1UL << k)) != 0U) && (ctl_is_unset(f) != 0)) {
-            r |= C4G_SF_MISSING;
-        } else if (c4g_f32_finite(f) == 0) {
-            r |= C4G_SF_NONFINITE;
-        } else {
-            /* fine */
-        }
+    if (c4g_f32_finite(f) == 0) {
+        r = ((required != 0U) && (ctl_is_unset(f) != 0)) ? C4G_SF_MISSING : C4G_SF_NONFINITE;
     }
     return r;
 }
 
+static uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t required)
+{
+    const uint32_t bad = ctl_nonfinite_bit(tx->target_pos) | ctl_nonfinite_bit(tx->target_vel) |
+                         ctl_nonfinite_bit(tx->measure) | ctl_nonfinite_bit(tx->vel_add) |
+                         ctl_nonfinite_bit(tx->current_add) | ctl_nonfinite_bit(tx->ext[0]) |
+                         ctl_nonfinite_bit(tx->ext[1]) | ctl_nonfinite_bit(tx->ext[2]);
+    return (bad == 0U) ? 0U : axis_data_slow(tx, required);
+}
+
+static uint32_t axis_data_slow(const c4g_pc_axis_t *tx, uint32_t required)
+{
+    return value_check(tx->target_pos, required & C4G_PCF_D1) |
+           value_check(tx->target_vel, required & C4G_PCF_D2) |
+           value_check(tx->measure, required & C4G_PCF_D3) |
+           value_check(tx->vel_add, required & C4G_PCF_D4) |
+           value_check(tx->current_add, required & C4G_PCF_D5) | value_check(tx->ext[0], 0U) |
+           value_check(tx->ext[1], 0U) | value_check(tx->ext[2], 0U);
+}
+
 /* Position target checks of the modes where the PC generates the trajectory. */
-static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
+static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
                                const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
-    uint32_t f = 0U;
+    uint32_t f;
     float o = tx->target_pos;
     float abs_pos;
-    if (abs_target(m) != 0) {
-        const float prev = ((ctl->have_last != 0U) && (ctl->last_mode[i] == m))
+    if ((rules & R_ABS) != 0U) {
+        const float prev = ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
                                ? ctl->last_safe[i].target_pos
                                : rx->target_pos;
-        f |= c4g_sf_step(prev, tx->target_pos, l->max_step, &o);
-        tx->target_pos = o;
+        f = sf_step(prev, tx->target_pos, l->max_step, &o);
         abs_pos = o;
     } else {
-        f |= c4g_sf_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
-        tx->target_pos = o;
+        f = sf_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
         abs_pos = rx->target_pos + o;
     }
-    if (m != C4G_MODE_7) {
-        f |= c4g_sf_velocity(tx->target_vel, l->max_vel, &o);
+    tx->target_pos = o;
+    if ((rules & R_VEL) != 0U) {
+        f |= sf_velocity(tx->target_vel, l->max_vel, &o);
         tx->target_vel = o;
     }
-    if ((c4g_sf_stroke(abs_pos, l->motor_min, l->motor_max, &o) & C4G_SF_STROKE) != 0U) {
+    if ((sf_stroke(abs_pos, l->motor_min, l->motor_max, &o) & C4G_SF_STROKE) != 0U) {
         f |= C4G_SF_STROKE;
-        tx->target_pos = (abs_target(m) != 0) ? o : (o - rx->target_pos);
+        tx->target_pos = ((rules & R_ABS) != 0U) ? o : (o - rx->target_pos);
     } else if (c4g_f32_finite(abs_pos) == 0) {
         f |= C4G_SF_NONFINITE;
     } else {
@@ -472,20 +505,20 @@ static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
     return f;
 }
 
-static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
+static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
                             const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
     uint32_t f = 0U;
     float o = 0.0F;
-    if ((abs_target(m) != 0) || (delta_target(m) != 0)) {
-        f |= filter_targets(ctl, i, m, rx, tx);
+    if ((rules & (R_ABS | R_DELTA)) != 0U) {
+        f = filter_targets(ctl, i, rules, rx, tx);
     }
-    if (current_mode(m) != 0) {
-        f |= c4g_sf_current(tx->current_add, l->current_max, &o);
+    if ((rules & R_CUR) != 0U) {
+        f |= sf_current(tx->current_add, l->current_max, &o);
         tx->current_add = o;
-    } else if (m == C4G_MODE_9) {
-        f |= c4g_sf_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
+    } else if ((rules & R_DCUR) != 0U) {
+        f |= sf_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
         tx->current_add = o;
     } else {
         /* no current from the PC in this mode */
@@ -494,13 +527,13 @@ static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, int32_t m,
 }
 
 /* Following error (15.7) on the final targets: the axis carries 508 (field library). */
-static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, int32_t m, const c4g_ctrl_axis_t *rx,
+static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules, const c4g_ctrl_axis_t *rx,
                           const c4g_pc_axis_t *tx, float *fe_out)
 {
     uint32_t f = 0U;
-    if (fe_mode(m) != 0) {
-        const float ref = (abs_target(m) != 0) ? tx->target_pos : rx->target_pos;
-        f = c4g_sf_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
+    if ((rules & R_FE) != 0U) {
+        const float ref = ((rules & R_ABS) != 0U) ? tx->target_pos : rx->target_pos;
+        f = sf_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
             ctl->fe_latch[i] = 1U;
             ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
@@ -521,11 +554,11 @@ static void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t 
     uint32_t changed = 0U;
     for (j = 0U; j < n; j++) {
         const uint32_t i = ctl->map.open_of[arm][j];
-        const int32_t m = ctl->prep_mode[i];
+        const uint32_t rules = ctl->prep_rules[i];
         double v = (double)rx->ax[i].target_pos;
-        if (abs_target(m) != 0) {
+        if ((rules & R_ABS) != 0U) {
             v = (double)tx->ax[i].target_pos;
-        } else if (delta_target(m) != 0) {
+        } else if ((rules & R_DELTA) != 0U) {
             v += (double)tx->ax[i].target_pos;
         } else {
             /* SMP+ target */
@@ -547,10 +580,10 @@ static void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t 
     if ((changed != 0U) && (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
         for (j = 0U; j < n; j++) {
             const uint32_t i = ctl->map.open_of[arm][j];
-            const int32_t m = ctl->prep_mode[i];
-            if (abs_target(m) != 0) {
+            const uint32_t rules = ctl->prep_rules[i];
+            if ((rules & R_ABS) != 0U) {
                 tx->ax[i].target_pos = (float)qm[j];
-            } else if (delta_target(m) != 0) {
+            } else if ((rules & R_DELTA) != 0U) {
                 tx->ax[i].target_pos = (float)(qm[j] - (double)rx->ax[i].target_pos);
             } else {
                 /* the PC does not drive this axis */
@@ -630,27 +663,30 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
             c4g_status_t fault;
+            int32_t over[C4G_ARMS];
             uint32_t i;
             uint32_t a;
             st = C4G_OK;
             tx->infpar = exit_bytes(ctl, r);
+            arm_overlays(ctl, over);
             for (i = 0U; i < tx->n_axes; i++) {
                 const int32_t m = ctl->prep_mode[i];
-                const int32_t shown = overlay_mode(ctl, i, m);
+                const uint32_t rules = ctl->prep_rules[i];
+                const int32_t shown = overlay_mode(ctl, over, i, m);
                 uint32_t f = 0U;
                 r->follow_err[i] = 0.0F;
                 if ((tx->ax[i].mode != m) && (tx->ax[i].mode != shown)) {
-                    f |= C4G_SF_MODE_RESTORED; /* only the request API changes modes */
+                    f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
                     st = ctl_st(C4G_ERR_CTL_MODE_RESTORED);
                 }
                 tx->ax[i].mode = m;
-                if (m == C4G_MODE_0_DEBUG) {
+                if ((rules & R_COPY) != 0U) {
                     copy_back(&rx->ax[i], &tx->ax[i]);
                     f |= C4G_SF_COPY_BACK;
                 }
-                f |= axis_data_check(&tx->ax[i], (shown == m) ? c4g_mode_pc_fields(m) : 0U);
+                f |= axis_data_check(&tx->ax[i], (shown == m) ? (rules & R_FIELDS) : 0U);
                 if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-                    f |= filter_axis(ctl, i, m, &rx->ax[i], &tx->ax[i]);
+                    f |= filter_axis(ctl, i, rules, &rx->ax[i], &tx->ax[i]);
                 }
                 r->axis_flags[i] |= f;
             }
@@ -660,17 +696,20 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
                 }
             }
             for (i = 0U; i < tx->n_axes; i++) {
-                /* A clamp may overflow: check once more before anything goes out. */
-                r->axis_flags[i] |= axis_data_check(&tx->ax[i], 0U);
+                /* A clamp may overflow: check what the filter wrote before it goes out. */
+                r->axis_flags[i] |= value_check(tx->ax[i].target_pos, 0U) |
+                                    value_check(tx->ax[i].target_vel, 0U) |
+                                    value_check(tx->ax[i].current_add, 0U);
                 if ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-                    r->axis_flags[i] |= filter_fe(ctl, i, ctl->prep_mode[i], &rx->ax[i],
+                    r->axis_flags[i] |= filter_fe(ctl, i, ctl->prep_rules[i], &rx->ax[i],
                                                   &tx->ax[i], &r->follow_err[i]);
                 }
             }
             fault = arm_faults(ctl, tx, r);
             st = (fault != C4G_OK) ? fault : st;
+            arm_overlays(ctl, over); /* the filter may have latched an arm */
             for (i = 0U; i < tx->n_axes; i++) {
-                const int32_t shown = overlay_mode(ctl, i, ctl->prep_mode[i]);
+                const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
                 c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
                 tx->ax[i].mode = shown;
                 if (shown == C4G_MODE_DRIVE_OFF) {
@@ -715,7 +754,7 @@ static c4g_status_t request(c4g_ctl_t *ctl, uint32_t arm, c4g_req_kind_t kind, i
 c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode)
 {
     c4g_status_t st = request(ctl, arm, C4G_REQ_MODE, mode);
-    if ((st == C4G_OK) && (current_mode(mode) != 0)) {
+    if ((st == C4G_OK) && ((mode_rules(mode) & R_CUR) != 0U)) {
         uint32_t i;
         /* Modes 1 and 2 send currents: a zero limit would drop the arm. */
         for (i = 0U; i < ctl->map.n_axes; i++) {

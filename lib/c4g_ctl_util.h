@@ -13,6 +13,13 @@ static inline c4g_status_t ctl_st(int32_t code)
     return (c4g_status_t)code;
 }
 
+/* Bit 31 set iff @p f is NaN or infinite (exponent all ones carries into the sign bit):
+ * OR several of these and test once. */
+static inline uint32_t ctl_nonfinite_bit(float f)
+{
+    return ((c4g_f32_bits(f) & 0x7F800000U) + 0x00800000U) & 0x80000000U;
+}
+
 static inline float ctl_absf(float x)
 {
     return (x < 0.0F) ? -x : x;

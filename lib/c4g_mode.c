@@ -63,12 +63,44 @@ static const mode_row_t *find_mode(int32_t mode)
         {C4G_MODE_SVR_RESTART, AV | SPC, 0U, C4G_MODE_SVR_RESTART},
         {C4G_MODE_FOLLOW_ERROR, AV | SPC | PCR, 0U, C4G_MODE_FOLLOW_ERROR},
     };
-    const mode_row_t *row = NULL;
+    /* A switch, not a search: this runs several times per axis and tick. */
     uint32_t i;
-    for (i = 0U; (i < N_MODES) && (row == NULL); i++) {
-        if (mode_table[i].code == mode) {
-            row = &mode_table[i];
-        }
+    const mode_row_t *row = NULL;
+    switch (mode) {
+    case C4G_MODE_0: i = 0U; break;
+    case C4G_MODE_0_DEBUG: i = 1U; break;
+    case C4G_MODE_1: i = 2U; break;
+    case C4G_MODE_1_STANDBY: i = 3U; break;
+    case C4G_MODE_2: i = 4U; break;
+    case C4G_MODE_2_STANDBY: i = 5U; break;
+    case C4G_MODE_3: i = 6U; break;
+    case C4G_MODE_4: i = 7U; break;
+    case C4G_MODE_4_STANDBY: i = 8U; break;
+    case C4G_MODE_5: i = 9U; break;
+    case C4G_MODE_5_STANDBY: i = 10U; break;
+    case C4G_MODE_6: i = 11U; break;
+    case C4G_MODE_7: i = 12U; break;
+    case C4G_MODE_7_STANDBY: i = 13U; break;
+    case C4G_MODE_7_STANDBY_EXIT: i = 14U; break;
+    case C4G_MODE_8: i = 15U; break;
+    case C4G_MODE_9: i = 16U; break;
+    case C4G_MODE_101: i = 17U; break;
+    case C4G_MODE_102: i = 18U; break;
+    case C4G_MODE_103: i = 19U; break;
+    case C4G_MODE_201: i = 20U; break;
+    case C4G_MODE_202: i = 21U; break;
+    case C4G_MODE_FREEZING_A: i = 22U; break;
+    case C4G_MODE_DRIVING_ON: i = 23U; break;
+    case C4G_MODE_FREEZING_P_IN: i = 24U; break;
+    case C4G_MODE_FREEZING_P_OUT: i = 25U; break;
+    case C4G_MODE_EXIT_OPEN: i = 26U; break;
+    case C4G_MODE_DRIVE_OFF: i = 27U; break;
+    case C4G_MODE_SVR_RESTART: i = 28U; break;
+    case C4G_MODE_FOLLOW_ERROR: i = 29U; break;
+    default: i = N_MODES; break;
+    }
+    if (i < N_MODES) {
+        row = &mode_table[i];
     }
     return row;
 }
@@ -92,10 +124,15 @@ c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out)
     return st;
 }
 
-static uint32_t mode_flags(int32_t mode)
+uint32_t c4g_mode_flags(int32_t mode)
 {
     const mode_row_t *row = find_mode(mode);
     return (row != NULL) ? row->flags : 0U;
+}
+
+static uint32_t mode_flags(int32_t mode)
+{
+    return c4g_mode_flags(mode);
 }
 
 static int has_flag(int32_t mode, uint32_t flag)
