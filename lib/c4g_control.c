@@ -302,7 +302,8 @@ static c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
                              ctl_nonfinite_bit(a->actual_pos) | ctl_nonfinite_bit(a->actual_vel) |
                              ctl_nonfinite_bit(a->current_ref) | ctl_nonfinite_bit(a->ext[0]) |
                              ctl_nonfinite_bit(a->ext[1]) | ctl_nonfinite_bit(a->ext[2]);
-        if (c4g_mode_is_known(a->mode) == 0) {
+        /* the mode prepared last tick is known: skip the lookup when it repeats */
+        if ((a->mode != ctl->prep_mode[i]) && (c4g_mode_is_known(a->mode) == 0)) {
             st = C4G_ERR_MODE;
         } else if (bad != 0U) {
             st = C4G_ERR_NONFINITE;
@@ -361,9 +362,12 @@ static void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
     if ((sm->req_mode != 0) && (sm->req_queued == 0U) && (sm->mode == C4G_MODE_0)) {
         mode = sm->req_mode; /* the request goes out with the data of its mode */
     }
-    rules = mode_rules(mode);
-    ctl->prep_mode[i] = mode;
-    ctl->prep_rules[i] = rules;
+    /* prep_mode / prep_rules start consistent (mode 0, no rules): look up on change only */
+    if (mode != ctl->prep_mode[i]) {
+        ctl->prep_mode[i] = mode;
+        ctl->prep_rules[i] = mode_rules(mode);
+    }
+    rules = ctl->prep_rules[i];
     shown = overlay_mode(ctl, over, i, mode);
     if (shown != mode) {
         if (ctl->have_last != 0U) {
@@ -390,9 +394,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_ctl_report_t local;
-        c4g_ctl_report_t *r;
-        (void)memset(&local, 0, sizeof local);
-        r = (rep != NULL) ? rep : &local;
+        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
         (void)memset(r, 0, sizeof *r);
         st = check_rx(ctl, rx);
         if (st == C4G_OK) {
@@ -483,22 +485,22 @@ static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
         const float prev = ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
                                ? ctl->last_safe[i].target_pos
                                : rx->target_pos;
-        f = sf_step(prev, tx->target_pos, l->max_step, &o);
+        f = sfc_step(prev, tx->target_pos, l->max_step, &o);
         abs_pos = o;
     } else {
-        f = sf_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
+        f = sfc_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
         abs_pos = rx->target_pos + o;
     }
     tx->target_pos = o;
     if ((rules & R_VEL) != 0U) {
-        f |= sf_velocity(tx->target_vel, l->max_vel, &o);
+        f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
         tx->target_vel = o;
     }
-    if ((sf_stroke(abs_pos, l->motor_min, l->motor_max, &o) & C4G_SF_STROKE) != 0U) {
+    if (ctl_nonfinite_bit(abs_pos) != 0U) {
+        f |= C4G_SF_NONFINITE; /* SMP+ target + delta overflows: never sent */
+    } else if (sfc_stroke(abs_pos, l->motor_min, l->motor_max, &o) != 0U) {
         f |= C4G_SF_STROKE;
         tx->target_pos = ((rules & R_ABS) != 0U) ? o : (o - rx->target_pos);
-    } else if (c4g_f32_finite(abs_pos) == 0) {
-        f |= C4G_SF_NONFINITE;
     } else {
         /* inside the stroke */
     }
@@ -515,10 +517,10 @@ static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
         f = filter_targets(ctl, i, rules, rx, tx);
     }
     if ((rules & R_CUR) != 0U) {
-        f |= sf_current(tx->current_add, l->current_max, &o);
+        f |= sfc_sym(tx->current_add, l->current_max, C4G_SF_CURRENT, &o);
         tx->current_add = o;
     } else if ((rules & R_DCUR) != 0U) {
-        f |= sf_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
+        f |= sfc_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
         tx->current_add = o;
     } else {
         /* no current from the PC in this mode */
@@ -533,7 +535,7 @@ static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules, const c4g_
     uint32_t f = 0U;
     if ((rules & R_FE) != 0U) {
         const float ref = ((rules & R_ABS) != 0U) ? tx->target_pos : rx->target_pos;
-        f = sf_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
+        f = sfc_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
             ctl->fe_latch[i] = 1U;
             ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
@@ -650,86 +652,124 @@ static c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_repo
     return st;
 }
 
+/* Overflow check of what the filter wrote, then the following error on the final target. */
+static uint32_t finish_fe(c4g_ctl_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
+                          const c4g_pc_axis_t *tx, float *fe_out)
+{
+    uint32_t f = value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
+                 value_check(tx->current_add, 0U);
+    if (f == 0U) {
+        f = filter_fe(ctl, i, ctl->prep_rules[i], rx, tx, fe_out);
+    }
+    return f;
+}
+
+/* Mode rules, copy back, required fields and the per-axis filter of one axis. */
+static uint32_t finish_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
+                            const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
+{
+    const int32_t m = ctl->prep_mode[i];
+    const uint32_t rules = ctl->prep_rules[i];
+    const int32_t shown = overlay_mode(ctl, over, i, m);
+    uint32_t f = 0U;
+    if ((tx->mode != m) && (tx->mode != shown)) {
+        f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
+    }
+    tx->mode = m;
+    if ((rules & R_COPY) != 0U) {
+        copy_back(rx, tx);
+        f |= C4G_SF_COPY_BACK;
+    }
+    f |= axis_data_check(tx, (shown == m) ? (rules & R_FIELDS) : 0U);
+    if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
+        f |= filter_axis(ctl, i, rules, rx, tx);
+        /* without a joint check on the arm the targets are final here */
+        if ((ctl->joint_on[ctl->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
+            f |= finish_fe(ctl, i, rx, tx, fe_out);
+        }
+    }
+    return f;
+}
+
+/* Final modes (latches, freezing), report, and the values kept as the last safe ones. */
+static void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+                          c4g_ctl_report_t *r)
+{
+    uint32_t i;
+    for (i = 0U; i < tx->n_axes; i++) {
+        const uint32_t arm = ctl->map.arm_of[i];
+        const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
+        tx->ax[i].mode = shown;
+        if (shown == C4G_MODE_DRIVE_OFF) {
+            r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
+        } else if (shown == C4G_MODE_FOLLOW_ERROR) {
+            r->axis_flags[i] |= C4G_SF_FE_SENT;
+        } else {
+            /* no safety request on this axis */
+        }
+        if (ctl->arm[arm].latch != 0U) {
+            ctl->arm[arm].latch_sent = 1U;
+        }
+        if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
+            r->n_filtered++;
+            r->arm_events[arm] |= C4G_CEV_SAFETY;
+            r->events |= C4G_CEV_SAFETY;
+        }
+        ctl->last_safe[i] = tx->ax[i];
+        ctl->last_mode[i] = ctl->prep_mode[i];
+    }
+}
+
 c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_ctl_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_ctl_report_t local;
-        c4g_ctl_report_t *r;
-        (void)memset(&local, 0, sizeof local);
-        r = (rep != NULL) ? rep : &local;
+        c4g_ctl_report_t *r = rep;
+        if (r == NULL) {
+            (void)memset(&local, 0, sizeof local);
+            r = &local;
+        }
         st = C4G_ERR_STATE;
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
-            c4g_status_t fault;
             int32_t over[C4G_ARMS];
+            uint32_t any = 0U;
             uint32_t i;
             uint32_t a;
             st = C4G_OK;
             tx->infpar = exit_bytes(ctl, r);
             arm_overlays(ctl, over);
             for (i = 0U; i < tx->n_axes; i++) {
-                const int32_t m = ctl->prep_mode[i];
-                const uint32_t rules = ctl->prep_rules[i];
-                const int32_t shown = overlay_mode(ctl, over, i, m);
-                uint32_t f = 0U;
                 r->follow_err[i] = 0.0F;
-                if ((tx->ax[i].mode != m) && (tx->ax[i].mode != shown)) {
-                    f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
-                    st = ctl_st(C4G_ERR_CTL_MODE_RESTORED);
-                }
-                tx->ax[i].mode = m;
-                if ((rules & R_COPY) != 0U) {
-                    copy_back(&rx->ax[i], &tx->ax[i]);
-                    f |= C4G_SF_COPY_BACK;
-                }
-                f |= axis_data_check(&tx->ax[i], (shown == m) ? (rules & R_FIELDS) : 0U);
-                if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-                    f |= filter_axis(ctl, i, rules, &rx->ax[i], &tx->ax[i]);
-                }
-                r->axis_flags[i] |= f;
+                r->axis_flags[i] |= finish_axis(ctl, over, i, &rx->ax[i], &tx->ax[i],
+                                                &r->follow_err[i]);
+                any |= r->axis_flags[i];
             }
             for (a = 0U; a < C4G_ARMS; a++) {
                 if ((ctl->joint_on[a] != 0U) && (ctl->arm[a].n_axes > 0U)) {
                     filter_joints(ctl, a, rx, tx, r);
+                    for (i = 0U; i < tx->n_axes; i++) {
+                        if ((ctl->map.arm_of[i] == a) &&
+                            ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
+                            r->axis_flags[i] |= finish_fe(ctl, i, &rx->ax[i], &tx->ax[i],
+                                                          &r->follow_err[i]);
+                            any |= r->axis_flags[i];
+                        }
+                    }
                 }
             }
-            for (i = 0U; i < tx->n_axes; i++) {
-                /* A clamp may overflow: check what the filter wrote before it goes out. */
-                r->axis_flags[i] |= value_check(tx->ax[i].target_pos, 0U) |
-                                    value_check(tx->ax[i].target_vel, 0U) |
-                                    value_check(tx->ax[i].current_add, 0U);
-                if ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-                    r->axis_flags[i] |= filter_fe(ctl, i, ctl->prep_rules[i], &rx->ax[i],
-                                                  &tx->ax[i], &r->follow_err[i]);
-                }
+            if ((any & C4G_SF_MODE_RESTORED) != 0U) {
+                st = ctl_st(C4G_ERR_CTL_MODE_RESTORED);
             }
-            fault = arm_faults(ctl, tx, r);
-            st = (fault != C4G_OK) ? fault : st;
-            arm_overlays(ctl, over); /* the filter may have latched an arm */
-            for (i = 0U; i < tx->n_axes; i++) {
-                const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
-                c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
-                tx->ax[i].mode = shown;
-                if (shown == C4G_MODE_DRIVE_OFF) {
-                    r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
-                } else if (shown == C4G_MODE_FOLLOW_ERROR) {
-                    r->axis_flags[i] |= C4G_SF_FE_SENT;
-                } else {
-                    /* no safety request on this axis */
-                }
-                if (sm->latch != 0U) {
-                    sm->latch_sent = 1U;
-                }
-                if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
-                    r->n_filtered++;
-                    r->arm_events[ctl->map.arm_of[i]] |= C4G_CEV_SAFETY;
-                    r->events |= C4G_CEV_SAFETY;
-                }
-                ctl->last_safe[i] = tx->ax[i];
-                ctl->last_mode[i] = ctl->prep_mode[i];
+            if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
+                st = arm_faults(ctl, tx, r);
             }
+            if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR)) != 0U) {
+                arm_overlays(ctl, over); /* the filter latched an arm or an axis */
+            }
+            finish_record(ctl, over, tx, r);
             ctl->have_last = 1U;
             ctl->stepped = 0U;
         }

@@ -1,19 +1,17 @@
 /* SPDX-License-Identifier: MIT */
-/* The PC-side safety checks as inline functions: the per-tick filter (c4g_control.c) inlines
- * them, c4g_safety.c exports them (c4g_sf_*). Each returns the C4G_SF_* bits it raised; on
- * any non-finite input it leaves the value as given and returns C4G_SF_NONFINITE. */
+/* The PC-side safety checks as inline functions. Each rule has a core (sfc_*: finite inputs,
+ * valid limits, as the per-tick filter in c4g_control.c guarantees) and a checked form
+ * (sf_*: validates first, exported by c4g_safety.c as c4g_sf_*). Every form returns the
+ * C4G_SF_* bits it raised; the checked forms return C4G_SF_NONFINITE on any non-finite
+ * input and C4G_SF_BAD_LIMIT on a limit that is negative or non-finite, leaving the value. */
 #ifndef C4G_CTL_SF_H
 #define C4G_CTL_SF_H
 
 #include "c4g_ctl_util.h"
 
-/* A limit a check can use: finite and >= 0. */
-static inline int sf_limit_ok(float lim)
-{
-    return ((c4g_f32_finite(lim) != 0) && (lim >= 0.0F)) ? 1 : 0;
-}
+/* ------------------------------------------------------------------ cores */
 
-static inline uint32_t sf_clamp_sym(float v, float lim, uint32_t flag, float *out)
+static inline uint32_t sfc_sym(float v, float lim, uint32_t flag, float *out)
 {
     uint32_t r = 0U;
     float o = v;
@@ -30,17 +28,104 @@ static inline uint32_t sf_clamp_sym(float v, float lim, uint32_t flag, float *ou
     return r;
 }
 
+/* err = |ref - mis|; a threshold of 0 means none (FIELD-FACTS); an overflowing
+ * difference is certainly too far. */
+static inline uint32_t sfc_follow_error(float ref, float mis, float threshold, float *err)
+{
+    const float e = ctl_absf(ref - mis);
+    uint32_t r = 0U;
+    if ((ctl_nonfinite_bit(e) != 0U) || ((threshold > 0.0F) && (e > threshold))) {
+        r = C4G_SF_FOLLOW_ERROR;
+    }
+    *err = e;
+    return r;
+}
+
+/* smp + delta within [-lim, lim]  <=>  delta within [-lim - smp, lim - smp] */
+static inline uint32_t sfc_delta_current(float smp, float delta, float lim, float *out)
+{
+    const float lo = -lim - smp;
+    const float hi = lim - smp;
+    uint32_t r = 0U;
+    float o = delta;
+    if (delta > hi) {
+        o = hi;
+        r = C4G_SF_DCURRENT;
+    } else if (delta < lo) {
+        o = lo;
+        r = C4G_SF_DCURRENT;
+    } else {
+        /* within limits */
+    }
+    *out = o;
+    return r;
+}
+
+/* |target - prev| <= max_step; 0 = off. */
+static inline uint32_t sfc_step(float prev, float target, float max_step, float *out)
+{
+    uint32_t r = 0U;
+    float o = target;
+    if (max_step > 0.0F) {
+        const float d = target - prev;
+        if (d > max_step) {
+            o = prev + max_step;
+            r = C4G_SF_STEP;
+        } else if (d < -max_step) {
+            o = prev - max_step;
+            r = C4G_SF_STEP;
+        } else {
+            /* continuous */
+        }
+    }
+    *out = o;
+    return r;
+}
+
+static inline uint32_t sfc_velocity(float vel, float max_vel, float *out)
+{
+    uint32_t r = 0U;
+    *out = vel;
+    if (max_vel > 0.0F) {
+        r = sfc_sym(vel, max_vel, C4G_SF_VELOCITY, out);
+    }
+    return r;
+}
+
+/* Clamp into [min, max]; off when min >= max. */
+static inline uint32_t sfc_stroke(float pos, float min, float max, float *out)
+{
+    uint32_t r = 0U;
+    float o = pos;
+    if (min < max) {
+        if (pos > max) {
+            o = max;
+            r = C4G_SF_STROKE;
+        } else if (pos < min) {
+            o = min;
+            r = C4G_SF_STROKE;
+        } else {
+            /* inside the stroke */
+        }
+    }
+    *out = o;
+    return r;
+}
+
+/* ------------------------------------------------------------------ checked forms */
+
+/* A limit a check can use: finite and >= 0. */
+static inline int sf_limit_ok(float lim)
+{
+    return ((c4g_f32_finite(lim) != 0) && (lim >= 0.0F)) ? 1 : 0;
+}
+
 static inline uint32_t sf_follow_error(float pos_ref, float pos_mis, float threshold, float *err)
 {
     uint32_t r = C4G_SF_NONFINITE;
     float e = 0.0F;
     if ((c4g_f32_finite(pos_ref) != 0) && (c4g_f32_finite(pos_mis) != 0)) {
-        e = ctl_absf(pos_ref - pos_mis);
-        r = 0U; /* threshold 0: no threshold from the controller (FIELD-FACTS) */
-        /* an overflowing difference is certainly too far */
-        if ((c4g_f32_finite(e) == 0) || ((threshold > 0.0F) && (e > threshold))) {
-            r = C4G_SF_FOLLOW_ERROR;
-        }
+        r = sfc_follow_error(pos_ref, pos_mis, threshold, &e);
         if ((c4g_f32_finite(e) != 0) && (sf_limit_ok(threshold) == 0)) {
             r = C4G_SF_BAD_LIMIT;
         }
@@ -57,7 +142,7 @@ static inline uint32_t sf_current(float cur, float lim, float *out)
     if (out != NULL) {
         *out = cur;
         if (c4g_f32_finite(cur) != 0) {
-            r = (sf_limit_ok(lim) != 0) ? sf_clamp_sym(cur, lim, C4G_SF_CURRENT, out) : C4G_SF_BAD_LIMIT;
+            r = (sf_limit_ok(lim) != 0) ? sfc_sym(cur, lim, C4G_SF_CURRENT, out) : C4G_SF_BAD_LIMIT;
         }
     }
     return r;
@@ -69,23 +154,8 @@ static inline uint32_t sf_delta_current(float smp_cur, float delta, float lim, f
     if (out != NULL) {
         *out = delta;
         if ((c4g_f32_finite(smp_cur) != 0) && (c4g_f32_finite(delta) != 0)) {
-            if (sf_limit_ok(lim) == 0) {
-                r = C4G_SF_BAD_LIMIT;
-            } else {
-                /* smp_cur + delta in [-lim, lim]  <=>  delta in [-lim - smp, lim - smp] */
-                const float lo = -lim - smp_cur;
-                const float hi = lim - smp_cur;
-                r = 0U;
-                if (delta > hi) {
-                    *out = hi;
-                    r = C4G_SF_DCURRENT;
-                } else if (delta < lo) {
-                    *out = lo;
-                    r = C4G_SF_DCURRENT;
-                } else {
-                    /* within limits */
-                }
-            }
+            r = (sf_limit_ok(lim) != 0) ? sfc_delta_current(smp_cur, delta, lim, out)
+                                        : C4G_SF_BAD_LIMIT;
         }
     }
     return r;
@@ -96,20 +166,10 @@ static inline uint32_t sf_step(float prev, float target, float max_step, float *
     uint32_t r = C4G_SF_NONFINITE;
     if (out != NULL) {
         *out = target;
-        if ((c4g_f32_finite(prev) != 0) && (c4g_f32_finite(target) != 0)) {
-            if (sf_limit_ok(max_step) == 0) {
-                r = C4G_SF_BAD_LIMIT;
-            } else if (max_step > 0.0F) {
-                const float d = target - prev;
-                float dc = d;
-                r = (c4g_f32_finite(d) != 0) ? sf_clamp_sym(d, max_step, C4G_SF_STEP, &dc)
-                                             : C4G_SF_NONFINITE;
-                if (r == C4G_SF_STEP) {
-                    *out = prev + dc;
-                }
-            } else {
-                r = 0U; /* check off */
-            }
+        if ((c4g_f32_finite(prev) != 0) && (c4g_f32_finite(target) != 0) &&
+            (c4g_f32_finite(target - prev) != 0)) {
+            r = (sf_limit_ok(max_step) != 0) ? sfc_step(prev, target, max_step, out)
+                                             : C4G_SF_BAD_LIMIT;
         }
     }
     return r;
@@ -121,13 +181,7 @@ static inline uint32_t sf_velocity(float vel, float max_vel, float *out)
     if (out != NULL) {
         *out = vel;
         if (c4g_f32_finite(vel) != 0) {
-            if (sf_limit_ok(max_vel) == 0) {
-                r = C4G_SF_BAD_LIMIT;
-            } else if (max_vel > 0.0F) {
-                r = sf_clamp_sym(vel, max_vel, C4G_SF_VELOCITY, out);
-            } else {
-                r = 0U;
-            }
+            r = (sf_limit_ok(max_vel) != 0) ? sfc_velocity(vel, max_vel, out) : C4G_SF_BAD_LIMIT;
         }
     }
     return r;
@@ -140,18 +194,7 @@ static inline uint32_t sf_stroke(float pos, float min, float max, float *out)
         *out = pos;
         if ((c4g_f32_finite(pos) != 0) && (c4g_f32_finite(min) != 0) &&
             (c4g_f32_finite(max) != 0)) {
-            r = 0U;
-            if (min < max) {
-                if (pos > max) {
-                    *out = max;
-                    r = C4G_SF_STROKE;
-                } else if (pos < min) {
-                    *out = min;
-                    r = C4G_SF_STROKE;
-                } else {
-                    /* inside the stroke */
-                }
-            }
+            r = sfc_stroke(pos, min, max, out);
         }
     }
     return r;
