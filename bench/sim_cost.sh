@@ -19,17 +19,24 @@ cat >"$T/pingpong.c" <<'C'
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 int main(int argc, char **argv)
 {
     int n = atoi(argv[1]), i, a = socket(AF_INET, SOCK_DGRAM, 0), b = socket(AF_INET, SOCK_DGRAM, 0);
     struct sockaddr_in sa, sb; socklen_t l = sizeof sb; unsigned char buf[228];
-    struct rusage ru; double cpu;
+    struct rusage ru; double cpu; struct timespec ts; int paced = argc > 2;
     memset(&sa, 0, sizeof sa); sa.sin_family = AF_INET; sa.sin_addr.s_addr = htonl(0x7F000001);
     sb = sa; bind(a, (struct sockaddr *)&sa, sizeof sa); bind(b, (struct sockaddr *)&sb, sizeof sb);
     getsockname(b, (struct sockaddr *)&sb, &l); l = sizeof sa; getsockname(a, (struct sockaddr *)&sa, &l);
     memset(buf, 0, sizeof buf);
+    clock_gettime(CLOCK_MONOTONIC, &ts);
     for (i = 0; i < n; i++) {
+        if (paced) {   /* the floor of any 1 kHz program: one absolute-deadline sleep a tick */
+            ts.tv_nsec += 1000000;
+            if (ts.tv_nsec >= 1000000000) { ts.tv_nsec -= 1000000000; ts.tv_sec++; }
+            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+        }
         sendto(a, buf, sizeof buf, 0, (struct sockaddr *)&sb, sizeof sb);
         recv(b, buf, sizeof buf, 0);
         sendto(b, buf, sizeof buf, 0, (struct sockaddr *)&sa, sizeof sa);
@@ -48,5 +55,8 @@ sleep 0.2
 "$B/bin/c4g-sim" --bind 127.0.0.1 -p $PORT -T 1 -n "$N" --json >"$T/s.json" || true
 sim=$(grep -o '"ns_per_packet":[0-9]*' "$T/s.json" | cut -d: -f2)
 base=$("$T/pingpong" "$N")
+paced=$("$T/pingpong" "$N" paced)
 echo "sim_cost: c4g-sim, 6 axes, 1 ms, $N ticks: ${sim} ns CPU per tick (user+sys, whole process)"
 echo "sim_cost: baseline UDP ping-pong (2 sendto + 2 recv per round): ${base} ns CPU per round"
+echo "sim_cost: baseline 1 kHz paced ping-pong (+ clock_nanosleep per tick): ${paced} ns CPU per tick"
+awk -v s="$sim" -v p="$paced" 'BEGIN { if (s > 0 && p > 0) printf "sim_cost: c4g-sim / paced baseline = %.1fx\n", s / p }'
