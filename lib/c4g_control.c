@@ -394,7 +394,10 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_ctl_report_t local;
-        c4g_ctl_report_t *r = (rep != NULL) ? rep : &local;
+        c4g_ctl_report_t *r = rep;
+        if (r == NULL) {
+            r = &local;
+        }
         (void)memset(r, 0, sizeof *r);
         st = check_rx(ctl, rx);
         if (st == C4G_OK) {
@@ -449,7 +452,10 @@ static uint32_t value_check(float f, uint32_t required)
 {
     uint32_t r = 0U;
     if (c4g_f32_finite(f) == 0) {
-        r = ((required != 0U) && (ctl_is_unset(f) != 0)) ? C4G_SF_MISSING : C4G_SF_NONFINITE;
+        r = C4G_SF_NONFINITE;
+        if ((required != 0U) && (ctl_is_unset(f) != 0)) {
+            r = C4G_SF_MISSING;
+        }
     }
     return r;
 }
