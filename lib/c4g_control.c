@@ -697,6 +697,21 @@ static uint32_t finish_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32
     return f;
 }
 
+/* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
+ * loads would stall on store forwarding (it cost 15 % of c4g_ctl_finish). */
+static void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
+{
+    dst->mode = src->mode;
+    dst->target_pos = src->target_pos;
+    dst->target_vel = src->target_vel;
+    dst->measure = src->measure;
+    dst->vel_add = src->vel_add;
+    dst->current_add = src->current_add;
+    dst->ext[0] = src->ext[0];
+    dst->ext[1] = src->ext[1];
+    dst->ext[2] = src->ext[2];
+}
+
 /* Final modes (latches, freezing), report, and the values kept as the last safe ones. */
 static void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
                           c4g_ctl_report_t *r)
@@ -721,7 +736,7 @@ static void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_p
             r->arm_events[arm] |= C4G_CEV_SAFETY;
             r->events |= C4G_CEV_SAFETY;
         }
-        ctl->last_safe[i] = tx->ax[i];
+        keep_axis(&ctl->last_safe[i], &tx->ax[i]);
         ctl->last_mode[i] = ctl->prep_mode[i];
     }
 }
