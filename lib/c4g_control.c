@@ -769,7 +769,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
                 any |= r->axis_flags[i];
             }
             for (a = 0U; a < C4G_ARMS; a++) {
-                if ((ctl->joint_on[a] != 0U) && (ctl->arm[a].n_axes > 0U)) {
+                if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
                     filter_joints(ctl, a, rx, tx, r);
                     for (i = 0U; i < tx->n_axes; i++) {
                         if ((ctl->map.arm_of[i] == a) &&

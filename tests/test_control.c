@@ -797,6 +797,71 @@ static void test_fig24_4_pdl_sequences(void **state)
     }
 }
 
+static void test_more_paths(void **state)
+{
+    c4g_ctl_t ctl;
+    c4g_init_t in = fig();
+    c4g_ctl_config_t c;
+    c4g_ctrl_packet_t rx;
+    c4g_pc_packet_t tx;
+    c4g_ctl_report_t rep;
+    c4g_axis_limits_t l;
+    (void)state;
+    c4g_ctl_config_default(&c);
+    c.moving_eps = 0.0f / 0.0f;
+    assert_int_equal(c4g_ctl_init(&ctl, &in, &c), C4G_ERR_ARG);
+    /* a drive off before anything was sent: zeros go out with 505 */
+    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_ctl_request_drive_off(&ctl, 0), C4G_OK);
+    mk_rx(&rx, 1, 6, 4, 5);
+    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(tx.ax[0].mode, 505);
+    assert_true(tx.ax[0].target_pos == 0.0f);
+    /* finish with a packet of another size than the context's */
+    rx.n_axes = 5;
+    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    /* an echoed mode whose data is a measure (1xx): D3 required */
+    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    mk_rx(&rx, 2, 6, C4G_MODE_101, 5);
+    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_true(c4g_is_unset(tx.ax[0].measure));
+    fill(&rx, &tx);
+    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    /* two bad axes: NONFINITE reported once */
+    mk_rx(&rx, 3, 6, 4, 5);
+    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    fill(&rx, &tx);
+    tx.ax[1].ext[0] = 1.0f / 0.0f;
+    tx.ax[2].ext[0] = 1.0f / 0.0f;
+    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    /* exit asked again while leaving through the stand-by: accepted, nothing new */
+    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    mk_rx(&rx, 4, 6, 1, 5);
+    assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    mk_rx(&rx, 5, 6, 1, 5);
+    assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    mk_rx(&rx, 6, 6, 11, 5);
+    assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
+    assert_int_equal(ctl.arm[0].leaving, 1);
+    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(ctl.arm[0].exit_req, 0);
+    /* joint limits on ARM 1 with a second arm open, and a bad axis on the joint arm */
+    in = fig2();
+    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    memset(&l, 0, sizeof l);
+    l.joint_min = -1.0f;
+    l.joint_max = 1.0f;
+    assert_int_equal(c4g_ctl_set_limits(&ctl, 0, 0, &l), C4G_OK);
+    mk_rx(&rx, 7, 8, 4, 5);
+    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    fill(&rx, &tx);
+    tx.ax[2].vel_add = 0.0f / 0.0f;
+    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(tx.ax[0].mode, 505);
+    assert_int_equal(tx.ax[6].mode, 4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -813,6 +878,7 @@ int main(void)
         cmocka_unit_test(test_exit_and_freeze),
         cmocka_unit_test(test_drive_off_follow_error_requests),
         cmocka_unit_test(test_fig24_4_pdl_sequences),
+        cmocka_unit_test(test_more_paths),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
