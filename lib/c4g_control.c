@@ -353,14 +353,15 @@ static void arm_views(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, arm_vie
 
 /* Reply data of one axis before the caller fills it. */
 static void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
-                         const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
+                         const int32_t req[C4G_ARMS], const c4g_ctrl_axis_t *rx, uint32_t i,
+                         c4g_pc_axis_t *tx)
 {
-    const c4g_arm_sm_t *sm = &ctl->arm[ctl->map.arm_of[i]];
+    const uint32_t arm = ctl->map.arm_of[i];
     int32_t mode = rx->mode;
     int32_t shown;
     uint32_t rules;
-    if ((sm->req_mode != 0) && (sm->req_queued == 0U) && (sm->mode == C4G_MODE_0)) {
-        mode = sm->req_mode; /* the request goes out with the data of its mode */
+    if (req[arm] != 0) {
+        mode = req[arm]; /* the request goes out with the data of its mode */
     }
     /* prep_mode / prep_rules start consistent (mode 0, no rules): look up on change only */
     if (mode != ctl->prep_mode[i]) {
@@ -403,6 +404,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
         if (st == C4G_OK) {
             arm_view_t v[C4G_ARMS];
             int32_t over[C4G_ARMS];
+            int32_t req[C4G_ARMS] = {0, 0, 0, 0};
             uint32_t a;
             uint32_t i;
             arm_views(ctl, rx, v);
@@ -421,6 +423,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
                     if ((sm->req_mode != 0) && (sm->req_queued == 0U) &&
                         (sm->mode == C4G_MODE_0)) {
                         sm->req_ticks++;
+                        req[a] = sm->req_mode;
                     }
                     r->arm_events[a] = ev;
                     r->events |= ev;
@@ -433,7 +436,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             arm_overlays(ctl, over);
             for (i = 0U; i < rx->n_axes; i++) {
                 (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
-                prepare_axis(ctl, over, &rx->ax[i], i, &tx->ax[i]);
+                prepare_axis(ctl, over, req, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
             ctl->step_num = rx->num;
@@ -688,10 +691,13 @@ static uint32_t finish_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32
     }
     f |= axis_data_check(tx, (shown == m) ? (rules & R_FIELDS) : 0U);
     if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-        f |= filter_axis(ctl, i, rules, rx, tx);
-        /* without a joint check on the arm the targets are final here */
+        const uint32_t clamps = filter_axis(ctl, i, rules, rx, tx);
+        f |= clamps;
+        /* without a joint check on the arm the targets are final here; values a clamp
+         * rewrote are checked again (an overflow is never sent) */
         if ((ctl->joint_on[ctl->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
-            f |= finish_fe(ctl, i, rx, tx, fe_out);
+            f |= (clamps != 0U) ? finish_fe(ctl, i, rx, tx, fe_out)
+                                : filter_fe(ctl, i, rules, rx, tx, fe_out);
         }
     }
     return f;
