@@ -206,7 +206,9 @@ cppcheck: | $(DEPS_STAMP)
 misra: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)
 	@rm -f $(BUILD)/misra.txt
+	@mkdir -p $(BUILD)/cppcheck-misra
 	cppcheck --quiet --std=c99 --language=c --addon=misra --inline-suppr \
+	  --cppcheck-build-dir=$(BUILD)/cppcheck-misra \
 	  --suppressions-list=scripts/cppcheck-misra.supp -Iinclude --error-exitcode=3 \
 	  --output-file=$(BUILD)/misra.txt $(LIB_SRCS)
 	@if [ -s $(BUILD)/misra.txt ]; then cat $(BUILD)/misra.txt; echo "misra: findings above (see docs/misra-deviations.md)"; exit 1; fi
