@@ -6,7 +6,7 @@
 #   - the server's own cycle time (rx -> sent, its --json summary) and its late replies,
 #   - an in-run baseline: a bare UDP echo loop (tests/e2e/server_helpers/udp_echo.c) measured
 #     the same way in the same run, so the numbers separate the machine from the server,
-#   - a cross-check with c4g-sim's own latency figures (min / avg / max) for 6 axes.
+#   - the latency seen by c4g-sim itself (min / avg / p50 / p99 / p99.9 / max), 6 and 20 axes.
 # Default: BENCH_SECONDS=10 per configuration; C4G_BENCH_LONG=1 runs 60 s each.
 # Extra server options (e.g. "--rt --cpu 1" on a PREEMPT-RT machine): SERVER_OPTS.
 set -u
@@ -67,16 +67,18 @@ for arms in 6 10,10; do
     wait "$bpid" 2>/dev/null; bpid=""
     row "c4g-server, $n axes" "$tmp/stub$n" "$tmp/srv$n.json"
 done
-# cross-check with the simulator (its own clock and socket path), 6 axes
+# the same seen by the simulator (its own clock, socket path and percentiles), 6 and 20 axes
 if [ -x "$sim" ]; then
-    # shellcheck disable=SC2086
-    "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
-        --json "$tmp/srvsim.json" ${SERVER_OPTS:-} & bpid=$!
-    sleep 0.3
-    "$sim" -p "$port" -T 1 -n "$ticks" --json -q >"$tmp/sim.json" 2>/dev/null
-    kill "$bpid" 2>/dev/null; wait "$bpid" 2>/dev/null; bpid=""
-    lat=$(grep -o '"latency_us":{[^}]*}' "$tmp/sim.json")
-    echo "c4g-sim, 6 axes, 1 ms: $lat, late $(jv "$tmp/sim.json" late), missing $(jv "$tmp/sim.json" missing); server p99 $(jv "$tmp/srvsim.json" cycle_p99_us) us, late $(jv "$tmp/srvsim.json" late)"
+    for axes in 6 10,10; do
+        # shellcheck disable=SC2086
+        "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
+            --json "$tmp/srvsim.json" ${SERVER_OPTS:-} & bpid=$!
+        sleep 0.3
+        "$sim" -p "$port" -T 1 --axes "$axes" -n "$ticks" --json -q >"$tmp/sim.json" 2>/dev/null
+        kill "$bpid" 2>/dev/null; wait "$bpid" 2>/dev/null; bpid=""
+        lat=$(grep -o '"latency_us":{[^}]*}' "$tmp/sim.json")
+        echo "c4g-sim, axes $axes, 1 ms: $lat, late $(jv "$tmp/sim.json" late), missing $(jv "$tmp/sim.json" missing); server p99 $(jv "$tmp/srvsim.json" cycle_p99_us) us, late $(jv "$tmp/srvsim.json" late)"
+    done
 fi
 echo "(round trip = controller send -> reply received; server cycle = recvfrom return -> sendto"
 echo " return; late = later than 500 us. Without --rt (SCHED_FIFO, mlockall) on a shared, non-RT"

@@ -53,6 +53,8 @@ typedef struct outstanding {
     c4g_pc_packet_t reply;
 } outstanding_t;
 
+#define LAT_BINS 20001
+
 typedef struct stats {
     unsigned long sent, sync_sent, init_sent, cyclic_sent;
     unsigned long replies_ok, missing, late, wrong_num, malformed, foreign, duplicates, stale;
@@ -60,6 +62,7 @@ typedef struct stats {
     unsigned long fault[F_COUNT];
     unsigned long paused_ticks;
     uint64_t lat_min, lat_max, lat_sum;
+    uint32_t lat_hist[LAT_BINS]; /* 1 us bins; the last one collects everything above */
 } stats_t;
 
 typedef struct app {
@@ -426,6 +429,7 @@ static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct soc
             a->st.lat_max = lat;
         }
         a->st.lat_sum += lat;
+        a->st.lat_hist[(lat / 1000U < LAT_BINS - 1U) ? lat / 1000U : LAT_BINS - 1U]++;
     }
     a->st.replies_ok++;
 }
@@ -581,12 +585,35 @@ static void json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Percentile of the reply latency in us, from the 1 us histogram (upper bin edge). */
+static double lat_percentile(const stats_t *st, double q)
+{
+    uint64_t total = 0, need, acc = 0;
+    int i;
+    for (i = 0; i < LAT_BINS; i++) {
+        total += st->lat_hist[i];
+    }
+    if (total == 0U) {
+        return 0.0;
+    }
+    need = (uint64_t)(q * (double)total + 0.999999);
+    for (i = 0; i < LAT_BINS; i++) {
+        acc += st->lat_hist[i];
+        if (acc >= need) {
+            const double edge = (double)(i + 1), max_us = (double)st->lat_max / 1000.0;
+            return (edge < max_us) ? edge : max_us;
+        }
+    }
+    return (double)LAT_BINS;
+}
+
 static void summary(app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
     const stats_t *st = &a->st;
     const double per_tick = (st->sent > 0U) ? cpu_s * 1e9 / (double)st->sent : 0.0;
     const double lat_avg = (st->replies_ok > 0U) ? (double)st->lat_sum / (double)st->replies_ok / 1000.0 : 0.0;
+    const double p50 = lat_percentile(st, 0.5), p99 = lat_percentile(st, 0.99), p999 = lat_percentile(st, 0.999);
     int i;
     if (a->json) {
         FILE *f = stdout;
@@ -597,10 +624,11 @@ static void summary(app_t *a, int code, const char *result, double cpu_s)
                 st->sync_sent, st->init_sent, st->cyclic_sent);
         fprintf(f, "\"replies\":{\"ok\":%lu,\"missing\":%lu,\"late\":%lu,\"wrong_num\":%lu,"
                    "\"malformed\":%lu,\"foreign\":%lu,\"duplicates\":%lu,\"stale\":%lu,\"unexpected\":%lu,"
-                   "\"max_consecutive_missing\":%lu,\"latency_us\":{\"min\":%.1f,\"avg\":%.1f,\"max\":%.1f}},",
+                   "\"max_consecutive_missing\":%lu,\"latency_us\":{\"min\":%.1f,\"avg\":%.1f,\"p50\":%.0f,"
+                   "\"p99\":%.0f,\"p999\":%.0f,\"max\":%.1f}},",
                 st->replies_ok, st->missing, st->late, st->wrong_num, st->malformed, st->foreign,
                 st->duplicates, st->stale, st->unexpected, st->max_consecutive,
-                (double)st->lat_min / 1000.0, lat_avg, (double)st->lat_max / 1000.0);
+                (double)st->lat_min / 1000.0, lat_avg, p50, p99, p999, (double)st->lat_max / 1000.0);
         fprintf(f, "\"num_policy\":\"%s\",\"pc_policy\":\"%s\",\"udp_debug\":%lu,\"overruns\":%lu,\"paused_ticks\":%lu,"
                    "\"mode_rejected\":%lu,\"mode_mismatch\":%lu,\"faults\":{",
                 s->cfg.policy == SIM_NUM_ECHO ? "echo" : s->cfg.policy == SIM_NUM_PLUS_ONE ? "plus-one" : "either",
@@ -637,8 +665,9 @@ static void summary(app_t *a, int code, const char *result, double cpu_s)
     printf("  replies ok %lu, missing %lu, late %lu, wrong NUM %lu, malformed %lu, foreign %lu, "
            "duplicates %lu, stale %lu\n", st->replies_ok, st->missing, st->late, st->wrong_num,
            st->malformed, st->foreign, st->duplicates, st->stale);
-    printf("  reply latency us: min %.1f avg %.1f max %.1f; max consecutive missing %lu\n",
-           (double)st->lat_min / 1000.0, lat_avg, (double)st->lat_max / 1000.0, st->max_consecutive);
+    printf("  reply latency us: min %.1f avg %.1f p50 %.0f p99 %.0f p99.9 %.0f max %.1f; max consecutive missing %lu\n",
+           (double)st->lat_min / 1000.0, lat_avg, p50, p99, p999, (double)st->lat_max / 1000.0,
+           st->max_consecutive);
     printf("  faults:");
     for (i = 0; i < F_COUNT; i++) {
         printf(" %s %lu", fault_names[i], st->fault[i]);
