@@ -203,6 +203,7 @@ cppcheck: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)
 	cppcheck --quiet --std=c99 --language=c --enable=warning,style,performance,portability \
 	  --inline-suppr --error-exitcode=2 --suppress=missingIncludeSystem -Iinclude $(LIB_SRCS)
+	@echo "cppcheck: clean"
 misra: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)
 	@rm -f $(BUILD)/misra.txt
@@ -215,6 +216,7 @@ misra: | $(DEPS_STAMP)
 	@echo "misra: clean (deviations: docs/misra-deviations.md)"
 clang-tidy: | $(DEPS_STAMP)
 	clang-tidy --quiet $(LIB_SRCS) -- -std=c99 -Iinclude
+	@echo "clang-tidy: clean"
 analyzer: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/fanalyzer
 	@set -e; for f in $(LIB_SRCS); do gcc -std=c99 -fanalyzer -Werror -Iinclude -c $$f -o $(BUILD)/fanalyzer/$$(basename $$f .c).o; done
