@@ -25,10 +25,6 @@ lcov:lcov
 python3:python3
 /usr/include/histedit.h:libedit-dev
 /usr/include/ini.h:libinih-dev
-/usr/include/ceres/ceres.h:libceres-dev
-/usr/include/eigen3/Eigen/Core:libeigen3-dev
-gnuplot:gnuplot-nox
-ip:iproute2
 '
 
 missing=''
