@@ -379,6 +379,7 @@ typedef struct c4g_ctl {
     c4g_arm_sm_t arm[C4G_ARMS];
     int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_ctl_step prepared per axis */
     uint32_t prep_rules[C4G_MAX_AXES];  /**< internal: what the filter does with that mode */
+    c4g_pc_axis_t prep_tx[C4G_MAX_AXES];/**< internal: reply data prepared for that mode */
     uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
     c4g_pc_axis_t last_safe[C4G_MAX_AXES]; /**< last values sent */
     int32_t last_mode[C4G_MAX_AXES];    /**< last mode sent */

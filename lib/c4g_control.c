@@ -289,13 +289,11 @@ c4g_status_t c4g_ctl_set_limits(c4g_ctl_t *ctl, uint32_t arm, uint32_t axis,
 
 /* ------------------------------------------------------------------ step */
 
-static c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
+/* The status of the first bad axis of a packet rx_scan flagged (axis count already checked). */
+static CTL_COLD c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
 {
     c4g_status_t st = C4G_OK;
     uint32_t i;
-    if (rx->n_axes != ctl->map.n_axes) {
-        st = ctl_st(C4G_ERR_CTL_PACKET);
-    }
     for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes) && (st == C4G_OK); i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
         const uint32_t bad = ctl_nonfinite_bit(a->target_pos) | ctl_nonfinite_bit(a->target_vel) |
@@ -314,8 +312,8 @@ static c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
     return st;
 }
 
-/* Per-arm view of a packet in one pass: special > non-zero > 0 (the first of the highest
- * class wins), mixed when the arm's axes disagree, moving when SMP+ moves some axis. */
+/* Per-arm view of a packet: special > non-zero > 0 (the first of the highest class wins),
+ * mixed when the arm's axes disagree, moving when SMP+ moves some axis. */
 typedef struct arm_view {
     int32_t mode;
     int32_t first;
@@ -324,67 +322,116 @@ typedef struct arm_view {
     uint32_t moving;
 } arm_view_t;
 
-static void arm_views(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, arm_view_t v[C4G_ARMS])
+/* The aggregated modes, for packets where some arm is mixed (rx_scan did the rest). */
+static CTL_COLD void arm_modes(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
+                               arm_view_t v[C4G_ARMS])
 {
+    int32_t m[C4G_ARMS] = {0, 0, 0, 0};
+    uint32_t i;
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes); i++) {
+        const uint32_t a = ctl->map.arm_of[i];
+        const int32_t am = rx->ax[i].mode;
+        if (am != m[a]) {
+            if ((m[a] == C4G_MODE_0) ||
+                ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m[a]) == 0))) {
+                m[a] = am;
+            }
+        }
+    }
+    for (i = 0U; i < C4G_ARMS; i++) {
+        v[i].mode = m[i];
+    }
+}
+
+static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
+{
+    return ctl_exp_carry(a->target_pos) | ctl_exp_carry(a->target_vel) | ctl_exp_carry(a->actual_pos) |
+           ctl_exp_carry(a->actual_vel) | ctl_exp_carry(a->current_ref) | ctl_exp_carry(a->ext[0]) |
+           ctl_exp_carry(a->ext[1]) | ctl_exp_carry(a->ext[2]);
+}
+
+/* Fast pass over a packet of the context's axis count: 1 if some axis carries an unknown
+ * mode or a non-finite value (check_rx then names the status), else 0 with the per-arm
+ * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms). */
+static uint32_t rx_scan(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
+                        arm_view_t v[C4G_ARMS])
+{
+    const uint32_t n = ctl->map.n_axes;
+    uint32_t carry = 0U;
+    uint32_t unknown = 0U;
     uint32_t i;
     (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
-    for (i = 0U; i < rx->n_axes; i++) {
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
+        const c4g_ctrl_axis_t *a = &rx->ax[i];
         arm_view_t *w = &v[ctl->map.arm_of[i]];
-        const int32_t am = rx->ax[i].mode;
+        const int32_t am = a->mode;
+        carry |= rx_axis_carry(a);
+        /* the mode prepared last tick is known: skip the lookup when it repeats */
+        if ((am != ctl->prep_mode[i]) && (c4g_mode_is_known(am) == 0)) {
+            unknown = 1U;
+        }
         if (w->seen == 0U) {
             w->first = am;
+            w->mode = am;
             w->seen = 1U;
         } else if (am != w->first) {
             w->mixed = 1U;
         } else {
             /* same as the first axis */
         }
-        if (am != w->mode) {
-            if ((w->mode == C4G_MODE_0) ||
-                ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(w->mode) == 0))) {
-                w->mode = am;
-            }
-        }
-        if (ctl_absf(rx->ax[i].target_vel) > ctl->cfg.moving_eps) {
+        if (ctl_absf(a->target_vel) > ctl->cfg.moving_eps) {
             w->moving = 1U;
         }
+    }
+    return (((carry & 0x80000000U) != 0U) || (unknown != 0U)) ? 1U : 0U;
+}
+
+/* The reply data c4g_ctl_step prepares for @p mode: the required fields unset, the others
+ * zero (mode 0' is copied back per tick instead). */
+static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *t)
+{
+    const float u = ctl_unset();
+    (void)memset(t, 0, sizeof *t);
+    t->mode = mode;
+    if ((rules & R_COPY) == 0U) {
+        t->target_pos = ((rules & C4G_PCF_D1) != 0U) ? u : 0.0F;
+        t->target_vel = ((rules & C4G_PCF_D2) != 0U) ? u : 0.0F;
+        t->measure = ((rules & C4G_PCF_D3) != 0U) ? u : 0.0F;
+        t->vel_add = ((rules & C4G_PCF_D4) != 0U) ? u : 0.0F;
+        t->current_add = ((rules & C4G_PCF_D5) != 0U) ? u : 0.0F;
     }
 }
 
 /* Reply data of one axis before the caller fills it. */
-static void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
-                         const int32_t req[C4G_ARMS], const c4g_ctrl_axis_t *rx, uint32_t i,
-                         c4g_pc_axis_t *tx)
+static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
+                                const int32_t req[C4G_ARMS], const c4g_ctrl_axis_t *rx,
+                                uint32_t i, c4g_pc_axis_t *tx)
 {
     const uint32_t arm = ctl->map.arm_of[i];
     int32_t mode = rx->mode;
     int32_t shown;
-    uint32_t rules;
     if (req[arm] != 0) {
         mode = req[arm]; /* the request goes out with the data of its mode */
     }
-    /* prep_mode / prep_rules start consistent (mode 0, no rules): look up on change only */
+    /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
+     * look up on change only */
     if (mode != ctl->prep_mode[i]) {
         ctl->prep_mode[i] = mode;
         ctl->prep_rules[i] = mode_rules(mode);
+        prep_template(ctl->prep_rules[i], mode, &ctl->prep_tx[i]);
     }
-    rules = ctl->prep_rules[i];
     shown = overlay_mode(ctl, over, i, mode);
     if (shown != mode) {
         if (ctl->have_last != 0U) {
             *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
+        } else {
+            (void)memset(tx, 0, sizeof *tx);
         }
-    } else if ((rules & R_COPY) != 0U) {
+    } else if ((ctl->prep_rules[i] & R_COPY) != 0U) {
+        (void)memset(tx, 0, sizeof *tx);
         copy_back(rx, tx);
-    } else if ((rules & R_FIELDS) != 0U) {
-        const float u = ctl_unset();
-        tx->target_pos = ((rules & C4G_PCF_D1) != 0U) ? u : 0.0F;
-        tx->target_vel = ((rules & C4G_PCF_D2) != 0U) ? u : 0.0F;
-        tx->measure = ((rules & C4G_PCF_D3) != 0U) ? u : 0.0F;
-        tx->vel_add = ((rules & C4G_PCF_D4) != 0U) ? u : 0.0F;
-        tx->current_add = ((rules & C4G_PCF_D5) != 0U) ? u : 0.0F;
     } else {
-        /* nothing to fill: data zero */
+        *tx = ctl->prep_tx[i]; /* required fields unset, the others zero */
     }
     tx->mode = shown;
 }
@@ -400,14 +447,23 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             r = &local;
         }
         (void)memset(r, 0, sizeof *r);
-        st = check_rx(ctl, rx);
+        arm_view_t v[C4G_ARMS];
+        st = ctl_st(C4G_ERR_CTL_PACKET);
+        if (rx->n_axes == ctl->map.n_axes) {
+            st = C4G_OK;
+            if (rx_scan(ctl, rx, v) != 0U) {
+                st = check_rx(ctl, rx);
+            }
+        }
         if (st == C4G_OK) {
-            arm_view_t v[C4G_ARMS];
+            const uint32_t n = rx->n_axes;
             int32_t over[C4G_ARMS];
             int32_t req[C4G_ARMS] = {0, 0, 0, 0};
             uint32_t a;
             uint32_t i;
-            arm_views(ctl, rx, v);
+            if ((v[0].mixed | v[1].mixed | v[2].mixed | v[3].mixed) != 0U) {
+                arm_modes(ctl, rx, v); /* special > non-zero > 0 on mixed arms */
+            }
             for (a = 0U; a < C4G_ARMS; a++) {
                 c4g_arm_sm_t *sm = &ctl->arm[a];
                 if (sm->n_axes > 0U) {
@@ -434,8 +490,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
             arm_overlays(ctl, over);
-            for (i = 0U; i < rx->n_axes; i++) {
-                (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
+            for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
                 prepare_axis(ctl, over, req, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
@@ -447,11 +502,12 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
 
 /* ------------------------------------------------------------------ finish: the filter */
 
-static uint32_t axis_data_slow(const c4g_pc_axis_t *tx, uint32_t required);
+static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
+                                        float e1, float e2, float e3, uint32_t required);
 
 /* One float of the reply: non-finite is MISSING when it is the unset marker of a required
  * field, else NONFINITE. The common (finite) case is one mask test. */
-static uint32_t value_check(float f, uint32_t required)
+static inline uint32_t value_check(float f, uint32_t required)
 {
     uint32_t r = 0U;
     if (c4g_f32_finite(f) == 0) {
@@ -463,28 +519,38 @@ static uint32_t value_check(float f, uint32_t required)
     return r;
 }
 
-static uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t required)
+static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t required)
 {
-    const uint32_t bad = ctl_nonfinite_bit(tx->target_pos) | ctl_nonfinite_bit(tx->target_vel) |
-                         ctl_nonfinite_bit(tx->measure) | ctl_nonfinite_bit(tx->vel_add) |
-                         ctl_nonfinite_bit(tx->current_add) | ctl_nonfinite_bit(tx->ext[0]) |
-                         ctl_nonfinite_bit(tx->ext[1]) | ctl_nonfinite_bit(tx->ext[2]);
-    return (bad == 0U) ? 0U : axis_data_slow(tx, required);
+    const uint32_t carry = ctl_exp_carry(tx->target_pos) | ctl_exp_carry(tx->target_vel) |
+                           ctl_exp_carry(tx->measure) | ctl_exp_carry(tx->vel_add) |
+                           ctl_exp_carry(tx->current_add) | ctl_exp_carry(tx->ext[0]) |
+                           ctl_exp_carry(tx->ext[1]) | ctl_exp_carry(tx->ext[2]);
+    return ((carry & 0x80000000U) == 0U)
+               ? 0U
+               : axis_data_slow(tx->target_pos, tx->target_vel, tx->measure, tx->vel_add,
+                                tx->current_add, tx->ext[0], tx->ext[1], tx->ext[2], required);
 }
 
-static uint32_t axis_data_slow(const c4g_pc_axis_t *tx, uint32_t required)
+/* By value: the per-tick filter keeps the axis data in registers. */
+static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
+                                        float e1, float e2, float e3, uint32_t required)
 {
-    return value_check(tx->target_pos, required & C4G_PCF_D1) |
-           value_check(tx->target_vel, required & C4G_PCF_D2) |
-           value_check(tx->measure, required & C4G_PCF_D3) |
-           value_check(tx->vel_add, required & C4G_PCF_D4) |
-           value_check(tx->current_add, required & C4G_PCF_D5) | value_check(tx->ext[0], 0U) |
-           value_check(tx->ext[1], 0U) | value_check(tx->ext[2], 0U);
+    return value_check(d1, required & C4G_PCF_D1) | value_check(d2, required & C4G_PCF_D2) |
+           value_check(d3, required & C4G_PCF_D3) | value_check(d4, required & C4G_PCF_D4) |
+           value_check(d5, required & C4G_PCF_D5) | value_check(e1, 0U) | value_check(e2, 0U) |
+           value_check(e3, 0U);
+}
+
+/* What the filter rewrote, checked again: an overflow is never sent. */
+static inline uint32_t rewritten_check(const c4g_pc_axis_t *tx)
+{
+    return value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
+           value_check(tx->current_add, 0U);
 }
 
 /* Position target checks of the modes where the PC generates the trajectory. */
-static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
-                               const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+static inline uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+                                      const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
     uint32_t f;
@@ -516,8 +582,8 @@ static uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
     return f;
 }
 
-static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
-                            const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+static inline uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+                                   const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
     uint32_t f = 0U;
@@ -538,8 +604,9 @@ static uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
 }
 
 /* Following error (15.7) on the final targets: the axis carries 508 (field library). */
-static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules, const c4g_ctrl_axis_t *rx,
-                          const c4g_pc_axis_t *tx, float *fe_out)
+static inline uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+                                 const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx,
+                                 float *fe_out)
 {
     uint32_t f = 0U;
     if ((rules & R_FE) != 0U) {
@@ -555,7 +622,7 @@ static uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules, const c4g_
 
 /* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
  * the motor targets back for the axes the PC drives. */
-static void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
                           c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
 {
     const uint32_t n = ctl->n_joint[arm];
@@ -629,7 +696,7 @@ static uint32_t exit_bytes(c4g_ctl_t *ctl, c4g_ctl_report_t *r)
 }
 
 /* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
-static c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
+static CTL_COLD c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
 {
     c4g_status_t st = C4G_OK;
     uint32_t bad_arm[C4G_ARMS] = {0U, 0U, 0U, 0U};
@@ -665,21 +732,20 @@ static c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_repo
 static uint32_t finish_fe(c4g_ctl_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
                           const c4g_pc_axis_t *tx, float *fe_out)
 {
-    uint32_t f = value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
-                 value_check(tx->current_add, 0U);
+    uint32_t f = rewritten_check(tx);
     if (f == 0U) {
         f = filter_fe(ctl, i, ctl->prep_rules[i], rx, tx, fe_out);
     }
     return f;
 }
 
-/* Mode rules, copy back, required fields and the per-axis filter of one axis. */
-static uint32_t finish_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
-                            const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
+/* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
+ * of the reply data, written back by the caller). */
+static inline uint32_t finish_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown,
+                                   const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
 {
     const int32_t m = ctl->prep_mode[i];
     const uint32_t rules = ctl->prep_rules[i];
-    const int32_t shown = overlay_mode(ctl, over, i, m);
     uint32_t f = 0U;
     if ((tx->mode != m) && (tx->mode != shown)) {
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
@@ -696,16 +762,23 @@ static uint32_t finish_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32
         /* without a joint check on the arm the targets are final here; values a clamp
          * rewrote are checked again (an overflow is never sent) */
         if ((ctl->joint_on[ctl->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
-            f |= (clamps != 0U) ? finish_fe(ctl, i, rx, tx, fe_out)
-                                : filter_fe(ctl, i, rules, rx, tx, fe_out);
+            uint32_t g = 0U;
+            if (clamps != 0U) {
+                g = rewritten_check(tx);
+            }
+            if (g == 0U) {
+                g = filter_fe(ctl, i, rules, rx, tx, fe_out);
+            }
+            f |= g;
         }
     }
     return f;
 }
 
 /* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
- * loads would stall on store forwarding (it cost 15 % of c4g_ctl_finish). */
-static void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
+ * loads would stall on store forwarding (it cost 15 % of c4g_ctl_finish); the per-tick filter
+ * works on such a copy in registers. */
+static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 {
     dst->mode = src->mode;
     dst->target_pos = src->target_pos;
@@ -718,34 +791,44 @@ static void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
     dst->ext[2] = src->ext[2];
 }
 
-/* Final modes (latches, freezing), report, and the values kept as the last safe ones. */
-static void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+/* Final mode of one axis (latches, freezing), its report, and the values kept as the last
+ * safe ones. Idempotent except for the n_filtered count. */
+static inline void record_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+                               c4g_ctl_report_t *r)
+{
+    const uint32_t arm = ctl->map.arm_of[i];
+    tx->mode = shown;
+    if (shown == C4G_MODE_DRIVE_OFF) {
+        r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
+    } else if (shown == C4G_MODE_FOLLOW_ERROR) {
+        r->axis_flags[i] |= C4G_SF_FE_SENT;
+    } else {
+        /* no safety request on this axis */
+    }
+    if (ctl->arm[arm].latch != 0U) {
+        ctl->arm[arm].latch_sent = 1U;
+    }
+    if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
+        r->n_filtered++;
+        r->arm_events[arm] |= C4G_CEV_SAFETY;
+        r->events |= C4G_CEV_SAFETY;
+    }
+    keep_axis(&ctl->last_safe[i], tx);
+    ctl->last_mode[i] = ctl->prep_mode[i];
+}
+
+/* Every axis recorded with the final overlays. */
+static CTL_COLD void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
                           c4g_ctl_report_t *r)
 {
     uint32_t i;
     for (i = 0U; i < tx->n_axes; i++) {
-        const uint32_t arm = ctl->map.arm_of[i];
-        const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
-        tx->ax[i].mode = shown;
-        if (shown == C4G_MODE_DRIVE_OFF) {
-            r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
-        } else if (shown == C4G_MODE_FOLLOW_ERROR) {
-            r->axis_flags[i] |= C4G_SF_FE_SENT;
-        } else {
-            /* no safety request on this axis */
-        }
-        if (ctl->arm[arm].latch != 0U) {
-            ctl->arm[arm].latch_sent = 1U;
-        }
-        if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
-            r->n_filtered++;
-            r->arm_events[arm] |= C4G_CEV_SAFETY;
-            r->events |= C4G_CEV_SAFETY;
-        }
-        keep_axis(&ctl->last_safe[i], &tx->ax[i]);
-        ctl->last_mode[i] = ctl->prep_mode[i];
+        record_axis(ctl, i, overlay_mode(ctl, over, i, ctl->prep_mode[i]), &tx->ax[i], r);
     }
 }
+
+/* Filter flags after which the overlays of axes already recorded may change. */
+#define REDO_FLAGS (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR)
 
 c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_ctl_report_t *rep)
@@ -761,18 +844,38 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
         st = C4G_ERR_STATE;
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
+            const uint32_t n = rx->n_axes;
+            const uint32_t n_filtered = r->n_filtered;
             int32_t over[C4G_ARMS];
             uint32_t any = 0U;
             uint32_t i;
             uint32_t a;
+            /* Each axis is recorded as soon as it is filtered while nothing can change the
+             * overlays of the axes before it (no joint check, no fault, no following error);
+             * otherwise every axis is recorded again once the overlays are final. */
+            uint32_t rec = 1U;
+            if ((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] | ctl->joint_on[3]) !=
+                0U) {
+                rec = 0U;
+            }
             st = C4G_OK;
             tx->infpar = exit_bytes(ctl, r);
             arm_overlays(ctl, over);
-            for (i = 0U; i < tx->n_axes; i++) {
+            for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
+                const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
+                c4g_pc_axis_t d;
+                keep_axis(&d, &tx->ax[i]);
                 r->follow_err[i] = 0.0F;
-                r->axis_flags[i] |= finish_axis(ctl, over, i, &rx->ax[i], &tx->ax[i],
+                r->axis_flags[i] |= finish_axis(ctl, i, shown, &rx->ax[i], &d,
                                                 &r->follow_err[i]);
                 any |= r->axis_flags[i];
+                if ((any & REDO_FLAGS) != 0U) {
+                    rec = 0U;
+                }
+                if (rec != 0U) {
+                    record_axis(ctl, i, shown, &d, r);
+                }
+                keep_axis(&tx->ax[i], &d);
             }
             for (a = 0U; a < C4G_ARMS; a++) {
                 if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
@@ -793,10 +896,13 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
                 st = arm_faults(ctl, tx, r);
             }
-            if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR)) != 0U) {
+            if ((any & REDO_FLAGS) != 0U) {
                 arm_overlays(ctl, over); /* the filter latched an arm or an axis */
             }
-            finish_record(ctl, over, tx, r);
+            if (rec == 0U) {
+                r->n_filtered = n_filtered;
+                finish_record(ctl, over, tx, r);
+            }
             ctl->have_last = 1U;
             ctl->stepped = 0U;
         }

@@ -5,6 +5,14 @@
 
 #include "c4g_internal.h"
 
+/* Cold paths of the per-tick functions stay out of line, so that the hot loop neither grows
+ * nor keeps their intermediate values alive (plain static elsewhere). */
+#if defined(__GNUC__) || defined(__clang__)
+#define CTL_COLD __attribute__((noinline, cold))
+#else
+#define CTL_COLD
+#endif
+
 /* Control-layer codes are macros in -100..-199, inside the range c4g_status_t reserves. */
 static inline c4g_status_t ctl_st(int32_t code)
 {
@@ -18,6 +26,13 @@ static inline c4g_status_t ctl_st(int32_t code)
 static inline uint32_t ctl_nonfinite_bit(float f)
 {
     return ((c4g_f32_bits(f) & 0x7F800000U) + 0x00800000U) & 0x80000000U;
+}
+
+/* Exponent carry of a float: bit 31 of the OR of these is set iff one of them is NaN or
+ * infinite (the mask test of ctl_nonfinite_bit, done once for several values). */
+static inline uint32_t ctl_exp_carry(float f)
+{
+    return (c4g_f32_bits(f) & 0x7F800000U) + 0x00800000U;
 }
 
 static inline float ctl_absf(float x)
