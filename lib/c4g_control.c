@@ -88,6 +88,7 @@ int c4g_is_unset(float f)
 #define R_FE 0x2000U    /* following error checked: the PC generates targets or closes loops */
 #define R_COPY 0x4000U  /* mode 0': copy back */
 #define R_FIELDS 0x001FU
+#define R_SHOWN 0x8000U /* (axis_data_check only) the axis carries its prepared mode */
 
 static uint32_t mode_rules(int32_t m)
 {
@@ -156,12 +157,23 @@ static int32_t overlay_mode(const c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], 
     return m;
 }
 
-static void arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
+/* The overlay of every arm; 1 if some axis may carry a mode other than its prepared one (an
+ * arm overlay, or an axis latched to 508), 0 if none can. */
+static uint32_t arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
 {
+    uint32_t some = 0U;
     uint32_t a;
+    uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
         over[a] = arm_overlay(&ctl->arm[a]);
+        if (over[a] != 0) {
+            some = 1U;
+        }
     }
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < ctl->map.n_axes); i++) {
+        some |= ctl->fe_latch[i];
+    }
+    return (some != 0U) ? 1U : 0U;
 }
 
 /* ------------------------------------------------------------------ init and limits */
@@ -403,15 +415,14 @@ static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *
 }
 
 /* Reply data of one axis before the caller fills it. */
-static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
-                                const int32_t req[C4G_ARMS], const c4g_ctrl_axis_t *rx,
-                                uint32_t i, c4g_pc_axis_t *tx)
+static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
+                                const int32_t req[C4G_ARMS], uint32_t req_any,
+                                const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
 {
-    const uint32_t arm = ctl->map.arm_of[i];
     int32_t mode = rx->mode;
     int32_t shown;
-    if (req[arm] != 0) {
-        mode = req[arm]; /* the request goes out with the data of its mode */
+    if ((req_any != 0U) && (req[ctl->map.arm_of[i]] != 0)) {
+        mode = req[ctl->map.arm_of[i]]; /* the request goes out with the data of its mode */
     }
     /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
      * look up on change only */
@@ -420,7 +431,7 @@ static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
         ctl->prep_rules[i] = mode_rules(mode);
         prep_template(ctl->prep_rules[i], mode, &ctl->prep_tx[i]);
     }
-    shown = overlay_mode(ctl, over, i, mode);
+    shown = (some != 0U) ? overlay_mode(ctl, over, i, mode) : mode;
     if (shown != mode) {
         if (ctl->have_last != 0U) {
             *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
@@ -459,6 +470,8 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             const uint32_t n = rx->n_axes;
             int32_t over[C4G_ARMS];
             int32_t req[C4G_ARMS] = {0, 0, 0, 0};
+            uint32_t req_any = 0U;
+            uint32_t some;
             uint32_t a;
             uint32_t i;
             if ((v[0].mixed | v[1].mixed | v[2].mixed | v[3].mixed) != 0U) {
@@ -480,6 +493,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
                         (sm->mode == C4G_MODE_0)) {
                         sm->req_ticks++;
                         req[a] = sm->req_mode;
+                        req_any = 1U;
                     }
                     r->arm_events[a] = ev;
                     r->events |= ev;
@@ -489,9 +503,9 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             tx->infpar = 0U;
             tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
-            arm_overlays(ctl, over);
+            some = arm_overlays(ctl, over);
             for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
-                prepare_axis(ctl, over, req, &rx->ax[i], i, &tx->ax[i]);
+                prepare_axis(ctl, over, some, req, req_any, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
             ctl->step_num = rx->num;
@@ -503,7 +517,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
 /* ------------------------------------------------------------------ finish: the filter */
 
 static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
-                                        float e1, float e2, float e3, uint32_t required);
+                                        float e1, float e2, float e3, uint32_t fields);
 
 /* One float of the reply: non-finite is MISSING when it is the unset marker of a required
  * field, else NONFINITE. The common (finite) case is one mask test. */
@@ -519,7 +533,8 @@ static inline uint32_t value_check(float f, uint32_t required)
     return r;
 }
 
-static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t required)
+/* @p fields: C4G_PCF_* whose unset marker means MISSING (the others: NONFINITE). */
+static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t fields)
 {
     const uint32_t carry = ctl_exp_carry(tx->target_pos) | ctl_exp_carry(tx->target_vel) |
                            ctl_exp_carry(tx->measure) | ctl_exp_carry(tx->vel_add) |
@@ -528,13 +543,15 @@ static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t require
     return ((carry & 0x80000000U) == 0U)
                ? 0U
                : axis_data_slow(tx->target_pos, tx->target_vel, tx->measure, tx->vel_add,
-                                tx->current_add, tx->ext[0], tx->ext[1], tx->ext[2], required);
+                                tx->current_add, tx->ext[0], tx->ext[1], tx->ext[2], fields);
 }
 
 /* By value: the per-tick filter keeps the axis data in registers. */
 static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
-                                        float e1, float e2, float e3, uint32_t required)
+                                        float e1, float e2, float e3, uint32_t fields)
 {
+    /* the unset marker in a field that is not required (or under an overlay) is NONFINITE */
+    const uint32_t required = ((fields & R_SHOWN) != 0U) ? (fields & R_FIELDS) : 0U;
     return value_check(d1, required & C4G_PCF_D1) | value_check(d2, required & C4G_PCF_D2) |
            value_check(d3, required & C4G_PCF_D3) | value_check(d4, required & C4G_PCF_D4) |
            value_check(d5, required & C4G_PCF_D5) | value_check(e1, 0U) | value_check(e2, 0U) |
@@ -755,7 +772,7 @@ static inline uint32_t finish_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown,
         copy_back(rx, tx);
         f |= C4G_SF_COPY_BACK;
     }
-    f |= axis_data_check(tx, (shown == m) ? (rules & R_FIELDS) : 0U);
+    f |= axis_data_check(tx, (shown == m) ? (rules | R_SHOWN) : rules);
     if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
         const uint32_t clamps = filter_axis(ctl, i, rules, rx, tx);
         f |= clamps;
@@ -848,6 +865,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             const uint32_t n_filtered = r->n_filtered;
             int32_t over[C4G_ARMS];
             uint32_t any = 0U;
+            uint32_t some;
             uint32_t i;
             uint32_t a;
             /* Each axis is recorded as soon as it is filtered while nothing can change the
@@ -860,9 +878,10 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             }
             st = C4G_OK;
             tx->infpar = exit_bytes(ctl, r);
-            arm_overlays(ctl, over);
+            some = arm_overlays(ctl, over);
             for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
-                const int32_t shown = overlay_mode(ctl, over, i, ctl->prep_mode[i]);
+                const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
+                                                   : ctl->prep_mode[i];
                 c4g_pc_axis_t d;
                 keep_axis(&d, &tx->ax[i]);
                 r->follow_err[i] = 0.0F;
@@ -897,7 +916,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
                 st = arm_faults(ctl, tx, r);
             }
             if ((any & REDO_FLAGS) != 0U) {
-                arm_overlays(ctl, over); /* the filter latched an arm or an axis */
+                (void)arm_overlays(ctl, over); /* the filter latched an arm or an axis */
             }
             if (rec == 0U) {
                 r->n_filtered = n_filtered;
