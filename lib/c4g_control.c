@@ -809,7 +809,7 @@ static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 }
 
 /* Final mode of one axis (latches, freezing), its report, and the values kept as the last
- * safe ones. Idempotent except for the n_filtered count. */
+ * safe ones. Idempotent except for the n_filtered count. (latch_sent: c4g_ctl_finish.) */
 static inline void record_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
                                c4g_ctl_report_t *r)
 {
@@ -821,9 +821,6 @@ static inline void record_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown, c4g_pc
         r->axis_flags[i] |= C4G_SF_FE_SENT;
     } else {
         /* no safety request on this axis */
-    }
-    if (ctl->arm[arm].latch != 0U) {
-        ctl->arm[arm].latch_sent = 1U;
     }
     if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
         r->n_filtered++;
@@ -921,6 +918,12 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             if (rec == 0U) {
                 r->n_filtered = n_filtered;
                 finish_record(ctl, over, tx, r);
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                /* every open axis went out: the arm's latch did */
+                if ((ctl->map.n_axes_arm[a] != 0U) && (ctl->arm[a].latch != 0U)) {
+                    ctl->arm[a].latch_sent = 1U;
+                }
             }
             ctl->have_last = 1U;
             ctl->stepped = 0U;
