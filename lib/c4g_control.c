@@ -79,6 +79,12 @@ int c4g_is_unset(float f)
 
 /* ------------------------------------------------------------------ helpers */
 
+/* An axis count bounded by the packet arrays (one test per loop iteration, not two). */
+static inline uint32_t axes_in(uint32_t n)
+{
+    return (n < C4G_MAX_AXES) ? n : C4G_MAX_AXES;
+}
+
 /* What the control layer does with an axis in a mode; the low bits are C4G_PCF_*. */
 #define R_ABS 0x0100U   /* D1 is an absolute target (1, 11, 4) */
 #define R_DELTA 0x0200U /* D1 is a per-tick delta (5, 7) */
@@ -170,7 +176,8 @@ static uint32_t arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
             some = 1U;
         }
     }
-    for (i = 0U; (i < C4G_MAX_AXES) && (i < ctl->map.n_axes); i++) {
+    /* the whole array (zero past the open axes): a fixed count the compiler can vectorize */
+    for (i = 0U; i < C4G_MAX_AXES; i++) {
         some |= ctl->fe_latch[i];
     }
     return (some != 0U) ? 1U : 0U;
@@ -368,12 +375,12 @@ static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
 static uint32_t rx_scan(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
                         arm_view_t v[C4G_ARMS])
 {
-    const uint32_t n = ctl->map.n_axes;
+    const uint32_t n = axes_in(ctl->map.n_axes);
     uint32_t carry = 0U;
     uint32_t unknown = 0U;
     uint32_t i;
     (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
-    for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
+    for (i = 0U; i < n; i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
         arm_view_t *w = &v[ctl->map.arm_of[i]];
         const int32_t am = a->mode;
@@ -467,7 +474,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             }
         }
         if (st == C4G_OK) {
-            const uint32_t n = rx->n_axes;
+            const uint32_t n = axes_in(rx->n_axes);
             int32_t over[C4G_ARMS];
             int32_t req[C4G_ARMS] = {0, 0, 0, 0};
             uint32_t req_any = 0U;
@@ -504,7 +511,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
             some = arm_overlays(ctl, over);
-            for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
+            for (i = 0U; i < n; i++) {
                 prepare_axis(ctl, over, some, req, req_any, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
@@ -858,7 +865,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
         st = C4G_ERR_STATE;
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
-            const uint32_t n = rx->n_axes;
+            const uint32_t n = axes_in(rx->n_axes);
             const uint32_t n_filtered = r->n_filtered;
             int32_t over[C4G_ARMS];
             uint32_t any = 0U;
@@ -876,7 +883,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             st = C4G_OK;
             tx->infpar = exit_bytes(ctl, r);
             some = arm_overlays(ctl, over);
-            for (i = 0U; (i < C4G_MAX_AXES) && (i < n); i++) {
+            for (i = 0U; i < n; i++) {
                 const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
                                                    : ctl->prep_mode[i];
                 c4g_pc_axis_t d;
