@@ -6,8 +6,11 @@ check() { # check PC_OPTS SIM_POLICY WANT_EXIT
   run_sim -p $PORT -n 100 --num-policy "$2" --json >"$T/p.json"; rc=$?
   expect_eq "PC '${1:-plus-one}' vs --num-policy $2: exit status" $rc "$3"
   if [ "$3" = 1 ]; then
-    w=$(( $(jget "$T/p.json" wrong_num) + $(jget "$T/p.json" stale) ))
-    [ "$w" -ge 10 ] || fail "wrong NUM not counted: $(cat "$T/p.json")"
+    # the refused replies (all but possibly the last, still in flight when the error is
+    # raised) are counted as wrong NUM, stale, or (an init echo that arrives
+    # after the sim moved on, on a loaded machine) malformed
+    w=$(( $(jget "$T/p.json" wrong_num) + $(jget "$T/p.json" stale) + $(jget "$T/p.json" malformed) ))
+    [ "$w" -ge 9 ] || fail "wrong NUM not counted: $(cat "$T/p.json")"
     ok "replies with a NUM the policy rejects counted: $w (wrong_num + stale)"
     grep -q ERR_C4GOPEN_UDP "$T/p.json" || fail "no ERR_C4GOPEN_UDP"
   else
