@@ -132,7 +132,7 @@ $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude -g
 $(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h)
 	@mkdir -p $(@D)
-	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -DSHARED_DIR='"$(CURDIR)/../shared"' \
+	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
 	  -o $@ $< $(STATIC) -lcmocka -lm
 
 unit: $(UNIT_BINS)
@@ -144,7 +144,7 @@ sanitize: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/san
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -DSHARED_DIR='"$(CURDIR)/../shared"' -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
 	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
@@ -161,7 +161,7 @@ coverage: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -DSHARED_DIR='"$(CURDIR)/../shared"' -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
 	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
 	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
 

@@ -335,7 +335,9 @@ c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg);
 /** Why datagrams were rejected (index of c4g_counters_t.malformed). */
 typedef enum c4g_malformed {
     C4G_MAL_LENGTH = 0, C4G_MAL_NUM, C4G_MAL_MODE, C4G_MAL_NONFINITE,
-    C4G_MAL_INIT, C4G_MAL_PHASE, C4G_MAL_COUNT_
+    C4G_MAL_INIT,
+    C4G_MAL_PHASE, /**< reserved: valid datagram refused in this phase (not counted in 0.1) */
+    C4G_MAL_COUNT_
 } c4g_malformed_t;
 
 /** Session counters: readable at any time. */
@@ -379,7 +381,6 @@ typedef struct c4g_session {
     c4g_timing_t timing;
     c4g_ctrl_packet_t rx[2];     /**< decode double buffer; rx[cur] is the last accepted */
     uint32_t cur;                /**< index of the last accepted cyclic packet in rx[] */
-    uint32_t have_cyclic;        /**< rx[cur] holds a packet */
     int32_t last_num;            /**< NUM of the newest accepted packet, -1 none */
     int32_t pending_num;         /**< NUM to answer (after an accepted rx), -1 none */
     c4g_rx_kind_t pending_kind;  /**< what the pending reply answers */

@@ -102,21 +102,11 @@ static c4g_status_t check_num(int32_t num, c4g_diag_t *diag)
 /* One axis on the wire: SM + D1..D5 + EXT1..EXT3. The raw helpers take one pointer or
  * value per field so that, inlined, they compile to straight loads and stores for both
  * packet directions (one implementation, two typed structs). */
-#define EXP_MASK 0x7F800000U
 
-#define EXP_LSB 0x00800000U
-
-/* Bit 31 of the result is set iff the exponent is all ones (NaN or infinity): adding one
- * exponent LSB carries into bit 31 only then. Branch-free so that OR-ing eight of them
- * vectorises; nonfinite() below is the single-value form. */
-static inline uint32_t exp_carry(uint32_t bits)
-{
-    return (bits & EXP_MASK) + EXP_LSB;
-}
-
+/* 1 if the float with these bits is NaN or infinite (see c4g_exp_carry). */
 static inline uint32_t nonfinite(uint32_t bits)
 {
-    return exp_carry(bits) >> 31U;
+    return c4g_exp_carry(bits) >> 31U;
 }
 
 /* Modes 0..17 that exist, as a bit set: the hot path avoids the full switch. */
@@ -159,8 +149,8 @@ static C4G_HOT_INLINE uint32_t get_axis(const uint8_t *p, int32_t *mode, float *
     *f5 = c4g_f32_from_bits(u5);
     *f6 = c4g_f32_from_bits(u6);
     *f7 = c4g_f32_from_bits(u7);
-    return (exp_carry(u0) | exp_carry(u1) | exp_carry(u2) | exp_carry(u3) | exp_carry(u4) |
-            exp_carry(u5) | exp_carry(u6) | exp_carry(u7)) >> 31U;
+    return (c4g_exp_carry(u0) | c4g_exp_carry(u1) | c4g_exp_carry(u2) | c4g_exp_carry(u3) | c4g_exp_carry(u4) |
+            c4g_exp_carry(u5) | c4g_exp_carry(u6) | c4g_exp_carry(u7)) >> 31U;
 }
 
 /* Writes the axis; returns non-zero on NaN/inf (the caller then voids the packet). */
@@ -186,8 +176,8 @@ static C4G_HOT_INLINE uint32_t put_axis(uint8_t *p, int32_t mode, float f0, floa
     c4g_put_u32le(&p[24], u5);
     c4g_put_u32le(&p[28], u6);
     c4g_put_u32le(&p[32], u7);
-    return (exp_carry(u0) | exp_carry(u1) | exp_carry(u2) | exp_carry(u3) | exp_carry(u4) |
-            exp_carry(u5) | exp_carry(u6) | exp_carry(u7)) >> 31U;
+    return (c4g_exp_carry(u0) | c4g_exp_carry(u1) | c4g_exp_carry(u2) | c4g_exp_carry(u3) | c4g_exp_carry(u4) |
+            c4g_exp_carry(u5) | c4g_exp_carry(u6) | c4g_exp_carry(u7)) >> 31U;
 }
 
 /* Slow path, only on error (unknown mode or NaN/inf): name the field in the diagnostic. */

@@ -25,14 +25,14 @@ static inline c4g_status_t ctl_st(int32_t code)
  * OR several of these and test once. */
 static inline uint32_t ctl_nonfinite_bit(float f)
 {
-    return ((c4g_f32_bits(f) & 0x7F800000U) + 0x00800000U) & 0x80000000U;
+    return c4g_exp_carry(c4g_f32_bits(f)) & 0x80000000U;
 }
 
 /* Exponent carry of a float: bit 31 of the OR of these is set iff one of them is NaN or
  * infinite (the mask test of ctl_nonfinite_bit, done once for several values). */
 static inline uint32_t ctl_exp_carry(float f)
 {
-    return (c4g_f32_bits(f) & 0x7F800000U) + 0x00800000U;
+    return c4g_exp_carry(c4g_f32_bits(f));
 }
 
 static inline float ctl_absf(float x)

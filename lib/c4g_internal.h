@@ -76,10 +76,18 @@ static inline void c4g_put_f32le(uint8_t *p, float f)
     c4g_put_u32le(p, c4g_f32_bits(f));
 }
 
-/* Finite test on the bit pattern: no libm, no FP exceptions, same on every target. */
+/* NaN/inf test on the bit pattern (no libm, no FP exceptions, same on every target).
+ * Adding one exponent LSB to the masked exponent carries into bit 31 only when the
+ * exponent is all ones, so OR-ing several carries and testing bit 31 once checks many
+ * values branch-free (the hot paths in lib/c4g_codec.c and the control layer do that). */
+static inline uint32_t c4g_exp_carry(uint32_t bits)
+{
+    return (bits & 0x7F800000U) + 0x00800000U;
+}
+
 static inline int c4g_f32_finite(float f)
 {
-    return ((c4g_f32_bits(f) & 0x7F800000U) != 0x7F800000U) ? 1 : 0;
+    return ((c4g_exp_carry(c4g_f32_bits(f)) & 0x80000000U) == 0U) ? 1 : 0;
 }
 
 static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t field,

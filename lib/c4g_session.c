@@ -130,7 +130,6 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         s->restart_pending = 0U;
         s->frozen = 0U;
         s->frozen_active = 0U;
-        s->have_cyclic = 0U;
         s->have_cyclic_time = 0U;
         s->last_num = C4G_INIT_NUM;
         s->lost_timeout_ns = (s->cfg.lost_timeout_ns != 0U)
@@ -239,7 +238,6 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     } else {
         const uint32_t drives = drive_mask(p->infpar);
         s->cur = next;
-        s->have_cyclic = 1U;
         s->counters.cyclic++;
         if (s->counters.cyclic == 1U) {
             res->events |= C4G_EV_CYCLIC_START;
