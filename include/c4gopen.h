@@ -254,8 +254,9 @@ c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out,
 /**
  * Validate a decoded initialization packet: NUM 10, nFieldPck 3, nFieldAx 9,
  * 1 <= nAxOpen <= 20, OpenAx values 0..nAxOpen-1 or 0xFF, each OPEN index used
- * exactly once, period 1..1000 ms, start-up modes known or 0xFF, all floats finite,
- * AzLim and FollowError >= 0 (a FollowError of 0 means "no threshold").
+ * exactly once, period 1..1000 ms, start-up modes (OpenMask) known or 0xFF on open axes
+ * (any value, e.g. the field tools' -1, on axes that are not open), all floats finite,
+ * AzLim > 0 on open axes and >= 0 elsewhere, FollowError >= 0 (0 means "no threshold").
  */
 c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag);
 /** Encode an initialization packet (validated first) into 1200 bytes. */

@@ -43,10 +43,10 @@ extern "C" {
 /**@{*/
 #define C4G_ERR_CTL_FORBIDDEN (-101)    /**< mode change not allowed from the arm's current mode */
 #define C4G_ERR_CTL_DRIVING_ON (-102)   /**< refused: the arm is driving on (501) */
-#define C4G_ERR_CTL_NOT_OFFERED (-103)  /**< mode not offered by the controller / not requestable */
+#define C4G_ERR_CTL_NOT_OFFERED (-103)  /**< reserved (0.1: mode not requestable) */
 #define C4G_ERR_CTL_NOT_MODE0 (-104)    /**< active freezing is only allowed from mode 0 */
 #define C4G_ERR_CTL_DRIVES_OFF (-105)   /**< refused: the arm's drives are off (INFPAR) */
-#define C4G_ERR_CTL_PENDING (-106)      /**< a mode request is already pending on this arm */
+#define C4G_ERR_CTL_PENDING (-106)      /**< reserved (0.1: a mode request was pending) */
 #define C4G_ERR_CTL_MISSING_DATA (-107) /**< a field the mode requires was not filled */
 #define C4G_ERR_CTL_NOT_IN_OPEN (-108)  /**< exit from open asked while the arm is in mode 0 */
 #define C4G_ERR_CTL_LEAVING (-109)      /**< the arm is already leaving its mode (stand-by) */
@@ -56,7 +56,8 @@ extern "C" {
 #define C4G_ERR_CTL_SINGULAR (-113)     /**< kinematics: zero transmission ratio */
 #define C4G_ERR_CTL_LIMITS (-114)       /**< limits invalid, or a current limit of 0 for modes 1/2 */
 #define C4G_ERR_CTL_MODE_RESTORED (-115)/**< tx carried a mode the rules forbid; it was restored */
-#define C4G_ERR_CTL_LAST_ (-116)        /**< first unused code */
+#define C4G_ERR_CTL_PDL_ONLY (-116)     /**< operating modes are started by the PDL2 program only */
+#define C4G_ERR_CTL_LAST_ (-117)        /**< first unused code */
 /**@}*/
 
 /** Short description of a control-layer status (-100..-199); used by c4g_strerror. */
@@ -72,7 +73,6 @@ const char *c4g_control_strerror(int status);
 #define C4G_MF_SPECIAL 0x08U    /**< special mode 500..508 */
 #define C4G_MF_STANDBY 0x10U    /**< auxiliary stand-by / exit mode (11, 12, 14, 15, 17, 170) */
 #define C4G_MF_PC_REQUEST 0x20U /**< a mode only the PC sends (505, 508) */
-#define C4G_MF_REQUESTABLE 0x40U/**< the PC may request it with c4g_ctl_request_mode */
 /**@}*/
 
 /** @name PC -> SMP+ fields (bit mask) */
@@ -156,9 +156,7 @@ typedef enum c4g_fsm_state {
 #define C4G_CEV_DRIVE_OFF 0x00000100U    /**< INFPAR byte left C4G_STS_MOVING */
 #define C4G_CEV_UNEXPECTED 0x00000200U   /**< transition not allowed by c4g_mode_transition_ok */
 #define C4G_CEV_MIXED 0x00000400U        /**< the arm's axes carry different modes */
-#define C4G_CEV_REQ_ACCEPTED 0x00000800U /**< the controller took the requested mode */
-#define C4G_CEV_REQ_TIMEOUT 0x00001000U  /**< a request got no answer in time: dropped */
-#define C4G_CEV_REQ_DROPPED 0x00002000U  /**< the controller went elsewhere: request dropped */
+#define C4G_CEV_REQ_TIMEOUT 0x00001000U  /**< an exit request got no answer in time: dropped */
 #define C4G_CEV_EXIT_DONE 0x00004000U    /**< mode 0 reached after an exit from open */
 #define C4G_CEV_FREEZE_A 0x00008000U     /**< the controller reports active freezing (500) */
 #define C4G_CEV_FREEZE_A_END 0x00010000U /**< active freezing over */
@@ -176,11 +174,12 @@ typedef enum c4g_fsm_state {
 #define C4G_LATCH_DRIVE_OFF 0x1U    /**< every axis of the arm carries 505 */
 #define C4G_LATCH_FOLLOW_ERROR 0x2U /**< every axis of the arm carries 508 */
 #define C4G_LATCH_AXIS_FE 0x4U      /**< the safety filter sent 508 on some axes of the arm */
+#define C4G_LATCH_STROKE 0x8U       /**< a stroke end stopped the arm: every axis carries 505 */
 /**@}*/
 
 /** Configuration of the state machines. */
 typedef struct c4g_ctl_config {
-    uint32_t request_timeout_ticks; /**< ticks a mode / exit request waits (default 100) */
+    uint32_t request_timeout_ticks; /**< ticks an exit request waits (default 100) */
     uint64_t start_ns;  /**< START length of modes 1 and 2 (SMP+ switching, T1+T2+T3); default 0 */
     float moving_eps;   /**< |SMP+ target velocity| above which the arm moves (default 0) */
 } c4g_ctl_config_t;
@@ -204,9 +203,6 @@ typedef struct c4g_arm_sm {
     uint64_t mode_since_ns;  /**< time the current SMax was first seen */
     uint64_t phase_since_ns; /**< time the current phase began (SCS t1) */
     uint32_t ticks_in_mode;  /**< packets since the current SMax was first seen */
-    int32_t req_mode;        /**< requested mode (0: none) */
-    uint32_t req_queued;     /**< the request waits for mode 0 (asked after an exit) */
-    uint32_t req_ticks;      /**< replies that carried the request */
     uint32_t exit_req;       /**< EXIT_FROM_OPEN is being sent */
     uint32_t exit_ticks;     /**< replies that carried it */
     int32_t exit_from;       /**< SMax when the exit was asked */
@@ -236,7 +232,7 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, in
 
 /** What a PC request asks for. */
 typedef enum c4g_req_kind {
-    C4G_REQ_MODE = 0,         /**< a new operating mode */
+    C4G_REQ_MODE = 0,         /**< a new operating mode: always refused (PDL2 starts modes) */
     C4G_REQ_EXIT = 1,         /**< EXIT_FROM_OPEN (INFPAR byte 1) */
     C4G_REQ_DRIVE_OFF = 2,    /**< 505 on every axis of the arm */
     C4G_REQ_FOLLOW_ERROR = 3, /**< 508 on every axis of the arm */
@@ -245,9 +241,9 @@ typedef enum c4g_req_kind {
 
 /**
  * The request rules (pure): may @p kind (with @p mode for C4G_REQ_MODE) be asked now?
- * Mode changes only from mode 0 (or queued behind an exit from open), never during
- * DRIVING ON, with drives on, only modes the controller offers (C4G_MF_REQUESTABLE);
- * freezing only from mode 0; exit only in an operating mode (not mode 2, which PDL2
+ * A mode is never the PC's to start (manual 24.2: SW_PDL sets every operating mode; the PC
+ * echoes it): C4G_REQ_MODE gives C4G_ERR_CTL_PDL_ONLY (C4G_ERR_MODE for an unknown code).
+ * Freezing only from mode 0; exit only in an operating mode (not mode 2, which PDL2
  * ends by setting 12) or an active freezing; drive off and following error always.
  * @return C4G_OK or the reason: C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_NOT_OPEN,
  *         C4G_ERR_ENDED, C4G_ERR_MODE, C4G_ERR_CTL_*. O(1).
@@ -381,6 +377,8 @@ typedef struct c4g_ctl {
     uint32_t prep_rules[C4G_MAX_AXES];  /**< internal: what the filter does with that mode */
     c4g_pc_axis_t prep_tx[C4G_MAX_AXES];/**< internal: reply data prepared for that mode */
     uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
+    float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_ctl_anchor) */
+    uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
     c4g_pc_axis_t last_safe[C4G_MAX_AXES]; /**< last values sent */
     int32_t last_mode[C4G_MAX_AXES];    /**< last mode sent */
     uint32_t have_last;                 /**< last_safe is valid */
@@ -428,8 +426,21 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
 c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_ctl_report_t *rep);
 
-/** Request operating mode @p mode on @p arm (0..3). Rules: c4g_arm_sm_check. */
+/**
+ * Operating modes are started by the controller's PDL2 program, never by the PC (manual
+ * 24.2). Kept so that a program ported from code that tried gets a clear answer.
+ * @return C4G_ERR_CTL_PDL_ONLY (C4G_ERR_MODE: unknown code; NULL, ARG, NOT_OPEN, ENDED).
+ */
 c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode);
+/**
+ * Where OPEN axis @p axis stood before its current mode: the SMP+ target of the last packet
+ * in mode 0 or 0' (the first packet's, if none came). An open mode starts with the robot
+ * still (24.1), so this is the anchor of a position trajectory, and it does not depend on
+ * the one packet that opens the mode arriving: the filter measures the first step of an
+ * absolute target (modes 1, 4) from it.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis), C4G_ERR_STATE (no packet yet). O(1).
+ */
+c4g_status_t c4g_ctl_anchor(const c4g_ctl_t *ctl, uint32_t axis, float *pos);
 /** Request EXIT_FROM_OPEN on @p arm (also ends an active freezing). Idempotent. */
 c4g_status_t c4g_ctl_request_exit(c4g_ctl_t *ctl, uint32_t arm);
 /** Request a drive off (505 on every axis of @p arm until its drives are off). Never refused. */
@@ -438,8 +449,6 @@ c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm);
 c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm);
 /** Active freezing of @p arm (500), from mode 0 only; left with c4g_ctl_request_exit. */
 c4g_status_t c4g_ctl_request_freeze(c4g_ctl_t *ctl, uint32_t arm);
-/** Drop a pending mode request of @p arm. @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG. */
-c4g_status_t c4g_ctl_cancel(c4g_ctl_t *ctl, uint32_t arm);
 
 /** The unset marker (a quiet NaN with payload C4G_UNSET_BITS). */
 #define C4G_UNSET_BITS 0x7FC4C0DEU

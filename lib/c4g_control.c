@@ -61,6 +61,9 @@ const char *c4g_control_strerror(int status)
     case -115:
         text = "the reply carried a forbidden mode: restored";
         break;
+    case -116:
+        text = "only the controller's PDL2 program starts an operating mode";
+        break;
     default:
         break;
     }
@@ -85,29 +88,36 @@ static inline uint32_t axes_in(uint32_t n)
     return (n < C4G_MAX_AXES) ? n : C4G_MAX_AXES;
 }
 
-/* What the control layer does with an axis in a mode; the low bits are C4G_PCF_*. */
-#define R_ABS 0x0100U   /* D1 is an absolute target (1, 11, 4) */
-#define R_DELTA 0x0200U /* D1 is a per-tick delta (5, 7) */
-#define R_VEL 0x0400U   /* D2 is a velocity reference (1, 11, 4, 5) */
-#define R_CUR 0x0800U   /* D5 is the current (1, 11, 2, 12) */
-#define R_DCUR 0x1000U  /* D5 is a delta current (9) */
-#define R_FE 0x2000U    /* following error checked: the PC generates targets or closes loops */
-#define R_COPY 0x4000U  /* mode 0': copy back */
+/* What the controller does with the PC's fields in a mode, and so what the filter bounds;
+ * the low bits are C4G_PCF_*. The controller's reference ("base") of an integrating mode is
+ * the SMP+ target D1 it reports (pos_k in mode 5, pos_i + offset in modes 7 and 8). */
+#define R_ABS 0x0100U    /* D1 is the absolute position reference (1, 11, 4) */
+#define R_INT_D1 0x0200U /* the controller adds D1 to its reference each tick (7) */
+#define R_INT_D2 0x0400U /* ... integrates D2 into pos_k, fig. 14.1 (5); D1 is ignored */
+#define R_INT_D4 0x0800U /* ... integrates the velocity addition D4 (8) */
+#define R_VEL 0x1000U    /* D2 is a velocity reference: |D2| <= max_vel (1, 11, 4, 5) */
+#define R_VADD 0x2000U   /* D4 is a velocity contribution: |D4| <= max_vel (1, 11, 2, 12, 8) */
+#define R_CUR 0x4000U    /* D5 is the current (1, 11, 2, 12) */
+#define R_DCUR 0x8000U   /* D5 is added to the controller's current (9) */
+#define R_FE 0x10000U    /* following error checked: the PC moves the robot */
+#define R_COPY 0x20000U  /* mode 0': copy back */
 #define R_FIELDS 0x001FU
-#define R_SHOWN 0x8000U /* (axis_data_check only) the axis carries its prepared mode */
+#define R_SHOWN 0x40000U /* (axis_data_check only) the axis carries its prepared mode */
+#define R_INT (R_INT_D1 | R_INT_D2 | R_INT_D4)
 
 static uint32_t mode_rules(int32_t m)
 {
     uint32_t k;
     switch (m) {
     case C4G_MODE_1:
-    case C4G_MODE_1_STANDBY: k = R_ABS | R_VEL | R_CUR | R_FE; break;
+    case C4G_MODE_1_STANDBY: k = R_ABS | R_VEL | R_VADD | R_CUR | R_FE; break;
     case C4G_MODE_4: k = R_ABS | R_VEL | R_FE; break;
-    case C4G_MODE_5: k = R_DELTA | R_VEL | R_FE; break;
-    case C4G_MODE_7: k = R_DELTA | R_FE; break;
+    case C4G_MODE_5: k = R_INT_D2 | R_VEL | R_FE; break;
+    case C4G_MODE_7: k = R_INT_D1 | R_FE; break;
+    case C4G_MODE_8: k = R_INT_D4 | R_VADD | R_FE; break;
     case C4G_MODE_2:
-    case C4G_MODE_2_STANDBY: k = R_CUR | R_FE; break;
-    case C4G_MODE_9: k = R_DCUR; break;
+    case C4G_MODE_2_STANDBY: k = R_VADD | R_CUR | R_FE; break;
+    case C4G_MODE_9: k = R_DCUR | R_FE; break;
     case C4G_MODE_0_DEBUG: k = R_COPY; break;
     default: k = 0U; break;
     }
@@ -138,7 +148,7 @@ static int32_t arm_overlay(const c4g_arm_sm_t *sm)
     int32_t m = 0;
     if ((sm->latch & C4G_LATCH_FOLLOW_ERROR) != 0U) {
         m = C4G_MODE_FOLLOW_ERROR;
-    } else if ((sm->latch & C4G_LATCH_DRIVE_OFF) != 0U) {
+    } else if ((sm->latch & (C4G_LATCH_DRIVE_OFF | C4G_LATCH_STROKE)) != 0U) {
         m = C4G_MODE_DRIVE_OFF;
     } else if (sm->frozen == C4G_MODE_FREEZING_A) {
         m = C4G_MODE_FREEZING_A;
@@ -423,13 +433,16 @@ static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *
 
 /* Reply data of one axis before the caller fills it. */
 static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
-                                const int32_t req[C4G_ARMS], uint32_t req_any,
                                 const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
 {
-    int32_t mode = rx->mode;
+    const int32_t mode = rx->mode; /* the PC echoes the mode (manual figure 24.3) */
     int32_t shown;
-    if ((req_any != 0U) && (req[ctl->map.arm_of[i]] != 0)) {
-        mode = req[ctl->map.arm_of[i]]; /* the request goes out with the data of its mode */
+    /* Where the axis stands while the controller alone moves it (an open mode starts only
+     * with the robot still, 24.1): the anchor of the next position mode, from many packets
+     * rather than the one that opens the mode, which may be lost. */
+    if ((mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) || (ctl->anchor_set[i] == 0U)) {
+        ctl->anchor[i] = rx->target_pos;
+        ctl->anchor_set[i] = 1U;
     }
     /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
      * look up on change only */
@@ -476,8 +489,6 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
         if (st == C4G_OK) {
             const uint32_t n = axes_in(rx->n_axes);
             int32_t over[C4G_ARMS];
-            int32_t req[C4G_ARMS] = {0, 0, 0, 0};
-            uint32_t req_any = 0U;
             uint32_t some;
             uint32_t a;
             uint32_t i;
@@ -496,12 +507,6 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
                             ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
                         }
                     }
-                    if ((sm->req_mode != 0) && (sm->req_queued == 0U) &&
-                        (sm->mode == C4G_MODE_0)) {
-                        sm->req_ticks++;
-                        req[a] = sm->req_mode;
-                        req_any = 1U;
-                    }
                     r->arm_events[a] = ev;
                     r->events |= ev;
                 }
@@ -512,7 +517,7 @@ c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t 
             tx->n_axes = rx->n_axes;
             some = arm_overlays(ctl, over);
             for (i = 0U; i < n; i++) {
-                prepare_axis(ctl, over, some, req, req_any, &rx->ax[i], i, &tx->ax[i]);
+                prepare_axis(ctl, over, some, &rx->ax[i], i, &tx->ax[i]);
             }
             ctl->stepped = 1U;
             ctl->step_num = rx->num;
@@ -569,39 +574,58 @@ static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, 
 static inline uint32_t rewritten_check(const c4g_pc_axis_t *tx)
 {
     return value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
-           value_check(tx->current_add, 0U);
+           value_check(tx->vel_add, 0U) | value_check(tx->current_add, 0U);
 }
 
-/* Position target checks of the modes where the PC generates the trajectory. */
+/* The field the controller integrates in this mode (R_INT_*). */
+static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
+{
+    float *f = &tx->target_pos;
+    if ((rules & R_INT_D2) != 0U) {
+        f = &tx->target_vel;
+    } else if ((rules & R_INT_D4) != 0U) {
+        f = &tx->vel_add;
+    } else {
+        /* D1 */
+    }
+    return f;
+}
+
+/* The controller's position reference that an absolute target of axis @p i moves from: the
+ * last value sent in the same mode, else where the axis stood when the mode began. */
+static inline float abs_base(const c4g_ctl_t *ctl, uint32_t i)
+{
+    return ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
+               ? ctl->last_safe[i].target_pos
+               : ctl->anchor[i];
+}
+
+/* Continuity and stroke ends on the position the controller will hold next tick: base + d,
+ * d the per-tick motion the PC asks for (the integrated field, or target - base). Both only
+ * shrink d towards 0: the filter never creates a motion, even back into the stroke. */
 static inline uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
-    uint32_t f;
-    float o = tx->target_pos;
-    float abs_pos;
-    if ((rules & R_ABS) != 0U) {
-        const float prev = ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
-                               ? ctl->last_safe[i].target_pos
-                               : rx->target_pos;
-        f = sfc_step(prev, tx->target_pos, l->max_step, &o);
-        abs_pos = o;
+    const float base = ((rules & R_ABS) != 0U) ? abs_base(ctl, i) : rx->target_pos;
+    float *field = int_field(rules, tx);
+    const float req = ((rules & R_ABS) != 0U) ? (tx->target_pos - base) : *field;
+    uint32_t f = 0U;
+    float d = req;
+    if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base + req)) != 0U) {
+        f = C4G_SF_NONFINITE; /* target - base or base + delta overflows: never sent */
     } else {
-        f = sfc_step(0.0F, tx->target_pos, l->max_step, &o); /* delta per tick */
-        abs_pos = rx->target_pos + o;
-    }
-    tx->target_pos = o;
-    if ((rules & R_VEL) != 0U) {
-        f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
-        tx->target_vel = o;
-    }
-    if (ctl_nonfinite_bit(abs_pos) != 0U) {
-        f |= C4G_SF_NONFINITE; /* SMP+ target + delta overflows: never sent */
-    } else if (sfc_stroke(abs_pos, l->motor_min, l->motor_max, &o) != 0U) {
-        f |= C4G_SF_STROKE;
-        tx->target_pos = ((rules & R_ABS) != 0U) ? o : (o - rx->target_pos);
-    } else {
-        /* inside the stroke */
+        f = sfc_step(0.0F, req, l->max_step, &d);
+        if (sfc_shrink(base, d, l->motor_min, l->motor_max, &d) != 0U) {
+            f |= C4G_SF_STROKE;
+        }
+        if (f != 0U) { /* rewritten only when a check changed it (base + d may round) */
+            if ((rules & R_ABS) != 0U) {
+                tx->target_pos = base + d;
+            } else {
+                *field = d;
+            }
+        }
     }
     return f;
 }
@@ -612,8 +636,16 @@ static inline uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t ru
     const c4g_axis_limits_t *l = &ctl->lim[i];
     uint32_t f = 0U;
     float o = 0.0F;
-    if ((rules & (R_ABS | R_DELTA)) != 0U) {
+    if ((rules & (R_ABS | R_INT)) != 0U) {
         f = filter_targets(ctl, i, rules, rx, tx);
+    }
+    if ((rules & R_VEL) != 0U) {
+        f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
+        tx->target_vel = o;
+    }
+    if ((rules & R_VADD) != 0U) {
+        f |= sfc_velocity(tx->vel_add, l->max_vel, &o);
+        tx->vel_add = o;
     }
     if ((rules & R_CUR) != 0U) {
         f |= sfc_sym(tx->current_add, l->current_max, C4G_SF_CURRENT, &o);
@@ -660,8 +692,8 @@ static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_
         double v = (double)rx->ax[i].target_pos;
         if ((rules & R_ABS) != 0U) {
             v = (double)tx->ax[i].target_pos;
-        } else if ((rules & R_DELTA) != 0U) {
-            v += (double)tx->ax[i].target_pos;
+        } else if ((rules & R_INT) != 0U) {
+            v += (double)*int_field(rules, &tx->ax[i]); /* the reference it integrates to */
         } else {
             /* SMP+ target */
         }
@@ -674,7 +706,10 @@ static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_
             if ((l->joint_min < l->joint_max) &&
                 ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
                 q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
-                r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
+                /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
+                if ((ctl->prep_rules[i] & (R_ABS | R_INT)) != 0U) {
+                    r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
+                }
                 changed = 1U;
             }
         }
@@ -685,8 +720,8 @@ static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_
             const uint32_t rules = ctl->prep_rules[i];
             if ((rules & R_ABS) != 0U) {
                 tx->ax[i].target_pos = (float)qm[j];
-            } else if ((rules & R_DELTA) != 0U) {
-                tx->ax[i].target_pos = (float)(qm[j] - (double)rx->ax[i].target_pos);
+            } else if ((rules & R_INT) != 0U) {
+                *int_field(rules, &tx->ax[i]) = (float)(qm[j] - (double)rx->ax[i].target_pos);
             } else {
                 /* the PC does not drive this axis */
             }
@@ -849,7 +884,20 @@ static CTL_COLD void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
 }
 
 /* Filter flags after which the overlays of axes already recorded may change. */
-#define REDO_FLAGS (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR)
+#define REDO_FLAGS (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR | C4G_SF_STROKE | \
+                    C4G_SF_STROKE_JOINT)
+
+/* A stroke end stops the arm: every axis carries 505 from this reply on (the reference sent
+ * with it stays inside the stroke: the motion stops before the limit, not after). */
+static CTL_COLD void stroke_stops(c4g_ctl_t *ctl, uint32_t n, const c4g_ctl_report_t *r)
+{
+    uint32_t i;
+    for (i = 0U; i < n; i++) {
+        if ((r->axis_flags[i] & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_STROKE;
+        }
+    }
+}
 
 c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_ctl_report_t *rep)
@@ -919,6 +967,9 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
             if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
                 st = arm_faults(ctl, tx, r);
             }
+            if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+                stroke_stops(ctl, n, r);
+            }
             if ((any & REDO_FLAGS) != 0U) {
                 (void)arm_overlays(ctl, over); /* the filter latched an arm or an axis */
             }
@@ -953,25 +1004,23 @@ static c4g_status_t request(c4g_ctl_t *ctl, uint32_t arm, c4g_req_kind_t kind, i
     return st;
 }
 
+/* Refused: only the controller's PDL2 program starts a mode (see check_mode_req). */
 c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode)
 {
-    c4g_status_t st = request(ctl, arm, C4G_REQ_MODE, mode);
-    if ((st == C4G_OK) && ((mode_rules(mode) & R_CUR) != 0U)) {
-        uint32_t i;
-        /* Modes 1 and 2 send currents: a zero limit would drop the arm. */
-        for (i = 0U; i < ctl->map.n_axes; i++) {
-            if ((ctl->map.arm_of[i] == arm) && (ctl->lim[i].current_max <= 0.0F)) {
-                st = ctl_st(C4G_ERR_CTL_LIMITS);
+    return request(ctl, arm, C4G_REQ_MODE, mode);
+}
+
+c4g_status_t c4g_ctl_anchor(const c4g_ctl_t *ctl, uint32_t axis, float *pos)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (pos != NULL)) {
+        st = C4G_ERR_ARG;
+        if ((axis < ctl->map.n_axes) && (axis < C4G_MAX_AXES)) {
+            st = C4G_ERR_STATE;
+            if (ctl->anchor_set[axis] != 0U) {
+                *pos = ctl->anchor[axis];
+                st = C4G_OK;
             }
-        }
-    }
-    if (st == C4G_OK) {
-        c4g_arm_sm_t *sm = &ctl->arm[arm];
-        sm->req_mode = mode;
-        sm->req_ticks = 0U;
-        sm->req_queued = 0U;
-        if ((sm->mode != C4G_MODE_0) || (sm->exit_req != 0U) || (sm->leaving != 0U)) {
-            sm->req_queued = 1U; /* goes out once mode 0 is reached */
         }
     }
     return st;
@@ -998,8 +1047,6 @@ c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm)
         c4g_arm_sm_t *sm = &ctl->arm[arm];
         sm->latch |= C4G_LATCH_DRIVE_OFF;
         sm->latch_sent = 0U;
-        sm->req_mode = 0;
-        sm->req_queued = 0U;
     }
     return st;
 }
@@ -1011,8 +1058,6 @@ c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm)
         c4g_arm_sm_t *sm = &ctl->arm[arm];
         sm->latch |= C4G_LATCH_FOLLOW_ERROR;
         sm->latch_sent = 0U;
-        sm->req_mode = 0;
-        sm->req_queued = 0U;
     }
     return st;
 }
@@ -1022,20 +1067,6 @@ c4g_status_t c4g_ctl_request_freeze(c4g_ctl_t *ctl, uint32_t arm)
     c4g_status_t st = request(ctl, arm, C4G_REQ_FREEZE, 0);
     if (st == C4G_OK) {
         ctl->arm[arm].frozen = C4G_MODE_FREEZING_A;
-    }
-    return st;
-}
-
-c4g_status_t c4g_ctl_cancel(c4g_ctl_t *ctl, uint32_t arm)
-{
-    c4g_status_t st = C4G_ERR_NULL;
-    if (ctl != NULL) {
-        st = C4G_ERR_ARG;
-        if (arm < C4G_ARMS) {
-            ctl->arm[arm].req_mode = 0;
-            ctl->arm[arm].req_queued = 0U;
-            st = C4G_OK;
-        }
     }
     return st;
 }

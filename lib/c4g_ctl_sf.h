@@ -41,23 +41,43 @@ static inline uint32_t sfc_follow_error(float ref, float mis, float threshold, f
     return r;
 }
 
-/* smp + delta within [-lim, lim]  <=>  delta within [-lim - smp, lim - smp] */
-static inline uint32_t sfc_delta_current(float smp, float delta, float lim, float *out)
+/* @p v kept inside [lo, hi] by shrinking it towards 0 only: a value of the sign that
+ * leaves the interval is cut to its edge, or to 0 when the edge is on the other side of 0;
+ * a value of the other sign is kept (it goes back towards the interval). */
+static inline uint32_t sfc_toward_zero(float v, float lo, float hi, uint32_t flag, float *out)
 {
-    const float lo = -lim - smp;
-    const float hi = lim - smp;
     uint32_t r = 0U;
-    float o = delta;
-    if (delta > hi) {
-        o = hi;
-        r = C4G_SF_DCURRENT;
-    } else if (delta < lo) {
-        o = lo;
-        r = C4G_SF_DCURRENT;
+    float o = v;
+    if ((v > hi) && (v > 0.0F)) {
+        o = (hi > 0.0F) ? hi : 0.0F;
+        r = flag;
+    } else if ((v < lo) && (v < 0.0F)) {
+        o = (lo < 0.0F) ? lo : 0.0F;
+        r = flag;
     } else {
-        /* within limits */
+        /* inside, or on its way back */
     }
     *out = o;
+    return r;
+}
+
+/* smp + delta within [-lim, lim]  <=>  delta within [-lim - smp, lim - smp], reached only by
+ * shrinking delta: a clamp never creates or reverses a current (with SMP+ already beyond the
+ * limit, a delta pushing further becomes 0, one bringing it back stays). */
+static inline uint32_t sfc_delta_current(float smp, float delta, float lim, float *out)
+{
+    return sfc_toward_zero(delta, -lim - smp, lim - smp, C4G_SF_DCURRENT, out);
+}
+
+/* A motion @p d from @p base kept inside [min, max] (off when min >= max) the same way:
+ * from outside the stroke it may move back, never further out. */
+static inline uint32_t sfc_shrink(float base, float d, float min, float max, float *out)
+{
+    uint32_t r = 0U;
+    *out = d;
+    if (min < max) {
+        r = sfc_toward_zero(d, min - base, max - base, C4G_SF_STROKE, out);
+    }
     return r;
 }
 

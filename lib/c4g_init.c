@@ -105,6 +105,9 @@ static c4g_status_t check_header(const c4g_init_t *in, c4g_diag_t *diag)
     return st;
 }
 
+/* Start-up modes of the open axes only: field tools fill OpenMask with -1 for axes that are
+ * not open (the field library initialises the whole array so), and the value carries no
+ * meaning there. */
 static c4g_status_t check_modes(const c4g_init_t *in, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_OK;
@@ -114,11 +117,33 @@ static c4g_status_t check_modes(const c4g_init_t *in, c4g_diag_t *diag)
         for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
             const int32_t m = in->open_mask[arm][ax];
             /* 0xFF: open, start-up mode not specified (manual chapter 10). */
-            if ((m != C4G_OPEN_AX_NONE) && (c4g_mode_is_known(m) == 0)) {
+            if ((in->open_ax[arm][ax] != C4G_OPEN_AX_NONE) && (m != C4G_OPEN_AX_NONE) &&
+                (c4g_mode_is_known(m) == 0)) {
                 st = C4G_ERR_MODE;
                 c4g_diag_set(diag, st, C4G_FIELD_OPENMASK,
                              block_off(C4G_INIT_OFF_OPENMASK, arm, ax), (int32_t)arm,
                              (int32_t)ax, m);
+            }
+        }
+    }
+    return st;
+}
+
+/* An open axis with a current limit of 0 or below would let no current through, or turn
+ * every clamp into a current the PC never asked for: such a packet is refused (the values
+ * are finite: check_floats ran first). */
+static c4g_status_t check_az_lim(const c4g_init_t *in, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+        for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
+            const float f = in->az_lim[arm][ax];
+            if ((in->open_ax[arm][ax] != C4G_OPEN_AX_NONE) && (f <= 0.0F)) {
+                st = C4G_ERR_RANGE;
+                c4g_diag_set(diag, st, C4G_FIELD_AZLIM, block_off(C4G_INIT_OFF_AZLIM, arm, ax),
+                             (int32_t)arm, (int32_t)ax, (int64_t)c4g_f32_bits(f));
             }
         }
     }
@@ -187,6 +212,9 @@ c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag)
         }
         if (st == C4G_OK) {
             st = check_floats(init->az_lim, C4G_INIT_OFF_AZLIM, C4G_FIELD_AZLIM, 1, diag);
+        }
+        if (st == C4G_OK) {
+            st = check_az_lim(init, diag);
         }
         if (st == C4G_OK) {
             st = check_floats(init->ax_info, C4G_INIT_OFF_AXINFO, C4G_FIELD_AXINFO, 0, diag);

@@ -9,7 +9,6 @@
 #define SPC C4G_MF_SPECIAL
 #define SBY C4G_MF_STANDBY
 #define PCR C4G_MF_PC_REQUEST
-#define REQ C4G_MF_REQUESTABLE
 #define F1 C4G_PCF_D1
 #define F2 C4G_PCF_D2
 #define F3 C4G_PCF_D3
@@ -33,22 +32,22 @@ static const mode_row_t *find_mode(int32_t mode)
 {
     static const mode_row_t mode_table[N_MODES] = {
         {C4G_MODE_0, AV, 0U, C4G_MODE_0},
-        {C4G_MODE_0_DEBUG, AV | REQ, F1 | F2, C4G_MODE_0_DEBUG},
-        {C4G_MODE_1, AV | TRJ | LOOP | REQ, F1 | F2 | F4 | F5, C4G_MODE_1},
+        {C4G_MODE_0_DEBUG, AV, F1 | F2, C4G_MODE_0_DEBUG},
+        {C4G_MODE_1, AV | TRJ | LOOP, F1 | F2 | F4 | F5, C4G_MODE_1},
         {C4G_MODE_1_STANDBY, AV | TRJ | LOOP | SBY, F1 | F2 | F4 | F5, C4G_MODE_1},
-        {C4G_MODE_2, AV | LOOP | REQ, F4 | F5, C4G_MODE_2},
+        {C4G_MODE_2, AV | LOOP, F4 | F5, C4G_MODE_2},
         {C4G_MODE_2_STANDBY, AV | LOOP | SBY, F4 | F5, C4G_MODE_2},
         {C4G_MODE_3, LOOP, F5, C4G_MODE_3},
-        {C4G_MODE_4, AV | TRJ | REQ, F1 | F2, C4G_MODE_4},
+        {C4G_MODE_4, AV | TRJ, F1 | F2, C4G_MODE_4},
         {C4G_MODE_4_STANDBY, AV | SBY, 0U, C4G_MODE_4},
-        {C4G_MODE_5, AV | TRJ | REQ, F1 | F2, C4G_MODE_5},
+        {C4G_MODE_5, AV | TRJ, F1 | F2, C4G_MODE_5},
         {C4G_MODE_5_STANDBY, AV | SBY, 0U, C4G_MODE_5},
         {C4G_MODE_6, TRJ, F2, C4G_MODE_6},
-        {C4G_MODE_7, AV | TRJ | REQ, F1, C4G_MODE_7},
+        {C4G_MODE_7, AV | TRJ, F1, C4G_MODE_7},
         {C4G_MODE_7_STANDBY, AV | SBY, 0U, C4G_MODE_7},
         {C4G_MODE_7_STANDBY_EXIT, AV | SBY, 0U, C4G_MODE_7},
-        {C4G_MODE_8, AV | REQ, F4, C4G_MODE_8},
-        {C4G_MODE_9, AV | REQ, F5, C4G_MODE_9},
+        {C4G_MODE_8, AV, F4, C4G_MODE_8},
+        {C4G_MODE_9, AV, F5, C4G_MODE_9},
         {C4G_MODE_101, 0U, F3, C4G_MODE_101},
         {C4G_MODE_102, 0U, F3, C4G_MODE_102},
         {C4G_MODE_103, 0U, F3, C4G_MODE_103},
@@ -490,23 +489,6 @@ static uint32_t requests_on_change(c4g_arm_sm_t *sm, int32_t mode)
         sm->leaving = 0U;
         ev |= C4G_CEV_EXIT_DONE;
     }
-    if (sm->req_mode != 0) {
-        if (mode == sm->req_mode) {
-            sm->req_mode = 0;
-            sm->req_queued = 0U;
-            ev |= C4G_CEV_REQ_ACCEPTED;
-        } else if ((sm->req_queued != 0U) && (sm->leaving != 0U) &&
-                   (c4g_mode_is_standby(mode) != 0)) {
-            /* still leaving the previous mode: keep waiting for mode 0 */
-        } else if ((sm->req_queued != 0U) && (mode == C4G_MODE_0)) {
-            sm->req_queued = 0U; /* mode 0 reached: the request goes out from now on */
-            sm->req_ticks = 0U;
-        } else {
-            sm->req_mode = 0; /* DRIVING ON, PDL2 or an error took the arm elsewhere */
-            sm->req_queued = 0U;
-            ev |= C4G_CEV_REQ_DROPPED;
-        }
-    }
     return ev;
 }
 
@@ -568,11 +550,6 @@ static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint
             ev |= C4G_CEV_CRUISE;
         }
     }
-    if ((sm->req_mode != 0) && (sm->req_queued == 0U) &&
-        (sm->req_ticks >= cfg->request_timeout_ticks)) {
-        sm->req_mode = 0;
-        ev |= C4G_CEV_REQ_TIMEOUT;
-    }
     if (sm->exit_req != 0U) {
         if ((sm->frozen == C4G_MODE_FREEZING_A) &&
             ((sm->mode != C4G_MODE_FREEZING_A) || (sm->exit_ticks >= cfg->request_timeout_ticks))) {
@@ -589,12 +566,6 @@ static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint
         } else {
             /* still waiting for the controller */
         }
-    }
-    if ((sm->req_mode != 0) && (sm->req_queued != 0U) && (sm->exit_req == 0U) &&
-        (sm->leaving == 0U) && (sm->mode != C4G_MODE_0)) {
-        sm->req_mode = 0; /* the exit it waited behind was not taken */
-        sm->req_queued = 0U;
-        ev |= C4G_CEV_REQ_DROPPED;
     }
     return ev;
 }
@@ -654,28 +625,15 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, in
 
 /* ------------------------------------------------------------------ request rules */
 
-static c4g_status_t check_mode_req(const c4g_arm_sm_t *sm, int32_t mode)
+/* Every operating mode is started by the controller's PDL2 program (manual 24.2: "START
+ * begins when SW_PDL sets this mode", for modes 0', 1, 2, 4, 5, 7, 8 and 9; figure 24.3 has
+ * SW_PC echo the mode it receives). The PC's own requests are EXIT_FROM_OPEN, 500, 505 and
+ * 508, each with its own call. */
+static c4g_status_t check_mode_req(int32_t mode)
 {
-    c4g_status_t st = C4G_OK;
+    c4g_status_t st = ctl_st(C4G_ERR_CTL_PDL_ONLY);
     if (c4g_mode_is_known(mode) == 0) {
         st = C4G_ERR_MODE;
-    } else if (has_flag(mode, C4G_MF_REQUESTABLE) == 0) {
-        st = ctl_st(C4G_ERR_CTL_NOT_OFFERED);
-    } else if (sm->driving_on != 0U) {
-        st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
-    } else if (sm->latch != 0U) {
-        st = ctl_st(C4G_ERR_CTL_LATCHED);
-    } else if (sm->frozen != 0) {
-        st = ctl_st(C4G_ERR_CTL_FROZEN);
-    } else if (sm->drive_on == 0U) {
-        st = ctl_st(C4G_ERR_CTL_DRIVES_OFF);
-    } else if (sm->req_mode != 0) {
-        st = ctl_st(C4G_ERR_CTL_PENDING);
-    } else if (((sm->mode == C4G_MODE_0) && (sm->mixed == 0U)) || (sm->exit_req != 0U) ||
-               (sm->leaving != 0U)) {
-        st = C4G_OK; /* from mode 0, or queued behind an exit from open */
-    } else {
-        st = ctl_st(C4G_ERR_CTL_FORBIDDEN);
     }
     return st;
 }
@@ -724,8 +682,6 @@ static c4g_status_t check_freeze(const c4g_arm_sm_t *sm)
             st = ctl_st(C4G_ERR_CTL_LATCHED);
         } else if (sm->frozen != 0) {
             st = ctl_st(C4G_ERR_CTL_FROZEN);
-        } else if (sm->req_mode != 0) {
-            st = ctl_st(C4G_ERR_CTL_PENDING);
         } else if ((sm->mode != C4G_MODE_0) || (sm->mixed != 0U) || (sm->exit_req != 0U) ||
                    (sm->leaving != 0U)) {
             st = ctl_st(C4G_ERR_CTL_NOT_MODE0); /* 15.1: only from mode 0 */
@@ -747,7 +703,7 @@ c4g_status_t c4g_arm_sm_check(const c4g_arm_sm_t *sm, c4g_req_kind_t kind, int32
         } else {
             switch (kind) {
             case C4G_REQ_MODE:
-                st = check_mode_req(sm, mode);
+                st = check_mode_req(mode);
                 break;
             case C4G_REQ_EXIT:
                 st = check_exit(sm);

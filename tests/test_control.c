@@ -11,13 +11,15 @@ static c4g_init_t fig(void)
     return in;
 }
 
-/* Figure 10.1 plus two axes on ARM 2 (OPEN 6, 7) with AzLim 0 and no ratios. */
+/* Figure 10.1 plus two axes on ARM 2 (OPEN 6, 7) with AzLim 5 A and no ratios. */
 static c4g_init_t fig2(void)
 {
     c4g_init_t in = fig();
     in.n_ax_open = 8;
     in.open_ax[1][0] = 6;
     in.open_ax[1][1] = 7;
+    in.az_lim[1][0] = 5.0f;
+    in.az_lim[1][1] = 5.0f;
     return in;
 }
 
@@ -325,7 +327,7 @@ static void test_mixed_arm(void **state)
     assert_true(rep.events & C4G_CEV_MIXED);
     assert_int_equal(tx.ax[0].mode, 0);     /* each axis echoes its own mode */
     assert_int_equal(tx.ax[1].mode, 4);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_ERR_CTL_FORBIDDEN);
+    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_ERR_CTL_PDL_ONLY);
     mk_rx(&rx, 2, 6, 0, 5);
     rx.ax[1].mode = 4;
     rx.ax[2].mode = 502;                    /* a special mode wins over everything */
@@ -364,29 +366,42 @@ static void test_mode_restored(void **state)
 
 /* ----------------------------------------------------------------- requests */
 
-static void test_request_mode_flow(void **state)
+/* Operating modes are the PDL2 program's to start (manual 24.2): every request is refused,
+ * the reply echoes what the controller reports, and the data of the new mode are required in
+ * the very first packet that carries it. */
+static void test_request_mode_refused(void **state)
 {
     c4g_ctl_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
     c4g_ctl_report_t rep;
+    const int32_t modes[] = {0, 10, 1, 11, 2, 12, 3, 4, 14, 5, 15, 6, 7, 17, 170, 8, 9,
+                             101, 102, 103, 201, 202, 500, 501, 502, 503, 504, 505, 506, 508};
+    size_t k;
     uint32_t i;
     (void)state;
     assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
     assert_int_equal(c4g_ctl_request_mode(NULL, 0, 4), C4G_ERR_NULL);
     assert_int_equal(c4g_ctl_request_mode(&ctl, 4, 4), C4G_ERR_ARG);
     assert_int_equal(c4g_ctl_request_mode(&ctl, 1, 4), C4G_ERR_NOT_OPEN);
-    /* before any packet the drives are not known to be on */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_ERR_CTL_DRIVES_OFF);
     mk_rx(&rx, 1, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 3), C4G_ERR_CTL_NOT_OFFERED);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_ERR_CTL_PENDING);
-    /* the request goes out with the data of mode 4 in the same packet */
+    for (k = 0; k < sizeof modes / sizeof modes[0]; k++) {
+        assert_int_equal(c4g_ctl_request_mode(&ctl, 0, modes[k]), C4G_ERR_CTL_PDL_ONLY);
+    }
+    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 13), C4G_ERR_MODE);
+    assert_string_equal(c4g_strerror(C4G_ERR_CTL_PDL_ONLY),
+                        "only the controller's PDL2 program starts an operating mode");
+    /* the next reply still echoes mode 0 */
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(c4g_ctl_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    assert_int_equal(tx.ax[0].mode, 0);
+    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    /* PDL2 sets mode 4: the first packet carrying it needs the mode's data */
+    mk_rx(&rx, 3, 6, 4, 5);
+    assert_int_equal(c4g_ctl_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
+    assert_true(rep.events & C4G_CEV_START);
     for (i = 0; i < 6; i++) {
         assert_int_equal(tx.ax[i].mode, 4);
         assert_true(c4g_is_unset(tx.ax[i].target_pos));
@@ -394,65 +409,10 @@ static void test_request_mode_flow(void **state)
     }
     assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_CTL_MISSING_DATA);
     assert_int_equal(tx.ax[0].mode, 505); /* never a mode without its data */
-    /* again, filled this time */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    mk_rx(&rx, 1, 6, 0, 5);
-    assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_OK);
-    mk_rx(&rx, 2, 6, 0, 5);
-    assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
-    assert_int_equal(tx.ax[0].mode, 4);
-    assert_true(tx.ax[0].target_pos == 1.0f);
-    assert_int_equal(ctl.arm[0].req_ticks, 1);
-    mk_rx(&rx, 3, 6, 4, 5);
-    assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
-    assert_true(rep.events & C4G_CEV_REQ_ACCEPTED);
-    assert_true(rep.events & C4G_CEV_START);
-    assert_int_equal(ctl.arm[0].req_mode, 0);
-    /* mode change from mode 4 refused */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 7), C4G_ERR_CTL_FORBIDDEN);
-    /* ... but queued behind an exit from open */
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 7), C4G_OK);
-    assert_int_equal(ctl.arm[0].req_queued, 1);
-    mk_rx(&rx, 4, 6, 4, 5);
-    assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_arm_byte(tx.infpar, 0), C4G_EXIT_FROM_OPEN);
-    assert_true(rep.events & C4G_CEV_EXIT_SENT);
-    assert_true(rep.events & C4G_CEV_END);
-    assert_int_equal(ctl.arm[0].phase, C4G_MPH_END);
-    assert_int_equal(tx.ax[0].mode, 4); /* still mode 4, queued request not yet sent */
-    mk_rx(&rx, 5, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 4, &tx, &rep), C4G_OK);
-    assert_true(rep.events & C4G_CEV_EXIT_DONE);
-    assert_int_equal(tx.infpar, 0);
-    assert_int_equal(tx.ax[0].mode, 7);   /* the queued request goes out now */
-    assert_true(c4g_is_unset(tx.ax[0].target_pos));
-    fill(&rx, &tx);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
-    /* the controller ignores it: timeout */
-    ctl.cfg.request_timeout_ticks = 3;
-    for (i = 0; i < 3; i++) {
-        mk_rx(&rx, 6 + (int32_t)i, 6, 0, 5);
-        assert_int_equal(tick(&ctl, &rx, 5 + i, &tx, &rep), C4G_OK);
-    }
-    assert_true(rep.events & C4G_CEV_REQ_TIMEOUT);
-    assert_int_equal(tx.ax[0].mode, 0);
-    /* cancel */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 9), C4G_OK);
-    assert_int_equal(c4g_ctl_cancel(&ctl, 0), C4G_OK);
-    assert_int_equal(ctl.arm[0].req_mode, 0);
-    assert_int_equal(c4g_ctl_cancel(NULL, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_cancel(&ctl, 9), C4G_ERR_ARG);
-    /* driving on drops a pending request */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 9), C4G_OK);
-    mk_rx(&rx, 20, 6, 501, 5);
-    assert_int_equal(tick(&ctl, &rx, 20, &tx, &rep), C4G_OK);
-    assert_true(rep.events & C4G_CEV_REQ_DROPPED);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 9), C4G_ERR_CTL_DRIVING_ON);
 }
 
-static void test_request_current_limits(void **state)
+/* Two arms in different modes: the exits are separate INFPAR bytes. */
+static void test_two_arm_exits(void **state)
 {
     c4g_ctl_t ctl;
     c4g_init_t in = fig2();
@@ -464,29 +424,27 @@ static void test_request_current_limits(void **state)
     assert_int_equal(ctl.arm[1].n_axes, 2);
     mk_rx(&rx, 1, 8, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    /* ARM 2 has AzLim 0: modes 1 and 2 would drop it */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 1, 1), C4G_ERR_CTL_LIMITS);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 1, 2), C4G_ERR_CTL_LIMITS);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 1, 4), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 1), C4G_OK);
-    /* per-arm: arm 1 carries 4, arm 0 carries 1 */
-    mk_rx(&rx, 2, 8, 0, 5);
+    mk_rx(&rx, 2, 8, 4, 5);
+    rx.ax[0].mode = rx.ax[1].mode = rx.ax[2].mode = rx.ax[3].mode = rx.ax[4].mode =
+        rx.ax[5].mode = 1;
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 1);
     assert_int_equal(tx.ax[6].mode, 4);
-    /* the two arms' exits are separate INFPAR bytes */
+    assert_true(rep.arm_events[0] & C4G_CEV_START);
+    assert_true(rep.arm_events[1] & C4G_CEV_START);
+    assert_int_equal(c4g_ctl_request_exit(&ctl, 1), C4G_OK);
     mk_rx(&rx, 3, 8, 4, 5);
     rx.ax[0].mode = rx.ax[1].mode = rx.ax[2].mode = rx.ax[3].mode = rx.ax[4].mode =
         rx.ax[5].mode = 1;
     assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
-    assert_true(rep.arm_events[0] & C4G_CEV_REQ_ACCEPTED);
-    assert_true(rep.arm_events[1] & C4G_CEV_REQ_ACCEPTED);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 1), C4G_OK);
-    mk_rx(&rx, 4, 8, 4, 5);
-    rx.ax[0].mode = rx.ax[1].mode = rx.ax[2].mode = rx.ax[3].mode = rx.ax[4].mode =
-        rx.ax[5].mode = 1;
-    assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
     assert_int_equal(tx.infpar, 0x0100u);
+    /* the exit is not taken: it times out */
+    ctl.cfg.request_timeout_ticks = 2;
+    mk_rx(&rx, 4, 8, 4, 5);
+    assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
+    mk_rx(&rx, 5, 8, 4, 5);
+    assert_int_equal(tick(&ctl, &rx, 4, &tx, &rep), C4G_OK);
+    assert_true(rep.arm_events[1] & C4G_CEV_REQ_TIMEOUT);
 }
 
 static void test_exit_and_freeze(void **state)
@@ -506,7 +464,6 @@ static void test_exit_and_freeze(void **state)
     /* active freezing from mode 0: 500 on every axis until exit */
     assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK);
     assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK); /* idempotent */
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_ERR_CTL_FROZEN);
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 500);
@@ -558,7 +515,6 @@ static void test_exit_and_freeze(void **state)
     mk_rx(&rx, 1, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_OK); /* queued */
     assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);    /* idempotent */
     mk_rx(&rx, 2, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
@@ -567,18 +523,8 @@ static void test_exit_and_freeze(void **state)
     mk_rx(&rx, 4, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_REQ_TIMEOUT);
-    assert_true(rep.events & C4G_CEV_REQ_DROPPED); /* the queued request too */
     assert_int_equal(ctl.arm[0].phase, C4G_MPH_CRUISE);
     assert_int_equal(ctl.arm[0].exit_req, 0);
-    /* queued request dropped when the arm goes elsewhere than mode 0 */
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_OK);
-    mk_rx(&rx, 5, 6, 14, 5);
-    assert_int_equal(tick(&ctl, &rx, 4, &tx, &rep), C4G_OK);
-    assert_int_equal(ctl.arm[0].req_mode, 5); /* leaving through a stand-by: keep waiting */
-    mk_rx(&rx, 6, 6, 7, 5);
-    assert_int_equal(tick(&ctl, &rx, 5, &tx, &rep), C4G_OK);
-    assert_true(rep.events & C4G_CEV_REQ_DROPPED);
 }
 
 static void test_drive_off_follow_error_requests(void **state)
@@ -597,26 +543,22 @@ static void test_drive_off_follow_error_requests(void **state)
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     /* never refused, even while driving on */
     assert_int_equal(c4g_ctl_request_follow_error(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_ERR_CTL_DRIVING_ON);
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     for (i = 0; i < 6; i++) {
         assert_int_equal(tx.ax[i].mode, 508);
         assert_true(rep.axis_flags[i] & C4G_SF_FE_SENT);
     }
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 4), C4G_ERR_CTL_LATCHED);
     assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_ERR_CTL_LATCHED);
     mk_rx(&rx, 3, 6, 0, 0); /* drives off */
     assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_LATCH_CLEARED);
     assert_true(rep.events & C4G_CEV_DRIVE_OFF);
     assert_int_equal(tx.ax[0].mode, 0);
-    /* drive off cancels a pending mode request */
+    /* a drive off in mode 0 */
     mk_rx(&rx, 4, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 8), C4G_OK);
     assert_int_equal(c4g_ctl_request_drive_off(&ctl, 0), C4G_OK);
-    assert_int_equal(ctl.arm[0].req_mode, 0);
     mk_rx(&rx, 5, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 4, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
@@ -628,14 +570,14 @@ static void test_drive_off_follow_error_requests(void **state)
 
 /* ----------------------------------------------------------------- figure 24.4 walk */
 
-enum { NONE = 0, EXIT = 1, REQ = 2 };
+enum { NONE = 0, EXIT = 1 };
 
 typedef struct walk_row {
     int32_t rx_mode;
     uint8_t drive;
     int moving;
     int pc;              /* action before the tick */
-    int32_t req_mode;    /* for REQ */
+    int32_t unused;
     int32_t tx_mode;     /* mode the reply carries */
     uint8_t exit_byte;   /* INFPAR byte of the reply */
     c4g_mode_phase_t phase;
@@ -660,8 +602,6 @@ static void walk(const char *name, const walk_row_t *rows, size_t n, uint64_t st
         uint32_t i;
         if (w->pc == EXIT) {
             assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
-        } else if (w->pc == REQ) {
-            assert_int_equal(c4g_ctl_request_mode(&ctl, 0, w->req_mode), C4G_OK);
         }
         mk_rx(&rx, (int32_t)k + 1, 6, w->rx_mode, w->drive);
         for (i = 0; i < 6; i++) {
@@ -786,15 +726,6 @@ static void test_fig24_4_pdl_sequences(void **state)
         walk("mode 8", ROWS(r8), 0);
         walk("mode 9", ROWS(r9), 0);
     }
-    {   /* Mode set by the PC (15.2: "the one set either by PC or PDL2") */
-        const walk_row_t r[] = {
-            {0, 5, 0, NONE, 0, 0, 0, C4G_MPH_NONE, C4G_FSM_S00, 0},
-            {0, 5, 0, REQ, 4, 4, 0, C4G_MPH_NONE, C4G_FSM_S00, 0},
-            {4, 5, 0, NONE, 0, 4, 0, C4G_MPH_START, C4G_FSM_S01,
-             C4G_CEV_REQ_ACCEPTED | C4G_CEV_START},
-        };
-        walk("PC request", ROWS(r), 0);
-    }
 }
 
 static void test_more_paths(void **state)
@@ -873,8 +804,8 @@ int main(void)
         cmocka_unit_test(test_nonfinite_holds),
         cmocka_unit_test(test_mixed_arm),
         cmocka_unit_test(test_mode_restored),
-        cmocka_unit_test(test_request_mode_flow),
-        cmocka_unit_test(test_request_current_limits),
+        cmocka_unit_test(test_request_mode_refused),
+        cmocka_unit_test(test_two_arm_exits),
         cmocka_unit_test(test_exit_and_freeze),
         cmocka_unit_test(test_drive_off_follow_error_requests),
         cmocka_unit_test(test_fig24_4_pdl_sequences),

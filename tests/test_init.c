@@ -94,6 +94,7 @@ static void test_axis_map(void **state)
     in.open_ax[1][0] = 0;
     in.open_ax[0][0] = 1;
     in.open_ax[0][2] = 2;
+    in.az_lim[1][0] = 3.0f; /* an open axis needs a current limit */
     assert_int_equal(c4g_init_validate(&in, NULL), C4G_OK);
     assert_int_equal(c4g_axis_map_build(&in, &m, NULL), C4G_OK);
     assert_int_equal(m.n_axes, 3);
@@ -166,7 +167,7 @@ static void test_hostile_fields(void **state)
     expect_bad(224, 1001, C4G_ERR_PERIOD, C4G_FIELD_PERIOD);
     expect_bad(224, 0xFFFFFFFFu, C4G_ERR_PERIOD, C4G_FIELD_PERIOD);
     expect_bad(16 + 4 * 3, 507, C4G_ERR_MODE, C4G_FIELD_OPENMASK);
-    expect_bad(16 + 40 * 3 + 4 * 9, 0xFFFFFFFFu, C4G_ERR_MODE, C4G_FIELD_OPENMASK);
+    expect_bad(16 + 4 * 2, 0xFFFFFFFFu, C4G_ERR_MODE, C4G_FIELD_OPENMASK); /* -1, open axis */
     /* duplicate OPEN index, negative index, out-of-range index */
     expect_bad(228 + 4 * 1, 0, C4G_ERR_INIT_MAP, C4G_FIELD_OPENAX);
     expect_bad(228 + 4 * 2, 0xFFFFFFFFu, C4G_ERR_INIT_MAP, C4G_FIELD_OPENAX);
@@ -181,6 +182,9 @@ static void test_hostile_fields(void **state)
     expect_bad(880, fbits(NAN), C4G_ERR_NONFINITE, C4G_FIELD_TXRATE);
     expect_bad(1040 + 4 * 5, fbits(NAN), C4G_ERR_NONFINITE, C4G_FIELD_FOLLOWERROR);
     expect_bad(548, fbits(-1.0f), C4G_ERR_RANGE, C4G_FIELD_AZLIM);
+    /* an open axis with no current allowed is refused; a closed one may carry 0 */
+    expect_bad(548 + 4 * 5, fbits(0.0f), C4G_ERR_RANGE, C4G_FIELD_AZLIM);
+    expect_bad(548 + 4 * 1, fbits(-0.0f), C4G_ERR_RANGE, C4G_FIELD_AZLIM);
     expect_bad(1040 + 1196 - 1040, fbits(-0.5f), C4G_ERR_RANGE, C4G_FIELD_FOLLOWERROR);
     /* every OpenMask slot accepts 0xFF ("open, mode not specified") */
     for (arm = 0; arm < 4; arm++) {
@@ -192,6 +196,34 @@ static void test_hostile_fields(void **state)
             assert_int_equal(c4g_init_decode(b, sizeof b, &in, NULL), C4G_OK);
         }
     }
+}
+
+/* Field tools fill OpenMask with -1 on the axes that are not open: accepted, kept as sent. */
+static void test_openmask_minus1_vector(void **state)
+{
+    uint8_t b[1200];
+    uint8_t out[1200];
+    size_t len = 0;
+    c4g_init_t in;
+    c4g_diag_t d;
+    uint32_t arm, ax;
+    (void)state;
+    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-openmask-minus1.bin", b, sizeof b),
+                     1200);
+    assert_int_equal(c4g_init_decode(b, sizeof b, &in, &d), C4G_OK);
+    for (arm = 0; arm < 4; arm++) {
+        for (ax = 0; ax < 10; ax++) {
+            const int open = (arm == 0 && ax < 6);
+            assert_int_equal(in.open_mask[arm][ax], open ? 0 : -1);
+        }
+    }
+    assert_int_equal(c4g_init_encode(&in, out, sizeof out, &len), C4G_OK);
+    assert_memory_equal(out, b, sizeof b);
+    /* any value is accepted where the axis is not open, 0 and -1 alike */
+    memcpy(b, fig, sizeof b);
+    th_put_u32(&b[16 + 40 * 2 + 4 * 7], 12345u);
+    assert_int_equal(c4g_init_decode(b, sizeof b, &in, NULL), C4G_OK);
+    assert_int_equal(in.open_mask[2][7], 12345);
 }
 
 static void test_diag_names_arm_axis(void **state)
@@ -252,6 +284,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fig10_1_decode),
         cmocka_unit_test(test_fig10_1_builtin_matches_vector),
+        cmocka_unit_test(test_openmask_minus1_vector),
         cmocka_unit_test(test_axis_map),
         cmocka_unit_test(test_hostile_fields),
         cmocka_unit_test(test_diag_names_arm_axis),

@@ -334,8 +334,6 @@ static void test_request_rules(void **state)
          C4G_ERR_CTL_DRIVING_ON, C4G_ERR_CTL_DRIVING_ON},
         {"latched", 0, 1, 0, 1, 0, 0, 0, 0, 0, C4G_ERR_CTL_LATCHED, C4G_ERR_CTL_NOT_IN_OPEN,
          C4G_ERR_CTL_LATCHED},
-        {"pending", 0, 1, 0, 0, 4, 0, 0, 0, 0, C4G_ERR_CTL_PENDING, C4G_ERR_CTL_NOT_IN_OPEN,
-         C4G_ERR_CTL_PENDING},
         {"mode 4", 4, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_OK,
          C4G_ERR_CTL_NOT_MODE0},
         {"mode 4 exit sent", 4, 1, 0, 0, 0, 1, 0, 0, 0, C4G_OK, C4G_OK, C4G_ERR_CTL_NOT_MODE0},
@@ -363,12 +361,13 @@ static void test_request_rules(void **state)
         sm.drive_on = rows[i].drive_on;
         sm.driving_on = rows[i].driving_on;
         sm.latch = rows[i].latch;
-        sm.req_mode = (int32_t)rows[i].req;
+        (void)rows[i].req;
         sm.exit_req = rows[i].exit_req;
         sm.leaving = rows[i].leaving;
         sm.mixed = rows[i].mixed;
         sm.frozen = rows[i].frozen;
-        if (c4g_arm_sm_check(&sm, C4G_REQ_MODE, 4) != rows[i].st_mode4 ||
+        (void)rows[i].st_mode4; /* 0.1 rules; a mode is never the PC's to start */
+        if (c4g_arm_sm_check(&sm, C4G_REQ_MODE, 4) != C4G_ERR_CTL_PDL_ONLY ||
             c4g_arm_sm_check(&sm, C4G_REQ_EXIT, 0) != rows[i].st_exit ||
             c4g_arm_sm_check(&sm, C4G_REQ_FREEZE, 0) != rows[i].st_freeze) {
             fail_msg("%s: mode %d exit %d freeze %d", rows[i].what,
@@ -379,16 +378,13 @@ static void test_request_rules(void **state)
         assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_DRIVE_OFF, 0), C4G_OK);
         assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_FOLLOW_ERROR, 0), C4G_OK);
     }
-    /* which modes may be requested at all */
+    /* no mode may be requested by the PC: PDL2 starts them all (manual 24.2) */
     assert_int_equal(c4g_arm_sm_init(&sm, 6), C4G_OK);
     sm.started = 1;
     sm.drive_on = 1;
     for (i = 0; i < (size_t)N_ALL; i++) {
         const int32_t m = all_modes[i];
-        const int ok = (m == 1 || m == 2 || m == 4 || m == 5 || m == 7 || m == 8 || m == 9 ||
-                        m == 10);
-        assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, m),
-                         ok ? C4G_OK : C4G_ERR_CTL_NOT_OFFERED);
+        assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, m), C4G_ERR_CTL_PDL_ONLY);
     }
     assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, 13), C4G_ERR_MODE);
     /* exit from a mode that is not an operating one: 500 seen without our freezing */

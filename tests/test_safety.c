@@ -55,9 +55,21 @@ static void test_delta_current(void **state)
     assert_int_equal(c4g_sf_delta_current(20.0f, -44.5f, 24.5f, &o), 0);
     assert_int_equal(c4g_sf_delta_current(20.0f, -44.6f, 24.5f, &o), C4G_SF_DCURRENT);
     assert_true(o == -44.5f);
-    /* SMP+ already above the limit: the delta must bring it back */
-    assert_int_equal(c4g_sf_delta_current(30.0f, 0.0f, 24.5f, &o), C4G_SF_DCURRENT);
-    assert_true(o == -5.5f);
+    /* SMP+ already above the limit: the filter never creates a current to bring it back; a
+     * request that pushes further becomes 0, one that brings it back is kept */
+    assert_int_equal(c4g_sf_delta_current(30.0f, 0.0f, 24.5f, &o), 0);
+    assert_true(o == 0.0f);
+    assert_int_equal(c4g_sf_delta_current(30.0f, 3.0f, 24.5f, &o), C4G_SF_DCURRENT);
+    assert_true(o == 0.0f);
+    assert_int_equal(c4g_sf_delta_current(30.0f, -2.0f, 24.5f, &o), 0);
+    assert_true(o == -2.0f);
+    assert_int_equal(c4g_sf_delta_current(-30.0f, -1.0f, 24.5f, &o), C4G_SF_DCURRENT);
+    assert_true(o == 0.0f);
+    /* user limit 5 A below an SMP+ current of 20 A: a request of 0 stays 0 */
+    assert_int_equal(c4g_sf_delta_current(20.0f, 0.0f, 5.0f, &o), 0);
+    assert_true(o == 0.0f);
+    assert_int_equal(c4g_sf_delta_current(20.0f, -30.0f, 5.0f, &o), C4G_SF_DCURRENT);
+    assert_true(o == -25.0f);
     assert_int_equal(c4g_sf_delta_current(NAN, 0.0f, 1.0f, &o), C4G_SF_NONFINITE);
     assert_int_equal(c4g_sf_delta_current(0.0f, INFINITY, 1.0f, &o), C4G_SF_NONFINITE);
     assert_int_equal(c4g_sf_delta_current(0.0f, 0.0f, -1.0f, &o), C4G_SF_BAD_LIMIT);
@@ -162,7 +174,7 @@ static int f_tick(filt_t *f, int32_t mode, float d1, float d2, float d4, float d
 static void test_filter_following_error(void **state)
 {
     static const struct { int32_t mode; int uses_tx; } rows[] = {
-        {1, 1}, {11, 1}, {4, 1}, {2, 0}, {12, 0}, {5, 0}, {7, 0},
+        {1, 1}, {11, 1}, {4, 1}, {2, 0}, {12, 0}, {5, 0}, {7, 0}, {8, 0}, {9, 0},
     };
     size_t r;
     (void)state;
@@ -199,17 +211,15 @@ static void test_filter_following_error(void **state)
         assert_true(f.rep.axis_flags[0] & C4G_SF_FE_SENT);
         assert_true(f.ctl.arm[0].latch & C4G_LATCH_AXIS_FE);
     }
-    {   /* not checked where SMP+ generates and closes everything (8, 9, 0) */
+    {   /* not checked where SMP+ alone moves the robot (0, 0') */
         filt_t f;
         f_init(&f);
         f.num++;
-        mk_rx(&f.rx, f.num, 9);
+        mk_rx(&f.rx, f.num, 0);
         f.rx.ax[0].actual_pos = -100.0f;
         assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-        f.tx.ax[0].current_add = 0.0f;
-        { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].current_add = 0.0f; }
         assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
-        assert_int_equal(f.tx.ax[0].mode, 9);
+        assert_int_equal(f.tx.ax[0].mode, 0);
     }
     {   /* axis 6 has FollowError 0: no threshold unless the user sets one */
         filt_t f;
@@ -305,7 +315,7 @@ static void test_filter_continuity(void **state)
     l.max_step = 0.5f;
     l.max_vel = 0.25f;
     assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
-    /* mode 4, first tick: the step is measured from the SMP+ target (10) */
+    /* mode 4, first tick: the step is measured from where the axis stood (10) */
     assert_int_equal(f_tick(&f, 4, 10.5f, 0.25f, 0, 0), C4G_OK);
     assert_true(f.tx.ax[0].target_pos == 10.5f);
     assert_int_equal(f.rep.axis_flags[0], 0);
@@ -317,55 +327,104 @@ static void test_filter_continuity(void **state)
     assert_true(f.tx.ax[0].target_vel == 0.25f);
     assert_true(f.rep.axis_flags[0] & C4G_SF_STEP);
     assert_true(f.rep.axis_flags[0] & C4G_SF_VELOCITY);
-    /* mode 1 after mode 4: the step restarts from the SMP+ target */
-    assert_int_equal(f_tick(&f, 1, 10.6f, 0, 0, 0), C4G_OK);
+    /* mode 1 after mode 4: the step restarts from the anchor (10) */
+    assert_int_equal(f_tick(&f, 1, 10.6f, 0, 0.3f, 0), C4G_OK);
     assert_true(f.tx.ax[0].target_pos == 10.5f);
-    /* modes 5 and 7: D1 is the per-tick delta */
-    assert_int_equal(f_tick(&f, 5, 0.5f, -0.25f, 0, 0), C4G_OK);
+    assert_true(f.tx.ax[0].vel_add == 0.25f); /* velocity contribution bounded too */
+    /* mode 5: the controller integrates D2 (fig. 14.1); D1 is not what it acts on */
+    assert_int_equal(f_tick(&f, 5, 3.0f, -0.25f, 0, 0), C4G_OK);
     assert_int_equal(f.rep.axis_flags[0], 0);
-    assert_int_equal(f_tick(&f, 5, -0.6f, -0.26f, 0, 0), C4G_OK);
-    assert_true(f.tx.ax[0].target_pos == -0.5f);
-    assert_true(f.tx.ax[0].target_vel == -0.25f);
+    assert_true(f.tx.ax[0].target_pos == 3.0f);
+    assert_int_equal(f_tick(&f, 5, 0.0f, -0.6f, 0, 0), C4G_OK);
+    assert_true(f.tx.ax[0].target_vel == -0.25f); /* step 0.5 and velocity 0.25 */
+    assert_true(f.rep.axis_flags[0] & C4G_SF_STEP);
+    /* mode 7: the controller adds D1 */
     assert_int_equal(f_tick(&f, 7, 0.7f, 9.0f, 0, 0), C4G_OK);
     assert_true(f.tx.ax[0].target_pos == 0.5f);
     assert_true(f.tx.ax[0].target_vel == 9.0f); /* D2 not used in mode 7 */
-    /* mode 2: the PC sends no targets, nothing limited */
-    assert_int_equal(f_tick(&f, 2, 99.0f, 9.0f, 0, 0), C4G_OK);
-    assert_false(f.rep.axis_flags[0] & (C4G_SF_STEP | C4G_SF_VELOCITY));
+    /* mode 8: the controller integrates the velocity addition D4 */
+    assert_int_equal(f_tick(&f, 8, 0, 0, 0.5f, 0), C4G_OK);
+    assert_true(f.tx.ax[0].vel_add == 0.25f);
+    assert_true(f.rep.axis_flags[0] & C4G_SF_VELOCITY);
+    /* mode 2: the PC sends no targets; its velocity contribution is bounded */
+    assert_int_equal(f_tick(&f, 2, 99.0f, 9.0f, -0.3f, 0), C4G_OK);
+    assert_false(f.rep.axis_flags[0] & C4G_SF_STEP);
+    assert_true(f.tx.ax[0].vel_add == -0.25f);
 }
 
+/* The stroke ends bound the position the controller will hold next tick, and stop the arm
+ * (505) before it gets there. */
 static void test_filter_stroke(void **state)
 {
-    filt_t f;
-    c4g_axis_limits_t l;
+    static const struct { int32_t mode; float d1, d2, d4; int field; } rows[] = {
+        {4, 10.6f, 0, 0, 1},  /* absolute D1 */
+        {1, 10.6f, 0, 0, 1},
+        {5, 0.0f, 0.6f, 0, 2}, /* pos_k += D2 */
+        {7, 0.6f, 0, 0, 1},    /* offset += D1 */
+        {8, 0, 0, 0.6f, 4},    /* reference += D4 */
+    };
+    size_t r;
     (void)state;
-    f_init(&f);
-    memset(&l, 0, sizeof l);
-    l.motor_min = 9.0f;
-    l.motor_max = 10.5f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
-    assert_int_equal(f_tick(&f, 4, 10.5f, 0, 0, 0), C4G_OK);
-    assert_int_equal(f.rep.axis_flags[0], 0);
-    assert_int_equal(f_tick(&f, 4, 10.6f, 0, 0, 0), C4G_OK);
-    assert_true(f.tx.ax[0].target_pos == 10.5f);
-    assert_true(f.rep.axis_flags[0] & C4G_SF_STROKE);
-    /* mode 7: SMP+ target 10 + delta 0.75 > 10.5 -> delta 0.5 */
-    assert_int_equal(f_tick(&f, 7, 0.75f, 0, 0, 0), C4G_OK);
-    assert_true(f.tx.ax[0].target_pos == 0.5f);
-    assert_int_equal(f_tick(&f, 5, -1.5f, 0, 0, 0), C4G_OK);
-    assert_true(f.tx.ax[0].target_pos == -1.0f);
-    /* an absurd delta overflows the absolute position: never sent */
-    assert_int_equal(f_tick(&f, 7, 3.4e38f, 0, 0, 0), C4G_OK);
-    memset(&l, 0, sizeof l);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
-    f.num++;
-    mk_rx(&f.rx, f.num, 7);
-    f.rx.ax[0].target_pos = 3.4e38f;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-    { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = 0.0f; }
-    f.tx.ax[0].target_pos = 3.4e38f;
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
-    assert_int_equal(f.tx.ax[0].mode, 505);
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        filt_t f;
+        c4g_axis_limits_t l;
+        float sent;
+        uint32_t i;
+        f_init(&f);
+        memset(&l, 0, sizeof l);
+        l.motor_min = 9.0f;
+        l.motor_max = 10.5f;
+        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(f_tick(&f, 0, 0, 0, 0, 0), C4G_OK);
+        assert_int_equal(f_tick(&f, rows[r].mode, rows[r].d1, rows[r].d2, rows[r].d4, 0),
+                         C4G_OK);
+        sent = (rows[r].field == 1) ? f.tx.ax[0].target_pos
+               : (rows[r].field == 2) ? f.tx.ax[0].target_vel : f.tx.ax[0].vel_add;
+        if (rows[r].mode == 4 || rows[r].mode == 1) {
+            assert_true(sent == 10.5f);
+        } else {
+            assert_true(sent == 0.5f); /* base 10 + 0.5 = the stroke end */
+        }
+        assert_true(f.rep.axis_flags[0] & C4G_SF_STROKE);
+        for (i = 0; i < 6; i++) {
+            assert_int_equal(f.tx.ax[i].mode, 505); /* the whole arm stops, in this reply */
+        }
+        assert_true(f.ctl.arm[0].latch & C4G_LATCH_STROKE);
+        /* the stop holds until the drives are off */
+        assert_int_equal(f_tick(&f, rows[r].mode, rows[r].d1, rows[r].d2, rows[r].d4, 0),
+                         C4G_OK);
+        assert_int_equal(f.tx.ax[0].mode, 505);
+    }
+    {   /* outside the stroke already: going back is kept, going further out becomes 0 */
+        filt_t f;
+        c4g_axis_limits_t l;
+        f_init(&f);
+        memset(&l, 0, sizeof l);
+        l.motor_min = 0.0f;
+        l.motor_max = 5.0f;
+        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(f_tick(&f, 7, -0.25f, 0, 0, 0), C4G_OK); /* SMP+ at 10 */
+        assert_true(f.tx.ax[0].target_pos == -0.25f);
+        assert_int_equal(f.rep.axis_flags[0] & C4G_SF_STROKE, 0);
+        assert_int_equal(f_tick(&f, 7, 0.0f, 0, 0, 0), C4G_OK);
+        assert_int_equal(f.rep.axis_flags[0] & C4G_SF_STROKE, 0);
+        assert_int_equal(f_tick(&f, 7, 0.25f, 0, 0, 0), C4G_OK);
+        assert_true(f.tx.ax[0].target_pos == 0.0f);
+        assert_true(f.rep.axis_flags[0] & C4G_SF_STROKE);
+    }
+    {   /* an absurd delta overflows the absolute position: never sent */
+        filt_t f;
+        uint32_t i;
+        f_init(&f);
+        f.num++;
+        mk_rx(&f.rx, f.num, 7);
+        f.rx.ax[0].target_pos = 3.4e38f;
+        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = 0.0f;
+        f.tx.ax[0].target_pos = 3.4e38f;
+        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
+        assert_int_equal(f.tx.ax[0].mode, 505);
+    }
 }
 
 static void test_filter_joint_stroke(void **state)
@@ -407,6 +466,14 @@ static void test_filter_joint_stroke(void **state)
     assert_int_equal(c4g_kin_motor_to_link(&k, qm, 6, back), C4G_OK);
     assert_true(fabs(back[4] - 0.4) < 1e-5);
     assert_true(fabs(back[3]) < 1e-5);
+    for (i = 0; i < 6; i++) assert_int_equal(f.tx.ax[i].mode, 505); /* and the arm stops */
+    /* drives off clears the stop */
+    f.num++;
+    mk_rx(&f.rx, f.num, 0);
+    f.rx.infpar = 0;
+    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
+    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     /* mode 7 (deltas): SMP+ at joint 5 = 0.3 rad, delta of +0.2 rad clamped to +0.1 */
     q[4] = 0.3;
     assert_int_equal(c4g_kin_link_to_motor(&k, q, 6, qm), C4G_OK);
@@ -426,14 +493,21 @@ static void test_filter_joint_stroke(void **state)
     for (i = 0; i < 6; i++) back[i] = (double)f.rx.ax[i].target_pos + (double)f.tx.ax[i].target_pos;
     assert_int_equal(c4g_kin_motor_to_link(&k, back, 6, q), C4G_OK);
     assert_true(fabs(q[4] - 0.4) < 1e-5);
-    /* below the lower limit, mode 0 on the others: only PC-driven axes rewritten */
+    f.num++;
+    mk_rx(&f.rx, f.num, 0);
+    f.rx.infpar = 0;
+    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
+    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    /* below the lower limit in mode 0: SMP+ moves the axis, nothing of the PC's to stop */
     f.num++;
     mk_rx(&f.rx, f.num, 0);
     f.rx.ax[4].target_pos = -100.0f;
     assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
-    assert_true(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
+    assert_int_equal(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT, 0);
     assert_true(f.tx.ax[4].target_pos == 0.0f);
+    assert_int_equal(f.tx.ax[4].mode, 0);
     /* inside: untouched; and no conversion when the SMP+ data overflow the kinematics */
     f.num++;
     mk_rx(&f.rx, f.num, 0);
@@ -448,6 +522,9 @@ static void test_filter_joint_stroke(void **state)
     for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = f.tx.ax[i].target_vel = 0.0f;
     f.tx.ax[4].target_pos = -100.0f;
     assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_true(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
+    assert_int_equal(f.tx.ax[4].mode, 508); /* its following error wins over the stop */
+    assert_int_equal(f.tx.ax[5].mode, 505); /* no threshold on axis 6: the stop shows */
 }
 
 static void test_set_limits_errors(void **state)
@@ -488,6 +565,7 @@ static void test_set_limits_errors(void **state)
     in.open_ax[0][2] = 0xFF;
     in.open_ax[0][5] = 2;
     in.open_ax[0][6] = 5;
+    in.az_lim[0][6] = 5.0f;
     in.tx_rate[0][6] = 3.0f;
     assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
     l.joint_min = -1.0f;

@@ -2,12 +2,15 @@
 /* libFuzzer target: arbitrary bytes drive a sequence of controller packets, PC requests,
    user limits and caller-filled replies through c4g_ctl_step / c4g_ctl_finish.
    Invariants (abort on violation): every finished reply encodes (no NaN, no unknown mode);
-   each axis carries its echo, a mode the request rules let out from mode 0, or a safety /
-   freezing mode (500, 505, 508); INFPAR bytes are 0 or EXIT_FROM_OPEN; currents in modes
-   1/2 and SMP+ current + delta in mode 9 stay within the limit; finish returns only its
-   documented statuses; moni rows always fit C4G_MONI_ROW_MAX. */
+   each axis carries its echo or a safety / freezing mode (500, 505, 508), never a mode of
+   the PC's; INFPAR bytes are 0 or EXIT_FROM_OPEN; currents in modes 1/2 stay within the
+   limit; in mode 9 the delta only shrinks towards 0 and SMP+ current + delta stays within
+   the limit unless SMP+ alone is beyond it; in modes 5, 7 and 8 the position the controller
+   integrates to stays inside the stroke; finish returns only its documented statuses; moni
+   rows always fit C4G_MONI_ROW_MAX. */
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,12 +66,14 @@ static void fill_value(cur_t *c, float *f)
     }
 }
 
-static void check(int cond)
+static void check_at(int cond, int line)
 {
     if (!cond) {
+        fprintf(stderr, "fuzz_control: invariant at line %d broken\n", line);
         abort();
     }
 }
+#define check(cond) check_at((cond), __LINE__)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -86,6 +91,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         in.open_ax[1][0] = 6;
         in.open_ax[1][1] = 7;
         in.az_lim[1][0] = 5.0f;
+        in.az_lim[1][1] = 2.0f;
         in.tx_rate[1][0] = 10.0f;
         in.tx_rate[1][1] = -20.0f;
         in.follow_error[1][1] = 0.5f;
@@ -107,12 +113,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         c4g_status_t st;
 
         switch (op & 7u) {
-        case 1: (void)c4g_ctl_request_mode(&ctl, arm, modes[byte(&c) % N_MODES]); break;
+        case 1: check(c4g_ctl_request_mode(&ctl, arm, modes[byte(&c) % N_MODES]) != C4G_OK); break;
         case 2: (void)c4g_ctl_request_exit(&ctl, arm); break;
         case 3: (void)c4g_ctl_request_drive_off(&ctl, arm); break;
         case 4: (void)c4g_ctl_request_follow_error(&ctl, arm); break;
         case 5: (void)c4g_ctl_request_freeze(&ctl, arm); break;
-        case 6: (void)c4g_ctl_cancel(&ctl, arm); break;
         case 7: {
             c4g_axis_limits_t l;
             memset(&l, 0, sizeof l);
@@ -160,6 +165,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 tx.ax[i].mode = modes[byte(&c) % N_MODES]; /* a forbidden write */
             }
         }
+        c4g_pc_packet_t req = tx; /* what the caller asked, before the filter */
         st = c4g_ctl_finish(&ctl, &rx, &tx, &rep);
         check(st == C4G_OK || st == (c4g_status_t)C4G_ERR_CTL_MISSING_DATA ||
               st == C4G_ERR_NONFINITE || st == (c4g_status_t)C4G_ERR_CTL_MODE_RESTORED);
@@ -178,18 +184,35 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             const int32_t p = ctl.prep_mode[i];
             const c4g_arm_sm_t *sm = &ctl.arm[ctl.map.arm_of[i]];
             const float lim = ctl.lim[i].current_max;
-            check(m == rx.ax[i].mode || m == 500 || m == 505 || m == 508 ||
-                  (m == p && sm->mode == C4G_MODE_0 && c4g_mode_is_available(m)));
-            if (p != rx.ax[i].mode) {
-                /* a PC-requested mode leaves only from mode 0, never during DRIVING ON */
-                check(sm->mode == C4G_MODE_0 && !sm->driving_on && c4g_mode_is_available(p));
-            }
+            const int held = (rep.axis_flags[i] & C4G_SF_HELD) != 0;
+            /* the PC echoes the controller's mode, or asks 500 / 505 / 508: never a mode */
+            check(m == rx.ax[i].mode || m == 500 || m == 505 || m == 508);
+            check(p == rx.ax[i].mode);
+            (void)sm;
             if ((p == 1 || p == 2 || p == 11 || p == 12) && !(rep.axis_flags[i] & C4G_SF_HELD)) {
                 check(tx.ax[i].current_add <= lim && tx.ax[i].current_add >= -lim);
             }
-            if (p == 9 && !(rep.axis_flags[i] & C4G_SF_HELD)) {
-                const float s = rx.ax[i].current_ref + tx.ax[i].current_add;
-                check(s <= lim * 1.0001f + 1e-3f && s >= -lim * 1.0001f - 1e-3f);
+            if (p == 9 && !held) {
+                /* shrink towards 0 only: never created, never reversed; within the limit
+                 * unless SMP+ alone is already beyond it */
+                const float out = tx.ax[i].current_add, in = req.ax[i].current_add;
+                const float s = rx.ax[i].current_ref + out;
+                const float smp = rx.ax[i].current_ref;
+                const float bound = (smp > lim || smp < -lim) ? (smp < 0 ? -smp : smp) : lim;
+                check(out * in >= 0.0f && (out < 0 ? -out : out) <= (in < 0 ? -in : in));
+                check(s <= bound * 1.0001f + 1e-3f && s >= -bound * 1.0001f - 1e-3f);
+            }
+            if ((p == 5 || p == 7 || p == 8) && m == p && !held && ctl.lim[i].motor_min < ctl.lim[i].motor_max &&
+                !(rep.axis_flags[i] & C4G_SF_NONFINITE)) {
+                /* the position the controller integrates to stays in the stroke it was in */
+                const float base = rx.ax[i].target_pos;
+                const float d = (p == 5) ? tx.ax[i].target_vel
+                                : (p == 7) ? tx.ax[i].target_pos : tx.ax[i].vel_add;
+                const float lo = ctl.lim[i].motor_min, hi = ctl.lim[i].motor_max;
+                const float tol = 1e-5f * (1.0f + (base < 0 ? -base : base));
+                if (base >= lo && base <= hi && !(rep.axis_flags[i] & C4G_SF_STROKE_JOINT)) {
+                    check(base + d <= hi + tol && base + d >= lo - tol);
+                }
             }
             if (rep.axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) {
                 check(m == 505 || m == 508);

@@ -157,8 +157,12 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     if (!((old == C4G_MODE_1 && mode == C4G_MODE_1_STANDBY) ||
           (old == C4G_MODE_2 && mode == C4G_MODE_2_STANDBY) ||
           (old == C4G_MODE_2_STANDBY && mode == C4G_MODE_2))) {
+        float anchor = r->target_pos;
         X->ticks = 0U;
-        X->start = (double)r->target_pos;
+        /* where the axis stood in mode 0, not this one packet's target: the packet that
+         * opens the mode may be the second one the controller sent in it */
+        (void)c4g_ctl_anchor(&S->ctl, i, &anchor);
+        X->start = (double)anchor;
         X->q_prev = 0.0;
         X->have_ref_prev = 0;
         X->integ = (double)r->current_ref; /* bumpless: start from the SMP+ current */
