@@ -321,12 +321,32 @@ typedef enum c4g_rx_kind {
 #define C4G_EV_FREEZE_IN 0x0200U     /**< 502 seen: passive freezing, loss timer off */
 #define C4G_EV_FREEZE_OUT 0x0400U    /**< 503 seen: passive freezing over */
 #define C4G_EV_DRIVES 0x0800U        /**< an arm's DRIVE ON byte (INFPAR) changed */
+#define C4G_EV_FOREIGN 0x1000U       /**< datagram from another endpoint than the session's
+                                          controller: counted, never decoded, never answered */
+#define C4G_EV_SILENCE 0x2000U       /**< (poll) the controller is silent for longer than the
+                                          silence threshold: reported, the session goes on */
+#define C4G_EV_RESUMED 0x4000U       /**< (rx) packets again after a silence or a lost
+                                          controller; c4g_rx_result_t.silence_ns is its length */
 /**@}*/
+
+/**
+ * The sender of a datagram, as the caller's socket reports it: the address bytes in network
+ * order (4 for IPv4, 16 for IPv6) and the port. The session is locked to the endpoint of the
+ * controller's first accepted packet; datagrams from any other endpoint are foreign.
+ */
+typedef struct c4g_endpoint {
+    uint8_t addr[16];
+    uint8_t addr_len;   /**< 4 or 16 */
+    uint16_t port;      /**< host order */
+} c4g_endpoint_t;
 
 /** Session configuration. */
 typedef struct c4g_session_config {
     c4g_num_policy_t num_policy; /**< default C4G_NUM_PLUS_ONE */
-    uint64_t lost_timeout_ns;    /**< silence that counts as a lost controller; 0 = 10 periods */
+    uint64_t lost_timeout_ns;    /**< silence that ends the session (lost controller); 0 = 1 s,
+                                      the field library's real-time wait in the cyclic phase */
+    uint64_t silence_ns;         /**< silence reported as C4G_EV_SILENCE (the session goes on);
+                                      0 = 10 periods, after which the controller itself gives up */
     uint32_t post_init_sync;     /**< sync packets after a cold-start init (field: 2) */
 } c4g_session_config_t;
 
@@ -337,9 +357,18 @@ c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg);
 typedef enum c4g_malformed {
     C4G_MAL_LENGTH = 0, C4G_MAL_NUM, C4G_MAL_MODE, C4G_MAL_NONFINITE,
     C4G_MAL_INIT,
-    C4G_MAL_PHASE, /**< reserved: valid datagram refused in this phase (not counted in 0.1) */
+    C4G_MAL_PHASE, /**< valid datagram refused in this phase: an initialization packet
+                        outside the start-up or after 506 */
     C4G_MAL_COUNT_
 } c4g_malformed_t;
+
+/** What a foreign datagram looked like (index of c4g_counters_t.foreign). */
+typedef enum c4g_foreign {
+    C4G_FOREIGN_INIT = 0, /**< 1200 bytes: an initialization packet */
+    C4G_FOREIGN_CYCLIC,   /**< the size of one of this session's cyclic packets */
+    C4G_FOREIGN_OTHER,    /**< anything else */
+    C4G_FOREIGN_COUNT_
+} c4g_foreign_t;
 
 /** Session counters: readable at any time. */
 typedef struct c4g_counters {
@@ -350,11 +379,15 @@ typedef struct c4g_counters {
     uint64_t cyclic;             /**< cyclic packets accepted */
     uint64_t gaps;               /**< gap events */
     uint64_t missed;             /**< controller packets never seen (sum of gap sizes) */
-    uint64_t duplicates;
-    uint64_t out_of_order;
+    uint64_t duplicates;         /**< same NUM as the newest packet: dropped, not answered */
+    uint64_t out_of_order;       /**< NUM older than the newest packet: dropped, not answered */
     uint64_t malformed_total;
     uint64_t malformed[C4G_MAL_COUNT_]; /**< by reason */
     uint64_t lost_events;
+    uint64_t foreign_total;      /**< datagrams from another endpoint than the controller's */
+    uint64_t foreign[C4G_FOREIGN_COUNT_]; /**< by what they looked like */
+    uint64_t silences;           /**< C4G_EV_SILENCE events */
+    uint64_t longest_silence_ns; /**< longest silence the session rode out or ended on */
 } c4g_counters_t;
 
 /** Chapter 22 timing statistics, all in ns, from caller timestamps. */
@@ -397,7 +430,11 @@ typedef struct c4g_session {
     uint64_t last_cyclic_ns;     /**< time of the previous cyclic packet */
     uint64_t pending_rx_ns;      /**< receive time of the packet being answered */
     uint64_t lost_timeout_ns;    /**< effective loss timeout */
+    uint64_t silence_ns;         /**< effective silence threshold */
     uint32_t have_cyclic_time;
+    uint32_t silent;             /**< a silence is under way (C4G_EV_SILENCE reported) */
+    uint32_t peer_locked;        /**< peer holds the controller's endpoint */
+    c4g_endpoint_t peer;         /**< the controller's endpoint (address and port) */
 } c4g_session_t;
 
 /** Result of one c4g_session_rx call. */
@@ -406,20 +443,42 @@ typedef struct c4g_rx_result {
     uint32_t events;             /**< C4G_EV_* */
     const c4g_ctrl_packet_t *pkt;/**< decoded cyclic packet (kind CYCLIC), else NULL */
     c4g_diag_t diag;             /**< for C4G_EV_MALFORMED */
+    uint64_t silence_ns;         /**< with C4G_EV_RESUMED: how long the controller was silent */
 } c4g_rx_result_t;
 
 /** Start a session (phase WAIT_INIT). @p cfg may be NULL for the defaults. */
 c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg);
 
 /**
- * Feed one received datagram. Classifies it, validates it, updates counters and
- * NUM statistics, and arms the reply. A malformed datagram is not a failure of the
- * call: it returns C4G_OK with kind DROPPED and EV_MALFORMED (nothing to answer).
+ * Feed one received datagram and the endpoint it came from. Classifies it, validates it,
+ * updates counters and NUM statistics, and arms the reply. Trust rules (docs/robustness.md):
+ * - the session locks to the endpoint of its first accepted packet; a datagram from any
+ *   other endpoint is foreign (C4G_EV_FOREIGN, counted by shape, never decoded into the
+ *   session, never answered) until the controller is lost, when a new start-up
+ *   (synchronization packets) from any endpoint is served and locks the session anew;
+ * - an initialization packet is accepted in the start-up phase, or after 506, only;
+ * - a synchronization packet must decode as a cyclic packet of 1..20 axes (finite values,
+ *   known modes): its 732-byte reply never echoes a non-finite value or answers a datagram
+ *   smaller than a cyclic packet;
+ * - a duplicate or an older NUM is dropped (counted, not answered, not delivered).
+ * A datagram refused for any of these is not a failure of the call: it returns C4G_OK with
+ * kind DROPPED (nothing to answer) and EV_MALFORMED or EV_FOREIGN.
+ * @param[in] from   sender; NULL only when the socket itself admits nothing but the
+ *                   controller (a connect()ed socket): then no endpoint check is made
  * @param[in] now_ns monotonic receive time
- * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_ENDED after 504 (call c4g_session_init).
+ * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_ARG (@p from with addr_len > 16);
+ *         C4G_ERR_ENDED after 504 (call c4g_session_init).
  */
+c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t len,
+                                 uint64_t now_ns, const c4g_endpoint_t *from,
+                                 c4g_rx_result_t *res);
+
+/** c4g_session_rx_from with no endpoint check (a socket connect()ed to the controller). */
 c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len,
                             uint64_t now_ns, c4g_rx_result_t *res);
+
+/** 1 if @p from is the session's controller endpoint (or none is locked yet), else 0. */
+int c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from);
 
 /**
  * Encode the reply to the last accepted datagram. For SYNC and INIT the reply is
@@ -435,10 +494,13 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx,
 c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);
 
 /**
- * Check for a lost controller when no datagram arrived. Sets @p events
- * (C4G_EV_LOST once) and moves the phase to LOST. Passive freezing (502 .. 503 from the
- * controller) and active freezing (a reply of ours carrying 500, until a reply of ours
- * carries EXIT_FROM_OPEN) suspend it: manual 15.1 and 15.3.
+ * Check the controller's silence when no datagram arrived. Past the silence threshold it
+ * sets C4G_EV_SILENCE (once per silence: the session goes on and resumes with the next
+ * packet, C4G_EV_RESUMED); past the loss timeout C4G_EV_LOST (once) and the phase LOST: the
+ * session is over, and a new start-up of the controller is served from its first
+ * synchronization packet. Passive freezing (502 .. 503 from the controller) and active
+ * freezing (a reply of ours carrying 500, until a reply of ours carries EXIT_FROM_OPEN)
+ * suspend both: manual 15.1 and 15.3.
  */
 c4g_status_t c4g_session_poll(c4g_session_t *s, uint64_t now_ns, uint32_t *events);
 

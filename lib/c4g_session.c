@@ -4,7 +4,8 @@
 #include "c4g_internal.h"
 
 #define DEFAULT_POST_INIT_SYNC 2U
-#define LOST_PERIODS 10U            /* the controller itself gives up after 10 missed replies */
+#define SILENCE_PERIODS 10U         /* the controller itself gives up after 10 missed replies */
+#define LOST_DEFAULT_NS 1000000000U /* the field library's real-time wait in the cyclic phase */
 #define NS_PER_MS 1000000U
 #define NUM_MODULO 0x8000
 #define NUM_HALF 0x4000
@@ -16,6 +17,7 @@ c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg)
     if (cfg != NULL) {
         cfg->num_policy = C4G_NUM_PLUS_ONE;
         cfg->lost_timeout_ns = 0U;
+        cfg->silence_ns = 0U;
         cfg->post_init_sync = DEFAULT_POST_INIT_SYNC;
         st = C4G_OK;
     }
@@ -68,6 +70,12 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
     res->events |= C4G_EV_MALFORMED;
 }
 
+/* How far @p num is ahead of the newest NUM, modulo the SMP+ counter (0: the same). */
+static int32_t num_delta(const c4g_session_t *s, int32_t num)
+{
+    return (num - s->last_num + NUM_MODULO) % NUM_MODULO;
+}
+
 /* NUM bookkeeping: SMP+ counts 0..0x7FFF and wraps to 0. */
 static void track_num(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
 {
@@ -112,13 +120,27 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
 {
     c4g_init_t init;
     c4g_axis_map_t map;
-    c4g_status_t st = c4g_init_decode(buf, len, &init, &res->diag);
-    if (st == C4G_OK) {
-        st = c4g_axis_map_build(&init, &map, &res->diag);
+    c4g_status_t st = C4G_OK;
+    if ((s->phase != C4G_PHASE_WAIT_INIT) && (s->restart_pending == 0U)) {
+        /* mid-session: new limits and thresholds are never taken from a datagram */
+        c4g_diag_set(&res->diag, C4G_ERR_STATE, C4G_FIELD_NUM, 0U, -1, -1,
+                     (int64_t)c4g_get_i32le(buf));
+        s->counters.malformed[C4G_MAL_PHASE]++;
+        s->counters.malformed_total++;
+        res->kind = C4G_RX_DROPPED;
+        res->events |= C4G_EV_MALFORMED;
+        st = C4G_ERR_STATE;
     }
-    if (st != C4G_OK) {
-        count_malformed(s, st, res);
-    } else {
+    if (st == C4G_OK) {
+        st = c4g_init_decode(buf, len, &init, &res->diag);
+        if (st == C4G_OK) {
+            st = c4g_axis_map_build(&init, &map, &res->diag);
+        }
+        if (st != C4G_OK) {
+            count_malformed(s, st, res);
+        }
+    }
+    if (st == C4G_OK) {
         s->init = init;
         s->map = map;
         s->counters.init++;
@@ -132,9 +154,12 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         s->frozen_active = 0U;
         s->have_cyclic_time = 0U;
         s->last_num = C4G_INIT_NUM;
-        s->lost_timeout_ns = (s->cfg.lost_timeout_ns != 0U)
-                                 ? s->cfg.lost_timeout_ns
-                                 : ((uint64_t)LOST_PERIODS * (uint64_t)init.period_ms * NS_PER_MS);
+        s->silence_ns = (s->cfg.silence_ns != 0U)
+                            ? s->cfg.silence_ns
+                            : ((uint64_t)SILENCE_PERIODS * (uint64_t)init.period_ms * NS_PER_MS);
+        s->lost_timeout_ns = (s->cfg.lost_timeout_ns != 0U) ? s->cfg.lost_timeout_ns
+                                                            : (uint64_t)LOST_DEFAULT_NS;
+        s->silent = 0U;
         s->timing.nominal_period_ns = (int64_t)init.period_ms * (int64_t)NS_PER_MS;
         res->kind = C4G_RX_INIT;
         res->events |= C4G_EV_INIT;
@@ -142,18 +167,18 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
     }
 }
 
+/* A synchronization packet has the shape of a cyclic packet (the controller sends one of its
+ * own size): decoding it bounds the reply's size to the datagram's and keeps NaN, infinity
+ * and unknown modes out of the echo. The spare decode buffer is the scratch space. */
 static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
                     c4g_rx_result_t *res)
 {
-    if (len < 4U) {
-        c4g_diag_set(&res->diag, C4G_ERR_LENGTH, C4G_FIELD_LENGTH, 0U, -1, -1, (int64_t)len);
-        count_malformed(s, C4G_ERR_LENGTH, res);
+    const c4g_status_t st = c4g_ctrl_decode(buf, len, 0U, &s->rx[s->cur ^ 1U], &res->diag);
+    if (st != C4G_OK) {
+        count_malformed(s, st, res);
     } else {
         const int32_t num = c4g_get_i32le(buf);
-        if ((num < 0) || (num > C4G_NUM_MAX)) {
-            c4g_diag_set(&res->diag, C4G_ERR_NUM, C4G_FIELD_NUM, 0U, -1, -1, num);
-            count_malformed(s, C4G_ERR_NUM, res);
-        } else {
+        {
             s->counters.sync++;
             if (s->phase == C4G_PHASE_POST_SYNC) {
                 s->post_sync_left--;
@@ -230,11 +255,17 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     const uint32_t next = s->cur ^ 1U;
     c4g_ctrl_packet_t *p = &s->rx[next];
     const c4g_status_t st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag);
-    if ((st != C4G_OK) && (s->phase == C4G_PHASE_LOST)) {
-        /* A controller that went silent and restarted cold opens with sync packets. */
-        on_sync(s, buf, len, now_ns, res);
-    } else if (st != C4G_OK) {
+    if (st != C4G_OK) {
         count_malformed(s, st, res);
+    } else if (num_delta(s, p->num) == 0) {
+        /* a copy of the newest packet: answered already, never delivered twice */
+        s->counters.duplicates++;
+        res->events |= C4G_EV_DUPLICATE;
+    } else if (num_delta(s, p->num) >= NUM_HALF) {
+        /* older than the newest packet: its moment has passed; acting on it would move the
+         * control layer back in time */
+        s->counters.out_of_order++;
+        res->events |= C4G_EV_OUT_OF_ORDER;
     } else {
         const uint32_t drives = drive_mask(p->infpar);
         s->cur = next;
@@ -271,23 +302,111 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     }
 }
 
-/* Loss check shared by rx and poll; passive freezing suspends it. */
+/* Silence check shared by rx and poll; freezing suspends it. A silence is reported once,
+ * past the silence threshold; the session ends past the loss timeout. */
 static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
-        (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns) &&
-        ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
-        s->phase = C4G_PHASE_LOST;
-        s->counters.lost_events++;
-        s->pending_num = -1;
-        ev = C4G_EV_LOST;
+        (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns)) {
+        const uint64_t gap = now_ns - s->last_rx_ns;
+        if (gap > s->lost_timeout_ns) {
+            s->phase = C4G_PHASE_LOST;
+            s->counters.lost_events++;
+            s->pending_num = -1;
+            ev = C4G_EV_LOST;
+        } else if ((gap > s->silence_ns) && (s->silent == 0U)) {
+            s->silent = 1U;
+            s->counters.silences++;
+            ev = C4G_EV_SILENCE;
+        } else {
+            /* in time */
+        }
     }
     return ev;
 }
 
-c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
-                            c4g_rx_result_t *res)
+static int same_endpoint(const c4g_endpoint_t *a, const c4g_endpoint_t *b)
+{
+    return ((a->addr_len == b->addr_len) && (a->port == b->port) &&
+            (memcmp(a->addr, b->addr, a->addr_len) == 0))
+               ? 1
+               : 0;
+}
+
+int c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from)
+{
+    int r = 0;
+    if ((s != NULL) && (from != NULL) && (from->addr_len <= 16U)) {
+        r = ((s->peer_locked == 0U) || (same_endpoint(from, &s->peer) != 0)) ? 1 : 0;
+    }
+    return r;
+}
+
+/* Another endpoint than the controller's: counted by shape, nothing else. */
+static void on_foreign(c4g_session_t *s, size_t len, c4g_rx_result_t *res)
+{
+    c4g_foreign_t shape = C4G_FOREIGN_OTHER;
+    if (len == C4G_INIT_SIZE) {
+        shape = C4G_FOREIGN_INIT;
+    } else if ((len >= C4G_CYCLIC_SIZE(1U)) && (len <= C4G_MAX_CYCLIC_SIZE) &&
+               (((len - C4G_HEADER_SIZE) % C4G_AXIS_SIZE) == 0U)) {
+        shape = C4G_FOREIGN_CYCLIC;
+    } else {
+        /* anything else */
+    }
+    s->counters.foreign[shape]++;
+    s->counters.foreign_total++;
+    res->kind = C4G_RX_DROPPED;
+    res->events |= C4G_EV_FOREIGN;
+}
+
+/* After a lost controller, a datagram that does not continue its NUM sequence, or that comes
+ * from another endpoint, is a new start-up: the controller restarted cold. */
+static int new_startup(const c4g_session_t *s, const uint8_t *buf, size_t len, int other)
+{
+    int r = 0;
+    if ((s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
+        const int32_t d = (len >= 4U) ? num_delta(s, c4g_get_i32le(buf)) : 0;
+        r = ((other != 0) || (d == 0) || (d >= NUM_HALF)) ? 1 : 0;
+    }
+    return r;
+}
+
+static void dispatch(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                     c4g_rx_result_t *res)
+{
+    if (len == C4G_INIT_SIZE) {
+        on_init(s, buf, len, now_ns, res);
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) || (s->phase == C4G_PHASE_POST_SYNC)) {
+        on_sync(s, buf, len, now_ns, res);
+    } else {
+        on_cyclic(s, buf, len, now_ns, res);
+    }
+}
+
+/* An accepted datagram: the end of a silence, the lock on the controller's endpoint. */
+static void accepted(c4g_session_t *s, uint64_t now_ns, uint32_t was_silent,
+                     const c4g_endpoint_t *from, c4g_rx_result_t *res)
+{
+    if ((was_silent != 0U) && (now_ns > s->last_rx_ns)) {
+        res->silence_ns = now_ns - s->last_rx_ns;
+        res->events |= C4G_EV_RESUMED;
+        if (res->silence_ns > s->counters.longest_silence_ns) {
+            s->counters.longest_silence_ns = res->silence_ns;
+        }
+    }
+    s->silent = 0U;
+    s->last_rx_ns = now_ns;
+    if ((from != NULL) && (s->peer_locked == 0U)) {
+        s->peer = *from;
+        s->peer_locked = 1U;
+    }
+}
+
+c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t len,
+                                 uint64_t now_ns, const c4g_endpoint_t *from,
+                                 c4g_rx_result_t *res)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((s != NULL) && (res != NULL) && ((buf != NULL) || (len == 0U))) {
@@ -295,25 +414,48 @@ c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, ui
         res->diag.arm = -1;
         res->diag.axis = -1;
         st = C4G_OK;
-        if (s->phase == C4G_PHASE_ENDED) {
+        if ((from != NULL) && (from->addr_len > 16U)) {
+            st = C4G_ERR_ARG;
+        } else if (s->phase == C4G_PHASE_ENDED) {
             st = C4G_ERR_ENDED;
         } else {
+            const int other = ((from != NULL) && (s->peer_locked != 0U) &&
+                               (same_endpoint(from, &s->peer) == 0)) ? 1 : 0;
+            uint32_t was_silent;
             s->counters.rx++;
             s->pending_num = -1;
             res->events |= check_lost(s, now_ns);
-            if (len == C4G_INIT_SIZE) {
-                on_init(s, buf, len, now_ns, res);
-            } else if ((s->phase == C4G_PHASE_WAIT_INIT) || (s->phase == C4G_PHASE_POST_SYNC)) {
+            was_silent = ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) ? 1U : 0U;
+            if (new_startup(s, buf, len, other) != 0) {
+                /* the old session is over: a new handshake, locked to whoever starts it */
+                s->phase = C4G_PHASE_WAIT_INIT;
+                s->sync_seen = 0U;
+                s->restart_pending = 0U;
+                s->frozen = 0U;
+                s->frozen_active = 0U;
                 on_sync(s, buf, len, now_ns, res);
+                if (res->kind == C4G_RX_DROPPED) {
+                    s->phase = C4G_PHASE_LOST; /* not a start-up after all */
+                } else {
+                    s->peer_locked = 0U; /* accepted() locks to its sender */
+                }
+            } else if (other != 0) {
+                on_foreign(s, len, res);
             } else {
-                on_cyclic(s, buf, len, now_ns, res);
+                dispatch(s, buf, len, now_ns, res);
             }
             if (res->kind != C4G_RX_DROPPED) {
-                s->last_rx_ns = now_ns;
+                accepted(s, now_ns, was_silent, from, res);
             }
         }
     }
     return st;
+}
+
+c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                            c4g_rx_result_t *res)
+{
+    return c4g_session_rx_from(s, buf, len, now_ns, NULL, res);
 }
 
 /* Active freezing is the PC's own request: 500 in a reply starts it (only mode 0 may

@@ -147,13 +147,23 @@ static void test_gaps_duplicates_reorder(void **state)
     assert_true(f.r.events & C4G_EV_GAP);
     assert_int_equal(f.s.counters.gaps, 1);
     assert_int_equal(f.s.counters.missed, 2);
-    cyclic(&f, 16, 0);
-    assert_true(f.r.events & C4G_EV_DUPLICATE);
-    assert_int_equal(f.s.counters.duplicates, 1);
-    cyclic(&f, 15, 0);                     /* late: answered, counted, newest kept */
-    assert_true(f.r.events & C4G_EV_OUT_OF_ORDER);
-    assert_int_equal(th_get_u32(f.out), 16);
-    assert_int_equal(f.s.last_num, 16);
+    {   /* a copy and an older packet: counted, never delivered, never answered */
+        uint8_t b[732];
+        size_t len = th_ctrl_bytes(b, sizeof b, 16, 6, 0);
+        assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+        assert_true(f.r.events & C4G_EV_DUPLICATE);
+        assert_null(f.r.pkt);
+        assert_int_equal(f.s.counters.duplicates, 1);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len),
+                         C4G_ERR_STATE);
+        len = th_ctrl_bytes(b, sizeof b, 15, 6, C4G_MODE_FOLLOW_ERROR);
+        assert_int_equal(feed(&f, b, len), C4G_RX_DROPPED);
+        assert_true(f.r.events & C4G_EV_OUT_OF_ORDER);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len),
+                         C4G_ERR_STATE);
+        assert_int_equal(f.s.last_num, 16);
+        assert_int_equal(f.s.rx[f.s.cur].num, 16); /* the newest packet stays the current one */
+    }
     cyclic(&f, 17, 0);
     assert_int_equal(f.r.events, 0);
     assert_int_equal(f.s.counters.out_of_order, 1);
@@ -218,14 +228,27 @@ static void test_bad_init_rejected(void **state)
     th_put_u32(b, 0xFFFFFFFFu);
     assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
     assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 3);
-    /* a sync longer than 732 bytes is echoed truncated to 732 */
-    memset(b, 0x11, sizeof b);
+    /* a sync packet has a cyclic packet's shape: no other size, no NaN echoed, no unknown
+     * mode, and never a 732-byte answer to a few bytes */
+    memset(b, 0, sizeof b);
     th_put_u32(b, 3);
-    assert_int_equal(feed(&f, b, 1000), C4G_RX_SYNC);
+    assert_int_equal(feed(&f, b, 1000), C4G_RX_DROPPED);
+    assert_int_equal(feed(&f, b, 4), C4G_RX_DROPPED);
+    assert_int_equal(feed(&f, b, 47), C4G_RX_DROPPED);
+    th_put_u32(&b[16], 0x7FC00000u);
+    assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_NONFINITE], 1);
+    th_put_u32(&b[16], 0);
+    th_put_u32(&b[12], 4242);
+    assert_int_equal(feed(&f, b, 48), C4G_RX_DROPPED);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_MODE], 1);
+    th_put_u32(&b[12], 0);
+    th_put_u32(&b[20], 0x11111111u);
+    assert_int_equal(feed(&f, b, 732), C4G_RX_SYNC);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, 731, &f.out_len), C4G_ERR_CAPACITY);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
     assert_int_equal(f.out_len, 732);
-    assert_int_equal(f.out[731], 0x11);
+    assert_int_equal(th_get_u32(&f.out[20]), 0x11111111u);
 }
 
 static void test_restart_506(void **state)
@@ -253,18 +276,18 @@ static void test_restart_then_cold_sync(void **state)
     (void)state;
     cold_start(&f, C4G_NUM_PLUS_ONE);
     cyclic(&f, 13, C4G_MODE_SVR_RESTART);
-    /* ... but the controller was then cold-restarted: syncs, init, and no post syncs,
-     * because a restart was pending (the 506 path announces no syncs after init) */
+    /* ... but the controller went silent and was then cold-restarted: a new start-up,
+     * with its post-init syncs (the pending 506 belonged to the old session) */
     {
         uint32_t ev = 0;
-        assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS, &ev), C4G_OK);
+        assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
         assert_int_equal(ev, C4G_EV_LOST);
-        f.t += 1000 * MS;
+        f.t += 1001 * MS;
     }
     sync_packet(b, 1);
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
     assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
-    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(f.s.phase, C4G_PHASE_POST_SYNC); /* a cold start: the 506 is forgotten */
 }
 
 static void test_other_special_modes_pass(void **state)
@@ -311,36 +334,55 @@ static void test_end_504(void **state)
     assert_int_equal(c4g_session_rx(&f.s, b, len, f.t, &f.r), C4G_ERR_ENDED);
 }
 
-static void test_lost_and_passive_freezing(void **state)
+/* A silence is an event, not the end: past 10 periods it is reported once, the session
+ * goes on, and the next packet reports how long it lasted. Past 1 s the controller is lost. */
+static void test_silence_lost_and_passive_freezing(void **state)
 {
     fx_t f;
     uint32_t ev = 0;
     (void)state;
     cold_start(&f, C4G_NUM_PLUS_ONE);
     cyclic(&f, 13, 0);
-    assert_int_equal(f.s.lost_timeout_ns, 20 * MS);   /* 10 periods of 2 ms */
+    assert_int_equal(f.s.silence_ns, 20 * MS);        /* 10 periods of 2 ms */
+    assert_int_equal(f.s.lost_timeout_ns, 1000 * MS); /* the field library's 1 s */
     assert_int_equal(c4g_session_poll(&f.s, f.t + 20 * MS, &ev), C4G_OK);
     assert_int_equal(ev, 0);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 20 * MS + 1, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_SILENCE);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);    /* the session goes on */
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 500 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);                          /* reported once */
+    f.t += 998 * MS;                                  /* feed() adds 2 ms: 1000 ms of silence */
+    cyclic(&f, 14, 0);                                /* the controller came back */
+    assert_true(f.r.events & C4G_EV_RESUMED);
+    assert_int_equal(f.r.silence_ns, 1000 * MS);
+    assert_int_equal(f.s.counters.silences, 1);
+    assert_int_equal(f.s.counters.longest_silence_ns, 1000 * MS);
+    assert_int_equal(f.s.counters.lost_events, 0);
+    cyclic(&f, 15, 0);
+    assert_int_equal(f.r.events & C4G_EV_RESUMED, 0);
+    /* past the loss timeout the session is over, reported once */
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS + 1, &ev), C4G_OK);
     assert_int_equal(ev, C4G_EV_LOST);
     assert_int_equal(f.s.phase, C4G_PHASE_LOST);
-    assert_int_equal(c4g_session_poll(&f.s, f.t + 40 * MS, &ev), C4G_OK);
-    assert_int_equal(ev, 0);                          /* reported once */
-    f.t += 100 * MS;
-    cyclic(&f, 14, 0);                                /* the controller came back */
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 2000 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, 0);
+    f.t += 3000 * MS;
+    cyclic(&f, 16, 0);                                /* the same controller, NUM goes on */
     assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_true(f.r.events & C4G_EV_RESUMED);
     assert_int_equal(f.s.counters.lost_events, 1);
-    /* passive freezing suspends the timer */
-    cyclic(&f, 15, C4G_MODE_FREEZING_P_IN);
+    /* passive freezing suspends the checks */
+    cyclic(&f, 17, C4G_MODE_FREEZING_P_IN);
     assert_true(f.r.events & C4G_EV_FREEZE_IN);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 5000 * MS, &ev), C4G_OK);
     assert_int_equal(ev, 0);
     f.t += 5000 * MS;
-    cyclic(&f, 16, C4G_MODE_FREEZING_P_OUT);
+    cyclic(&f, 18, C4G_MODE_FREEZING_P_OUT);
     assert_true(f.r.events & C4G_EV_FREEZE_OUT);
-    assert_int_equal(f.r.events & C4G_EV_LOST, 0);
+    assert_int_equal(f.r.events & (C4G_EV_LOST | C4G_EV_RESUMED), 0);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 21 * MS, &ev), C4G_OK);
-    assert_int_equal(ev, C4G_EV_LOST);
+    assert_int_equal(ev, C4G_EV_SILENCE);
 }
 
 static void test_active_freezing(void **state)
@@ -370,7 +412,7 @@ static void test_active_freezing(void **state)
     assert_int_equal(c4g_session_reply(&f.s, &tx, f.out, sizeof f.out, &f.out_len), C4G_OK);
     assert_int_equal(f.s.frozen_active, 0);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 21 * MS, &ev), C4G_OK);
-    assert_int_equal(ev, C4G_EV_LOST);              /* the check is back on */
+    assert_int_equal(ev, C4G_EV_SILENCE);           /* the check is back on */
 }
 
 static void test_lost_then_cold_restart(void **state)
@@ -381,10 +423,10 @@ static void test_lost_then_cold_restart(void **state)
     (void)state;
     cold_start(&f, C4G_NUM_PLUS_ONE);
     cyclic(&f, 13, 0);
-    assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS, &ev), C4G_OK);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
     assert_int_equal(ev, C4G_EV_LOST);
-    f.t += 1000 * MS;
-    sync_packet(b, 1);                                /* 732 bytes: not a 6-axis packet */
+    f.t += 1001 * MS;
+    sync_packet(b, 1);                                /* NUM 1 does not go on from 13 */
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
     assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
     assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
@@ -535,7 +577,7 @@ int main(void)
         cmocka_unit_test(test_other_special_modes_pass),
         cmocka_unit_test(test_init_without_sync),
         cmocka_unit_test(test_end_504),
-        cmocka_unit_test(test_lost_and_passive_freezing),
+        cmocka_unit_test(test_silence_lost_and_passive_freezing),
         cmocka_unit_test(test_active_freezing),
         cmocka_unit_test(test_lost_then_cold_restart),
         cmocka_unit_test(test_drives_event),
