@@ -92,7 +92,8 @@ static const char *const usage_text[] = {
 "                           Other sources are dropped and counted (\"foreign\").\n",
 "      --num-policy P       plus1 (field library, default: reply NUM+1, 0x7FFF->1)\n",
 "                           or echo (manual text: reply with the same NUM)\n",
-"      --lost-timeout-ms N  silence that counts as a lost controller (default 10 periods)\n",
+"      --lost-timeout-ms N  silence that ends the session (default 1000 ms; shorter\n"
+"                           silences are reported and ridden out)\n",
 "      --idle-timeout S     give up if no packet at all arrives within S s (default: wait)\n",
 "      --max-seconds S      stop after S s in total (default: no limit)\n",
 "      --persist            keep serving after 504 or a lost controller\n",
@@ -467,24 +468,94 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
-/* No datagram for a while: lost-controller and idle checks. Exit code, or -1. */
+/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
 static int on_idle(srv_t *S, uint64_t start)
 {
     uint32_t ev = 0U;
     const uint64_t t = now_ns();
     c4g_session_t *s = &S->session;
     (void)c4g_session_poll(s, t, &ev);
+    if ((ev & C4G_EV_SILENCE) != 0U) {
+        srv_log(S, t, "controller silent for more than %.1f ms: session kept",
+                (double)s->silence_ns * 1e-6);
+    }
     if ((ev & C4G_EV_LOST) != 0U) {
         srv_log(S, t, "controller lost: no packet for %.1f ms", (double)s->lost_timeout_ns * 1e-6);
         if (!S->cfg.persist) {
             return EXIT_LOST;
         }
+        srv_log(S, t, "waiting for the controller's next start-up");
     }
     if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
         (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
         return EXIT_TIMEOUT;
     }
     return -1;
+}
+
+static void endpoint_of(const struct sockaddr_in *a, c4g_endpoint_t *e)
+{
+    memset(e, 0, sizeof *e);
+    memcpy(e->addr, &a->sin_addr.s_addr, 4U);
+    e->addr_len = 4U;
+    e->port = ntohs(a->sin_port);
+}
+
+/* A datagram from another address than the controller's (-c): counted, logged at first. */
+static int foreign_address(srv_t *S, const struct sockaddr_in *peer, ssize_t n, uint64_t t)
+{
+    if (S->ctrl.sin_addr.s_addr == 0U || peer->sin_addr.s_addr == S->ctrl.sin_addr.s_addr) {
+        return 0;
+    }
+    S->stats.foreign++;
+    if (S->stats.foreign <= 10U || S->cfg.verbose) {
+        char a[INET_ADDRSTRLEN];
+        inet_ntop(AF_INET, &peer->sin_addr, a, sizeof a);
+        srv_log(S, t, "dropped %zd-byte datagram from foreign source %s:%u", n, a,
+                (unsigned)ntohs(peer->sin_port));
+    }
+    return 1;
+}
+
+/* Active freezing is over: drop what queued from the controller during the pause and answer
+ * the newest; whatever else queued goes through the same trust checks as any datagram. */
+static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
+                        struct sockaddr_in *peer)
+{
+    static uint8_t other[2048];
+    ssize_t m;
+    struct sockaddr_in p2;
+    socklen_t l2 = sizeof p2;
+    while ((m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
+                         (struct sockaddr *)&p2, &l2)) >= 0) {
+        const uint64_t t = now_ns();
+        c4g_endpoint_t e;
+        const size_t k = ((size_t)m > sizeof other) ? sizeof other : (size_t)m;
+        endpoint_of(&p2, &e);
+        l2 = sizeof p2;
+        if (foreign_address(S, &p2, m, t)) {
+            continue;
+        }
+        if (!c4g_session_is_peer(&S->session, &e)) {
+            c4g_rx_result_t res;
+            (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
+            continue;
+        }
+        memcpy(in, other, (k > cap) ? cap : k);
+        *len = (k > cap) ? cap : k;
+        *peer = p2;
+    }
+}
+
+static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_in *peer,
+                        size_t len, uint64_t t)
+{
+    if (s->counters.foreign_total <= 10U || S->cfg.verbose) {
+        char a[INET_ADDRSTRLEN];
+        inet_ntop(AF_INET, &peer->sin_addr, a, sizeof a);
+        srv_log(S, t, "dropped %zu-byte datagram from %s:%u: not the controller's endpoint", len, a,
+                (unsigned)ntohs(peer->sin_port));
+    }
 }
 
 /* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
@@ -499,6 +570,7 @@ static int serve(srv_t *S, int fd)
     for (;;) {
         struct sockaddr_in peer;
         socklen_t plen = sizeof peer;
+        c4g_endpoint_t from;
         c4g_rx_result_t res;
         uint64_t t_rx, t_tx;
         ssize_t n;
@@ -527,14 +599,7 @@ static int serve(srv_t *S, int fd)
             }
             continue; /* timeout, EINTR or a transient error */
         }
-        if (S->ctrl.sin_addr.s_addr != 0U && peer.sin_addr.s_addr != S->ctrl.sin_addr.s_addr) {
-            S->stats.foreign++;
-            if (S->stats.foreign <= 10U || S->cfg.verbose) {
-                char a[INET_ADDRSTRLEN];
-                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
-                srv_log(S, t_rx, "dropped %zd-byte datagram from foreign source %s:%u", n, a,
-                        (unsigned)ntohs(peer.sin_port));
-            }
+        if (foreign_address(S, &peer, n, t_rx)) {
             continue;
         }
         if ((size_t)n > sizeof in) {
@@ -544,22 +609,33 @@ static int serve(srv_t *S, int fd)
             len = (size_t)n;
         }
         if (thaw) {
-            /* Active freezing is over: drop what queued during the pause, answer the newest. */
-            ssize_t m;
-            struct sockaddr_in p2;
-            socklen_t l2 = sizeof p2;
-            while ((m = recvfrom(fd, in, sizeof in, MSG_DONTWAIT | MSG_TRUNC,
-                                 (struct sockaddr *)&p2, &l2)) >= 0) {
-                if (p2.sin_addr.s_addr == peer.sin_addr.s_addr) {
-                    len = ((size_t)m > sizeof in) ? sizeof in : (size_t)m;
-                    peer = p2;
-                }
-                l2 = sizeof p2;
-            }
+            drain_queue(S, fd, in, sizeof in, &len, &peer);
             t_rx = now_ns();
         }
+        endpoint_of(&peer, &from);
         log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
-        if (c4g_session_rx(s, in, len, t_rx, &res) != C4G_OK) {
+        if (c4g_session_rx_from(s, in, len, t_rx, &from, &res) != C4G_OK) {
+            continue;
+        }
+        if ((res.events & C4G_EV_FOREIGN) != 0U) {
+            log_foreign(S, s, &peer, len, t_rx);
+            continue;
+        }
+        if ((res.events & C4G_EV_RESUMED) != 0U) {
+            srv_log(S, t_rx, "controller back after %.1f ms of silence", (double)res.silence_ns * 1e-6);
+        }
+        if ((res.events & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U &&
+            res.kind == C4G_RX_DROPPED) {
+            srv_log(S, t_rx, "dropped %s packet NUM %d (newest %d): not answered",
+                    (res.events & C4G_EV_DUPLICATE) ? "duplicate" : "stale",
+                    (int)((uint32_t)in[0] | (uint32_t)in[1] << 8 | (uint32_t)in[2] << 16 |
+                          (uint32_t)in[3] << 24),
+                    (int)s->last_num);
+            continue;
+        }
+        if ((res.events & C4G_EV_MALFORMED) != 0U && res.diag.status == C4G_ERR_STATE) {
+            srv_log(S, t_rx, "refused a %zu-byte initialization packet mid-session (NUM %lld): "
+                    "accepted only at start-up or after 506", len, (long long)res.diag.value);
             continue;
         }
         if ((res.events & C4G_EV_MALFORMED) != 0U) {

@@ -219,8 +219,13 @@ void srv_report(srv_t *S, FILE *out, const char *why, int code)
     for (k = 0U; k < C4G_MAL_COUNT_; k++) {
         fprintf(out, "%s%s %llu", k ? ", " : "", mal_names[k], (unsigned long long)c->malformed[k]);
     }
-    fprintf(out, "), foreign %llu, oversize %llu\n", (unsigned long long)st->foreign,
-            (unsigned long long)st->oversize);
+    fprintf(out, "), oversize %llu\n", (unsigned long long)st->oversize);
+    fprintf(out, "foreign: other address %llu, other port: init %llu, cyclic %llu, other %llu; "
+            "silences %llu (longest %.1f ms)\n",
+            (unsigned long long)st->foreign, (unsigned long long)c->foreign[C4G_FOREIGN_INIT],
+            (unsigned long long)c->foreign[C4G_FOREIGN_CYCLIC],
+            (unsigned long long)c->foreign[C4G_FOREIGN_OTHER], (unsigned long long)c->silences,
+            (double)c->longest_silence_ns * 1e-6);
     fprintf(out, "replies skipped %llu, send errors %llu, encode errors %llu, log records dropped %llu\n",
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
             (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped);
@@ -284,11 +289,19 @@ int srv_json(srv_t *S, const char *path, const char *why, int code)
     for (k = 0U; k < C4G_MAL_COUNT_; k++) {
         fprintf(fp, "\"malformed_%s\":%llu,", mal_names[k], (unsigned long long)c->malformed[k]);
     }
-    fprintf(fp, "\"foreign\":%llu,\"oversize\":%llu,\"skipped\":%llu,\"send_errors\":%llu,"
+    fprintf(fp, "\"foreign\":%llu,\"foreign_address\":%llu,\"foreign_init\":%llu,"
+            "\"foreign_cyclic\":%llu,\"foreign_other\":%llu,\"silences\":%llu,"
+            "\"longest_silence_ms\":%.3f,",
+            (unsigned long long)(st->foreign + c->foreign_total), (unsigned long long)st->foreign,
+            (unsigned long long)c->foreign[C4G_FOREIGN_INIT],
+            (unsigned long long)c->foreign[C4G_FOREIGN_CYCLIC],
+            (unsigned long long)c->foreign[C4G_FOREIGN_OTHER], (unsigned long long)c->silences,
+            (double)c->longest_silence_ns * 1e-6);
+    fprintf(fp, "\"oversize\":%llu,\"skipped\":%llu,\"send_errors\":%llu,"
             "\"encode_errors\":%llu,\"log_dropped\":%llu,\"restarts\":%llu,\"inits\":%llu,"
             "\"passive_freezings\":%llu,\"active_freezings\":%llu,\"drive_on_end\":%llu,"
             "\"mode_changes\":%llu,\"exits_sent\":[%llu,%llu,%llu,%llu]},",
-            (unsigned long long)st->foreign, (unsigned long long)st->oversize,
+            (unsigned long long)st->oversize,
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
             (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped,
             (unsigned long long)st->restarts, (unsigned long long)st->inits,

@@ -57,7 +57,19 @@ static void badf(const char *what, long a, long b)
 }
 /* FIELD-FACTS, written out here (not the library's c4g_reply_num): +1, 0x7FFF wraps to 1 */
 static int32_t want_num(int32_t n) { return o.policy ? n : (n >= 0x7FFF ? 1 : n + 1); }
-static int32_t next_num(void) { num = (num >= C4G_NUM_MAX) ? 0 : num + 1; return num; }
+/* --num-start: NUM reaches the wrap in forward gaps shorter than half the range (a longer
+ * jump reads as an older, stale packet to the PC) */
+static int32_t jump_to = -1;
+static int32_t next_num(void)
+{
+    if (jump_to >= 0) {
+        const int32_t d = (jump_to - num + 0x8000) % 0x8000;
+        if (d > 0x3000) { num = (num + 0x3000) % 0x8000; return num; }
+        num = jump_to; jump_to = -1; return num;
+    }
+    num = (num >= C4G_NUM_MAX) ? 0 : num + 1;
+    return num;
+}
 
 /* Wait for the reply to the datagram just sent; returns its length or -1. */
 static ssize_t await(int32_t n, uint64_t t0, uint64_t deadline)
@@ -288,7 +300,7 @@ int main(int argc, char **argv)
     for (i = 0; i < 20; i++) { start[i] = 1.0 + i; pos[i] = tgt[i] = start[i]; }
     next_ns = now_ns();
     if (o.cold) { handshake_sync(9); send_init(); handshake_sync(2); } else send_init();
-    if (o.num_start > 0) num = (int32_t)o.num_start - 1; /* jump near the wrap (server sees a gap) */
+    if (o.num_start > 0) jump_to = (int32_t)o.num_start; /* near the wrap (server sees gaps) */
     {
         int ph;
         for (ph = 0; ph < o.nph && !err_udp; ph++) {
