@@ -242,3 +242,55 @@ void sim_trap_eval(const sim_trap_t *t, double time, double *pos, double *vel)
     *pos = t->p0 + t->d * s;
     *vel = t->d * v;
 }
+
+void sim_ref_step(sim_ref_t *r, int mode, const c4g_pc_axis_t *pc, double pos_i, double vel_i,
+                  double override, double T, sim_dsa_in_t *in)
+{
+    in->pos_ref = pos_i;
+    in->vel_ff = vel_i;
+    in->vel_add = 0.0;
+    in->cur_add = 0.0;
+    in->cur_pc = 0.0;
+    switch (mode) {
+    case C4G_MODE_1:
+    case C4G_MODE_1_STANDBY:
+        in->pos_ref = (pc != NULL) ? pc->target_pos : r->pos_ref;
+        in->vel_ff = (pc != NULL) ? pc->target_vel / T : 0.0;
+        in->vel_add = (pc != NULL) ? pc->vel_add / T : 0.0;
+        in->cur_pc = (pc != NULL) ? pc->current_add : 0.0;
+        break;
+    case C4G_MODE_2:
+    case C4G_MODE_2_STANDBY:
+        in->vel_add = (pc != NULL) ? pc->vel_add / T : 0.0;
+        in->cur_pc = (pc != NULL) ? pc->current_add : 0.0;
+        break;
+    case C4G_MODE_4:
+        in->pos_ref = (pc != NULL) ? pc->target_pos : r->pos_ref;
+        in->vel_ff = (pc != NULL) ? pc->target_vel / T : 0.0;
+        break;
+    case C4G_MODE_5: {
+        const double vj = (pc != NULL) ? override * pc->target_vel : 0.0;
+        r->pos_k += vel_i * T + vj;
+        in->pos_ref = r->pos_k;
+        in->vel_ff = vel_i + vj / T;
+        break;
+    }
+    case C4G_MODE_7:
+        r->offset += (pc != NULL) ? pc->target_pos : 0.0;
+        in->pos_ref = pos_i + r->offset;
+        break;
+    case C4G_MODE_8: {
+        const double v = (pc != NULL) ? pc->vel_add : 0.0;
+        r->offset += v;
+        in->pos_ref = pos_i + r->offset;
+        in->vel_ff = vel_i + v / T;
+        break;
+    }
+    case C4G_MODE_9:
+        in->cur_add = (pc != NULL) ? pc->current_add : 0.0;
+        break;
+    default:
+        break;
+    }
+    r->pos_ref = in->pos_ref;
+}

@@ -5,6 +5,8 @@
 
 #include <stdint.h>
 
+#include "c4gopen.h"
+
 /** Deterministic PRNG (xorshift64*), Gaussian by Box-Muller. */
 typedef struct sim_rng {
     uint64_t s;
@@ -50,6 +52,25 @@ typedef struct sim_dsa_in {
     double cur_pc;       /* modes 1, 2: PC current [A] */
     double pc_share;     /* control switching share 0 (DSA) .. 1 (PC) */
 } sim_dsa_in_t;
+
+/** What the controller keeps per axis to build its position reference from the PC's fields. */
+typedef struct sim_ref {
+    double pos_k;        /* mode 5: global reference integrator [turns] */
+    double offset;       /* modes 7 and 8: accumulated PC offset [turns] */
+    double pos_ref;      /* the reference of the last tick [turns] */
+} sim_ref_t;
+
+/**
+ * One tick of the controller's reference for an axis in @p mode (manual chapter 14): mode 4
+ * follows D1 (absolute); mode 5 integrates pos_k += vel_i T + override D2 (fig. 14.1; D1 is
+ * ignored); mode 7 adds D1 to its offset; mode 8 integrates the velocity addition D4 into the
+ * offset; modes 1 and 2 take the PC's current; mode 9 adds D5. @p pc is the PC's data for this
+ * tick, or NULL when no reply of this mode arrived: the reference then holds (no PC
+ * contribution), never a stale value of another mode. Positions in turns, @p vel_i in turns/s,
+ * @p T the period [s]. Fills @p in (pos_ref, vel_ff, vel_add, cur_add, cur_pc).
+ */
+void sim_ref_step(sim_ref_t *r, int mode, const c4g_pc_axis_t *pc, double pos_i, double vel_i,
+                  double override, double T, sim_dsa_in_t *in);
 
 /** Axis state. */
 typedef struct sim_axis {

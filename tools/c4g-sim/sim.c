@@ -84,7 +84,7 @@ static void arm_drive_off(sim_t *s, int arm)
             x->standby_ticks = 0;
             x->pos_i = x->m.meas_pos;
             x->vel_i = 0.0;
-            x->offset = 0.0;
+            x->ref.offset = 0.0;
         }
     }
 }
@@ -387,7 +387,7 @@ static int run_cmd(sim_t *s, const scn_cmd_t *c, int first)
                 if (x->set_mode != C4G_MODE_0) {
                     x->set_mode = C4G_MODE_0;
                     x->pos_i = x->m.meas_pos;
-                    x->offset = 0.0;
+                    x->ref.offset = 0.0;
                     x->counter = 0;
                     forced[x->arm] = 1;
                 }
@@ -484,10 +484,10 @@ static void enter_mode(sim_t *s, sim_ax_t *x, int m)
         return;
     }
     if (m == C4G_MODE_5 && x->set_mode != C4G_MODE_5) {
-        x->pos_k = x->pos_i;
+        x->ref.pos_k = x->pos_i;
     }
-    if (m == C4G_MODE_7 && x->set_mode != C4G_MODE_7) {
-        x->offset = 0.0;
+    if ((m == C4G_MODE_7 || m == C4G_MODE_8) && x->set_mode != m) {
+        x->ref.offset = 0.0;
     }
     if ((m == C4G_MODE_1 || m == C4G_MODE_2) && !is_pc_current_mode(x->set_mode)) {
         x->counter = 0;
@@ -515,14 +515,14 @@ static void exit_from_open(sim_t *s, sim_ax_t *x)
         x->standby_ticks = 1;
         break;
     case C4G_MODE_5:
-        x->pos_i = x->pos_k; /* pos_i updated to the accumulated pos_k */
+        x->pos_i = x->ref.pos_k; /* pos_i updated to the accumulated pos_k */
         x->set_mode = C4G_MODE_5_STANDBY;
         x->standby_ticks = 1;
         break;
     case C4G_MODE_7:
-        x->pos_i += x->offset;
-        x->trap.p0 += x->offset;
-        x->offset = 0.0;
+        x->pos_i += x->ref.offset;
+        x->trap.p0 += x->ref.offset;
+        x->ref.offset = 0.0;
         if (s->arm[x->arm].moving) {
             x->set_mode = C4G_MODE_7_STANDBY;
         } else {
@@ -531,6 +531,12 @@ static void exit_from_open(sim_t *s, sim_ax_t *x)
         }
         break;
     case C4G_MODE_8:
+        /* the integrated velocity additions stay where they took the axis */
+        x->pos_i += x->ref.offset;
+        x->trap.p0 += x->ref.offset;
+        x->ref.offset = 0.0;
+        x->set_mode = C4G_MODE_0;
+        break;
     case C4G_MODE_9:
     case C4G_MODE_FREEZING_A:
         x->set_mode = C4G_MODE_0;
@@ -556,6 +562,7 @@ static void apply_reply(sim_t *s, const c4g_pc_packet_t *r)
         sim_ax_t *x = &s->ax[i];
         const int m = r->ax[i].mode;
         x->rx = r->ax[i];
+        x->fresh = 1;
         if (m == C4G_MODE_DRIVE_OFF || m == C4G_MODE_FOLLOW_ERROR) {
             if (s->arm[x->arm].drive != DRV_OFF) {
                 if (m == C4G_MODE_DRIVE_OFF) {
@@ -588,61 +595,34 @@ static void apply_reply(sim_t *s, const c4g_pc_packet_t *r)
     }
 }
 
-/* DSA inputs for one axis in the mode of the packet the reply answered. */
+/* DSA inputs for one axis in the mode of the packet the reply answered. A missing reply, or
+ * one of another mode, adds nothing: the reference holds (modes 1 and 2, where the PC closes
+ * the loops, keep the last current of their own mode). */
 static void dsa_inputs(sim_t *s, sim_ax_t *x, sim_dsa_in_t *in)
 {
     const double T = s->period;
     const c4g_pc_axis_t *r = &x->rx;
+    const int same_mode = (r->mode == x->mode);
+    const c4g_pc_axis_t *pc = (same_mode && (x->fresh || is_pc_current_mode(x->mode))) ? r : NULL;
     memset(in, 0, sizeof *in);
     in->pos_ref = x->pos_i;
     in->vel_ff = x->vel_i;
     if (s->arm[x->arm].drive == DRV_DRIVING_ON) {
         in->pos_ref = x->hold;
         in->vel_ff = 0.0;
+        x->ref.pos_ref = x->hold;
         return;
     }
-    switch (x->mode) {
-    case C4G_MODE_0_DEBUG:
-        in->pos_ref = r->target_pos;
-        in->vel_ff = r->target_vel / T;
-        break;
-    case C4G_MODE_1:
-    case C4G_MODE_1_STANDBY:
-        in->pos_ref = r->target_pos;
-        in->vel_ff = r->target_vel / T;
-        in->vel_add = r->vel_add / T;
-        in->cur_pc = r->current_add;
-        break;
-    case C4G_MODE_2:
-    case C4G_MODE_2_STANDBY:
-        in->vel_add = r->vel_add / T;
-        in->cur_pc = r->current_add;
-        break;
-    case C4G_MODE_4:
-        in->pos_ref = r->target_pos;
-        in->vel_ff = r->target_vel / T;
-        break;
-    case C4G_MODE_4_STANDBY:
+    if (x->mode == C4G_MODE_0_DEBUG) {
+        in->pos_ref = (pc != NULL) ? r->target_pos : x->pos_i;
+        in->vel_ff = (pc != NULL) ? r->target_vel / T : x->vel_i;
+        x->ref.pos_ref = in->pos_ref;
+    } else if (x->mode == C4G_MODE_4_STANDBY) {
         in->pos_ref = x->pos_i;
         in->vel_ff = 0.0;
-        break;
-    case C4G_MODE_5:
-        x->pos_k += x->vel_i * T + s->override * r->target_vel;
-        in->pos_ref = x->pos_k;
-        in->vel_ff = x->vel_i + s->override * r->target_vel / T;
-        break;
-    case C4G_MODE_7:
-        x->offset += r->target_pos;
-        in->pos_ref = x->pos_i + x->offset;
-        break;
-    case C4G_MODE_8:
-        in->vel_add = r->vel_add / T;
-        break;
-    case C4G_MODE_9:
-        in->cur_add = r->current_add;
-        break;
-    default:
-        break;
+        x->ref.pos_ref = in->pos_ref;
+    } else {
+        sim_ref_step(&x->ref, x->mode, pc, x->pos_i, x->vel_i, s->override, T, in);
     }
     if (is_pc_current_mode(x->mode)) {
         in->pc_share = (s->cfg.switch_ms > 0.0)
@@ -792,6 +772,9 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     sim_dsa_in_t in[C4G_MAX_AXES];
 
     s->tick++;
+    for (i = 0; i < s->n_axes; i++) {
+        s->ax[i].fresh = 0;
+    }
     if (reply != NULL) {
         apply_reply(s, reply);
     }

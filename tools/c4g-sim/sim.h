@@ -76,14 +76,14 @@ typedef struct sim_ax {
     int standby_ticks;          /* one-tick exit modes (14, 15, 170) */
     long counter;               /* control switching counter (modes 1, 2) */
     double pos_i, vel_i;        /* SMP+ trajectory [turns, turns/s] */
-    double pos_k;               /* mode 5 integrator */
-    double offset;              /* mode 7 accumulated offset */
+    sim_ref_t ref;              /* mode 5 integrator, modes 7/8 offset, last reference */
     double pos_ref, vel_ref;    /* what went to the DSA */
     double hold;                /* hold position while driving on */
     double prev_tick_meas;
     double act_vel_tick;        /* measured delta turns in the last tick */
     sim_trap_t trap;
     c4g_pc_axis_t rx;           /* last PC data applied */
+    int fresh;                  /* rx came with this tick's reply */
 } sim_ax_t;
 
 /** Communication phase as the controller sees it. */
