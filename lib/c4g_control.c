@@ -601,13 +601,17 @@ static inline float abs_base(const c4g_ctl_t *ctl, uint32_t i)
 }
 
 /* Continuity and stroke ends on the position the controller will hold next tick: base + d,
- * d the per-tick motion the PC asks for (the integrated field, or target - base). Both only
+ * d the per-tick motion the PC asks for (the integrated field, or target - base), base the
+ * reference before it (for an integrating mode the SMP+ target D1 advanced by its target
+ * velocity D2: the worst case, which may count the PC's last step once more). Both only
  * shrink d towards 0: the filter never creates a motion, even back into the stroke. */
 static inline uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
-    const float base = ((rules & R_ABS) != 0U) ? abs_base(ctl, i) : rx->target_pos;
+    /* integrating modes: the reference moves by the controller's own target velocity too */
+    const float base = ((rules & R_ABS) != 0U) ? abs_base(ctl, i)
+                                               : (rx->target_pos + rx->target_vel);
     float *field = int_field(rules, tx);
     const float req = ((rules & R_ABS) != 0U) ? (tx->target_pos - base) : *field;
     uint32_t f = 0U;

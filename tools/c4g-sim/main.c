@@ -84,6 +84,8 @@ typedef struct app {
     double fault_frac[F_COUNT];
     unsigned delay_us;
     unsigned long pause_at, pause_len;
+    int entry_fault;         /* --entry-fault: 0 none, 1 drop, 2 truncate */
+    int32_t sent_modes[C4G_MAX_AXES]; /* modes of the last cyclic packet sent */
     sim_rng_t frng;
     int32_t prev_num;        /* NUM of the packet before the outstanding one */
     int detected;            /* policy "either": the one the PC showed first, -1 none yet */
@@ -135,6 +137,7 @@ static void usage(FILE *f)
 "      --drop F  --duplicate F  --reorder F  --corrupt F  --truncate F\n"
 "      --delay F[:US]      delay a fraction of packets by US microseconds (default 300)\n"
 "      --pause TICK:N      stall: send nothing for N ticks from cyclic tick TICK\n"
+"      --entry-fault drop|truncate  lose or cut the packet that opens each new mode\n"
 "Outputs:\n"
 "      --csv FILE          per-tick records (moni-style)\n"
 "      --pcap FILE         every datagram in both directions (Ethernet/IPv4/UDP)\n"
@@ -248,6 +251,23 @@ static void queue_pending(app_t *a, const uint8_t *buf, size_t len, uint64_t due
     raw_send(a, buf, len); /* queue full: send now */
 }
 
+static int32_t get_num(const uint8_t *b);
+
+/* 1 if this cyclic packet is the first to carry a new mode on some axis. */
+static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
+{
+    int entry = 0;
+    size_t i;
+    for (i = 0; i < C4G_MAX_AXES && C4G_CYCLIC_SIZE(i + 1U) <= len; i++) {
+        const int32_t m = get_num(&pkt[C4G_HEADER_SIZE + C4G_AXIS_SIZE * i]);
+        if (m != a->sent_modes[i]) {
+            entry = 1;
+            a->sent_modes[i] = m;
+        }
+    }
+    return entry;
+}
+
 /* Send one of our packets through fault injection. */
 static void send_packet(app_t *a, const uint8_t *pkt, size_t len)
 {
@@ -255,6 +275,15 @@ static void send_packet(app_t *a, const uint8_t *pkt, size_t len)
     int held_now = 0;
     memcpy(buf, pkt, len);
     a->st.sent++;
+    if (a->out.kind == OK_CYCLIC && mode_entry(a, pkt, len) && a->entry_fault != 0) {
+        /* the packet that opens a mode is lost or cut: the PC must not anchor on it */
+        if (a->entry_fault == 1) {
+            a->st.fault[F_DROP]++;
+            goto flush_held;
+        }
+        len = len / 2U;
+        a->st.fault[F_TRUNCATE]++;
+    }
     if (roll(a, F_DROP)) {
         a->st.fault[F_DROP]++;
         goto flush_held;
@@ -734,7 +763,8 @@ static app_t g_app;
 int main(int argc, char **argv)
 {
     enum { O_BIND = 256, O_LPORT, O_TC1, O_POLICY, O_MAXMISS, O_AXES, O_SMODE, O_SEED, O_NOFOLLOW,
-           O_HOLD, O_DROP, O_DELAY, O_DUP, O_REORDER, O_CORRUPT, O_TRUNC, O_PAUSE, O_CSV, O_PCAP };
+           O_HOLD, O_DROP, O_DELAY, O_DUP, O_REORDER, O_CORRUPT, O_TRUNC, O_PAUSE, O_CSV, O_PCAP,
+           O_ENTRY };
     static const struct option opts[] = {
         {"server", required_argument, NULL, 's'}, {"port", required_argument, NULL, 'p'},
         {"bind", required_argument, NULL, O_BIND}, {"local-port", required_argument, NULL, O_LPORT},
@@ -748,6 +778,7 @@ int main(int argc, char **argv)
         {"duplicate", required_argument, NULL, O_DUP}, {"reorder", required_argument, NULL, O_REORDER},
         {"corrupt", required_argument, NULL, O_CORRUPT}, {"truncate", required_argument, NULL, O_TRUNC},
         {"pause", required_argument, NULL, O_PAUSE}, {"csv", required_argument, NULL, O_CSV},
+        {"entry-fault", required_argument, NULL, O_ENTRY},
         {"pcap", required_argument, NULL, O_PCAP}, {"json", no_argument, NULL, 'j'},
         {"verbose", no_argument, NULL, 'v'}, {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'}, {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
@@ -935,6 +966,16 @@ int main(int argc, char **argv)
             }
             break;
         }
+        case O_ENTRY:
+            if (strcmp(optarg, "drop") == 0) {
+                a->entry_fault = 1;
+            } else if (strcmp(optarg, "truncate") == 0) {
+                a->entry_fault = 2;
+            } else {
+                fprintf(stderr, "c4g-sim: --entry-fault: '%s' must be drop or truncate\n", optarg);
+                return EXIT_USAGE;
+            }
+            break;
         case O_CSV:
             csv_path = optarg;
             break;

@@ -1,0 +1,74 @@
+#!/bin/sh
+# c4g-server safety end to end: limits bound the position the controller integrates, and a
+# motion's anchor does not depend on the one packet that opens the mode. Real processes, real
+# UDP on 127.0.0.1; c4g-sim is the controller and the truth about where the robot went.
+. tests/e2e/server_helpers/lib.sh "$1"
+[ -x "$SIM" ] || { echo "server_safety: $SIM not built"; exit 1; }
+
+# Mode entry with the opening packet lost or cut: every mode ends where it ends without the
+# fault (the scenario's EXPECT POS lines), with no safety event and no controller error.
+entry_test() {  # entry_test MODE PORT FAULT EXPECTED_POS_AX1 [server args...]
+    m=$1; port=$2; fault=$3; want=$4; shift 4; F0=$FAILS
+    SIM_ARGS="--entry-fault $fault"
+    run_sim "e$m$fault" "$port" "fixtures/server/sim_mode$m.scn" "$@"
+    ok "mode $m, entry packet $fault: c4g-sim ok, EXPECTs passed" eq "$SIMRC" 0
+    ok "mode $m, entry packet $fault: the fault happened" ge \
+        "$(grep -o "\"$([ "$fault" = drop ] && echo drop || echo truncate)\":[0-9]*" "$T/e$m$fault.sim.json" | cut -d: -f2)" 1
+    ok "mode $m, entry packet $fault: robot axis 1 at $want" near "$(simpos "$T/e$m$fault.sim.json" 1)" "$want" 0.05
+    ok "mode $m, entry packet $fault: no safety event" \
+        eq "$(jv "$T/e$m$fault.json" drive_off_505)$(jv "$T/e$m$fault.json" follow_error_508)" 00
+    [ "$FAILS" -eq "$F0" ] || dump "e$m$fault"
+    SIM_ARGS=""
+}
+
+echo "mode entry with the opening packet lost or truncated:"
+port=31300
+for fault in drop truncate; do
+    entry_test 4 $port $fault 0.45 --sine 0.25,0.5,0.5; port=$((port + 1))
+    entry_test 5 $port $fault 0.125 --sine 0.25,0.5,0.5; port=$((port + 1))
+    entry_test 7 $port $fault 1.1 --offset 0.1,0.5,0.5; port=$((port + 1))
+    entry_test 8 $port $fault -1 --vel 0.0005,1,1; port=$((port + 1))
+    entry_test 9 $port $fault 0.5 --ff fixtures/server/ff_example.txt --duration 1; port=$((port + 1))
+    entry_test 1 $port $fault 0 --hold --duration 1 --gains 30,200,300; port=$((port + 1))
+done
+
+# Stroke ends on the integrated position: the server's motion would take the robot to +0.125
+# (mode 5, 50 % override) or past +0.01 (modes 7, 8); the arm stops (505) before the limit.
+stroke_test() {  # stroke_test NAME MODE PORT MIN MAX TOL [server args...]
+    n=$1; m=$2; port=$3; lo=$4; hi=$5; tol=$6; shift 6; F0=$FAILS
+    SIM_ARGS="--csv $T/$n.csv"
+    run_sim "$n" "$port" "fixtures/server/sim_mode$m.scn" --stroke "$lo,$hi" "$@"
+    SIM_ARGS=""
+    ok "$n: c4g-sim ran the scenario" has "$T/$n.sim.json" '"loaded":true'
+    ok "$n: the server stopped the arm (505 sent)" ge "$(jv "$T/$n.json" drive_off_505)" 1
+    ok "$n: stroke event counted" ge "$(jv "$T/$n.json" stroke)" 1
+    ok "$n: the controller took the drive off (DRIVEOFF_SERVER)" has "$T/$n.sim.json" DRIVEOFF_SERVER
+    # the reference the controller held (CSV a<k>_tpos, columns 9 + 11 k) never left the
+    # stroke by more than TOL (SMP+'s own step in mode 7); the robot stopped within its
+    # following error and one tick of braking of it (0.01 turns here)
+    for ax in 1 2 3 4 5 6; do
+        c=$((9 + 11 * (ax - 1)))
+        r=$(awk -F, -v c=$c -v hi="$hi" -v lo="$lo" 'NR > 1 && $c != "" {
+                d = ($c > hi) ? $c - hi : (($c < lo) ? lo - $c : 0); if (d > w) w = d }
+            END { print w + 0 }' "$T/$n.csv")
+        p=$(simpos "$T/$n.sim.json" $ax)
+        ok "$n: axis $ax reference past the stroke by $r <= $tol" le "$r" "$tol"
+        ok "$n: axis $ax robot stopped at the stroke ($p in [$lo, $hi] +/- 0.01)" \
+            awk -v p="$p" -v lo="$lo" -v hi="$hi" 'BEGIN { exit !(p >= lo - 0.01 && p <= hi + 0.01) }'
+    done
+    [ "$FAILS" -eq "$F0" ] || dump "$n"
+}
+
+echo "stroke ends on what the controller integrates:"
+# (mode 7: SMP+ moves the arm to +1 meanwhile, the stroke contains its move; mode 8: SMP+
+# stands still, the PC's additions alone integrate to +0.08)
+stroke_test stroke5 5 31320 -0.01 0.01 0.0001 --sine 0.25,0.5,0.5
+stroke_test stroke7 7 31321 -0.01 1.01 0.005 --offset 0.1,0.5,0.5
+stroke_test stroke8 8_still 31322 -0.01 0.01 0.0001 --vel 0.0005,1,1
+echo "continuity on what the controller integrates (mode 8, D4 of 0.5 turns per tick):"
+run_sim step8 31323 fixtures/server/sim_mode8.scn --vel 0.5,1,1 --max-step 0.001
+ok "step8: the velocity addition was limited" ge "$(jv "$T/step8.json" continuity)" 1
+ok "step8: c4g-sim ok" eq "$SIMRC" 0
+ok "step8: the robot ended near its start (zero-mean addition, bounded)" \
+    near "$(simpos "$T/step8.sim.json" 1)" -1 0.2
+finish
