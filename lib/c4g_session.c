@@ -76,27 +76,35 @@ static int32_t num_delta(const c4g_session_t *s, int32_t num)
     return (num - s->last_num + NUM_MODULO) % NUM_MODULO;
 }
 
-/* NUM bookkeeping: SMP+ counts 0..0x7FFF and wraps to 0. */
+/* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is
+ * counted and dropped: answered already, or its moment has passed, and acting on it would
+ * move the control layer back in time. Returns 1 when the packet is dropped. */
+static int drop_stale(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
+{
+    const int32_t delta = num_delta(s, num);
+    int r = 1;
+    if (delta == 0) {
+        s->counters.duplicates++;
+        res->events |= C4G_EV_DUPLICATE;
+    } else if (delta >= NUM_HALF) {
+        s->counters.out_of_order++;
+        res->events |= C4G_EV_OUT_OF_ORDER;
+    } else {
+        r = 0;
+    }
+    return r;
+}
+
+/* NUM bookkeeping of an accepted packet (SMP+ counts 0..0x7FFF and wraps to 0). */
 static void track_num(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
 {
-    /* only called after an init packet, which sets last_num to 10 */
-    {
-        const int32_t delta = (num - s->last_num + NUM_MODULO) % NUM_MODULO;
-        if (delta == 0) {
-            s->counters.duplicates++;
-            res->events |= C4G_EV_DUPLICATE;
-        } else if (delta >= NUM_HALF) {
-            s->counters.out_of_order++;
-            res->events |= C4G_EV_OUT_OF_ORDER;
-        } else {
-            if (delta > 1) {
-                s->counters.gaps++;
-                s->counters.missed += (uint64_t)delta - 1U;
-                res->events |= C4G_EV_GAP;
-            }
-            s->last_num = num;
-        }
+    const int32_t delta = num_delta(s, num);
+    if (delta > 1) {
+        s->counters.gaps++;
+        s->counters.missed += (uint64_t)delta - 1U;
+        res->events |= C4G_EV_GAP;
     }
+    s->last_num = num;
 }
 
 static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const uint8_t *buf,
@@ -174,10 +182,12 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
                     c4g_rx_result_t *res)
 {
     const c4g_status_t st = c4g_ctrl_decode(buf, len, 0U, &s->rx[s->cur ^ 1U], &res->diag);
+    const int32_t num = (st == C4G_OK) ? c4g_get_i32le(buf) : -1; /* decoded: >= 48 bytes */
     if (st != C4G_OK) {
         count_malformed(s, st, res);
+    } else if ((s->phase == C4G_PHASE_POST_SYNC) && (drop_stale(s, num, res) != 0)) {
+        /* counted */
     } else {
-        const int32_t num = c4g_get_i32le(buf);
         {
             s->counters.sync++;
             if (s->phase == C4G_PHASE_POST_SYNC) {
@@ -257,15 +267,8 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     const c4g_status_t st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag);
     if (st != C4G_OK) {
         count_malformed(s, st, res);
-    } else if (num_delta(s, p->num) == 0) {
-        /* a copy of the newest packet: answered already, never delivered twice */
-        s->counters.duplicates++;
-        res->events |= C4G_EV_DUPLICATE;
-    } else if (num_delta(s, p->num) >= NUM_HALF) {
-        /* older than the newest packet: its moment has passed; acting on it would move the
-         * control layer back in time */
-        s->counters.out_of_order++;
-        res->events |= C4G_EV_OUT_OF_ORDER;
+    } else if (drop_stale(s, p->num, res) != 0) {
+        /* counted */
     } else {
         const uint32_t drives = drive_mask(p->infpar);
         s->cur = next;

@@ -527,6 +527,48 @@ static void test_filter_joint_stroke(void **state)
     assert_int_equal(f.tx.ax[5].mode, 505); /* no threshold on axis 6: the stop shows */
 }
 
+
+/* The packet that opens mode 4 is lost and the next one reports a stale target (0): the
+ * first step is still measured from where the axis stood in mode 0. */
+static void test_anchor_survives_lost_entry(void **state)
+{
+    filt_t f;
+    c4g_axis_limits_t l;
+    float a = -1.0f;
+    (void)state;
+    f_init(&f);
+    assert_int_equal(c4g_ctl_anchor(NULL, 0, &a), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctl_anchor(&f.ctl, 6, &a), C4G_ERR_ARG);
+    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_ERR_STATE); /* no packet yet */
+    memset(&l, 0, sizeof l);
+    l.max_step = 0.05f;
+    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(f_tick(&f, 0, 0, 0, 0, 0), C4G_OK);  /* mode 0, SMP+ target 10 */
+    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_OK);
+    assert_true(a == 10.0f);
+    f.num++;
+    mk_rx(&f.rx, f.num, 4);
+    f.rx.ax[0].target_pos = 0.0f; /* stale: what the controller did without our reply */
+    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_OK);
+    assert_true(a == 10.0f); /* not moved by the mode-4 packet */
+    {   /* a PC anchoring on the packet (0) is caught as a 10-turn step */
+        uint32_t i;
+        for (i = 0; i < 6; i++) {
+            f.tx.ax[i].target_pos = 10.0f;
+            f.tx.ax[i].target_vel = 0.0f;
+        }
+        f.tx.ax[0].target_pos = 0.0f;
+    }
+    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_true(f.rep.axis_flags[0] & C4G_SF_STEP);
+    assert_true(f.tx.ax[0].target_pos == 9.95f);
+    /* a PC anchoring on c4g_ctl_anchor moves smoothly */
+    assert_int_equal(f_tick(&f, 4, 9.99f, 0, 0, 0), C4G_OK);
+    assert_int_equal(f.rep.axis_flags[0] & C4G_SF_STEP, 0);
+}
+
 static void test_set_limits_errors(void **state)
 {
     filt_t f;
@@ -604,6 +646,7 @@ int main(void)
         cmocka_unit_test(test_filter_continuity),
         cmocka_unit_test(test_filter_stroke),
         cmocka_unit_test(test_filter_joint_stroke),
+        cmocka_unit_test(test_anchor_survives_lost_entry),
         cmocka_unit_test(test_set_limits_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

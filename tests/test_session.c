@@ -62,6 +62,13 @@ static void cold_start(fx_t *f, c4g_num_policy_t pol)
     assert_int_equal(f->out_len, 1200);
     assert_int_equal(th_get_u32(f->out), pol == C4G_NUM_PLUS_ONE ? 11 : 10);
     assert_memory_equal(&f->out[4], &fig[4], 1196);
+    sync_packet(b, 10); /* a post-init sync repeating a NUM is dropped like any stale packet */
+    assert_int_equal(feed(f, b, sizeof b), C4G_RX_DROPPED);
+    assert_true(f->r.events & C4G_EV_DUPLICATE);
+    sync_packet(b, 9);
+    assert_int_equal(feed(f, b, sizeof b), C4G_RX_DROPPED);
+    assert_true(f->r.events & C4G_EV_OUT_OF_ORDER);
+    f->s.counters.duplicates = f->s.counters.out_of_order = 0;
     for (num = 11; num <= 12; num++) {
         sync_packet(b, num);
         assert_int_equal(feed(f, b, sizeof b), C4G_RX_SYNC);
@@ -104,7 +111,7 @@ static void test_handshake_plus_one(void **state)
     assert_true(f.r.events == 0);
     assert_int_equal(f.s.counters.cyclic, 1000);
     assert_int_equal(f.s.counters.tx, 9 + 1 + 2 + 1000);
-    assert_int_equal(f.s.counters.rx, 9 + 1 + 2 + 1000);
+    assert_int_equal(f.s.counters.rx, 9 + 1 + 2 + 2 + 1000); /* + the 2 stale syncs */
     assert_int_equal(f.s.counters.gaps, 0);
     assert_int_equal(f.s.counters.malformed_total, 0);
 }
@@ -563,6 +570,221 @@ static void test_api_misuse(void **state)
     assert_int_equal(ev, 0);
 }
 
+
+/* ---------------------------------------------------------------- trust: endpoints */
+
+static c4g_endpoint_t ep(uint8_t last, uint16_t port)
+{
+    c4g_endpoint_t e;
+    memset(&e, 0, sizeof e);
+    e.addr[0] = 127;
+    e.addr[3] = last;
+    e.addr_len = 4;
+    e.port = port;
+    return e;
+}
+
+static c4g_rx_kind_t feed_from(fx_t *f, const uint8_t *buf, size_t len, const c4g_endpoint_t *e)
+{
+    f->t += 2 * MS;
+    assert_int_equal(c4g_session_rx_from(&f->s, buf, len, f->t, e, &f->r), C4G_OK);
+    return f->r.kind;
+}
+
+/* Cold start from endpoint @p e. */
+static void cold_start_from(fx_t *f, const c4g_endpoint_t *e)
+{
+    uint8_t b[732];
+    int32_t num;
+    assert_int_equal(c4g_session_init(&f->s, NULL), C4G_OK);
+    f->t = 1000 * MS;
+    for (num = 1; num <= 9; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    }
+    assert_int_equal(feed_from(f, fig, sizeof fig, e), C4G_RX_INIT);
+    assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    for (num = 11; num <= 12; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    }
+    assert_int_equal(f->s.phase, C4G_PHASE_CYCLIC);
+}
+
+/* The controller's cold start into an existing (lost) session. */
+static void cold_start_from_keep(fx_t *f, const c4g_endpoint_t *e)
+{
+    uint8_t b[732];
+    int32_t num;
+    for (num = 1; num <= 9; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    }
+    assert_int_equal(feed_from(f, fig, sizeof fig, e), C4G_RX_INIT);
+    for (num = 11; num <= 12; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
+    }
+    assert_int_equal(f->s.phase, C4G_PHASE_CYCLIC);
+}
+
+static void cyclic_from(fx_t *f, int32_t num, int32_t mode, const c4g_endpoint_t *e)
+{
+    uint8_t b[732];
+    size_t len = th_ctrl_bytes(b, sizeof b, num, 6, mode);
+    assert_int_equal(feed_from(f, b, len, e), C4G_RX_CYCLIC);
+}
+
+static void expect_foreign(fx_t *f, const uint8_t *b, size_t len, const c4g_endpoint_t *e,
+                           c4g_foreign_t shape)
+{
+    const uint64_t before = f->s.counters.foreign[shape];
+    const c4g_phase_t phase = f->s.phase;
+    assert_int_equal(feed_from(f, b, len, e), C4G_RX_DROPPED);
+    assert_true(f->r.events & C4G_EV_FOREIGN);
+    assert_null(f->r.pkt);
+    assert_int_equal(f->s.counters.foreign[shape], before + 1);
+    assert_int_equal(f->s.phase, phase);
+    assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len),
+                     C4G_ERR_STATE); /* never answered */
+}
+
+static void test_endpoint_lock(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600), other_port = ep(1, 3601), other_addr = ep(2, 3600);
+    c4g_endpoint_t bad = ctl;
+    uint8_t b[1200];
+    size_t len;
+    (void)state;
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    assert_int_equal(c4g_session_is_peer(&f.s, &other_port), 1); /* nobody locked yet */
+    cold_start_from(&f, &ctl);
+    assert_int_equal(f.s.peer_locked, 1);
+    assert_int_equal(c4g_session_is_peer(&f.s, &ctl), 1);
+    assert_int_equal(c4g_session_is_peer(&f.s, &other_port), 0);
+    assert_int_equal(c4g_session_is_peer(&f.s, &other_addr), 0);
+    assert_int_equal(c4g_session_is_peer(&f.s, NULL), 0);
+    assert_int_equal(c4g_session_is_peer(NULL, &ctl), 0);
+    cyclic_from(&f, 13, 0, &ctl);
+    /* forged init (AzLim 1e6, FollowError 0), 504, 508, unknown mode, zero flood, 4 bytes */
+    memcpy(b, fig, sizeof b);
+    th_put_u32(&b[548], 0x49742400u); /* 1e6 */
+    th_put_u32(&b[1040], 0);
+    expect_foreign(&f, b, sizeof b, &other_port, C4G_FOREIGN_INIT);
+    assert_true(f.s.init.az_lim[0][0] < 100.0f);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, C4G_MODE_EXIT_OPEN);
+    expect_foreign(&f, b, len, &other_port, C4G_FOREIGN_CYCLIC);
+    len = th_ctrl_bytes(b, sizeof b, 9, 6, C4G_MODE_FOLLOW_ERROR);
+    expect_foreign(&f, b, len, &other_addr, C4G_FOREIGN_CYCLIC);
+    len = th_ctrl_bytes(b, sizeof b, 14, 6, 0);
+    th_put_u32(&b[12], 4242); /* an unknown mode */
+    expect_foreign(&f, b, len, &other_port, C4G_FOREIGN_CYCLIC);
+    memset(b, 0, 228);
+    expect_foreign(&f, b, 228, &other_port, C4G_FOREIGN_CYCLIC);
+    expect_foreign(&f, b, 4, &other_port, C4G_FOREIGN_OTHER);
+    assert_int_equal(f.s.counters.foreign_total, 6);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    cyclic_from(&f, 14, 0, &ctl); /* the controller's session goes on */
+    assert_int_equal(f.s.counters.init, 1);
+    /* an endpoint with an impossible address length is a caller error */
+    bad.addr_len = 17;
+    assert_int_equal(c4g_session_rx_from(&f.s, b, 4, f.t, &bad, &f.r), C4G_ERR_ARG);
+    assert_int_equal(c4g_session_is_peer(&f.s, &bad), 0);
+}
+
+static void test_init_only_at_start_up(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint8_t b[1200];
+    (void)state;
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    /* from the controller's own endpoint, mid-session: refused, reported, not answered */
+    memcpy(b, fig, sizeof b);
+    th_put_u32(&b[548], 0x49742400u);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_MALFORMED);
+    assert_int_equal(f.r.diag.status, C4G_ERR_STATE);
+    assert_int_equal(f.r.diag.value, 10);
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_PHASE], 1);
+    assert_true(f.s.init.az_lim[0][0] < 100.0f);
+    /* ... and in the post-init synchronization phase too */
+    {
+        fx_t g;
+        uint8_t s1[732];
+        int32_t num;
+        assert_int_equal(c4g_session_init(&g.s, NULL), C4G_OK);
+        g.t = 0;
+        for (num = 1; num <= 9; num++) {
+            sync_packet(s1, num);
+            assert_int_equal(feed_from(&g, s1, sizeof s1, &ctl), C4G_RX_SYNC);
+        }
+        assert_int_equal(feed_from(&g, fig, sizeof fig, &ctl), C4G_RX_INIT);
+        assert_int_equal(feed_from(&g, fig, sizeof fig, &ctl), C4G_RX_DROPPED);
+        assert_int_equal(g.s.counters.malformed[C4G_MAL_PHASE], 1);
+    }
+    /* after 506 the new init is taken */
+    cyclic_from(&f, 14, C4G_MODE_SVR_RESTART, &ctl);
+    assert_int_equal(feed_from(&f, fig, sizeof fig, &ctl), C4G_RX_INIT);
+    assert_int_equal(f.s.counters.init, 2);
+}
+
+/* A lost controller: a new start-up is served from its first synchronization packet, from
+ * whatever endpoint, and the session locks to it; the old endpoint is then foreign. */
+static void test_lost_restart_new_endpoint(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t old = ep(1, 3600), neu = ep(1, 40000);
+    uint8_t b[732];
+    size_t len;
+    uint32_t ev = 0;
+    (void)state;
+    cold_start_from(&f, &old);
+    cyclic_from(&f, 13, 0, &old);
+    /* silent, but not lost yet: another endpoint's start-up is foreign */
+    sync_packet(b, 1);
+    f.t += 500 * MS;
+    expect_foreign(&f, b, sizeof b, &neu, C4G_FOREIGN_CYCLIC);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1000 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    f.t += 1000 * MS;
+    /* after the loss: an init first from the new endpoint is still foreign */
+    expect_foreign(&f, fig, sizeof fig, &neu, C4G_FOREIGN_INIT);
+    /* a malformed start-up does not end the lost state */
+    memset(b, 0, sizeof b);
+    th_put_u32(&b[16], 0x7F800000u);
+    assert_int_equal(feed_from(&f, b, 48, &neu), C4G_RX_DROPPED);
+    assert_int_equal(f.s.phase, C4G_PHASE_LOST);
+    cold_start_from_keep(&f, &neu);
+    assert_true(f.s.peer.port == 40000);
+    len = th_ctrl_bytes(b, sizeof b, 13, 6, 0);
+    expect_foreign(&f, b, len, &old, C4G_FOREIGN_CYCLIC);
+    cyclic_from(&f, 13, 0, &neu);
+}
+
+/* After a loss, the same controller continuing its NUM sequence is taken back. */
+static void test_lost_resume_same_endpoint(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint32_t ev = 0;
+    (void)state;
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    f.t += 2000 * MS;
+    cyclic_from(&f, 20, 0, &ctl);
+    assert_true(f.r.events & C4G_EV_RESUMED);
+    assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
+    assert_int_equal(f.s.counters.longest_silence_ns, 2002 * MS);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -583,6 +805,10 @@ int main(void)
         cmocka_unit_test(test_drives_event),
         cmocka_unit_test(test_timing),
         cmocka_unit_test(test_api_misuse),
+        cmocka_unit_test(test_endpoint_lock),
+        cmocka_unit_test(test_init_only_at_start_up),
+        cmocka_unit_test(test_lost_restart_new_endpoint),
+        cmocka_unit_test(test_lost_resume_same_endpoint),
     };
     return cmocka_run_group_tests_name("session", tests, load, NULL);
 }
