@@ -114,7 +114,7 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
     s->pending_num = num;
     s->pending_rx_ns = now_ns;
     s->pending_len = 0U;
-    if (kind != C4G_RX_CYCLIC) {
+    if ((kind != C4G_RX_CYCLIC) && (buf != NULL)) { /* (a decoded datagram has bytes) */
         /* Sync replies echo at most 732 bytes; the init echo is the full 1200. */
         const size_t keep = (kind == C4G_RX_INIT) ? C4G_INIT_SIZE
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
@@ -182,7 +182,7 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
                     c4g_rx_result_t *res)
 {
     const c4g_status_t st = c4g_ctrl_decode(buf, len, 0U, &s->rx[s->cur ^ 1U], &res->diag);
-    const int32_t num = (st == C4G_OK) ? c4g_get_i32le(buf) : -1; /* decoded: >= 48 bytes */
+    const int32_t num = s->rx[s->cur ^ 1U].num; /* 0 when the decode failed */
     if (st != C4G_OK) {
         count_malformed(s, st, res);
     } else if ((s->phase == C4G_PHASE_POST_SYNC) && (drop_stale(s, num, res) != 0)) {
@@ -341,7 +341,9 @@ int c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from)
 {
     int r = 0;
     if ((s != NULL) && (from != NULL) && (from->addr_len <= 16U)) {
-        r = ((s->peer_locked == 0U) || (same_endpoint(from, &s->peer) != 0)) ? 1 : 0;
+        if ((s->peer_locked == 0U) || (same_endpoint(from, &s->peer) != 0)) {
+            r = 1;
+        }
     }
     return r;
 }
@@ -371,7 +373,9 @@ static int new_startup(const c4g_session_t *s, const uint8_t *buf, size_t len, i
     int r = 0;
     if ((s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
         const int32_t d = (len >= 4U) ? num_delta(s, c4g_get_i32le(buf)) : 0;
-        r = ((other != 0) || (d == 0) || (d >= NUM_HALF)) ? 1 : 0;
+        if ((other != 0) || (d == 0) || (d >= NUM_HALF)) {
+            r = 1;
+        }
     }
     return r;
 }
@@ -422,13 +426,17 @@ c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t le
         } else if (s->phase == C4G_PHASE_ENDED) {
             st = C4G_ERR_ENDED;
         } else {
-            const int other = ((from != NULL) && (s->peer_locked != 0U) &&
-                               (same_endpoint(from, &s->peer) == 0)) ? 1 : 0;
-            uint32_t was_silent;
+            int other = 0;
+            uint32_t was_silent = 0U;
+            if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
+                other = 1;
+            }
             s->counters.rx++;
             s->pending_num = -1;
             res->events |= check_lost(s, now_ns);
-            was_silent = ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) ? 1U : 0U;
+            if ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) {
+                was_silent = 1U;
+            }
             if (new_startup(s, buf, len, other) != 0) {
                 /* the old session is over: a new handshake, locked to whoever starts it */
                 s->phase = C4G_PHASE_WAIT_INIT;
