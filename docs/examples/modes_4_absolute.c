@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Mode 4 (docs/modes.md): the PC generates absolute position targets, SMP+ closes the
- * loops. Here the PC itself requests mode 4 from mode 0 (allowed: drives on, not driving
- * on), plans in joint space (rad) and converts to motor turns with the chapter 19
- * kinematics; the safety filter limits the step per tick and joint 5's stroke; then the
- * PC sends EXIT_FROM_OPEN. Exit status 0 only if every expectation holds. */
+ * loops. The controller's PDL2 program sets mode 4 (the PC cannot: manual 24.2); the PC
+ * plans in joint space (rad) from where the robot stood (c4g_ctl_anchor) and converts to
+ * motor turns with the chapter 19 kinematics; the safety filter limits the step per tick
+ * and stops the arm (505) before joint 5 crosses its stroke end. Exit status 0 only if
+ * every expectation holds. */
 #include "c4gopen.h"
 #include <stdio.h>
 #include <string.h>
@@ -38,7 +39,7 @@ int main(void)
     size_t len = 0;
     double q[6] = {0.0, 0.1, -0.1, 0.0, 0.2, 0.0}; /* joint positions [rad] */
     int32_t num = 0, mode = C4G_MODE_0;
-    int k, clamped = 0;
+    int k, clamped = 0, stopped = 0;
     uint32_t i;
 
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
@@ -59,8 +60,9 @@ int main(void)
         controller_packet(&rx, ++num, mode);
         CHECK(c4g_ctl_step(&ctl, &rx, (uint64_t)k * 2000000u, &tx, &rep) == C4G_OK);
         if (k == 1) {
-            /* in mode 0 with drives on: the request goes out in the next packet */
-            CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_OK);
+            /* only the PDL2 program starts a mode */
+            CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_CTL_PDL_ONLY);
+            mode = C4G_MODE_4; /* ... which it does: the next packet carries mode 4 */
         }
         if (tx.ax[0].mode == C4G_MODE_4) {
             double qm[6];
@@ -74,9 +76,12 @@ int main(void)
         CHECK(c4g_ctl_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
         CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK);
         clamped += (rep.axis_flags[4] & C4G_SF_STROKE_JOINT) ? 1 : 0;
-        /* the simulated controller */
+        /* the simulated controller: 505 takes the drives off, the robot stops */
+        if (tx.ax[0].mode == C4G_MODE_DRIVE_OFF) {
+            stopped = 1;
+            break;
+        }
         if (tx.ax[0].mode == C4G_MODE_4) {
-            mode = C4G_MODE_4;
             for (i = 0; i < 6; i++) {
                 qm_now[i] = (double)tx.ax[i].target_pos;
             }
@@ -91,11 +96,10 @@ int main(void)
             break;
         }
     }
-    CHECK(ctl.arm[0].mode == C4G_MODE_0);
-    CHECK(clamped > 0);
+    CHECK(stopped == 1 && clamped == 1);
+    CHECK((ctl.arm[0].latch & C4G_LATCH_STROKE) != 0);
     CHECK(c4g_kin_motor_to_link(&ctl.kin[0], qm_now, 6, q) == C4G_OK);
     CHECK(q[4] <= 0.3 + 1e-5 && q[4] >= 0.29);
-    printf("mode 4: joint 5 stopped at %.4f rad (soft limit 0.3), %d ticks clamped\n", q[4],
-           clamped);
+    printf("mode 4: joint 5 stopped at %.4f rad (soft limit 0.3): the arm got 505\n", q[4]);
     return 0;
 }

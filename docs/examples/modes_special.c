@@ -51,17 +51,16 @@ int main(void)
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
     CHECK(c4g_ctl_init(&ctl, &init, NULL) == C4G_OK);
 
-    /* DRIVE ON: the controller forces 501; mode requests are refused meanwhile */
+    /* DRIVE ON: the controller forces 501; requests are refused meanwhile */
     CHECK(tick(C4G_MODE_DRIVING_ON, 0, 1.0f, 1.0f) == C4G_OK);
     CHECK(tick(C4G_MODE_DRIVING_ON, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
-    CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_CTL_DRIVING_ON);
     CHECK(c4g_ctl_request_freeze(&ctl, 0) == C4G_ERR_CTL_DRIVING_ON);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK((rep.events & C4G_CEV_DRIVING_ON_END) != 0);  /* first tick SMax left 501 */
     printf("driving on over; refused example: %s\n", c4g_strerror(C4G_ERR_CTL_DRIVING_ON));
 
     /* other refusals */
-    CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_3) == C4G_ERR_CTL_NOT_OFFERED);
+    CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_CTL_PDL_ONLY); /* 24.2 */
     CHECK(c4g_ctl_request_exit(&ctl, 0) == C4G_ERR_CTL_NOT_IN_OPEN);
 
     /* active freezing: only from mode 0; every axis carries 500 until the exit */
