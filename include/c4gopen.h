@@ -50,9 +50,9 @@ extern "C" {
 /** @name Version (SemVer; any layout change of a public struct bumps MAJOR) */
 /**@{*/
 #define C4G_VERSION_MAJOR 0
-#define C4G_VERSION_MINOR 1
+#define C4G_VERSION_MINOR 2
 #define C4G_VERSION_PATCH 0
-#define C4G_VERSION_STRING "0.1.0"
+#define C4G_VERSION_STRING "0.2.0"
 /**@}*/
 
 /** @name Protocol constants (manual chapters 8 and 10, FIELD-FACTS) */
