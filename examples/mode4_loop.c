@@ -4,6 +4,7 @@
  * Plain POSIX; build: cc -std=c99 -D_POSIX_C_SOURCE=200809L -Iinclude mode4_loop.c \
  *   build/lib/libc4gopen.a -lm        run: ./a.out [PORT]    (ends on 504) */
 #include "c4gopen.h"
+#include <string.h>
 #include <arpa/inet.h>
 #include <math.h>
 #include <sched.h>
@@ -50,9 +51,12 @@ int main(int argc, char **argv)
         size_t len;
         const ssize_t n = recvfrom(fd, in, sizeof in, 0, (struct sockaddr *)&peer, &pl);
         const uint64_t t_rx = now_ns();
-        if (n < 0 || c4g_session_rx(&s, in, (size_t)n, t_rx, &res) != C4G_OK ||
+        c4g_endpoint_t from = {{0}, 4, 0};             /* only the session's own controller */
+        memcpy(from.addr, &peer.sin_addr, 4);          /* (address and port) may steer it */
+        from.port = ntohs(peer.sin_port);
+        if (n < 0 || c4g_session_rx_from(&s, in, (size_t)n, t_rx, &from, &res) != C4G_OK ||
             res.kind == C4G_RX_DROPPED)
-            continue;                                  /* malformed: counted, not answered */
+            continue;                      /* malformed, foreign or stale: counted, not answered */
         if (res.kind == C4G_RX_INIT)
             c4g_ctl_init(&ctl, &s.init, NULL);
         if (res.kind == C4G_RX_CYCLIC) {
