@@ -1,8 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer: the session engine fed an arbitrary datagram stream. The input is split
  * into datagrams by a 2-byte length prefix; 0xFFFF inserts the figure 10.1 init packet
- * so that the cyclic phase is reached. Invariants: phase always valid, replies only
- * when armed, reply lengths 732/1200/12+36N, never a crash. */
+ * so that the cyclic phase is reached; the prefix's top two bits pick the sender (none, the
+ * controller, another port, another address). Invariants: phase always valid, replies only
+ * when armed, reply lengths 732/1200/12+36N, a 732-byte sync reply only to a datagram of a
+ * cyclic packet's shape and never with a non-finite value, a foreign datagram never changes
+ * the phase or the newest packet, never a crash. */
 #include "c4gopen.h"
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +21,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t out[C4G_INIT_SIZE];
     size_t pos = 0, len = 0, n;
     uint64_t t = 0;
+    c4g_endpoint_t eps[3];
+    memset(eps, 0, sizeof eps);
+    eps[0].addr[0] = eps[1].addr[0] = eps[2].addr[0] = 127;
+    eps[0].addr[3] = eps[1].addr[3] = 1;
+    eps[2].addr[3] = 2;
+    eps[0].addr_len = eps[1].addr_len = eps[2].addr_len = 4;
+    eps[0].port = 3600;
+    eps[1].port = 3601;
+    eps[2].port = 3600;
     (void)c4g_init_fig10_1(&in);
     (void)c4g_init_encode(&in, init, sizeof init, &len);
     if (c4g_session_init(&s, NULL) != C4G_OK) {
@@ -26,6 +38,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     while (pos + 2U <= size) {
         size_t dl = ((size_t)data[pos] << 8U) | data[pos + 1U];
         const uint8_t *dg = &data[pos + 2U];
+        const unsigned who = (unsigned)(data[pos] >> 6U);
+        const c4g_endpoint_t *from = (who == 0U) ? NULL : &eps[who - 1U];
+        const c4g_phase_t phase_before = s.phase;
+        const int32_t newest_before = s.last_num;
         pos += 2U;
         if (dl == 0xFFFFU) {
             dg = init;
@@ -38,7 +54,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             pos += dl;
         }
         t += (dl & 1U) ? 2000000U : 25000000U;
-        if (c4g_session_rx(&s, dg, dl, t, &r) == C4G_ERR_ENDED) {
+        if (c4g_session_rx_from(&s, dg, dl, t, from, &r) == C4G_ERR_ENDED) {
             if (s.phase != C4G_PHASE_ENDED) {
                 abort();
             }
@@ -48,6 +64,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (s.phase > C4G_PHASE_LOST) {
             abort();
         }
+        if (((r.events & C4G_EV_FOREIGN) != 0U) &&
+            ((r.kind != C4G_RX_DROPPED) || (s.last_num != newest_before) ||
+             ((s.phase != phase_before) && (phase_before != C4G_PHASE_CYCLIC) &&
+              (phase_before != C4G_PHASE_POST_SYNC)))) {
+            abort(); /* (the silence check may move CYCLIC to LOST on any datagram) */
+        }
         if (r.kind == C4G_RX_CYCLIC) {
             c4g_pc_packet_t tx;
             if ((r.pkt == NULL) || (c4g_pc_reply_neutral(r.pkt, &tx) != C4G_OK) ||
@@ -56,9 +78,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
             }
         } else if (r.kind != C4G_RX_DROPPED) {
+            c4g_ctrl_packet_t echo;
             if ((c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_OK) ||
                 (n != ((r.kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE))) {
                 abort();
+            }
+            if ((r.kind == C4G_RX_SYNC) &&
+                ((dl < C4G_CYCLIC_SIZE(1U)) || (((dl - C4G_HEADER_SIZE) % C4G_AXIS_SIZE) != 0U) ||
+                 (c4g_ctrl_decode(out, n, 0U, &echo, NULL) != C4G_OK))) {
+                abort(); /* amplified, or a NaN / unknown mode echoed */
             }
         } else if (c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_ERR_STATE) {
             abort();
