@@ -74,7 +74,8 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
 static int32_t num_delta(const c4g_session_t *s, int32_t num)
 {
     /* in unsigned arithmetic: @p num may be a raw, unvalidated field */
-    return (int32_t)(((uint32_t)num - (uint32_t)s->last_num) & ((uint32_t)NUM_MODULO - 1U));
+    const uint32_t d = ((uint32_t)num - (uint32_t)s->last_num) & ((uint32_t)NUM_MODULO - 1U);
+    return (int32_t)d;
 }
 
 /* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is
