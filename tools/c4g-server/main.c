@@ -518,7 +518,10 @@ static int foreign_address(srv_t *S, const struct sockaddr_in *peer, ssize_t n, 
 }
 
 /* Active freezing is over: drop what queued from the controller during the pause and answer
- * the newest; whatever else queued goes through the same trust checks as any datagram. */
+ * the newest; whatever else queued goes through the same trust checks as any datagram. The
+ * datagram already in @p in counts too: if it is not the controller's and a newer one of the
+ * controller's replaces it, the session sees it first (counted as foreign); if none does, it
+ * stays in @p in and the caller's path counts it. */
 static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
                         struct sockaddr_in *peer)
 {
@@ -526,25 +529,42 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
     ssize_t m;
     struct sockaddr_in p2;
     socklen_t l2 = sizeof p2;
-    while ((m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
-                         (struct sockaddr *)&p2, &l2)) >= 0) {
+    c4g_endpoint_t e;
+    unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
+    int have;
+    endpoint_of(peer, &e);
+    have = c4g_session_is_peer(&S->session, &e);
+    while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
+                                                (struct sockaddr *)&p2, &l2)) >= 0) {
         const uint64_t t = now_ns();
-        c4g_endpoint_t e;
         const size_t k = ((size_t)m > sizeof other) ? sizeof other : (size_t)m;
         endpoint_of(&p2, &e);
         l2 = sizeof p2;
         if (foreign_address(S, &p2, m, t)) {
+            n_foreign++;
             continue;
         }
         if (!c4g_session_is_peer(&S->session, &e)) {
             c4g_rx_result_t res;
             (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
+            n_foreign++;
             continue;
         }
+        if (!have) { /* the first datagram was another endpoint's: count it before it goes */
+            c4g_rx_result_t res;
+            c4g_endpoint_t e0;
+            endpoint_of(peer, &e0);
+            (void)c4g_session_rx_from(&S->session, in, *len, t, &e0, &res);
+            n_foreign++;
+            have = 1;
+        }
+        n_ctrl++;
         memcpy(in, other, (k > cap) ? cap : k);
         *len = (k > cap) ? cap : k;
         *peer = p2;
     }
+    srv_log(S, now_ns(), "active freezing over: %u more datagrams queued (%u of the controller's, "
+            "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
 }
 
 static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_in *peer,
