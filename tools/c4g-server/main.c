@@ -468,13 +468,12 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
-/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
-static int on_idle(srv_t *S, uint64_t start)
+/* Silence and loss events of the session, whether c4g_session_poll found them or
+ * c4g_session_rx_from did before it classified a datagram (a stream of refused datagrams
+ * keeps the socket busy: the loss must not wait for a quiet moment). Exit code, or -1. */
+static int time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
-    uint32_t ev = 0U;
-    const uint64_t t = now_ns();
-    c4g_session_t *s = &S->session;
-    (void)c4g_session_poll(s, t, &ev);
+    const c4g_session_t *s = &S->session;
     if ((ev & C4G_EV_SILENCE) != 0U) {
         srv_log(S, t, "controller silent for more than %.1f ms: session kept",
                 (double)s->silence_ns * 1e-6);
@@ -485,6 +484,21 @@ static int on_idle(srv_t *S, uint64_t start)
             return EXIT_LOST;
         }
         srv_log(S, t, "waiting for the controller's next start-up");
+    }
+    return -1;
+}
+
+/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
+static int on_idle(srv_t *S, uint64_t start)
+{
+    uint32_t ev = 0U;
+    const uint64_t t = now_ns();
+    c4g_session_t *s = &S->session;
+    int code;
+    (void)c4g_session_poll(s, t, &ev);
+    code = time_events(S, ev, t);
+    if (code >= 0) {
+        return code;
     }
     if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
         (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
@@ -595,7 +609,7 @@ static int serve(srv_t *S, int fd)
         uint64_t t_rx, t_tx;
         ssize_t n;
         size_t len, olen = 0U;
-        int send_it = 0;
+        int send_it = 0, was_lost;
         if (g_stop) {
             return EXIT_SIGNAL;
         }
@@ -620,6 +634,12 @@ static int serve(srv_t *S, int fd)
             continue; /* timeout, EINTR or a transient error */
         }
         if (foreign_address(S, &peer, n, t_rx)) {
+            /* a stream from another address keeps recvfrom from timing out: the silence
+             * and loss checks must not wait for a quiet socket */
+            const int code = on_idle(S, start);
+            if (code >= 0) {
+                return code;
+            }
             continue;
         }
         if ((size_t)n > sizeof in) {
@@ -634,8 +654,27 @@ static int serve(srv_t *S, int fd)
         }
         endpoint_of(&peer, &from);
         log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
+        was_lost = (s->phase == C4G_PHASE_LOST);
         if (c4g_session_rx_from(s, in, len, t_rx, &from, &res) != C4G_OK) {
             continue;
+        }
+        if (res.kind != C4G_RX_CYCLIC) {
+            /* the session checks the clock before it classifies a datagram: a loss it found
+             * there ends the session (without --persist) whether the datagram was refused or
+             * opens a new start-up, which is then not answered. A cyclic packet of the
+             * controller after the loss timeout is a long gap (below). */
+            const int code = time_events(S, res.events, t_rx);
+            if (code >= 0) {
+                return code;
+            }
+            if (res.kind == C4G_RX_SYNC && (was_lost || (res.events & C4G_EV_LOST) != 0U)) {
+                char a[INET_ADDRSTRLEN];
+                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
+                srv_log(S, t_rx, "new start-up from %s:%u: a new session", a,
+                        (unsigned)ntohs(peer.sin_port));
+            }
+        } else if ((res.events & C4G_EV_SILENCE) != 0U) {
+            (void)time_events(S, C4G_EV_SILENCE, t_rx);
         }
         if ((res.events & C4G_EV_FOREIGN) != 0U) {
             log_foreign(S, s, &peer, len, t_rx);
@@ -664,7 +703,7 @@ static int serve(srv_t *S, int fd)
                     (unsigned)res.diag.offset, (int)res.diag.axis, (long long)res.diag.value);
             continue;
         }
-        if ((res.events & C4G_EV_LOST) != 0U) {
+        if ((res.events & C4G_EV_LOST) != 0U && res.kind == C4G_RX_CYCLIC) {
             S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
             srv_log(S, t_rx, "long gap: more than %.1f ms without a packet",
                     (double)s->lost_timeout_ns * 1e-6);
