@@ -144,11 +144,12 @@ static const char *const usage_text[] = {
 "  -h, --help               this text\n",
 "  -V, --version            library version\n",
 "\n",
-"Exit codes: 0 ended by 504 (or after it with --persist and a signal), 1 bad option or\n",
-"input file, 2 setup failure (socket, bind, thread, refused RT setting with\n",
-"--rt-strict), 3 controller lost, 4 --idle-timeout / --max-seconds reached, 5 stopped by\n",
-"SIGINT/SIGTERM. The chapter 22 timing report, the counters and the safety events are\n",
-"printed at every exit that follows a session.\n",
+"Exit codes: 0 ended by 504, 1 bad option or input file, 2 setup failure (socket,\n",
+"bind, thread, refused RT setting with --rt-strict), 3 controller lost, 4\n",
+"--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n",
+"--persist). The chapter 22 timing report, the counters and the safety events are\n",
+"printed at every exit that follows a session (with --persist the counters add up\n",
+"every session since the start, the timing lines are the last session's).\n",
 "\n",
 "Examples:\n",
 "  c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150\n",
@@ -784,6 +785,7 @@ static int serve(srv_t *S, int fd)
             if (!S->cfg.persist) {
                 return EXIT_END;
             }
+            srv_counters_add(&S->done, &s->counters); /* the exit report adds every session */
             (void)c4g_session_init(s, &s->cfg);
         }
     }
