@@ -532,6 +532,17 @@ static int foreign_address(srv_t *S, const struct sockaddr_in *peer, ssize_t n, 
     return 1;
 }
 
+static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_in *peer,
+                        size_t len, uint64_t t)
+{
+    if (s->counters.foreign_total <= 10U || S->cfg.verbose) {
+        char a[INET_ADDRSTRLEN];
+        inet_ntop(AF_INET, &peer->sin_addr, a, sizeof a);
+        srv_log(S, t, "dropped %zu-byte datagram from %s:%u: not the controller's endpoint", len, a,
+                (unsigned)ntohs(peer->sin_port));
+    }
+}
+
 /* Active freezing is over: drop what queued from the controller during the pause and answer
  * the newest; whatever else queued goes through the same trust checks as any datagram. The
  * datagram already in @p in counts too: if it is not the controller's and a newer one of the
@@ -562,6 +573,7 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
         if (!c4g_session_is_peer(&S->session, &e)) {
             c4g_rx_result_t res;
             (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
+            log_foreign(S, &S->session, &p2, k, t);
             n_foreign++;
             continue;
         }
@@ -570,6 +582,7 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
             c4g_endpoint_t e0;
             endpoint_of(peer, &e0);
             (void)c4g_session_rx_from(&S->session, in, *len, t, &e0, &res);
+            log_foreign(S, &S->session, peer, *len, t);
             n_foreign++;
             have = 1;
         }
@@ -580,17 +593,6 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
     }
     srv_log(S, now_ns(), "active freezing over: %u more datagrams queued (%u of the controller's, "
             "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
-}
-
-static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_in *peer,
-                        size_t len, uint64_t t)
-{
-    if (s->counters.foreign_total <= 10U || S->cfg.verbose) {
-        char a[INET_ADDRSTRLEN];
-        inet_ntop(AF_INET, &peer->sin_addr, a, sizeof a);
-        srv_log(S, t, "dropped %zu-byte datagram from %s:%u: not the controller's endpoint", len, a,
-                (unsigned)ntohs(peer->sin_port));
-    }
 }
 
 /* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
