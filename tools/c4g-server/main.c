@@ -144,11 +144,12 @@ static const char *const usage_text[] = {
 "  -h, --help               this text\n",
 "  -V, --version            library version\n",
 "\n",
-"Exit codes: 0 ended by 504 (or after it with --persist and a signal), 1 bad option or\n",
-"input file, 2 setup failure (socket, bind, thread, refused RT setting with\n",
-"--rt-strict), 3 controller lost, 4 --idle-timeout / --max-seconds reached, 5 stopped by\n",
-"SIGINT/SIGTERM. The chapter 22 timing report, the counters and the safety events are\n",
-"printed at every exit that follows a session.\n",
+"Exit codes: 0 ended by 504, 1 bad option or input file, 2 setup failure (socket,\n",
+"bind, thread, refused RT setting with --rt-strict), 3 controller lost, 4\n",
+"--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n",
+"--persist). The chapter 22 timing report, the counters and the safety events are\n",
+"printed at every exit that follows a session (with --persist the counters add up\n",
+"every session since the start, the timing lines are the last session's).\n",
 "\n",
 "Examples:\n",
 "  c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150\n",
@@ -468,13 +469,12 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
-/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
-static int on_idle(srv_t *S, uint64_t start)
+/* Silence and loss events of the session, whether c4g_session_poll found them or
+ * c4g_session_rx_from did before it classified a datagram (a stream of refused datagrams
+ * keeps the socket busy: the loss must not wait for a quiet moment). Exit code, or -1. */
+static int time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
-    uint32_t ev = 0U;
-    const uint64_t t = now_ns();
-    c4g_session_t *s = &S->session;
-    (void)c4g_session_poll(s, t, &ev);
+    const c4g_session_t *s = &S->session;
     if ((ev & C4G_EV_SILENCE) != 0U) {
         srv_log(S, t, "controller silent for more than %.1f ms: session kept",
                 (double)s->silence_ns * 1e-6);
@@ -485,6 +485,21 @@ static int on_idle(srv_t *S, uint64_t start)
             return EXIT_LOST;
         }
         srv_log(S, t, "waiting for the controller's next start-up");
+    }
+    return -1;
+}
+
+/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
+static int on_idle(srv_t *S, uint64_t start)
+{
+    uint32_t ev = 0U;
+    const uint64_t t = now_ns();
+    c4g_session_t *s = &S->session;
+    int code;
+    (void)c4g_session_poll(s, t, &ev);
+    code = time_events(S, ev, t);
+    if (code >= 0) {
+        return code;
     }
     if (s->counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
         (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
@@ -517,36 +532,6 @@ static int foreign_address(srv_t *S, const struct sockaddr_in *peer, ssize_t n, 
     return 1;
 }
 
-/* Active freezing is over: drop what queued from the controller during the pause and answer
- * the newest; whatever else queued goes through the same trust checks as any datagram. */
-static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
-                        struct sockaddr_in *peer)
-{
-    static uint8_t other[2048];
-    ssize_t m;
-    struct sockaddr_in p2;
-    socklen_t l2 = sizeof p2;
-    while ((m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
-                         (struct sockaddr *)&p2, &l2)) >= 0) {
-        const uint64_t t = now_ns();
-        c4g_endpoint_t e;
-        const size_t k = ((size_t)m > sizeof other) ? sizeof other : (size_t)m;
-        endpoint_of(&p2, &e);
-        l2 = sizeof p2;
-        if (foreign_address(S, &p2, m, t)) {
-            continue;
-        }
-        if (!c4g_session_is_peer(&S->session, &e)) {
-            c4g_rx_result_t res;
-            (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
-            continue;
-        }
-        memcpy(in, other, (k > cap) ? cap : k);
-        *len = (k > cap) ? cap : k;
-        *peer = p2;
-    }
-}
-
 static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_in *peer,
                         size_t len, uint64_t t)
 {
@@ -556,6 +541,58 @@ static void log_foreign(srv_t *S, const c4g_session_t *s, const struct sockaddr_
         srv_log(S, t, "dropped %zu-byte datagram from %s:%u: not the controller's endpoint", len, a,
                 (unsigned)ntohs(peer->sin_port));
     }
+}
+
+/* Active freezing is over: drop what queued from the controller during the pause and answer
+ * the newest; whatever else queued goes through the same trust checks as any datagram. The
+ * datagram already in @p in counts too: if it is not the controller's and a newer one of the
+ * controller's replaces it, the session sees it first (counted as foreign); if none does, it
+ * stays in @p in and the caller's path counts it. */
+static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
+                        struct sockaddr_in *peer)
+{
+    static uint8_t other[2048];
+    ssize_t m;
+    struct sockaddr_in p2;
+    socklen_t l2 = sizeof p2;
+    c4g_endpoint_t e;
+    unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
+    int have;
+    endpoint_of(peer, &e);
+    have = c4g_session_is_peer(&S->session, &e);
+    while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
+                                                (struct sockaddr *)&p2, &l2)) >= 0) {
+        const uint64_t t = now_ns();
+        const size_t k = ((size_t)m > sizeof other) ? sizeof other : (size_t)m;
+        endpoint_of(&p2, &e);
+        l2 = sizeof p2;
+        if (foreign_address(S, &p2, m, t)) {
+            n_foreign++;
+            continue;
+        }
+        if (!c4g_session_is_peer(&S->session, &e)) {
+            c4g_rx_result_t res;
+            (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
+            log_foreign(S, &S->session, &p2, k, t);
+            n_foreign++;
+            continue;
+        }
+        if (!have) { /* the first datagram was another endpoint's: count it before it goes */
+            c4g_rx_result_t res;
+            c4g_endpoint_t e0;
+            endpoint_of(peer, &e0);
+            (void)c4g_session_rx_from(&S->session, in, *len, t, &e0, &res);
+            log_foreign(S, &S->session, peer, *len, t);
+            n_foreign++;
+            have = 1;
+        }
+        n_ctrl++;
+        memcpy(in, other, (k > cap) ? cap : k);
+        *len = (k > cap) ? cap : k;
+        *peer = p2;
+    }
+    srv_log(S, now_ns(), "active freezing over: %u more datagrams queued (%u of the controller's, "
+            "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
 }
 
 /* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
@@ -575,7 +612,7 @@ static int serve(srv_t *S, int fd)
         uint64_t t_rx, t_tx;
         ssize_t n;
         size_t len, olen = 0U;
-        int send_it = 0;
+        int send_it = 0, was_lost;
         if (g_stop) {
             return EXIT_SIGNAL;
         }
@@ -600,6 +637,12 @@ static int serve(srv_t *S, int fd)
             continue; /* timeout, EINTR or a transient error */
         }
         if (foreign_address(S, &peer, n, t_rx)) {
+            /* a stream from another address keeps recvfrom from timing out: the silence
+             * and loss checks must not wait for a quiet socket */
+            const int code = on_idle(S, start);
+            if (code >= 0) {
+                return code;
+            }
             continue;
         }
         if ((size_t)n > sizeof in) {
@@ -614,8 +657,27 @@ static int serve(srv_t *S, int fd)
         }
         endpoint_of(&peer, &from);
         log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
+        was_lost = (s->phase == C4G_PHASE_LOST);
         if (c4g_session_rx_from(s, in, len, t_rx, &from, &res) != C4G_OK) {
             continue;
+        }
+        if (res.kind != C4G_RX_CYCLIC) {
+            /* the session checks the clock before it classifies a datagram: a loss it found
+             * there ends the session (without --persist) whether the datagram was refused or
+             * opens a new start-up, which is then not answered. A cyclic packet of the
+             * controller after the loss timeout is a long gap (below). */
+            const int code = time_events(S, res.events, t_rx);
+            if (code >= 0) {
+                return code;
+            }
+            if (res.kind == C4G_RX_SYNC && (was_lost || (res.events & C4G_EV_LOST) != 0U)) {
+                char a[INET_ADDRSTRLEN];
+                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
+                srv_log(S, t_rx, "new start-up from %s:%u: a new session", a,
+                        (unsigned)ntohs(peer.sin_port));
+            }
+        } else if ((res.events & C4G_EV_SILENCE) != 0U) {
+            (void)time_events(S, C4G_EV_SILENCE, t_rx);
         }
         if ((res.events & C4G_EV_FOREIGN) != 0U) {
             log_foreign(S, s, &peer, len, t_rx);
@@ -644,7 +706,7 @@ static int serve(srv_t *S, int fd)
                     (unsigned)res.diag.offset, (int)res.diag.axis, (long long)res.diag.value);
             continue;
         }
-        if ((res.events & C4G_EV_LOST) != 0U) {
+        if ((res.events & C4G_EV_LOST) != 0U && res.kind == C4G_RX_CYCLIC) {
             S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
             srv_log(S, t_rx, "long gap: more than %.1f ms without a packet",
                     (double)s->lost_timeout_ns * 1e-6);
@@ -725,6 +787,7 @@ static int serve(srv_t *S, int fd)
             if (!S->cfg.persist) {
                 return EXIT_END;
             }
+            srv_counters_add(&S->done, &s->counters); /* the exit report adds every session */
             (void)c4g_session_init(s, &s->cfg);
         }
     }

@@ -185,13 +185,50 @@ static double pct_us(const srv_stats_t *st, double p)
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
                                                       "init", "phase"};
 
+/* Counters of one more session added to @p sum (the longest silence is the longest). */
+void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
+{
+    uint32_t k;
+    sum->rx += c->rx;
+    sum->tx += c->tx;
+    sum->sync += c->sync;
+    sum->init += c->init;
+    sum->cyclic += c->cyclic;
+    sum->gaps += c->gaps;
+    sum->missed += c->missed;
+    sum->duplicates += c->duplicates;
+    sum->out_of_order += c->out_of_order;
+    sum->malformed_total += c->malformed_total;
+    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
+        sum->malformed[k] += c->malformed[k];
+    }
+    sum->lost_events += c->lost_events;
+    sum->foreign_total += c->foreign_total;
+    for (k = 0U; k < C4G_FOREIGN_COUNT_; k++) {
+        sum->foreign[k] += c->foreign[k];
+    }
+    sum->silences += c->silences;
+    if (c->longest_silence_ns > sum->longest_silence_ns) {
+        sum->longest_silence_ns = c->longest_silence_ns;
+    }
+}
+
+/* Every session since the start (--persist starts a new one after each 504). */
+static void counters_total(const srv_t *S, c4g_counters_t *tot)
+{
+    *tot = S->done;
+    srv_counters_add(tot, &S->session.counters);
+}
+
 void srv_report(srv_t *S, FILE *out, const char *why, int code)
 {
     c4g_timing_t t;
-    const c4g_counters_t *c = &S->session.counters;
+    c4g_counters_t tot;
+    const c4g_counters_t *c = &tot;
     const srv_stats_t *st = &S->stats;
     const srv_safety_t *sf = &S->safety;
     uint32_t k;
+    counters_total(S, &tot);
     (void)c4g_session_timing(&S->session, &t);
     fprintf(out, "c4g-server: session ended: %s (exit code %d)\n", why, code);
     fprintf(out, "== Timing (manual chapter 22, PC point of view)\n");
@@ -251,7 +288,8 @@ void srv_report(srv_t *S, FILE *out, const char *why, int code)
 int srv_json(srv_t *S, const char *path, const char *why, int code)
 {
     c4g_timing_t t;
-    const c4g_counters_t *c = &S->session.counters;
+    c4g_counters_t tot;
+    const c4g_counters_t *c = &tot;
     const srv_stats_t *st = &S->stats;
     const srv_safety_t *sf = &S->safety;
     FILE *fp = (strcmp(path, "-") == 0) ? stdout : fopen(path, "w");
@@ -260,6 +298,7 @@ int srv_json(srv_t *S, const char *path, const char *why, int code)
         fprintf(stderr, "c4g-server: --json %s: %s\n", path, strerror(errno));
         return -1;
     }
+    counters_total(S, &tot);
     (void)c4g_session_timing(&S->session, &t);
     fprintf(fp, "{\"tool\":\"c4g-server\",\"version\":\"%s\",\"exit_code\":%d,\"reason\":\"%s\",",
             C4G_VERSION_STRING, code, why);

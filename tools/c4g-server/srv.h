@@ -155,6 +155,7 @@ typedef struct srv_config {
 typedef struct srv {
     srv_config_t cfg;
     c4g_session_t session;
+    c4g_counters_t done;          /* counters of the sessions --persist ended by 504 */
     srv_axis_t ax[C4G_MAX_AXES];
     srv_safety_t safety;
     srv_stats_t stats;
@@ -184,6 +185,9 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
 int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen);
 int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
                 size_t errlen);
+
+/* report.c */
+void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c);
 
 /* rt.c */
 int srv_rt_setup(const srv_config_t *cfg, FILE *msg);

@@ -13,6 +13,8 @@ CHECKS=0
 srv_cleanup() {
     for p in $PIDS; do kill "$p" 2>/dev/null; done
     for p in $PIDS; do wait "$p" 2>/dev/null; done
+    # C4G_E2E_KEEP=DIR keeps the run's files (logs, JSON, pcap, moni) in DIR
+    [ -n "${C4G_E2E_KEEP:-}" ] && { rm -rf "$C4G_E2E_KEEP"; cp -r "$T" "$C4G_E2E_KEEP"; }
     rm -rf "$T"
 }
 trap srv_cleanup EXIT
@@ -68,8 +70,11 @@ le() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 <= b + 0) }' || { echo "   
 near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }' || { echo "       got $1, want $2 +/- $3"; return 1; }; }
 has() { grep -q -- "$2" "$1" || { echo "       '$2' not in $1"; return 1; }; }
 
-dump() {  # dump NAME: show logs of a run (on failure)
-    for f in "$T/$1".*; do [ -f "$f" ] && { echo "--- $f"; tail -n 25 "$f"; }; done
+dump() {  # dump NAME: show logs of a run (on failure); binary captures are skipped
+    for f in "$T/$1".*; do
+        case $f in *.pcap) continue ;; esac
+        [ -f "$f" ] && { echo "--- $f"; tail -n 25 "$f"; }
+    done
 }
 
 finish() {
