@@ -129,11 +129,15 @@ $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
 
 # ---- unit tests (CMocka)
-TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude -g
-$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h)
+# Tests of tool parsers #include the tool sources they test (tools/ is not in the
+# library), so every test sees tools/common and links inih.
+TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude \
+  -Itools/common -g
+TEST_LIBS := -lcmocka -linih -lm
+$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	  -o $@ $< $(STATIC) -lcmocka -lm
+	  -o $@ $< $(STATIC) $(TEST_LIBS)
 
 unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
@@ -144,7 +148,7 @@ sanitize: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/san
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
 	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
@@ -161,7 +165,7 @@ coverage: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
 	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
 	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
 
