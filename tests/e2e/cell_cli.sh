@@ -89,6 +89,11 @@ INI
 "$cli" -c "$tmp/cfg.ini" robot sta >/dev/null; expect_rc 0 $? "config file"
 printf '[robot]\nprot = 1\n' >"$tmp/bad.ini"
 "$cli" -c "$tmp/bad.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config typo rejected"
+grep -q "bad.ini:2:1: \[robot\]: unknown key 'prot'" "$tmp/e" && pass "config typo: line, column and key named" || { bad "config typo message"; cat "$tmp/e"; }
+printf '[robot]\nport = 1e39\n' >"$tmp/bad2.ini"
+"$cli" -c "$tmp/bad2.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config port 1e39 rejected"
+grep -q "bad2.ini:2:8: \[robot\] port: '1e39' is not an integer" "$tmp/e" && pass "config 1e39: line, column, key, value named" || { bad "config 1e39 message"; cat "$tmp/e"; }
+timeout 20 "$cli" -c /dev/zero robot sta 2>"$tmp/e"; expect_rc 2 $? "config /dev/zero refused, not hung"
 # the spec's section 6 pick-and-place task, end to end
 c -f fixtures/cell/pick_and_place.cell >"$tmp/pp" 2>&1; rc=$?
 expect_rc 0 $rc "pick_and_place.cell"

@@ -3,7 +3,6 @@
  * controllers (REPL with libedit, one-shot, scripts, --json). See docs/cell-cli.md. */
 #include <errno.h>
 #include <getopt.h>
-#include <ini.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +16,7 @@
 #include "c4gopen.h"
 #include "cell_common.h"
 #include "cli_cmd.h"
+#include "cli_config.h"
 
 enum {
     EXIT_OK = 0,
@@ -40,49 +40,6 @@ static int g_connect_ms = 2000;
 static int g_reply_ms = 2000;
 static int g_json;
 static int g_echo;
-
-/* ------------------------------------------------------------------ config file */
-
-static int ini_cb(void *user, const char *section, const char *name, const char *value)
-{
-    unsigned long u;
-    (void)user;
-    int dev = -1;
-    for (int d = 0; d < CELL_DEVICES; d++) {
-        if (strcasecmp(section, cell_dev_name(d)) == 0) {
-            dev = d;
-        }
-    }
-    if (dev >= 0 && strcasecmp(name, "host") == 0) {
-        if (strlen(value) >= sizeof g_conn[dev].host) {
-            return 0;
-        }
-        strcpy(g_conn[dev].host, value);
-        return 1;
-    }
-    if (dev >= 0 && strcasecmp(name, "port") == 0) {
-        if (cell_parse_uint(value, 65535UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_conn[dev].port = (unsigned)u;
-        return 1;
-    }
-    if (strcasecmp(section, "cli") == 0 && strcasecmp(name, "connect_timeout_ms") == 0) {
-        if (cell_parse_uint(value, 600000UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_connect_ms = (int)u;
-        return 1;
-    }
-    if (strcasecmp(section, "cli") == 0 && strcasecmp(name, "reply_timeout_ms") == 0) {
-        if (cell_parse_uint(value, 600000UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_reply_ms = (int)u;
-        return 1;
-    }
-    return 0; /* unknown key: an error, so typos do not pass silently */
-}
 
 /* ------------------------------------------------------------------ transport */
 
@@ -670,15 +627,25 @@ int main(int argc, char **argv)
         }
     }
     if (config != NULL) {
-        int r = ini_parse(config, ini_cb, NULL);
-        if (r < 0) {
-            fprintf(stderr, "cell-cli: cannot read config file %s\n", config);
+        cli_config_t cc;
+        char err[600];
+        cli_config_default(&cc);
+        for (int d = 0; d < CELL_DEVICES; d++) {
+            strcpy(cc.host[d], g_conn[d].host);
+            cc.port[d] = g_conn[d].port;
+        }
+        cc.connect_ms = g_connect_ms;
+        cc.reply_ms = g_reply_ms;
+        if (cli_config_load(&cc, config, err, sizeof err) != 0) {
+            fprintf(stderr, "cell-cli: config file %s\n", err);
             return EXIT_USAGE;
         }
-        if (r > 0) {
-            fprintf(stderr, "cell-cli: %s:%d: unknown key or bad value\n", config, r);
-            return EXIT_USAGE;
+        for (int d = 0; d < CELL_DEVICES; d++) {
+            strcpy(g_conn[d].host, cc.host[d]);
+            g_conn[d].port = cc.port[d];
         }
+        g_connect_ms = cc.connect_ms;
+        g_reply_ms = cc.reply_ms;
     }
     if (connect_ms > 0) {
         g_connect_ms = (int)connect_ms;
