@@ -25,9 +25,9 @@
 #include "sim_device.h"
 
 #define OUT_CAP 4096        /* per-client reply buffer; reading pauses when it fills */
-/* Log lines one client's input may cause per second (errors, commands); the rest are
- * counted and summed up in one line when the burst ends or the client leaves. Without
- * it 200 kB of newlines made 30 MB of log. */
+/* Error lines one client's input may cause per second; the rest are counted and summed
+ * up in one line when the burst ends or the client leaves. Without it 200 kB of newlines
+ * made 30 MB of log. State-changing commands stay logged one by one (an audit trail). */
 #define LOG_PER_SEC 5U
 #define LOG_WINDOW_NS 1000000000ULL
 
@@ -46,9 +46,8 @@ typedef struct client {
     uint64_t lines;
     uint64_t log_win_ns;    /* start of the current one-second log window */
     unsigned log_in_win;    /* lines logged in it */
-    uint64_t log_last_ns;   /* last line this client caused, logged or not */
-    uint64_t sup_err;       /* suppressed error / command lines since the last summary */
-    uint64_t sup_cmd;
+    uint64_t log_last_ns;   /* last error line this client caused, logged or not */
+    uint64_t sup_err;       /* error lines suppressed since the last summary */
 } client_t;
 
 static volatile sig_atomic_t g_stop;
@@ -145,8 +144,8 @@ static void usage(FILE *f)
 "  -V, --version             print the version\n"
 "\n"
 "Logs go to stderr, one line per connection, disconnection and error, with the peer.\n"
-"Errors and commands: at most 5 lines per second per client, then one line\n"
-"\"suppressed: N more lines\" when the burst is over or the client leaves.\n"
+"Errors: at most 5 lines per second per client, then one line\n"
+"\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
 "Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n"
 "\n"
 "Examples:\n"
@@ -179,14 +178,10 @@ static int listen_on(const char *addr, unsigned port)
     return fd;
 }
 
-/* May this client's input cause one more log line at @p level? */
-static int client_log_ok(client_t *c, int level, int is_error)
+/* May this client's input cause one more error line? */
+static int client_log_ok(client_t *c)
 {
-    uint64_t now;
-    if (level > g_verbose) {
-        return 0; /* not shown anyway: nothing to limit */
-    }
-    now = cell_now_ns();
+    const uint64_t now = cell_now_ns();
     c->log_last_ns = now;
     if (now - c->log_win_ns >= LOG_WINDOW_NS) {
         c->log_win_ns = now;
@@ -196,13 +191,8 @@ static int client_log_ok(client_t *c, int level, int is_error)
         c->log_in_win++;
         return 1;
     }
-    if (c->sup_err + c->sup_cmd == 0) {
+    if (c->sup_err++ == 0) {
         g_sup_clients++;
-    }
-    if (is_error) {
-        c->sup_err++;
-    } else {
-        c->sup_cmd++;
     }
     return 0;
 }
@@ -210,15 +200,13 @@ static int client_log_ok(client_t *c, int level, int is_error)
 /* One summary line for what was suppressed (at the end of a burst or a connection). */
 static void client_log_summary(client_t *c, const char *when)
 {
-    if (c->sup_err + c->sup_cmd == 0) {
+    if (c->sup_err == 0) {
         return;
     }
     logf_(0, cell_dev_name(c->dev), c->peer, "suppressed",
-          "%llu more lines not logged (%llu errors, %llu commands; at most %u lines/s per client), %s",
-          (unsigned long long)(c->sup_err + c->sup_cmd), (unsigned long long)c->sup_err,
-          (unsigned long long)c->sup_cmd, LOG_PER_SEC, when);
+          "%llu more error lines not logged (at most %u per second per client), %s",
+          (unsigned long long)c->sup_err, LOG_PER_SEC, when);
     c->sup_err = 0;
-    c->sup_cmd = 0;
     g_sup_clients--;
 }
 
@@ -269,7 +257,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         int32_t code = (st == C4G_CELL_ERR_HEAD) ? C4G_CELL_E_UNKNOWN_CMD
                        : (st == C4G_CELL_ERR_RANGE) ? C4G_CELL_E_RANGE
                                                     : C4G_CELL_E_MALFORMED;
-        if (client_log_ok(c, 0, 1)) {
+        if (client_log_ok(c)) {
             printable(line, len, pr, sizeof pr);
             logf_(0, dev, c->peer, "error", "ER+%05d for \"%s\": %s at column %u", (int)code, pr,
                   c4g_cell_strerror(st), (unsigned)d.column);
@@ -285,7 +273,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
     }
     queue(c, out, n);
     if (rep.kind == C4G_CELL_REPLY_ER) {
-        if (client_log_ok(c, 0, 1)) {
+        if (client_log_ok(c)) {
             printable(line, len - 2, pr, sizeof pr);
             logf_(0, dev, c->peer, "error", "ER+%05d for %s: %s", (int)rep.error, pr, note);
         }
@@ -294,7 +282,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         printable(line, len - 2, pr, sizeof pr);
         printable(out, n - 2, po, sizeof po);
         logf_(2, dev, c->peer, "request", "%s -> %s (%s)", pr, po, note);
-    } else if (in.cmd != C4G_CELL_CMD_STA && client_log_ok(c, 1, 0)) {
+    } else if (in.cmd != C4G_CELL_CMD_STA) {
         printable(line, len - 2, pr, sizeof pr);
         logf_(1, dev, c->peer, "command", "%s: %s", pr, note);
     }
@@ -349,7 +337,7 @@ static void client_read(client_t *c, sim_device_t *devs)
             }
             if (ev == C4G_CELL_SPLIT_OVERLONG) {
                 c->lines++;
-                if (client_log_ok(c, 0, 1)) {
+                if (client_log_ok(c)) {
                     logf_(0, cell_dev_name(c->dev), c->peer, "error",
                           "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
                           (unsigned)C4G_CELL_LINE_MAX);
@@ -734,7 +722,6 @@ int main(int argc, char **argv)
                     c->log_in_win = 0;
                     c->log_last_ns = now;
                     c->sup_err = 0;
-                    c->sup_cmd = 0;
                     snprintf(c->peer, sizeof c->peer, "%s", ps);
                     (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
                     logf_(1, cell_dev_name(d), c->peer, "connect", "connection accepted");
@@ -762,7 +749,7 @@ int main(int argc, char **argv)
         if (g_sup_clients > 0) {
             /* a burst is over once its client caused no log line for a second */
             for (unsigned long i = 0; i < max_clients; i++) {
-                if (cl[i].fd >= 0 && cl[i].sup_err + cl[i].sup_cmd > 0 &&
+                if (cl[i].fd >= 0 && cl[i].sup_err > 0 &&
                     now >= cl[i].log_last_ns + LOG_WINDOW_NS) {
                     client_log_summary(&cl[i], "burst over");
                 }
