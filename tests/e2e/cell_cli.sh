@@ -94,6 +94,8 @@ printf '[robot]\nport = 1e39\n' >"$tmp/bad2.ini"
 "$cli" -c "$tmp/bad2.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config port 1e39 rejected"
 grep -q "bad2.ini:2:8: \[robot\] port: '1e39' is not an integer" "$tmp/e" && pass "config 1e39: line, column, key, value named" || { bad "config 1e39 message"; cat "$tmp/e"; }
 timeout 20 "$cli" -c /dev/zero robot sta 2>"$tmp/e"; expect_rc 2 $? "config /dev/zero refused, not hung"
+timeout 20 "$cli" -f /dev/zero 2>"$tmp/e"; expect_rc 2 $? "script /dev/zero refused, not hung"
+grep -q "/dev/zero:1: column 1: control byte .x00" "$tmp/e" && pass "script NUL byte named" || { bad "script NUL message"; cat "$tmp/e"; }
 # the spec's section 6 pick-and-place task, end to end
 c -f fixtures/cell/pick_and_place.cell >"$tmp/pp" 2>&1; rc=$?
 expect_rc 0 $rc "pick_and_place.cell"

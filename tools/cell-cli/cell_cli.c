@@ -328,16 +328,51 @@ static int run_cmd(const cli_cmd_t *cmd)
 
 /* ------------------------------------------------------------------ modes */
 
+/* One script line (streamed: stdin may be a pipe fed over time). 1 a line, 0 end, -1 an
+ * error in err: a line over cap - 1 bytes (fgets split it silently), a NUL or other
+ * control byte (fgets made /dev/zero an endless run of empty lines). */
+static int script_line(FILE *f, char *line, size_t cap, char *err, size_t errlen)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc(f)) != EOF && c != '\n') {
+        if (c == '\r') {
+            int d = getc(f);
+            if (d == '\n' || d == EOF) {
+                break;
+            }
+            ungetc(d, f);
+        }
+        if ((c < 0x20 && c != '\t') || c == 0x7F) {
+            snprintf(err, errlen, "column %zu: control byte \\x%02x: binary content is not accepted",
+                     n + 1, (unsigned)c);
+            return -1;
+        }
+        if (n + 1 >= cap) {
+            snprintf(err, errlen, "line longer than %zu bytes", cap - 1);
+            return -1;
+        }
+        line[n++] = (char)c;
+    }
+    line[n] = '\0';
+    return (c == EOF && n == 0) ? 0 : 1;
+}
+
 static int run_script(FILE *f, const char *name, int keep_going)
 {
     char line[1024];
+    char lerr[128];
     int lineno = 0;
     int worst = EXIT_OK;
-    while (fgets(line, sizeof line, f) != NULL) {
+    int r;
+    while ((r = script_line(f, line, sizeof line, lerr, sizeof lerr)) != 0) {
         cli_cmd_t cmd;
         char err[256];
         lineno++;
-        line[strcspn(line, "\r\n")] = '\0';
+        if (r < 0) {
+            fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, lerr);
+            return EXIT_USAGE;
+        }
         if (cli_parse(line, &cmd, err, sizeof err) != 0) {
             fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, err);
             return EXIT_USAGE;
