@@ -59,8 +59,9 @@ grep -q "connection refused" "$tmp/e" && pass "refusal named" || bad "msg: $(cat
 python3 -c "
 import socket,time
 s=socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1',21019)); s.listen(1)
+open('$tmp/listening','w').close()
 c,_=s.accept(); time.sleep(3)" & pids="$pids $!"
-sleep 0.3
+i=0; while [ ! -f "$tmp/listening" ] && [ $i -lt 100 ]; do i=$((i + 1)); sleep 0.05; done  # python starts slowly under load
 "$cli" --robot 127.0.0.1:21019 -t 300 robot sta 2>"$tmp/e"; expect_rc 3 $? "reply timeout"
 grep -q "no reply within 300 ms" "$tmp/e" && pass "timeout named" || bad "msg: $(cat "$tmp/e")"
 # repeat / interval
