@@ -4,13 +4,13 @@
 #   make demo       a real session on loopback, printed
 #   make bench      benchmarks with an in-run baseline
 #   make coverage   line/branch coverage of lib/ (gated)
-#   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each)
+#   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15)
 #   make install    PREFIX=/usr/local DESTDIR=
 
 BUILD ?= build
 PREFIX ?= /usr/local
 DESTDIR ?=
-FUZZ_SECONDS ?= 30
+FUZZ_SECONDS ?= 15
 CLANG ?= clang
 CXX ?= g++
 ARM_CC ?= arm-none-eabi-gcc
@@ -129,11 +129,15 @@ $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
 
 # ---- unit tests (CMocka)
-TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude -g
-$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h)
+# Tests of tool parsers #include the tool sources they test (tools/ is not in the
+# library), so every test sees tools/common and links inih.
+TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude \
+  -Itools/common -g
+TEST_LIBS := -lcmocka -linih -lm
+$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	  -o $@ $< $(STATIC) -lcmocka -lm
+	  -o $@ $< $(STATIC) $(TEST_LIBS)
 
 unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
@@ -144,7 +148,7 @@ sanitize: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/san
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
 	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
@@ -161,16 +165,39 @@ coverage: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) -lcmocka -lm; done
+	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
 	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
 	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
 
 # ---- fuzzing (libFuzzer via clang), bounded
-fuzz-build: | $(DEPS_STAMP)
-	@mkdir -p $(BUILD)/fuzz
-	@set -e; for n in $(FUZZ_NAMES); do \
-	  $(CLANG) -std=c99 -g -O1 -Iinclude -fsanitize=fuzzer,address,undefined \
-	    -fno-sanitize-recover=all -o $(BUILD)/fuzz/$$n tests/fuzz/$$n.c $(LIB_SRCS); done
+# The library is compiled once with the fuzzer's coverage instrumentation. Targets of
+# tool parsers also compile the tool sources named in FUZZ_TOOL_<name> (the parsers
+# take a buffer in memory) and link inih.
+FUZZ_SAN := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
+FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/fuzz/obj/%.o)
+FUZZ_TF := tools/common/c4g_textfile.c
+FUZZ_TOOL_fuzz_scenario := tools/c4g-sim/scenario.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_sim_ini := tools/c4g-sim/config.c tools/c4g-sim/model.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_traj := tools/c4g-server/files.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_ff := tools/c4g-server/files.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_server_ini := tools/c4g-server/opts.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
+FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
+  -Itools/c4g-server -Itools/cell-cli
+
+.SECONDARY: $(FUZZ_LIB_OBJS)
+$(BUILD)/fuzz/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  FUZZCC  $@"; $(CLANG) -std=c99 -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c $< -o $@
+
+$(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_OBJS) $(wildcard tests/fuzz/*.h) \
+    $(wildcard tools/*/*.c tools/*/*.h) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  FUZZLD  $@"; $(CLANG) -std=c99 -Iinclude $(if $(FUZZ_TOOL_$(@F)),$(FUZZ_TOOL_INC)) \
+	  $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $< $(FUZZ_TOOL_$(@F)) $(FUZZ_LIB_OBJS) \
+	  $(if $(FUZZ_TOOL_$(@F)),-linih) -lm
+
+fuzz-build: $(FUZZ_NAMES:%=$(BUILD)/fuzz/%)
 fuzz: fuzz-build
 	@sh scripts/run-fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_NAMES)
 

@@ -59,8 +59,9 @@ grep -q "connection refused" "$tmp/e" && pass "refusal named" || bad "msg: $(cat
 python3 -c "
 import socket,time
 s=socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1',21019)); s.listen(1)
+open('$tmp/listening','w').close()
 c,_=s.accept(); time.sleep(3)" & pids="$pids $!"
-sleep 0.3
+i=0; while [ ! -f "$tmp/listening" ] && [ $i -lt 100 ]; do i=$((i + 1)); sleep 0.05; done  # python starts slowly under load
 "$cli" --robot 127.0.0.1:21019 -t 300 robot sta 2>"$tmp/e"; expect_rc 3 $? "reply timeout"
 grep -q "no reply within 300 ms" "$tmp/e" && pass "timeout named" || bad "msg: $(cat "$tmp/e")"
 # repeat / interval
@@ -89,6 +90,13 @@ INI
 "$cli" -c "$tmp/cfg.ini" robot sta >/dev/null; expect_rc 0 $? "config file"
 printf '[robot]\nprot = 1\n' >"$tmp/bad.ini"
 "$cli" -c "$tmp/bad.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config typo rejected"
+grep -q "bad.ini:2:1: \[robot\]: unknown key 'prot'" "$tmp/e" && pass "config typo: line, column and key named" || { bad "config typo message"; cat "$tmp/e"; }
+printf '[robot]\nport = 1e39\n' >"$tmp/bad2.ini"
+"$cli" -c "$tmp/bad2.ini" robot sta 2>"$tmp/e"; expect_rc 2 $? "config port 1e39 rejected"
+grep -q "bad2.ini:2:8: \[robot\] port: '1e39' is not an integer" "$tmp/e" && pass "config 1e39: line, column, key, value named" || { bad "config 1e39 message"; cat "$tmp/e"; }
+timeout 20 "$cli" -c /dev/zero robot sta 2>"$tmp/e"; expect_rc 2 $? "config /dev/zero refused, not hung"
+timeout 20 "$cli" -f /dev/zero 2>"$tmp/e"; expect_rc 2 $? "script /dev/zero refused, not hung"
+grep -q "/dev/zero:1: column 1: control byte .x00" "$tmp/e" && pass "script NUL byte named" || { bad "script NUL message"; cat "$tmp/e"; }
 # the spec's section 6 pick-and-place task, end to end
 c -f fixtures/cell/pick_and_place.cell >"$tmp/pp" 2>&1; rc=$?
 expect_rc 0 $rc "pick_and_place.cell"

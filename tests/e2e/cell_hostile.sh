@@ -1,7 +1,8 @@
 #!/bin/sh
 # Hostile clients against cell-sim (64 KiB line, 1000 connections dropped, garbage,
-# 1 byte/s sender, non-reading and silent clients) while a well-behaved client keeps
-# getting correct replies. Ports 21021-21023 on 127.0.0.1.
+# 1 byte/s sender, non-reading and silent clients, 200 kB of newlines) while a
+# well-behaved client keeps getting correct replies, and the log stays small (also with
+# -q). Ports 21021-21026 on 127.0.0.1.
 set -u
 build=$1
 log=$(mktemp)
@@ -13,10 +14,20 @@ i=0
 while ! python3 -c "import socket; socket.create_connection(('127.0.0.1',21023),0.2)" 2>/dev/null; do
   i=$((i + 1)); [ $i -gt 50 ] && { echo "FAIL: cell-sim did not start"; cat "$log"; exit 1; }; sleep 0.1
 done
-timeout 90 python3 tests/e2e/cell_hostile_check.py 21021; rc=$?
+timeout 90 python3 tests/e2e/cell_hostile_check.py 21021 "$log"; rc=$?
 kill -0 "$pid" 2>/dev/null && echo "PASS: cell-sim still running" || { echo "FAIL: cell-sim died"; rc=1; }
 n=$(grep -c 'connect: connection accepted' "$log")
 [ "$n" -ge 1000 ] && echo "PASS: $n connections logged with their peer" || { echo "FAIL: only $n connections logged"; rc=1; }
 grep -q 'error: ER+00102: line longer than 64 bytes dropped' "$log" && echo "PASS: overlong line logged" || { echo "FAIL: overlong line not logged"; rc=1; }
 [ $rc -eq 0 ] || tail -20 "$log"
+# -q (errors only) used to log one line per bad line: 200 kB of newlines, 30.8 MB of log.
+log2=$(mktemp)
+"$build/bin/cell-sim" -q -p 21024 >"$log2" 2>&1 & pid2=$!
+i=0
+while ! python3 -c "import socket; socket.create_connection(('127.0.0.1',21026),0.2)" 2>/dev/null; do
+  i=$((i + 1)); [ $i -gt 50 ] && { echo "FAIL: cell-sim -q did not start"; rc=1; break; }; sleep 0.1
+done
+timeout 60 python3 tests/e2e/cell_hostile_check.py 21024 "$log2" --flood-only || { rc=1; tail -20 "$log2"; }
+kill "$pid2" 2>/dev/null; wait "$pid2" 2>/dev/null
+rm -f "$log2"
 exit $rc

@@ -4,7 +4,10 @@
 # replies (run by cell_hostile.sh). Loopback only.
 import os, random, resource, socket, struct, sys, threading, time
 
+# usage: cell_hostile_check.py PORT_BASE [LOG_FILE [--flood-only]]
 base = int(sys.argv[1])
+logpath = sys.argv[2] if len(sys.argv) > 2 else None
+flood_only = "--flood-only" in sys.argv[3:]
 fails = []
 soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
 resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
@@ -40,6 +43,59 @@ def check(what, ok, detail=""):
     print(("PASS" if ok else "FAIL") + f": {what} {detail}")
     if not ok:
         fails.append(what)
+
+def newline_flood():
+    """200 kB of bare newlines: 200000 ER replies, but the log grows by a few lines
+    (per-client rate limit and one summary), and others are still served."""
+    before = os.path.getsize(logpath)
+    served = stats["n"]
+    s = conn(timeout=30); f = s.makefile("rb")
+    peer = "%s:%d" % s.getsockname()
+    t0 = time.monotonic()
+    s.sendall(b"\n" * 200000 + b"STA\r\n")
+    n_er = 0
+    while True:
+        line = f.readline()
+        if not line or len(line) == 50:
+            break
+        n_er += line == b"ER+00102\r\n"
+    took = time.monotonic() - t0
+    check("newline flood: every line answered ER+00102, then STA", n_er == 200000 and len(line) == 50,
+          f"({n_er} ER)")
+    time.sleep(2.5)  # the burst is over after 1 s without a line: one summary line
+    after_burst = os.path.getsize(logpath)
+    s.close()
+    time.sleep(0.3)
+    grown = after_burst - before
+    with open(logpath, "rb") as lf:
+        lf.seek(before)
+        mine = [l for l in lf.read().decode("utf-8", "replace").splitlines() if " " + peer + " " in l]
+    errors = [l for l in mine if " error: ER+00102" in l]
+    sup = [int(l.split("suppressed: ")[1].split()[0]) for l in mine if " suppressed: " in l]
+    mine_bytes = sum(len(l.encode()) + 1 for l in mine)
+    print(f"newline flood: log grew {grown} bytes ({mine_bytes} from the flooding client) for "
+          f"200000 bad lines in {took:.2f} s ({len(errors)} error lines, suppressed {sup})")
+    # without -q the well-behaved client's OVR commands are logged meanwhile: count the
+    # flooding client's lines; with -q (errors only) the whole log must stay small
+    check("newline flood: its log lines stay small", mine_bytes < 4096, f"({mine_bytes} bytes)")
+    if flood_only:
+        check("newline flood: the -q log stays small", grown < 8192, f"({grown} bytes)")
+    check("newline flood: at most 5 error lines per second", 0 < len(errors) <= 5 * (2 + int(took)),
+          f"({len(errors)})")
+    check("newline flood: one summary counts the rest",
+          len(sup) >= 1 and len(errors) + sum(sup) == 200000 and
+          any("burst over" in l for l in mine), f"({sup})")
+    check("newline flood: others served meanwhile", stats["n"] > served, f"({stats['n'] - served} round trips)")
+
+if flood_only:
+    newline_flood()
+    stop.set(); g.join()
+    check("well-behaved client: every reply correct", stats["bad"] == 0 and stats["n"] > 10,
+          f"({stats['n']} round trips, {stats['bad']} bad)")
+    s = conn(); f = s.makefile("rb"); s.sendall(b"STA\r\n")
+    check("cell-sim alive at the end", len(f.readline()) == 50)
+    print("flood checks:", "FAILED " + ", ".join(fails) if fails else "all passed")
+    sys.exit(1 if fails else 0)
 
 # 1) a 64 KiB line without CR LF: one ER+00102, the connection stays usable
 s = conn(); f = s.makefile("rb")
@@ -110,7 +166,11 @@ before = stats["n"]; time.sleep(1.0)
 check("non-reading client: others still served", stats["n"] - before > 20, f"({stats['n'] - before} round trips, it sent {sent} bytes)")
 s.close()
 
-# 6) a silent client: connects, says nothing
+# 6) 200 kB of newlines: the log stays small
+if logpath:
+    newline_flood()
+
+# 7) a silent client: connects, says nothing
 silent = conn()
 time.sleep(0.5)
 

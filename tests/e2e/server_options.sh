@@ -26,23 +26,40 @@ echo "input files:"
 printf 't,ax1\n0,0\n0.5,abc\n' >"$T/bad.csv"
 "$SRV" --traj "$T/bad.csv" >/dev/null 2>"$T/e5"; rc=$?
 ok "bad trajectory: exit 1" eq "$rc" 1
-ok "bad trajectory: file, line, column, value" has "$T/e5" "bad.csv:3: column 2 (axis offset): not a finite number: 'abc'"
+ok "bad trajectory: file, line, column, value" has "$T/e5" "bad.csv:3:5: column 2 (axis offset \[turns\]): 'abc' is not a decimal number"
 printf 't,ax1\n0,0\n0,1\n' >"$T/bad2.csv"
 "$SRV" --traj "$T/bad2.csv" >/dev/null 2>"$T/e6"; rc=$?
-ok "non-increasing time: exit 1, named" has "$T/e6" "bad2.csv:3: column 1 (t)"
+ok "non-increasing time: exit 1, named" has "$T/e6" "bad2.csv:3:1: column 1 (t \[s\])"
 printf '1 11 0.5\n' >"$T/bad.ff"
 "$SRV" --ff "$T/bad.ff" >/dev/null 2>"$T/e7"; rc=$?
 ok "bad feedforward file: exit 1" eq "$rc" 1
-ok "bad feedforward file: line, field, value" has "$T/e7" "bad.ff:1: field 2 (axis): 11 is not 1..10"
+ok "bad feedforward file: line, field, value" has "$T/e7" "bad.ff:1:3: field 2 (axis): '11' is out of range 1..10"
 "$SRV" --traj "$T/nonexistent.csv" >/dev/null 2>"$T/e8"; rc=$?
 ok "missing file: exit 1 and named" has "$T/e8" "nonexistent.csv: cannot open"
 printf '[server]\nport = 31051\nbogus-key = 3\n' >"$T/bad.ini"
 "$SRV" --config "$T/bad.ini" >/dev/null 2>"$T/e9"; rc=$?
 ok "bad INI key: exit 1" eq "$rc" 1
-ok "bad INI key named with file and section" has "$T/e9" "bad.ini: \[server\] unknown setting 'bogus-key'"
+ok "bad INI key named with file, line, column and section" has "$T/e9" "bad.ini:3:1: \[server\] unknown setting 'bogus-key'"
 printf '[arm9]\nsine = 1,1\n' >"$T/bad2.ini"
 "$SRV" --config "$T/bad2.ini" >/dev/null 2>"$T/e10"; rc=$?
 ok "bad INI section: exit 1" eq "$rc" 1
+# Files users write: out-of-range numbers and endless input are refused at load.
+printf 't,ax1\n0,0\n1,1e39\n' >"$T/big.csv"
+"$SRV" --traj "$T/big.csv" >/dev/null 2>"$T/e13"; rc=$?
+ok "trajectory 1e39: exit 1" eq "$rc" 1
+ok "trajectory 1e39 named" has "$T/e13" "big.csv:3:3: column 2 (axis offset \[turns\]): '1e39' is out of range -1000000..1000000"
+printf '1 1 1e30\n' >"$T/big.ff"
+"$SRV" --ff "$T/big.ff" >/dev/null 2>"$T/e14"; rc=$?
+ok "feedforward 1e30 named" has "$T/e14" "big.ff:1:5: field 3 (c0): '1e30' is out of range -1000000..1000000"
+for opt in --traj --ff --config; do
+  timeout 20 "$SRV" $opt /dev/zero >/dev/null 2>"$T/e15"; rc=$?
+  ok "$opt /dev/zero refused (not hung): exit 1" eq "$rc" 1
+  ok "$opt /dev/zero: the limit named" has "$T/e15" "/dev/zero: more than"
+done
+printf '[server]\nport = 31051\n  idle-timeout = 1e300\n' >"$T/big.ini"
+"$SRV" --config "$T/big.ini" >/dev/null 2>"$T/e16"; rc=$?
+ok "INI 1e300: exit 1" eq "$rc" 1
+ok "INI 1e300: line, column, key" has "$T/e16" "big.ini:3:18: \[server\] idle-timeout: '1e300' is out of range"
 
 echo "INI example, idle timeout, port in use, RT refusal:"
 "$SRV" --config fixtures/server/server_example.ini -p 31052 --idle-timeout 0.3 >"$T/ini.out" 2>"$T/ini.err"; rc=$?

@@ -18,14 +18,25 @@ bad "period 3" "period" -T 3
 bad "21 axes" "ERR_C4GOPEN" --axes 10,10,1
 bad "bad policy" "num-policy" --num-policy sometimes
 printf 'DRIVE ON 1\nMOVE 1 1 x 3\n' >"$T/a.scn"
-bad "scenario bad number" "a.scn: line 2: MOVE: target 2 'x'" -S "$T/a.scn"
+bad "scenario bad number" "a.scn:2:10: MOVE: target 2 \[turns\]: 'x' is not a decimal number" -S "$T/a.scn"
 printf 'DRIVE ON 1\nFLY 1\n' >"$T/b.scn"
-bad "scenario unknown command" "line 2: unknown command 'FLY'" -S "$T/b.scn"
+bad "scenario unknown command" "b.scn:2:1: unknown command 'FLY'" -S "$T/b.scn"
 printf '[sim]\nperiod_ms = 2\n[axis 1.2]\nkp = -4\n' >"$T/a.ini"
-bad "config bad value" "a.ini:4: \[axis 1.2\] kp: bad value '-4'" -c "$T/a.ini"
+bad "config bad value" "a.ini:4:6: \[axis 1.2\] kp: '-4' is out of range 0..100000" -c "$T/a.ini"
 printf '[sim]\nspeed = 3\n' >"$T/b.ini"
-bad "config unknown key" "b.ini:2: \[sim\]: unknown key 'speed'" -c "$T/b.ini"
+bad "config unknown key" "b.ini:2:1: \[sim\]: unknown key 'speed'" -c "$T/b.ini"
 bad "missing scenario" "nope.scn" -S "$T/nope.scn"
+# Files users write: out-of-range numbers, binary bytes, endless or huge input.
+printf 'DRIVE ON 1\nWAIT PC 1 TIMEOUT 1e300\n' >"$T/c.scn"
+bad "scenario timeout out of range" "c.scn:2:19: WAIT: timeout \[ms\]: '1e300' is out of range 0..3600000" -S "$T/c.scn"
+printf 'DELAY 1\0\n' >"$T/d.scn"
+bad "scenario NUL byte" 'd.scn:1:8: NUL byte \\x00 at byte offset 7' -S "$T/d.scn"
+bad "scenario /dev/zero" "/dev/zero: more than 1048576 bytes, the limit for this file: refused" -S /dev/zero
+bad "config /dev/zero" "/dev/zero: more than 1048576 bytes, the limit for this file: refused" -c /dev/zero
+printf '[sim]\nswitch_ms = 1e39\n' >"$T/c.ini"
+bad "config 1e39" "c.ini:2:13: \[sim\] switch_ms: '1e39' is out of range 0..100000" -c "$T/c.ini"
+printf '[sim]\nport = 41000\n  seed = 3\nmax_miss = 99999999999999999999\n' >"$T/d.ini"
+bad "config int overflow, indented key" "d.ini:4:12: \[sim\] max_miss: '99999999999999999999' is out of range" -c "$T/d.ini"
 head -c 4000 /dev/urandom >"$T/r.scn"
 run_sim -S "$T/r.scn" -n 1 >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || [ $rc -eq 1 ] || [ $rc -eq 0 ] || fail "random scenario: exit $rc (crash?)"

@@ -8,6 +8,7 @@
  * bounded by the axis count. */
 #include "srv.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -37,6 +38,20 @@ static double raised_cos(double amp, double f, double t)
 }
 
 /* Generator offset for modes 1, 4, 5 at time t; sets *done past its end. */
+/* Converting a double beyond float's range to float is undefined behaviour; the
+ * feedforward scales the controller's own D2 by file coefficients, so saturate (the
+ * safety filter then clamps the current to AzLim; NaN stays NaN and gives 505). */
+static float sat_float(double x)
+{
+    if (x > FLT_MAX) {
+        return FLT_MAX;
+    }
+    if (x < -FLT_MAX) {
+        return -FLT_MAX;
+    }
+    return (float)x;
+}
+
 static double gen_offset(const srv_arm_cfg_t *A, uint32_t arm, uint32_t lax, double t, int *done)
 {
     double q = 0.0;
@@ -254,8 +269,8 @@ static int fill_axis(srv_t *S, uint32_t i, int32_t pm, const c4g_ctrl_axis_t *r,
         if (driven && !done && p->set) {
             const double acc = v - X->v_prev;
             const double sg = (v > 0.0) ? 1.0 : ((v < 0.0) ? -1.0 : 0.0);
-            o->current_add = (float)(p->c0 + p->cv * v + p->cc * sg + p->ca * acc +
-                                     p->gs * sin(p->gscale * (double)r->target_pos + p->gphase));
+            o->current_add = sat_float(p->c0 + p->cv * v + p->cc * sg + p->ca * acc +
+                                       p->gs * sin(p->gscale * (double)r->target_pos + p->gphase));
         }
         X->v_prev = v;
         break;

@@ -1,191 +1,248 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-server input files: trajectory CSV (modes 1, 4, 5) and the mode-9 feedforward
  * parameter file. Loaded once at start-up into static storage; every error names the
- * file, the line, the field and the value. */
+ * file, the line, the column, the field and the value (tools/common/c4g_textfile.h). */
 #include "srv.h"
 
-#include <errno.h>
-#include <math.h>
+#include "c4g_textfile.h"
+
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static char *trim(char *s)
-{
-    char *e;
-    while (*s == ' ' || *s == '\t') {
-        s++;
-    }
-    e = s + strlen(s);
-    while (e > s && (e[-1] == '\n' || e[-1] == '\r' || e[-1] == ' ' || e[-1] == '\t')) {
-        *--e = '\0';
-    }
-    return s;
-}
+/* Bounds that keep every later conversion defined: offsets are stored as float and
+ * times are compared with the mode's elapsed seconds. */
+#define TRAJ_T_MAX 1e7     /* s */
+#define TRAJ_Q_MAX 1e6     /* motor turns */
+#define FF_COEF_MAX 1e6
+#define TRAJ_LINE 4096
+#define FF_LINE 1024
 
-static int parse_num(const char *tok, double *out)
+/* Split s in place into at most max fields. Blanks separate fields, and so does one
+ * ',' or ';' with optional blanks around it; an empty field ("1,,2", a leading or
+ * trailing comma) is an error, never a silently shifted column. Returns the count, -1
+ * for an empty field, -2 for too many fields; *bad is then the column. */
+static int split_fields(char *s, char **tok, size_t *col, int max, size_t *bad)
 {
-    char *end;
-    double v;
-    errno = 0;
-    v = strtod(tok, &end);
-    if (end == tok || errno != 0 || !isfinite(v)) {
-        return -1;
-    }
-    while (*end == ' ' || *end == '\t') {
-        end++;
-    }
-    if (*end != '\0') {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen)
-{
-    FILE *fp = fopen(path, "r");
-    char line[4096];
-    unsigned lineno = 0U;
-    tr->rows = 0U;
-    tr->cols = 0U;
-    if (fp == NULL) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
-    }
-    while (fgets(line, sizeof line, fp) != NULL) {
-        char *s = trim(line), *tok, *save = NULL;
-        uint32_t col = 0U;
-        double vals[C4G_AXES_PER_ARM + 1U];
-        lineno++;
-        if (*s == '\0' || *s == '#') {
+    size_t i = 0U;
+    int n = 0;
+    int need = 0; /* a separator was seen: a field must follow */
+    for (;;) {
+        while (s[i] == ' ' || s[i] == '\t') {
+            i++;
+        }
+        if (s[i] == '\0') {
+            if (need) {
+                *bad = i + 1U;
+                return -1;
+            }
+            return n;
+        }
+        if (s[i] == ',' || s[i] == ';') {
+            if (need || n == 0) {
+                *bad = i + 1U;
+                return -1;
+            }
+            need = 1;
+            i++;
             continue;
         }
-        if (tr->rows == 0U && tr->cols == 0U && !(*s == '-' || *s == '+' || *s == '.' ||
-                                                  (*s >= '0' && *s <= '9'))) {
-            continue; /* header line */
+        if (n == max) {
+            *bad = i + 1U;
+            return -2;
         }
-        for (tok = strtok_r(s, ",; \t", &save); tok != NULL; tok = strtok_r(NULL, ",; \t", &save)) {
-            if (col > C4G_AXES_PER_ARM) {
-                snprintf(err, errlen, "%s:%u: more than %u axis columns", path, lineno,
-                         C4G_AXES_PER_ARM);
-                fclose(fp);
-                return -1;
-            }
-            if (parse_num(tok, &vals[col]) != 0) {
-                snprintf(err, errlen, "%s:%u: column %u (%s): not a finite number: '%s'", path,
-                         lineno, col + 1U, col == 0U ? "t" : "axis offset", tok);
-                fclose(fp);
-                return -1;
-            }
-            col++;
+        tok[n] = s + i;
+        col[n] = i + 1U;
+        n++;
+        need = 0;
+        while (s[i] != '\0' && s[i] != ' ' && s[i] != '\t' && s[i] != ',' && s[i] != ';') {
+            i++;
         }
-        if (col < 2U) {
-            snprintf(err, errlen, "%s:%u: need t and at least one axis column, got %u value(s)",
-                     path, lineno, col);
-            fclose(fp);
-            return -1;
+        if (s[i] == '\0') {
+            return n;
+        }
+        if (s[i] == ',' || s[i] == ';') {
+            need = 1;
+        }
+        s[i++] = '\0';
+    }
+}
+
+static int blank_or_comment(const char *s)
+{
+    s += strspn(s, " \t");
+    return *s == '\0' || *s == '#';
+}
+
+int srv_parse_traj(tf_file_t *f, srv_traj_t *tr, char *err, size_t errlen)
+{
+    char line[TRAJ_LINE];
+    int header_seen = 0;
+    int r;
+    tr->rows = 0U;
+    tr->cols = 0U;
+    while ((r = tf_next_line(f, line, sizeof line, err, errlen)) > 0) {
+        char *tok[C4G_AXES_PER_ARM + 1U];
+        size_t col[C4G_AXES_PER_ARM + 1U];
+        double vals[C4G_AXES_PER_ARM + 1U];
+        size_t bad = 0U;
+        int n;
+        int k;
+        if (blank_or_comment(line)) {
+            continue;
+        }
+        n = split_fields(line, tok, col, (int)C4G_AXES_PER_ARM + 1, &bad);
+        if (n == -2) {
+            return tf_error(f, bad, err, errlen, "more than %u axis columns", C4G_AXES_PER_ARM);
+        }
+        if (n < 0) {
+            return tf_error(f, bad, err, errlen, "empty field");
+        }
+        /* One header line before the first row: its first field is not a number. */
+        if (tr->rows == 0U && !header_seen) {
+            double d;
+            const tf_num_t st = tf_parse_double(tok[0], -1e308, 1e308, &d);
+            if (st == TF_NUM_SYNTAX && !(tok[0][0] == '-' || tok[0][0] == '+' ||
+                                         tok[0][0] == '.' || (tok[0][0] >= '0' && tok[0][0] <= '9'))) {
+                header_seen = 1;
+                continue;
+            }
+        }
+        for (k = 0; k < n; k++) {
+            const double lim = (k == 0) ? TRAJ_T_MAX : TRAJ_Q_MAX;
+            const tf_num_t st = tf_parse_double(tok[k], (k == 0) ? 0.0 : -lim, lim, &vals[k]);
+            if (st != TF_NUM_OK) {
+                char why[200];
+                tf_num_explain(st, tok[k], (k == 0) ? 0.0 : -lim, lim, why, sizeof why);
+                return tf_error(f, col[k], err, errlen, "column %d (%s): %s", k + 1,
+                                k == 0 ? "t [s]" : "axis offset [turns]", why);
+            }
+        }
+        if (n < 2) {
+            return tf_error(f, 0U, err, errlen, "need t and at least one axis column, got %d value(s)", n);
         }
         if (tr->rows == 0U) {
-            tr->cols = col - 1U;
-        } else if (col - 1U != tr->cols) {
-            snprintf(err, errlen, "%s:%u: %u axis columns, the first row has %u", path, lineno,
-                     col - 1U, tr->cols);
-            fclose(fp);
-            return -1;
+            tr->cols = (uint32_t)n - 1U;
+        } else if ((uint32_t)n - 1U != tr->cols) {
+            return tf_error(f, 0U, err, errlen, "%d axis columns, the first row has %u", n - 1,
+                            tr->cols);
         }
         if (tr->rows >= SRV_MAX_TRAJ_ROWS) {
-            snprintf(err, errlen, "%s:%u: more than %u rows", path, lineno, SRV_MAX_TRAJ_ROWS);
-            fclose(fp);
-            return -1;
+            return tf_error(f, 0U, err, errlen, "more than %u rows", SRV_MAX_TRAJ_ROWS);
         }
-        if (vals[0] < 0.0 || (tr->rows > 0U && vals[0] <= tr->t[tr->rows - 1U])) {
-            snprintf(err, errlen, "%s:%u: column 1 (t): %g is not after the previous row's time",
-                     path, lineno, vals[0]);
-            fclose(fp);
-            return -1;
+        if (tr->rows > 0U && vals[0] <= tr->t[tr->rows - 1U]) {
+            return tf_error(f, col[0], err, errlen,
+                            "column 1 (t [s]): %g is not after the previous row's time %g", vals[0],
+                            tr->t[tr->rows - 1U]);
         }
         tr->t[tr->rows] = vals[0];
-        {
-            uint32_t k;
-            for (k = 0U; k < C4G_AXES_PER_ARM; k++) {
-                tr->q[tr->rows][k] = (k < tr->cols) ? (float)vals[k + 1U] : 0.0f;
-            }
+        for (k = 0; k < (int)C4G_AXES_PER_ARM; k++) {
+            tr->q[tr->rows][k] = ((uint32_t)k < tr->cols) ? (float)vals[k + 1] : 0.0f;
         }
         tr->rows++;
     }
-    fclose(fp);
+    if (r < 0) {
+        return -1;
+    }
     if (tr->rows == 0U) {
-        snprintf(err, errlen, "%s: no data rows", path);
+        snprintf(err, errlen, "%s: no data rows", f->path);
         return -1;
     }
     return 0;
 }
 
-int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
-                size_t errlen)
+int srv_parse_ff(tf_file_t *f, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
 {
     static const char *const names[9] = {"arm", "axis", "c0", "cv", "cc", "ca", "gs", "gscale",
                                          "gphase"};
-    FILE *fp = fopen(path, "r");
-    char line[1024];
-    unsigned lineno = 0U, n = 0U;
-    if (fp == NULL) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
-    }
-    while (fgets(line, sizeof line, fp) != NULL) {
-        char *s = trim(line), *tok, *save = NULL;
+    char line[FF_LINE];
+    unsigned n = 0U;
+    int r;
+    while ((r = tf_next_line(f, line, sizeof line, err, errlen)) > 0) {
+        char *tok[9];
+        size_t col[9];
         double v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        unsigned col = 0U;
-        long arm, ax;
-        lineno++;
-        if (*s == '\0' || *s == '#') {
+        long long arm = 0;
+        long long ax = 0;
+        size_t bad = 0U;
+        char why[200];
+        tf_num_t st;
+        int nf;
+        int k;
+        if (blank_or_comment(line)) {
             continue;
         }
-        for (tok = strtok_r(s, " \t,", &save); tok != NULL; tok = strtok_r(NULL, " \t,", &save)) {
-            if (col >= 9U) {
-                snprintf(err, errlen, "%s:%u: more than 9 fields", path, lineno);
-                fclose(fp);
-                return -1;
+        nf = split_fields(line, tok, col, 9, &bad);
+        if (nf == -2) {
+            return tf_error(f, bad, err, errlen, "more than 9 fields");
+        }
+        if (nf < 0) {
+            return tf_error(f, bad, err, errlen, "empty field");
+        }
+        if (nf < 3) {
+            return tf_error(f, 0U, err, errlen, "need at least arm, axis, c0 (got %d fields)", nf);
+        }
+        st = tf_parse_int(tok[0], 1, (long long)C4G_ARMS, &arm);
+        if (st != TF_NUM_OK) {
+            tf_num_explain(st, tok[0], 1.0, (double)C4G_ARMS, why, sizeof why);
+            return tf_error(f, col[0], err, errlen, "field 1 (arm): %s", why);
+        }
+        st = tf_parse_int(tok[1], 1, (long long)C4G_AXES_PER_ARM, &ax);
+        if (st != TF_NUM_OK) {
+            tf_num_explain(st, tok[1], 1.0, (double)C4G_AXES_PER_ARM, why, sizeof why);
+            return tf_error(f, col[1], err, errlen, "field 2 (axis): %s", why);
+        }
+        for (k = 2; k < nf; k++) {
+            st = tf_parse_double(tok[k], -FF_COEF_MAX, FF_COEF_MAX, &v[k]);
+            if (st != TF_NUM_OK) {
+                tf_num_explain(st, tok[k], -FF_COEF_MAX, FF_COEF_MAX, why, sizeof why);
+                return tf_error(f, col[k], err, errlen, "field %d (%s): %s", k + 1, names[k], why);
             }
-            if (parse_num(tok, &v[col]) != 0) {
-                snprintf(err, errlen, "%s:%u: field %u (%s): not a finite number: '%s'", path,
-                         lineno, col + 1U, names[col], tok);
-                fclose(fp);
-                return -1;
-            }
-            col++;
-        }
-        if (col < 3U) {
-            snprintf(err, errlen, "%s:%u: need at least arm, axis, c0 (got %u fields)", path,
-                     lineno, col);
-            fclose(fp);
-            return -1;
-        }
-        arm = (long)v[0];
-        ax = (long)v[1];
-        if ((double)arm != v[0] || arm < 1 || arm > (long)C4G_ARMS) {
-            snprintf(err, errlen, "%s:%u: field 1 (arm): %g is not 1..4", path, lineno, v[0]);
-            fclose(fp);
-            return -1;
-        }
-        if ((double)ax != v[1] || ax < 1 || ax > (long)C4G_AXES_PER_ARM) {
-            snprintf(err, errlen, "%s:%u: field 2 (axis): %g is not 1..10", path, lineno, v[1]);
-            fclose(fp);
-            return -1;
         }
         {
             srv_ff_t *p = &ff[arm - 1][ax - 1];
-            p->set = 1;
+            if (p->set != 0) {
+                /* a second line would silently replace the first one's parameters */
+                return tf_error(f, col[0], err, errlen, "arm %lld axis %lld is already set on line %d",
+                                arm, ax, p->set);
+            }
+            p->set = (int)f->line;
             p->c0 = v[2]; p->cv = v[3]; p->cc = v[4]; p->ca = v[5];
             p->gs = v[6]; p->gscale = v[7]; p->gphase = v[8];
         }
         n++;
     }
-    fclose(fp);
+    if (r < 0) {
+        return -1;
+    }
     if (n == 0U) {
-        snprintf(err, errlen, "%s: no parameter lines", path);
+        snprintf(err, errlen, "%s: no parameter lines", f->path);
         return -1;
     }
     return 0;
+}
+
+int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen)
+{
+    tf_file_t f;
+    int rc;
+    if (tf_load(&f, path, SRV_MAX_TRAJ_BYTES, err, errlen) != 0) {
+        return -1;
+    }
+    rc = srv_parse_traj(&f, tr, err, errlen);
+    tf_free(&f);
+    return rc;
+}
+
+int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
+                size_t errlen)
+{
+    tf_file_t f;
+    int rc;
+    if (tf_load(&f, path, SRV_MAX_FF_BYTES, err, errlen) != 0) {
+        return -1;
+    }
+    rc = srv_parse_ff(&f, ff, err, errlen);
+    tf_free(&f);
+    return rc;
 }

@@ -13,7 +13,6 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <getopt.h>
-#include <ini.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -25,9 +24,6 @@
 #include <time.h>
 #include <unistd.h>
 
-void srv_config_default(srv_config_t *c);
-int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
-                     size_t errlen);
 void srv_report(srv_t *S, FILE *out, const char *why, int code);
 int srv_json(srv_t *S, const char *path, const char *why, int code);
 void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec);
@@ -160,44 +156,6 @@ static const char *const usage_text[] = {
 "  c4g-server --config fixtures/server/server_example.ini\n",
 NULL};
 
-struct ini_ctx {
-    srv_config_t *cfg;
-    const char *path;
-    int failed;
-};
-
-static int on_ini(void *user, const char *section, const char *name, const char *value)
-{
-    struct ini_ctx *ic = (struct ini_ctx *)user;
-    char err[256];
-    int arm = -1, lo, hi, a;
-    if (strncmp(section, "arm", 3) == 0) {
-        arm = atoi(section + 3) - 1;
-        if (arm < 0 || arm >= (int)C4G_ARMS || section[4] != '\0') {
-            fprintf(stderr, "c4g-server: %s: section [%s]: want [arm1]..[arm4]\n", ic->path,
-                    section);
-            ic->failed = 1;
-            return 0;
-        }
-    } else if (section[0] != '\0' && strcmp(section, "server") != 0 &&
-               strcmp(section, "rt") != 0 && strcmp(section, "output") != 0 &&
-               strcmp(section, "test") != 0 && strcmp(section, "arms") != 0) {
-        fprintf(stderr, "c4g-server: %s: unknown section [%s]\n", ic->path, section);
-        ic->failed = 1;
-        return 0;
-    }
-    lo = (arm < 0) ? 0 : arm;
-    hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
-    for (a = lo; a <= hi; a++) {
-        if (srv_config_apply(ic->cfg, name, value, a, err, sizeof err) != 0) {
-            fprintf(stderr, "c4g-server: %s: [%s] %s\n", ic->path, section, err);
-            ic->failed = 1;
-            return 0;
-        }
-    }
-    return 1;
-}
-
 static int parse_args(srv_config_t *cfg, int argc, char **argv)
 {
     static const struct option longopts[] = {
@@ -257,22 +215,9 @@ static int parse_args(srv_config_t *cfg, int argc, char **argv)
             continue;
         }
         if (strcmp(name, "config") == 0) {
-            struct ini_ctx ic;
-            int r;
-            ic.cfg = cfg;
-            ic.path = optarg;
-            ic.failed = 0;
-            r = ini_parse(optarg, on_ini, &ic);
-            if (r < 0) {
-                fprintf(stderr, "c4g-server: %s: cannot open: %s\n", optarg, strerror(errno));
-                return -1;
-            }
-            if (r > 0 || ic.failed) {
-                if (!ic.failed) {
-                    fprintf(stderr, "c4g-server: %s:%d: INI syntax error\n", optarg, r);
-                } else if (r > 0) {
-                    fprintf(stderr, "c4g-server: %s:%d: (line of the error above)\n", optarg, r);
-                }
+            char ierr[600];
+            if (srv_config_load_ini(cfg, optarg, ierr, sizeof ierr) != 0) {
+                fprintf(stderr, "c4g-server: %s\n", ierr);
                 return -1;
             }
             continue;

@@ -11,6 +11,8 @@
 #include <stdio.h>
 
 #define SRV_MAX_TRAJ_ROWS 20000U  /* trajectory file rows (static storage) */
+#define SRV_MAX_TRAJ_BYTES (8U << 20) /* file size caps: a bigger file (or /dev/zero) is refused */
+#define SRV_MAX_FF_BYTES (1U << 20)
 #define SRV_HIST_US 20000U        /* cycle-time histogram: 1 us bins up to 20 ms */
 
 /* Exit codes (documented in --help and docs/c4g-server.md). */
@@ -31,7 +33,7 @@ enum { SRC_NONE = 0, SRC_SINE = 1, SRC_FILE = 2 };
 
 /* Per-axis mode-9 feedforward parameters (see fixtures/server/ff_example.txt). */
 typedef struct srv_ff {
-    int set;
+    int set;                /* 0, or the line of the parameter file that set it */
     double c0, cv, cc, ca, gs, gscale, gphase;
 } srv_ff_t;
 
@@ -181,10 +183,24 @@ void srv_behave_reset(srv_t *S);
 void srv_behave_init(srv_t *S, uint64_t t_ns);
 int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns);
 
-/* files.c */
+struct tf_file;
+
+/* opts.c: one option table for the command line and the INI file */
+void srv_config_default(srv_config_t *c);
+int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
+                     size_t errlen);
+/* INI file (at most 1 MiB): 0, or -1 with "PATH:LINE:COL: ..." in err */
+int srv_config_load_ini(srv_config_t *c, const char *path, char *err, size_t errlen);
+int srv_config_parse_ini(srv_config_t *c, struct tf_file *f, char *err, size_t errlen);
+
+/* files.c: "PATH:LINE:COL: ..." in err on an error */
 int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen);
 int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
                 size_t errlen);
+/* the same over a file already in memory (tools/common/c4g_textfile.h) */
+int srv_parse_traj(struct tf_file *f, srv_traj_t *tr, char *err, size_t errlen);
+int srv_parse_ff(struct tf_file *f, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
+                 size_t errlen);
 
 /* report.c */
 void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c);

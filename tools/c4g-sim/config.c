@@ -2,9 +2,10 @@
 /* c4g-sim configuration: defaults and the INI file (read with inih). */
 #include "sim.h"
 
-#include <errno.h>
-#include <ini.h>
-#include <math.h>
+#include "c4g_textfile.h"
+
+#include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -60,29 +61,61 @@ int sim_config_axes(const sim_config_t *c)
     return (n > (int)C4G_MAX_AXES) ? -1 : n;
 }
 
-typedef struct load_ctx {
-    sim_config_t *c;
-    char msg[200];
-} load_ctx_t;
+/* Value checks: each writes "[section] key: why" into msg on failure. */
+typedef struct kv {
+    const char *section;
+    const char *name;
+    const char *value;
+    char *msg;
+    size_t msglen;
+} kv_t;
 
-static int num(const char *v, double lo, double hi, double *out)
+static int bad_num(const kv_t *k, tf_num_t st, double lo, double hi)
 {
-    char *end;
-    double d;
-    errno = 0;
-    d = strtod(v, &end);
-    while (*end == ' ' || *end == '\t') {
-        end++;
+    char why[200];
+    tf_num_explain(st, k->value, lo, hi, why, sizeof why);
+    snprintf(k->msg, k->msglen, "[%s] %s: %s", k->section, k->name, why);
+    return -1;
+}
+
+static int dbl(const kv_t *k, double lo, double hi, double *out)
+{
+    const tf_num_t st = tf_parse_double(k->value, lo, hi, out);
+    return (st == TF_NUM_OK) ? 0 : bad_num(k, st, lo, hi);
+}
+
+static int uns(const kv_t *k, long long lo, long long hi, unsigned *out)
+{
+    long long v = 0;
+    const tf_num_t st = tf_parse_int(k->value, lo, hi, &v);
+    if (st != TF_NUM_OK) {
+        return bad_num(k, st, (double)lo, (double)hi);
     }
-    if (end == v || *end != '\0' || errno != 0 || !isfinite(d) || d < lo || d > hi) {
-        return -1;
-    }
-    *out = d;
+    *out = (unsigned)v;
     return 0;
 }
 
+static int sint(const kv_t *k, long long lo, long long hi, int *out)
+{
+    long long v = 0;
+    const tf_num_t st = tf_parse_int(k->value, lo, hi, &v);
+    if (st != TF_NUM_OK) {
+        return bad_num(k, st, (double)lo, (double)hi);
+    }
+    *out = (int)v;
+    return 0;
+}
+
+static int bad_text(const kv_t *k, const char *want)
+{
+    char v[80];
+    tf_escape(k->value, strlen(k->value), v, sizeof v);
+    snprintf(k->msg, k->msglen, "[%s] %s: '%s' is not %s", k->section, k->name, v, want);
+    return -1;
+}
+
 /* Axis parameter by name; returns 0 ok, -1 bad value, -2 unknown key. */
-static int axis_key(sim_axis_params_t *p, const char *k, const char *v)
+static int axis_key(sim_axis_params_t *p, const kv_t *k)
 {
     static const struct {
         const char *name;
@@ -99,16 +132,20 @@ static int axis_key(sim_axis_params_t *p, const char *k, const char *v)
     };
     size_t i;
     double d;
-    if (strcmp(k, "startup_mode") == 0) {
-        if (num(v, 0, 1000, &d) != 0 || !c4g_mode_is_known((int32_t)d) || d != floor(d)) {
+    if (strcmp(k->name, "startup_mode") == 0) {
+        int m;
+        if (sint(k, 0, 1000, &m) != 0) {
             return -1;
         }
-        p->startup_mode = (int)d;
+        if (!c4g_mode_is_known((int32_t)m)) {
+            return bad_text(k, "a mode code");
+        }
+        p->startup_mode = m;
         return 0;
     }
     for (i = 0; i < sizeof keys / sizeof keys[0]; i++) {
-        if (strcmp(k, keys[i].name) == 0) {
-            if (num(v, keys[i].lo, keys[i].hi, &d) != 0) {
+        if (strcmp(k->name, keys[i].name) == 0) {
+            if (dbl(k, keys[i].lo, keys[i].hi, &d) != 0) {
                 return -1;
             }
             *(double *)((char *)p + keys[i].off) = d;
@@ -118,145 +155,250 @@ static int axis_key(sim_axis_params_t *p, const char *k, const char *v)
     return -2;
 }
 
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* "arm N" (N = 1..4) and "axis A.L" (A = 1..4, L = 1..10): 1 if s is one of them. */
+static int section_arm(const char *s, unsigned *a)
 {
-    load_ctx_t *x = user;
-    sim_config_t *c = x->c;
-    double d;
+    long long v = 0;
+    if (strncmp(s, "arm ", 4) != 0 || tf_parse_int(s + 4, 1, (long long)C4G_ARMS, &v) != TF_NUM_OK) {
+        return 0;
+    }
+    *a = (unsigned)v;
+    return 1;
+}
+
+static int section_axis(const char *s, unsigned *a, unsigned *l)
+{
+    char tmp[16];
+    const char *dot;
+    long long va = 0;
+    long long vl = 0;
+    if (strncmp(s, "axis ", 5) != 0 || (dot = strchr(s + 5, '.')) == NULL ||
+        (size_t)(dot - (s + 5)) >= sizeof tmp) {
+        return 0;
+    }
+    memcpy(tmp, s + 5, (size_t)(dot - (s + 5)));
+    tmp[dot - (s + 5)] = '\0';
+    if (tf_parse_int(tmp, 1, (long long)C4G_ARMS, &va) != TF_NUM_OK ||
+        tf_parse_int(dot + 1, 1, (long long)C4G_AXES_PER_ARM, &vl) != TF_NUM_OK) {
+        return 0;
+    }
+    *a = (unsigned)va;
+    *l = (unsigned)vl;
+    return 1;
+}
+
+static int sim_key(sim_config_t *c, const kv_t *k)
+{
+    const char *name = k->name;
+    const char *value = k->value;
+    if (strcmp(name, "server") == 0 || strcmp(name, "bind") == 0) {
+        char *dst = (name[0] == 's') ? c->server : c->bind_addr;
+        if (strlen(value) >= sizeof c->server) {
+            return bad_text(k, "an address (under 64 bytes)");
+        }
+        strcpy(dst, value);
+        return 0;
+    }
+    if (strcmp(name, "port") == 0) {
+        return uns(k, 1, 65535, &c->port);
+    }
+    if (strcmp(name, "local_port") == 0) {
+        return uns(k, 0, 65535, &c->local_port);
+    }
+    if (strcmp(name, "period_ms") == 0) {
+        return sint(k, 1, 2, &c->period_ms);
+    }
+    if (strcmp(name, "t_cycle1_us") == 0) {
+        return uns(k, 1, 1000000, &c->t_cycle1_us);
+    }
+    if (strcmp(name, "num_policy") == 0) {
+        if (strcmp(value, "plus-one") == 0) {
+            c->policy = SIM_NUM_PLUS_ONE;
+        } else if (strcmp(value, "echo") == 0) {
+            c->policy = SIM_NUM_ECHO;
+        } else if (strcmp(value, "either") == 0) {
+            c->policy = SIM_NUM_EITHER;
+        } else {
+            return bad_text(k, "plus-one, echo or either");
+        }
+        return 0;
+    }
+    if (strcmp(name, "max_miss") == 0) {
+        return uns(k, 1, 1000000, &c->max_miss);
+    }
+    if (strcmp(name, "seed") == 0) {
+        unsigned long long v = 0;
+        const tf_num_t st = tf_parse_uint(value, ~0ULL, &v);
+        if (st == TF_NUM_RANGE) {
+            /* 2^64 - 1 as text: a double bound would print rounded */
+            char v80[80];
+            tf_escape(value, strlen(value), v80, sizeof v80);
+            snprintf(k->msg, k->msglen, "[%s] %s: '%s' is out of range 0..18446744073709551615",
+                     k->section, name, v80);
+            return -1;
+        }
+        if (st != TF_NUM_OK) {
+            return bad_num(k, st, 0.0, 0.0);
+        }
+        c->seed = (uint64_t)v;
+        return 0;
+    }
+    if (strcmp(name, "drive_on_ms") == 0) {
+        return dbl(k, 0, 1e5, &c->drive_on_ms);
+    }
+    if (strcmp(name, "switch_ms") == 0) {
+        return dbl(k, 0, 1e5, &c->switch_ms);
+    }
+    if (strcmp(name, "follow_check") == 0) {
+        return sint(k, 0, 1, &c->check_follow);
+    }
+    if (strcmp(name, "sync_before") == 0) {
+        return uns(k, 0, 1000, &c->sync_before);
+    }
+    if (strcmp(name, "sync_after") == 0) {
+        return uns(k, 0, 100, &c->sync_after);
+    }
+    if (strcmp(name, "version") == 0) {
+        /* MAJOR.MINOR.BUILD, each 0..65535 */
+        char tmp[64];
+        char *part[3];
+        char *p;
+        int n = 0;
+        int v[3];
+        if (strlen(value) >= sizeof tmp) {
+            return bad_text(k, "a version MAJOR.MINOR.BUILD");
+        }
+        strcpy(tmp, value);
+        part[n++] = tmp;
+        for (p = tmp; *p != '\0'; p++) {
+            if (*p == '.') {
+                if (n == 3) {
+                    return bad_text(k, "a version MAJOR.MINOR.BUILD");
+                }
+                *p = '\0';
+                part[n++] = p + 1;
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            long long x = 0;
+            if (tf_parse_int(part[i], 0, 65535, &x) != TF_NUM_OK) {
+                return bad_text(k, "a version MAJOR.MINOR.BUILD (each 0..65535)");
+            }
+            v[i] = (int)x;
+        }
+        if (n != 3) {
+            return bad_text(k, "a version MAJOR.MINOR.BUILD");
+        }
+        memcpy(c->version, v, sizeof v);
+        return 0;
+    }
+    return -2;
+}
+
+static int arm_key(sim_config_t *c, unsigned a, const kv_t *k)
+{
+    unsigned l;
     int rc = 0;
+    if ((int)a > c->n_arms) {
+        unsigned n;
+        for (n = (unsigned)c->n_arms; n < a; n++) {
+            c->open_mask[n] = 0x3FU;
+        }
+        c->n_arms = (int)a;
+    }
+    if (strcmp(k->name, "open") == 0) {
+        /* logical axes separated by blanks or commas, e.g. "1 2 3" */
+        char tmp[128];
+        char *tok;
+        char *save = NULL;
+        unsigned m = 0U;
+        if (strlen(k->value) >= sizeof tmp) {
+            return bad_text(k, "a list of logical axes 1..10");
+        }
+        strcpy(tmp, k->value);
+        for (tok = strtok_r(tmp, " ,\t", &save); tok != NULL; tok = strtok_r(NULL, " ,\t", &save)) {
+            long long v = 0;
+            if (tf_parse_int(tok, 1, 10, &v) != TF_NUM_OK) {
+                return bad_text(k, "a list of logical axes 1..10");
+            }
+            m |= 1U << (v - 1);
+        }
+        if (m == 0U) {
+            return bad_text(k, "a list of logical axes 1..10");
+        }
+        c->open_mask[a - 1U] = m;
+        return 0;
+    }
+    if (strcmp(k->name, "option") == 0) {
+        return sint(k, 0, 1, &c->option_ok[a - 1U]);
+    }
+    for (l = 0; l < C4G_AXES_PER_ARM && rc == 0; l++) {
+        rc = axis_key(&c->ax[a - 1U][l], k);
+    }
+    return rc;
+}
+
+static tf_ini_rc_t handler(void *user, const char *section, const char *name, const char *value,
+                           char *msg, size_t msglen)
+{
+    sim_config_t *c = user;
+    kv_t k;
+    int rc;
     unsigned a;
     unsigned l;
+    k.section = section;
+    k.name = name;
+    k.value = value;
+    k.msg = msg;
+    k.msglen = msglen;
     if (strcmp(section, "sim") == 0) {
-        if (strcmp(name, "server") == 0 || strcmp(name, "bind") == 0) {
-            char *dst = (name[0] == 's') ? c->server : c->bind_addr;
-            if (strlen(value) >= sizeof c->server) {
-                rc = -1;
-            } else {
-                strcpy(dst, value);
-            }
-        } else if (strcmp(name, "port") == 0 || strcmp(name, "local_port") == 0) {
-            rc = num(value, (name[0] == 'p') ? 1 : 0, 65535, &d);
-            if (rc == 0) {
-                *((name[0] == 'p') ? &c->port : &c->local_port) = (unsigned)d;
-            }
-        } else if (strcmp(name, "period_ms") == 0) {
-            rc = (num(value, 1, 2, &d) == 0 && d == floor(d)) ? 0 : -1;
-            c->period_ms = (int)d;
-        } else if (strcmp(name, "t_cycle1_us") == 0) {
-            rc = num(value, 1, 1e6, &d);
-            c->t_cycle1_us = (unsigned)d;
-        } else if (strcmp(name, "num_policy") == 0) {
-            if (strcmp(value, "plus-one") == 0) {
-                c->policy = SIM_NUM_PLUS_ONE;
-            } else if (strcmp(value, "echo") == 0) {
-                c->policy = SIM_NUM_ECHO;
-            } else if (strcmp(value, "either") == 0) {
-                c->policy = SIM_NUM_EITHER;
-            } else {
-                rc = -1;
-            }
-        } else if (strcmp(name, "max_miss") == 0) {
-            rc = num(value, 1, 1e6, &d);
-            c->max_miss = (unsigned)d;
-        } else if (strcmp(name, "seed") == 0) {
-            rc = num(value, 0, 1.8e19, &d);
-            c->seed = (uint64_t)d;
-        } else if (strcmp(name, "drive_on_ms") == 0) {
-            rc = num(value, 0, 1e5, &c->drive_on_ms);
-        } else if (strcmp(name, "switch_ms") == 0) {
-            rc = num(value, 0, 1e5, &c->switch_ms);
-        } else if (strcmp(name, "follow_check") == 0) {
-            rc = num(value, 0, 1, &d);
-            c->check_follow = (int)d;
-        } else if (strcmp(name, "sync_before") == 0) {
-            rc = num(value, 0, 1000, &d);
-            c->sync_before = (unsigned)d;
-        } else if (strcmp(name, "sync_after") == 0) {
-            rc = num(value, 0, 100, &d);
-            c->sync_after = (unsigned)d;
-        } else if (strcmp(name, "version") == 0) {
-            rc = (sscanf(value, "%d.%d.%d", &c->version[0], &c->version[1], &c->version[2]) == 3) ? 0 : -1;
-        } else {
-            rc = -2;
-        }
+        rc = sim_key(c, &k);
     } else if (strcmp(section, "model") == 0) {
+        rc = 0;
         for (a = 0; a < C4G_ARMS && rc == 0; a++) {
             for (l = 0; l < C4G_AXES_PER_ARM && rc == 0; l++) {
-                rc = axis_key(&c->ax[a][l], name, value);
+                rc = axis_key(&c->ax[a][l], &k);
             }
         }
-    } else if (sscanf(section, "arm %u", &a) == 1 && a >= 1U && a <= C4G_ARMS) {
-        if ((int)a > c->n_arms) {
-            unsigned k;
-            for (k = (unsigned)c->n_arms; k < a; k++) {
-                c->open_mask[k] = 0x3FU;
-            }
-            c->n_arms = (int)a;
-        }
-        if (strcmp(name, "open") == 0) {
-            const char *p = value;
-            unsigned m = 0U;
-            while (*p != '\0' && rc == 0) {
-                char *end;
-                long v = strtol(p, &end, 10);
-                if (end == p || v < 1 || v > 10) {
-                    rc = -1;
-                } else {
-                    m |= 1U << (v - 1);
-                    p = end;
-                    while (*p == ' ' || *p == ',' || *p == '\t') {
-                        p++;
-                    }
-                }
-            }
-            if (m == 0U) {
-                rc = -1;
-            }
-            c->open_mask[a - 1U] = m;
-        } else if (strcmp(name, "option") == 0) {
-            rc = num(value, 0, 1, &d);
-            c->option_ok[a - 1U] = (int)d;
-        } else {
-            for (l = 0; l < C4G_AXES_PER_ARM && rc == 0; l++) {
-                rc = axis_key(&c->ax[a - 1U][l], name, value);
-            }
-        }
-    } else if (sscanf(section, "axis %u.%u", &a, &l) == 2 && a >= 1U && a <= C4G_ARMS &&
-               l >= 1U && l <= C4G_AXES_PER_ARM) {
-        rc = axis_key(&c->ax[a - 1U][l - 1U], name, value);
+    } else if (section_arm(section, &a)) {
+        rc = arm_key(c, a, &k);
+    } else if (section_axis(section, &a, &l)) {
+        rc = axis_key(&c->ax[a - 1U][l - 1U], &k);
     } else {
-        snprintf(x->msg, sizeof x->msg, "unknown section [%s]", section);
-        return 0;
+        char s[80];
+        tf_escape(section, strlen(section), s, sizeof s);
+        snprintf(msg, msglen, "unknown section [%s] (want [sim], [model], [arm 1..4] or [axis A.L])", s);
+        return TF_INI_BAD_SECTION;
     }
     if (rc == -2) {
-        snprintf(x->msg, sizeof x->msg, "[%s]: unknown key '%s'", section, name);
-        return 0;
+        char n[80];
+        tf_escape(name, strlen(name), n, sizeof n);
+        snprintf(msg, msglen, "[%s]: unknown key '%s'", section, n);
+        return TF_INI_BAD_KEY;
     }
-    if (rc != 0) {
-        snprintf(x->msg, sizeof x->msg, "[%s] %s: bad value '%s'", section, name, value);
-        return 0;
+    return (rc == 0) ? TF_INI_OK : TF_INI_BAD_VALUE;
+}
+
+int sim_config_parse(sim_config_t *c, tf_file_t *f, char *err, size_t errlen)
+{
+    if (tf_ini_parse(f, handler, c, err, errlen) != 0) {
+        return -1;
     }
-    return 1;
+    if (sim_config_axes(c) < 0) {
+        snprintf(err, errlen, "%s: more than 20 open axes, or an arm with none", f->path);
+        return -1;
+    }
+    return 0;
 }
 
 int sim_config_load(sim_config_t *c, const char *path, char *err, size_t errlen)
 {
-    load_ctx_t x;
+    tf_file_t f;
     int rc;
-    x.c = c;
-    x.msg[0] = '\0';
-    rc = ini_parse(path, handler, &x);
-    if (rc == -1) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    if (tf_load(&f, path, TF_MAX_INI, err, errlen) != 0) {
         return -1;
     }
-    if (rc != 0) {
-        snprintf(err, errlen, "%s:%d: %s", path, rc, x.msg[0] != '\0' ? x.msg : "syntax error");
-        return -1;
-    }
-    if (sim_config_axes(c) < 0) {
-        snprintf(err, errlen, "%s: more than 20 open axes, or an arm with none", path);
-        return -1;
-    }
-    return 0;
+    rc = sim_config_parse(c, &f, err, errlen);
+    tf_free(&f);
+    return rc;
 }

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "c4g_pcap.h"
+#include "c4g_textfile.h"
 #include "sim.h"
 
 #define EXIT_OK 0
@@ -721,43 +722,6 @@ static void summary(app_t *a, int code, const char *result, double cpu_s)
 
 /* ---- main ---------------------------------------------------------------- */
 
-static int load_file(const char *path, char **out, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    size_t cap = 1U << 16;
-    size_t n = 0;
-    if (f == NULL) {
-        return -1;
-    }
-    buf = malloc(cap);
-    while (buf != NULL) {
-        size_t r = fread(&buf[n], 1, cap - n, f);
-        n += r;
-        if (r == 0U) {
-            break;
-        }
-        if (n == cap) {
-            char *nb = (cap < (1U << 24)) ? realloc(buf, cap * 2U) : NULL;
-            if (nb == NULL) {
-                free(buf);
-                buf = NULL;
-                errno = EFBIG;
-                break;
-            }
-            buf = nb;
-            cap *= 2U;
-        }
-    }
-    fclose(f);
-    if (buf == NULL) {
-        return -1;
-    }
-    *out = buf;
-    *len = n;
-    return 0;
-}
-
 static app_t g_app;
 
 int main(int argc, char **argv)
@@ -1017,18 +981,18 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     if (scenario_path != NULL) {
-        char *text;
-        size_t len;
-        if (load_file(scenario_path, &text, &len) != 0) {
-            fprintf(stderr, "c4g-sim: %s: %s\n", scenario_path, strerror(errno));
+        tf_file_t f;
+        int bad;
+        if (tf_load(&f, scenario_path, TF_MAX_SCENARIO, err, sizeof err) != 0) {
+            fprintf(stderr, "c4g-sim: %s\n", err);
             return EXIT_USAGE;
         }
-        if (scn_parse(text, len, &a->scn, err, sizeof err) != 0) {
-            fprintf(stderr, "c4g-sim: %s: %s\n", scenario_path, err);
-            free(text);
+        bad = scn_parse(scenario_path, f.data, f.len, &a->scn, err, sizeof err);
+        tf_free(&f);
+        if (bad != 0) {
+            fprintf(stderr, "c4g-sim: %s\n", err);
             return EXIT_USAGE;
         }
-        free(text);
     }
     if (sim_init(&a->sim, &cfg, scenario_path ? &a->scn : NULL, a->verbose ? stderr : NULL) != 0) {
         fprintf(stderr, "c4g-sim: %s: %s\n", c4g_ctrl_error_name(a->sim.err[0].code), a->sim.err[0].text);

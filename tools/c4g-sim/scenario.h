@@ -33,10 +33,12 @@ typedef struct scn {
 } scn_t;
 
 /**
- * Parse a scenario text. Returns 0, or -1 with "line N: ..." in @p err.
- * Never reads outside @p len bytes; NUL bytes and overlong lines are errors.
+ * Parse a scenario text (@p path names it in messages). Returns 0, or -1 with
+ * "PATH:LINE:COL: ..." in @p err. Never reads outside @p len bytes; lines over 511
+ * bytes, NUL and other binary bytes, and numbers out of range are errors.
  */
-int scn_parse(const char *text, size_t len, scn_t *out, char *err, size_t errlen);
+int scn_parse(const char *path, const char *text, size_t len, scn_t *out, char *err,
+              size_t errlen);
 
 const char *scn_op_name(scn_op_t op);
 

@@ -44,8 +44,12 @@ typedef struct sim_config {
 void sim_config_default(sim_config_t *c);
 /** Total open axes; -1 if more than 20 or an arm has none. */
 int sim_config_axes(const sim_config_t *c);
-/** Load an INI file over @p c. Returns 0, or -1 with "FILE:LINE: ..." in err. */
+/** Load an INI file over @p c (at most 1 MiB). Returns 0, or -1 with
+ *  "FILE:LINE:COL: ..." in err. */
 int sim_config_load(sim_config_t *c, const char *path, char *err, size_t errlen);
+struct tf_file;
+/** The same over a file already in memory (tools/common/c4g_textfile.h). */
+int sim_config_parse(sim_config_t *c, struct tf_file *f, char *err, size_t errlen);
 
 typedef struct sim_error {
     c4g_ctrl_error_t code;

@@ -3,7 +3,6 @@
  * controllers (REPL with libedit, one-shot, scripts, --json). See docs/cell-cli.md. */
 #include <errno.h>
 #include <getopt.h>
-#include <ini.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +16,7 @@
 #include "c4gopen.h"
 #include "cell_common.h"
 #include "cli_cmd.h"
+#include "cli_config.h"
 
 enum {
     EXIT_OK = 0,
@@ -40,49 +40,6 @@ static int g_connect_ms = 2000;
 static int g_reply_ms = 2000;
 static int g_json;
 static int g_echo;
-
-/* ------------------------------------------------------------------ config file */
-
-static int ini_cb(void *user, const char *section, const char *name, const char *value)
-{
-    unsigned long u;
-    (void)user;
-    int dev = -1;
-    for (int d = 0; d < CELL_DEVICES; d++) {
-        if (strcasecmp(section, cell_dev_name(d)) == 0) {
-            dev = d;
-        }
-    }
-    if (dev >= 0 && strcasecmp(name, "host") == 0) {
-        if (strlen(value) >= sizeof g_conn[dev].host) {
-            return 0;
-        }
-        strcpy(g_conn[dev].host, value);
-        return 1;
-    }
-    if (dev >= 0 && strcasecmp(name, "port") == 0) {
-        if (cell_parse_uint(value, 65535UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_conn[dev].port = (unsigned)u;
-        return 1;
-    }
-    if (strcasecmp(section, "cli") == 0 && strcasecmp(name, "connect_timeout_ms") == 0) {
-        if (cell_parse_uint(value, 600000UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_connect_ms = (int)u;
-        return 1;
-    }
-    if (strcasecmp(section, "cli") == 0 && strcasecmp(name, "reply_timeout_ms") == 0) {
-        if (cell_parse_uint(value, 600000UL, &u) != 0 || u == 0) {
-            return 0;
-        }
-        g_reply_ms = (int)u;
-        return 1;
-    }
-    return 0; /* unknown key: an error, so typos do not pass silently */
-}
 
 /* ------------------------------------------------------------------ transport */
 
@@ -371,16 +328,51 @@ static int run_cmd(const cli_cmd_t *cmd)
 
 /* ------------------------------------------------------------------ modes */
 
+/* One script line (streamed: stdin may be a pipe fed over time). 1 a line, 0 end, -1 an
+ * error in err: a line over cap - 1 bytes (fgets split it silently), a NUL or other
+ * control byte (fgets made /dev/zero an endless run of empty lines). */
+static int script_line(FILE *f, char *line, size_t cap, char *err, size_t errlen)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc(f)) != EOF && c != '\n') {
+        if (c == '\r') {
+            int d = getc(f);
+            if (d == '\n' || d == EOF) {
+                break;
+            }
+            ungetc(d, f);
+        }
+        if ((c < 0x20 && c != '\t') || c == 0x7F) {
+            snprintf(err, errlen, "column %zu: control byte \\x%02x: binary content is not accepted",
+                     n + 1, (unsigned)c);
+            return -1;
+        }
+        if (n + 1 >= cap) {
+            snprintf(err, errlen, "line longer than %zu bytes", cap - 1);
+            return -1;
+        }
+        line[n++] = (char)c;
+    }
+    line[n] = '\0';
+    return (c == EOF && n == 0) ? 0 : 1;
+}
+
 static int run_script(FILE *f, const char *name, int keep_going)
 {
     char line[1024];
+    char lerr[128];
     int lineno = 0;
     int worst = EXIT_OK;
-    while (fgets(line, sizeof line, f) != NULL) {
+    int r;
+    while ((r = script_line(f, line, sizeof line, lerr, sizeof lerr)) != 0) {
         cli_cmd_t cmd;
         char err[256];
         lineno++;
-        line[strcspn(line, "\r\n")] = '\0';
+        if (r < 0) {
+            fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, lerr);
+            return EXIT_USAGE;
+        }
         if (cli_parse(line, &cmd, err, sizeof err) != 0) {
             fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, err);
             return EXIT_USAGE;
@@ -670,15 +662,25 @@ int main(int argc, char **argv)
         }
     }
     if (config != NULL) {
-        int r = ini_parse(config, ini_cb, NULL);
-        if (r < 0) {
-            fprintf(stderr, "cell-cli: cannot read config file %s\n", config);
+        cli_config_t cc;
+        char err[600];
+        cli_config_default(&cc);
+        for (int d = 0; d < CELL_DEVICES; d++) {
+            strcpy(cc.host[d], g_conn[d].host);
+            cc.port[d] = g_conn[d].port;
+        }
+        cc.connect_ms = g_connect_ms;
+        cc.reply_ms = g_reply_ms;
+        if (cli_config_load(&cc, config, err, sizeof err) != 0) {
+            fprintf(stderr, "cell-cli: config file %s\n", err);
             return EXIT_USAGE;
         }
-        if (r > 0) {
-            fprintf(stderr, "cell-cli: %s:%d: unknown key or bad value\n", config, r);
-            return EXIT_USAGE;
+        for (int d = 0; d < CELL_DEVICES; d++) {
+            strcpy(g_conn[d].host, cc.host[d]);
+            g_conn[d].port = cc.port[d];
         }
+        g_connect_ms = cc.connect_ms;
+        g_reply_ms = cc.reply_ms;
     }
     if (connect_ms > 0) {
         g_connect_ms = (int)connect_ms;

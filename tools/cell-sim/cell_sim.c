@@ -25,6 +25,11 @@
 #include "sim_device.h"
 
 #define OUT_CAP 4096        /* per-client reply buffer; reading pauses when it fills */
+/* Error lines one client's input may cause per second; the rest are counted and summed
+ * up in one line when the burst ends or the client leaves. Without it 200 kB of newlines
+ * made 30 MB of log. State-changing commands stay logged one by one (an audit trail). */
+#define LOG_PER_SEC 5U
+#define LOG_WINDOW_NS 1000000000ULL
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_SOCKET = 3 };
 
@@ -39,9 +44,14 @@ typedef struct client {
     size_t out_len;
     uint64_t last_ns;
     uint64_t lines;
+    uint64_t log_win_ns;    /* start of the current one-second log window */
+    unsigned log_in_win;    /* lines logged in it */
+    uint64_t log_last_ns;   /* last error line this client caused, logged or not */
+    uint64_t sup_err;       /* error lines suppressed since the last summary */
 } client_t;
 
 static volatile sig_atomic_t g_stop;
+static unsigned long g_sup_clients; /* clients with suppressed lines not yet summed up */
 static int g_json;
 static int g_verbose = 1; /* 0 quiet (errors only), 1 normal, 2 every request */
 
@@ -134,6 +144,8 @@ static void usage(FILE *f)
 "  -V, --version             print the version\n"
 "\n"
 "Logs go to stderr, one line per connection, disconnection and error, with the peer.\n"
+"Errors: at most 5 lines per second per client, then one line\n"
+"\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
 "Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n"
 "\n"
 "Examples:\n"
@@ -166,8 +178,41 @@ static int listen_on(const char *addr, unsigned port)
     return fd;
 }
 
+/* May this client's input cause one more error line? */
+static int client_log_ok(client_t *c)
+{
+    const uint64_t now = cell_now_ns();
+    c->log_last_ns = now;
+    if (now - c->log_win_ns >= LOG_WINDOW_NS) {
+        c->log_win_ns = now;
+        c->log_in_win = 0;
+    }
+    if (c->log_in_win < LOG_PER_SEC) {
+        c->log_in_win++;
+        return 1;
+    }
+    if (c->sup_err++ == 0) {
+        g_sup_clients++;
+    }
+    return 0;
+}
+
+/* One summary line for what was suppressed (at the end of a burst or a connection). */
+static void client_log_summary(client_t *c, const char *when)
+{
+    if (c->sup_err == 0) {
+        return;
+    }
+    logf_(0, cell_dev_name(c->dev), c->peer, "suppressed",
+          "%llu more error lines not logged (at most %u per second per client), %s",
+          (unsigned long long)c->sup_err, LOG_PER_SEC, when);
+    c->sup_err = 0;
+    g_sup_clients--;
+}
+
 static void client_close(client_t *c, const char *why)
 {
+    client_log_summary(c, "connection closing");
     logf_(1, cell_dev_name(c->dev), c->peer, "disconnect", "%s (%llu lines)", why,
           (unsigned long long)c->lines);
     close(c->fd);
@@ -212,9 +257,11 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         int32_t code = (st == C4G_CELL_ERR_HEAD) ? C4G_CELL_E_UNKNOWN_CMD
                        : (st == C4G_CELL_ERR_RANGE) ? C4G_CELL_E_RANGE
                                                     : C4G_CELL_E_MALFORMED;
-        printable(line, len, pr, sizeof pr);
-        logf_(0, dev, c->peer, "error", "ER+%05d for \"%s\": %s at column %u", (int)code, pr,
-              c4g_cell_strerror(st), (unsigned)d.column);
+        if (client_log_ok(c)) {
+            printable(line, len, pr, sizeof pr);
+            logf_(0, dev, c->peer, "error", "ER+%05d for \"%s\": %s at column %u", (int)code, pr,
+                  c4g_cell_strerror(st), (unsigned)d.column);
+        }
         queue_er(c, code);
         return;
     }
@@ -226,8 +273,10 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
     }
     queue(c, out, n);
     if (rep.kind == C4G_CELL_REPLY_ER) {
-        printable(line, len - 2, pr, sizeof pr);
-        logf_(0, dev, c->peer, "error", "ER+%05d for %s: %s", (int)rep.error, pr, note);
+        if (client_log_ok(c)) {
+            printable(line, len - 2, pr, sizeof pr);
+            logf_(0, dev, c->peer, "error", "ER+%05d for %s: %s", (int)rep.error, pr, note);
+        }
     } else if (g_verbose >= 2) {
         char po[80];
         printable(line, len - 2, pr, sizeof pr);
@@ -288,9 +337,11 @@ static void client_read(client_t *c, sim_device_t *devs)
             }
             if (ev == C4G_CELL_SPLIT_OVERLONG) {
                 c->lines++;
-                logf_(0, cell_dev_name(c->dev), c->peer, "error",
-                      "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
-                      (unsigned)C4G_CELL_LINE_MAX);
+                if (client_log_ok(c)) {
+                    logf_(0, cell_dev_name(c->dev), c->peer, "error",
+                          "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
+                          (unsigned)C4G_CELL_LINE_MAX);
+                }
                 queue_er(c, C4G_CELL_E_MALFORMED);
             } else {
                 handle_line(c, devs, line, len);
@@ -667,6 +718,10 @@ int main(int argc, char **argv)
                     c->out_len = 0;
                     c->lines = 0;
                     c->last_ns = now;
+                    c->log_win_ns = now;
+                    c->log_in_win = 0;
+                    c->log_last_ns = now;
+                    c->sup_err = 0;
                     snprintf(c->peer, sizeof c->peer, "%s", ps);
                     (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
                     logf_(1, cell_dev_name(d), c->peer, "connect", "connection accepted");
@@ -688,9 +743,21 @@ int main(int argc, char **argv)
                 client_write(c);
             }
         }
+        /* Reads above stamped clients after `now` was taken: compare with a fresh
+         * clock, never a difference that wraps around. */
+        now = cell_now_ns();
+        if (g_sup_clients > 0) {
+            /* a burst is over once its client caused no log line for a second */
+            for (unsigned long i = 0; i < max_clients; i++) {
+                if (cl[i].fd >= 0 && cl[i].sup_err > 0 &&
+                    now >= cl[i].log_last_ns + LOG_WINDOW_NS) {
+                    client_log_summary(&cl[i], "burst over");
+                }
+            }
+        }
         if (idle_s > 0) {
             for (unsigned long i = 0; i < max_clients; i++) {
-                if (cl[i].fd >= 0 && now - cl[i].last_ns > (uint64_t)idle_s * 1000000000ULL) {
+                if (cl[i].fd >= 0 && now > cl[i].last_ns + (uint64_t)idle_s * 1000000000ULL) {
                     client_close(&cl[i], "idle timeout");
                 }
             }

@@ -1,0 +1,27 @@
+/* SPDX-License-Identifier: MIT */
+/* cell-cli INI configuration file (-c FILE, $CELL_CLI_CONFIG, ~/.config/cell-cli.ini). */
+#ifndef CLI_CONFIG_H
+#define CLI_CONFIG_H
+
+#include <stddef.h>
+
+#include "cell_common.h"
+
+typedef struct cli_config {
+    char host[CELL_DEVICES][256];
+    unsigned port[CELL_DEVICES];
+    int connect_ms;
+    int reply_ms;
+} cli_config_t;
+
+/* 127.0.0.1, the spec's ports, 2000 ms timeouts. */
+void cli_config_default(cli_config_t *c);
+/* Apply an INI file (at most 1 MiB) over c: sections [robot] [platform] [conditioning]
+ * (host, port) and [cli] (connect_timeout_ms, reply_timeout_ms); anything else is an
+ * error. 0, or -1 with "PATH:LINE:COL: ..." in err. */
+int cli_config_load(cli_config_t *c, const char *path, char *err, size_t errlen);
+struct tf_file;
+/* The same over a file already in memory (tools/common/c4g_textfile.h). */
+int cli_config_parse(cli_config_t *c, struct tf_file *f, char *err, size_t errlen);
+
+#endif /* CLI_CONFIG_H */
