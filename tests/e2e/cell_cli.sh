@@ -60,10 +60,12 @@ echo "$out" | grep -q "+00105" && pass "workspace ER shown" || bad "$out"
 # connection refused / reply timeout: exit 3
 "$cli" -p 21991 robot sta 2>"$tmp/e"; expect_rc 3 $? "connection refused"
 grep -q "connection refused" "$tmp/e" && pass "refusal named" || bad "msg: $(cat "$tmp/e")"
+# a silent device: accepts and never answers, until the test's cleanup ends it (a fixed
+# hold time could run out before a slow client gave up)
 python3 -c "
 import socket,time
 s=socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1',21019)); s.listen(1)
-c,_=s.accept(); time.sleep(3)" & pids="$pids $!"
+c,_=s.accept(); time.sleep(120)" & pids="$pids $!"
 wait_listen 21019 || bad "the silent listener on 21019 never started"
 "$cli" --robot 127.0.0.1:21019 -t 300 robot sta 2>"$tmp/e"; expect_rc 3 $? "reply timeout"
 grep -q "no reply within 300 ms" "$tmp/e" && pass "timeout named" || bad "msg: $(cat "$tmp/e")"
