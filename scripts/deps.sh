@@ -23,6 +23,7 @@ tshark:tshark
 text2pcap:wireshark-common
 lcov:lcov
 python3:python3
+ss:iproute2
 /usr/include/histedit.h:libedit-dev
 /usr/include/ini.h:libinih-dev
 '

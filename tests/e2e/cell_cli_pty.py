@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Drive cell-cli's REPL through a pseudo-terminal: commands, help, TAB completion,
 # history across runs (run by cell_cli.sh).
-import os, pty, select, sys, time
+import os, pty, select, sys, termios, time
 
 cli, port, home = sys.argv[1], sys.argv[2], sys.argv[3]
 fails = []
@@ -12,29 +12,46 @@ def check(what, ok, detail=""):
     if not ok:
         fails.append(what)
 
-def session(keys, settle=0.6):
+def session(keys):
+    """Types keys into the REPL; waits for conditions, not for time: the prompt, with the
+    terminal in raw mode, before typing and after each Enter, then the end of output after ^D
+    (a 15 s bound only stops a broken run)."""
     pid, fd = pty.fork()
     if pid == 0:
         os.environ["HOME"] = home
         os.environ["TERM"] = "dumb"
         os.execv(cli, [cli, "-p", port])
     out = b""
-    def drain(t):
-        nonlocal out
-        end = time.time() + t
-        while time.time() < end:
+    closed = False
+    def read_until(done, limit=15.0):
+        nonlocal out, closed
+        end = time.monotonic() + limit
+        while not closed and not done() and time.monotonic() < end:
             r, _, _ = select.select([fd], [], [], 0.05)
             if r:
                 try:
-                    out += os.read(fd, 4096)
-                except OSError:
-                    return
-    drain(settle)
+                    data = os.read(fd, 4096)
+                except OSError:  # EIO: the REPL exited and closed the terminal
+                    data = b""
+                if not data:
+                    closed = True
+                out += data
+    def reading():
+        # libedit reads with the terminal in raw mode; bytes typed while it is cooked (a
+        # command still running) go through the line discipline, which turns ^D into NUL
+        try:
+            return not termios.tcgetattr(fd)[3] & termios.ICANON
+        except termios.error:
+            return False
+    # a fresh prompt starts a line; a redraw (TAB, history) starts with \r instead
+    read_until(lambda: b"\ncell> " in out and reading())
     for k in keys:
+        prompts = out.count(b"\ncell> ")
         os.write(fd, k)
-        drain(0.4)
+        if k.endswith(b"\r"):
+            read_until(lambda: out.count(b"\ncell> ") > prompts and reading())
     os.write(fd, b"\x04")  # EOF leaves the REPL
-    drain(0.5)
+    read_until(lambda: False)
     _, status = os.waitpid(pid, 0)
     os.close(fd)
     return out.decode(errors="replace"), os.waitstatus_to_exitcode(status)

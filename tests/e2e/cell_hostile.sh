@@ -11,8 +11,8 @@ cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -f "$log"; }
 trap cleanup EXIT INT TERM
 "$build/bin/cell-sim" -p 21021 >"$log" 2>&1 & pid=$!
 i=0
-while ! python3 -c "import socket; socket.create_connection(('127.0.0.1',21023),0.2)" 2>/dev/null; do
-  i=$((i + 1)); [ $i -gt 50 ] && { echo "FAIL: cell-sim did not start"; cat "$log"; exit 1; }; sleep 0.1
+until ss -Htln "sport = :21023" | grep -q LISTEN; do   # the last of its three ports
+  i=$((i + 1)); [ $i -gt 1500 ] && { echo "FAIL: cell-sim did not start"; cat "$log"; exit 1; }; sleep 0.02
 done
 timeout 90 python3 tests/e2e/cell_hostile_check.py 21021 "$log"; rc=$?
 kill -0 "$pid" 2>/dev/null && echo "PASS: cell-sim still running" || { echo "FAIL: cell-sim died"; rc=1; }

@@ -150,7 +150,8 @@ for ch in b"STA\r\n":
     time.sleep(1.0)
 r = f.readline()
 check("1 byte/s sender gets its reply", len(r) == 50, repr(r[:12]))
-check("others served meanwhile", stats["n"] - before > 100, f"({stats['n'] - before} round trips)")
+# progress is the point, not a rate (a busy host serves fewer): blocked would be ~0
+check("others served meanwhile", stats["n"] - before > 20, f"({stats['n'] - before} round trips)")
 s.close()
 
 # 5) a client that never reads its replies (pipelines 2 MB of STA) does not block others
@@ -162,7 +163,10 @@ while time.monotonic() - t0 < 2.0:
         sent += s.send(b"STA\r\n" * 2000)
     except BlockingIOError:
         time.sleep(0.05)
-before = stats["n"]; time.sleep(1.0)
+# others keep being served: wait for 20 more round trips (10 s only bounds a broken run)
+before = stats["n"]; t0 = time.monotonic()
+while stats["n"] - before <= 20 and time.monotonic() - t0 < 10.0:
+    time.sleep(0.02)
 check("non-reading client: others still served", stats["n"] - before > 20, f"({stats['n'] - before} round trips, it sent {sent} bytes)")
 s.close()
 

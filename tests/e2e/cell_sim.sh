@@ -9,10 +9,10 @@ pids=''
 cleanup() { for p in $pids; do kill "$p" 2>/dev/null; done; rm -f "$log" "$log2"; }
 trap cleanup EXIT INT TERM
 
-wait_port() { # port
+wait_port() { # port: until cell-sim listens on it (30 s bound for a broken run)
   i=0
-  while ! python3 -c "import socket,sys; socket.create_connection(('127.0.0.1',$1),0.2)" 2>/dev/null; do
-    i=$((i + 1)); [ $i -gt 50 ] && { echo "FAIL: port $1 never opened"; exit 1; }; sleep 0.1
+  until ss -Htln "sport = :$1" | grep -q LISTEN; do
+    i=$((i + 1)); [ $i -gt 1500 ] && { echo "FAIL: port $1 never opened"; exit 1; }; sleep 0.02
   done
 }
 

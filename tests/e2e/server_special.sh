@@ -1,8 +1,9 @@
 #!/bin/sh
 # c4g-server end to end, special modes: 501 end detected, 505 and 508 from the PC drive
 # off, 504 ends both sides cleanly, 506 restarts with a new initialization packet, active
-# and passive freezing survive a pause longer than 10 periods. Controller: c4g-sim (and
-# the test stub for a following error the server detects itself).
+# freezing survives a PC pause longer than 10 periods and passive freezing a controller
+# silence longer than the loss timeout. Controller: c4g-sim (and the test stub for a
+# following error the server detects itself).
 . tests/e2e/server_helpers/lib.sh "$1"
 [ -x "$SIM" ] || { echo "server_special: $SIM not built"; exit 1; }
 build_stub
@@ -42,8 +43,8 @@ ok "506: server saw the restart" eq "$(jv "$T/r506.json" restarts)" 1
 ok "506: server accepted two init packets" eq "$(jv "$T/r506.json" init)" 2
 ok "506: server exit 0 at the final 504" eq "$SRC" 0
 
-echo "passive freezing (502 .. 503, 200 ms = 100 periods of silence):"
-run_sim pf 31025 fixtures/server/sim_freeze.scn
+echo "passive freezing (502 .. 503, 1 s = 500 periods of silence, loss timeout 500 ms):"
+run_sim pf 31025 fixtures/server/sim_freeze.scn --lost-timeout-ms 500
 ok "passive: sim ok" eq "$SIMRC" 0
 ok "passive: server saw 502" eq "$(jv "$T/pf.json" passive_freezings)" 1
 ok "passive: no lost controller" eq "$(jv "$T/pf.json" lost)" 0

@@ -4,6 +4,8 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <getopt.h>
+#include <linux/errqueue.h>
+#include <linux/net_tstamp.h>
 #include <math.h>
 #include <netinet/in.h>
 #include <signal.h>
@@ -47,8 +49,13 @@ typedef struct outstanding {
     int check;               /* 0: no reply is checked (504) */
     out_kind_t kind;
     int32_t num;
-    uint64_t sent_ns;
-    int answered;
+    uint64_t sent_ns;        /* when it left (the kernel's send timestamp when there is one) */
+    uint64_t deadline_ns;    /* the tick by which its reply must have arrived */
+    int has_key;             /* tx_key: SO_TIMESTAMPING id of its sendto */
+    uint32_t tx_key;
+    int got;                 /* a valid reply arrived (the first one is kept) */
+    uint64_t got_ns;         /* its kernel arrival time */
+    int answered;            /* judged: the reply arrived in time */
     size_t len;
     uint8_t raw[C4G_INIT_SIZE];
     c4g_pc_packet_t reply;
@@ -59,7 +66,8 @@ typedef struct outstanding {
 typedef struct stats {
     unsigned long sent, sync_sent, init_sent, cyclic_sent;
     unsigned long replies_ok, missing, late, wrong_num, malformed, foreign, duplicates, stale;
-    unsigned long unexpected, consecutive, max_consecutive, overruns, rx_total;
+    unsigned long unexpected, consecutive, max_consecutive, overruns, rx_total, unjudged;
+    uint64_t overrun_max;
     unsigned long fault[F_COUNT];
     unsigned long paused_ticks;
     uint64_t lat_min, lat_max, lat_sum;
@@ -89,6 +97,9 @@ typedef struct app {
     int32_t sent_modes[C4G_MAX_AXES]; /* modes of the last cyclic packet sent */
     sim_rng_t frng;
     int32_t prev_num;        /* NUM of the packet before the outstanding one */
+    int kstamp;              /* kernel send/receive timestamps (SO_TIMESTAMPING) are on */
+    uint32_t tx_seq;         /* SO_TIMESTAMPING id of the next sendto */
+    uint64_t tol_ns;         /* own lateness beyond which a tick is an overrun */
     int detected;            /* policy "either": the one the PC showed first, -1 none yet */
 } app_t;
 
@@ -217,7 +228,8 @@ static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
     }
 }
 
-static void raw_send(app_t *a, const uint8_t *buf, size_t len)
+/* Returns 1 and the SO_TIMESTAMPING id of the datagram in @p key if it went out. */
+static int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key)
 {
     ssize_t n = sendto(a->fd, buf, len, 0, (const struct sockaddr *)&a->srv, sizeof a->srv);
     if (n < 0 && errno != ECONNREFUSED) {
@@ -227,9 +239,17 @@ static void raw_send(app_t *a, const uint8_t *buf, size_t len)
             sim_all_drive_off(&a->sim);
             a->sim.fatal = 1;
         }
-        return;
+        return 0;
     }
     pcap_record(a, 1, &a->srv, buf, len);
+    if (n < 0) {
+        return 0;
+    }
+    if (key != NULL) {
+        *key = a->tx_seq;
+    }
+    a->tx_seq++; /* the kernel numbers every datagram sent, from 0 */
+    return 1;
 }
 
 static int roll(app_t *a, enum fault f)
@@ -249,7 +269,7 @@ static void queue_pending(app_t *a, const uint8_t *buf, size_t len, uint64_t due
             return;
         }
     }
-    raw_send(a, buf, len); /* queue full: send now */
+    (void)raw_send(a, buf, len, NULL); /* queue full: send now */
 }
 
 static int32_t get_num(const uint8_t *b);
@@ -269,11 +289,13 @@ static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
     return entry;
 }
 
-/* Send one of our packets through fault injection. */
-static void send_packet(app_t *a, const uint8_t *pkt, size_t len)
+/* Send one of our packets through fault injection. Returns 1 (and the datagram's
+ * SO_TIMESTAMPING id in @p key) if it went out now, unaltered in time. */
+static int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key)
 {
     uint8_t buf[C4G_INIT_SIZE];
     int held_now = 0;
+    int now = 0;
     memcpy(buf, pkt, len);
     a->st.sent++;
     if (a->out.kind == OK_CYCLIC && mode_entry(a, pkt, len) && a->entry_fault != 0) {
@@ -308,17 +330,18 @@ static void send_packet(app_t *a, const uint8_t *pkt, size_t len)
         queue_pending(a, buf, len, now_ns() + (uint64_t)a->delay_us * 1000U);
         a->st.fault[F_DELAY]++;
     } else {
-        raw_send(a, buf, len);
+        now = raw_send(a, buf, len, key);
         if (roll(a, F_DUP)) {
-            raw_send(a, buf, len);
+            (void)raw_send(a, buf, len, NULL);
             a->st.fault[F_DUP]++;
         }
     }
 flush_held:
     if (a->held.used && !held_now) {
-        raw_send(a, a->held.buf, a->held.len);
+        (void)raw_send(a, a->held.buf, a->held.len, NULL);
         a->held.used = 0;
     }
+    return now;
 }
 
 /* ---- replies ------------------------------------------------------------- */
@@ -350,7 +373,10 @@ static int num_ok(const app_t *a, int32_t sent, int32_t got)
     }
 }
 
-/* A reply to one of the 16 packets before the outstanding one (it came too late). */
+/* A reply to one of the STALE_WINDOW packets before the outstanding one: it came too late.
+ * Wide enough for a PC that a busy host stopped for a second and that then answers the
+ * backlog (NUM counts to 0x7FFF, so a wrong NUM is still told apart). */
+#define STALE_WINDOW 512
 static int is_stale(const app_t *a, int32_t cur, int32_t got)
 {
     int p;
@@ -362,7 +388,7 @@ static int is_stale(const app_t *a, int32_t cur, int32_t got)
             continue;
         }
         d = (cur - sent + 0x8000) % 0x8000;
-        if (d >= 1 && d <= 16) {
+        if (d >= 1 && d <= STALE_WINDOW) {
             return 1;
         }
     }
@@ -434,11 +460,13 @@ static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct soc
         }
         break;
     }
-    if (o->answered) {
+    if (o->got) {
         a->st.duplicates++;
         return;
     }
-    o->answered = 1;
+    /* Judged at the next tick against the packet's deadline (evaluate), by arrival time. */
+    o->got = 1;
+    o->got_ns = t;
     /* "either" locks on the init echo: its 1200 bytes cannot be confused with a late
      * reply to a sync packet, so its NUM (11 or 10) shows the PC's policy. */
     if (o->kind == OK_INIT && a->sim.cfg.policy == SIM_NUM_EITHER) {
@@ -447,21 +475,106 @@ static void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct soc
     if (o->kind == OK_CYCLIC) {
         o->reply = pkt;
     }
-    {
-        const uint64_t lat = t - o->sent_ns;
-        if (lat > (uint64_t)a->sim.cfg.t_cycle1_us * 1000U) {
-            a->st.late++;
+}
+
+static uint64_t ts_ns(const struct timespec *ts)
+{
+    return (uint64_t)ts->tv_sec * 1000000000ULL + (uint64_t)ts->tv_nsec;
+}
+
+/* CLOCK_REALTIME minus CLOCK_MONOTONIC: kernel timestamps are real time, the tick grid is
+ * monotonic. The real-time read sits between two monotonic reads; the narrowest of three
+ * brackets wins, so a preemption between the reads does not shift the offset. */
+static uint64_t real_minus_mono(void)
+{
+    uint64_t best = 0, width = UINT64_MAX;
+    int i;
+    for (i = 0; i < 3 && width > 2000U; i++) {
+        struct timespec r;
+        const uint64_t m1 = now_ns();
+        uint64_t m2;
+        clock_gettime(CLOCK_REALTIME, &r);
+        m2 = now_ns();
+        if (m2 - m1 < width) {
+            width = m2 - m1;
+            best = ts_ns(&r) - (m1 + (m2 - m1) / 2U);
         }
-        if (a->st.replies_ok == 0U || lat < a->st.lat_min) {
-            a->st.lat_min = lat;
-        }
-        if (lat > a->st.lat_max) {
-            a->st.lat_max = lat;
-        }
-        a->st.lat_sum += lat;
-        a->st.lat_hist[(lat / 1000U < LAT_BINS - 1U) ? lat / 1000U : LAT_BINS - 1U]++;
     }
-    a->st.replies_ok++;
+    return best;
+}
+
+/* The software timestamp of a received or error-queue message, on the monotonic clock;
+ * 0 if there is none. Sets @p key for a send timestamp from the error queue. */
+static uint64_t msg_stamp(struct msghdr *m, uint64_t off, int *has_key, uint32_t *key)
+{
+    struct cmsghdr *c;
+    uint64_t t = 0;
+    for (c = CMSG_FIRSTHDR(m); c != NULL; c = CMSG_NXTHDR(m, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPING) {
+            struct scm_timestamping st;
+            memcpy(&st, CMSG_DATA(c), sizeof st);
+            t = ts_ns(&st.ts[0]);
+        } else if (has_key != NULL && c->cmsg_level == IPPROTO_IP && c->cmsg_type == IP_RECVERR) {
+            struct sock_extended_err e;
+            memcpy(&e, CMSG_DATA(c), sizeof e);
+            if (e.ee_origin == SO_EE_ORIGIN_TIMESTAMPING) {
+                *has_key = 1;
+                *key = e.ee_data;
+            }
+        }
+    }
+    return (t > off) ? t - off : 0U;
+}
+
+/* Read everything that has arrived, each datagram with its kernel arrival time, so a reply
+ * that waited in the socket while the simulator was descheduled keeps its real time; then
+ * the send timestamps of our own datagrams. */
+static void drain(app_t *a)
+{
+    const uint64_t off = a->kstamp ? real_minus_mono() : 0U;
+    int errq;
+    for (errq = 0; errq < 2; errq++) {
+        for (;;) {
+            uint8_t buf[MAX_DGRAM];
+            union { char c[256]; struct cmsghdr align; } ctl;
+            struct sockaddr_in from;
+            struct iovec iov;
+            struct msghdr m;
+            ssize_t n;
+            uint64_t t, now;
+            int has_key = 0;
+            uint32_t key = 0;
+            memset(&m, 0, sizeof m);
+            memset(&from, 0, sizeof from);
+            iov.iov_base = buf;
+            iov.iov_len = sizeof buf;
+            m.msg_name = &from;
+            m.msg_namelen = sizeof from;
+            m.msg_iov = &iov;
+            m.msg_iovlen = 1;
+            m.msg_control = ctl.c;
+            m.msg_controllen = sizeof ctl.c;
+            n = recvmsg(a->fd, &m, MSG_DONTWAIT | (errq ? MSG_ERRQUEUE : 0));
+            if (n < 0) {
+                break;
+            }
+            t = a->kstamp ? msg_stamp(&m, off, errq ? &has_key : NULL, &key) : 0U;
+            now = now_ns();
+            if (errq) {
+                outstanding_t *o = &a->out;
+                /* the send happened after the clock read in emit and before now */
+                if (has_key && o->active && o->has_key && key == o->tx_key && t != 0U &&
+                    t + 200000U >= o->sent_ns && t <= now) {
+                    o->sent_ns = t;
+                }
+                continue;
+            }
+            handle_rx(a, buf, (size_t)n, &from, (t != 0U && t <= now) ? t : now);
+        }
+        if (!a->kstamp) {
+            break;
+        }
+    }
 }
 
 /* Receive (and release delayed packets) until @p until. */
@@ -475,7 +588,7 @@ static void window(app_t *a, uint64_t until)
         struct timeval tv;
         for (i = 0; i < MAX_PENDING; i++) {
             if (a->pend[i].used && a->pend[i].due_ns <= t) {
-                raw_send(a, a->pend[i].buf, a->pend[i].len);
+                (void)raw_send(a, a->pend[i].buf, a->pend[i].len, NULL);
                 a->pend[i].used = 0;
             } else if (a->pend[i].used && a->pend[i].due_ns < wake) {
                 wake = a->pend[i].due_ns;
@@ -489,24 +602,17 @@ static void window(app_t *a, uint64_t until)
         tv.tv_sec = (time_t)((wake - t) / 1000000000U);
         tv.tv_usec = (suseconds_t)(((wake - t) % 1000000000U) / 1000U);
         if (select(a->fd + 1, &rf, NULL, NULL, &tv) > 0) {
-            for (;;) {
-                uint8_t buf[MAX_DGRAM];
-                struct sockaddr_in from;
-                socklen_t fl = sizeof from;
-                ssize_t n = recvfrom(a->fd, buf, sizeof buf, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
-                if (n < 0) {
-                    break;
-                }
-                handle_rx(a, buf, (size_t)n, &from, now_ns());
-            }
+            drain(a);
         }
     }
 }
 
-/* At a tick boundary: was the outstanding packet answered? */
-static void evaluate(app_t *a)
+/* At a tick boundary (the simulator woke at @p woke, everything that arrived is read):
+ * did the reply to the outstanding packet arrive by its deadline? */
+static void evaluate(app_t *a, uint64_t woke)
 {
     outstanding_t *o = &a->out;
+    int own_late;
     if (!o->active) {
         return;
     }
@@ -515,17 +621,54 @@ static void evaluate(app_t *a)
     if (!o->check || sim_checks_suspended(&a->sim)) {
         return;
     }
-    if (o->answered) {
+    /* Woken past the deadline, the simulator could not see it pass: a reply that was there
+     * when it looked counts, and no reply is not the PC's fault alone (the whole host may
+     * have stalled). */
+    own_late = woke > o->deadline_ns && woke - o->deadline_ns > a->tol_ns;
+    if (o->got && o->got_ns <= (own_late ? woke : o->deadline_ns)) {
+        const uint64_t lat = (o->got_ns > o->sent_ns) ? o->got_ns - o->sent_ns : 0U;
+        o->answered = 1;
         a->st.consecutive = 0;
+        if (lat > (uint64_t)a->sim.cfg.t_cycle1_us * 1000U) {
+            a->st.late++;
+        }
+        if (a->st.replies_ok == 0U || lat < a->st.lat_min) {
+            a->st.lat_min = lat;
+        }
+        if (lat > a->st.lat_max) {
+            a->st.lat_max = lat;
+        }
+        a->st.lat_sum += lat;
+        a->st.lat_hist[(lat / 1000U < LAT_BINS - 1U) ? lat / 1000U : LAT_BINS - 1U]++;
+        a->st.replies_ok++;
         return;
     }
-    a->st.missing++;
+    if (o->got) {
+        a->st.stale++; /* it came, after its deadline */
+    }
+    /* Unjudged or missing, it is a packet without a reply: both extend the run that ends
+     * in ERR_C4GOPEN_UDP; only a missing one is the PC's fault (ERR_C4GOPEN_UDP_DEBUG). */
     a->st.consecutive++;
-    a->sim.udp_debug++;
-    if (a->verbose) {
-        fprintf(stderr, "c4g-sim: %s: %s (NUM %d, %lu in a row)\n",
-                c4g_ctrl_error_name(C4G_CERR_UDP_DEBUG), c4g_ctrl_error_message(C4G_CERR_UDP_DEBUG),
-                o->num, a->st.consecutive);
+    if (own_late) {
+        a->st.unjudged++;
+        if (a->verbose) {
+            fprintf(stderr, "c4g-sim: no reply to NUM %d by a deadline the simulator overran "
+                            "itself (%.1f ms late; %lu in a row)\n", o->num,
+                    (double)(woke - o->deadline_ns) / 1e6, a->st.consecutive);
+        }
+    } else {
+        a->st.missing++;
+        a->sim.udp_debug++;
+        if (a->verbose) {
+            fprintf(stderr, "c4g-sim: %s: %s (NUM %d, %lu in a row; ", c4g_ctrl_error_name(C4G_CERR_UDP_DEBUG),
+                    c4g_ctrl_error_message(C4G_CERR_UDP_DEBUG), o->num, a->st.consecutive);
+            if (o->got) {
+                fprintf(stderr, "the reply came %.1f us after the packet, %.1f us after the deadline)\n",
+                        (double)(o->got_ns - o->sent_ns) / 1e3, (double)(o->got_ns - o->deadline_ns) / 1e3);
+            } else {
+                fprintf(stderr, "no reply %.1f us after the packet)\n", (double)(woke - o->sent_ns) / 1e3);
+            }
+        }
     }
     if (a->st.consecutive > a->st.max_consecutive) {
         a->st.max_consecutive = a->st.consecutive;
@@ -545,6 +688,8 @@ static void emit(app_t *a, out_kind_t kind, int32_t num, const uint8_t *buf, siz
     o->kind = kind;
     o->num = num;
     o->answered = 0;
+    o->got = 0;
+    o->deadline_ns = UINT64_MAX; /* set by the tick loop once the next tick is known */
     o->len = len;
     memcpy(o->raw, buf, len);
     o->sent_ns = now_ns();
@@ -555,7 +700,7 @@ static void emit(app_t *a, out_kind_t kind, int32_t num, const uint8_t *buf, siz
     } else {
         a->st.cyclic_sent++;
     }
-    send_packet(a, buf, len);
+    o->has_key = send_packet(a, buf, len, &o->tx_key);
 }
 
 static void csv_header(app_t *a)
@@ -652,18 +797,20 @@ static void summary(app_t *a, int code, const char *result, double cpu_s)
         fprintf(f, "\"period_ms\":%d,\"axes\":%d,\"ticks\":%lu,\"packets\":{\"sent\":%lu,\"sync\":%lu,"
                    "\"init\":%lu,\"cyclic\":%lu},", s->cfg.period_ms, s->n_axes, s->tick, st->sent,
                 st->sync_sent, st->init_sent, st->cyclic_sent);
-        fprintf(f, "\"replies\":{\"ok\":%lu,\"missing\":%lu,\"late\":%lu,\"wrong_num\":%lu,"
+        fprintf(f, "\"replies\":{\"ok\":%lu,\"missing\":%lu,\"late\":%lu,\"unjudged\":%lu,\"wrong_num\":%lu,"
                    "\"malformed\":%lu,\"foreign\":%lu,\"duplicates\":%lu,\"stale\":%lu,\"unexpected\":%lu,"
                    "\"max_consecutive_missing\":%lu,\"latency_us\":{\"min\":%.1f,\"avg\":%.1f,\"p50\":%.0f,"
                    "\"p99\":%.0f,\"p999\":%.0f,\"max\":%.1f}},",
-                st->replies_ok, st->missing, st->late, st->wrong_num, st->malformed, st->foreign,
+                st->replies_ok, st->missing, st->late, st->unjudged, st->wrong_num, st->malformed, st->foreign,
                 st->duplicates, st->stale, st->unexpected, st->max_consecutive,
                 (double)st->lat_min / 1000.0, lat_avg, p50, p99, p999, (double)st->lat_max / 1000.0);
-        fprintf(f, "\"num_policy\":\"%s\",\"pc_policy\":\"%s\",\"udp_debug\":%lu,\"overruns\":%lu,\"paused_ticks\":%lu,"
+        fprintf(f, "\"num_policy\":\"%s\",\"pc_policy\":\"%s\",\"udp_debug\":%lu,\"overruns\":%lu,"
+                   "\"overrun_max_us\":%.1f,\"timestamps\":\"%s\",\"paused_ticks\":%lu,"
                    "\"mode_rejected\":%lu,\"mode_mismatch\":%lu,\"faults\":{",
                 s->cfg.policy == SIM_NUM_ECHO ? "echo" : s->cfg.policy == SIM_NUM_PLUS_ONE ? "plus-one" : "either",
                 a->detected == SIM_NUM_ECHO ? "echo" : a->detected == SIM_NUM_PLUS_ONE ? "plus-one" : "unknown",
-                s->udp_debug, st->overruns, st->paused_ticks, s->mode_rejected, s->mode_mismatch);
+                s->udp_debug, st->overruns, (double)st->overrun_max / 1000.0, a->kstamp ? "kernel" : "user",
+                st->paused_ticks, s->mode_rejected, s->mode_mismatch);
         for (i = 0; i < F_COUNT; i++) {
             fprintf(f, "%s\"%s\":%lu", i ? "," : "", fault_names[i], st->fault[i]);
         }
@@ -692,9 +839,11 @@ static void summary(app_t *a, int code, const char *result, double cpu_s)
     printf("  ticks %lu, period %d ms, %d open axes\n", s->tick, s->cfg.period_ms, s->n_axes);
     printf("  sent %lu (sync %lu, init %lu, cyclic %lu)\n", st->sent, st->sync_sent, st->init_sent,
            st->cyclic_sent);
-    printf("  replies ok %lu, missing %lu, late %lu, wrong NUM %lu, malformed %lu, foreign %lu, "
-           "duplicates %lu, stale %lu\n", st->replies_ok, st->missing, st->late, st->wrong_num,
-           st->malformed, st->foreign, st->duplicates, st->stale);
+    printf("  replies ok %lu, missing %lu, late %lu, unjudged %lu, wrong NUM %lu, malformed %lu, "
+           "foreign %lu, duplicates %lu, stale %lu\n", st->replies_ok, st->missing, st->late,
+           st->unjudged, st->wrong_num, st->malformed, st->foreign, st->duplicates, st->stale);
+    printf("  own overruns %lu (worst %.1f us after the tick), %s timestamps\n", st->overruns,
+           (double)st->overrun_max / 1000.0, a->kstamp ? "kernel" : "user-space");
     printf("  reply latency us: min %.1f avg %.1f p50 %.0f p99 %.0f p99.9 %.0f max %.1f; max consecutive missing %lu\n",
            (double)st->lat_min / 1000.0, lat_avg, p50, p99, p999, (double)st->lat_max / 1000.0,
            st->max_consecutive);
@@ -1014,6 +1163,24 @@ int main(int argc, char **argv)
     }
     a->local_port = ntohs(la.sin_port);
     a->local_ip = ntohl(la.sin_addr.s_addr);
+    {
+        /* Replies are judged by their kernel arrival time and our packets by their kernel
+         * send time, so the simulator's own scheduling delays are not charged to the PC.
+         * If the kernel refuses them: clock reads in user space. */
+        const unsigned ts = SOF_TIMESTAMPING_RX_SOFTWARE | SOF_TIMESTAMPING_TX_SOFTWARE |
+                            SOF_TIMESTAMPING_SOFTWARE | SOF_TIMESTAMPING_OPT_ID |
+                            SOF_TIMESTAMPING_OPT_TSONLY;
+        const uint64_t p = (uint64_t)cfg.period_ms * 1000000U;
+        const uint64_t b = (uint64_t)cfg.t_cycle1_us * 1000U;
+        a->kstamp = setsockopt(a->fd, SOL_SOCKET, SO_TIMESTAMPING, &ts, sizeof ts) == 0;
+        if (!a->kstamp && a->verbose) {
+            fprintf(stderr, "c4g-sim: no kernel timestamps (%s): reply times from user space\n",
+                    strerror(errno));
+        }
+        /* a late start up to min(t-cycle1, period - t-cycle1) still leaves a PC that answers
+         * within t-cycle1 before the next tick */
+        a->tol_ns = (b < p) ? ((b < p - b) ? b : p - b) : p / 2U;
+    }
     if (a->local_ip == 0U) {
         /* Bound to any: the source address the kernel picks towards the server. */
         int t = socket(AF_INET, SOCK_DGRAM, 0);
@@ -1056,7 +1223,9 @@ int main(int argc, char **argv)
         uint8_t buf[C4G_INIT_SIZE];
         size_t len = 0;
         c4g_ctrl_packet_t pkt;
-        evaluate(a);
+        const uint64_t woke = now_ns();
+        drain(a);
+        evaluate(a, woke);
         if (a->sim.fatal) {
             break;
         }
@@ -1137,13 +1306,22 @@ int main(int argc, char **argv)
             break;
         }
         }
-        deadline += (uint64_t)cfg.period_ms * 1000000U;
         {
+            /* The simulator's own overrun: its packet left so late that a PC answering within
+             * t-cycle1 could miss the next tick. No burst to catch up: the grid restarts at
+             * the send, so the PC always gets its period. */
             const uint64_t t = now_ns();
-            if (t > deadline) {
+            if (t > deadline && t - deadline > a->tol_ns) {
                 a->st.overruns++;
-                deadline = t;   /* no burst to catch up: restart the grid here */
+                if (t - deadline > a->st.overrun_max) {
+                    a->st.overrun_max = t - deadline;
+                }
+                deadline = t;
             }
+        }
+        deadline += (uint64_t)cfg.period_ms * 1000000U;
+        if (a->out.active) {
+            a->out.deadline_ns = deadline;
         }
         window(a, deadline);
         {
@@ -1154,8 +1332,12 @@ int main(int argc, char **argv)
             }
         }
     }
-    if (!a->sim.fatal && !g_stop) {
-        evaluate(a); /* the last packet had its window */
+    if (!a->sim.fatal) {
+        const uint64_t woke = now_ns();
+        drain(a); /* what arrived before the end (or the signal) is counted */
+        if (!g_stop) {
+            evaluate(a, woke); /* the last packet had its window */
+        }
     }
     if (a->sim.fatal) {
         sim_all_drive_off(&a->sim);

@@ -2,7 +2,10 @@
 /* ref_pc: a tiny reference C4G Open PC server for the c4g-sim end-to-end tests, built on
  * the library's session engine (recvfrom -> c4g_session_rx -> reply -> sendto). It can
  * misbehave on purpose (no reply, wrong NUM, stop after N, drop the Nth, request a mode)
- * and plays a minimal PC role in every supported mode so the scenarios can finish. */
+ * and plays a minimal PC role in every supported mode so the scenarios can finish. It
+ * counts its own slow replies (sent more than 1 ms after the packet's kernel arrival time;
+ * with --slow-us each one is logged with its NUM), so a test can tell a late PC from a
+ * simulator that blames the PC. */
 #include <arpa/inet.h>
 #include <errno.h>
 #include <math.h>
@@ -33,7 +36,7 @@ static void usage(void)
     fprintf(stderr,
             "usage: ref_pc -p PORT [--echo] [--no-reply] [--wrong-num] [--stop-after N]\n"
             "              [--drop-nth N] [--exit-after K] [--request MODE@N] [--idle-ms MS]\n"
-            "              [--max-s S] [--bind ADDR]\n");
+            "              [--max-s S] [--bind ADDR] [--slow-us US]\n");
 }
 
 typedef struct axstate {
@@ -59,6 +62,11 @@ int main(int argc, char **argv)
     long req_at = -1;
     long idle_ms = 3000;
     long max_s = 55;
+    long slow_us = 1000;
+    int log_slow = 0;
+    unsigned long slow = 0;
+    uint64_t worst_ns = 0;
+    const int on = 1;
     unsigned long rx_total = 0;
     unsigned long replied = 0;
     unsigned long cyclic = 0;
@@ -72,7 +80,6 @@ int main(int argc, char **argv)
     uint64_t start;
     uint64_t last_rx;
     axstate_t ax[C4G_MAX_AXES];
-    int exit_sent[C4G_ARMS] = {0, 0, 0, 0};
 
     (void)c4g_session_config_default(&cfg);
     for (i = 1; i < argc; i++) {
@@ -92,6 +99,7 @@ int main(int argc, char **argv)
         }
         else if (strcmp(o, "--idle-ms") == 0 && v) { idle_ms = atol(v); i++; }
         else if (strcmp(o, "--max-s") == 0 && v) { max_s = atol(v); i++; }
+        else if (strcmp(o, "--slow-us") == 0 && v) { slow_us = atol(v); log_slow = 1; i++; }
         else { usage(); return 2; }
     }
     if (port == 0U) { usage(); return 2; }
@@ -107,8 +115,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "ref_pc: bind %s:%u: %s\n", bind_addr, port, strerror(errno));
         return 1;
     }
+    (void)setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on);
     signal(SIGINT, on_sig);
     signal(SIGTERM, on_sig);
+    /* the tests start the controller once this line is out: no datagram races the bind */
+    fprintf(stderr, "ref_pc: listening on %s:%u\n", bind_addr, port);
     start = last_rx = now_ns();
     while (!stop_flag && !ended) {
         uint8_t buf[2048];
@@ -116,6 +127,11 @@ int main(int argc, char **argv)
         size_t olen = 0;
         struct sockaddr_in from;
         socklen_t fl = sizeof from;
+        struct timespec arrived = {0, 0};
+        union { char c[128]; struct cmsghdr align; } ctl;
+        struct iovec iov;
+        struct msghdr m;
+        struct cmsghdr *c;
         fd_set rf;
         struct timeval tv = {0, 100000};
         ssize_t n;
@@ -128,8 +144,23 @@ int main(int argc, char **argv)
         FD_ZERO(&rf);
         FD_SET(fd, &rf);
         if (select(fd + 1, &rf, NULL, NULL, &tv) <= 0) { continue; }
-        n = recvfrom(fd, buf, sizeof buf, 0, (struct sockaddr *)&from, &fl);
+        memset(&m, 0, sizeof m);
+        iov.iov_base = buf;
+        iov.iov_len = sizeof buf;
+        m.msg_name = &from;
+        m.msg_namelen = fl;
+        m.msg_iov = &iov;
+        m.msg_iovlen = 1;
+        m.msg_control = ctl.c;
+        m.msg_controllen = sizeof ctl.c;
+        n = recvmsg(fd, &m, 0);
         if (n < 0) { continue; }
+        fl = m.msg_namelen;
+        for (c = CMSG_FIRSTHDR(&m); c != NULL; c = CMSG_NXTHDR(&m, c)) {
+            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+                memcpy(&arrived, CMSG_DATA(c), sizeof arrived);
+            }
+        }
         t = now_ns();
         last_rx = t;
         rx_total++;
@@ -142,6 +173,9 @@ int main(int argc, char **argv)
             c4g_pc_packet_t tx;
             const float T = (float)s.init.period_ms / 1000.0F;
             cyclic++;
+            if (cyclic == 1U) {
+                fprintf(stderr, "ref_pc: cyclic from NUM %d\n", (int)p->num);
+            }
             (void)c4g_pc_reply_neutral(p, &tx);
             for (i = 0; i < (int)p->n_axes; i++) {
                 const c4g_ctrl_axis_t *x = &p->ax[i];
@@ -157,10 +191,6 @@ int main(int argc, char **argv)
                         st->hold = x->actual_pos;
                         st->integ = 0.0F;
                         st->acc = 0.0F;
-                    }
-                    if (x->mode == 1 || x->mode == 2 || x->mode == 4 || x->mode == 5 || x->mode == 7 ||
-                        x->mode == 8 || x->mode == 9) {
-                        exit_sent[arm] = 0;
                     }
                     st->last_mode = x->mode;
                 }
@@ -203,12 +233,14 @@ int main(int argc, char **argv)
                 default:
                     break;
                 }
+                /* held until the controller leaves the mode (as the library's control
+                 * layer does): one reply that comes too late must not lose the request */
                 if ((x->mode == 1 || x->mode == 4 || x->mode == 5 || x->mode == 7 || x->mode == 8 ||
-                     x->mode == 9) && exit_after > 0 && (long)k >= exit_after && !exit_sent[arm]) {
+                     x->mode == 9) && exit_after > 0 && (long)k >= exit_after) {
                     tx.infpar = c4g_arm_byte_set(tx.infpar, (uint32_t)arm, C4G_EXIT_FROM_OPEN);
-                    exit_sent[arm] = 1;
                 }
-                if (req_mode >= 0 && (long)cyclic == req_at) {
+                /* from packet N on, so one late reply does not lose the request */
+                if (req_mode >= 0 && req_at >= 0 && (long)cyclic >= req_at) {
                     tx.ax[i].mode = (int32_t)req_mode;
                 }
             }
@@ -227,12 +259,27 @@ int main(int argc, char **argv)
             out[1] = (uint8_t)(w >> 8);
         }
         if (sendto(fd, out, olen, 0, (struct sockaddr *)&from, fl) == (ssize_t)olen) {
+            struct timespec sent;
+            clock_gettime(CLOCK_REALTIME, &sent);
+            if (arrived.tv_sec != 0) {
+                const int64_t d = ((int64_t)sent.tv_sec - (int64_t)arrived.tv_sec) * 1000000000LL +
+                                  ((int64_t)sent.tv_nsec - (int64_t)arrived.tv_nsec);
+                if (d > slow_us * 1000LL) {
+                    slow++;
+                    if (log_slow) {
+                        fprintf(stderr, "ref_pc: slow reply to NUM %d: %.1f us\n",
+                                (int)(buf[0] | (buf[1] << 8)), (double)d / 1000.0);
+                    }
+                }
+                if (d > 0 && (uint64_t)d > worst_ns) { worst_ns = (uint64_t)d; }
+            }
             replied++;
             (void)c4g_session_sent(&s, now_ns());
         }
     }
-    fprintf(stderr, "ref_pc: rx %lu sync %lu init %lu cyclic %lu replied %lu dropped %lu ended %d\n",
-            rx_total, syncs, inits, cyclic, replied, dropped, ended);
+    fprintf(stderr, "ref_pc: rx %lu sync %lu init %lu cyclic %lu replied %lu dropped %lu ended %d "
+            "slow %lu worst %.1f us\n", rx_total, syncs, inits, cyclic, replied, dropped, ended, slow,
+            (double)worst_ns / 1000.0);
     close(fd);
     return 0;
 }

@@ -71,14 +71,15 @@ static int32_t next_num(void)
     return num;
 }
 
-/* Wait for the reply to the datagram just sent; returns its length or -1. */
+/* Wait for the reply to the datagram just sent; returns its length or -1. Past the
+ * deadline the socket is still read without waiting: a stub descheduled by a busy host
+ * must not call a reply missing that already waits in it. */
 static ssize_t await(int32_t n, uint64_t t0, uint64_t deadline)
 {
     for (;;) {
         uint64_t t = now_ns(); struct pollfd p; ssize_t k; int ms;
-        if (t >= deadline) return -1;
-        ms = (int)((deadline - t + 999999) / 1000000); p.fd = fd; p.events = POLLIN;
-        if (poll(&p, 1, ms) <= 0) continue;
+        ms = (t >= deadline) ? 0 : (int)((deadline - t + 999999) / 1000000); p.fd = fd; p.events = POLLIN;
+        if (poll(&p, 1, ms) <= 0) { if (t >= deadline) return -1; continue; }
         k = recv(fd, rbuf, sizeof rbuf, 0);
         if (k < 4) { if (k >= 0) badf("short datagram", (long)k, 12); continue; }
         {
