@@ -430,6 +430,8 @@ c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t le
         } else {
             int other = 0;
             uint32_t was_silent = 0U;
+            uint32_t lost_ev;
+            c4g_counters_t before;
             if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
                 other = 1;
             }
@@ -439,6 +441,8 @@ c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t le
             if ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) {
                 was_silent = 1U;
             }
+            lost_ev = res->events;
+            before = s->counters;
             if (new_startup(s, buf, len, other) != 0) {
                 /* the old session is over: a new handshake, locked to whoever starts it */
                 s->phase = C4G_PHASE_WAIT_INIT;
@@ -449,6 +453,15 @@ c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t le
                 on_sync(s, buf, len, now_ns, res);
                 if (res->kind == C4G_RX_DROPPED) {
                     s->phase = C4G_PHASE_LOST; /* not a start-up after all */
+                    if (other != 0) {
+                        /* from a stranger it is foreign, not the controller's malformed datagram */
+                        s->counters = before;
+                        (void)memset(res, 0, sizeof *res);
+                        res->diag.arm = -1;
+                        res->diag.axis = -1;
+                        res->events |= lost_ev;
+                        on_foreign(s, len, res);
+                    }
                 } else {
                     s->peer_locked = 0U; /* accepted() locks to its sender */
                 }

@@ -755,11 +755,19 @@ static void test_lost_restart_new_endpoint(void **state)
     f.t += 1000 * MS;
     /* after the loss: an init first from the new endpoint is still foreign */
     expect_foreign(&f, fig, sizeof fig, &neu, C4G_FOREIGN_INIT);
-    /* a malformed start-up does not end the lost state */
+    /* a malformed start-up from a stranger does not end the lost state and is foreign */
     memset(b, 0, sizeof b);
     th_put_u32(&b[16], 0x7F800000u);
-    assert_int_equal(feed_from(&f, b, 48, &neu), C4G_RX_DROPPED);
-    assert_int_equal(f.s.phase, C4G_PHASE_LOST);
+    {
+        const uint64_t mal = f.s.counters.malformed_total;
+        expect_foreign(&f, b, 48, &neu, C4G_FOREIGN_CYCLIC);
+        assert_int_equal(f.s.phase, C4G_PHASE_LOST);
+        assert_int_equal(f.s.counters.malformed_total, mal);
+        /* the same bytes from the lost controller itself are its malformed datagram */
+        assert_int_equal(feed_from(&f, b, 48, &old), C4G_RX_DROPPED);
+        assert_int_equal(f.s.counters.malformed_total, mal + 1U);
+        assert_int_equal(f.s.phase, C4G_PHASE_LOST);
+    }
     cold_start_from_keep(&f, &neu);
     assert_true(f.s.peer.port == 40000);
     len = th_ctrl_bytes(b, sizeof b, 13, 6, 0);
