@@ -25,9 +25,9 @@ next_port() { PORT=$((PORT + 1)); }
 # wait_until SECONDS CMD...: polls CMD every 20 ms until it succeeds; fails after SECONDS
 # (a bound for a broken run, never a timing assertion: a loaded host only makes it slower)
 wait_until() {
-  lim=$(( $1 * 50 )); shift; n=0
+  _wu_lim=$(( $1 * 50 )); shift; _wu_n=0
   until "$@"; do
-    n=$((n + 1)); [ $n -ge $lim ] && return 1
+    _wu_n=$((_wu_n + 1)); [ $_wu_n -ge $_wu_lim ] && return 1
     sleep 0.02
   done
 }
