@@ -44,7 +44,19 @@ run_sim arms 31019 fixtures/server/sim_two_arms.scn --arm 1 --axes 1,2 --sine 0.
 ok "two arms: sim scenario passed" eq "$SIMRC" 0
 ok "two arms: arm 1 axis 1 moved +0.25" near "$(simpos "$T/arms.sim.json" 1)" 0.25 0.02
 ok "two arms: arm 1 axis 3 (not selected) stayed" near "$(simpos "$T/arms.sim.json" 3)" 0 0.02
-ok "two arms: arm 2 axis 1 (OPEN index 7) offset +0.1" near "$(simpos "$T/arms.sim.json" 7)" 0.1 0.02
+# mode 7 integrates the additions of the replies that arrived in time: with every reply in
+# time the offset is exact; a host that stalled the server loses the additions of the late
+# replies (the controller's rule), never adds any: the arm then ends between 0 and +0.1
+late=$(( $(jv "$T/arms.sim.json" missing) + $(jv "$T/arms.sim.json" stale) + $(jv "$T/arms.sim.json" unjudged) ))
+for ix in 7 10; do
+    if [ "$late" -eq 0 ]; then
+        ok "two arms: arm 2 OPEN index $ix offset +0.1" near "$(simpos "$T/arms.sim.json" $ix)" 0.1 0.02
+    else
+        echo "       ($late replies late on a loaded host: arm 2 short of +0.1 by the lost additions)"
+        ok "two arms: arm 2 OPEN index $ix offset in (0, +0.1]" \
+            awk -v p="$(simpos "$T/arms.sim.json" $ix)" 'BEGIN { exit !(p > 0 && p <= 0.1 + 0.0005) }'
+    fi
+done
 ok "two arms: EXIT_FROM_OPEN sent on both arms" has "$T/arms.json" '"exits_sent":\[[1-9][0-9]*,[1-9]'
 ok "two arms: server ended by 504" eq "$SRC" 0
 [ "$FAILS" -eq "$F0" ] || dump arms
