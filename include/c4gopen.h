@@ -55,7 +55,7 @@ extern "C" {
 #define C4G_VERSION_STRING "0.2.0"
 /**@}*/
 
-/** @name Protocol constants (manual chapters 8 and 10, FIELD-FACTS) */
+/** @name Protocol constants (manual chapters 8 and 10, field facts) */
 /**@{*/
 #define C4G_ARMS 4U                /**< arms a controller can have */
 #define C4G_AXES_PER_ARM 10U       /**< logical axes per arm (GBM_NAX_ARM) */
@@ -205,13 +205,13 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
                            size_t *out_len);
 
 /**
- * The neutral reply to @p rx (FIELD-FACTS): same NUM (the session applies the NUM
+ * The neutral reply to @p rx (field facts): same NUM (the session applies the NUM
  * policy), INFPAR = CMD = 0, each axis's mode echoed, data zero; in mode 10 (debug
  * echo) D1..D5 are copied back.
  */
 c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx);
 
-/** The initialization packet (FIELD-FACTS order; indices [arm][logical axis]). */
+/** The initialization packet (field facts order; indices [arm][logical axis]). */
 typedef struct c4g_init {
     int32_t num;            /**< nblip, must be 10 */
     int32_t n_field_pck;    /**< must be 3 */
@@ -530,7 +530,7 @@ const char *c4g_ctrl_error_message(c4g_ctrl_error_t err);
 /** Manual description (table 17.1, third column). */
 const char *c4g_ctrl_error_description(c4g_ctrl_error_t err);
 
-/** @name Mode codes (FIELD-FACTS; manual chapters 14 and 15) */
+/** @name Mode codes (field facts; manual chapters 14 and 15) */
 /**@{*/
 #define C4G_MODE_0 0              /**< SMP+ trajectory and loops; PC data ignored */
 #define C4G_MODE_0_DEBUG 10       /**< mode 0': debug echo, PC copies D1, D2 back */
@@ -564,7 +564,7 @@ const char *c4g_ctrl_error_description(c4g_ctrl_error_t err);
 #define C4G_MODE_FOLLOW_ERROR 508 /**< PC request: following error */
 /**@}*/
 
-/** 1 if @p mode is a mode code the protocol defines (FIELD-FACTS list), else 0. */
+/** 1 if @p mode is a mode code the protocol defines (field facts list), else 0. */
 int c4g_mode_is_known(int32_t mode);
 
 #ifdef __cplusplus

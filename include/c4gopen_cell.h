@@ -79,7 +79,7 @@ typedef int32_t c4g_cell_status_t;
 #define C4G_CELL_AXES_MAX 4U
 /**@}*/
 
-/** @name Line lengths including CR LF (spec section 4; HND CLOSE is 16, FIELD-FACTS) */
+/** @name Line lengths including CR LF (spec section 4; HND CLOSE is 16, field facts) */
 /**@{*/
 #define C4G_CELL_LEN_STA 5U
 #define C4G_CELL_LEN_SRV 7U

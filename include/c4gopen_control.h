@@ -18,7 +18,7 @@
  *
  * REQUIRED FIELDS AND THE "UNSET" MARKER
  *   c4g_ctl_step writes a quiet NaN with a reserved payload (C4G_UNSET_BITS) into every
- *   field the outgoing mode requires (FIELD-FACTS "What the PC must fill per mode"). A field
+ *   field the outgoing mode requires (field facts "What the PC must fill per mode"). A field
  *   still unset at c4g_ctl_finish means the data of the mode is missing: the arm is sent a
  *   drive-off request (505) instead, and C4G_ERR_CTL_MISSING_DATA is returned. So the data of
  *   a new mode is always present in the first packet that carries the mode.

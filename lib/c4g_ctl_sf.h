@@ -28,7 +28,7 @@ static inline uint32_t sfc_sym(float v, float lim, uint32_t flag, float *out)
     return r;
 }
 
-/* err = |ref - mis|; a threshold of 0 means none (FIELD-FACTS); an overflowing
+/* err = |ref - mis|; a threshold of 0 means none (field facts); an overflowing
  * difference is certainly too far. */
 static inline uint32_t sfc_follow_error(float ref, float mis, float threshold, float *err)
 {

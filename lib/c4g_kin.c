@@ -36,7 +36,7 @@ c4g_status_t c4g_kin_from_init(const c4g_init_t *init, uint32_t arm, c4g_kin_t *
                 kin->cal[i] = (double)init->cal_data[arm][i];
                 kin->linear[i] = C4G_KIN_ROTARY;
             }
-            /* FIELD-FACTS: 0-based AxInfo[3], [4], [5] (the manual counts from 1). */
+            /* field facts: 0-based AxInfo[3], [4], [5] (the manual counts from 1). */
             kin->k54 = (double)init->ax_info[arm][AX4];
             kin->k64 = (double)init->ax_info[arm][AX5];
             kin->k65 = (double)init->ax_info[arm][AX6];

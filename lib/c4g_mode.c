@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Mode table and predicates, controller transition rules, the per-arm state machine and
- * the PC request rules (manual chapters 13, 14, 15, 24; FIELD-FACTS mode list). */
+ * the PC request rules (manual chapters 13, 14, 15, 24; field facts mode list). */
 #include "c4g_ctl_util.h"
 
 #define AV C4G_MF_AVAILABLE
@@ -17,7 +17,7 @@
 
 #define N_MODES 30U
 
-/* FIELD-FACTS "What the PC must fill per mode"; stand-by modes of 1 and 2 keep the loop
+/* field facts "What the PC must fill per mode"; stand-by modes of 1 and 2 keep the loop
  * data (the PC holds the robot while SMP+ switches back, 24.2.3-4); 17/170 carry null data. */
 typedef struct mode_row {
     int32_t code;

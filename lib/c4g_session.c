@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* PC-side session engine: start-up handshake (FIELD-FACTS), NUM policy, counters and
+/* PC-side session engine: start-up handshake (field facts), NUM policy, counters and
  * the chapter 22 timing statistics. I/O-free: the caller passes datagrams and times. */
 #include "c4g_internal.h"
 

@@ -28,7 +28,7 @@ static void test_from_init(void **state)
     c4g_kin_t k;
     (void)state;
     k = kin_fig();
-    /* FIELD-FACTS: k54 = AxInfo[3], k64 = AxInfo[4], k65 = AxInfo[5]: -0.0200, 0.0204, 0.0200 */
+    /* field facts: k54 = AxInfo[3], k64 = AxInfo[4], k65 = AxInfo[5]: -0.0200, 0.0204, 0.0200 */
     near(k.k54, -0.0200, 1e-6);
     near(k.k64, 0.0204, 1e-6);
     near(k.k65, 0.0200, 1e-6);

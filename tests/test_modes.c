@@ -46,7 +46,7 @@ static void test_table(void **state)
 static void test_predicates(void **state)
 {
     (void)state;
-    /* FIELD-FACTS: 3, 6, 1xx, 201, 202 not available */
+    /* field facts: 3, 6, 1xx, 201, 202 not available */
     const int32_t na[] = {3, 6, 101, 102, 103, 201, 202, 13, -1};
     const int32_t av[] = {0, 10, 1, 11, 2, 12, 4, 14, 5, 15, 7, 17, 170, 8, 9, 500, 501, 502,
                           503, 504, 505, 506, 508};
@@ -76,7 +76,7 @@ static void test_predicates(void **state)
     assert_int_equal(c4g_mode_is_standby(170), 1);
     assert_int_equal(c4g_mode_is_standby(14), 1);
     assert_int_equal(c4g_mode_is_standby(7), 0);
-    /* FIELD-FACTS "What the PC must fill per mode" */
+    /* field facts "What the PC must fill per mode" */
     assert_int_equal(c4g_mode_pc_fields(0), 0);
     assert_int_equal(c4g_mode_pc_fields(10), C4G_PCF_D1 | C4G_PCF_D2);
     assert_int_equal(c4g_mode_pc_fields(1), C4G_PCF_D1 | C4G_PCF_D2 | C4G_PCF_D4 | C4G_PCF_D5);

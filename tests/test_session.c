@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Session engine: FIELD-FACTS handshake, NUM policies, counters, timing, special modes. */
+/* Session engine: field facts handshake, NUM policies, counters, timing, special modes. */
 #include "test_helpers.h"
 
 #define MS 1000000ULL

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Library-level session, no sockets: a synthetic controller does the FIELD-FACTS cold
+/* Library-level session, no sockets: a synthetic controller does the field facts cold
  * start (9 sync packets, the figure 10.1 init packet, 2 sync packets) and 2 s of cyclic
  * packets at 2 ms with a few faults; the PC-side engine answers each. Prints the
  * initialization packet like the manual's figure 10.1, then the session counters and the

@@ -130,7 +130,7 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
             return -1;
         }
     }
-    /* Initialization packet (FIELD-FACTS order): figure 10.1 shape, our axes. */
+    /* Initialization packet (field facts order): figure 10.1 shape, our axes. */
     (void)c4g_init_fig10_1(&s->init);
     s->init.period_ms = cfg->period_ms;
     s->init.version_major = cfg->version[0];

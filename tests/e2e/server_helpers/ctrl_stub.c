@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* ctrl_stub: a test-only C4G controller (SMP+) for the c4g-server end-to-end tests.
- * Plays the FIELD-FACTS start-up handshake and cyclic packets with the library's
+ * Plays the field facts start-up handshake and cyclic packets with the library's
  * encoders, runs a tiny robot model per axis, checks every reply byte by byte and
  * prints a key=value summary. Not a simulator: c4g-sim is the real one. */
 #include "c4gopen.h"
@@ -55,7 +55,7 @@ static void badf(const char *what, long a, long b)
     bad++;
     if (bad <= 10) fprintf(stderr, "ctrl_stub: BAD reply (NUM %d): %s (got %ld, want %ld)\n", (int)num, what, a, b);
 }
-/* FIELD-FACTS, written out here (not the library's c4g_reply_num): +1, 0x7FFF wraps to 1 */
+/* field facts, written out here (not the library's c4g_reply_num): +1, 0x7FFF wraps to 1 */
 static int32_t want_num(int32_t n) { return o.policy ? n : (n >= 0x7FFF ? 1 : n + 1); }
 /* --num-start: NUM reaches the wrap in forward gaps shorter than half the range (a longer
  * jump reads as an older, stale packet to the PC) */
