@@ -25,8 +25,7 @@ static uint64_t now_ns(void)
 
 int main(int argc, char **argv)
 {
-    static c4g_session_t s;  /* large: static, locked by mlockall */
-    static c4g_ctl_t ctl;
+    static c4g_loop_t lp;    /* session + control engine: large, static, locked by mlockall */
     static double start[C4G_MAX_AXES];
     static uint32_t ticks[C4G_MAX_AXES];
     struct sched_param sp = {0};
@@ -43,52 +42,48 @@ int main(int argc, char **argv)
     sp.sched_priority = 80; /* real time if allowed; say so if not */
     if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0 || sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
         fprintf(stderr, "warning: no mlockall/SCHED_FIFO (need root or CAP_SYS_NICE)\n");
-    c4g_session_init(&s, NULL);
+    c4g_loop_init(&lp, NULL);
     for (;;) {
         socklen_t pl = sizeof peer;
-        c4g_rx_result_t res;
-        c4g_pc_packet_t tx;
+        c4g_loop_event_t ev;
         size_t len;
         const ssize_t n = recvfrom(fd, in, sizeof in, 0, (struct sockaddr *)&peer, &pl);
         const uint64_t t_rx = now_ns();
         c4g_endpoint_t from = {{0}, 4, 0};             /* only the session's own controller */
         memcpy(from.addr, &peer.sin_addr, 4);          /* (address and port) may steer it */
         from.port = ntohs(peer.sin_port);
-        if (n < 0 || c4g_session_rx_from(&s, in, (size_t)n, t_rx, &from, &res) != C4G_OK ||
-            res.kind == C4G_RX_DROPPED)
-            continue;                      /* malformed, foreign or stale: counted, not answered */
-        if (res.kind == C4G_RX_INIT)
-            c4g_ctl_init(&ctl, &s.init, NULL);
-        if (res.kind == C4G_RX_CYCLIC) {
-            c4g_ctl_step(&ctl, res.pkt, t_rx, &tx, NULL); /* echo modes, mark needed fields */
-            for (uint32_t i = 0; i < tx.n_axes; i++) {
-                const uint32_t arm = s.map.arm_of[i];
-                if (res.pkt->ax[i].mode != C4G_MODE_4) {
-                    ticks[i] = 0;
-                    continue;
-                }
-                if (ticks[i]++ == 0)
-                    start[i] = res.pkt->ax[i].target_pos; /* continuity: start where we are */
-                const double x = fmin(ticks[i] * s.init.period_ms * 1e-3 / 2.0, 1.0); /* 2 s */
-                const double q = 0.05 * (1.0 - cos(PI * x)), dq = 0.05 * PI * sin(PI * x) *
-                                 (s.init.period_ms * 1e-3 / 2.0);
-                tx.ax[i].target_pos = (float)(start[i] + q);  /* D1: absolute target */
-                tx.ax[i].target_vel = (float)dq;              /* D2: delta turns per tick */
-                if (x >= 1.0)
-                    c4g_ctl_request_exit(&ctl, arm);          /* EXIT_FROM_OPEN */
+        if (n < 0 || c4g_loop_rx(&lp, in, (size_t)n, t_rx, &from, &ev) != C4G_OK)
+            continue;
+        const double dt = lp.session.init.period_ms * 1e-3;
+        for (uint32_t i = 0; ev.cmd != NULL && i < ev.cmd->n_axes; i++) {
+            if (ev.pkt->ax[i].mode != C4G_MODE_4) {
+                ticks[i] = 0;
+                continue;
             }
-            c4g_ctl_finish(&ctl, res.pkt, &tx, NULL);      /* rules + safety filter */
+            if (ticks[i]++ == 0) {
+                float at;                                 /* where the axis stood in mode 0 */
+                c4g_ctl_anchor(&lp.ctl, i, &at);
+                start[i] = at;
+            }
+            const double x = fmin(ticks[i] * dt / 2.0, 1.0); /* 2 s raised cosine */
+            const double q = 0.05 * (1.0 - cos(PI * x)), dq = 0.05 * PI * sin(PI * x) * dt / 2.0;
+            ev.cmd->ax[i].target_pos = (float)(start[i] + q); /* D1: absolute target */
+            ev.cmd->ax[i].target_vel = (float)dq;             /* D2: delta turns per tick */
+            if (x >= 1.0)
+                c4g_ctl_request_exit(&lp.ctl, lp.session.map.arm_of[i]); /* EXIT_FROM_OPEN */
         }
-        if (c4g_session_reply(&s, &tx, out, sizeof out, &len) == C4G_OK)
+        if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { /* safety filter */
             sendto(fd, out, len, 0, (struct sockaddr *)&peer, pl);
-        c4g_session_sent(&s, now_ns());
-        if (res.events & C4G_EV_END)
+            c4g_loop_sent(&lp, now_ns());
+        }
+        if (ev.events & C4G_EV_END)
             break;                                         /* 504: end of communication */
     }
     c4g_timing_t t;
-    c4g_session_timing(&s, &t);
+    c4g_session_timing(&lp.session, &t);
     printf("cyclic %llu, malformed %llu, worst cycle %.1f us, jitter [%+.1f; %+.1f] us\n",
-           (unsigned long long)s.counters.cyclic, (unsigned long long)s.counters.malformed_total,
+           (unsigned long long)lp.session.counters.cyclic,
+           (unsigned long long)lp.session.counters.malformed_total,
            t.worst_cycle_ns / 1e3, t.min_jitter_ns / 1e3, t.max_jitter_ns / 1e3);
     return 0;
 }

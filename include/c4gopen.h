@@ -576,5 +576,7 @@ int c4g_mode_is_known(int32_t mode);
 #include "c4gopen_control.h"
 /* cppcheck-suppress misra-c2012-20.1 */
 #include "c4gopen_cell.h"
+/* cppcheck-suppress misra-c2012-20.1 */
+#include "c4gopen_loop.h"
 
 #endif /* C4GOPEN_H */

@@ -1,0 +1,146 @@
+/* SPDX-License-Identifier: MIT */
+/* The PC-side loop object: session + control engine, so that the safety filter and the
+ * neutral fallback are on the only path a reply can take. */
+#include "c4gopen.h"
+
+#include <string.h>
+
+c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (lp != NULL) {
+        (void)memset(lp, 0, sizeof *lp);
+        if (cfg != NULL) {
+            lp->ctl_cfg = cfg->control;
+            st = c4g_session_init(&lp->session, &cfg->session);
+        } else {
+            (void)c4g_ctl_config_default(&lp->ctl_cfg);
+            st = c4g_session_init(&lp->session, NULL);
+        }
+    }
+    return st;
+}
+
+/* A cyclic packet through the control engine: its reply prepared, or neutral. */
+static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now_ns,
+                      c4g_loop_event_t *ev)
+{
+    c4g_status_t st = C4G_ERR_STATE;
+    lp->rx = pkt;
+    lp->prepared = 0U;
+    (void)memset(&lp->report, 0, sizeof lp->report);
+    if (lp->ctl_ready != 0U) {
+        st = c4g_ctl_step(&lp->ctl, pkt, now_ns, &lp->tx, &lp->report);
+    }
+    if (st == C4G_OK) {
+        lp->prepared = 1U;
+        ev->cmd = &lp->tx;
+        ev->ctl_events = lp->report.events;
+    } else {
+        /* no engine for this packet: the neutral reply is the only safe one */
+        (void)c4g_pc_reply_neutral(pkt, &lp->tx);
+    }
+}
+
+c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_t now_ns,
+                         const c4g_endpoint_t *from, c4g_loop_event_t *ev)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (ev != NULL)) {
+        c4g_rx_result_t res;
+        (void)memset(ev, 0, sizeof *ev);
+        lp->due = 0U;
+        lp->rx = NULL;
+        st = c4g_session_rx_from(&lp->session, buf, len, now_ns, from, &res);
+        if (st == C4G_OK) {
+            ev->kind = res.kind;
+            ev->events = res.events;
+            ev->pkt = res.pkt;
+            ev->diag = res.diag;
+            ev->silence_ns = res.silence_ns;
+            if (res.kind == C4G_RX_INIT) {
+                lp->ctl_ready = 0U;
+                if (c4g_ctl_init(&lp->ctl, &lp->session.init, &lp->ctl_cfg) == C4G_OK) {
+                    lp->ctl_ready = 1U;
+                } else {
+                    lp->counters.ctl_init_refused++;
+                }
+            }
+            if (res.kind == C4G_RX_CYCLIC) {
+                loop_step(lp, res.pkt, now_ns, ev);
+            }
+            if (res.kind != C4G_RX_DROPPED) {
+                lp->due = 1U;
+            }
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
+                            c4g_ctl_report_t *rep)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (buf != NULL) && (out_len != NULL)) {
+        if (lp->due == 0U) {
+            st = C4G_ERR_STATE;
+        } else if (lp->rx == NULL) {
+            st = c4g_session_reply(&lp->session, NULL, buf, cap, out_len);
+        } else {
+            lp->finish_status = C4G_OK;
+            if (lp->prepared == 0U) {
+                lp->counters.neutral_replies++;
+            } else {
+                /* after any other status the filtered reply is safe and must be sent (an
+                 * arm may carry 505): only a refused call falls back to neutral */
+                lp->finish_status = c4g_ctl_finish(&lp->ctl, lp->rx, &lp->tx, &lp->report);
+                if (lp->finish_status == C4G_ERR_STATE) {
+                    lp->counters.neutral_replies++;
+                    (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+                }
+                lp->prepared = 0U;
+            }
+            st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+            if ((st != C4G_OK) && (st != C4G_ERR_CAPACITY)) {
+                /* the encoder refused what the caller wrote (NaN, unknown mode) */
+                lp->counters.neutral_replies++;
+                lp->counters.encode_refused++;
+                (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+                st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+            }
+            if (rep != NULL) {
+                *rep = lp->report;
+            }
+        }
+        if (st == C4G_OK) {
+            lp->due = 0U;
+            lp->timed = 0U;
+            if (lp->rx != NULL) {
+                lp->timed = 1U;
+            }
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (lp != NULL) {
+        st = C4G_OK;
+        if (lp->timed != 0U) {
+            lp->timed = 0U;
+            st = c4g_session_sent(&lp->session, now_ns);
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (lp != NULL) {
+        st = c4g_session_poll(&lp->session, now_ns, events);
+    }
+    return st;
+}

@@ -1,0 +1,268 @@
+/* SPDX-License-Identifier: MIT */
+/* The PC-side loop object: handshake, control engine, the safety filter and the neutral
+ * fallback on the only reply path. */
+#include "test_helpers.h"
+
+#define MS 1000000ULL
+
+static uint8_t fig[1200];
+
+static int load(void **state)
+{
+    (void)state;
+    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", fig, sizeof fig), 1200);
+    return 0;
+}
+
+typedef struct {
+    c4g_loop_t lp;
+    c4g_loop_event_t ev;
+    uint8_t out[1300];
+    size_t out_len;
+    uint64_t t;
+    c4g_endpoint_t ctl;
+} fx_t;
+
+static c4g_rx_kind_t feed_from(fx_t *f, const uint8_t *b, size_t len, const c4g_endpoint_t *e)
+{
+    f->t += 2 * MS;
+    assert_int_equal(c4g_loop_rx(&f->lp, b, len, f->t, e, &f->ev), C4G_OK);
+    return f->ev.kind;
+}
+
+static void answer(fx_t *f, size_t want_len)
+{
+    assert_int_equal(c4g_loop_reply(&f->lp, f->out, sizeof f->out, &f->out_len, NULL), C4G_OK);
+    assert_int_equal(f->out_len, want_len);
+    assert_int_equal(c4g_loop_sent(&f->lp, f->t + 50000U), C4G_OK);
+    /* one reply per datagram */
+    assert_int_equal(c4g_loop_reply(&f->lp, f->out, sizeof f->out, &f->out_len, NULL), C4G_ERR_STATE);
+}
+
+static void cold_start(fx_t *f)
+{
+    uint8_t b[732];
+    int32_t num;
+    memset(f, 0, sizeof *f);
+    f->ctl.addr_len = 4U;
+    f->ctl.addr[0] = 127U;
+    f->ctl.addr[3] = 1U;
+    f->ctl.port = 3600U;
+    assert_int_equal(c4g_loop_init(&f->lp, NULL), C4G_OK);
+    f->t = 1000 * MS;
+    for (num = 1; num <= 12; num++) {
+        if (num == 10) {
+            assert_int_equal(feed_from(f, fig, sizeof fig, &f->ctl), C4G_RX_INIT);
+            assert_int_equal(f->lp.ctl_ready, 1U);
+            answer(f, 1200U);
+            continue;
+        }
+        memset(b, 0, sizeof b);
+        th_put_u32(b, (uint32_t)num);
+        assert_int_equal(feed_from(f, b, C4G_CYCLIC_SIZE(6U), &f->ctl), C4G_RX_SYNC);
+        assert_null(f->ev.cmd);
+        answer(f, 732U);
+    }
+    assert_int_equal(f->lp.session.phase, C4G_PHASE_CYCLIC);
+}
+
+/* One cyclic packet, every axis in @p mode, SMP+ target = measured position = @p pos. */
+static void cyclic(fx_t *f, int32_t num, int32_t mode, float pos)
+{
+    uint8_t b[732];
+    c4g_ctrl_packet_t p;
+    size_t len = 0;
+    uint32_t i;
+    th_ctrl_packet(&p, num, 6U, mode);
+    for (i = 0; i < 6U; i++) {
+        p.ax[i].target_pos = pos;
+        p.ax[i].actual_pos = pos;
+        p.ax[i].target_vel = 0.0f;
+    }
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed_from(f, b, len, &f->ctl), C4G_RX_CYCLIC);
+    assert_non_null(f->ev.pkt);
+}
+
+static void decode_reply(const fx_t *f, c4g_pc_packet_t *pc)
+{
+    c4g_diag_t d;
+    assert_int_equal(c4g_pc_decode(f->out, f->out_len, 6U, pc, &d), C4G_OK);
+}
+
+static void test_handshake_and_mode0(void **state)
+{
+    fx_t f;
+    c4g_pc_packet_t pc;
+    (void)state;
+    cold_start(&f);
+    cyclic(&f, 13, C4G_MODE_0, 1.0f);
+    assert_non_null(f.ev.cmd);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(pc.num, 14);
+    assert_int_equal(pc.ax[0].mode, C4G_MODE_0);
+    assert_int_equal(f.lp.counters.neutral_replies, 0U);
+}
+
+/* A target past the stroke end: the loop's reply is filtered, whatever the caller wrote. */
+static void test_reply_is_filtered(void **state)
+{
+    fx_t f;
+    c4g_pc_packet_t pc;
+    c4g_axis_limits_t lim;
+    c4g_ctl_report_t rep;
+    uint32_t i;
+    (void)state;
+    cold_start(&f);
+    memset(&lim, 0, sizeof lim);
+    lim.motor_min = 0.9f;
+    lim.motor_max = 1.1f;
+    assert_int_equal(c4g_ctl_set_limits(&f.lp.ctl, f.lp.session.map.arm_of[0],
+                                        f.lp.session.map.logical_of[0], &lim), C4G_OK);
+    cyclic(&f, 13, C4G_MODE_0, 1.0f);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    cyclic(&f, 14, C4G_MODE_4, 1.0f);
+    assert_non_null(f.ev.cmd);
+    for (i = 0; i < 6U; i++) {
+        f.ev.cmd->ax[i].target_pos = 1.0f;
+        f.ev.cmd->ax[i].target_vel = 0.0f;
+    }
+    f.ev.cmd->ax[0].target_pos = 1.5f; /* 0.4 turns past the end */
+    assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, &f.out_len, &rep), C4G_OK);
+    assert_true(rep.axis_flags[0] & C4G_SF_STROKE);
+    decode_reply(&f, &pc);
+    assert_true(pc.ax[0].mode == C4G_MODE_DRIVE_OFF || pc.ax[0].target_pos <= 1.1f);
+    assert_true(pc.ax[0].target_pos <= 1.1f);
+}
+
+/* No engine for a packet (its init refused by the control layer): neutral reply. */
+static void test_neutral_without_engine(void **state)
+{
+    fx_t f;
+    c4g_pc_packet_t pc;
+    (void)state;
+    cold_start(&f);
+    f.lp.ctl_ready = 0U;
+    cyclic(&f, 13, C4G_MODE_4, 1.0f);
+    assert_null(f.ev.cmd);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(f.lp.counters.neutral_replies, 1U);
+    assert_int_equal(pc.ax[0].mode, C4G_MODE_4);
+}
+
+/* The encoder refuses what reached it (here: finish skipped, a NaN left): neutral. */
+static void test_neutral_when_encoder_refuses(void **state)
+{
+    fx_t f;
+    c4g_pc_packet_t pc;
+    (void)state;
+    cold_start(&f);
+    cyclic(&f, 13, C4G_MODE_0, 1.0f);
+    f.lp.prepared = 0U;
+    {
+        const uint32_t qnan = 0x7FC00000U;
+        memcpy(&f.lp.tx.ax[0].target_pos, &qnan, sizeof qnan);
+    }
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(f.lp.counters.encode_refused, 1U);
+    assert_int_equal(f.lp.counters.neutral_replies, 2U);
+    /* a finish refused (no matching step): neutral too */
+    cyclic(&f, 14, C4G_MODE_0, 1.0f);
+    f.lp.ctl.stepped = 0U;
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    assert_int_equal(f.lp.finish_status, C4G_ERR_STATE);
+    assert_int_equal(f.lp.counters.neutral_replies, 3U);
+}
+
+static void test_foreign_and_misuse(void **state)
+{
+    fx_t f;
+    c4g_endpoint_t other;
+    uint8_t b[732];
+    size_t len;
+    uint32_t ev = 0;
+    c4g_loop_config_t cfg;
+    (void)state;
+    cold_start(&f);
+    other = f.ctl;
+    other.port = 3601U;
+    len = th_ctrl_bytes(b, sizeof b, 13, 6, C4G_MODE_0);
+    assert_int_equal(feed_from(&f, b, len, &other), C4G_RX_DROPPED);
+    assert_true(f.ev.events & C4G_EV_FOREIGN);
+    assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, &f.out_len, NULL), C4G_ERR_STATE);
+    /* too small a buffer: the reply stays due */
+    cyclic(&f, 13, C4G_MODE_0, 1.0f);
+    assert_int_equal(c4g_loop_reply(&f.lp, f.out, 10U, &f.out_len, NULL), C4G_ERR_CAPACITY);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 1, &ev), C4G_OK);
+    assert_int_equal(ev, 0U);
+    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 2000 * MS, &ev), C4G_OK);
+    assert_true(ev & C4G_EV_LOST);
+    /* NULL arguments */
+    assert_int_equal(c4g_loop_init(NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_rx(NULL, b, len, 0, NULL, &f.ev), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_rx(&f.lp, b, len, 0, NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_reply(NULL, f.out, sizeof f.out, &f.out_len, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_reply(&f.lp, NULL, sizeof f.out, &f.out_len, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_sent(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_poll(NULL, 0, &ev), C4G_ERR_NULL);
+    /* an explicit configuration */
+    assert_int_equal(c4g_session_config_default(&cfg.session), C4G_OK);
+    assert_int_equal(c4g_ctl_config_default(&cfg.control), C4G_OK);
+    cfg.session.num_policy = C4G_NUM_ECHO;
+    assert_int_equal(c4g_loop_init(&f.lp, &cfg), C4G_OK);
+    assert_int_equal(f.lp.session.cfg.num_policy, C4G_NUM_ECHO);
+    /* a sender address longer than 16 bytes is refused outright */
+    other.addr_len = 17U;
+    assert_int_equal(c4g_loop_rx(&f.lp, b, len, 0, &other, &f.ev), C4G_ERR_ARG);
+}
+
+/* A control configuration the engine refuses: every cyclic reply is neutral. */
+static void test_engine_refused(void **state)
+{
+    fx_t f;
+    c4g_pc_packet_t pc;
+    (void)state;
+    memset(&f, 0, sizeof f);
+    cold_start(&f);
+    f.lp.ctl_cfg.moving_eps = -1.0f;
+    f.lp.ctl_ready = 0U;
+    /* a 506 restart brings a new init packet, which the engine now refuses */
+    {
+        uint8_t b[732];
+        c4g_ctrl_packet_t p;
+        size_t len = 0;
+        th_ctrl_packet(&p, 13, 6U, C4G_MODE_SVR_RESTART);
+        assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+        assert_int_equal(feed_from(&f, b, len, &f.ctl), C4G_RX_CYCLIC);
+        answer(&f, C4G_CYCLIC_SIZE(6U));
+        th_put_u32(fig, 10U);
+        assert_int_equal(feed_from(&f, fig, sizeof fig, &f.ctl), C4G_RX_INIT);
+        answer(&f, 1200U);
+    }
+    assert_int_equal(f.lp.counters.ctl_init_refused, 1U);
+    assert_int_equal(f.lp.ctl_ready, 0U);
+    cyclic(&f, 11, C4G_MODE_0, 1.0f);
+    assert_null(f.ev.cmd);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(pc.ax[0].mode, C4G_MODE_0);
+    assert_true(f.lp.counters.neutral_replies >= 2U);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_handshake_and_mode0),
+        cmocka_unit_test(test_reply_is_filtered),
+        cmocka_unit_test(test_neutral_without_engine),
+        cmocka_unit_test(test_neutral_when_encoder_refuses),
+        cmocka_unit_test(test_foreign_and_misuse),
+        cmocka_unit_test(test_engine_refused),
+    };
+    return cmocka_run_group_tests_name("loop", tests, load, NULL);
+}
