@@ -28,9 +28,8 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
     c4g_status_t st = C4G_ERR_STATE;
     lp->rx = pkt;
     lp->prepared = 0U;
-    (void)memset(&lp->report, 0, sizeof lp->report);
     if (lp->ctl_ready != 0U) {
-        st = c4g_ctl_step(&lp->ctl, pkt, now_ns, &lp->tx, &lp->report);
+        st = c4g_ctl_step(&lp->ctl, pkt, now_ns, &lp->tx, &lp->report); /* clears report */
     }
     if (st == C4G_OK) {
         lp->prepared = 1U;
@@ -38,6 +37,7 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
         ev->ctl_events = lp->report.events;
     } else {
         /* no engine for this packet: the neutral reply is the only safe one */
+        (void)memset(&lp->report, 0, sizeof lp->report);
         (void)c4g_pc_reply_neutral(pkt, &lp->tx);
     }
 }

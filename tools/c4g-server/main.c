@@ -3,7 +3,7 @@
  * the controller's address, runs the libc4gopen session engine and answers every
  * packet with a per-arm behaviour passed through the PC-side safety filter.
  *
- * The real-time loop (STYLE R15): recvfrom -> c4g_session_rx -> behaviour -> safety
+ * The real-time loop: recvfrom -> c4g_session_rx -> behaviour -> safety
  * filter -> c4g_session_reply -> sendto -> c4g_session_sent. Nothing on that path
  * allocates or does file I/O: logs, pcap and moni rows go through a lock-free ring
  * (tools/common/c4g_rtlog.h) to a writer thread. */

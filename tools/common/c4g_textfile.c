@@ -244,39 +244,39 @@ int tf_next_line(tf_file_t *f, char *out, size_t cap, char *err, size_t errlen)
 
 /* ---- numbers */
 
+/* Digits of @p s from @p *i on; advances *i past them and returns how many. */
+static size_t skip_digits(const char *s, size_t *i)
+{
+    size_t n = 0U;
+    while (s[*i] >= '0' && s[*i] <= '9') {
+        (*i)++;
+        n++;
+    }
+    return n;
+}
+
 /* [+-]digits[.digits][e[+-]digits] (digits on at least one side of the point). */
 static int decimal_syntax(const char *s, int allow_frac)
 {
     size_t i = 0U;
-    size_t mant = 0U;
+    size_t mant;
     if (s[i] == '+' || s[i] == '-') {
         i++;
     }
-    while (s[i] >= '0' && s[i] <= '9') {
-        i++;
-        mant++;
-    }
+    mant = skip_digits(s, &i);
     if (allow_frac && s[i] == '.') {
         i++;
-        while (s[i] >= '0' && s[i] <= '9') {
-            i++;
-            mant++;
-        }
+        mant += skip_digits(s, &i);
     }
     if (mant == 0U) {
         return 0;
     }
     if (allow_frac && (s[i] == 'e' || s[i] == 'E')) {
-        size_t ex = 0U;
         i++;
         if (s[i] == '+' || s[i] == '-') {
             i++;
         }
-        while (s[i] >= '0' && s[i] <= '9') {
-            i++;
-            ex++;
-        }
-        if (ex == 0U) {
+        if (skip_digits(s, &i) == 0U) {
             return 0;
         }
     }

@@ -22,15 +22,7 @@ cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude 
 # A port range per test process (high ports, loopback only).
 PORT=$(( 42000 + ($$ % 1500) * 12 ))
 next_port() { PORT=$((PORT + 1)); }
-# wait_until SECONDS CMD...: polls CMD every 20 ms until it succeeds; fails after SECONDS
-# (a bound for a broken run, never a timing assertion: a loaded host only makes it slower)
-wait_until() {
-  _wu_lim=$(( $1 * 50 )); shift; _wu_n=0
-  until "$@"; do
-    _wu_n=$((_wu_n + 1)); [ $_wu_n -ge $_wu_lim ] && return 1
-    sleep 0.02
-  done
-}
+. tests/e2e/helpers/wait.sh
 # start_pc PORT [ref_pc options]: reference PC in the background on 127.0.0.1:PORT; returns
 # once its socket is bound (its "listening" line), so no datagram races its start-up
 start_pc() {

@@ -32,15 +32,7 @@ build_stub() {
     fi
 }
 
-# wait_until SECONDS CMD...: polls CMD every 20 ms until it succeeds; fails after SECONDS
-# (a bound for a broken run, never a timing assertion: a loaded host only makes it slower)
-wait_until() {
-    _wu_lim=$(( $1 * 50 )); shift; _wu_n=0
-    until "$@"; do
-        _wu_n=$((_wu_n + 1)); [ $_wu_n -ge $_wu_lim ] && return 1
-        sleep 0.02
-    done
-}
+. tests/e2e/helpers/wait.sh
 udp_bound() { ss -Huln "sport = :$1" | grep -q .; }   # some socket is bound to UDP port $1
 srv_up() { grep -q "listening on" "$T/$1.err" 2>/dev/null || ! kill -0 "$SPID" 2>/dev/null; }
 srv_gone() { ! kill -0 "$SPID" 2>/dev/null; }
