@@ -1,0 +1,125 @@
+/* SPDX-License-Identifier: MIT */
+/* The shared table-driven command line (tools/common/c4g_cli.c). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+#include "../tools/common/c4g_textfile.c"
+#include "../tools/common/c4g_cli.c"
+
+typedef struct cfg {
+    int verbose;
+    char host[16];
+    long long count;
+    unsigned port;
+    double gain;
+    int calls;
+    char last[32];
+} cfg_t;
+
+static int on_call(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    cfg_t *c = ctx;
+    (void)row;
+    if (strcmp(v, "bad") == 0) {
+        snprintf(why, wl, "not today");
+        return -1;
+    }
+    c->calls++;
+    snprintf(c->last, sizeof c->last, "%s", v);
+    return 0;
+}
+
+static cfg_t G;
+static const cli_opt_t rows[] = {
+    {"verbose", 'v', CLI_FLAG, NULL, "say more", &G.verbose, 0, 0, 0, NULL, 0},
+    {"host", 'H', CLI_STRING, "ADDR", "address", G.host, sizeof G.host, 0, 0, NULL, 0},
+    {"count", 0, CLI_INT, "N", "how many", &G.count, 0, -5, 5, NULL, 0},
+    {"port", 'p', CLI_UINT, "PORT", "port", &G.port, 0, 1, 65535, NULL, 0},
+    {"gain", 0, CLI_DOUBLE, "G", "gain", &G.gain, 0, 0.0, 10.0, NULL, 0},
+    {"call", 'c', CLI_CALL, "X", "handler", NULL, 0, 0, 0, on_call, 0},
+};
+static const char *const ex[] = {"tool -v", NULL};
+static const cli_spec_t spec = {"tool", NULL, "Usage: tool [OPTIONS] [FILE]\n", rows,
+                                sizeof rows / sizeof rows[0], ex, NULL, 0, 1};
+
+static cli_result_t run(int argc, const char *const *argv_in, int *first)
+{
+    char *argv[16];
+    int i;
+    for (i = 0; i < argc; i++) {
+        argv[i] = (char *)argv_in[i];
+    }
+    argv[argc] = NULL;
+    memset(&G, 0, sizeof G);
+    return cli_parse(&spec, &G, argc, argv, first);
+}
+
+static void test_values(void **st)
+{
+    const char *a[] = {"tool", "-v", "--host", "1.2.3.4", "--count=-5", "-p", "31000",
+                       "--gain", "2.5", "-c", "x", "--call", "y", "file"};
+    int first = 0;
+    (void)st;
+    assert_int_equal(run(14, a, &first), CLI_RUN);
+    assert_int_equal(G.verbose, 1);
+    assert_string_equal(G.host, "1.2.3.4");
+    assert_int_equal(G.count, -5);
+    assert_int_equal(G.port, 31000);
+    assert_true(G.gain > 2.49 && G.gain < 2.51);
+    assert_int_equal(G.calls, 2);
+    assert_string_equal(G.last, "y");
+    assert_int_equal(first, 13);
+}
+
+static void test_refusals(void **st)
+{
+    const char *range[] = {"tool", "--count", "6"};
+    const char *frac[] = {"tool", "-p", "1.5"};
+    const char *nan[] = {"tool", "--gain", "nan"};
+    const char *longs[] = {"tool", "--host", "0123456789abcdef"};
+    const char *unk[] = {"tool", "--nope"};
+    const char *miss[] = {"tool", "--host"};
+    const char *call[] = {"tool", "-c", "bad"};
+    const char *extra[] = {"tool", "a", "b"};
+    (void)st;
+    assert_int_equal(run(3, range, NULL), CLI_BAD);
+    assert_int_equal(run(3, frac, NULL), CLI_BAD);
+    assert_int_equal(G.port, 0);
+    assert_int_equal(run(3, nan, NULL), CLI_BAD);
+    assert_int_equal(run(3, longs, NULL), CLI_BAD);
+    assert_int_equal(run(2, unk, NULL), CLI_BAD);
+    assert_int_equal(run(2, miss, NULL), CLI_BAD);
+    assert_int_equal(run(3, call, NULL), CLI_BAD);
+    assert_int_equal(run(3, extra, NULL), CLI_BAD);
+}
+
+static void test_help_version(void **st)
+{
+    const char *h[] = {"tool", "--help"};
+    const char *v[] = {"tool", "-V"};
+    char buf[4096];
+    FILE *f = fmemopen(buf, sizeof buf, "w");
+    (void)st;
+    assert_non_null(f);
+    cli_usage(&spec, f);
+    fclose(f);
+    assert_non_null(strstr(buf, "-H, --host ADDR"));
+    assert_non_null(strstr(buf, "--gain G"));
+    assert_non_null(strstr(buf, "Examples:\n  tool -v\n"));
+    assert_int_equal(run(2, h, NULL), CLI_DONE);
+    assert_int_equal(run(2, v, NULL), CLI_DONE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_values),
+        cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_help_version),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,215 @@
+/* SPDX-License-Identifier: MIT */
+/* Table-driven command lines: see c4g_cli.h. */
+#include "c4g_cli.h"
+
+#include "c4g_textfile.h"
+#include "c4gopen.h"
+
+#include <getopt.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#define CLI_MAX_OPTS 96
+#define CLI_HELP_KEY 0x10000
+#define CLI_VERSION_KEY 0x10001
+
+void cli_error(const cli_spec_t *spec, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%s: ", spec->tool);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+void cli_usage(const cli_spec_t *spec, FILE *out)
+{
+    size_t i;
+    fputs(spec->usage, out);
+    fputs("\nOptions:\n", out);
+    for (i = 0; i < spec->n_opts; i++) {
+        const cli_opt_t *o = &spec->opts[i];
+        char left[64];
+        if (o->short_name != 0) {
+            snprintf(left, sizeof left, "-%c, --%s%s%s", o->short_name, o->name,
+                     o->arg != NULL ? " " : "", o->arg != NULL ? o->arg : "");
+        } else {
+            snprintf(left, sizeof left, "    --%s%s%s", o->name, o->arg != NULL ? " " : "",
+                     o->arg != NULL ? o->arg : "");
+        }
+        if (strlen(left) > 28U) {
+            fprintf(out, "  %s\n  %-28s %s\n", left, "", o->help);
+        } else {
+            fprintf(out, "  %-28s %s\n", left, o->help);
+        }
+    }
+    fprintf(out, "  %-28s %s\n  %-28s %s\n", "-h, --help", "this text", "-V, --version",
+            "version of the tool and of libc4gopen");
+    if (spec->examples != NULL && spec->examples[0] != NULL) {
+        fputs("\nExamples:\n", out);
+        for (i = 0; spec->examples[i] != NULL; i++) {
+            fprintf(out, "  %s\n", spec->examples[i]);
+        }
+    }
+    if (spec->epilogue != NULL) {
+        fprintf(out, "\n%s", spec->epilogue);
+    }
+}
+
+/* Store one value as the row says; 0 or -1 with why filled. */
+static int cli_store(void *ctx, const cli_opt_t *o, const char *v, char *why, size_t whylen)
+{
+    tf_num_t st = TF_NUM_OK;
+    switch (o->kind) {
+    case CLI_FLAG:
+        *(int *)o->dest = 1;
+        return 0;
+    case CLI_STRING:
+        if (strlen(v) >= o->dest_cap) {
+            snprintf(why, whylen, "longer than %u bytes", (unsigned)(o->dest_cap - 1U));
+            return -1;
+        }
+        memcpy(o->dest, v, strlen(v) + 1U);
+        return 0;
+    case CLI_INT: {
+        long long x = 0;
+        st = tf_parse_int(v, (long long)o->lo, (long long)o->hi, &x);
+        if (st == TF_NUM_OK) {
+            *(long long *)o->dest = x;
+        }
+        break;
+    }
+    case CLI_UINT: {
+        long long x = 0;
+        st = tf_parse_int(v, (long long)o->lo, (long long)o->hi, &x);
+        if (st == TF_NUM_OK) {
+            *(unsigned *)o->dest = (unsigned)x;
+        }
+        break;
+    }
+    case CLI_DOUBLE:
+        st = tf_parse_double(v, o->lo, o->hi, (double *)o->dest);
+        break;
+    case CLI_CALL:
+        return o->fn(ctx, o, v, why, whylen);
+    default:
+        snprintf(why, whylen, "option table row of unknown kind");
+        return -1;
+    }
+    if (st != TF_NUM_OK) {
+        tf_num_explain(st, v, o->lo, o->hi, why, whylen);
+        return -1;
+    }
+    return 0;
+}
+
+/* The getopt tables, built from the rows; -1 when the table does not fit. */
+static int cli_tables(const cli_spec_t *spec, struct option *lo, char *so, size_t so_cap)
+{
+    size_t i, k = 0U;
+    if (spec->n_opts + 3U > CLI_MAX_OPTS) {
+        return -1;
+    }
+    so[k++] = '+'; /* POSIX order: stop at the first operand */
+    so[k++] = ':'; /* report a missing argument as ':' */
+    for (i = 0; i < spec->n_opts; i++) {
+        const cli_opt_t *o = &spec->opts[i];
+        lo[i].name = o->name;
+        lo[i].has_arg = (o->arg != NULL) ? required_argument : no_argument;
+        lo[i].flag = NULL;
+        lo[i].val = (int)i + 1 + 0x100;
+        if (o->short_name != 0 && k + 3U < so_cap) {
+            so[k++] = (char)o->short_name;
+            if (o->arg != NULL) {
+                so[k++] = ':';
+            }
+        }
+    }
+    lo[i] = (struct option){"help", no_argument, NULL, CLI_HELP_KEY};
+    lo[i + 1U] = (struct option){"version", no_argument, NULL, CLI_VERSION_KEY};
+    lo[i + 2U] = (struct option){NULL, 0, NULL, 0};
+    if (k + 3U >= so_cap) {
+        return -1;
+    }
+    so[k++] = 'h';
+    so[k++] = 'V';
+    so[k] = '\0';
+    return 0;
+}
+
+static const cli_opt_t *cli_row_of(const cli_spec_t *spec, int c)
+{
+    size_t i;
+    if (c > 0x100 && (size_t)(c - 0x101) < spec->n_opts) {
+        return &spec->opts[c - 0x101];
+    }
+    for (i = 0; i < spec->n_opts; i++) {
+        if (spec->opts[i].short_name != 0 && spec->opts[i].short_name == c) {
+            return &spec->opts[i];
+        }
+    }
+    return NULL;
+}
+
+cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
+                       int *first_operand)
+{
+    struct option lo[CLI_MAX_OPTS];
+    char so[2 * CLI_MAX_OPTS + 8];
+    int c, n_operands;
+    if (cli_tables(spec, lo, so, sizeof so) != 0) {
+        cli_error(spec, "internal error: option table too large");
+        return CLI_BAD;
+    }
+    opterr = 0;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, so, lo, NULL)) != -1) {
+        const cli_opt_t *o;
+        char why[300];
+        if (c == 'h' || c == CLI_HELP_KEY) {
+            cli_usage(spec, stdout);
+            return CLI_DONE;
+        }
+        if (c == 'V' || c == CLI_VERSION_KEY) {
+            printf("%s %s (libc4gopen %s%s%s)\n", spec->tool, C4G_VERSION_STRING,
+                   C4G_VERSION_STRING, spec->version_extra != NULL ? ", " : "",
+                   spec->version_extra != NULL ? spec->version_extra : "");
+            return CLI_DONE;
+        }
+        if (c == ':') {
+            cli_error(spec, "option '%s' needs a value (see --help)", argv[optind - 1]);
+            return CLI_BAD;
+        }
+        o = cli_row_of(spec, c);
+        if (o == NULL) {
+            cli_error(spec, "unknown option '%s' (see --help)", argv[optind - 1]);
+            return CLI_BAD;
+        }
+        why[0] = '\0';
+        if (cli_store(ctx, o, o->arg != NULL ? optarg : NULL, why, sizeof why) != 0) {
+            if (o->arg != NULL) {
+                cli_error(spec, "--%s: bad value '%s' (%s)", o->name, optarg, why);
+            } else {
+                cli_error(spec, "--%s: %s", o->name, why);
+            }
+            return CLI_BAD;
+        }
+    }
+    n_operands = argc - optind;
+    if (n_operands < spec->operands_min ||
+        (spec->operands_max >= 0 && n_operands > spec->operands_max)) {
+        if (n_operands > 0 && spec->operands_max >= 0 && n_operands > spec->operands_max) {
+            cli_error(spec, "unexpected argument '%s' (see --help)",
+                      argv[optind + spec->operands_max]);
+        } else {
+            cli_error(spec, "missing argument (see --help)");
+        }
+        return CLI_BAD;
+    }
+    if (first_operand != NULL) {
+        *first_operand = optind;
+    }
+    return CLI_RUN;
+}

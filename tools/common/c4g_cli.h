@@ -1,0 +1,76 @@
+/* SPDX-License-Identifier: MIT */
+/* Table-driven command lines for every tool: one row per option gives its long and short
+ * names, its argument, its help line and what it sets, so getopt_long's table, the --help
+ * text and the value checks cannot drift apart. Errors follow one style on stderr:
+ * "TOOL: --NAME: bad value 'VALUE' (WHY)". */
+#ifndef C4G_CLI_H
+#define C4G_CLI_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/* Exit codes shared by the tools. */
+#define CLI_EXIT_OK 0
+#define CLI_EXIT_RUNTIME 1 /* the job failed (controller error, socket, I/O) */
+#define CLI_EXIT_USAGE 2   /* bad command line or configuration */
+
+typedef enum cli_kind {
+    CLI_FLAG,   /* no argument: sets *(int *)dest to 1 */
+    CLI_STRING, /* copies the argument into (char *)dest of dest_cap bytes */
+    CLI_INT,    /* integer in [lo, hi] into *(long long *)dest */
+    CLI_UINT,   /* unsigned integer in [lo, hi] into *(unsigned *)dest */
+    CLI_DOUBLE, /* finite number in [lo, hi] into *(double *)dest */
+    CLI_CALL    /* calls fn(ctx, row, value); value is NULL for has_arg == 0 */
+} cli_kind_t;
+
+struct cli_opt;
+/* A CLI_CALL handler: 0 to go on; otherwise it wrote why into why (without the tool and
+ * option names, which the caller adds). */
+typedef int (*cli_fn)(void *ctx, const struct cli_opt *row, const char *value, char *why,
+                      size_t whylen);
+
+typedef struct cli_opt {
+    const char *name;  /* long name, without "--" */
+    int short_name;    /* 0 for none */
+    cli_kind_t kind;
+    const char *arg;   /* argument placeholder in --help (NULL: no argument) */
+    const char *help;  /* one line */
+    void *dest;        /* CLI_FLAG/STRING/INT/UINT/DOUBLE */
+    size_t dest_cap;   /* CLI_STRING */
+    double lo, hi;     /* CLI_INT/UINT/DOUBLE */
+    cli_fn fn;         /* CLI_CALL */
+    int key;           /* free for the handler */
+} cli_opt_t;
+
+typedef struct cli_spec {
+    const char *tool;             /* program name in messages */
+    const char *version_extra;    /* appended to --version (may be NULL) */
+    const char *usage;            /* "Usage: ..." line(s) and a one-paragraph summary */
+    const cli_opt_t *opts;
+    size_t n_opts;
+    const char *const *examples;  /* NULL-terminated, printed under "Examples:" */
+    const char *epilogue;         /* printed last (may be NULL) */
+    int operands_min, operands_max; /* non-option arguments allowed; max < 0: any */
+} cli_spec_t;
+
+/* The outcome of cli_parse: go on, stop with exit code 0 (--help/--version printed),
+ * or stop with CLI_EXIT_USAGE (the error is already on stderr). */
+typedef enum cli_result { CLI_RUN = 0, CLI_DONE = 1, CLI_BAD = 2 } cli_result_t;
+
+/* Parse argv against the table. --help and --version are built in (-h, -V). On CLI_RUN
+ * *first_operand is the index of the first non-option argument. getopt stops at the first
+ * operand (POSIX order), so options after it are operands. */
+cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
+                       int *first_operand);
+
+/* The --help text. */
+void cli_usage(const cli_spec_t *spec, FILE *out);
+
+/* One error line on stderr in the shared style: "TOOL: MESSAGE". */
+void cli_error(const cli_spec_t *spec, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+#endif
