@@ -15,7 +15,7 @@ CLANG ?= clang
 CXX ?= g++
 ARM_CC ?= arm-none-eabi-gcc
 
-VERSION := $(shell sed -n 's/^\#define C4G_VERSION_STRING "\(.*\)"/\1/p' include/c4gopen.h)
+VERSION := $(shell sed -n 's/^\#define C4G_VERSION_STRING "\(.*\)"/\1/p' include/c4gopen_base.h)
 MAJOR := $(firstword $(subst ., ,$(VERSION)))
 SONAME := libc4gopen.so.$(MAJOR)
 
@@ -39,8 +39,8 @@ TOOL_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -pedantic -W
   -Werror -Wshadow -Wstrict-prototypes -Wvla -Iinclude
 TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror -Iinclude
 
-LIB_SRCS := $(sort $(wildcard lib/*.c))
-LIB_HDRS := $(wildcard include/*.h) $(wildcard lib/*.h)
+LIB_SRCS := $(sort $(wildcard lib/*/*.c))
+LIB_HDRS := $(wildcard include/*.h) $(wildcard lib/*.h lib/*/*.h)
 LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/obj/%.o)
 LIB_PICS := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
 STATIC := $(BUILD)/lib/libc4gopen.a

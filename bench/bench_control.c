@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Control layer cost per tick: decode + c4g_ctl_step + caller fill + c4g_ctl_finish (state
+/* Control layer cost per tick: decode + c4g_engine_step + caller fill + c4g_engine_finish (state
  * machines, packet rules, safety filter) + encode, 20 axes in mode 4, against a baseline
  * measured in the same run: memcpy of the same packet in and out. Median over 1000 batches
  * of 1000 ticks (1e6 ticks each). Goal: < 400 ns and < 10x the baseline. */
@@ -17,10 +17,10 @@
 static volatile uint32_t g_sink;
 static uint8_t g_in[C4G_MAX_CYCLIC_SIZE];
 static uint8_t g_out[C4G_MAX_CYCLIC_SIZE];
-static c4g_ctl_t g_ctl;
+static c4g_engine_t g_ctl;
 static c4g_ctrl_packet_t g_rx;
 static c4g_pc_packet_t g_tx;
-static c4g_ctl_report_t g_rep;
+static c4g_engine_report_t g_rep;
 static int32_t g_num;
 
 static uint64_t now_ns(void)
@@ -68,12 +68,12 @@ static void op_full(void)
     uint32_t i;
     next_packet();
     g_sink += (uint32_t)c4g_ctrl_decode(g_in, sizeof g_in, 20, &g_rx, NULL);
-    g_sink += (uint32_t)c4g_ctl_step(&g_ctl, &g_rx, (uint64_t)g_num * 2000000U, &g_tx, &g_rep);
+    g_sink += (uint32_t)c4g_engine_step(&g_ctl, &g_rx, (uint64_t)g_num * 2000000U, &g_tx, &g_rep);
     for (i = 0; i < 20; i++) {      /* the user: mode 4 absolute targets */
         g_tx.ax[i].target_pos = g_rx.ax[i].target_pos + 0.001f;
         g_tx.ax[i].target_vel = 0.001f;
     }
-    g_sink += (uint32_t)c4g_ctl_finish(&g_ctl, &g_rx, &g_tx, &g_rep);
+    g_sink += (uint32_t)c4g_engine_finish(&g_ctl, &g_rx, &g_tx, &g_rep);
     g_sink += (uint32_t)c4g_pc_encode(&g_tx, g_out, sizeof g_out, &len) + g_out[20];
 }
 
@@ -108,7 +108,7 @@ static void setup(void)
             in.follow_error[a][x] = 5.0f;
         }
     }
-    if (c4g_ctl_init(&g_ctl, &in, NULL) != C4G_OK) { fprintf(stderr, "init failed\n"); exit(1); }
+    if (c4g_engine_init(&g_ctl, &in, NULL) != C4G_OK) { fprintf(stderr, "init failed\n"); exit(1); }
     memset(&l, 0, sizeof l);
     l.max_step = 0.5f;
     l.max_vel = 0.5f;
@@ -116,7 +116,7 @@ static void setup(void)
     l.motor_max = 100.0f;
     for (a = 0; a < 2; a++) {
         for (x = 0; x < 10; x++) {
-            if (c4g_ctl_set_limits(&g_ctl, a, x, &l) != C4G_OK) { fprintf(stderr, "limits\n"); exit(1); }
+            if (c4g_engine_set_limits(&g_ctl, a, x, &l) != C4G_OK) { fprintf(stderr, "limits\n"); exit(1); }
         }
     }
     memset(&p, 0, sizeof p);

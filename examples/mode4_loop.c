@@ -62,7 +62,7 @@ int main(int argc, char **argv)
             }
             if (ticks[i]++ == 0) {
                 float at;                                 /* where the axis stood in mode 0 */
-                c4g_ctl_anchor(&lp.ctl, i, &at);
+                c4g_engine_anchor(&lp.engine, i, &at);
                 start[i] = at;
             }
             const double x = fmin(ticks[i] * dt / 2.0, 1.0); /* 2 s raised cosine */
@@ -70,7 +70,7 @@ int main(int argc, char **argv)
             ev.cmd->ax[i].target_pos = (float)(start[i] + q); /* D1: absolute target */
             ev.cmd->ax[i].target_vel = (float)dq;             /* D2: delta turns per tick */
             if (x >= 1.0)
-                c4g_ctl_request_exit(&lp.ctl, lp.session.map.arm_of[i]); /* EXIT_FROM_OPEN */
+                c4g_engine_request_exit(&lp.engine, lp.session.map.arm_of[i]); /* EXIT_FROM_OPEN */
         }
         if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { /* safety filter */
             sendto(fd, out, len, 0, (struct sockaddr *)&peer, pl);

@@ -8,19 +8,19 @@
  * PER-TICK FLOW (PC side)
  *   c4g_session_rx(&s, buf, n, t_rx, &res);              wire layer: decode, session rules
  *   if (res.kind == C4G_RX_CYCLIC) {
- *     c4g_ctl_step(&ctl, res.pkt, t_rx, &tx, &rep);     state machines + prepared reply
+ *     c4g_engine_step(&ctl, res.pkt, t_rx, &tx, &rep);     state machines + prepared reply
  *     ... fill the fields the mode needs (c4g_mode_pc_fields), e.g. tx.ax[i].target_pos ...
- *     c4g_ctl_finish(&ctl, res.pkt, &tx, &rep);          packet rules + safety filter
+ *     c4g_engine_finish(&ctl, res.pkt, &tx, &rep);          packet rules + safety filter
  *     c4g_session_reply(&s, &tx, out, sizeof out, &len); encode
  *   }
- *   Requests (c4g_ctl_request_*) may be made at any time between ticks; the wire effect of
- *   a mode request appears in the next c4g_ctl_step, the others in the next c4g_ctl_finish.
+ *   Requests (c4g_engine_request_*) may be made at any time between ticks; the wire effect of
+ *   a mode request appears in the next c4g_engine_step, the others in the next c4g_engine_finish.
  *
  * REQUIRED FIELDS AND THE "UNSET" MARKER
- *   c4g_ctl_step writes a quiet NaN with a reserved payload (C4G_UNSET_BITS) into every
+ *   c4g_engine_step writes a quiet NaN with a reserved payload (C4G_UNSET_BITS) into every
  *   field the outgoing mode requires (field facts "What the PC must fill per mode"). A field
- *   still unset at c4g_ctl_finish means the data of the mode is missing: the arm is sent a
- *   drive-off request (505) instead, and C4G_ERR_CTL_MISSING_DATA is returned. So the data of
+ *   still unset at c4g_engine_finish means the data of the mode is missing: the arm is sent a
+ *   drive-off request (505) instead, and C4G_ERR_MISSING_DATA is returned. So the data of
  *   a new mode is always present in the first packet that carries the mode.
  *
  * UNITS
@@ -32,96 +32,11 @@
  */
 #ifndef C4GOPEN_CONTROL_H
 #define C4GOPEN_CONTROL_H
-#ifndef C4GOPEN_H
-#error "include c4gopen.h, not c4gopen_control.h"
-#endif
+#include "c4gopen_wire.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** @name Control-layer status codes (-100..-199, returned as int / c4g_status_t values) */
-/**@{*/
-#define C4G_ERR_CTL_FORBIDDEN (-101)    /**< mode change not allowed from the arm's current mode */
-#define C4G_ERR_CTL_DRIVING_ON (-102)   /**< refused: the arm is driving on (501) */
-#define C4G_ERR_CTL_NOT_OFFERED (-103)  /**< reserved (0.1: mode not requestable) */
-#define C4G_ERR_CTL_NOT_MODE0 (-104)    /**< active freezing is only allowed from mode 0 */
-#define C4G_ERR_CTL_DRIVES_OFF (-105)   /**< refused: the arm's drives are off (INFPAR) */
-#define C4G_ERR_CTL_PENDING (-106)      /**< reserved (0.1: a mode request was pending) */
-#define C4G_ERR_CTL_MISSING_DATA (-107) /**< a field the mode requires was not filled */
-#define C4G_ERR_CTL_NOT_IN_OPEN (-108)  /**< exit from open asked while the arm is in mode 0 */
-#define C4G_ERR_CTL_LEAVING (-109)      /**< the arm is already leaving its mode (stand-by) */
-#define C4G_ERR_CTL_FROZEN (-110)       /**< refused: the arm is frozen (500/502) */
-#define C4G_ERR_CTL_LATCHED (-111)      /**< refused: a drive-off / following error is latched */
-#define C4G_ERR_CTL_PACKET (-112)       /**< packet does not match the control context */
-#define C4G_ERR_CTL_SINGULAR (-113)     /**< kinematics: zero transmission ratio */
-#define C4G_ERR_CTL_LIMITS (-114)       /**< limits invalid, or a current limit of 0 for modes 1/2 */
-#define C4G_ERR_CTL_MODE_RESTORED (-115)/**< tx carried a mode the rules forbid; it was restored */
-#define C4G_ERR_CTL_PDL_ONLY (-116)     /**< operating modes are started by the PDL2 program only */
-#define C4G_ERR_CTL_LAST_ (-117)        /**< first unused code */
-/**@}*/
-
-/** Short description of a control-layer status (-100..-199); used by c4g_strerror. */
-const char *c4g_control_strerror(int status);
-
-/* ====================================================================== modes */
-
-/** @name Mode flags (c4g_mode_info_t.flags) */
-/**@{*/
-#define C4G_MF_AVAILABLE 0x01U  /**< available on the controller (may be generated) */
-#define C4G_MF_PC_TRAJ 0x02U    /**< the PC generates (all or part of) the trajectory */
-#define C4G_MF_PC_LOOPS 0x04U   /**< the PC closes the position/velocity loops */
-#define C4G_MF_SPECIAL 0x08U    /**< special mode 500..508 */
-#define C4G_MF_STANDBY 0x10U    /**< auxiliary stand-by / exit mode (11, 12, 14, 15, 17, 170) */
-#define C4G_MF_PC_REQUEST 0x20U /**< a mode only the PC sends (505, 508) */
-/**@}*/
-
-/** @name PC -> SMP+ fields (bit mask) */
-/**@{*/
-#define C4G_PCF_D1 0x01U /**< target_pos */
-#define C4G_PCF_D2 0x02U /**< target_vel */
-#define C4G_PCF_D3 0x04U /**< measure */
-#define C4G_PCF_D4 0x08U /**< vel_add */
-#define C4G_PCF_D5 0x10U /**< current_add */
-/**@}*/
-
-/** One row of the mode table. */
-typedef struct c4g_mode_info {
-    int32_t code;            /**< SMax value */
-    const char *name;        /**< constant name, e.g. "MODE_1_STANDBY" */
-    const char *description; /**< one line: who generates what */
-    uint32_t flags;          /**< C4G_MF_* */
-    uint32_t pc_fields;      /**< C4G_PCF_* the PC must fill when it sends this mode */
-    int32_t operating;       /**< operating mode it belongs to (1 for 11, 7 for 170), or itself */
-} c4g_mode_info_t;
-
-/** Fill @p out with the table row of @p mode. @return OK, NULL, C4G_ERR_MODE (unknown). O(modes). */
-c4g_status_t c4g_mode_info(int32_t mode, c4g_mode_info_t *out);
-/** C4G_MF_* flags of @p mode, 0 for an unknown code. O(1). */
-uint32_t c4g_mode_flags(int32_t mode);
-/** Constant name of @p mode ("MODE_4"), "UNKNOWN" for an unknown code. */
-const char *c4g_mode_name(int32_t mode);
-/** One-line description of @p mode, "unknown mode" for an unknown code. */
-const char *c4g_mode_description(int32_t mode);
-/** 1 if @p mode is available on the controller (never generate the others), else 0. */
-int c4g_mode_is_available(int32_t mode);
-/** 1 if the PC generates all or part of the trajectory in @p mode (1, 11, 4, 5, 7 ...). */
-int c4g_mode_pc_trajectory(int32_t mode);
-/** 1 if the PC closes the loops in @p mode (1, 11, 2, 12, 3). */
-int c4g_mode_pc_loops(int32_t mode);
-/** 1 if @p mode is a special mode (500..508). */
-int c4g_mode_is_special(int32_t mode);
-/** 1 if @p mode is an auxiliary stand-by / exit mode (11, 12, 14, 15, 17, 170). */
-int c4g_mode_is_standby(int32_t mode);
-/** C4G_PCF_* fields the PC must fill when its reply carries @p mode (0 for unknown). */
-uint32_t c4g_mode_pc_fields(int32_t mode);
-/** Operating mode @p mode belongs to (11 -> 1, 170 -> 7, 4 -> 4); -1 for unknown. */
-int32_t c4g_mode_operating(int32_t mode);
-/**
- * 1 if the controller may legitimately move an arm from mode @p from to mode @p to
- * (chapters 13, 15, 24: through mode 0, stand-by sequences 1->11->0, 2->12->0,
- * 7->17->170->0, forced returns to 0, special modes), else 0. Same mode: 1.
- */
-int c4g_mode_transition_ok(int32_t from, int32_t to);
 
 /* ====================================================================== state machine */
 
@@ -178,11 +93,11 @@ typedef enum c4g_fsm_state {
 /**@}*/
 
 /** Configuration of the state machines. */
-typedef struct c4g_ctl_config {
+typedef struct c4g_engine_config {
     uint32_t request_timeout_ticks; /**< ticks an exit request waits (default 100) */
     uint64_t start_ns;  /**< START length of modes 1 and 2 (SMP+ switching, T1+T2+T3); default 0 */
     float moving_eps;   /**< |SMP+ target velocity| above which the arm moves (default 0) */
-} c4g_ctl_config_t;
+} c4g_engine_config_t;
 
 /** Per-arm mode state machine (SW_PC of chapter 24). Read-only for the caller. */
 typedef struct c4g_arm_sm {
@@ -212,7 +127,7 @@ typedef struct c4g_arm_sm {
 } c4g_arm_sm_t;
 
 /** Fill @p cfg with the defaults. @return C4G_OK, C4G_ERR_NULL. */
-c4g_status_t c4g_ctl_config_default(c4g_ctl_config_t *cfg);
+c4g_status_t c4g_engine_config_default(c4g_engine_config_t *cfg);
 
 /** Start an arm state machine with @p n_axes open axes (0..10). @return OK, NULL, ARG. */
 c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
@@ -226,7 +141,7 @@ c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
  * @param[out] events    C4G_CEV_* raised by this packet
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_MODE. O(1).
  */
-c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, int32_t mode,
+c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, int32_t mode,
                                uint32_t mixed, uint8_t drive_byte, uint32_t moving,
                                uint64_t now_ns, uint32_t *events);
 
@@ -242,11 +157,11 @@ typedef enum c4g_req_kind {
 /**
  * The request rules (pure): may @p kind (with @p mode for C4G_REQ_MODE) be asked now?
  * A mode is never the PC's to start (manual 24.2: SW_PDL sets every operating mode; the PC
- * echoes it): C4G_REQ_MODE gives C4G_ERR_CTL_PDL_ONLY (C4G_ERR_MODE for an unknown code).
+ * echoes it): C4G_REQ_MODE gives C4G_ERR_PDL_ONLY (C4G_ERR_MODE for an unknown code).
  * Freezing only from mode 0; exit only in an operating mode (not mode 2, which PDL2
  * ends by setting 12) or an active freezing; drive off and following error always.
  * @return C4G_OK or the reason: C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_NOT_OPEN,
- *         C4G_ERR_ENDED, C4G_ERR_MODE, C4G_ERR_CTL_*. O(1).
+ *         C4G_ERR_ENDED, C4G_ERR_MODE, C4G_ERR_*. O(1).
  */
 c4g_status_t c4g_arm_sm_check(const c4g_arm_sm_t *sm, c4g_req_kind_t kind, int32_t mode);
 
@@ -286,7 +201,7 @@ c4g_status_t c4g_kin_matrices(const c4g_kin_t *kin, c4g_kin_matrices_t *m);
 /**
  * Link-side positions @p q (rad or mm) of logical axes 0..n-1 -> motor turns, including
  * the calibration constants: qm = Kr q / 2 pi + q0. @p n is 1..10.
- * @return OK, NULL, ARG, NONFINITE (input or result), C4G_ERR_CTL_SINGULAR. O(n).
+ * @return OK, NULL, ARG, NONFINITE (input or result), C4G_ERR_SINGULAR. O(n).
  */
 c4g_status_t c4g_kin_link_to_motor(const c4g_kin_t *kin, const double *q, uint32_t n,
                                    double *qm);
@@ -302,7 +217,7 @@ c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const double *vm, u
 
 /* ====================================================================== safety */
 
-/** @name Safety filter actions (per axis, c4g_ctl_report_t.axis_flags; pure check results) */
+/** @name Safety filter actions (per axis, c4g_engine_report_t.axis_flags; pure check results) */
 /**@{*/
 #define C4G_SF_MISSING 0x0001U      /**< a required field was not filled */
 #define C4G_SF_NONFINITE 0x0002U    /**< a NaN / infinity was produced */
@@ -352,18 +267,18 @@ uint32_t c4g_sf_stroke(float pos, float min, float max, float *out);
 
 /* ====================================================================== control context */
 
-/** What c4g_ctl_step / c4g_ctl_finish did on one tick. */
-typedef struct c4g_ctl_report {
+/** What c4g_engine_step / c4g_engine_finish did on one tick. */
+typedef struct c4g_engine_report {
     uint32_t events;                    /**< union of arm_events */
     uint32_t arm_events[C4G_ARMS];      /**< C4G_CEV_* per arm */
     uint32_t axis_flags[C4G_MAX_AXES];  /**< C4G_SF_* per OPEN index */
     float follow_err[C4G_MAX_AXES];     /**< |pos_ref - pos_mis| where checked, else 0 */
     uint32_t n_filtered;                /**< axes the filter changed */
-} c4g_ctl_report_t;
+} c4g_engine_report_t;
 
 /** PC-side control context: one per session. Members are read-only for the caller. */
-typedef struct c4g_ctl {
-    c4g_ctl_config_t cfg;
+typedef struct c4g_engine {
+    c4g_engine_config_t cfg;
     c4g_axis_map_t map;
     c4g_kin_t kin[C4G_ARMS];
     uint32_t kin_ok[C4G_ARMS];          /**< kinematics usable (all ratios non-zero) */
@@ -373,18 +288,18 @@ typedef struct c4g_ctl {
     uint32_t joint_on[C4G_ARMS];        /**< some joint stroke end set on the arm */
     uint32_t n_joint[C4G_ARMS];         /**< logical axes in the arm's joint check */
     c4g_arm_sm_t arm[C4G_ARMS];
-    int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_ctl_step prepared per axis */
+    int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_engine_step prepared per axis */
     uint32_t prep_rules[C4G_MAX_AXES];  /**< internal: what the filter does with that mode */
     c4g_pc_axis_t prep_tx[C4G_MAX_AXES];/**< internal: reply data prepared for that mode */
     uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
-    float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_ctl_anchor) */
+    float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_engine_anchor) */
     uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
     c4g_pc_axis_t last_safe[C4G_MAX_AXES]; /**< last values sent */
     int32_t last_mode[C4G_MAX_AXES];    /**< last mode sent */
     uint32_t have_last;                 /**< last_safe is valid */
     uint32_t stepped;                   /**< step done, finish expected */
     int32_t step_num;                   /**< NUM of the stepped packet */
-} c4g_ctl_t;
+} c4g_engine_t;
 
 /**
  * Start a control context from a validated initialization packet: axis maps, kinematics
@@ -392,46 +307,46 @@ typedef struct c4g_ctl {
  * @param[in] cfg may be NULL for the defaults
  * @return C4G_OK, C4G_ERR_NULL, an init validation status, C4G_ERR_ARG (cfg). O(axes).
  */
-c4g_status_t c4g_ctl_init(c4g_ctl_t *ctl, const c4g_init_t *init, const c4g_ctl_config_t *cfg);
+c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg);
 
 /**
  * Set user limits for logical axis @p axis of @p arm (see c4g_axis_limits_t). Limits can only
  * tighten the controller's: follow_error and current_max take the smaller positive value.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_NOT_OPEN, C4G_ERR_NONFINITE,
- *         C4G_ERR_CTL_LIMITS (negative values), C4G_ERR_CTL_SINGULAR (joint limits without
+ *         C4G_ERR_LIMITS (negative values), C4G_ERR_SINGULAR (joint limits without
  *         usable kinematics), C4G_ERR_NOT_OPEN also when joint limits need an axis 0..axis of
  *         the arm that is not open.
  */
-c4g_status_t c4g_ctl_set_limits(c4g_ctl_t *ctl, uint32_t arm, uint32_t axis,
+c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
                                 const c4g_axis_limits_t *lim);
 
 /**
  * One received cyclic packet: update every arm's state machine and prepare the reply @p tx:
  * each axis echoes its mode (or carries a pending requested mode), data zero, mode 10
  * copied back, and the fields the outgoing mode requires set to the unset marker.
- * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_CTL_PACKET (axis count), C4G_ERR_MODE,
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_PACKET (axis count), C4G_ERR_MODE,
  *         C4G_ERR_NONFINITE (@p rx invalid: @p tx untouched). O(axes).
  */
-c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
-                          c4g_pc_packet_t *tx, c4g_ctl_report_t *rep);
+c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *rep);
 
 /**
  * Check and complete the reply before encoding: request overlays (EXIT_FROM_OPEN, 500,
- * 505, 508), mode rules (a mode c4g_ctl_step did not prepare is restored), mode-10 copy
+ * 505, 508), mode rules (a mode c4g_engine_step did not prepare is restored), mode-10 copy
  * back, required fields, and the safety filter (sections 14.17.2, 15.7). After any return
  * except C4G_ERR_NULL and C4G_ERR_STATE, @p tx is safe to encode and must be sent.
- * @return C4G_OK; C4G_ERR_CTL_MISSING_DATA or C4G_ERR_NONFINITE (an arm was sent 505);
- *         C4G_ERR_CTL_MODE_RESTORED; C4G_ERR_NULL; C4G_ERR_STATE (no matching step). O(axes).
+ * @return C4G_OK; C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE (an arm was sent 505);
+ *         C4G_ERR_MODE_RESTORED; C4G_ERR_NULL; C4G_ERR_STATE (no matching step). O(axes).
  */
-c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
-                            c4g_ctl_report_t *rep);
+c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+                            c4g_engine_report_t *rep);
 
 /**
  * Operating modes are started by the controller's PDL2 program, never by the PC (manual
  * 24.2). Kept so that a program ported from code that tried gets a clear answer.
- * @return C4G_ERR_CTL_PDL_ONLY (C4G_ERR_MODE: unknown code; NULL, ARG, NOT_OPEN, ENDED).
+ * @return C4G_ERR_PDL_ONLY (C4G_ERR_MODE: unknown code; NULL, ARG, NOT_OPEN, ENDED).
  */
-c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode);
+c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode);
 /**
  * Where OPEN axis @p axis stood before its current mode: the SMP+ target of the last packet
  * in mode 0 or 0' (the first packet's, if none came). An open mode starts with the robot
@@ -440,15 +355,15 @@ c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode);
  * absolute target (modes 1, 4) from it.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis), C4G_ERR_STATE (no packet yet). O(1).
  */
-c4g_status_t c4g_ctl_anchor(const c4g_ctl_t *ctl, uint32_t axis, float *pos);
+c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos);
 /** Request EXIT_FROM_OPEN on @p arm (also ends an active freezing). Idempotent. */
-c4g_status_t c4g_ctl_request_exit(c4g_ctl_t *ctl, uint32_t arm);
+c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm);
 /** Request a drive off (505 on every axis of @p arm until its drives are off). Never refused. */
-c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm);
+c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm);
 /** Signal a following error (508 on every axis of @p arm until drives off). Never refused. */
-c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm);
-/** Active freezing of @p arm (500), from mode 0 only; left with c4g_ctl_request_exit. */
-c4g_status_t c4g_ctl_request_freeze(c4g_ctl_t *ctl, uint32_t arm);
+c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm);
+/** Active freezing of @p arm (500), from mode 0 only; left with c4g_engine_request_exit. */
+c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm);
 
 /** The unset marker (a quiet NaN with payload C4G_UNSET_BITS). */
 #define C4G_UNSET_BITS 0x7FC4C0DEU

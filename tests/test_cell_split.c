@@ -19,7 +19,7 @@ static void run(const char *in, size_t n, size_t chunk, size_t cap, char *out, s
     buf[cap] = 0x5A; /* guard */
     buf[cap + 1] = 0x5A;
     c4g_cell_splitter_t sp;
-    assert_int_equal(c4g_cell_split_init(&sp, buf, cap), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_init(&sp, buf, cap), C4G_OK);
     size_t o = 0;
     size_t off = 0;
     out[0] = '\0';
@@ -28,13 +28,13 @@ static void run(const char *in, size_t n, size_t chunk, size_t cap, char *out, s
         size_t done = 0;
         while (done < k) {
             size_t used = 0;
-            assert_int_equal(c4g_cell_split_push(&sp, in + off + done, k - done, &used), C4G_CELL_OK);
+            assert_int_equal(c4g_cell_split_push(&sp, in + off + done, k - done, &used), C4G_OK);
             done += used;
             for (;;) {
                 c4g_cell_split_event_t ev;
                 const char *line = NULL;
                 size_t len = 0;
-                assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_CELL_OK);
+                assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_OK);
                 if (ev == C4G_CELL_SPLIT_NONE) {
                     break;
                 }
@@ -112,34 +112,34 @@ static void test_misuse(void **state)
     c4g_cell_split_event_t ev;
     const char *line;
     size_t len;
-    assert_int_equal(c4g_cell_split_init(NULL, buf, 8), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_init(&sp, NULL, 8), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_init(&sp, buf, 3), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_split_init(&sp, buf, 4), C4G_CELL_OK);
-    assert_int_equal(c4g_cell_split_push(NULL, "a", 1, &used), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_push(&sp, NULL, 1, &used), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_push(&sp, "a", 1, NULL), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_push(&sp, NULL, 0, &used), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_init(NULL, buf, 8), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_init(&sp, NULL, 8), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_init(&sp, buf, 3), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_split_init(&sp, buf, 4), C4G_OK);
+    assert_int_equal(c4g_cell_split_push(NULL, "a", 1, &used), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_push(&sp, NULL, 1, &used), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_push(&sp, "a", 1, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_push(&sp, NULL, 0, &used), C4G_OK);
     assert_int_equal(used, 0);
     /* a full buffer takes nothing more */
-    assert_int_equal(c4g_cell_split_push(&sp, "OK\r\nMORE", 8, &used), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_push(&sp, "OK\r\nMORE", 8, &used), C4G_OK);
     assert_int_equal(used, 4);
-    assert_int_equal(c4g_cell_split_push(&sp, "X", 1, &used), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_push(&sp, "X", 1, &used), C4G_OK);
     assert_int_equal(used, 0);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_OK);
     assert_int_equal(ev, C4G_CELL_SPLIT_LINE);
     assert_int_equal(len, 4);
     assert_memory_equal(line, "OK\r\n", 4);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_OK);
     assert_int_equal(ev, C4G_CELL_SPLIT_NONE);
-    assert_int_equal(c4g_cell_split_next(NULL, &ev, &line, &len), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, NULL, &line, &len), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, NULL, &len), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_split_next(NULL, &ev, &line, &len), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, NULL, &line, &len), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, NULL, &len), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, NULL), C4G_ERR_CELL_NULL);
     c4g_cell_splitter_t zero;
     memset(&zero, 0, sizeof zero);
-    assert_int_equal(c4g_cell_split_push(&zero, "a", 1, &used), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_split_next(&zero, &ev, &line, &len), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_split_push(&zero, "a", 1, &used), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_next(&zero, &ev, &line, &len), C4G_ERR_CELL_NULL);
 }
 
 /* The splitter feeding the decoder: a realistic server loop. */
@@ -148,10 +148,10 @@ static void test_with_decoder(void **state)
     (void)state;
     char buf[C4G_CELL_LINE_MAX];
     c4g_cell_splitter_t sp;
-    assert_int_equal(c4g_cell_split_init(&sp, buf, sizeof buf), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_init(&sp, buf, sizeof buf), C4G_OK);
     const char *stream = "SRVON\r\nOVR+00080\r\nGARBAGE\r\nMOVR+01.0000-01.0000\r\n";
     size_t used;
-    assert_int_equal(c4g_cell_split_push(&sp, stream, strlen(stream), &used), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_split_push(&sp, stream, strlen(stream), &used), C4G_OK);
     assert_int_equal(used, strlen(stream));
     c4g_cell_cmd_t want[] = {C4G_CELL_CMD_SRVON, C4G_CELL_CMD_OVR, C4G_CELL_CMD_COUNT_,
                              C4G_CELL_CMD_MOV};
@@ -161,14 +161,14 @@ static void test_with_decoder(void **state)
         size_t len;
         c4g_cell_instr_t in;
         c4g_cell_diag_t d;
-        assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_OK);
         assert_int_equal(ev, C4G_CELL_SPLIT_LINE);
-        c4g_cell_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
+        c4g_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
         if (want[i] == C4G_CELL_CMD_COUNT_) {
-            assert_int_equal(st, C4G_CELL_ERR_HEAD);
+            assert_int_equal(st, C4G_ERR_CELL_HEAD);
             assert_int_equal(d.column, 1);
         } else {
-            assert_int_equal(st, C4G_CELL_OK);
+            assert_int_equal(st, C4G_OK);
             assert_int_equal(in.cmd, want[i]);
         }
     }

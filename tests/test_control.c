@@ -57,12 +57,12 @@ static void fill(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx)
     }
 }
 
-static int tick(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t t, c4g_pc_packet_t *tx,
-                c4g_ctl_report_t *rep)
+static int tick(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t t, c4g_pc_packet_t *tx,
+                c4g_engine_report_t *rep)
 {
-    assert_int_equal(c4g_ctl_step(ctl, rx, t, tx, rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(ctl, rx, t, tx, rep), C4G_OK);
     fill(rx, tx);
-    return c4g_ctl_finish(ctl, rx, tx, rep);
+    return c4g_engine_finish(ctl, rx, tx, rep);
 }
 
 static void encodes(const c4g_pc_packet_t *tx)
@@ -76,13 +76,17 @@ static void test_strerror_and_unset(void **state)
 {
     int s;
     (void)state;
-    for (s = -101; s > C4G_ERR_CTL_LAST_; s--) {
-        assert_string_not_equal(c4g_strerror(s), "unknown control-layer status");
+    for (s = -101; s >= -116; s--) {
+        if (s == -103 || s == -106) {
+            assert_string_equal(c4g_strerror(s), "unknown status"); /* retired codes */
+        } else {
+            assert_string_not_equal(c4g_strerror(s), "unknown status");
+        }
     }
-    assert_string_equal(c4g_control_strerror(-100), "control layer");
-    assert_string_equal(c4g_control_strerror(C4G_ERR_CTL_LAST_), "unknown control-layer status");
-    assert_string_equal(c4g_control_strerror(-99), "unknown control-layer status");
-    assert_string_equal(c4g_strerror(C4G_ERR_CTL_FORBIDDEN),
+    assert_string_equal(c4g_strerror(-100), "unknown status");
+    assert_string_equal(c4g_strerror(-117), "unknown status");
+    assert_string_equal(c4g_strerror(-99), "unknown status");
+    assert_string_equal(c4g_strerror(C4G_ERR_FORBIDDEN),
                         "mode change not allowed from the arm's current mode");
     assert_true(c4g_is_unset(c4g_unset()));
     assert_false(c4g_is_unset(0.0f));
@@ -91,13 +95,13 @@ static void test_strerror_and_unset(void **state)
 
 static void test_init(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
-    c4g_ctl_config_t c;
+    c4g_engine_config_t c;
     (void)state;
-    assert_int_equal(c4g_ctl_init(NULL, &in, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_init(&ctl, NULL, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(NULL, &in, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_init(&ctl, NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     assert_int_equal(ctl.map.n_axes, 6);
     assert_int_equal(ctl.arm[0].n_axes, 6);
     assert_int_equal(ctl.arm[1].n_axes, 0);
@@ -105,76 +109,76 @@ static void test_init(void **state)
     assert_true(ctl.lim[3].current_max == 9.5f);
     assert_true(ctl.lim[5].follow_error == 0.0f);
     assert_int_equal(ctl.cfg.request_timeout_ticks, 100);
-    c4g_ctl_config_default(&c);
+    c4g_engine_config_default(&c);
     c.moving_eps = -1.0f;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, &c), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_ERR_ARG);
     c.moving_eps = 0.5f;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, &c), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_OK);
     assert_true(ctl.cfg.moving_eps == 0.5f);
     in.num = 9;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_ERR_NUM);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_ERR_NUM);
     in = fig();
     in.tx_rate[2][0] = 1.0f / 0.0f; /* validate catches non-finite floats anywhere */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_ERR_NONFINITE);
     in = fig();
     in.open_ax[0][5] = 0; /* OPEN index used twice */
-    assert_true(c4g_ctl_init(&ctl, &in, NULL) != C4G_OK);
+    assert_true(c4g_engine_init(&ctl, &in, NULL) != C4G_OK);
 }
 
 static void test_step_finish_args(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 100, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(NULL, &rx, 0, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_step(&ctl, NULL, 0, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, NULL, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_finish(NULL, &rx, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_finish(&ctl, NULL, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, NULL, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_step(NULL, &rx, 0, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_step(&ctl, NULL, 0, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, NULL, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_finish(NULL, &rx, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_finish(&ctl, NULL, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, NULL, &rep), C4G_ERR_NULL);
     /* finish without step */
     memset(&tx, 0, sizeof tx);
     tx.n_axes = 6;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     rx.n_axes = 5;
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_CTL_PACKET);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_PACKET);
     mk_rx(&rx, 100, 6, 0, 5);
     rx.ax[2].mode = 13;
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_MODE);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_MODE);
     mk_rx(&rx, 100, 6, 0, 5);
     rx.ax[5].ext[2] = 0.0f / 0.0f;
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_NONFINITE);
     mk_rx(&rx, 100, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, NULL), C4G_OK);
     /* finish with another packet than the stepped one */
     rx.num = 101;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     rx.num = 100;
     tx.n_axes = 5;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     tx.n_axes = 6;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, NULL), C4G_ERR_STATE); /* once */
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, NULL), C4G_ERR_STATE); /* once */
 }
 
 static void test_neutral_and_copy_back(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint32_t i;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 7, 6, 0, 5);
     rx.cmd = 0x33;
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(tx.num, 7);
     assert_int_equal(tx.infpar, 0);
     assert_int_equal(tx.cmd, 0);
@@ -182,18 +186,18 @@ static void test_neutral_and_copy_back(void **state)
         assert_int_equal(tx.ax[i].mode, 0);
         assert_true(tx.ax[i].target_pos == 0.0f);
     }
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(rep.n_filtered, 0);
     encodes(&tx);
     /* mode 10: the library copies D1..D5 back, whatever the caller wrote */
     mk_rx(&rx, 8, 6, 10, 5);
     rx.ax[1].target_vel = 0.25f;
     rx.ax[1].actual_vel = -0.5f;
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_true(tx.ax[1].target_vel == 0.25f);
     tx.ax[1].target_pos = 99.0f;
     tx.ax[1].current_add = 99.0f;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_true(tx.ax[1].target_pos == rx.ax[1].target_pos);
     assert_true(tx.ax[1].target_vel == 0.25f);
     assert_true(tx.ax[1].measure == rx.ax[1].actual_pos);
@@ -218,17 +222,17 @@ static void test_required_fields(void **state)
     for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
         uint32_t k;
         for (k = 0; k < 5; k++) {
-            c4g_ctl_t ctl;
+            c4g_engine_t ctl;
             c4g_init_t in = fig();
             c4g_ctrl_packet_t rx;
             c4g_pc_packet_t tx;
-            c4g_ctl_report_t rep;
+            c4g_engine_report_t rep;
             const uint32_t bit = 1u << k;
             float *f;
             int st;
-            assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+            assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
             mk_rx(&rx, 1, 6, rows[r].mode, 5);
-            assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+            assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
             f = (k == 0) ? &tx.ax[2].target_pos : (k == 1) ? &tx.ax[2].target_vel
               : (k == 2) ? &tx.ax[2].measure : (k == 3) ? &tx.ax[2].vel_add
               : &tx.ax[2].current_add;
@@ -238,9 +242,9 @@ static void test_required_fields(void **state)
             if (rows[r].fields & bit) {
                 *f = c4g_unset();
             }
-            st = c4g_ctl_finish(&ctl, &rx, &tx, &rep);
+            st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
             if (rows[r].fields & bit) {
-                assert_int_equal(st, C4G_ERR_CTL_MISSING_DATA);
+                assert_int_equal(st, C4G_ERR_MISSING_DATA);
                 assert_true(rep.axis_flags[2] & C4G_SF_MISSING);
                 assert_true(rep.axis_flags[2] & C4G_SF_HELD);
                 uint32_t j;
@@ -259,33 +263,33 @@ static void test_required_fields(void **state)
 
 static void test_nonfinite_holds(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint32_t i;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     /* first packet already bad: nothing safe yet, zeros go out with 505 */
     mk_rx(&rx, 1, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[0].ext[1] = 1.0f / 0.0f;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_true(tx.ax[0].ext[1] == 0.0f);
     assert_int_equal(tx.ax[0].mode, 505);
     encodes(&tx);
     /* later: the axis holds its last safe value */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 1, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     mk_rx(&rx, 2, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[3].target_pos = 0.0f / 0.0f;
     tx.ax[4].target_pos = 4.9f;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_true(tx.ax[3].target_pos == 4.0f); /* last safe (held position) */
     assert_true(rep.axis_flags[3] & C4G_SF_NONFINITE);
     for (i = 0; i < 6; i++) {
@@ -296,28 +300,28 @@ static void test_nonfinite_holds(void **state)
     encodes(&tx);
     /* latched: 505 keeps going out, data held, no unset fields */
     mk_rx(&rx, 3, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_false(c4g_is_unset(tx.ax[0].target_pos));
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     /* drives off: latch cleared, back to echo */
     mk_rx(&rx, 4, 6, 0, 0);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 3, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 3, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_LATCH_CLEARED);
     assert_int_equal(tx.ax[0].mode, 0);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
 }
 
 static void test_mixed_arm(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 1, 6, 0, 5);
     rx.ax[1].mode = 4;
     rx.ax[3].mode = 4;
@@ -327,7 +331,7 @@ static void test_mixed_arm(void **state)
     assert_true(rep.events & C4G_CEV_MIXED);
     assert_int_equal(tx.ax[0].mode, 0);     /* each axis echoes its own mode */
     assert_int_equal(tx.ax[1].mode, 4);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 5), C4G_ERR_CTL_PDL_ONLY);
+    assert_int_equal(c4g_engine_request_mode(&ctl, 0, 5), C4G_ERR_PDL_ONLY);
     mk_rx(&rx, 2, 6, 0, 5);
     rx.ax[1].mode = 4;
     rx.ax[2].mode = 502;                    /* a special mode wins over everything */
@@ -338,30 +342,30 @@ static void test_mixed_arm(void **state)
 
 static void test_mode_restored(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 1, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     tx.ax[1].mode = C4G_MODE_4; /* not through the request API */
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_CTL_MODE_RESTORED);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
     assert_int_equal(tx.ax[1].mode, 0);
     assert_true(rep.axis_flags[1] & C4G_SF_MODE_RESTORED);
     /* a drive off asked between step and finish goes out at once */
     mk_rx(&rx, 2, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_drive_off(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_request_drive_off(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     /* caller may already write the overlay mode itself */
     mk_rx(&rx, 3, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
 }
 
 /* ----------------------------------------------------------------- requests */
@@ -371,56 +375,56 @@ static void test_mode_restored(void **state)
  * the very first packet that carries it. */
 static void test_request_mode_refused(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     const int32_t modes[] = {0, 10, 1, 11, 2, 12, 3, 4, 14, 5, 15, 6, 7, 17, 170, 8, 9,
                              101, 102, 103, 201, 202, 500, 501, 502, 503, 504, 505, 506, 508};
     size_t k;
     uint32_t i;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_request_mode(NULL, 0, 4), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 4, 4), C4G_ERR_ARG);
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 1, 4), C4G_ERR_NOT_OPEN);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_request_mode(NULL, 0, 4), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_request_mode(&ctl, 4, 4), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_request_mode(&ctl, 1, 4), C4G_ERR_NOT_OPEN);
     mk_rx(&rx, 1, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     for (k = 0; k < sizeof modes / sizeof modes[0]; k++) {
-        assert_int_equal(c4g_ctl_request_mode(&ctl, 0, modes[k]), C4G_ERR_CTL_PDL_ONLY);
+        assert_int_equal(c4g_engine_request_mode(&ctl, 0, modes[k]), C4G_ERR_PDL_ONLY);
     }
-    assert_int_equal(c4g_ctl_request_mode(&ctl, 0, 13), C4G_ERR_MODE);
-    assert_string_equal(c4g_strerror(C4G_ERR_CTL_PDL_ONLY),
+    assert_int_equal(c4g_engine_request_mode(&ctl, 0, 13), C4G_ERR_MODE);
+    assert_string_equal(c4g_strerror(C4G_ERR_PDL_ONLY),
                         "only the controller's PDL2 program starts an operating mode");
     /* the next reply still echoes mode 0 */
     mk_rx(&rx, 2, 6, 0, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 0);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     /* PDL2 sets mode 4: the first packet carrying it needs the mode's data */
     mk_rx(&rx, 3, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_START);
     for (i = 0; i < 6; i++) {
         assert_int_equal(tx.ax[i].mode, 4);
         assert_true(c4g_is_unset(tx.ax[i].target_pos));
         assert_true(c4g_is_unset(tx.ax[i].target_vel));
     }
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_CTL_MISSING_DATA);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MISSING_DATA);
     assert_int_equal(tx.ax[0].mode, 505); /* never a mode without its data */
 }
 
 /* Two arms in different modes: the exits are separate INFPAR bytes. */
 static void test_two_arm_exits(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig2();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     assert_int_equal(ctl.arm[1].n_axes, 2);
     mk_rx(&rx, 1, 8, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
@@ -432,7 +436,7 @@ static void test_two_arm_exits(void **state)
     assert_int_equal(tx.ax[6].mode, 4);
     assert_true(rep.arm_events[0] & C4G_CEV_START);
     assert_true(rep.arm_events[1] & C4G_CEV_START);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 1), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 1), C4G_OK);
     mk_rx(&rx, 3, 8, 4, 5);
     rx.ax[0].mode = rx.ax[1].mode = rx.ax[2].mode = rx.ax[3].mode = rx.ax[4].mode =
         rx.ax[5].mode = 1;
@@ -449,21 +453,21 @@ static void test_two_arm_exits(void **state)
 
 static void test_exit_and_freeze(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(NULL, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 7), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 7), C4G_ERR_ARG);
     mk_rx(&rx, 1, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_ERR_CTL_NOT_IN_OPEN);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_ERR_NOT_IN_OPEN);
     /* active freezing from mode 0: 500 on every axis until exit */
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK); /* idempotent */
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 0), C4G_OK); /* idempotent */
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 500);
@@ -471,7 +475,7 @@ static void test_exit_and_freeze(void **state)
     mk_rx(&rx, 3, 6, 500, 5); /* the controller echoes 500 */
     assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_FREEZE_A);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
     mk_rx(&rx, 4, 6, 500, 5);
     assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
     assert_int_equal(c4g_arm_byte(tx.infpar, 0), 1);
@@ -483,10 +487,10 @@ static void test_exit_and_freeze(void **state)
     assert_int_equal(tx.ax[0].mode, 0);
     assert_int_equal(tx.infpar, 0);
     /* controller that never echoes 500 */
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 0), C4G_OK);
     mk_rx(&rx, 6, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 5, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
     mk_rx(&rx, 7, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 6, &tx, &rep), C4G_OK);
     assert_int_equal(c4g_arm_byte(tx.infpar, 0), 1);
@@ -497,10 +501,10 @@ static void test_exit_and_freeze(void **state)
     assert_int_equal(tx.ax[0].mode, 0);
     /* echoes 500 forever: the exit times out, freezing given up */
     ctl.cfg.request_timeout_ticks = 2;
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 0), C4G_OK);
     mk_rx(&rx, 9, 6, 500, 5);
     assert_int_equal(tick(&ctl, &rx, 8, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
     mk_rx(&rx, 10, 6, 500, 5);
     assert_int_equal(tick(&ctl, &rx, 9, &tx, &rep), C4G_OK);
     mk_rx(&rx, 11, 6, 500, 5);
@@ -510,12 +514,12 @@ static void test_exit_and_freeze(void **state)
     assert_true(rep.events & C4G_CEV_FREEZE_A_END);
     assert_int_equal(ctl.arm[0].frozen, 0);
     /* exit in mode 4 that the controller ignores: timeout, back to CRUISE */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     ctl.cfg.request_timeout_ticks = 2;
     mk_rx(&rx, 1, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);    /* idempotent */
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);    /* idempotent */
     mk_rx(&rx, 2, 6, 4, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     mk_rx(&rx, 3, 6, 4, 5);
@@ -529,27 +533,27 @@ static void test_exit_and_freeze(void **state)
 
 static void test_drive_off_follow_error_requests(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint32_t i;
     (void)state;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_request_drive_off(NULL, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_request_follow_error(&ctl, 5), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_request_drive_off(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_request_follow_error(&ctl, 5), C4G_ERR_ARG);
     mk_rx(&rx, 1, 6, 501, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     /* never refused, even while driving on */
-    assert_int_equal(c4g_ctl_request_follow_error(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_follow_error(&ctl, 0), C4G_OK);
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     for (i = 0; i < 6; i++) {
         assert_int_equal(tx.ax[i].mode, 508);
         assert_true(rep.axis_flags[i] & C4G_SF_FE_SENT);
     }
-    assert_int_equal(c4g_ctl_request_freeze(&ctl, 0), C4G_ERR_CTL_LATCHED);
+    assert_int_equal(c4g_engine_request_freeze(&ctl, 0), C4G_ERR_LATCHED);
     mk_rx(&rx, 3, 6, 0, 0); /* drives off */
     assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_LATCH_CLEARED);
@@ -558,7 +562,7 @@ static void test_drive_off_follow_error_requests(void **state)
     /* a drive off in mode 0 */
     mk_rx(&rx, 4, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 3, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_drive_off(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_drive_off(&ctl, 0), C4G_OK);
     mk_rx(&rx, 5, 6, 0, 5);
     assert_int_equal(tick(&ctl, &rx, 4, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
@@ -587,21 +591,21 @@ typedef struct walk_row {
 
 static void walk(const char *name, const walk_row_t *rows, size_t n, uint64_t start_ns)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
-    c4g_ctl_config_t c;
+    c4g_engine_config_t c;
     size_t k;
-    c4g_ctl_config_default(&c);
+    c4g_engine_config_default(&c);
     c.start_ns = start_ns;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, &c), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_OK);
     for (k = 0; k < n; k++) {
         const walk_row_t *w = &rows[k];
         c4g_ctrl_packet_t rx;
         c4g_pc_packet_t tx;
-        c4g_ctl_report_t rep;
+        c4g_engine_report_t rep;
         uint32_t i;
         if (w->pc == EXIT) {
-            assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+            assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
         }
         mk_rx(&rx, (int32_t)k + 1, 6, w->rx_mode, w->drive);
         for (i = 0; i < 6; i++) {
@@ -730,65 +734,65 @@ static void test_fig24_4_pdl_sequences(void **state)
 
 static void test_more_paths(void **state)
 {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_init_t in = fig();
-    c4g_ctl_config_t c;
+    c4g_engine_config_t c;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     c4g_axis_limits_t l;
     (void)state;
-    c4g_ctl_config_default(&c);
+    c4g_engine_config_default(&c);
     c.moving_eps = 0.0f / 0.0f;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, &c), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_ERR_ARG);
     /* a drive off before anything was sent: zeros go out with 505 */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_request_drive_off(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_request_drive_off(&ctl, 0), C4G_OK);
     mk_rx(&rx, 1, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_true(tx.ax[0].target_pos == 0.0f);
     /* finish with a packet of another size than the context's */
     rx.n_axes = 5;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     /* an echoed mode whose data is a measure (1xx): D3 required */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 2, 6, C4G_MODE_101, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_true(c4g_is_unset(tx.ax[0].measure));
     fill(&rx, &tx);
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
     /* two bad axes: NONFINITE reported once */
     mk_rx(&rx, 3, 6, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[1].ext[0] = 1.0f / 0.0f;
     tx.ax[2].ext[0] = 1.0f / 0.0f;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     /* exit asked again while leaving through the stand-by: accepted, nothing new */
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 4, 6, 1, 5);
     assert_int_equal(tick(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
     mk_rx(&rx, 5, 6, 1, 5);
     assert_int_equal(tick(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     mk_rx(&rx, 6, 6, 11, 5);
     assert_int_equal(tick(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_int_equal(ctl.arm[0].leaving, 1);
-    assert_int_equal(c4g_ctl_request_exit(&ctl, 0), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&ctl, 0), C4G_OK);
     assert_int_equal(ctl.arm[0].exit_req, 0);
     /* joint limits on ARM 1 with a second arm open, and a bad axis on the joint arm */
     in = fig2();
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     memset(&l, 0, sizeof l);
     l.joint_min = -1.0f;
     l.joint_max = 1.0f;
-    assert_int_equal(c4g_ctl_set_limits(&ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_OK);
     mk_rx(&rx, 7, 8, 4, 5);
-    assert_int_equal(c4g_ctl_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[2].vel_add = 0.0f / 0.0f;
-    assert_int_equal(c4g_ctl_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_int_equal(tx.ax[6].mode, 4);
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Property test, mode by mode: random PC requests go through the safety filter
- * (c4g_ctl_step / c4g_ctl_finish) and then through c4g-sim's model of what the controller
+ * (c4g_engine_step / c4g_engine_finish) and then through c4g-sim's model of what the controller
  * does with the fields (sim_ref_step, the code c4g-sim runs). Whatever the PC asks, the
  * reference the controller integrates never leaves the stroke and never steps more than the
  * continuity limit; currents never exceed the limit and a mode-9 delta only ever shrinks.
@@ -24,7 +24,7 @@
 #define HI 0.5f
 
 typedef struct world {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     sim_ref_t ref[N_AX];
     double pos_i[N_AX];
     float last_d2[N_AX]; /* what the controller reports as its target velocity */
@@ -57,7 +57,7 @@ static void world_init(world_t *w, sim_rng_t *rng)
     uint32_t i;
     memset(w, 0, sizeof *w);
     assert_int_equal(c4g_init_fig10_1(&in), C4G_OK);
-    assert_int_equal(c4g_ctl_init(&w->ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&w->ctl, &in, NULL), C4G_OK);
     memset(&l, 0, sizeof l);
     l.max_step = MAX_STEP;
     l.max_vel = MAX_VEL;
@@ -65,7 +65,7 @@ static void world_init(world_t *w, sim_rng_t *rng)
     l.motor_max = HI;
     l.current_max = 10.0f;
     for (i = 0; i < N_AX; i++) {
-        assert_int_equal(c4g_ctl_set_limits(&w->ctl, 0, i, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&w->ctl, 0, i, &l), C4G_OK);
         w->pos_i[i] = uni(rng, 0.9f * LO, 0.9f * HI);
         w->ref[i].pos_k = w->pos_i[i];
         w->ref[i].pos_ref = w->pos_i[i];
@@ -116,17 +116,17 @@ static int run_mode(int32_t mode, uint64_t seed)
         c4g_ctrl_packet_t rx;
         c4g_pc_packet_t tx;
         c4g_pc_packet_t asked;
-        c4g_ctl_report_t rep;
+        c4g_engine_report_t rep;
         uint32_t i;
         int stopped = 0;
         w.num++;
         controller_packet(&w, m, &rx);
-        assert_int_equal(c4g_ctl_step(&w.ctl, &rx, (uint64_t)tick * 2000000U, &tx, &rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&w.ctl, &rx, (uint64_t)tick * 2000000U, &tx, &rep), C4G_OK);
         for (i = 0; i < N_AX; i++) {
             fill_request(&rng, m, &rx.ax[i], &tx.ax[i]);
         }
         asked = tx;
-        (void)c4g_ctl_finish(&w.ctl, &rx, &tx, &rep);
+        (void)c4g_engine_finish(&w.ctl, &rx, &tx, &rep);
         for (i = 0; i < N_AX; i++) {
             if (tx.ax[i].mode == C4G_MODE_DRIVE_OFF || tx.ax[i].mode == C4G_MODE_FOLLOW_ERROR) {
                 stopped = 1; /* the controller takes the drives off: nothing moves any more */

@@ -179,8 +179,8 @@ static void test_errors(void **state)
     assert_int_equal(c4g_kin_link_to_motor(&k, q, 0, out), C4G_ERR_ARG);
     assert_int_equal(c4g_kin_link_to_motor(&k, q, 11, out), C4G_ERR_ARG);
     /* axes 7..10 have no ratio in figure 10.1 */
-    assert_int_equal(c4g_kin_link_to_motor(&k, q, 7, out), C4G_ERR_CTL_SINGULAR);
-    assert_int_equal(c4g_kin_motor_to_link(&k, q, 10, out), C4G_ERR_CTL_SINGULAR);
+    assert_int_equal(c4g_kin_link_to_motor(&k, q, 7, out), C4G_ERR_SINGULAR);
+    assert_int_equal(c4g_kin_motor_to_link(&k, q, 10, out), C4G_ERR_SINGULAR);
     q[2] = NAN;
     assert_int_equal(c4g_kin_motor_to_link(&k, q, 7, out), C4G_ERR_NONFINITE);
     assert_int_equal(c4g_kin_link_vel_to_motor(&k, q, 6, out), C4G_ERR_NONFINITE);

@@ -9,10 +9,10 @@ static const int32_t all_modes[] = {0, 10, 1, 11, 2, 12, 3, 4, 14, 5, 15, 6, 7, 
                                     506, 508};
 #define N_ALL ((int)(sizeof all_modes / sizeof all_modes[0]))
 
-static c4g_ctl_config_t cfg0(void)
+static c4g_engine_config_t cfg0(void)
 {
-    c4g_ctl_config_t c;
-    assert_int_equal(c4g_ctl_config_default(&c), C4G_OK);
+    c4g_engine_config_t c;
+    assert_int_equal(c4g_engine_config_default(&c), C4G_OK);
     return c;
 }
 
@@ -141,7 +141,7 @@ typedef struct sm_in {
     uint64_t t;
 } sm_in_t;
 
-static uint32_t feed(c4g_arm_sm_t *sm, const c4g_ctl_config_t *c, int32_t mode, uint8_t drive,
+static uint32_t feed(c4g_arm_sm_t *sm, const c4g_engine_config_t *c, int32_t mode, uint8_t drive,
                      uint32_t moving, uint64_t t)
 {
     uint32_t ev = 0xFFFFFFFFu;
@@ -152,10 +152,10 @@ static uint32_t feed(c4g_arm_sm_t *sm, const c4g_ctl_config_t *c, int32_t mode, 
 static void test_sm_args(void **state)
 {
     c4g_arm_sm_t sm;
-    c4g_ctl_config_t c = cfg0();
+    c4g_engine_config_t c = cfg0();
     uint32_t ev;
     (void)state;
-    assert_int_equal(c4g_ctl_config_default(NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_config_default(NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_arm_sm_init(NULL, 1), C4G_ERR_NULL);
     assert_int_equal(c4g_arm_sm_init(&sm, 11), C4G_ERR_ARG);
     assert_int_equal(c4g_arm_sm_init(&sm, 6), C4G_OK);
@@ -173,7 +173,7 @@ static void test_sm_args(void **state)
 static void test_sm_mode1_cycle(void **state)
 {
     c4g_arm_sm_t sm;
-    c4g_ctl_config_t c = cfg0();
+    c4g_engine_config_t c = cfg0();
     uint32_t ev;
     (void)state;
     c.start_ns = 1000;
@@ -223,7 +223,7 @@ static void test_sm_mode1_cycle(void **state)
 static void test_sm_mode7_and_specials(void **state)
 {
     c4g_arm_sm_t sm;
-    c4g_ctl_config_t c = cfg0();
+    c4g_engine_config_t c = cfg0();
     uint32_t ev;
     (void)state;
     assert_int_equal(c4g_arm_sm_init(&sm, 6), C4G_OK);
@@ -281,7 +281,7 @@ static void test_sm_mode7_and_specials(void **state)
 static void test_sm_mixed_and_first_packet(void **state)
 {
     c4g_arm_sm_t sm;
-    c4g_ctl_config_t c = cfg0();
+    c4g_engine_config_t c = cfg0();
     uint32_t ev;
     (void)state;
     assert_int_equal(c4g_arm_sm_init(&sm, 6), C4G_OK);
@@ -323,36 +323,36 @@ static void test_request_rules(void **state)
         int32_t frozen;
         int st_mode4, st_exit, st_freeze;
     } rows[] = {
-        {"mode 0 idle", 0, 1, 0, 0, 0, 0, 0, 0, 0, C4G_OK, C4G_ERR_CTL_NOT_IN_OPEN, C4G_OK},
-        {"mode 0'", 10, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_ERR_CTL_NOT_IN_OPEN,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 0 mixed", 0, 1, 0, 0, 0, 0, 0, 1, 0, C4G_ERR_CTL_FORBIDDEN,
-         C4G_ERR_CTL_NOT_IN_OPEN, C4G_ERR_CTL_NOT_MODE0},
-        {"drives off", 0, 0, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_DRIVES_OFF,
-         C4G_ERR_CTL_NOT_IN_OPEN, C4G_OK},
-        {"driving on", 501, 1, 1, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_DRIVING_ON,
-         C4G_ERR_CTL_DRIVING_ON, C4G_ERR_CTL_DRIVING_ON},
-        {"latched", 0, 1, 0, 1, 0, 0, 0, 0, 0, C4G_ERR_CTL_LATCHED, C4G_ERR_CTL_NOT_IN_OPEN,
-         C4G_ERR_CTL_LATCHED},
-        {"mode 4", 4, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_OK,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 4 exit sent", 4, 1, 0, 0, 0, 1, 0, 0, 0, C4G_OK, C4G_OK, C4G_ERR_CTL_NOT_MODE0},
-        {"mode 1 leaving", 11, 1, 0, 0, 0, 0, 1, 0, 0, C4G_OK, C4G_OK, C4G_ERR_CTL_NOT_MODE0},
-        {"mode 11", 11, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_ERR_CTL_LEAVING,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 2", 2, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_ERR_CTL_FORBIDDEN,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 12", 12, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_ERR_CTL_LEAVING,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 7", 7, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_OK,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 9", 9, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN, C4G_OK,
-         C4G_ERR_CTL_NOT_MODE0},
-        {"mode 503", 503, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_CTL_FORBIDDEN,
-         C4G_ERR_CTL_FORBIDDEN, C4G_ERR_CTL_NOT_MODE0},
-        {"passive frozen", 502, 1, 0, 0, 0, 0, 0, 0, 502, C4G_ERR_CTL_FROZEN,
-         C4G_ERR_CTL_FROZEN, C4G_ERR_CTL_FROZEN},
-        {"active frozen", 0, 1, 0, 0, 0, 0, 0, 0, 500, C4G_ERR_CTL_FROZEN, C4G_OK, C4G_OK},
+        {"mode 0 idle", 0, 1, 0, 0, 0, 0, 0, 0, 0, C4G_OK, C4G_ERR_NOT_IN_OPEN, C4G_OK},
+        {"mode 0'", 10, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_ERR_NOT_IN_OPEN,
+         C4G_ERR_NOT_MODE0},
+        {"mode 0 mixed", 0, 1, 0, 0, 0, 0, 0, 1, 0, C4G_ERR_FORBIDDEN,
+         C4G_ERR_NOT_IN_OPEN, C4G_ERR_NOT_MODE0},
+        {"drives off", 0, 0, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_DRIVES_OFF,
+         C4G_ERR_NOT_IN_OPEN, C4G_OK},
+        {"driving on", 501, 1, 1, 0, 0, 0, 0, 0, 0, C4G_ERR_DRIVING_ON,
+         C4G_ERR_DRIVING_ON, C4G_ERR_DRIVING_ON},
+        {"latched", 0, 1, 0, 1, 0, 0, 0, 0, 0, C4G_ERR_LATCHED, C4G_ERR_NOT_IN_OPEN,
+         C4G_ERR_LATCHED},
+        {"mode 4", 4, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_OK,
+         C4G_ERR_NOT_MODE0},
+        {"mode 4 exit sent", 4, 1, 0, 0, 0, 1, 0, 0, 0, C4G_OK, C4G_OK, C4G_ERR_NOT_MODE0},
+        {"mode 1 leaving", 11, 1, 0, 0, 0, 0, 1, 0, 0, C4G_OK, C4G_OK, C4G_ERR_NOT_MODE0},
+        {"mode 11", 11, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_ERR_LEAVING,
+         C4G_ERR_NOT_MODE0},
+        {"mode 2", 2, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_ERR_FORBIDDEN,
+         C4G_ERR_NOT_MODE0},
+        {"mode 12", 12, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_ERR_LEAVING,
+         C4G_ERR_NOT_MODE0},
+        {"mode 7", 7, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_OK,
+         C4G_ERR_NOT_MODE0},
+        {"mode 9", 9, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN, C4G_OK,
+         C4G_ERR_NOT_MODE0},
+        {"mode 503", 503, 1, 0, 0, 0, 0, 0, 0, 0, C4G_ERR_FORBIDDEN,
+         C4G_ERR_FORBIDDEN, C4G_ERR_NOT_MODE0},
+        {"passive frozen", 502, 1, 0, 0, 0, 0, 0, 0, 502, C4G_ERR_FROZEN,
+         C4G_ERR_FROZEN, C4G_ERR_FROZEN},
+        {"active frozen", 0, 1, 0, 0, 0, 0, 0, 0, 500, C4G_ERR_FROZEN, C4G_OK, C4G_OK},
     };
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
         assert_int_equal(c4g_arm_sm_init(&sm, 6), C4G_OK);
@@ -367,7 +367,7 @@ static void test_request_rules(void **state)
         sm.mixed = rows[i].mixed;
         sm.frozen = rows[i].frozen;
         (void)rows[i].st_mode4; /* 0.1 rules; a mode is never the PC's to start */
-        if (c4g_arm_sm_check(&sm, C4G_REQ_MODE, 4) != C4G_ERR_CTL_PDL_ONLY ||
+        if (c4g_arm_sm_check(&sm, C4G_REQ_MODE, 4) != C4G_ERR_PDL_ONLY ||
             c4g_arm_sm_check(&sm, C4G_REQ_EXIT, 0) != rows[i].st_exit ||
             c4g_arm_sm_check(&sm, C4G_REQ_FREEZE, 0) != rows[i].st_freeze) {
             fail_msg("%s: mode %d exit %d freeze %d", rows[i].what,
@@ -384,12 +384,12 @@ static void test_request_rules(void **state)
     sm.drive_on = 1;
     for (i = 0; i < (size_t)N_ALL; i++) {
         const int32_t m = all_modes[i];
-        assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, m), C4G_ERR_CTL_PDL_ONLY);
+        assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, m), C4G_ERR_PDL_ONLY);
     }
     assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_MODE, 13), C4G_ERR_MODE);
     /* exit from a mode that is not an operating one: 500 seen without our freezing */
     sm.mode = 500;
-    assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_EXIT, 0), C4G_ERR_CTL_FORBIDDEN);
+    assert_int_equal(c4g_arm_sm_check(&sm, C4G_REQ_EXIT, 0), C4G_ERR_FORBIDDEN);
 }
 
 int main(void)

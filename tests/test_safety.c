@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* PC-side safety (14.17.2, 15.7): every pure check at and around its boundaries, then the
- * filter inside c4g_ctl_finish mode by mode: following error -> 508, current saturation,
+ * filter inside c4g_engine_finish mode by mode: following error -> 508, current saturation,
  * delta current, continuity, stroke ends in motor turns and in joint units, user limits. */
 #include "test_helpers.h"
 #include <math.h>
@@ -132,10 +132,10 @@ static void mk_rx(c4g_ctrl_packet_t *rx, int32_t num, int32_t mode)
 }
 
 typedef struct filt {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     int32_t num;
 } filt_t;
 
@@ -144,7 +144,7 @@ static void f_init(filt_t *f)
     c4g_init_t in;
     memset(f, 0, sizeof *f);
     assert_int_equal(c4g_init_fig10_1(&in), C4G_OK);
-    assert_int_equal(c4g_ctl_init(&f->ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&f->ctl, &in, NULL), C4G_OK);
 }
 
 /* One tick in @p mode; axis 0 gets d1, d2, d4, d5, the others hold. */
@@ -154,7 +154,7 @@ static int f_tick(filt_t *f, int32_t mode, float d1, float d2, float d4, float d
     int st;
     f->num++;
     mk_rx(&f->rx, f->num, mode);
-    assert_int_equal(c4g_ctl_step(&f->ctl, &f->rx, (uint64_t)f->num, &f->tx, &f->rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f->ctl, &f->rx, (uint64_t)f->num, &f->tx, &f->rep), C4G_OK);
     for (i = 0; i < 6; i++) {
         const int abs_mode = (mode == 1 || mode == 11 || mode == 4);
         f->tx.ax[i].target_pos = (i == 0) ? d1 : (abs_mode ? 10.0f : 0.0f);
@@ -162,7 +162,7 @@ static int f_tick(filt_t *f, int32_t mode, float d1, float d2, float d4, float d
         f->tx.ax[i].vel_add = (i == 0) ? d4 : 0.0f;
         f->tx.ax[i].current_add = (i == 0) ? d5 : 0.0f;
     }
-    st = c4g_ctl_finish(&f->ctl, &f->rx, &f->tx, &f->rep);
+    st = c4g_engine_finish(&f->ctl, &f->rx, &f->tx, &f->rep);
     {
         uint8_t buf[C4G_MAX_CYCLIC_SIZE];
         size_t len;
@@ -192,18 +192,18 @@ static void test_filter_following_error(void **state)
             f.num++;
             mk_rx(&f.rx, f.num, rows[r].mode);
             f.rx.ax[0].actual_pos = 2.5f;
-            assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
             memset(f.tx.ax, 0, sizeof f.tx.ax);
             { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = rows[r].mode; }
-            assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
             assert_int_equal(f.tx.ax[0].mode, rows[r].mode);
             f.num++;
             mk_rx(&f.rx, f.num, rows[r].mode);
             f.rx.ax[0].actual_pos = 2.49f;
-            assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
             memset(f.tx.ax, 0, sizeof f.tx.ax);
             { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = rows[r].mode; }
-            assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         }
         assert_int_equal(f.tx.ax[0].mode, C4G_MODE_FOLLOW_ERROR);  /* offending axis only */
         assert_int_equal(f.tx.ax[1].mode, rows[r].mode);
@@ -217,8 +217,8 @@ static void test_filter_following_error(void **state)
         f.num++;
         mk_rx(&f.rx, f.num, 0);
         f.rx.ax[0].actual_pos = -100.0f;
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[0].mode, 0);
     }
     {   /* axis 6 has FollowError 0: no threshold unless the user sets one */
@@ -228,37 +228,37 @@ static void test_filter_following_error(void **state)
         f.num++;
         mk_rx(&f.rx, f.num, 2);
         f.rx.ax[5].actual_pos = -1000.0f;
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 2);
         memset(&l, 0, sizeof l);
         l.follow_error = 1.0f;
-        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 5, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 5, &l), C4G_OK);
         assert_true(f.ctl.lim[5].follow_error == 1.0f);
         f.num++;
         mk_rx(&f.rx, f.num, 2);
         f.rx.ax[5].actual_pos = 8.9f;
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 508);
         /* the 508 stays until the drives are off */
         f.num++;
         mk_rx(&f.rx, f.num, 2);
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 508);
         assert_int_equal(f.tx.ax[4].mode, 2);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 508);
         f.num++;
         mk_rx(&f.rx, f.num, 0);
         f.rx.infpar = 0;
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
         assert_int_equal(f.tx.ax[5].mode, 0);
         assert_int_equal(f.ctl.fe_latch[5], 0);
@@ -296,11 +296,11 @@ static void test_filter_currents(void **state)
         c4g_axis_limits_t l;
         memset(&l, 0, sizeof l);
         l.current_max = 10.0f;
-        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
         assert_int_equal(f_tick(&f, 1, 10.0f, 0, 0, 11.0f), C4G_OK);
         assert_true(f.tx.ax[0].current_add == 10.0f);
         l.current_max = 100.0f;
-        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
         assert_true(f.ctl.lim[0].current_max == 24.5f);
     }
 }
@@ -314,7 +314,7 @@ static void test_filter_continuity(void **state)
     memset(&l, 0, sizeof l);
     l.max_step = 0.5f;
     l.max_vel = 0.25f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
     /* mode 4, first tick: the step is measured from where the axis stood (10) */
     assert_int_equal(f_tick(&f, 4, 10.5f, 0.25f, 0, 0), C4G_OK);
     assert_true(f.tx.ax[0].target_pos == 10.5f);
@@ -374,7 +374,7 @@ static void test_filter_stroke(void **state)
         memset(&l, 0, sizeof l);
         l.motor_min = 9.0f;
         l.motor_max = 10.5f;
-        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
         assert_int_equal(f_tick(&f, 0, 0, 0, 0, 0), C4G_OK);
         assert_int_equal(f_tick(&f, rows[r].mode, rows[r].d1, rows[r].d2, rows[r].d4, 0),
                          C4G_OK);
@@ -402,7 +402,7 @@ static void test_filter_stroke(void **state)
         memset(&l, 0, sizeof l);
         l.motor_min = 0.0f;
         l.motor_max = 5.0f;
-        assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+        assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
         assert_int_equal(f_tick(&f, 7, -0.25f, 0, 0, 0), C4G_OK); /* SMP+ at 10 */
         assert_true(f.tx.ax[0].target_pos == -0.25f);
         assert_int_equal(f.rep.axis_flags[0] & C4G_SF_STROKE, 0);
@@ -419,10 +419,10 @@ static void test_filter_stroke(void **state)
         f.num++;
         mk_rx(&f.rx, f.num, 7);
         f.rx.ax[0].target_pos = 3.4e38f;
-        assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = 0.0f;
         f.tx.ax[0].target_pos = 3.4e38f;
-        assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
+        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
         assert_int_equal(f.tx.ax[0].mode, 505);
     }
 }
@@ -443,7 +443,7 @@ static void test_filter_joint_stroke(void **state)
     memset(&l, 0, sizeof l);
     l.joint_min = -0.4f;
     l.joint_max = 0.4f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 4, &l), C4G_OK); /* joint 5 */
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 4, &l), C4G_OK); /* joint 5 */
     assert_int_equal(f.ctl.n_joint[0], 6);
     assert_int_equal(f.ctl.joint_on[0], 1);
     /* mode 4 target at joint 5 = 0.5 rad (axis 4 at 0): clamped to 0.4 rad */
@@ -454,12 +454,12 @@ static void test_filter_joint_stroke(void **state)
         f.rx.ax[i].target_pos = (float)qm[i];
         f.rx.ax[i].actual_pos = (float)qm[i];
     }
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     for (i = 0; i < 6; i++) {
         f.tx.ax[i].target_pos = (float)qm[i];
         f.tx.ax[i].target_vel = 0.0f;
     }
-    st = c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep);
+    st = c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep);
     assert_int_equal(st, C4G_OK);
     assert_true(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
     for (i = 0; i < 6; i++) qm[i] = f.tx.ax[i].target_pos;
@@ -471,9 +471,9 @@ static void test_filter_joint_stroke(void **state)
     f.num++;
     mk_rx(&f.rx, f.num, 0);
     f.rx.infpar = 0;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     /* mode 7 (deltas): SMP+ at joint 5 = 0.3 rad, delta of +0.2 rad clamped to +0.1 */
     q[4] = 0.3;
     assert_int_equal(c4g_kin_link_to_motor(&k, q, 6, qm), C4G_OK);
@@ -484,11 +484,11 @@ static void test_filter_joint_stroke(void **state)
     for (i = 0; i < 6; i++) {
         f.rx.ax[i].target_pos = (float)qm[i];
     }
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     for (i = 0; i < 6; i++) {
         f.tx.ax[i].target_pos = (float)(back[i] - qm[i]);
     }
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     assert_true(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
     for (i = 0; i < 6; i++) back[i] = (double)f.rx.ax[i].target_pos + (double)f.tx.ax[i].target_pos;
     assert_int_equal(c4g_kin_motor_to_link(&k, back, 6, q), C4G_OK);
@@ -496,15 +496,15 @@ static void test_filter_joint_stroke(void **state)
     f.num++;
     mk_rx(&f.rx, f.num, 0);
     f.rx.infpar = 0;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     /* below the lower limit in mode 0: SMP+ moves the axis, nothing of the PC's to stop */
     f.num++;
     mk_rx(&f.rx, f.num, 0);
     f.rx.ax[4].target_pos = -100.0f;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     assert_int_equal(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT, 0);
     assert_true(f.tx.ax[4].target_pos == 0.0f);
     assert_int_equal(f.tx.ax[4].mode, 0);
@@ -512,16 +512,16 @@ static void test_filter_joint_stroke(void **state)
     f.num++;
     mk_rx(&f.rx, f.num, 0);
     f.rx.ax[0].target_pos = 3e38f;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     /* mode 4 below the lower limit */
     f.num++;
     mk_rx(&f.rx, f.num, 4);
     f.rx.ax[4].target_pos = -100.0f;
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = f.tx.ax[i].target_vel = 0.0f;
     f.tx.ax[4].target_pos = -100.0f;
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     assert_true(f.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
     assert_int_equal(f.tx.ax[4].mode, 508); /* its following error wins over the stop */
     assert_int_equal(f.tx.ax[5].mode, 505); /* no threshold on axis 6: the stop shows */
@@ -537,21 +537,21 @@ static void test_anchor_survives_lost_entry(void **state)
     float a = -1.0f;
     (void)state;
     f_init(&f);
-    assert_int_equal(c4g_ctl_anchor(NULL, 0, &a), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_anchor(&f.ctl, 6, &a), C4G_ERR_ARG);
-    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_ERR_STATE); /* no packet yet */
+    assert_int_equal(c4g_engine_anchor(NULL, 0, &a), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_anchor(&f.ctl, 0, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_anchor(&f.ctl, 6, &a), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_anchor(&f.ctl, 0, &a), C4G_ERR_STATE); /* no packet yet */
     memset(&l, 0, sizeof l);
     l.max_step = 0.05f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
     assert_int_equal(f_tick(&f, 0, 0, 0, 0, 0), C4G_OK);  /* mode 0, SMP+ target 10 */
-    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_OK);
+    assert_int_equal(c4g_engine_anchor(&f.ctl, 0, &a), C4G_OK);
     assert_true(a == 10.0f);
     f.num++;
     mk_rx(&f.rx, f.num, 4);
     f.rx.ax[0].target_pos = 0.0f; /* stale: what the controller did without our reply */
-    assert_int_equal(c4g_ctl_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-    assert_int_equal(c4g_ctl_anchor(&f.ctl, 0, &a), C4G_OK);
+    assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_anchor(&f.ctl, 0, &a), C4G_OK);
     assert_true(a == 10.0f); /* not moved by the mode-4 packet */
     {   /* a PC anchoring on the packet (0) is caught as a 10-turn step */
         uint32_t i;
@@ -561,10 +561,10 @@ static void test_anchor_survives_lost_entry(void **state)
         }
         f.tx.ax[0].target_pos = 0.0f;
     }
-    assert_int_equal(c4g_ctl_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     assert_true(f.rep.axis_flags[0] & C4G_SF_STEP);
     assert_true(f.tx.ax[0].target_pos == 9.95f);
-    /* a PC anchoring on c4g_ctl_anchor moves smoothly */
+    /* a PC anchoring on c4g_engine_anchor moves smoothly */
     assert_int_equal(f_tick(&f, 4, 9.99f, 0, 0, 0), C4G_OK);
     assert_int_equal(f.rep.axis_flags[0] & C4G_SF_STEP, 0);
 }
@@ -574,33 +574,33 @@ static void test_set_limits_errors(void **state)
     filt_t f;
     c4g_axis_limits_t l;
     c4g_init_t in;
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     (void)state;
     f_init(&f);
     memset(&l, 0, sizeof l);
-    assert_int_equal(c4g_ctl_set_limits(NULL, 0, 0, &l), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 4, 0, &l), C4G_ERR_ARG);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 10, &l), C4G_ERR_ARG);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 6, &l), C4G_ERR_NOT_OPEN);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 1, 0, &l), C4G_ERR_NOT_OPEN);
+    assert_int_equal(c4g_engine_set_limits(NULL, 0, 0, &l), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 4, 0, &l), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 10, &l), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 6, &l), C4G_ERR_NOT_OPEN);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 1, 0, &l), C4G_ERR_NOT_OPEN);
     l.max_vel = NAN;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_NONFINITE);
     l.max_vel = 0;
     l.joint_max = INFINITY;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_NONFINITE);
     l.joint_max = 0;
     l.follow_error = -1;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_CTL_LIMITS);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_LIMITS);
     l.follow_error = 0;
     l.current_max = -1;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_CTL_LIMITS);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_LIMITS);
     l.current_max = 0;
     l.max_step = -1;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_CTL_LIMITS);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_LIMITS);
     l.max_step = 0;
     l.max_vel = -1;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_CTL_LIMITS);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_ERR_LIMITS);
     l.max_vel = 0;
     /* joint limits need every axis up to the last open one, with ratios */
     assert_int_equal(c4g_init_fig10_1(&in), C4G_OK);
@@ -609,28 +609,28 @@ static void test_set_limits_errors(void **state)
     in.open_ax[0][6] = 5;
     in.az_lim[0][6] = 5.0f;
     in.tx_rate[0][6] = 3.0f;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     l.joint_min = -1.0f;
     l.joint_max = 1.0f;
-    assert_int_equal(c4g_ctl_set_limits(&ctl, 0, 0, &l), C4G_ERR_NOT_OPEN);
+    assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_ERR_NOT_OPEN);
     assert_int_equal(c4g_init_fig10_1(&in), C4G_OK);
     in.tx_rate[0][2] = 0.0f;
-    assert_int_equal(c4g_ctl_init(&ctl, &in, NULL), C4G_OK);
-    assert_int_equal(c4g_ctl_set_limits(&ctl, 0, 0, &l), C4G_ERR_CTL_SINGULAR);
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_ERR_SINGULAR);
     ctl.kin_ok[0] = 0;
-    assert_int_equal(c4g_ctl_set_limits(&ctl, 0, 0, &l), C4G_ERR_CTL_SINGULAR);
+    assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_ERR_SINGULAR);
     /* clearing joint limits turns the joint check off */
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
     assert_int_equal(f.ctl.joint_on[0], 1);
     memset(&l, 0, sizeof l);
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
     assert_int_equal(f.ctl.joint_on[0], 0);
     /* user FE tighter than the controller's; looser one ignored */
     l.follow_error = 1.0f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
     assert_true(f.ctl.lim[0].follow_error == 1.0f);
     l.follow_error = 100.0f;
-    assert_int_equal(c4g_ctl_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);
     assert_true(f.ctl.lim[0].follow_error == 7.5f);
 }
 

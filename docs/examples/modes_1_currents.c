@@ -38,11 +38,11 @@ static float pd_current(float target, float actual)
 int main(void)
 {
     c4g_init_t init;
-    c4g_ctl_config_t cfg;
-    c4g_ctl_t ctl;
+    c4g_engine_config_t cfg;
+    c4g_engine_t ctl;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint8_t out[C4G_MAX_CYCLIC_SIZE];
     size_t len = 0;
     int32_t num = 0;
@@ -52,9 +52,9 @@ int main(void)
     float target = 0.0f;
 
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
-    CHECK(c4g_ctl_config_default(&cfg) == C4G_OK);
+    CHECK(c4g_engine_config_default(&cfg) == C4G_OK);
     cfg.start_ns = SWITCH_NS;
-    CHECK(c4g_ctl_init(&ctl, &init, &cfg) == C4G_OK);
+    CHECK(c4g_engine_init(&ctl, &init, &cfg) == C4G_OK);
 
     for (k = 0; k < 80; k++, t += PERIOD_NS) {
         const c4g_arm_sm_t *sm = &ctl.arm[0];
@@ -69,7 +69,7 @@ int main(void)
             mode = C4G_MODE_0;
         }
         controller_packet(&rx, ++num, mode);
-        CHECK(c4g_ctl_step(&ctl, &rx, t, &tx, &rep) == C4G_OK);
+        CHECK(c4g_engine_step(&ctl, &rx, t, &tx, &rep) == C4G_OK);
         if (tx.ax[0].mode == C4G_MODE_1 || tx.ax[0].mode == C4G_MODE_1_STANDBY) {
             /* mode 1 needs D1, D2, D4, D5 in every packet, the first one included */
             CHECK(c4g_is_unset(tx.ax[0].current_add));
@@ -79,7 +79,7 @@ int main(void)
                 target += 0.002f;       /* motor turns per tick, axis 1 */
                 cruise_ticks++;
             } else if (sm->phase == C4G_MPH_CRUISE) {
-                CHECK(c4g_ctl_request_exit(&ctl, 0) == C4G_OK);
+                CHECK(c4g_engine_request_exit(&ctl, 0) == C4G_OK);
             }
             for (i = 0; i < 6; i++) {
                 const float goal = (i == 0) ? target : pos[i];
@@ -94,7 +94,7 @@ int main(void)
                 tx.ax[i].current_add = cur;
             }
         }
-        CHECK(c4g_ctl_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+        CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
         CHECK(rep.n_filtered == 0);                      /* no safety action needed */
         CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK);
         for (i = 0; i < 6; i++) {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Mode 4 (docs/modes.md): the PC generates absolute position targets, SMP+ closes the
  * loops. The controller's PDL2 program sets mode 4 (the PC cannot: manual 24.2); the PC
- * plans in joint space (rad) from where the robot stood (c4g_ctl_anchor) and converts to
+ * plans in joint space (rad) from where the robot stood (c4g_engine_anchor) and converts to
  * motor turns with the chapter 19 kinematics; the safety filter limits the step per tick
  * and stops the arm (505) before joint 5 crosses its stroke end. Exit status 0 only if
  * every expectation holds. */
@@ -30,10 +30,10 @@ static void controller_packet(c4g_ctrl_packet_t *rx, int32_t num, int32_t mode)
 int main(void)
 {
     c4g_init_t init;
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     c4g_axis_limits_t lim;
     uint8_t out[C4G_MAX_CYCLIC_SIZE];
     size_t len = 0;
@@ -43,25 +43,25 @@ int main(void)
     uint32_t i;
 
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
-    CHECK(c4g_ctl_init(&ctl, &init, NULL) == C4G_OK);
+    CHECK(c4g_engine_init(&ctl, &init, NULL) == C4G_OK);
     CHECK(c4g_kin_link_to_motor(&ctl.kin[0], q, 6, qm_now) == C4G_OK);
 
     /* user limits: at most 0.05 motor turns per tick on every axis, joint 5 within +-0.3 rad */
     memset(&lim, 0, sizeof lim);
     lim.max_step = 0.05f;
     for (i = 0; i < 6; i++) {
-        CHECK(c4g_ctl_set_limits(&ctl, 0, i, &lim) == C4G_OK);
+        CHECK(c4g_engine_set_limits(&ctl, 0, i, &lim) == C4G_OK);
     }
     lim.joint_min = -0.3f;
     lim.joint_max = 0.3f;
-    CHECK(c4g_ctl_set_limits(&ctl, 0, 4, &lim) == C4G_OK);
+    CHECK(c4g_engine_set_limits(&ctl, 0, 4, &lim) == C4G_OK);
 
     for (k = 0; k < 200; k++) {
         controller_packet(&rx, ++num, mode);
-        CHECK(c4g_ctl_step(&ctl, &rx, (uint64_t)k * 2000000u, &tx, &rep) == C4G_OK);
+        CHECK(c4g_engine_step(&ctl, &rx, (uint64_t)k * 2000000u, &tx, &rep) == C4G_OK);
         if (k == 1) {
             /* only the PDL2 program starts a mode */
-            CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_CTL_PDL_ONLY);
+            CHECK(c4g_engine_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_PDL_ONLY);
             mode = C4G_MODE_4; /* ... which it does: the next packet carries mode 4 */
         }
         if (tx.ax[0].mode == C4G_MODE_4) {
@@ -73,7 +73,7 @@ int main(void)
                 tx.ax[i].target_vel = (float)(qm[i] - qm_now[i]); /* D2 */
             }
         }
-        CHECK(c4g_ctl_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+        CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
         CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK);
         clamped += (rep.axis_flags[4] & C4G_SF_STROKE_JOINT) ? 1 : 0;
         /* the simulated controller: 505 takes the drives off, the robot stops */
@@ -90,7 +90,7 @@ int main(void)
             mode = C4G_MODE_0;                  /* mode 4 ends at once (24.2.5) */
         }
         if (mode == C4G_MODE_4 && ctl.arm[0].phase == C4G_MPH_CRUISE && q[4] > 0.35) {
-            CHECK(c4g_ctl_request_exit(&ctl, 0) == C4G_OK);
+            CHECK(c4g_engine_request_exit(&ctl, 0) == C4G_OK);
         }
         if ((rep.events & C4G_CEV_EXIT_DONE) != 0) {
             break;

@@ -12,14 +12,14 @@
 #define CHECK(c) do { if (!(c)) { fprintf(stderr, "%s:%d: %s\n", __FILE__, __LINE__, #c); return 1; } } while (0)
 
 typedef struct pc {
-    c4g_ctl_t ctl;
+    c4g_engine_t ctl;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     int32_t num;
 } pc_t;
 
-/* One controller packet (every axis of ARM 1 in @p mode) up to c4g_ctl_step. */
+/* One controller packet (every axis of ARM 1 in @p mode) up to c4g_engine_step. */
 static int step(pc_t *p, int32_t mode)
 {
     uint32_t i;
@@ -36,14 +36,14 @@ static int step(pc_t *p, int32_t mode)
         p->rx.ax[i].ext[0] = 1.5f;       /* EXT1: dynamic model current */
         p->rx.ax[i].ext[1] = 0.02f;      /* EXT2: diagonal inertia */
     }
-    return c4g_ctl_step(&p->ctl, &p->rx, (uint64_t)p->num * 2000000u, &p->tx, &p->rep);
+    return c4g_engine_step(&p->ctl, &p->rx, (uint64_t)p->num * 2000000u, &p->tx, &p->rep);
 }
 
 static int finish(pc_t *p)
 {
     uint8_t out[C4G_MAX_CYCLIC_SIZE];
     size_t len = 0;
-    int st = c4g_ctl_finish(&p->ctl, &p->rx, &p->tx, &p->rep);
+    int st = c4g_engine_finish(&p->ctl, &p->rx, &p->tx, &p->rep);
     if (c4g_pc_encode(&p->tx, out, sizeof out, &len) != C4G_OK) {
         st = -1;
     }
@@ -60,7 +60,7 @@ int main(void)
     uint32_t i;
 
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
-    CHECK(c4g_ctl_init(&p.ctl, &init, NULL) == C4G_OK);
+    CHECK(c4g_engine_init(&p.ctl, &init, NULL) == C4G_OK);
 
     /* mode 2: PC loops, SMP+ trajectory; EXIT_FROM_OPEN is refused, PDL2 sets 12 */
     CHECK(step(&p, C4G_MODE_2) == C4G_OK);
@@ -71,7 +71,7 @@ int main(void)
     }
     CHECK(finish(&p) == C4G_OK);
     CHECK(p.tx.ax[0].current_add == 24.5f && p.tx.ax[3].current_add == 9.5f);
-    CHECK(c4g_ctl_request_exit(&p.ctl, 0) == C4G_ERR_CTL_FORBIDDEN);
+    CHECK(c4g_engine_request_exit(&p.ctl, 0) == C4G_ERR_FORBIDDEN);
     CHECK(step(&p, C4G_MODE_2_STANDBY) == C4G_OK && p.ctl.arm[0].phase == C4G_MPH_END);
     for (i = 0; i < 6; i++) {
         p.tx.ax[i].vel_add = 0.0f;
@@ -88,7 +88,7 @@ int main(void)
     }
     CHECK(finish(&p) == C4G_OK);
     CHECK(c4g_moni_record(21, &p.rx, &p.tx, 0, &rec) == C4G_OK); /* moni 21: mode 5 */
-    CHECK(c4g_ctl_request_exit(&p.ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_exit(&p.ctl, 0) == C4G_OK);
     CHECK(step(&p, C4G_MODE_5) == C4G_OK);
     for (i = 0; i < 6; i++) {
         p.tx.ax[i].target_pos = 0.0f;
@@ -104,7 +104,7 @@ int main(void)
         p.tx.ax[i].target_pos = 0.0005f;
     }
     CHECK(finish(&p) == C4G_OK);
-    CHECK(c4g_ctl_request_exit(&p.ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_exit(&p.ctl, 0) == C4G_OK);
     CHECK(step(&p, C4G_MODE_7) == C4G_OK);
     for (i = 0; i < 6; i++) {
         p.tx.ax[i].target_pos = 0.0f;    /* null delta from now on */
@@ -121,7 +121,7 @@ int main(void)
         p.tx.ax[i].vel_add = 0.0002f;
     }
     CHECK(finish(&p) == C4G_OK);
-    CHECK(c4g_ctl_request_exit(&p.ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_exit(&p.ctl, 0) == C4G_OK);
     CHECK(step(&p, C4G_MODE_0) == C4G_OK && finish(&p) == C4G_OK);
 
     /* mode 9: current additions; SMP+ sends 20 A, AzLim of axis 1 is 24.5 A */

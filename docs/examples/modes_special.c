@@ -10,10 +10,10 @@
 
 #define CHECK(c) do { if (!(c)) { fprintf(stderr, "%s:%d: %s\n", __FILE__, __LINE__, #c); return 1; } } while (0)
 
-static c4g_ctl_t ctl;
+static c4g_engine_t ctl;
 static c4g_ctrl_packet_t rx;
 static c4g_pc_packet_t tx;
-static c4g_ctl_report_t rep;
+static c4g_engine_report_t rep;
 static int32_t num;
 
 static int tick(int32_t mode, uint8_t drives, float actual0, float d1_0)
@@ -31,14 +31,14 @@ static int tick(int32_t mode, uint8_t drives, float actual0, float d1_0)
         rx.ax[i].target_pos = 1.0f;
         rx.ax[i].actual_pos = (i == 0) ? actual0 : 1.0f;
     }
-    if (c4g_ctl_step(&ctl, &rx, (uint64_t)num * 2000000u, &tx, &rep) != C4G_OK) {
+    if (c4g_engine_step(&ctl, &rx, (uint64_t)num * 2000000u, &tx, &rep) != C4G_OK) {
         return -1;
     }
     for (i = 0; i < 6; i++) {       /* mode 4 data; ignored where not required */
         tx.ax[i].target_pos = (i == 0) ? d1_0 : 1.0f;
         tx.ax[i].target_vel = 0.0f;
     }
-    st = c4g_ctl_finish(&ctl, &rx, &tx, &rep);
+    st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
     if (c4g_pc_encode(&tx, out, sizeof out, &len) != C4G_OK) {
         st = -1;                    /* never happens: nothing unsendable leaves finish */
     }
@@ -49,26 +49,26 @@ int main(void)
 {
     c4g_init_t init;
     CHECK(c4g_init_fig10_1(&init) == C4G_OK);
-    CHECK(c4g_ctl_init(&ctl, &init, NULL) == C4G_OK);
+    CHECK(c4g_engine_init(&ctl, &init, NULL) == C4G_OK);
 
     /* DRIVE ON: the controller forces 501; requests are refused meanwhile */
     CHECK(tick(C4G_MODE_DRIVING_ON, 0, 1.0f, 1.0f) == C4G_OK);
     CHECK(tick(C4G_MODE_DRIVING_ON, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
-    CHECK(c4g_ctl_request_freeze(&ctl, 0) == C4G_ERR_CTL_DRIVING_ON);
+    CHECK(c4g_engine_request_freeze(&ctl, 0) == C4G_ERR_DRIVING_ON);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK((rep.events & C4G_CEV_DRIVING_ON_END) != 0);  /* first tick SMax left 501 */
-    printf("driving on over; refused example: %s\n", c4g_strerror(C4G_ERR_CTL_DRIVING_ON));
+    printf("driving on over; refused example: %s\n", c4g_strerror(C4G_ERR_DRIVING_ON));
 
     /* other refusals */
-    CHECK(c4g_ctl_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_CTL_PDL_ONLY); /* 24.2 */
-    CHECK(c4g_ctl_request_exit(&ctl, 0) == C4G_ERR_CTL_NOT_IN_OPEN);
+    CHECK(c4g_engine_request_mode(&ctl, 0, C4G_MODE_4) == C4G_ERR_PDL_ONLY); /* 24.2 */
+    CHECK(c4g_engine_request_exit(&ctl, 0) == C4G_ERR_NOT_IN_OPEN);
 
     /* active freezing: only from mode 0; every axis carries 500 until the exit */
-    CHECK(c4g_ctl_request_freeze(&ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_freeze(&ctl, 0) == C4G_OK);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK(tx.ax[0].mode == C4G_MODE_FREEZING_A && tx.ax[5].mode == C4G_MODE_FREEZING_A);
     /* ... long non-real-time work here: the controller does not check the PC ... */
-    CHECK(c4g_ctl_request_exit(&ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_exit(&ctl, 0) == C4G_OK);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK(c4g_arm_byte(tx.infpar, 0) == C4G_EXIT_FROM_OPEN);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
@@ -92,7 +92,7 @@ int main(void)
     CHECK(tick(C4G_MODE_0, 0, 1.0f, 1.0f) == C4G_OK && tx.ax[0].mode == C4G_MODE_0);
 
     /* an explicit drive-off request is never refused */
-    CHECK(c4g_ctl_request_drive_off(&ctl, 0) == C4G_OK);
+    CHECK(c4g_engine_request_drive_off(&ctl, 0) == C4G_OK);
     CHECK(tick(C4G_MODE_0, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK(tx.ax[2].mode == C4G_MODE_DRIVE_OFF);
     printf("special modes: ok\n");

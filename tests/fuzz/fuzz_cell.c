@@ -18,22 +18,22 @@ static void check_line(const char *line, size_t len)
     c4g_cell_diag_t d;
     char out[C4G_CELL_LINE_MAX];
     size_t n = 0;
-    if (c4g_cell_instr_decode(line, len, &in, &d) == C4G_CELL_OK) {
-        if (c4g_cell_instr_encode(&in, out, sizeof out, &n) != C4G_CELL_OK || n != len) {
+    if (c4g_cell_instr_decode(line, len, &in, &d) == C4G_OK) {
+        if (c4g_cell_instr_encode(&in, out, sizeof out, &n) != C4G_OK || n != len) {
             abort();
         }
-        if (c4g_cell_instr_decode(out, n, &in2, NULL) != C4G_CELL_OK ||
+        if (c4g_cell_instr_decode(out, n, &in2, NULL) != C4G_OK ||
             memcmp(&in, &in2, sizeof in) != 0) {
             abort();
         }
     } else if (d.column == 0 || d.column > len + 1) {
         abort(); /* the column must point into the line or just past it */
     }
-    if (c4g_cell_reply_decode(line, len, &r, &d) == C4G_CELL_OK) {
-        if (c4g_cell_reply_encode(&r, out, sizeof out, &n) != C4G_CELL_OK || n != len) {
+    if (c4g_cell_reply_decode(line, len, &r, &d) == C4G_OK) {
+        if (c4g_cell_reply_encode(&r, out, sizeof out, &n) != C4G_OK || n != len) {
             abort();
         }
-        if (c4g_cell_reply_decode(out, n, &r2, NULL) != C4G_CELL_OK ||
+        if (c4g_cell_reply_decode(out, n, &r2, NULL) != C4G_OK ||
             memcmp(&r, &r2, sizeof r) != 0) {
             abort();
         }
@@ -54,7 +54,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     int32_t v = 0;
     for (int u = 0; u < 3; u++) {
-        if (c4g_cell_from_text(buf, size, (c4g_cell_unit_t)u, &v) == C4G_CELL_OK) {
+        if (c4g_cell_from_text(buf, size, (c4g_cell_unit_t)u, &v) == C4G_OK) {
             int32_t lim = (u == 2) ? C4G_CELL_INT_MAX : C4G_CELL_COUNTS_MAX;
             if (v > lim || v < -lim) {
                 abort();
@@ -74,7 +74,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     while (off < size) {
         size_t k = (size - off < chunk) ? size - off : chunk;
         size_t used = 0;
-        if (c4g_cell_split_push(&sp, buf + off, k, &used) != C4G_CELL_OK) {
+        if (c4g_cell_split_push(&sp, buf + off, k, &used) != C4G_OK) {
             abort();
         }
         off += used;
@@ -82,7 +82,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             c4g_cell_split_event_t ev;
             const char *line = NULL;
             size_t len = 0;
-            if (c4g_cell_split_next(&sp, &ev, &line, &len) != C4G_CELL_OK) {
+            if (c4g_cell_split_next(&sp, &ev, &line, &len) != C4G_OK) {
                 abort();
             }
             if (ev == C4G_CELL_SPLIT_NONE) {

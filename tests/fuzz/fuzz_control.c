@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer target: arbitrary bytes drive a sequence of controller packets, PC requests,
-   user limits and caller-filled replies through c4g_ctl_step / c4g_ctl_finish.
+   user limits and caller-filled replies through c4g_engine_step / c4g_engine_finish.
    Invariants (abort on violation): every finished reply encodes (no NaN, no unknown mode);
    each axis carries its echo or a safety / freezing mode (500, 505, 508), never a mode of
    the PC's; INFPAR bytes are 0 or EXIT_FROM_OPEN; currents in modes 1/2 stay within the
@@ -79,8 +79,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     cur_t c = {data, size};
     c4g_init_t in;
-    c4g_ctl_t ctl;
-    c4g_ctl_config_t cfg;
+    c4g_engine_t ctl;
+    c4g_engine_config_t cfg;
     uint32_t n_axes, tick;
     int32_t num = 0;
     const uint8_t setup = byte(&c);
@@ -97,15 +97,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         in.follow_error[1][1] = 0.5f;
     }
     n_axes = (uint32_t)in.n_ax_open;
-    (void)c4g_ctl_config_default(&cfg);
+    (void)c4g_engine_config_default(&cfg);
     cfg.request_timeout_ticks = 1u + (setup >> 4);
     cfg.start_ns = (uint64_t)((setup >> 1) & 7u) * 1000000u;
-    check(c4g_ctl_init(&ctl, &in, &cfg) == C4G_OK);
+    check(c4g_engine_init(&ctl, &in, &cfg) == C4G_OK);
 
     for (tick = 0; tick < 64 && c.n > 0; tick++) {
         c4g_ctrl_packet_t rx;
         c4g_pc_packet_t tx;
-        c4g_ctl_report_t rep;
+        c4g_engine_report_t rep;
         int32_t arm_mode[C4G_ARMS];
         uint32_t i, a;
         const uint8_t op = byte(&c);
@@ -113,11 +113,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         c4g_status_t st;
 
         switch (op & 7u) {
-        case 1: check(c4g_ctl_request_mode(&ctl, arm, modes[byte(&c) % N_MODES]) != C4G_OK); break;
-        case 2: (void)c4g_ctl_request_exit(&ctl, arm); break;
-        case 3: (void)c4g_ctl_request_drive_off(&ctl, arm); break;
-        case 4: (void)c4g_ctl_request_follow_error(&ctl, arm); break;
-        case 5: (void)c4g_ctl_request_freeze(&ctl, arm); break;
+        case 1: check(c4g_engine_request_mode(&ctl, arm, modes[byte(&c) % N_MODES]) != C4G_OK); break;
+        case 2: (void)c4g_engine_request_exit(&ctl, arm); break;
+        case 3: (void)c4g_engine_request_drive_off(&ctl, arm); break;
+        case 4: (void)c4g_engine_request_follow_error(&ctl, arm); break;
+        case 5: (void)c4g_engine_request_freeze(&ctl, arm); break;
         case 7: {
             c4g_axis_limits_t l;
             memset(&l, 0, sizeof l);
@@ -129,7 +129,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             l.motor_max = small(&c);
             l.joint_min = small(&c) / 8.0f;
             l.joint_max = small(&c) / 8.0f;
-            (void)c4g_ctl_set_limits(&ctl, arm, byte(&c) % 10u, &l);
+            (void)c4g_engine_set_limits(&ctl, arm, byte(&c) % 10u, &l);
             break;
         }
         default: break;
@@ -153,7 +153,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             rx.ax[i].target_vel = (float)(int8_t)byte(&c) / 128.0f;
             rx.ax[i].current_ref = (float)(int8_t)byte(&c) / 4.0f;
         }
-        st = c4g_ctl_step(&ctl, &rx, (uint64_t)tick * 2000000u, &tx, &rep);
+        st = c4g_engine_step(&ctl, &rx, (uint64_t)tick * 2000000u, &tx, &rep);
         check(st == C4G_OK);
         for (i = 0; i < n_axes; i++) {
             fill_value(&c, &tx.ax[i].target_pos);
@@ -166,9 +166,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         }
         c4g_pc_packet_t req = tx; /* what the caller asked, before the filter */
-        st = c4g_ctl_finish(&ctl, &rx, &tx, &rep);
-        check(st == C4G_OK || st == (c4g_status_t)C4G_ERR_CTL_MISSING_DATA ||
-              st == C4G_ERR_NONFINITE || st == (c4g_status_t)C4G_ERR_CTL_MODE_RESTORED);
+        st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
+        check(st == C4G_OK || st == (c4g_status_t)C4G_ERR_MISSING_DATA ||
+              st == C4G_ERR_NONFINITE || st == (c4g_status_t)C4G_ERR_MODE_RESTORED);
         {
             uint8_t buf[C4G_MAX_CYCLIC_SIZE];
             size_t len = 0;

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-server behaviours (per arm, chosen by the mode the controller reports) on top of
- * the library's control layer: c4g_ctl_step prepares the reply (mode echo, mode-10 copy,
+ * the library's control layer: c4g_engine_step prepares the reply (mode echo, mode-10 copy,
  * required fields marked unset), a behaviour fills the fields of the mode, requests
- * (exit from open, 505, 508, active freezing) go through c4g_ctl_request_*, and
- * c4g_ctl_finish applies the packet rules and the PC-side safety filter. Runs on the
+ * (exit from open, 505, 508, active freezing) go through c4g_engine_request_*, and
+ * c4g_engine_finish applies the packet rules and the PC-side safety filter. Runs on the
  * real-time path: no allocation, no I/O (log lines go through the rtlog ring), loops
  * bounded by the axis count. */
 #include "srv.h"
@@ -176,7 +176,7 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
         X->ticks = 0U;
         /* where the axis stood in mode 0, not this one packet's target: the packet that
          * opens the mode may be the second one the controller sent in it */
-        (void)c4g_ctl_anchor(&S->ctl, i, &anchor);
+        (void)c4g_engine_anchor(&S->ctl, i, &anchor);
         X->start = (double)anchor;
         X->q_prev = 0.0;
         X->have_ref_prev = 0;
@@ -195,9 +195,9 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
     c4g_status_t st;
     uint32_t i;
     srv_behave_reset(S);
-    (void)c4g_ctl_config_default(&S->ctl_cfg);
-    S->ctl_cfg.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
-    st = c4g_ctl_init(&S->ctl, &S->session.init, &S->ctl_cfg);
+    (void)c4g_engine_config_default(&S->engine_cfg);
+    S->engine_cfg.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
+    st = c4g_engine_init(&S->ctl, &S->session.init, &S->engine_cfg);
     S->ctl_ok = (st == C4G_OK);
     if (!S->ctl_ok) {
         srv_log(S, t_ns, "control layer refused the init packet: %s", c4g_strerror(st));
@@ -214,7 +214,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
             lim.motor_min = (float)A->pos_min[lax];
             lim.motor_max = (float)A->pos_max[lax];
         }
-        st = c4g_ctl_set_limits(&S->ctl, arm, lax, &lim);
+        st = c4g_engine_set_limits(&S->ctl, arm, lax, &lim);
         if (st != C4G_OK) {
             srv_log(S, t_ns, "limits of arm %u axis %u refused: %s", (unsigned)arm + 1U,
                     (unsigned)lax + 1U, c4g_strerror(st));
@@ -358,13 +358,13 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
 {
     const c4g_axis_map_t *m = &S->session.map;
     const double dt = period_s(S);
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint32_t arm_open[C4G_ARMS] = {0U, 0U, 0U, 0U};
     uint32_t arm_done[C4G_ARMS] = {1U, 1U, 1U, 1U};
     uint32_t i, a;
     c4g_status_t st;
 
-    if (!S->ctl_ok || c4g_ctl_step(&S->ctl, rx, t_ns, tx, &rep) != C4G_OK) {
+    if (!S->ctl_ok || c4g_engine_step(&S->ctl, rx, t_ns, tx, &rep) != C4G_OK) {
         (void)c4g_pc_reply_neutral(rx, tx);
         return -1;
     }
@@ -401,7 +401,7 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
         S->arm_busy[a] = arm_open[a];
         if (arm_open[a] && arm_done[a] && S->cfg.arm[a].exit_open &&
             S->ctl.arm[a].exit_req == 0U && S->ctl.arm[a].leaving == 0U) {
-            st = c4g_ctl_request_exit(&S->ctl, a);
+            st = c4g_engine_request_exit(&S->ctl, a);
             if (st == C4G_OK) {
                 srv_log(S, t_ns, "arm %u: EXIT_FROM_OPEN requested", (unsigned)a + 1U);
             }
@@ -410,8 +410,8 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
     /* test hooks: requests through the control layer, like a user program would */
     if (S->cfg.inject_at == S->cyc_k && S->cfg.inject_mode != 0) {
         const uint32_t ia = ((uint32_t)S->cfg.inject_axis < m->n_axes) ? m->arm_of[S->cfg.inject_axis] : 0U;
-        st = (S->cfg.inject_mode == C4G_MODE_DRIVE_OFF) ? c4g_ctl_request_drive_off(&S->ctl, ia)
-                                                        : c4g_ctl_request_follow_error(&S->ctl, ia);
+        st = (S->cfg.inject_mode == C4G_MODE_DRIVE_OFF) ? c4g_engine_request_drive_off(&S->ctl, ia)
+                                                        : c4g_engine_request_follow_error(&S->ctl, ia);
         S->safety.injected++;
         srv_log(S, t_ns, "injected %d on arm %u: %s", S->cfg.inject_mode, (unsigned)ia + 1U,
                 c4g_strerror(st));
@@ -419,7 +419,7 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
     if (S->cfg.freeze_at == S->cyc_k) {
         for (a = 0U; a < C4G_ARMS; a++) {
             if (m->n_axes_arm[a] > 0U) {
-                st = c4g_ctl_request_freeze(&S->ctl, a);
+                st = c4g_engine_request_freeze(&S->ctl, a);
                 srv_log(S, t_ns, "active freezing requested on arm %u: %s", (unsigned)a + 1U,
                         c4g_strerror(st));
             }
@@ -428,13 +428,13 @@ int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64
     if (S->thaw) {
         for (a = 0U; a < C4G_ARMS; a++) {
             if (m->n_axes_arm[a] > 0U) {
-                (void)c4g_ctl_request_exit(&S->ctl, a);
+                (void)c4g_engine_request_exit(&S->ctl, a);
             }
         }
         srv_log(S, t_ns, "active freezing over: EXIT_FROM_OPEN requested");
         S->thaw = 0;
     }
-    st = c4g_ctl_finish(&S->ctl, rx, tx, &rep);
+    st = c4g_engine_finish(&S->ctl, rx, tx, &rep);
     if (st != C4G_OK) {
         srv_log(S, t_ns, "control layer: %s", c4g_strerror(st));
     }

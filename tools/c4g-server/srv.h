@@ -162,8 +162,8 @@ typedef struct srv {
     srv_safety_t safety;
     srv_stats_t stats;
     uint32_t arm_busy[C4G_ARMS];  /* arm has an axis in an open mode with a behaviour */
-    c4g_ctl_t ctl;                /* library control layer: state machines, rules, safety */
-    c4g_ctl_config_t ctl_cfg;
+    c4g_engine_t ctl;                /* library control layer: state machines, rules, safety */
+    c4g_engine_config_t engine_cfg;
     int ctl_ok;                   /* ctl initialised from the current init packet */
     uint64_t cyc_k;               /* cyclic packet number (session counter) being answered */
     int thaw;                     /* active freezing over: request EXIT_FROM_OPEN */

@@ -116,7 +116,7 @@ static void fill_sta(const sim_device_t *d, c4g_cell_reply_t *rep)
     for (int a = 0; a < d->n_axes; a++) {
         c4g_cell_unit_t u = (d->kind == CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM
                                                                  : C4G_CELL_UNIT_RAD;
-        if (c4g_cell_from_double(d->pos[a], u, &rep->pose.v[a]) != C4G_CELL_OK) {
+        if (c4g_cell_from_double(d->pos[a], u, &rep->pose.v[a]) != C4G_OK) {
             rep->pose.v[a] = 0; /* limits keep positions in range; defensive only */
         }
     }

@@ -2,7 +2,7 @@
 /* Transformations under kinematic influences (manual chapter 19), in double precision.
  * Kr = Kr2 K1^-T; qm = Kr q / 2 pi + q0; q = 2 pi K1^T Kr2^-1 (qm - q0). K1 couples only the
  * wrist (axes 4, 5, 6: k54, k64, k65); auxiliary axes 7..10 have identity influence. */
-#include "c4g_ctl_util.h"
+#include "c4g_engine_util.h"
 
 #define TWO_PI 6.283185307179586
 #define N_MAIN 6U
@@ -107,7 +107,7 @@ static c4g_status_t conv_check(const c4g_kin_t *kin, const double *in, uint32_t 
                 } else if ((kin->kr[i] > 0.0) || (kin->kr[i] < 0.0)) {
                     /* usable ratio */
                 } else {
-                    st = (st == C4G_OK) ? ctl_st(C4G_ERR_CTL_SINGULAR) : st;
+                    st = (st == C4G_OK) ? C4G_ERR_SINGULAR : st;
                 }
             }
         }

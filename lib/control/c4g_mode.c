@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Mode table and predicates, controller transition rules, the per-arm state machine and
  * the PC request rules (manual chapters 13, 14, 15, 24; field facts mode list). */
-#include "c4g_ctl_util.h"
+#include "c4g_engine_util.h"
 
 #define AV C4G_MF_AVAILABLE
 #define TRJ C4G_MF_PC_TRAJ
@@ -387,7 +387,7 @@ int c4g_mode_transition_ok(int32_t from, int32_t to)
 
 /* ------------------------------------------------------------------ state machine */
 
-c4g_status_t c4g_ctl_config_default(c4g_ctl_config_t *cfg)
+c4g_status_t c4g_engine_config_default(c4g_engine_config_t *cfg)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if (cfg != NULL) {
@@ -531,7 +531,7 @@ static uint32_t enter_mode(c4g_arm_sm_t *sm, int32_t old, int32_t mode, uint64_t
 }
 
 /* Same mode as the previous packet: phases advance, requests age. */
-static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint64_t now_ns)
+static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if (sm->ticks_in_mode < UINT32_MAX) {
@@ -570,7 +570,7 @@ static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, uint
     return ev;
 }
 
-c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, int32_t mode,
+c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, int32_t mode,
                                uint32_t mixed, uint8_t drive_byte, uint32_t moving,
                                uint64_t now_ns, uint32_t *events)
 {
@@ -631,7 +631,7 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_ctl_config_t *cfg, in
  * 508, each with its own call. */
 static c4g_status_t check_mode_req(int32_t mode)
 {
-    c4g_status_t st = ctl_st(C4G_ERR_CTL_PDL_ONLY);
+    c4g_status_t st = C4G_ERR_PDL_ONLY;
     if (c4g_mode_is_known(mode) == 0) {
         st = C4G_ERR_MODE;
     }
@@ -643,11 +643,11 @@ static c4g_status_t exit_from_mode(int32_t m)
 {
     c4g_status_t st = C4G_OK;
     if (idle_mode(m) != 0) {
-        st = ctl_st(C4G_ERR_CTL_NOT_IN_OPEN);
+        st = C4G_ERR_NOT_IN_OPEN;
     } else if (c4g_mode_is_standby(m) != 0) {
-        st = ctl_st(C4G_ERR_CTL_LEAVING);
+        st = C4G_ERR_LEAVING;
     } else if ((m == C4G_MODE_2) || (c4g_mode_is_special(m) != 0)) {
-        st = ctl_st(C4G_ERR_CTL_FORBIDDEN); /* mode 2 ends by PDL2 setting 12 (24.2.4) */
+        st = C4G_ERR_FORBIDDEN; /* mode 2 ends by PDL2 setting 12 (24.2.4) */
     } else {
         /* an operating mode the PC may end */
     }
@@ -660,9 +660,9 @@ static c4g_status_t check_exit(const c4g_arm_sm_t *sm)
     /* An active freezing is always left with an exit (15.1); a repeated exit is a no-op. */
     if (sm->frozen != C4G_MODE_FREEZING_A) {
         if (sm->driving_on != 0U) {
-            st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+            st = C4G_ERR_DRIVING_ON;
         } else if (sm->frozen != 0) {
-            st = ctl_st(C4G_ERR_CTL_FROZEN);
+            st = C4G_ERR_FROZEN;
         } else if ((sm->exit_req == 0U) && (sm->leaving == 0U)) {
             st = exit_from_mode(sm->mode);
         } else {
@@ -677,14 +677,14 @@ static c4g_status_t check_freeze(const c4g_arm_sm_t *sm)
     c4g_status_t st = C4G_OK;
     if (sm->frozen != C4G_MODE_FREEZING_A) { /* already frozen: idempotent */
         if (sm->driving_on != 0U) {
-            st = ctl_st(C4G_ERR_CTL_DRIVING_ON);
+            st = C4G_ERR_DRIVING_ON;
         } else if (sm->latch != 0U) {
-            st = ctl_st(C4G_ERR_CTL_LATCHED);
+            st = C4G_ERR_LATCHED;
         } else if (sm->frozen != 0) {
-            st = ctl_st(C4G_ERR_CTL_FROZEN);
+            st = C4G_ERR_FROZEN;
         } else if ((sm->mode != C4G_MODE_0) || (sm->mixed != 0U) || (sm->exit_req != 0U) ||
                    (sm->leaving != 0U)) {
-            st = ctl_st(C4G_ERR_CTL_NOT_MODE0); /* 15.1: only from mode 0 */
+            st = C4G_ERR_NOT_MODE0; /* 15.1: only from mode 0 */
         } else {
             /* from mode 0: allowed */
         }

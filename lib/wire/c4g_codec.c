@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Cyclic packet codec (both directions), per-arm bytes, reply NUM, neutral reply. */
-#include "c4g_internal.h"
+#include "../c4g_internal.h"
 
 #define AXIS_FLOATS 8U
 

@@ -5,13 +5,13 @@
 
 #define SPLIT_MIN_CAP 4U /* "OK\r\n", the shortest line of the protocol */
 
-c4g_cell_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap)
+c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (buf == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (cap < SPLIT_MIN_CAP) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else {
         sp->buf = buf;
         sp->cap = cap;
@@ -22,12 +22,12 @@ c4g_cell_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t
     return st;
 }
 
-c4g_cell_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
+c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
                                       size_t *used)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (used == NULL) || (sp->buf == NULL) || ((data == NULL) && (n != 0U))) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else {
         size_t k = 0U;
         if (sp->head > 0U) {
@@ -60,12 +60,12 @@ static size_t find_lf(const char *buf, size_t from, size_t to)
     return i;
 }
 
-c4g_cell_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
+c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
                                       const char **line, size_t *len)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (ev == NULL) || (line == NULL) || (len == NULL) || (sp->buf == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else {
         uint32_t done = 0U;
         *ev = C4G_CELL_SPLIT_NONE;

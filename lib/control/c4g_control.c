@@ -2,73 +2,11 @@
 /* Control context: per-tick step (state machines, prepared reply) and finish (request
  * overlays, per-mode packet rules, mode-10 copy-back, safety filter), PC requests,
  * user limits, and the control-layer status texts. */
-#include "c4g_ctl_sf.h"
+#include "c4g_safety_filter.h"
 
 #define NO_AXIS 0xFFU
 
 /* ------------------------------------------------------------------ statuses */
-
-/* A switch over literals: no pointer table (.data.rel.ro under PIE), no char table (9.3). */
-const char *c4g_control_strerror(int status)
-{
-    const char *text = "unknown control-layer status";
-    switch (status) {
-    case -100:
-        text = "control layer";
-        break;
-    case -101:
-        text = "mode change not allowed from the arm's current mode";
-        break;
-    case -102:
-        text = "refused: the arm is driving on (501)";
-        break;
-    case -103:
-        text = "mode not offered by the controller";
-        break;
-    case -104:
-        text = "active freezing only from mode 0";
-        break;
-    case -105:
-        text = "refused: the arm's drives are off";
-        break;
-    case -106:
-        text = "a mode request is already pending on this arm";
-        break;
-    case -107:
-        text = "a field the mode requires was not filled (arm sent 505)";
-        break;
-    case -108:
-        text = "exit from open asked while in mode 0";
-        break;
-    case -109:
-        text = "the arm is already leaving its mode";
-        break;
-    case -110:
-        text = "refused: the arm is frozen";
-        break;
-    case -111:
-        text = "refused: a drive off / following error is latched";
-        break;
-    case -112:
-        text = "packet does not match the control context";
-        break;
-    case -113:
-        text = "kinematics: zero transmission ratio";
-        break;
-    case -114:
-        text = "invalid limits (or a zero current limit for modes 1/2)";
-        break;
-    case -115:
-        text = "the reply carried a forbidden mode: restored";
-        break;
-    case -116:
-        text = "only the controller's PDL2 program starts an operating mode";
-        break;
-    default:
-        break;
-    }
-    return text;
-}
 
 float c4g_unset(void)
 {
@@ -159,7 +97,7 @@ static int32_t arm_overlay(const c4g_arm_sm_t *sm)
 }
 
 /* Mode the axis finally carries: safety latches and active freezing override. */
-static int32_t overlay_mode(const c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
+static int32_t overlay_mode(const c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
                             int32_t base)
 {
     int32_t m = base;
@@ -175,7 +113,7 @@ static int32_t overlay_mode(const c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], 
 
 /* The overlay of every arm; 1 if some axis may carry a mode other than its prepared one (an
  * arm overlay, or an axis latched to 508), 0 if none can. */
-static uint32_t arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
+static uint32_t arm_overlays(const c4g_engine_t *ctl, int32_t over[C4G_ARMS])
 {
     uint32_t some = 0U;
     uint32_t a;
@@ -195,12 +133,12 @@ static uint32_t arm_overlays(const c4g_ctl_t *ctl, int32_t over[C4G_ARMS])
 
 /* ------------------------------------------------------------------ init and limits */
 
-c4g_status_t c4g_ctl_init(c4g_ctl_t *ctl, const c4g_init_t *init, const c4g_ctl_config_t *cfg)
+c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (init != NULL)) {
-        c4g_ctl_config_t c;
-        (void)c4g_ctl_config_default(&c);
+        c4g_engine_config_t c;
+        (void)c4g_engine_config_default(&c);
         if (cfg != NULL) {
             c = *cfg;
         }
@@ -252,13 +190,13 @@ static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
     }
     if ((st == C4G_OK) && ((lim->follow_error < 0.0F) || (lim->current_max < 0.0F) ||
                            (lim->max_step < 0.0F) || (lim->max_vel < 0.0F))) {
-        st = ctl_st(C4G_ERR_CTL_LIMITS);
+        st = C4G_ERR_LIMITS;
     }
     return st;
 }
 
 /* Joint stroke ends need every logical axis up to the arm's last open one, and its ratios. */
-static c4g_status_t joint_span(const c4g_ctl_t *ctl, uint32_t arm, uint32_t *n_out)
+static c4g_status_t joint_span(const c4g_engine_t *ctl, uint32_t arm, uint32_t *n_out)
 {
     c4g_status_t st = C4G_OK;
     uint32_t n = 0U;
@@ -273,7 +211,7 @@ static c4g_status_t joint_span(const c4g_ctl_t *ctl, uint32_t arm, uint32_t *n_o
             st = C4G_ERR_NOT_OPEN;
         } else if ((ctl->kin_ok[arm] == 0U) ||
                    ((ctl->kin[arm].kr[j] <= 0.0) && (ctl->kin[arm].kr[j] >= 0.0))) {
-            st = ctl_st(C4G_ERR_CTL_SINGULAR);
+            st = C4G_ERR_SINGULAR;
         } else {
             /* usable */
         }
@@ -282,7 +220,7 @@ static c4g_status_t joint_span(const c4g_ctl_t *ctl, uint32_t arm, uint32_t *n_o
     return st;
 }
 
-c4g_status_t c4g_ctl_set_limits(c4g_ctl_t *ctl, uint32_t arm, uint32_t axis,
+c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
                                 const c4g_axis_limits_t *lim)
 {
     c4g_status_t st = C4G_ERR_NULL;
@@ -319,7 +257,7 @@ c4g_status_t c4g_ctl_set_limits(c4g_ctl_t *ctl, uint32_t arm, uint32_t axis,
 /* ------------------------------------------------------------------ step */
 
 /* The status of the first bad axis of a packet rx_scan flagged (axis count already checked). */
-static CTL_COLD c4g_status_t check_rx(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx)
+static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx)
 {
     c4g_status_t st = C4G_OK;
     uint32_t i;
@@ -352,7 +290,7 @@ typedef struct arm_view {
 } arm_view_t;
 
 /* The aggregated modes, for packets where some arm is mixed (rx_scan did the rest). */
-static CTL_COLD void arm_modes(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
+static CTL_COLD void arm_modes(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
                                arm_view_t v[C4G_ARMS])
 {
     int32_t m[C4G_ARMS] = {0, 0, 0, 0};
@@ -382,7 +320,7 @@ static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
 /* Fast pass over a packet of the context's axis count: 1 if some axis carries an unknown
  * mode or a non-finite value (check_rx then names the status), else 0 with the per-arm
  * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms). */
-static uint32_t rx_scan(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
+static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
                         arm_view_t v[C4G_ARMS])
 {
     const uint32_t n = axes_in(ctl->map.n_axes);
@@ -415,7 +353,7 @@ static uint32_t rx_scan(const c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx,
     return (((carry & 0x80000000U) != 0U) || (unknown != 0U)) ? 1U : 0U;
 }
 
-/* The reply data c4g_ctl_step prepares for @p mode: the required fields unset, the others
+/* The reply data c4g_engine_step prepares for @p mode: the required fields unset, the others
  * zero (mode 0' is copied back per tick instead). */
 static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *t)
 {
@@ -432,7 +370,7 @@ static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *
 }
 
 /* Reply data of one axis before the caller fills it. */
-static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
+static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
                                 const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
 {
     const int32_t mode = rx->mode; /* the PC echoes the mode (manual figure 24.3) */
@@ -467,19 +405,19 @@ static inline void prepare_axis(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], ui
     tx->mode = shown;
 }
 
-c4g_status_t c4g_ctl_step(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
-                          c4g_pc_packet_t *tx, c4g_ctl_report_t *rep)
+c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
-        c4g_ctl_report_t local;
-        c4g_ctl_report_t *r = rep;
+        c4g_engine_report_t local;
+        c4g_engine_report_t *r = rep;
         if (r == NULL) {
             r = &local;
         }
         (void)memset(r, 0, sizeof *r);
         arm_view_t v[C4G_ARMS];
-        st = ctl_st(C4G_ERR_CTL_PACKET);
+        st = C4G_ERR_PACKET;
         if (rx->n_axes == ctl->map.n_axes) {
             st = C4G_OK;
             if (rx_scan(ctl, rx, v) != 0U) {
@@ -593,7 +531,7 @@ static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
 
 /* The controller's position reference that an absolute target of axis @p i moves from: the
  * last value sent in the same mode, else where the axis stood when the mode began. */
-static inline float abs_base(const c4g_ctl_t *ctl, uint32_t i)
+static inline float abs_base(const c4g_engine_t *ctl, uint32_t i)
 {
     return ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
                ? ctl->last_safe[i].target_pos
@@ -605,7 +543,7 @@ static inline float abs_base(const c4g_ctl_t *ctl, uint32_t i)
  * reference before it (for an integrating mode the SMP+ target D1 advanced by its target
  * velocity D2: the worst case, which may count the PC's last step once more). Both only
  * shrink d towards 0: the filter never creates a motion, even back into the stroke. */
-static inline uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
@@ -634,7 +572,7 @@ static inline uint32_t filter_targets(const c4g_ctl_t *ctl, uint32_t i, uint32_t
     return f;
 }
 
-static inline uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
@@ -664,7 +602,7 @@ static inline uint32_t filter_axis(const c4g_ctl_t *ctl, uint32_t i, uint32_t ru
 }
 
 /* Following error (15.7) on the final targets: the axis carries 508 (field library). */
-static inline uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
                                  const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx,
                                  float *fe_out)
 {
@@ -682,8 +620,8 @@ static inline uint32_t filter_fe(c4g_ctl_t *ctl, uint32_t i, uint32_t rules,
 
 /* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
  * the motor targets back for the axes the PC drives. */
-static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
-                          c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
+static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     const uint32_t n = ctl->n_joint[arm];
     double qm[C4G_AXES_PER_ARM];
@@ -734,7 +672,7 @@ static CTL_COLD void filter_joints(c4g_ctl_t *ctl, uint32_t arm, const c4g_ctrl_
 }
 
 /* EXIT_FROM_OPEN bytes, and the END phase on the first packet carrying one. */
-static uint32_t exit_bytes(c4g_ctl_t *ctl, c4g_ctl_report_t *r)
+static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
 {
     uint32_t infpar = 0U;
     uint32_t a;
@@ -759,7 +697,7 @@ static uint32_t exit_bytes(c4g_ctl_t *ctl, c4g_ctl_report_t *r)
 }
 
 /* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
-static CTL_COLD c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g_ctl_report_t *r)
+static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     c4g_status_t st = C4G_OK;
     uint32_t bad_arm[C4G_ARMS] = {0U, 0U, 0U, 0U};
@@ -769,7 +707,7 @@ static CTL_COLD c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g
         if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
             bad_arm[ctl->map.arm_of[i]] = 1U;
             if ((f & C4G_SF_MISSING) != 0U) {
-                st = ctl_st(C4G_ERR_CTL_MISSING_DATA);
+                st = C4G_ERR_MISSING_DATA;
             } else if (st == C4G_OK) {
                 st = C4G_ERR_NONFINITE;
             } else {
@@ -792,7 +730,7 @@ static CTL_COLD c4g_status_t arm_faults(c4g_ctl_t *ctl, c4g_pc_packet_t *tx, c4g
 }
 
 /* Overflow check of what the filter wrote, then the following error on the final target. */
-static uint32_t finish_fe(c4g_ctl_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
+static uint32_t finish_fe(c4g_engine_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
                           const c4g_pc_axis_t *tx, float *fe_out)
 {
     uint32_t f = rewritten_check(tx);
@@ -804,7 +742,7 @@ static uint32_t finish_fe(c4g_ctl_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
 
 /* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
  * of the reply data, written back by the caller). */
-static inline uint32_t finish_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown,
+static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
 {
     const int32_t m = ctl->prep_mode[i];
@@ -839,7 +777,7 @@ static inline uint32_t finish_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown,
 }
 
 /* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
- * loads would stall on store forwarding (it cost 15 % of c4g_ctl_finish); the per-tick filter
+ * loads would stall on store forwarding (it cost 15 % of c4g_engine_finish); the per-tick filter
  * works on such a copy in registers. */
 static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 {
@@ -855,9 +793,9 @@ static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 }
 
 /* Final mode of one axis (latches, freezing), its report, and the values kept as the last
- * safe ones. Idempotent except for the n_filtered count. (latch_sent: c4g_ctl_finish.) */
-static inline void record_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
-                               c4g_ctl_report_t *r)
+ * safe ones. Idempotent except for the n_filtered count. (latch_sent: c4g_engine_finish.) */
+static inline void record_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+                               c4g_engine_report_t *r)
 {
     const uint32_t arm = ctl->map.arm_of[i];
     tx->mode = shown;
@@ -878,8 +816,8 @@ static inline void record_axis(c4g_ctl_t *ctl, uint32_t i, int32_t shown, c4g_pc
 }
 
 /* Every axis recorded with the final overlays. */
-static CTL_COLD void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
-                          c4g_ctl_report_t *r)
+static CTL_COLD void finish_record(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+                          c4g_engine_report_t *r)
 {
     uint32_t i;
     for (i = 0U; i < tx->n_axes; i++) {
@@ -893,7 +831,7 @@ static CTL_COLD void finish_record(c4g_ctl_t *ctl, const int32_t over[C4G_ARMS],
 
 /* A stroke end stops the arm: every axis carries 505 from this reply on (the reference sent
  * with it stays inside the stroke: the motion stops before the limit, not after). */
-static CTL_COLD void stroke_stops(c4g_ctl_t *ctl, uint32_t n, const c4g_ctl_report_t *r)
+static CTL_COLD void stroke_stops(c4g_engine_t *ctl, uint32_t n, const c4g_engine_report_t *r)
 {
     uint32_t i;
     for (i = 0U; i < n; i++) {
@@ -903,13 +841,13 @@ static CTL_COLD void stroke_stops(c4g_ctl_t *ctl, uint32_t n, const c4g_ctl_repo
     }
 }
 
-c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
-                            c4g_ctl_report_t *rep)
+c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+                            c4g_engine_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
-        c4g_ctl_report_t local;
-        c4g_ctl_report_t *r = rep;
+        c4g_engine_report_t local;
+        c4g_engine_report_t *r = rep;
         if (r == NULL) {
             (void)memset(&local, 0, sizeof local);
             r = &local;
@@ -966,7 +904,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
                 }
             }
             if ((any & C4G_SF_MODE_RESTORED) != 0U) {
-                st = ctl_st(C4G_ERR_CTL_MODE_RESTORED);
+                st = C4G_ERR_MODE_RESTORED;
             }
             if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
                 st = arm_faults(ctl, tx, r);
@@ -996,7 +934,7 @@ c4g_status_t c4g_ctl_finish(c4g_ctl_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_
 
 /* ------------------------------------------------------------------ requests */
 
-static c4g_status_t request(c4g_ctl_t *ctl, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
+static c4g_status_t request(c4g_engine_t *ctl, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if (ctl != NULL) {
@@ -1009,12 +947,12 @@ static c4g_status_t request(c4g_ctl_t *ctl, uint32_t arm, c4g_req_kind_t kind, i
 }
 
 /* Refused: only the controller's PDL2 program starts a mode (see check_mode_req). */
-c4g_status_t c4g_ctl_request_mode(c4g_ctl_t *ctl, uint32_t arm, int32_t mode)
+c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode)
 {
     return request(ctl, arm, C4G_REQ_MODE, mode);
 }
 
-c4g_status_t c4g_ctl_anchor(const c4g_ctl_t *ctl, uint32_t axis, float *pos)
+c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (pos != NULL)) {
@@ -1030,7 +968,7 @@ c4g_status_t c4g_ctl_anchor(const c4g_ctl_t *ctl, uint32_t axis, float *pos)
     return st;
 }
 
-c4g_status_t c4g_ctl_request_exit(c4g_ctl_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm)
 {
     c4g_status_t st = request(ctl, arm, C4G_REQ_EXIT, 0);
     if (st == C4G_OK) {
@@ -1044,7 +982,7 @@ c4g_status_t c4g_ctl_request_exit(c4g_ctl_t *ctl, uint32_t arm)
     return st;
 }
 
-c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm)
 {
     c4g_status_t st = request(ctl, arm, C4G_REQ_DRIVE_OFF, 0);
     if (st == C4G_OK) {
@@ -1055,7 +993,7 @@ c4g_status_t c4g_ctl_request_drive_off(c4g_ctl_t *ctl, uint32_t arm)
     return st;
 }
 
-c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm)
 {
     c4g_status_t st = request(ctl, arm, C4G_REQ_FOLLOW_ERROR, 0);
     if (st == C4G_OK) {
@@ -1066,7 +1004,7 @@ c4g_status_t c4g_ctl_request_follow_error(c4g_ctl_t *ctl, uint32_t arm)
     return st;
 }
 
-c4g_status_t c4g_ctl_request_freeze(c4g_ctl_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm)
 {
     c4g_status_t st = request(ctl, arm, C4G_REQ_FREEZE, 0);
     if (st == C4G_OK) {

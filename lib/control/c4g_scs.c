@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Soft control switching (manual chapter 12): the linear model chi/eta/rho, the
  * variable-gain reducer and the variable-threshold limiter, plus a timing helper. */
-#include "c4g_ctl_util.h"
+#include "c4g_engine_util.h"
 
 static int gain_ok(float g)
 {

@@ -4,10 +4,10 @@
  * (sf_*: validates first, exported by c4g_safety.c as c4g_sf_*). Every form returns the
  * C4G_SF_* bits it raised; the checked forms return C4G_SF_NONFINITE on any non-finite
  * input and C4G_SF_BAD_LIMIT on a limit that is negative or non-finite, leaving the value. */
-#ifndef C4G_CTL_SF_H
-#define C4G_CTL_SF_H
+#ifndef C4G_SAFETY_FILTER_H
+#define C4G_SAFETY_FILTER_H
 
-#include "c4g_ctl_util.h"
+#include "c4g_engine_util.h"
 
 /* ------------------------------------------------------------------ cores */
 
@@ -220,4 +220,4 @@ static inline uint32_t sf_stroke(float pos, float min, float max, float *out)
     return r;
 }
 
-#endif /* C4G_CTL_SF_H */
+#endif /* C4G_SAFETY_FILTER_H */

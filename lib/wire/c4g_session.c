@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* PC-side session engine: start-up handshake (field facts), NUM policy, counters and
  * the chapter 22 timing statistics. I/O-free: the caller passes datagrams and times. */
-#include "c4g_internal.h"
+#include "../c4g_internal.h"
 
 #define DEFAULT_POST_INIT_SYNC 2U
 #define SILENCE_PERIODS 10U         /* the controller itself gives up after 10 missed replies */

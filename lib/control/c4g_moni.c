@@ -3,7 +3,7 @@
  * and a CSV formatter into caller buffers (no stdio: numbers are formatted here).
  * The manual speaks from the SMP+: its "RX packet" is the PC's reply (pc_*), its
  * "TX packet" the controller's packet (smp_*). */
-#include "c4g_ctl_util.h"
+#include "c4g_engine_util.h"
 
 #define N_TYPES 6U
 #define N_VALUES 5U

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* PC-side safety checks (sections 14.17.2 and 15.7): pure functions, one per rule
- * (bodies in c4g_ctl_sf.h, shared with the inlined per-tick filter). */
-#include "c4g_ctl_sf.h"
+ * (bodies in c4g_engine_sf.h, shared with the inlined per-tick filter). */
+#include "c4g_safety_filter.h"
 
 uint32_t c4g_sf_follow_error(float pos_ref, float pos_mis, float threshold, float *err)
 {

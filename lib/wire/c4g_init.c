@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Initialization packet (1200 bytes, 300 little-endian fields) and the axis index maps. */
-#include "c4g_internal.h"
+#include "../c4g_internal.h"
 
 #define PER_ARM_BYTES (4U * C4G_AXES_PER_ARM)
 #define MAX_PERIOD_MS 1000

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* Control layer: private helpers (no libm: tiny float helpers written here). */
-#ifndef C4G_CTL_UTIL_H
-#define C4G_CTL_UTIL_H
+/* Control engine: private helpers (no libm: tiny float helpers written here). */
+#ifndef C4G_ENGINE_UTIL_H
+#define C4G_ENGINE_UTIL_H
 
-#include "c4g_internal.h"
+#include "../c4g_internal.h"
 
 /* Cold paths of the per-tick functions stay out of line, so that the hot loop neither grows
  * nor keeps their intermediate values alive (plain static elsewhere). */
@@ -12,14 +12,6 @@
 #else
 #define CTL_COLD
 #endif
-
-/* Control-layer codes are macros in -100..-199, inside the range c4g_status_t reserves. */
-static inline c4g_status_t ctl_st(int32_t code)
-{
-    /* Deviation D-20 (MISRA 10.5): the enum reserves -100..-199 for these codes. */
-    /* cppcheck-suppress misra-c2012-10.5 */
-    return (c4g_status_t)code;
-}
 
 /* Bit 31 set iff @p f is NaN or infinite (exponent all ones carries into the sign bit):
  * OR several of these and test once. */
@@ -65,4 +57,4 @@ static inline float ctl_unset(void)
     return f;
 }
 
-#endif /* C4G_CTL_UTIL_H */
+#endif /* C4G_ENGINE_UTIL_H */
