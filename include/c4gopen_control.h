@@ -369,8 +369,8 @@ c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm);
 #define C4G_UNSET_BITS 0x7FC4C0DEU
 /** The unset marker as a float. */
 float c4g_unset(void);
-/** 1 if @p f is the unset marker (bit compare), else 0. */
-int c4g_is_unset(float f);
+/** true if @p f is the unset marker (bit compare). */
+bool c4g_is_unset(float f);
 
 /* ====================================================================== soft control switching */
 

@@ -412,8 +412,8 @@ c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t le
 c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len,
                             uint64_t now_ns, c4g_rx_result_t *res);
 
-/** 1 if @p from is the session's controller endpoint (or none is locked yet), else 0. */
-int c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from);
+/** true if @p from is the session's controller endpoint (or none is locked yet). */
+bool c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from);
 
 /**
  * Encode the reply to the last accepted datagram. For SYNC and INIT the reply is

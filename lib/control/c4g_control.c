@@ -13,7 +13,7 @@ float c4g_unset(void)
     return ctl_unset();
 }
 
-int c4g_is_unset(float f)
+bool c4g_is_unset(float f)
 {
     return ctl_is_unset(f);
 }
@@ -26,40 +26,26 @@ static inline uint32_t axes_in(uint32_t n)
     return (n < C4G_MAX_AXES) ? n : C4G_MAX_AXES;
 }
 
-/* What the controller does with the PC's fields in a mode, and so what the filter bounds;
- * the low bits are C4G_PCF_*. The controller's reference ("base") of an integrating mode is
- * the SMP+ target D1 it reports (pos_k in mode 5, pos_i + offset in modes 7 and 8). */
-#define R_ABS 0x0100U    /* D1 is the absolute position reference (1, 11, 4) */
-#define R_INT_D1 0x0200U /* the controller adds D1 to its reference each tick (7) */
-#define R_INT_D2 0x0400U /* ... integrates D2 into pos_k, fig. 14.1 (5); D1 is ignored */
-#define R_INT_D4 0x0800U /* ... integrates the velocity addition D4 (8) */
-#define R_VEL 0x1000U    /* D2 is a velocity reference: |D2| <= max_vel (1, 11, 4, 5) */
-#define R_VADD 0x2000U   /* D4 is a velocity contribution: |D4| <= max_vel (1, 11, 2, 12, 8) */
-#define R_CUR 0x4000U    /* D5 is the current (1, 11, 2, 12) */
-#define R_DCUR 0x8000U   /* D5 is added to the controller's current (9) */
-#define R_FE 0x10000U    /* following error checked: the PC moves the robot */
-#define R_COPY 0x20000U  /* mode 0': copy back */
+/* What the controller does with the PC's fields in a mode (the mode table's rules column,
+ * C4G_MR_*), with the PC fields (C4G_PCF_*) in the low bits. */
+#define R_ABS C4G_MR_ABS
+#define R_INT_D1 C4G_MR_INT_D1
+#define R_INT_D2 C4G_MR_INT_D2
+#define R_INT_D4 C4G_MR_INT_D4
+#define R_VEL C4G_MR_VEL
+#define R_VADD C4G_MR_VADD
+#define R_CUR C4G_MR_CUR
+#define R_DCUR C4G_MR_DCUR
+#define R_FE C4G_MR_FE
+#define R_COPY C4G_MR_COPY
 #define R_FIELDS 0x001FU
 #define R_SHOWN 0x40000U /* (axis_data_check only) the axis carries its prepared mode */
 #define R_INT (R_INT_D1 | R_INT_D2 | R_INT_D4)
 
 static uint32_t mode_rules(int32_t m)
 {
-    uint32_t k;
-    switch (m) {
-    case C4G_MODE_1:
-    case C4G_MODE_1_STANDBY: k = R_ABS | R_VEL | R_VADD | R_CUR | R_FE; break;
-    case C4G_MODE_4: k = R_ABS | R_VEL | R_FE; break;
-    case C4G_MODE_5: k = R_INT_D2 | R_VEL | R_FE; break;
-    case C4G_MODE_7: k = R_INT_D1 | R_FE; break;
-    case C4G_MODE_8: k = R_INT_D4 | R_VADD | R_FE; break;
-    case C4G_MODE_2:
-    case C4G_MODE_2_STANDBY: k = R_VADD | R_CUR | R_FE; break;
-    case C4G_MODE_9: k = R_DCUR | R_FE; break;
-    case C4G_MODE_0_DEBUG: k = R_COPY; break;
-    default: k = 0U; break;
-    }
-    return k | c4g_mode_pc_fields(m);
+    const c4g_mode_info_t *row = c4g_mode_find(m);
+    return (row != NULL) ? (row->rules | row->pc_fields) : 0U;
 }
 
 static float tighter(float ctl_value, float user)
@@ -268,7 +254,7 @@ static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *ctl, const c4g_ctrl_pa
                              ctl_nonfinite_bit(a->current_ref) | ctl_nonfinite_bit(a->ext[0]) |
                              ctl_nonfinite_bit(a->ext[1]) | ctl_nonfinite_bit(a->ext[2]);
         /* the mode prepared last tick is known: skip the lookup when it repeats */
-        if ((a->mode != ctl->prep_mode[i]) && (c4g_mode_is_known(a->mode) == 0)) {
+        if ((a->mode != ctl->prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
             st = C4G_ERR_MODE;
         } else if (bad != 0U) {
             st = C4G_ERR_NONFINITE;
@@ -300,7 +286,7 @@ static CTL_COLD void arm_modes(const c4g_engine_t *ctl, const c4g_ctrl_packet_t 
         const int32_t am = rx->ax[i].mode;
         if (am != m[a]) {
             if ((m[a] == C4G_MODE_0) ||
-                ((c4g_mode_is_special(am) != 0) && (c4g_mode_is_special(m[a]) == 0))) {
+                ((c4g_mode_is_special(am)) && (!c4g_mode_is_special(m[a])))) {
                 m[a] = am;
             }
         }
@@ -334,7 +320,7 @@ static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
         const int32_t am = a->mode;
         carry |= rx_axis_carry(a);
         /* the mode prepared last tick is known: skip the lookup when it repeats */
-        if ((am != ctl->prep_mode[i]) && (c4g_mode_is_known(am) == 0)) {
+        if ((am != ctl->prep_mode[i]) && (!c4g_mode_is_known(am))) {
             unknown = 1U;
         }
         if (w->seen == 0U) {
@@ -476,7 +462,7 @@ static inline uint32_t value_check(float f, uint32_t required)
     uint32_t r = 0U;
     if (c4g_f32_finite(f) == 0) {
         r = C4G_SF_NONFINITE;
-        if ((required != 0U) && (ctl_is_unset(f) != 0)) {
+        if ((required != 0U) && (ctl_is_unset(f))) {
             r = C4G_SF_MISSING;
         }
     }

@@ -42,9 +42,9 @@ static inline int ctl_f64_finite(double d)
     return ((u & 0x7FF0000000000000ULL) != 0x7FF0000000000000ULL) ? 1 : 0;
 }
 
-static inline int ctl_is_unset(float f)
+static inline bool ctl_is_unset(float f)
 {
-    return (c4g_f32_bits(f) == C4G_UNSET_BITS) ? 1 : 0;
+    return c4g_f32_bits(f) == C4G_UNSET_BITS;
 }
 
 static inline float ctl_unset(void)

@@ -27,27 +27,6 @@ uint32_t c4g_arm_byte_set(uint32_t word, uint32_t arm, uint8_t value)
     return w;
 }
 
-int c4g_mode_is_known(int32_t mode)
-{
-    int known;
-    switch (mode) {
-    case C4G_MODE_0: case C4G_MODE_0_DEBUG: case C4G_MODE_1: case C4G_MODE_1_STANDBY:
-    case C4G_MODE_2: case C4G_MODE_2_STANDBY: case C4G_MODE_3: case C4G_MODE_4:
-    case C4G_MODE_4_STANDBY: case C4G_MODE_5: case C4G_MODE_5_STANDBY: case C4G_MODE_6:
-    case C4G_MODE_7: case C4G_MODE_7_STANDBY: case C4G_MODE_7_STANDBY_EXIT: case C4G_MODE_8:
-    case C4G_MODE_9: case C4G_MODE_101: case C4G_MODE_102: case C4G_MODE_103:
-    case C4G_MODE_201: case C4G_MODE_202: case C4G_MODE_FREEZING_A: case C4G_MODE_DRIVING_ON:
-    case C4G_MODE_FREEZING_P_IN: case C4G_MODE_FREEZING_P_OUT: case C4G_MODE_EXIT_OPEN:
-    case C4G_MODE_DRIVE_OFF: case C4G_MODE_SVR_RESTART: case C4G_MODE_FOLLOW_ERROR:
-        known = 1;
-        break;
-    default:
-        known = 0;
-        break;
-    }
-    return known;
-}
-
 int32_t c4g_reply_num(int32_t num, c4g_num_policy_t policy)
 {
     int32_t r = num;
@@ -109,18 +88,19 @@ static inline uint32_t nonfinite(uint32_t bits)
     return c4g_exp_carry(bits) >> 31U;
 }
 
-/* Modes 0..17 that exist, as a bit set: the hot path avoids the full switch. */
-#define LOW_MODES_MASK 0x2DFFFU /* 0-12, 14, 15, 17 */
+/* Modes 0..17 that exist, as a bit set derived from the mode table: the hot path avoids
+ * the full lookup. */
 #define LOW_MODES_LIMIT 18
+#define LOW_MODE_BIT_(id, code, flags, fields, rules, op, from, name, text) \
+    | (((code) < LOW_MODES_LIMIT) ? (1UL << (uint32_t)((code) % LOW_MODES_LIMIT)) : 0UL)
+#define LOW_MODES_MASK ((uint32_t)(0UL C4G_MODE_TABLE(LOW_MODE_BIT_)))
 
-static inline int mode_known_fast(int32_t mode)
+static inline bool mode_known_fast(int32_t mode)
 {
-    int known = 0;
+    bool known;
     if ((mode >= 0) && (mode < LOW_MODES_LIMIT)) {
         const uint32_t shifted = LOW_MODES_MASK >> (uint32_t)mode;
-        if ((shifted & 1U) != 0U) {
-            known = 1;
-        }
+        known = (shifted & 1U) != 0U;
     } else {
         known = c4g_mode_is_known(mode);
     }
@@ -188,7 +168,7 @@ static c4g_status_t axis_error(int32_t mode, const uint8_t *p, uint32_t index, c
         C4G_FIELD_D5, C4G_FIELD_EXT1, C4G_FIELD_EXT2, C4G_FIELD_EXT3};
     const uint32_t base = C4G_HEADER_SIZE + (index * C4G_AXIS_SIZE);
     c4g_status_t st;
-    if (c4g_mode_is_known(mode) == 0) {
+    if (!c4g_mode_is_known(mode)) {
         st = C4G_ERR_MODE;
         c4g_diag_set(diag, st, C4G_FIELD_SM, base, -1, (int32_t)index, (int64_t)mode);
     } else {
@@ -234,7 +214,7 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
             const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
                                           &a->actual_pos, &a->actual_vel, &a->current_ref,
                                           &a->ext[0], &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
                 st = axis_error(a->mode, p, i, diag);
             }
         }
@@ -267,7 +247,7 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
             const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
                                           &a->measure, &a->vel_add, &a->current_add, &a->ext[0],
                                           &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
                 st = axis_error(a->mode, p, i, diag);
             }
         }
@@ -307,7 +287,7 @@ static c4g_status_t encode_header(int32_t num, uint32_t infpar, uint32_t cmd, ui
 static c4g_status_t encode_error(int32_t mode, uint8_t *buf)
 {
     (void)memset(buf, 0, C4G_HEADER_SIZE);
-    return (c4g_mode_is_known(mode) == 0) ? C4G_ERR_MODE : C4G_ERR_NONFINITE;
+    return (!c4g_mode_is_known(mode)) ? C4G_ERR_MODE : C4G_ERR_NONFINITE;
 }
 
 c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
@@ -324,7 +304,7 @@ c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t 
                 put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
                          a->actual_pos, a->actual_vel, a->current_ref, a->ext[0], a->ext[1],
                          a->ext[2]);
-            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
                 st = encode_error(a->mode, buf);
             }
         }
@@ -348,7 +328,7 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
             const uint32_t bad =
                 put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
                          a->measure, a->vel_add, a->current_add, a->ext[0], a->ext[1], a->ext[2]);
-            if ((bad != 0U) || (mode_known_fast(a->mode) == 0)) {
+            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
                 st = encode_error(a->mode, buf);
             }
         }

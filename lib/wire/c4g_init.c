@@ -118,7 +118,7 @@ static c4g_status_t check_modes(const c4g_init_t *in, c4g_diag_t *diag)
             const int32_t m = in->open_mask[arm][ax];
             /* 0xFF: open, start-up mode not specified (manual chapter 10). */
             if ((in->open_ax[arm][ax] != C4G_OPEN_AX_NONE) && (m != C4G_OPEN_AX_NONE) &&
-                (c4g_mode_is_known(m) == 0)) {
+                (!c4g_mode_is_known(m))) {
                 st = C4G_ERR_MODE;
                 c4g_diag_set(diag, st, C4G_FIELD_OPENMASK,
                              block_off(C4G_INIT_OFF_OPENMASK, arm, ax), (int32_t)arm,

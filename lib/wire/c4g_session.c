@@ -339,13 +339,11 @@ static int same_endpoint(const c4g_endpoint_t *a, const c4g_endpoint_t *b)
                : 0;
 }
 
-int c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from)
+bool c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from)
 {
-    int r = 0;
+    bool r = false;
     if ((s != NULL) && (from != NULL) && (from->addr_len <= 16U)) {
-        if ((s->peer_locked == 0U) || (same_endpoint(from, &s->peer) != 0)) {
-            r = 1;
-        }
+        r = (s->peer_locked == 0U) || (same_endpoint(from, &s->peer) != 0);
     }
     return r;
 }
