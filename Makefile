@@ -46,6 +46,10 @@ LIB_PICS := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
 STATIC := $(BUILD)/lib/libc4gopen.a
 SHARED := $(BUILD)/lib/libc4gopen.so.$(VERSION)
 
+# Tool helpers that tests, benches and fuzz targets also need (plain C99, no dependencies):
+# the manual's fixtures and the CSV text of monitoring records. Not in the RT library.
+HELPER_SRCS := tools/common/c4g_fixtures.c tools/common/c4g_csv.c
+
 UNIT_SRCS := $(sort $(wildcard tests/test_*.c))
 UNIT_BINS := $(UNIT_SRCS:tests/%.c=$(BUILD)/tests/%)
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
@@ -137,7 +141,7 @@ TEST_LIBS := -lcmocka -linih -lm
 $(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	  -o $@ $< $(STATIC) $(TEST_LIBS)
+	  -o $@ $< $(HELPER_SRCS) $(STATIC) $(TEST_LIBS)
 
 unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
@@ -148,7 +152,7 @@ sanitize: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/san
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
+	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) $(HELPER_SRCS) $(TEST_LIBS); done
 	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
@@ -165,7 +169,7 @@ coverage: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
 	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
 	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) $(TEST_LIBS); done
+	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) $(HELPER_SRCS) $(TEST_LIBS); done
 	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
 	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
 
@@ -174,7 +178,7 @@ coverage: | $(DEPS_STAMP)
 # tool parsers also compile the tool sources named in FUZZ_TOOL_<name> (the parsers
 # take a buffer in memory) and link inih.
 FUZZ_SAN := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
-FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/fuzz/obj/%.o)
+FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/fuzz/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/fuzz/obj/%.o)
 FUZZ_TF := tools/common/c4g_textfile.c
 FUZZ_TOOL_fuzz_scenario := tools/c4g-sim/scenario.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_sim_ini := tools/c4g-sim/config.c tools/c4g-sim/model.c $(FUZZ_TF)
@@ -193,7 +197,7 @@ $(BUILD)/fuzz/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_OBJS) $(wildcard tests/fuzz/*.h) \
     $(wildcard tools/*/*.c tools/*/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	@echo "  FUZZLD  $@"; $(CLANG) -std=c99 -Iinclude $(if $(FUZZ_TOOL_$(@F)),$(FUZZ_TOOL_INC)) \
+	@echo "  FUZZLD  $@"; $(CLANG) -std=c99 -Iinclude -Itools/common $(if $(FUZZ_TOOL_$(@F)),$(FUZZ_TOOL_INC)) \
 	  $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $< $(FUZZ_TOOL_$(@F)) $(FUZZ_LIB_OBJS) \
 	  $(if $(FUZZ_TOOL_$(@F)),-linih) -lm
 
@@ -222,7 +226,7 @@ qemu-smoke: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/qemu
 	$(ARM_CC) -std=c99 -O1 -Iinclude -marm -mcpu=arm926ej-s --specs=rdimon.specs \
 	  -DFIXTURE_INIT='"$(CURDIR)/fixtures/vectors/init-fig10-1.bin"' \
-	  tests/target/target_smoke.c $(LIB_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
+	  -Itools/common tests/target/target_smoke.c $(LIB_SRCS) $(HELPER_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
 	qemu-arm $(BUILD)/qemu/target_smoke.elf
 
 # ---- static analysis

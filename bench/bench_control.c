@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 
 #define BATCH 1000
 #define RUNS 1000

@@ -6,6 +6,7 @@
  *   bench_wire                       table for 6 and 20 axes (>= 1e6 ticks each)
  *   bench_wire --only KIND AXES N    run N ticks of one loop (for callgrind) */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -419,11 +419,6 @@ typedef struct c4g_moni_rec {
 
 #define C4G_MONI_FIRST 19U
 #define C4G_MONI_LAST 24U
-/** Fixed decimals the CSV formatter writes (|v| < 1e9; larger values in d.dddddde+XX). */
-#define C4G_MONI_DECIMALS 6U
-/** Longest CSV row, bytes including the newline. */
-#define C4G_MONI_ROW_MAX 160U
-
 /**
  * Record of moni @p type for OPEN axis @p axis from one received (@p rx, "TX packet" of the
  * manual, which speaks from the SMP+) and one sent (@p tx, the manual's "RX packet") packet.
@@ -431,15 +426,8 @@ typedef struct c4g_moni_rec {
  */
 c4g_status_t c4g_moni_record(uint32_t type, const c4g_ctrl_packet_t *rx,
                              const c4g_pc_packet_t *tx, uint32_t axis, c4g_moni_rec_t *out);
-/** CSV header of @p type ("num,axis,mode,rx_d1,...\n"), NUL-terminated. @return OK, NULL, ARG, CAPACITY. */
-c4g_status_t c4g_moni_csv_header(uint32_t type, char *buf, size_t cap, size_t *len);
-/** One CSV row, NUL-terminated; *len excludes the NUL. @return OK, NULL, ARG, CAPACITY. */
-c4g_status_t c4g_moni_csv_row(const c4g_moni_rec_t *rec, char *buf, size_t cap, size_t *len);
-/**
- * Format @p v with C4G_MONI_DECIMALS decimals (no libc): "-12.500000", "nan", "inf".
- * @return OK, NULL, CAPACITY.
- */
-c4g_status_t c4g_fmt_float(float v, char *buf, size_t cap, size_t *len);
+/** Column name of value @p k (0..4) of moni @p type ("pc_d1", "smp_e2"); "?" when out of range. */
+const char *c4g_moni_value_name(uint32_t type, uint32_t k);
 
 #ifdef __cplusplus
 }

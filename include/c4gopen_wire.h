@@ -197,8 +197,6 @@ c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag);
 /** Encode an initialization packet (validated first) into 1200 bytes. */
 c4g_status_t c4g_init_encode(const c4g_init_t *init, uint8_t *buf, size_t cap,
                              size_t *out_len);
-/** The manual's figure 10.1 initialization packet (6 axes on ARM 1, 2 ms). */
-c4g_status_t c4g_init_fig10_1(c4g_init_t *out);
 
 /** Logical <-> OPEN axis index maps derived from OpenAx. */
 typedef struct c4g_axis_map {

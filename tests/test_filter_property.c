@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "../tools/c4g-sim/model.c"
+#include "c4g_fixtures.h"
 
 #define N_AX 6U
 #define TICKS 400

@@ -10,7 +10,7 @@ test -f "$root/opt/c4g/include/c4gopen.h"
 test -f "$root/opt/c4g/lib/libc4gopen.a"
 soname=$(readelf -d "$root/opt/c4g/lib/libc4gopen.so" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
 echo "SONAME: $soname"
-test "$soname" = "libc4gopen.so.0"
+test "$soname" = "libc4gopen.so.1"
 export PKG_CONFIG_PATH="$root/opt/c4g/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$root"
 flags=$(pkg-config --cflags --libs c4gopen)
 echo "pkg-config: $flags"
@@ -19,12 +19,18 @@ cat >"$root/app.c" <<'C'
 #include <stdio.h>
 int main(void)
 {
-    c4g_init_t in;
-    unsigned char buf[C4G_INIT_SIZE];
+    c4g_loop_t lp;
+    c4g_loop_config_t cfg;
+    c4g_pc_packet_t neutral = {0};
+    unsigned char buf[C4G_MAX_CYCLIC_SIZE];
     size_t n = 0;
-    if (c4g_init_fig10_1(&in) != C4G_OK || c4g_init_encode(&in, buf, sizeof buf, &n) != C4G_OK) return 1;
-    printf("%s %u\n", C4G_VERSION_STRING, (unsigned)n);
-    return n == 1200 ? 0 : 1;
+    neutral.n_axes = 6;
+    if (c4g_session_config_default(&cfg.session) != C4G_OK ||
+        c4g_engine_config_default(&cfg.engine) != C4G_OK || c4g_loop_init(&lp, &cfg) != C4G_OK ||
+        c4g_pc_encode(&neutral, buf, sizeof buf, &n) != C4G_OK)
+        return 1;
+    printf("%s %u %s\n", C4G_VERSION_STRING, (unsigned)n, c4g_strerror(C4G_ERR_CELL_HEAD));
+    return n == C4G_CYCLIC_SIZE(6) ? 0 : 1;
 }
 C
 # shellcheck disable=SC2086

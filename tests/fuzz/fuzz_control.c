@@ -15,6 +15,8 @@
 #include <string.h>
 
 #include "c4gopen.h"
+#include "c4g_csv.h"
+#include "c4g_fixtures.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

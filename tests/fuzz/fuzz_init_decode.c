@@ -2,6 +2,7 @@
 /* libFuzzer: initialization packet decoder and axis maps. The input is laid over the
  * figure 10.1 packet so that the fuzzer reaches the deep validation paths. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdlib.h>
 #include <string.h>
 

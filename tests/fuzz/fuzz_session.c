@@ -7,6 +7,7 @@
  * cyclic packet's shape and never with a non-finite value, a foreign datagram never changes
  * the phase or the newest packet, never a crash. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdlib.h>
 #include <string.h>
 

@@ -2,6 +2,7 @@
 /* Runs on the target (qemu-arm, newlib rdimon): codec and session smoke test on a
  * 32-bit ARM. Prints a closing "N passed, N failed" line; exit status = failures. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 

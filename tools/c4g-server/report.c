@@ -4,6 +4,7 @@
  * here runs on the real-time path. */
 #include "srv.h"
 #include "c4g_pcap.h"
+#include "c4g_csv.h"
 
 #include <arpa/inet.h>
 #include <errno.h>

@@ -2,6 +2,7 @@
 /* c4g-sim controller: modes (chapter 14), special modes (15), state machine (24),
  * errors (17), PDL2-like scenario interpreter (figure 24.4). No I/O but the log. */
 #include "sim.h"
+#include "c4g_fixtures.h"
 
 #include <math.h>
 #include <stdarg.h>

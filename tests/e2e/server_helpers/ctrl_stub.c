@@ -4,6 +4,7 @@
  * encoders, runs a tiny robot model per axis, checks every reply byte by byte and
  * prints a key=value summary. Not a simulator: c4g-sim is the real one. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
