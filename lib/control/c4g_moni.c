@@ -7,9 +7,6 @@
 
 #define N_TYPES 6U
 #define N_VALUES 5U
-#define FIXED_LIMIT 1.0e9
-#define SCALE 1000000.0
-#define SCALE_U 1000000U
 
 typedef enum src {
     PC_D1 = 0, PC_D2, PC_D3, PC_D4, PC_D5, SMP_D1, SMP_D2, SMP_D3, SMP_D4, SMP_D5, SMP_E1, SMP_E2

@@ -1,7 +1,479 @@
 /* SPDX-License-Identifier: MIT */
-/* PC-side safety checks (sections 14.17.2 and 15.7): pure functions, one per rule
- * (bodies in c4g_engine_sf.h, shared with the inlined per-tick filter). */
-#include "c4g_safety_filter.h"
+/* The safety unit: the finish of every cyclic reply (request overlays, per-mode packet
+ * rules, mode-0' copy-back, the safety filter on what the controller will do with each
+ * field, following error, joint stroke ends, 505 on faults) and the public single-rule
+ * checks (sections 14.17.2 and 15.7). The rule primitives are c4g_safety_filter.h. */
+#include "c4g_engine_rules.h"
+
+/* ------------------------------------------------------------------ finish: the filter */
+
+static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
+                                        float e1, float e2, float e3, uint32_t fields);
+
+/* One float of the reply: non-finite is MISSING when it is the unset marker of a required
+ * field, else NONFINITE. The common (finite) case is one mask test. */
+static inline uint32_t value_check(float f, uint32_t required)
+{
+    uint32_t r = 0U;
+    if (c4g_f32_finite(f) == 0) {
+        r = C4G_SF_NONFINITE;
+        if ((required != 0U) && (ctl_is_unset(f))) {
+            r = C4G_SF_MISSING;
+        }
+    }
+    return r;
+}
+
+/* @p fields: C4G_PCF_* whose unset marker means MISSING (the others: NONFINITE). */
+static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t fields)
+{
+    const uint32_t carry = ctl_exp_carry(tx->target_pos) | ctl_exp_carry(tx->target_vel) |
+                           ctl_exp_carry(tx->measure) | ctl_exp_carry(tx->vel_add) |
+                           ctl_exp_carry(tx->current_add) | ctl_exp_carry(tx->ext[0]) |
+                           ctl_exp_carry(tx->ext[1]) | ctl_exp_carry(tx->ext[2]);
+    return ((carry & 0x80000000U) == 0U)
+               ? 0U
+               : axis_data_slow(tx->target_pos, tx->target_vel, tx->measure, tx->vel_add,
+                                tx->current_add, tx->ext[0], tx->ext[1], tx->ext[2], fields);
+}
+
+/* By value: the per-tick filter keeps the axis data in registers. */
+static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, float d5,
+                                        float e1, float e2, float e3, uint32_t fields)
+{
+    /* the unset marker in a field that is not required (or under an overlay) is NONFINITE */
+    const uint32_t required = ((fields & R_SHOWN) != 0U) ? (fields & R_FIELDS) : 0U;
+    return value_check(d1, required & C4G_PCF_D1) | value_check(d2, required & C4G_PCF_D2) |
+           value_check(d3, required & C4G_PCF_D3) | value_check(d4, required & C4G_PCF_D4) |
+           value_check(d5, required & C4G_PCF_D5) | value_check(e1, 0U) | value_check(e2, 0U) |
+           value_check(e3, 0U);
+}
+
+/* What the filter rewrote, checked again: an overflow is never sent. */
+static inline uint32_t rewritten_check(const c4g_pc_axis_t *tx)
+{
+    return value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
+           value_check(tx->vel_add, 0U) | value_check(tx->current_add, 0U);
+}
+
+/* The field the controller integrates in this mode (R_INT_*). */
+static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
+{
+    float *f = &tx->target_pos;
+    if ((rules & R_INT_D2) != 0U) {
+        f = &tx->target_vel;
+    } else if ((rules & R_INT_D4) != 0U) {
+        f = &tx->vel_add;
+    } else {
+        /* D1 */
+    }
+    return f;
+}
+
+/* The controller's position reference that an absolute target of axis @p i moves from: the
+ * last value sent in the same mode, else where the axis stood when the mode began. */
+static inline float abs_base(const c4g_engine_t *ctl, uint32_t i)
+{
+    return ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
+               ? ctl->last_safe[i].target_pos
+               : ctl->anchor[i];
+}
+
+/* Continuity and stroke ends on the position the controller will hold next tick: base + d,
+ * d the per-tick motion the PC asks for (the integrated field, or target - base), base the
+ * reference before it (for an integrating mode the SMP+ target D1 advanced by its target
+ * velocity D2: the worst case, which may count the PC's last step once more). Both only
+ * shrink d towards 0: the filter never creates a motion, even back into the stroke. */
+static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+                                      const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    const c4g_axis_limits_t *l = &ctl->lim[i];
+    /* integrating modes: the reference moves by the controller's own target velocity too */
+    const float base = ((rules & R_ABS) != 0U) ? abs_base(ctl, i)
+                                               : (rx->target_pos + rx->target_vel);
+    float *field = int_field(rules, tx);
+    const float req = ((rules & R_ABS) != 0U) ? (tx->target_pos - base) : *field;
+    uint32_t f = 0U;
+    float d = req;
+    if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base + req)) != 0U) {
+        f = C4G_SF_NONFINITE; /* target - base or base + delta overflows: never sent */
+    } else {
+        f = sfc_step(0.0F, req, l->max_step, &d);
+        if (sfc_shrink(base, d, l->motor_min, l->motor_max, &d) != 0U) {
+            f |= C4G_SF_STROKE;
+        }
+        if (f != 0U) { /* rewritten only when a check changed it (base + d may round) */
+            if ((rules & R_ABS) != 0U) {
+                tx->target_pos = base + d;
+            } else {
+                *field = d;
+            }
+        }
+    }
+    return f;
+}
+
+static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+                                   const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    const c4g_axis_limits_t *l = &ctl->lim[i];
+    uint32_t f = 0U;
+    float o = 0.0F;
+    if ((rules & (R_ABS | R_INT)) != 0U) {
+        f = filter_targets(ctl, i, rules, rx, tx);
+    }
+    if ((rules & R_VEL) != 0U) {
+        f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
+        tx->target_vel = o;
+    }
+    if ((rules & R_VADD) != 0U) {
+        f |= sfc_velocity(tx->vel_add, l->max_vel, &o);
+        tx->vel_add = o;
+    }
+    if ((rules & R_CUR) != 0U) {
+        f |= sfc_sym(tx->current_add, l->current_max, C4G_SF_CURRENT, &o);
+        tx->current_add = o;
+    } else if ((rules & R_DCUR) != 0U) {
+        f |= sfc_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
+        tx->current_add = o;
+    } else {
+        /* no current from the PC in this mode */
+    }
+    return f;
+}
+
+/* Following error (15.7) on the final targets: the axis carries 508 (field library). */
+static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+                                 const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx,
+                                 float *fe_out)
+{
+    uint32_t f = 0U;
+    if ((rules & R_FE) != 0U) {
+        const float ref = ((rules & R_ABS) != 0U) ? tx->target_pos : rx->target_pos;
+        f = sfc_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
+        if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
+            ctl->fe_latch[i] = 1U;
+            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
+        }
+    }
+    return f;
+}
+
+/* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
+ * the motor targets back for the axes the PC drives. */
+static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+{
+    const uint32_t n = ctl->n_joint[arm];
+    double qm[C4G_AXES_PER_ARM];
+    double q[C4G_AXES_PER_ARM];
+    uint32_t j;
+    uint32_t changed = 0U;
+    for (j = 0U; j < n; j++) {
+        const uint32_t i = ctl->map.open_of[arm][j];
+        const uint32_t rules = ctl->prep_rules[i];
+        double v = (double)rx->ax[i].target_pos;
+        if ((rules & R_ABS) != 0U) {
+            v = (double)tx->ax[i].target_pos;
+        } else if ((rules & R_INT) != 0U) {
+            v += (double)*int_field(rules, &tx->ax[i]); /* the reference it integrates to */
+        } else {
+            /* SMP+ target */
+        }
+        qm[j] = v;
+    }
+    if (c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) {
+        for (j = 0U; j < n; j++) {
+            const uint32_t i = ctl->map.open_of[arm][j];
+            const c4g_axis_limits_t *l = &ctl->lim[i];
+            if ((l->joint_min < l->joint_max) &&
+                ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
+                q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
+                /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
+                if ((ctl->prep_rules[i] & (R_ABS | R_INT)) != 0U) {
+                    r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
+                }
+                changed = 1U;
+            }
+        }
+    }
+    if ((changed != 0U) && (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
+        for (j = 0U; j < n; j++) {
+            const uint32_t i = ctl->map.open_of[arm][j];
+            const uint32_t rules = ctl->prep_rules[i];
+            if ((rules & R_ABS) != 0U) {
+                tx->ax[i].target_pos = (float)qm[j];
+            } else if ((rules & R_INT) != 0U) {
+                *int_field(rules, &tx->ax[i]) = (float)(qm[j] - (double)rx->ax[i].target_pos);
+            } else {
+                /* the PC does not drive this axis */
+            }
+        }
+    }
+}
+
+/* EXIT_FROM_OPEN bytes, and the END phase on the first packet carrying one. */
+static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
+{
+    uint32_t infpar = 0U;
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        c4g_arm_sm_t *sm = &ctl->arm[a];
+        if (sm->exit_req != 0U) {
+            infpar = c4g_arm_byte_set(infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
+            sm->exit_ticks++;
+            if (sm->exit_ticks == 1U) {
+                uint32_t ev = C4G_CEV_EXIT_SENT;
+                if ((sm->frozen != C4G_MODE_FREEZING_A) && (sm->phase != C4G_MPH_END)) {
+                    sm->phase = C4G_MPH_END;
+                    sm->phase_since_ns = sm->mode_since_ns;
+                    ev |= C4G_CEV_END;
+                }
+                r->arm_events[a] |= ev;
+                r->events |= ev;
+            }
+        }
+    }
+    return infpar;
+}
+
+/* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
+static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t bad_arm[C4G_ARMS] = {0U, 0U, 0U, 0U};
+    uint32_t i;
+    for (i = 0U; i < tx->n_axes; i++) {
+        const uint32_t f = r->axis_flags[i];
+        if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
+            bad_arm[ctl->map.arm_of[i]] = 1U;
+            if ((f & C4G_SF_MISSING) != 0U) {
+                st = C4G_ERR_MISSING_DATA;
+            } else if (st == C4G_OK) {
+                st = C4G_ERR_NONFINITE;
+            } else {
+                /* keep the missing-data status */
+            }
+            if (ctl->have_last != 0U) {
+                tx->ax[i] = ctl->last_safe[i];
+            } else {
+                (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
+            }
+            r->axis_flags[i] |= C4G_SF_HELD;
+        }
+    }
+    for (i = 0U; i < C4G_ARMS; i++) {
+        if (bad_arm[i] != 0U) {
+            ctl->arm[i].latch |= C4G_LATCH_DRIVE_OFF;
+        }
+    }
+    return st;
+}
+
+/* Overflow check of what the filter wrote, then the following error on the final target. */
+static uint32_t finish_fe(c4g_engine_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
+                          const c4g_pc_axis_t *tx, float *fe_out)
+{
+    uint32_t f = rewritten_check(tx);
+    if (f == 0U) {
+        f = filter_fe(ctl, i, ctl->prep_rules[i], rx, tx, fe_out);
+    }
+    return f;
+}
+
+/* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
+ * of the reply data, written back by the caller). */
+static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
+                                   const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
+{
+    const int32_t m = ctl->prep_mode[i];
+    const uint32_t rules = ctl->prep_rules[i];
+    uint32_t f = 0U;
+    if ((tx->mode != m) && (tx->mode != shown)) {
+        f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
+    }
+    tx->mode = m;
+    if ((rules & R_COPY) != 0U) {
+        copy_back(rx, tx);
+        f |= C4G_SF_COPY_BACK;
+    }
+    f |= axis_data_check(tx, (shown == m) ? (rules | R_SHOWN) : rules);
+    if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
+        const uint32_t clamps = filter_axis(ctl, i, rules, rx, tx);
+        f |= clamps;
+        /* without a joint check on the arm the targets are final here; values a clamp
+         * rewrote are checked again (an overflow is never sent) */
+        if ((ctl->joint_on[ctl->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
+            uint32_t g = 0U;
+            if (clamps != 0U) {
+                g = rewritten_check(tx);
+            }
+            if (g == 0U) {
+                g = filter_fe(ctl, i, rules, rx, tx, fe_out);
+            }
+            f |= g;
+        }
+    }
+    return f;
+}
+
+/* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
+ * loads would stall on store forwarding (it cost 15 % of c4g_engine_finish); the per-tick filter
+ * works on such a copy in registers. */
+static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
+{
+    dst->mode = src->mode;
+    dst->target_pos = src->target_pos;
+    dst->target_vel = src->target_vel;
+    dst->measure = src->measure;
+    dst->vel_add = src->vel_add;
+    dst->current_add = src->current_add;
+    dst->ext[0] = src->ext[0];
+    dst->ext[1] = src->ext[1];
+    dst->ext[2] = src->ext[2];
+}
+
+/* Final mode of one axis (latches, freezing), its report, and the values kept as the last
+ * safe ones. Idempotent except for the n_filtered count. (latch_sent: c4g_engine_finish.) */
+static inline void record_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+                               c4g_engine_report_t *r)
+{
+    const uint32_t arm = ctl->map.arm_of[i];
+    tx->mode = shown;
+    if (shown == C4G_MODE_DRIVE_OFF) {
+        r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
+    } else if (shown == C4G_MODE_FOLLOW_ERROR) {
+        r->axis_flags[i] |= C4G_SF_FE_SENT;
+    } else {
+        /* no safety request on this axis */
+    }
+    if ((r->axis_flags[i] & ~(C4G_SF_COPY_BACK)) != 0U) {
+        r->n_filtered++;
+        r->arm_events[arm] |= C4G_CEV_SAFETY;
+        r->events |= C4G_CEV_SAFETY;
+    }
+    keep_axis(&ctl->last_safe[i], tx);
+    ctl->last_mode[i] = ctl->prep_mode[i];
+}
+
+/* Every axis recorded with the final overlays. */
+static CTL_COLD void finish_record(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+                          c4g_engine_report_t *r)
+{
+    uint32_t i;
+    for (i = 0U; i < tx->n_axes; i++) {
+        record_axis(ctl, i, overlay_mode(ctl, over, i, ctl->prep_mode[i]), &tx->ax[i], r);
+    }
+}
+
+/* Filter flags after which the overlays of axes already recorded may change. */
+#define REDO_FLAGS (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR | C4G_SF_STROKE | \
+                    C4G_SF_STROKE_JOINT)
+
+/* A stroke end stops the arm: every axis carries 505 from this reply on (the reference sent
+ * with it stays inside the stroke: the motion stops before the limit, not after). */
+static CTL_COLD void stroke_stops(c4g_engine_t *ctl, uint32_t n, const c4g_engine_report_t *r)
+{
+    uint32_t i;
+    for (i = 0U; i < n; i++) {
+        if ((r->axis_flags[i] & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_STROKE;
+        }
+    }
+}
+
+c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+                            c4g_engine_report_t *rep)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+        c4g_engine_report_t local;
+        c4g_engine_report_t *r = rep;
+        if (r == NULL) {
+            (void)memset(&local, 0, sizeof local);
+            r = &local;
+        }
+        st = C4G_ERR_STATE;
+        if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
+            (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
+            const uint32_t n = axes_in(rx->n_axes);
+            const uint32_t n_filtered = r->n_filtered;
+            int32_t over[C4G_ARMS];
+            uint32_t any = 0U;
+            uint32_t some;
+            uint32_t i;
+            uint32_t a;
+            /* Each axis is recorded as soon as it is filtered while nothing can change the
+             * overlays of the axes before it (no joint check, no fault, no following error);
+             * otherwise every axis is recorded again once the overlays are final. */
+            uint32_t rec = 1U;
+            if ((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] | ctl->joint_on[3]) !=
+                0U) {
+                rec = 0U;
+            }
+            st = C4G_OK;
+            tx->infpar = exit_bytes(ctl, r);
+            some = arm_overlays(ctl, over);
+            for (i = 0U; i < n; i++) {
+                const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
+                                                   : ctl->prep_mode[i];
+                c4g_pc_axis_t d;
+                keep_axis(&d, &tx->ax[i]);
+                r->follow_err[i] = 0.0F;
+                r->axis_flags[i] |= finish_axis(ctl, i, shown, &rx->ax[i], &d,
+                                                &r->follow_err[i]);
+                any |= r->axis_flags[i];
+                if ((any & REDO_FLAGS) != 0U) {
+                    rec = 0U;
+                }
+                if (rec != 0U) {
+                    record_axis(ctl, i, shown, &d, r);
+                }
+                keep_axis(&tx->ax[i], &d);
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
+                    filter_joints(ctl, a, rx, tx, r);
+                    for (i = 0U; i < tx->n_axes; i++) {
+                        if ((ctl->map.arm_of[i] == a) &&
+                            ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
+                            r->axis_flags[i] |= finish_fe(ctl, i, &rx->ax[i], &tx->ax[i],
+                                                          &r->follow_err[i]);
+                            any |= r->axis_flags[i];
+                        }
+                    }
+                }
+            }
+            if ((any & C4G_SF_MODE_RESTORED) != 0U) {
+                st = C4G_ERR_MODE_RESTORED;
+            }
+            if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
+                st = arm_faults(ctl, tx, r);
+            }
+            if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+                stroke_stops(ctl, n, r);
+            }
+            if ((any & REDO_FLAGS) != 0U) {
+                (void)arm_overlays(ctl, over); /* the filter latched an arm or an axis */
+            }
+            if (rec == 0U) {
+                r->n_filtered = n_filtered;
+                finish_record(ctl, over, tx, r);
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                /* every open axis went out: the arm's latch did */
+                if ((ctl->map.n_axes_arm[a] != 0U) && (ctl->arm[a].latch != 0U)) {
+                    ctl->arm[a].latch_sent = 1U;
+                }
+            }
+            ctl->have_last = 1U;
+            ctl->stepped = 0U;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ single rules */
 
 uint32_t c4g_sf_follow_error(float pos_ref, float pos_mis, float threshold, float *err)
 {

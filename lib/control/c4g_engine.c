@@ -1,0 +1,429 @@
+/* SPDX-License-Identifier: MIT */
+/* Control engine: init and user limits, the per-tick step (state machines, prepared reply
+ * with the unset marker in every field the mode requires) and the PC requests. The finish
+ * with the safety filter is c4g_safety.c. */
+#include "c4g_engine_rules.h"
+
+float c4g_unset(void)
+{
+    return ctl_unset();
+}
+
+bool c4g_is_unset(float f)
+{
+    return ctl_is_unset(f);
+}
+
+/* ------------------------------------------------------------------ init and limits */
+
+c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (init != NULL)) {
+        c4g_engine_config_t c;
+        (void)c4g_engine_config_default(&c);
+        if (cfg != NULL) {
+            c = *cfg;
+        }
+        st = C4G_OK;
+        if ((c4g_f32_finite(c.moving_eps) == 0) || (c.moving_eps < 0.0F)) {
+            st = C4G_ERR_ARG;
+        }
+        if (st == C4G_OK) {
+            st = c4g_init_validate(init, NULL);
+        }
+        if (st == C4G_OK) {
+            (void)memset(ctl, 0, sizeof *ctl);
+            ctl->cfg = c;
+            st = c4g_axis_map_build(init, &ctl->map, NULL);
+        }
+        if (st == C4G_OK) {
+            uint32_t a;
+            uint32_t i;
+            for (a = 0U; a < C4G_ARMS; a++) {
+                (void)c4g_arm_sm_init(&ctl->arm[a], ctl->map.n_axes_arm[a]);
+                ctl->kin_ok[a] = 0U;
+                if (c4g_kin_from_init(init, a, &ctl->kin[a]) == C4G_OK) {
+                    ctl->kin_ok[a] = 1U;
+                }
+            }
+            for (i = 0U; i < ctl->map.n_axes; i++) {
+                const uint32_t arm = ctl->map.arm_of[i];
+                const uint32_t lax = ctl->map.logical_of[i];
+                ctl->ctl_fe[i] = init->follow_error[arm][lax];
+                ctl->ctl_az[i] = init->az_lim[arm][lax];
+                ctl->lim[i].follow_error = ctl->ctl_fe[i];
+                ctl->lim[i].current_max = ctl->ctl_az[i];
+            }
+        }
+    }
+    return st;
+}
+
+static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
+{
+    c4g_status_t st = C4G_OK;
+    const float v[8] = {lim->follow_error, lim->current_max, lim->max_step, lim->max_vel,
+                        lim->motor_min, lim->motor_max, lim->joint_min, lim->joint_max};
+    uint32_t k;
+    for (k = 0U; k < 8U; k++) {
+        if (c4g_f32_finite(v[k]) == 0) {
+            st = C4G_ERR_NONFINITE;
+        }
+    }
+    if ((st == C4G_OK) && ((lim->follow_error < 0.0F) || (lim->current_max < 0.0F) ||
+                           (lim->max_step < 0.0F) || (lim->max_vel < 0.0F))) {
+        st = C4G_ERR_LIMITS;
+    }
+    return st;
+}
+
+/* Joint stroke ends need every logical axis up to the arm's last open one, and its ratios. */
+static c4g_status_t joint_span(const c4g_engine_t *ctl, uint32_t arm, uint32_t *n_out)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t n = 0U;
+    uint32_t j;
+    for (j = 0U; j < C4G_AXES_PER_ARM; j++) {
+        if (ctl->map.open_of[arm][j] != NO_AXIS) {
+            n = j + 1U;
+        }
+    }
+    for (j = 0U; (j < n) && (st == C4G_OK); j++) {
+        if (ctl->map.open_of[arm][j] == NO_AXIS) {
+            st = C4G_ERR_NOT_OPEN;
+        } else if ((ctl->kin_ok[arm] == 0U) ||
+                   ((ctl->kin[arm].kr[j] <= 0.0) && (ctl->kin[arm].kr[j] >= 0.0))) {
+            st = C4G_ERR_SINGULAR;
+        } else {
+            /* usable */
+        }
+    }
+    *n_out = n;
+    return st;
+}
+
+c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
+                                const c4g_axis_limits_t *lim)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (lim != NULL)) {
+        uint32_t idx = NO_AXIS;
+        uint32_t n = 0U;
+        st = C4G_ERR_ARG;
+        if ((arm < C4G_ARMS) && (axis < C4G_AXES_PER_ARM)) {
+            idx = ctl->map.open_of[arm][axis];
+            st = (idx == NO_AXIS) ? C4G_ERR_NOT_OPEN : check_limits(lim);
+        }
+        if ((st == C4G_OK) && (lim->joint_min < lim->joint_max)) {
+            st = joint_span(ctl, arm, &n);
+        }
+        if (st == C4G_OK) {
+            uint32_t i;
+            ctl->lim[idx] = *lim;
+            ctl->lim[idx].follow_error = tighter(ctl->ctl_fe[idx], lim->follow_error);
+            ctl->lim[idx].current_max = tighter(ctl->ctl_az[idx], lim->current_max);
+            ctl->joint_on[arm] = 0U;
+            for (i = 0U; i < ctl->map.n_axes; i++) {
+                if ((ctl->map.arm_of[i] == arm) && (ctl->lim[i].joint_min < ctl->lim[i].joint_max)) {
+                    ctl->joint_on[arm] = 1U;
+                }
+            }
+            if (n > 0U) {
+                ctl->n_joint[arm] = n;
+            }
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ step */
+
+/* The status of the first bad axis of a packet rx_scan flagged (axis count already checked). */
+static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t i;
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes) && (st == C4G_OK); i++) {
+        const c4g_ctrl_axis_t *a = &rx->ax[i];
+        const uint32_t bad = ctl_nonfinite_bit(a->target_pos) | ctl_nonfinite_bit(a->target_vel) |
+                             ctl_nonfinite_bit(a->actual_pos) | ctl_nonfinite_bit(a->actual_vel) |
+                             ctl_nonfinite_bit(a->current_ref) | ctl_nonfinite_bit(a->ext[0]) |
+                             ctl_nonfinite_bit(a->ext[1]) | ctl_nonfinite_bit(a->ext[2]);
+        /* the mode prepared last tick is known: skip the lookup when it repeats */
+        if ((a->mode != ctl->prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
+            st = C4G_ERR_MODE;
+        } else if (bad != 0U) {
+            st = C4G_ERR_NONFINITE;
+        } else {
+            /* valid axis */
+        }
+    }
+    return st;
+}
+
+/* Per-arm view of a packet: special > non-zero > 0 (the first of the highest class wins),
+ * mixed when the arm's axes disagree, moving when SMP+ moves some axis. */
+typedef struct arm_view {
+    int32_t mode;
+    int32_t first;
+    uint32_t seen;
+    uint32_t mixed;
+    uint32_t moving;
+} arm_view_t;
+
+/* The aggregated modes, for packets where some arm is mixed (rx_scan did the rest). */
+static CTL_COLD void arm_modes(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                               arm_view_t v[C4G_ARMS])
+{
+    int32_t m[C4G_ARMS] = {0, 0, 0, 0};
+    uint32_t i;
+    for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes); i++) {
+        const uint32_t a = ctl->map.arm_of[i];
+        const int32_t am = rx->ax[i].mode;
+        if (am != m[a]) {
+            if ((m[a] == C4G_MODE_0) ||
+                ((c4g_mode_is_special(am)) && (!c4g_mode_is_special(m[a])))) {
+                m[a] = am;
+            }
+        }
+    }
+    for (i = 0U; i < C4G_ARMS; i++) {
+        v[i].mode = m[i];
+    }
+}
+
+static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
+{
+    return ctl_exp_carry(a->target_pos) | ctl_exp_carry(a->target_vel) | ctl_exp_carry(a->actual_pos) |
+           ctl_exp_carry(a->actual_vel) | ctl_exp_carry(a->current_ref) | ctl_exp_carry(a->ext[0]) |
+           ctl_exp_carry(a->ext[1]) | ctl_exp_carry(a->ext[2]);
+}
+
+/* Fast pass over a packet of the context's axis count: 1 if some axis carries an unknown
+ * mode or a non-finite value (check_rx then names the status), else 0 with the per-arm
+ * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms). */
+static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                        arm_view_t v[C4G_ARMS])
+{
+    const uint32_t n = axes_in(ctl->map.n_axes);
+    uint32_t carry = 0U;
+    uint32_t unknown = 0U;
+    uint32_t i;
+    (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
+    for (i = 0U; i < n; i++) {
+        const c4g_ctrl_axis_t *a = &rx->ax[i];
+        arm_view_t *w = &v[ctl->map.arm_of[i]];
+        const int32_t am = a->mode;
+        carry |= rx_axis_carry(a);
+        /* the mode prepared last tick is known: skip the lookup when it repeats */
+        if ((am != ctl->prep_mode[i]) && (!c4g_mode_is_known(am))) {
+            unknown = 1U;
+        }
+        if (w->seen == 0U) {
+            w->first = am;
+            w->mode = am;
+            w->seen = 1U;
+        } else if (am != w->first) {
+            w->mixed = 1U;
+        } else {
+            /* same as the first axis */
+        }
+        if (ctl_absf(a->target_vel) > ctl->cfg.moving_eps) {
+            w->moving = 1U;
+        }
+    }
+    return (((carry & 0x80000000U) != 0U) || (unknown != 0U)) ? 1U : 0U;
+}
+
+/* The reply data c4g_engine_step prepares for @p mode: the required fields unset, the others
+ * zero (mode 0' is copied back per tick instead). */
+static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *t)
+{
+    const float u = ctl_unset();
+    (void)memset(t, 0, sizeof *t);
+    t->mode = mode;
+    if ((rules & R_COPY) == 0U) {
+        t->target_pos = ((rules & C4G_PCF_D1) != 0U) ? u : 0.0F;
+        t->target_vel = ((rules & C4G_PCF_D2) != 0U) ? u : 0.0F;
+        t->measure = ((rules & C4G_PCF_D3) != 0U) ? u : 0.0F;
+        t->vel_add = ((rules & C4G_PCF_D4) != 0U) ? u : 0.0F;
+        t->current_add = ((rules & C4G_PCF_D5) != 0U) ? u : 0.0F;
+    }
+}
+
+/* Reply data of one axis before the caller fills it. */
+static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
+                                const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
+{
+    const int32_t mode = rx->mode; /* the PC echoes the mode (manual figure 24.3) */
+    int32_t shown;
+    /* Where the axis stands while the controller alone moves it (an open mode starts only
+     * with the robot still, 24.1): the anchor of the next position mode, from many packets
+     * rather than the one that opens the mode, which may be lost. */
+    if ((mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) || (ctl->anchor_set[i] == 0U)) {
+        ctl->anchor[i] = rx->target_pos;
+        ctl->anchor_set[i] = 1U;
+    }
+    /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
+     * look up on change only */
+    if (mode != ctl->prep_mode[i]) {
+        ctl->prep_mode[i] = mode;
+        ctl->prep_rules[i] = mode_rules(mode);
+        prep_template(ctl->prep_rules[i], mode, &ctl->prep_tx[i]);
+    }
+    shown = (some != 0U) ? overlay_mode(ctl, over, i, mode) : mode;
+    if (shown != mode) {
+        if (ctl->have_last != 0U) {
+            *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
+        } else {
+            (void)memset(tx, 0, sizeof *tx);
+        }
+    } else if ((ctl->prep_rules[i] & R_COPY) != 0U) {
+        (void)memset(tx, 0, sizeof *tx);
+        copy_back(rx, tx);
+    } else {
+        *tx = ctl->prep_tx[i]; /* required fields unset, the others zero */
+    }
+    tx->mode = shown;
+}
+
+c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+        c4g_engine_report_t local;
+        c4g_engine_report_t *r = rep;
+        if (r == NULL) {
+            r = &local;
+        }
+        (void)memset(r, 0, sizeof *r);
+        arm_view_t v[C4G_ARMS];
+        st = C4G_ERR_PACKET;
+        if (rx->n_axes == ctl->map.n_axes) {
+            st = C4G_OK;
+            if (rx_scan(ctl, rx, v) != 0U) {
+                st = check_rx(ctl, rx);
+            }
+        }
+        if (st == C4G_OK) {
+            const uint32_t n = axes_in(rx->n_axes);
+            int32_t over[C4G_ARMS];
+            uint32_t some;
+            uint32_t a;
+            uint32_t i;
+            if ((v[0].mixed | v[1].mixed | v[2].mixed | v[3].mixed) != 0U) {
+                arm_modes(ctl, rx, v); /* special > non-zero > 0 on mixed arms */
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                c4g_arm_sm_t *sm = &ctl->arm[a];
+                if (sm->n_axes > 0U) {
+                    uint32_t ev = 0U;
+                    (void)c4g_arm_sm_update(sm, &ctl->cfg, v[a].mode, v[a].mixed,
+                                            c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns,
+                                            &ev);
+                    if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
+                        for (i = 0U; i < ctl->map.n_axes; i++) {
+                            ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
+                        }
+                    }
+                    r->arm_events[a] = ev;
+                    r->events |= ev;
+                }
+            }
+            tx->num = rx->num;
+            tx->infpar = 0U;
+            tx->cmd = 0U;
+            tx->n_axes = rx->n_axes;
+            some = arm_overlays(ctl, over);
+            for (i = 0U; i < n; i++) {
+                prepare_axis(ctl, over, some, &rx->ax[i], i, &tx->ax[i]);
+            }
+            ctl->stepped = 1U;
+            ctl->step_num = rx->num;
+        }
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------ requests */
+
+static c4g_status_t request(c4g_engine_t *ctl, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (ctl != NULL) {
+        st = C4G_ERR_ARG;
+        if (arm < C4G_ARMS) {
+            st = c4g_arm_sm_check(&ctl->arm[arm], kind, mode);
+        }
+    }
+    return st;
+}
+
+/* Refused: only the controller's PDL2 program starts a mode (see check_mode_req). */
+c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode)
+{
+    return request(ctl, arm, C4G_REQ_MODE, mode);
+}
+
+c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((ctl != NULL) && (pos != NULL)) {
+        st = C4G_ERR_ARG;
+        if ((axis < ctl->map.n_axes) && (axis < C4G_MAX_AXES)) {
+            st = C4G_ERR_STATE;
+            if (ctl->anchor_set[axis] != 0U) {
+                *pos = ctl->anchor[axis];
+                st = C4G_OK;
+            }
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_EXIT, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        if ((sm->exit_req == 0U) && (sm->leaving == 0U)) {
+            sm->exit_req = 1U;
+            sm->exit_ticks = 0U;
+            sm->exit_from = sm->mode;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_DRIVE_OFF, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        sm->latch |= C4G_LATCH_DRIVE_OFF;
+        sm->latch_sent = 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_FOLLOW_ERROR, 0);
+    if (st == C4G_OK) {
+        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        sm->latch |= C4G_LATCH_FOLLOW_ERROR;
+        sm->latch_sent = 0U;
+    }
+    return st;
+}
+
+c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm)
+{
+    c4g_status_t st = request(ctl, arm, C4G_REQ_FREEZE, 0);
+    if (st == C4G_OK) {
+        ctl->arm[arm].frozen = C4G_MODE_FREEZING_A;
+    }
+    return st;
+}

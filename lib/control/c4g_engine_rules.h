@@ -1,0 +1,110 @@
+/* SPDX-License-Identifier: MIT */
+/* Control engine internals shared by the step (c4g_engine.c) and the finish with the safety
+ * filter (c4g_safety.c): per-mode rules from the mode table and the request overlays. */
+#ifndef C4G_ENGINE_RULES_H
+#define C4G_ENGINE_RULES_H
+
+#include "c4g_safety_filter.h"
+
+#define NO_AXIS 0xFFU
+
+/* ------------------------------------------------------------------ helpers */
+
+/* An axis count bounded by the packet arrays (one test per loop iteration, not two). */
+static inline uint32_t axes_in(uint32_t n)
+{
+    return (n < C4G_MAX_AXES) ? n : C4G_MAX_AXES;
+}
+
+/* What the controller does with the PC's fields in a mode (the mode table's rules column,
+ * C4G_MR_*), with the PC fields (C4G_PCF_*) in the low bits. */
+#define R_ABS C4G_MR_ABS
+#define R_INT_D1 C4G_MR_INT_D1
+#define R_INT_D2 C4G_MR_INT_D2
+#define R_INT_D4 C4G_MR_INT_D4
+#define R_VEL C4G_MR_VEL
+#define R_VADD C4G_MR_VADD
+#define R_CUR C4G_MR_CUR
+#define R_DCUR C4G_MR_DCUR
+#define R_FE C4G_MR_FE
+#define R_COPY C4G_MR_COPY
+#define R_FIELDS 0x001FU
+#define R_SHOWN 0x40000U /* (axis_data_check only) the axis carries its prepared mode */
+#define R_INT (R_INT_D1 | R_INT_D2 | R_INT_D4)
+
+static inline uint32_t mode_rules(int32_t m)
+{
+    const c4g_mode_info_t *row = c4g_mode_find(m);
+    return (row != NULL) ? (row->rules | row->pc_fields) : 0U;
+}
+
+static inline float tighter(float ctl_value, float user)
+{
+    float r = ctl_value;
+    if ((user > 0.0F) && ((ctl_value <= 0.0F) || (user < ctl_value))) {
+        r = user;
+    }
+    return r;
+}
+
+static inline void copy_back(const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
+{
+    tx->target_pos = rx->target_pos;
+    tx->target_vel = rx->target_vel;
+    tx->measure = rx->actual_pos;
+    tx->vel_add = rx->actual_vel;
+    tx->current_add = rx->current_ref;
+}
+
+/* Mode every axis of an arm carries because of a latch or an active freezing, 0 if none. */
+static inline int32_t arm_overlay(const c4g_arm_sm_t *sm)
+{
+    int32_t m = 0;
+    if ((sm->latch & C4G_LATCH_FOLLOW_ERROR) != 0U) {
+        m = C4G_MODE_FOLLOW_ERROR;
+    } else if ((sm->latch & (C4G_LATCH_DRIVE_OFF | C4G_LATCH_STROKE)) != 0U) {
+        m = C4G_MODE_DRIVE_OFF;
+    } else if (sm->frozen == C4G_MODE_FREEZING_A) {
+        m = C4G_MODE_FREEZING_A;
+    } else {
+        /* the prepared modes go out */
+    }
+    return m;
+}
+
+/* Mode the axis finally carries: safety latches and active freezing override. */
+static inline int32_t overlay_mode(const c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
+                            int32_t base)
+{
+    int32_t m = base;
+    if (ctl->fe_latch[i] != 0U) {
+        m = C4G_MODE_FOLLOW_ERROR;
+    } else if (over[ctl->map.arm_of[i]] != 0) {
+        m = over[ctl->map.arm_of[i]];
+    } else {
+        /* the prepared mode */
+    }
+    return m;
+}
+
+/* The overlay of every arm; 1 if some axis may carry a mode other than its prepared one (an
+ * arm overlay, or an axis latched to 508), 0 if none can. */
+static inline uint32_t arm_overlays(const c4g_engine_t *ctl, int32_t over[C4G_ARMS])
+{
+    uint32_t some = 0U;
+    uint32_t a;
+    uint32_t i;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        over[a] = arm_overlay(&ctl->arm[a]);
+        if (over[a] != 0) {
+            some = 1U;
+        }
+    }
+    /* the whole array (zero past the open axes): a fixed count the compiler can vectorize */
+    for (i = 0U; i < C4G_MAX_AXES; i++) {
+        some |= ctl->fe_latch[i];
+    }
+    return (some != 0U) ? 1U : 0U;
+}
+
+#endif /* C4G_ENGINE_RULES_H */
