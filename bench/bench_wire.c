@@ -46,9 +46,9 @@ static void setup(uint32_t axes)
     if (c4g_init_encode(&in, out, sizeof out, &n) != C4G_OK) {
         abort();
     }
-    c4g_session_init(&sess, NULL);
-    c4g_session_rx(&sess, out, n, 0, &r);
-    c4g_session_reply(&sess, NULL, out, sizeof out, &n);
+    (void)c4g_session_init(&sess, NULL);
+    (void)c4g_session_rx(&sess, out, n, 0, &r);
+    (void)c4g_session_reply(&sess, NULL, out, sizeof out, &n);
     memset(&p, 0, sizeof p);
     p.n_axes = axes;
     for (i = 0; i < axes; i++) {
@@ -56,7 +56,7 @@ static void setup(uint32_t axes)
         p.ax[i].actual_pos = 1.5f * (float)i;
         p.ax[i].target_pos = 1.5f * (float)i;
     }
-    c4g_ctrl_encode(&p, pkt, sizeof pkt, &pkt_len);
+    (void)c4g_ctrl_encode(&p, pkt, sizeof pkt, &pkt_len);
     num = 11;
     now_ns = 1000000;
 }

@@ -42,7 +42,8 @@ int main(int argc, char **argv)
     sp.sched_priority = 80; /* real time if allowed; say so if not */
     if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0 || sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
         fprintf(stderr, "warning: no mlockall/SCHED_FIFO (need root or CAP_SYS_NICE)\n");
-    c4g_loop_init(&lp, NULL);
+    if (c4g_loop_init(&lp, NULL) != C4G_OK)
+        return 1;
     for (;;) {
         socklen_t pl = sizeof peer;
         c4g_loop_event_t ev;
@@ -61,26 +62,28 @@ int main(int argc, char **argv)
                 continue;
             }
             if (ticks[i]++ == 0) {
-                float at;                                 /* where the axis stood in mode 0 */
-                c4g_engine_anchor(&lp.engine, i, &at);
+                float at = ev.pkt->ax[i].target_pos;      /* where the axis stood in mode 0 */
+                if (c4g_engine_anchor(&lp.engine, i, &at) != C4G_OK)
+                    fprintf(stderr, "axis %u: no mode-0 anchor, starting from D1\n", i);
                 start[i] = at;
             }
             const double x = fmin(ticks[i] * dt / 2.0, 1.0); /* 2 s raised cosine */
             const double q = 0.05 * (1.0 - cos(PI * x)), dq = 0.05 * PI * sin(PI * x) * dt / 2.0;
             ev.cmd->ax[i].target_pos = (float)(start[i] + q); /* D1: absolute target */
             ev.cmd->ax[i].target_vel = (float)dq;             /* D2: delta turns per tick */
-            if (x >= 1.0)
-                c4g_engine_request_exit(&lp.engine, lp.session.map.arm_of[i]); /* EXIT_FROM_OPEN */
+            if (x >= 1.0) /* EXIT_FROM_OPEN; refused (and harmless) while already leaving */
+                (void)c4g_engine_request_exit(&lp.engine, lp.session.map.arm_of[i]);
         }
         if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { /* safety filter */
             sendto(fd, out, len, 0, (struct sockaddr *)&peer, pl);
-            c4g_loop_sent(&lp, now_ns());
+            (void)c4g_loop_sent(&lp, now_ns()); /* timing statistics only */
         }
         if (ev.events & C4G_EV_END)
             break;                                         /* 504: end of communication */
     }
     c4g_timing_t t;
-    c4g_session_timing(&lp.session, &t);
+    if (c4g_session_timing(&lp.session, &t) != C4G_OK)
+        return 1;
     printf("cyclic %llu, malformed %llu, worst cycle %.1f us, jitter [%+.1f; %+.1f] us\n",
            (unsigned long long)lp.session.counters.cyclic,
            (unsigned long long)lp.session.counters.malformed_total,

@@ -32,10 +32,16 @@ extern "C" {
 #define C4G_VERSION_STRING "1.0.0"
 /**@}*/
 
-/** Marks a function whose result must be used (warn_unused_result / nodiscard). */
+/**
+ * Marks a function whose status must be used. Where a cast to void deliberately drops a
+ * status the compiler must accept it, so the attribute is used where that holds: C23 and
+ * C++17 [[nodiscard]], and clang's warn_unused_result (GCC's ignores the cast).
+ */
 #if defined(__cplusplus) && (__cplusplus >= 201703L)
 #define C4G_NODISCARD [[nodiscard]]
-#elif defined(__GNUC__) || defined(__clang__)
+#elif defined(__STDC_VERSION__) && (__STDC_VERSION__ >= 202311L)
+#define C4G_NODISCARD [[nodiscard]]
+#elif defined(__clang__)
 #define C4G_NODISCARD __attribute__((warn_unused_result))
 #else
 #define C4G_NODISCARD

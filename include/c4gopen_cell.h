@@ -179,7 +179,7 @@ const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd);
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit),
  *         C4G_ERR_CELL_NONFINITE, C4G_ERR_CELL_RANGE.
  */
-c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
+C4G_NODISCARD c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
 
 /**
  * Convert decimal text ("[+-]digits[.digits]", no exponent, no spaces) to counts
@@ -190,21 +190,21 @@ c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *o
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_LENGTH
  *         (empty), C4G_ERR_CELL_DIGIT (syntax), C4G_ERR_CELL_RANGE.
  */
-c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
+C4G_NODISCARD c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
                                      int32_t *out);
 
 /**
  * Convert counts to a real value (mm, rad or units). Exact to the printed digits.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_RANGE.
  */
-c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
+C4G_NODISCARD c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
 
 /**
  * Format one field: 8 chars (MM, RAD) or 6 chars (INT), no terminator.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_CAPACITY,
  *         C4G_ERR_CELL_RANGE.
  */
-c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
+C4G_NODISCARD c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
                                         size_t cap, size_t *out_len);
 
 /**
@@ -213,7 +213,7 @@ c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *b
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_LENGTH,
  *         C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT.
  */
-c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
+C4G_NODISCARD c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
                                         int32_t *out, c4g_cell_diag_t *diag);
 
 /**
@@ -223,7 +223,7 @@ c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t 
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd), C4G_ERR_CELL_AXES,
  *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
+C4G_NODISCARD c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
@@ -235,7 +235,7 @@ c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t
  *         C4G_ERR_CELL_MODE, C4G_ERR_CELL_ACTION, C4G_ERR_CELL_RANGE; @p out is zeroed
  *         on error.
  */
-c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
+C4G_NODISCARD c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
@@ -244,7 +244,7 @@ c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (kind), C4G_ERR_CELL_AXES,
  *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
+C4G_NODISCARD c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
@@ -252,7 +252,7 @@ c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t
  * platform STA (34). The STA override must be 0..100 (RANGE).
  * @return as c4g_cell_instr_decode (with C4G_ERR_CELL_FLAG); @p out zeroed on error.
  */
-c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
+C4G_NODISCARD c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
@@ -280,7 +280,7 @@ typedef enum c4g_cell_split_event {
  * Attach @p buf (@p cap bytes, 4..65535) to @p sp and empty it.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG.
  */
-c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
+C4G_NODISCARD c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
 
 /**
  * Append up to @p n bytes of @p data (as many as fit; the rest stays with the
@@ -288,14 +288,14 @@ c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap)
  * @param[out] used bytes taken from @p data
  * @return C4G_OK, C4G_ERR_CELL_NULL (data may be NULL only when n is 0).
  */
-c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
+C4G_NODISCARD c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
                                       size_t *used);
 
 /**
  * Take the next event. @p line / @p len are set for C4G_CELL_SPLIT_LINE only.
  * @return C4G_OK, C4G_ERR_CELL_NULL.
  */
-c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
+C4G_NODISCARD c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
                                       const char **line, size_t *len);
 
 #ifdef __cplusplus

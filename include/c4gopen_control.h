@@ -127,10 +127,10 @@ typedef struct c4g_arm_sm {
 } c4g_arm_sm_t;
 
 /** Fill @p cfg with the defaults. @return C4G_OK, C4G_ERR_NULL. */
-c4g_status_t c4g_engine_config_default(c4g_engine_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_engine_config_default(c4g_engine_config_t *cfg);
 
 /** Start an arm state machine with @p n_axes open axes (0..10). @return OK, NULL, ARG. */
-c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
+C4G_NODISCARD c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
 
 /**
  * Feed the state machine one received packet's view of the arm (pure transition function).
@@ -141,7 +141,7 @@ c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
  * @param[out] events    C4G_CEV_* raised by this packet
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_MODE. O(1).
  */
-c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, int32_t mode,
+C4G_NODISCARD c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, int32_t mode,
                                uint32_t mixed, uint8_t drive_byte, uint32_t moving,
                                uint64_t now_ns, uint32_t *events);
 
@@ -163,7 +163,7 @@ typedef enum c4g_req_kind {
  * @return C4G_OK or the reason: C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_NOT_OPEN,
  *         C4G_ERR_ENDED, C4G_ERR_MODE, C4G_ERR_*. O(1).
  */
-c4g_status_t c4g_arm_sm_check(const c4g_arm_sm_t *sm, c4g_req_kind_t kind, int32_t mode);
+C4G_NODISCARD c4g_status_t c4g_arm_sm_check(const c4g_arm_sm_t *sm, c4g_req_kind_t kind, int32_t mode);
 
 /* ====================================================================== kinematics */
 
@@ -195,24 +195,24 @@ typedef struct c4g_kin_matrices {
  * Build the kinematic data of @p arm (0..3) from a validated initialization packet.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (arm), C4G_ERR_PERIOD, C4G_ERR_NONFINITE.
  */
-c4g_status_t c4g_kin_from_init(const c4g_init_t *init, uint32_t arm, c4g_kin_t *kin);
+C4G_NODISCARD c4g_status_t c4g_kin_from_init(const c4g_init_t *init, uint32_t arm, c4g_kin_t *kin);
 /** The three matrices of chapter 19. @return OK, NULL, NONFINITE. O(1). */
-c4g_status_t c4g_kin_matrices(const c4g_kin_t *kin, c4g_kin_matrices_t *m);
+C4G_NODISCARD c4g_status_t c4g_kin_matrices(const c4g_kin_t *kin, c4g_kin_matrices_t *m);
 /**
  * Link-side positions @p q (rad or mm) of logical axes 0..n-1 -> motor turns, including
  * the calibration constants: qm = Kr q / 2 pi + q0. @p n is 1..10.
  * @return OK, NULL, ARG, NONFINITE (input or result), C4G_ERR_SINGULAR. O(n).
  */
-c4g_status_t c4g_kin_link_to_motor(const c4g_kin_t *kin, const double *q, uint32_t n,
+C4G_NODISCARD c4g_status_t c4g_kin_link_to_motor(const c4g_kin_t *kin, const double *q, uint32_t n,
                                    double *qm);
 /** Inverse of c4g_kin_link_to_motor: q = 2 pi K1^T Kr2^-1 (qm - q0). Same statuses. */
-c4g_status_t c4g_kin_motor_to_link(const c4g_kin_t *kin, const double *qm, uint32_t n,
+C4G_NODISCARD c4g_status_t c4g_kin_motor_to_link(const c4g_kin_t *kin, const double *qm, uint32_t n,
                                    double *q);
 /** Link velocities (rad/s or mm/s) -> motor turns per tick (no calibration offset). */
-c4g_status_t c4g_kin_link_vel_to_motor(const c4g_kin_t *kin, const double *v, uint32_t n,
+C4G_NODISCARD c4g_status_t c4g_kin_link_vel_to_motor(const c4g_kin_t *kin, const double *v, uint32_t n,
                                        double *vm);
 /** Motor turns per tick -> link velocities (rad/s or mm/s). */
-c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const double *vm, uint32_t n,
+C4G_NODISCARD c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const double *vm, uint32_t n,
                                        double *v);
 
 /* ====================================================================== safety */
@@ -307,7 +307,7 @@ typedef struct c4g_engine {
  * @param[in] cfg may be NULL for the defaults
  * @return C4G_OK, C4G_ERR_NULL, an init validation status, C4G_ERR_ARG (cfg). O(axes).
  */
-c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg);
 
 /**
  * Set user limits for logical axis @p axis of @p arm (see c4g_axis_limits_t). Limits can only
@@ -317,7 +317,7 @@ c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4
  *         usable kinematics), C4G_ERR_NOT_OPEN also when joint limits need an axis 0..axis of
  *         the arm that is not open.
  */
-c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
+C4G_NODISCARD c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
                                 const c4g_axis_limits_t *lim);
 
 /**
@@ -327,7 +327,7 @@ c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axi
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_PACKET (axis count), C4G_ERR_MODE,
  *         C4G_ERR_NONFINITE (@p rx invalid: @p tx untouched). O(axes).
  */
-c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+C4G_NODISCARD c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
                           c4g_pc_packet_t *tx, c4g_engine_report_t *rep);
 
 /**
@@ -338,7 +338,7 @@ c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uin
  * @return C4G_OK; C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE (an arm was sent 505);
  *         C4G_ERR_MODE_RESTORED; C4G_ERR_NULL; C4G_ERR_STATE (no matching step). O(axes).
  */
-c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+C4G_NODISCARD c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_engine_report_t *rep);
 
 /**
@@ -346,7 +346,7 @@ c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c
  * 24.2). Kept so that a program ported from code that tried gets a clear answer.
  * @return C4G_ERR_PDL_ONLY (C4G_ERR_MODE: unknown code; NULL, ARG, NOT_OPEN, ENDED).
  */
-c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode);
+C4G_NODISCARD c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode);
 /**
  * Where OPEN axis @p axis stood before its current mode: the SMP+ target of the last packet
  * in mode 0 or 0' (the first packet's, if none came). An open mode starts with the robot
@@ -355,15 +355,15 @@ c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mo
  * absolute target (modes 1, 4) from it.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis), C4G_ERR_STATE (no packet yet). O(1).
  */
-c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos);
+C4G_NODISCARD c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos);
 /** Request EXIT_FROM_OPEN on @p arm (also ends an active freezing). Idempotent. */
-c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm);
 /** Request a drive off (505 on every axis of @p arm until its drives are off). Never refused. */
-c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm);
 /** Signal a following error (508 on every axis of @p arm until drives off). Never refused. */
-c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm);
 /** Active freezing of @p arm (500), from mode 0 only; left with c4g_engine_request_exit. */
-c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm);
 
 /** The unset marker (a quiet NaN with payload C4G_UNSET_BITS). */
 #define C4G_UNSET_BITS 0x7FC4C0DEU
@@ -388,23 +388,23 @@ typedef enum c4g_scs_dir {
 } c4g_scs_dir_t;
 
 /** chi, eta, rho at @p t_ns for a switch over [t1, t2]. @return OK, NULL, ARG (t2 <= t1). */
-c4g_status_t c4g_scs_linear(uint64_t t_ns, uint64_t t1_ns, uint64_t t2_ns, c4g_scs_t *out);
+C4G_NODISCARD c4g_status_t c4g_scs_linear(uint64_t t_ns, uint64_t t1_ns, uint64_t t2_ns, c4g_scs_t *out);
 /** Variable-gain reducer: out = gain * i, gain in [0, 1]. @return OK, NULL, ARG, NONFINITE. */
-c4g_status_t c4g_scs_reduce(float gain, float i, float *out);
+C4G_NODISCARD c4g_status_t c4g_scs_reduce(float gain, float i, float *out);
 /**
  * Variable-threshold limiter: threshold = gain (i_max - i_min); |i| above it -> threshold
  * sgn(i). @return OK, NULL, ARG (gain outside [0,1], i_max < i_min), NONFINITE.
  */
-c4g_status_t c4g_scs_limit(float gain, float i_max, float i_min, float i, float *out);
+C4G_NODISCARD c4g_status_t c4g_scs_limit(float gain, float i_max, float i_min, float i, float *out);
 /**
  * Both currents of a switch at one instant (chapter 12): TO_PC: I_dyn * eta and I_reg limited
  * by rho (I_max - I_min); TO_DSA: I_dyn * rho and I_reg limited by eta (I_max - I_min).
  * @return OK, NULL, ARG, NONFINITE.
  */
-c4g_status_t c4g_scs_currents(const c4g_scs_t *s, c4g_scs_dir_t dir, float i_dyn, float i_reg,
+C4G_NODISCARD c4g_status_t c4g_scs_currents(const c4g_scs_t *s, c4g_scs_dir_t dir, float i_dyn, float i_reg,
                               float i_max, float i_min, float *dyn_out, float *reg_out);
 /** Controller tick in ns from an initialization packet. @return OK, NULL, PERIOD. */
-c4g_status_t c4g_period_ns(const c4g_init_t *init, uint64_t *ns);
+C4G_NODISCARD c4g_status_t c4g_period_ns(const c4g_init_t *init, uint64_t *ns);
 
 /* ====================================================================== monitoring (chapter 16) */
 
@@ -424,7 +424,7 @@ typedef struct c4g_moni_rec {
  * manual, which speaks from the SMP+) and one sent (@p tx, the manual's "RX packet") packet.
  * @return OK, NULL, ARG (type), C4G_ERR_AXES (axis not in both packets).
  */
-c4g_status_t c4g_moni_record(uint32_t type, const c4g_ctrl_packet_t *rx,
+C4G_NODISCARD c4g_status_t c4g_moni_record(uint32_t type, const c4g_ctrl_packet_t *rx,
                              const c4g_pc_packet_t *tx, uint32_t axis, c4g_moni_rec_t *out);
 /** Column name of value @p k (0..4) of moni @p type ("pc_d1", "smp_e2"); "?" when out of range. */
 const char *c4g_moni_value_name(uint32_t type, uint32_t k);

@@ -74,7 +74,7 @@ typedef struct c4g_loop_event {
 
 /** Start a loop: session in WAIT_INIT, control engine waiting for the init packet.
  *  @return C4G_OK, C4G_ERR_NULL, or the status of the invalid configuration part. */
-c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg);
 
 /**
  * Feed one received datagram (c4g_session_rx_from trust rules: only the locked controller
@@ -84,7 +84,7 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg);
  * @return C4G_OK (including refused datagrams: kind DROPPED); C4G_ERR_NULL, C4G_ERR_ARG,
  *         C4G_ERR_ENDED after 504 (call c4g_loop_init for a new session).
  */
-c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_t now_ns,
+C4G_NODISCARD c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_t now_ns,
                          const c4g_endpoint_t *from, c4g_loop_event_t *ev);
 
 /**
@@ -96,15 +96,15 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
  * @return C4G_OK (send @p out_len bytes of @p buf); C4G_ERR_STATE nothing is due;
  *         C4G_ERR_NULL; C4G_ERR_CAPACITY when @p cap is too small.
  */
-c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
+C4G_NODISCARD c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
                             c4g_engine_report_t *rep);
 
 /** Record the time the reply left: the cycle time of a cyclic reply (chapter 22
  *  statistics); after a sync or init reply nothing is timed. @return C4G_OK, C4G_ERR_NULL. */
-c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns);
+C4G_NODISCARD c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns);
 
 /** The silence and loss check when no datagram came (c4g_session_poll). */
-c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events);
+C4G_NODISCARD c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events);
 
 #ifdef __cplusplus
 }

@@ -124,19 +124,19 @@ uint32_t c4g_arm_byte_set(uint32_t word, uint32_t arm, uint8_t value);
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_LENGTH, C4G_ERR_AXES, C4G_ERR_NUM,
  *         C4G_ERR_MODE, C4G_ERR_NONFINITE. O(n_axes).
  */
-c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
+C4G_NODISCARD c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                              c4g_ctrl_packet_t *out, c4g_diag_t *diag);
 /** Encode a cyclic SMP+ -> PC packet (controller side; simulators). Same checks. */
-c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
+C4G_NODISCARD c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
                              size_t *out_len);
 /** Decode a cyclic PC -> SMP+ packet (controller side). Same contract as c4g_ctrl_decode. */
-c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
+C4G_NODISCARD c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                            c4g_pc_packet_t *out, c4g_diag_t *diag);
 /**
  * Encode a cyclic PC -> SMP+ packet. Refuses (never sends) NaN/inf, unknown modes,
  * NUM outside 0..0x7FFF and axis counts outside 1..20.
  */
-c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
+C4G_NODISCARD c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
                            size_t *out_len);
 
 /**
@@ -144,7 +144,7 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
  * policy), INFPAR = CMD = 0, each axis's mode echoed, data zero; in mode 10 (debug
  * echo) D1..D5 are copied back.
  */
-c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx);
+C4G_NODISCARD c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx);
 
 /** The initialization packet (field facts order; indices [arm][logical axis]). */
 typedef struct c4g_init {
@@ -184,7 +184,7 @@ typedef struct c4g_init {
  * Decode and validate an initialization packet (exactly 1200 bytes).
  * @return C4G_OK or the first problem found (see c4g_init_validate), with @p diag.
  */
-c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out,
+C4G_NODISCARD c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out,
                              c4g_diag_t *diag);
 /**
  * Validate a decoded initialization packet: NUM 10, nFieldPck 3, nFieldAx 9,
@@ -193,9 +193,9 @@ c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out,
  * (any value, e.g. the field tools' -1, on axes that are not open), all floats finite,
  * AzLim > 0 on open axes and >= 0 elsewhere, FollowError >= 0 (0 means "no threshold").
  */
-c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag);
+C4G_NODISCARD c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag);
 /** Encode an initialization packet (validated first) into 1200 bytes. */
-c4g_status_t c4g_init_encode(const c4g_init_t *init, uint8_t *buf, size_t cap,
+C4G_NODISCARD c4g_status_t c4g_init_encode(const c4g_init_t *init, uint8_t *buf, size_t cap,
                              size_t *out_len);
 
 /** Logical <-> OPEN axis index maps derived from OpenAx. */
@@ -208,7 +208,7 @@ typedef struct c4g_axis_map {
 } c4g_axis_map_t;
 
 /** Build the index maps from a (validated) initialization packet. */
-c4g_status_t c4g_axis_map_build(const c4g_init_t *init, c4g_axis_map_t *map,
+C4G_NODISCARD c4g_status_t c4g_axis_map_build(const c4g_init_t *init, c4g_axis_map_t *map,
                                 c4g_diag_t *diag);
 
 /** Reply sequence-number policy. */
@@ -284,7 +284,7 @@ typedef struct c4g_session_config {
 } c4g_session_config_t;
 
 /** Fill @p cfg with the field defaults. */
-c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg);
 
 /** Why datagrams were rejected (index of c4g_counters_t.malformed). */
 typedef enum c4g_malformed {
@@ -380,7 +380,7 @@ typedef struct c4g_rx_result {
 } c4g_rx_result_t;
 
 /** Start a session (phase WAIT_INIT). @p cfg may be NULL for the defaults. */
-c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg);
 
 /**
  * Feed one received datagram and the endpoint it came from. Classifies it, validates it,
@@ -402,12 +402,12 @@ c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
  * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_ARG (@p from with addr_len > 16);
  *         C4G_ERR_ENDED after 504 (call c4g_session_init).
  */
-c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t len,
+C4G_NODISCARD c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t len,
                                  uint64_t now_ns, const c4g_endpoint_t *from,
                                  c4g_rx_result_t *res);
 
 /** c4g_session_rx_from with no endpoint check (a socket connect()ed to the controller). */
-c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len,
+C4G_NODISCARD c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len,
                             uint64_t now_ns, c4g_rx_result_t *res);
 
 /** true if @p from is the session's controller endpoint (or none is locked yet). */
@@ -420,11 +420,11 @@ bool c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from);
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_STATE (nothing to answer), C4G_ERR_AXES,
  *         C4G_ERR_CAPACITY, or an encoder error (NaN, unknown mode).
  */
-c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx,
+C4G_NODISCARD c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx,
                                uint8_t *buf, size_t cap, size_t *out_len);
 
 /** Record the time the reply was sent (cycle time statistics). */
-c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);
+C4G_NODISCARD c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);
 
 /**
  * Check the controller's silence when no datagram arrived. Past the silence threshold it
@@ -435,10 +435,10 @@ c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);
  * freezing (a reply of ours carrying 500, until a reply of ours carries EXIT_FROM_OPEN)
  * suspend both: manual 15.1 and 15.3.
  */
-c4g_status_t c4g_session_poll(c4g_session_t *s, uint64_t now_ns, uint32_t *events);
+C4G_NODISCARD c4g_status_t c4g_session_poll(c4g_session_t *s, uint64_t now_ns, uint32_t *events);
 
 /** Copy the chapter 22 statistics, with jitter computed against the init period. */
-c4g_status_t c4g_session_timing(const c4g_session_t *s, c4g_timing_t *out);
+C4G_NODISCARD c4g_status_t c4g_session_timing(const c4g_session_t *s, c4g_timing_t *out);
 
 /** Controller-side errors of the manual's table 17.1 (raised by simulators). */
 typedef enum c4g_ctrl_error {

@@ -109,7 +109,7 @@ static void test_init(void **state)
     assert_true(ctl.lim[3].current_max == 9.5f);
     assert_true(ctl.lim[5].follow_error == 0.0f);
     assert_int_equal(ctl.cfg.request_timeout_ticks, 100);
-    c4g_engine_config_default(&c);
+    assert_int_equal(c4g_engine_config_default(&c), C4G_OK);
     c.moving_eps = -1.0f;
     assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_ERR_ARG);
     c.moving_eps = 0.5f;
@@ -595,7 +595,7 @@ static void walk(const char *name, const walk_row_t *rows, size_t n, uint64_t st
     c4g_init_t in = fig();
     c4g_engine_config_t c;
     size_t k;
-    c4g_engine_config_default(&c);
+    assert_int_equal(c4g_engine_config_default(&c), C4G_OK);
     c.start_ns = start_ns;
     assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_OK);
     for (k = 0; k < n; k++) {
@@ -742,7 +742,7 @@ static void test_more_paths(void **state)
     c4g_engine_report_t rep;
     c4g_axis_limits_t l;
     (void)state;
-    c4g_engine_config_default(&c);
+    assert_int_equal(c4g_engine_config_default(&c), C4G_OK);
     c.moving_eps = 0.0f / 0.0f;
     assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_ERR_ARG);
     /* a drive off before anything was sent: zeros go out with 505 */

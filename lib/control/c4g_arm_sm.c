@@ -192,51 +192,53 @@ static uint32_t stay_in_mode(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, u
     return ev;
 }
 
+/* Drive, motion and mixed-mode flags of this packet, with their change events. */
+static uint32_t arm_flags(c4g_arm_sm_t *sm, uint32_t mixed, uint32_t drive_on, uint32_t moving)
+{
+    uint32_t ev = 0U;
+    if ((sm->started != 0U) && (drive_on != sm->drive_on)) {
+        ev |= (drive_on != 0U) ? C4G_CEV_DRIVE_ON : C4G_CEV_DRIVE_OFF;
+    }
+    if ((mixed != 0U) && (sm->mixed == 0U)) {
+        ev |= C4G_CEV_MIXED;
+    }
+    sm->drive_on = drive_on;
+    sm->moving = (moving != 0U) ? 1U : 0U;
+    sm->mixed = (mixed != 0U) ? 1U : 0U;
+    return ev;
+}
+
+/* A 505 / 508 latch ends once it went out and the drives are off (15.5, 15.7). */
+static uint32_t latch_end(c4g_arm_sm_t *sm)
+{
+    uint32_t ev = 0U;
+    if ((sm->latch != 0U) && (sm->latch_sent != 0U) && (sm->drive_on == 0U)) {
+        sm->latch = 0U;
+        sm->latch_sent = 0U;
+        ev = C4G_CEV_LATCH_CLEARED;
+    }
+    return ev;
+}
+
 c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg, int32_t mode,
                                uint32_t mixed, uint8_t drive_byte, uint32_t moving,
                                uint64_t now_ns, uint32_t *events)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((sm != NULL) && (cfg != NULL) && (events != NULL)) {
-        uint32_t drive_on = 0U;
-        if (drive_byte == (uint8_t)C4G_STS_MOVING) {
-            drive_on = 1U;
-        }
         *events = 0U;
         st = C4G_ERR_MODE;
         if (c4g_mode_is_known(mode)) {
-            uint32_t ev = 0U;
-            if ((sm->started != 0U) && (drive_on != sm->drive_on)) {
-                ev |= (drive_on != 0U) ? C4G_CEV_DRIVE_ON : C4G_CEV_DRIVE_OFF;
-            }
-            sm->drive_on = drive_on;
-            sm->moving = 0U;
-            if (moving != 0U) {
-                sm->moving = 1U;
-            }
-            if ((mixed != 0U) && (sm->mixed == 0U)) {
-                ev |= C4G_CEV_MIXED;
-            }
-            sm->mixed = 0U;
-            if (mixed != 0U) {
-                sm->mixed = 1U;
-            }
+            const uint32_t drive_on = (drive_byte == (uint8_t)C4G_STS_MOVING) ? 1U : 0U;
+            uint32_t ev = arm_flags(sm, mixed, drive_on, moving);
             if ((sm->started == 0U) || (mode != sm->mode)) {
                 ev |= enter_mode(sm, sm->mode, mode, now_ns);
             } else {
                 ev |= stay_in_mode(sm, cfg, now_ns);
             }
             sm->started = 1U;
-            sm->driving_on = 0U;
-            if (mode == C4G_MODE_DRIVING_ON) {
-                sm->driving_on = 1U;
-            }
-            /* A 505 / 508 latch ends once it went out and the drives are off (15.5, 15.7). */
-            if ((sm->latch != 0U) && (sm->latch_sent != 0U) && (drive_on == 0U)) {
-                sm->latch = 0U;
-                sm->latch_sent = 0U;
-                ev |= C4G_CEV_LATCH_CLEARED;
-            }
+            sm->driving_on = (mode == C4G_MODE_DRIVING_ON) ? 1U : 0U;
+            ev |= latch_end(sm);
             sm->fsm = infer_fsm(sm);
             *events = ev;
             st = C4G_OK;

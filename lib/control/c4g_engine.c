@@ -288,18 +288,58 @@ static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS],
     tx->mode = shown;
 }
 
+/* The arms' state machines on this packet; a cleared latch clears its axes' FE latches. */
+static void step_arms(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, const arm_view_t v[C4G_ARMS],
+                      uint64_t now_ns, c4g_engine_report_t *r)
+{
+    uint32_t a;
+    uint32_t i;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        c4g_arm_sm_t *sm = &ctl->arm[a];
+        if (sm->n_axes > 0U) {
+            uint32_t ev = 0U;
+            (void)c4g_arm_sm_update(sm, &ctl->cfg, v[a].mode, v[a].mixed,
+                                    c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns, &ev);
+            if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
+                for (i = 0U; i < ctl->map.n_axes; i++) {
+                    ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
+                }
+            }
+            r->arm_events[a] = ev;
+            r->events |= ev;
+        }
+    }
+}
+
+/* The prepared reply: header and every axis. */
+static inline void step_prepare(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                c4g_pc_packet_t *tx)
+{
+    const uint32_t n = axes_in(rx->n_axes);
+    int32_t over[C4G_ARMS];
+    uint32_t some;
+    uint32_t i;
+    tx->num = rx->num;
+    tx->infpar = 0U;
+    tx->cmd = 0U;
+    tx->n_axes = rx->n_axes;
+    some = arm_overlays(ctl, over);
+    for (i = 0U; i < n; i++) {
+        prepare_axis(ctl, over, some, &rx->ax[i], i, &tx->ax[i]);
+    }
+    ctl->stepped = 1U;
+    ctl->step_num = rx->num;
+}
+
 c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
                           c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_engine_report_t local;
-        c4g_engine_report_t *r = rep;
-        if (r == NULL) {
-            r = &local;
-        }
-        (void)memset(r, 0, sizeof *r);
+        c4g_engine_report_t *r = (rep != NULL) ? rep : &local;
         arm_view_t v[C4G_ARMS];
+        (void)memset(r, 0, sizeof *r);
         st = C4G_ERR_PACKET;
         if (rx->n_axes == ctl->map.n_axes) {
             st = C4G_OK;
@@ -308,40 +348,11 @@ c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uin
             }
         }
         if (st == C4G_OK) {
-            const uint32_t n = axes_in(rx->n_axes);
-            int32_t over[C4G_ARMS];
-            uint32_t some;
-            uint32_t a;
-            uint32_t i;
             if ((v[0].mixed | v[1].mixed | v[2].mixed | v[3].mixed) != 0U) {
                 arm_modes(ctl, rx, v); /* special > non-zero > 0 on mixed arms */
             }
-            for (a = 0U; a < C4G_ARMS; a++) {
-                c4g_arm_sm_t *sm = &ctl->arm[a];
-                if (sm->n_axes > 0U) {
-                    uint32_t ev = 0U;
-                    (void)c4g_arm_sm_update(sm, &ctl->cfg, v[a].mode, v[a].mixed,
-                                            c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns,
-                                            &ev);
-                    if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
-                        for (i = 0U; i < ctl->map.n_axes; i++) {
-                            ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
-                        }
-                    }
-                    r->arm_events[a] = ev;
-                    r->events |= ev;
-                }
-            }
-            tx->num = rx->num;
-            tx->infpar = 0U;
-            tx->cmd = 0U;
-            tx->n_axes = rx->n_axes;
-            some = arm_overlays(ctl, over);
-            for (i = 0U; i < n; i++) {
-                prepare_axis(ctl, over, some, &rx->ax[i], i, &tx->ax[i]);
-            }
-            ctl->stepped = 1U;
-            ctl->step_num = rx->num;
+            step_arms(ctl, rx, v, now_ns, r);
+            step_prepare(ctl, rx, tx);
         }
     }
     return st;

@@ -159,45 +159,62 @@ static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
     return f;
 }
 
-/* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
- * the motor targets back for the axes the PC drives. */
-static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
-                          c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+/* The motor reference each axis of @p arm is driven to: the PC's absolute target, the
+ * reference an integrating mode integrates to, or the SMP+ target. */
+static void joint_motor_refs(const c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                             c4g_pc_packet_t *tx, double qm[C4G_AXES_PER_ARM])
 {
-    const uint32_t n = ctl->n_joint[arm];
-    double qm[C4G_AXES_PER_ARM];
-    double q[C4G_AXES_PER_ARM];
     uint32_t j;
-    uint32_t changed = 0U;
-    for (j = 0U; j < n; j++) {
+    for (j = 0U; j < ctl->n_joint[arm]; j++) {
         const uint32_t i = ctl->map.open_of[arm][j];
         const uint32_t rules = ctl->prep_rules[i];
         double v = (double)rx->ax[i].target_pos;
         if ((rules & R_ABS) != 0U) {
             v = (double)tx->ax[i].target_pos;
         } else if ((rules & R_INT) != 0U) {
-            v += (double)*int_field(rules, &tx->ax[i]); /* the reference it integrates to */
+            v += (double)*int_field(rules, &tx->ax[i]);
         } else {
             /* SMP+ target */
         }
         qm[j] = v;
     }
-    if (c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) {
-        for (j = 0U; j < n; j++) {
-            const uint32_t i = ctl->map.open_of[arm][j];
-            const c4g_axis_limits_t *l = &ctl->lim[i];
-            if ((l->joint_min < l->joint_max) &&
-                ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
-                q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
-                /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
-                if ((ctl->prep_rules[i] & (R_ABS | R_INT)) != 0U) {
-                    r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
-                }
-                changed = 1U;
+}
+
+/* Clamp the joint positions to their strokes; returns 1 if one was clamped. */
+static uint32_t joint_clamp(const c4g_engine_t *ctl, uint32_t arm, double q[C4G_AXES_PER_ARM],
+                            c4g_engine_report_t *r)
+{
+    uint32_t changed = 0U;
+    uint32_t j;
+    for (j = 0U; j < ctl->n_joint[arm]; j++) {
+        const uint32_t i = ctl->map.open_of[arm][j];
+        const c4g_axis_limits_t *l = &ctl->lim[i];
+        if ((l->joint_min < l->joint_max) &&
+            ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
+            q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
+            /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
+            if ((ctl->prep_rules[i] & (R_ABS | R_INT)) != 0U) {
+                r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
             }
+            changed = 1U;
         }
     }
-    if ((changed != 0U) && (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
+    return changed;
+}
+
+/* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
+ * the motor targets back for the axes the PC drives. */
+static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                                   c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+{
+    const uint32_t n = ctl->n_joint[arm];
+    double qm[C4G_AXES_PER_ARM];
+    double q[C4G_AXES_PER_ARM];
+    uint32_t j;
+    joint_motor_refs(ctl, arm, rx, tx, qm);
+    if ((c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) &&
+        (joint_clamp(ctl, arm, q, r) != 0U) &&
+        (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
         for (j = 0U; j < n; j++) {
             const uint32_t i = ctl->map.open_of[arm][j];
             const uint32_t rules = ctl->prep_rules[i];
@@ -382,6 +399,119 @@ static CTL_COLD void stroke_stops(c4g_engine_t *ctl, uint32_t n, const c4g_engin
     }
 }
 
+/* The per-axis pass: mode rules, filter and (while the overlays cannot change any more)
+ * the record of each axis. Returns the OR of the axis flags; clears *rec when the axes
+ * must be recorded again once the overlays are final. */
+static inline uint32_t finish_axes(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                   c4g_pc_packet_t *tx, c4g_engine_report_t *r, uint32_t n,
+                                   uint32_t *rec)
+{
+    int32_t over[C4G_ARMS];
+    const uint32_t some = arm_overlays(ctl, over);
+    uint32_t any = 0U;
+    uint32_t i;
+    for (i = 0U; i < n; i++) {
+        const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
+                                           : ctl->prep_mode[i];
+        c4g_pc_axis_t d;
+        keep_axis(&d, &tx->ax[i]);
+        r->follow_err[i] = 0.0F;
+        r->axis_flags[i] |= finish_axis(ctl, i, shown, &rx->ax[i], &d, &r->follow_err[i]);
+        any |= r->axis_flags[i];
+        if ((any & REDO_FLAGS) != 0U) {
+            *rec = 0U;
+        }
+        if (*rec != 0U) {
+            record_axis(ctl, i, shown, &d, r);
+        }
+        keep_axis(&tx->ax[i], &d);
+    }
+    return any;
+}
+
+/* Joint stroke ends of the arms with a joint check, then the following error on the final
+ * targets of their axes. Returns the OR of the axis flags. */
+static CTL_COLD uint32_t finish_joints(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                       c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+{
+    uint32_t any = 0U;
+    uint32_t a;
+    uint32_t i;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
+            filter_joints(ctl, a, rx, tx, r);
+        }
+    }
+    for (i = 0U; i < tx->n_axes; i++) {
+        if ((ctl->joint_on[ctl->map.arm_of[i]] != 0U) &&
+            ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
+            r->axis_flags[i] |= finish_fe(ctl, i, &rx->ax[i], &tx->ax[i], &r->follow_err[i]);
+            any |= r->axis_flags[i];
+        }
+    }
+    return any;
+}
+
+/* What the flags of this reply lead to: the status, 505 on faulty arms, stroke stops. */
+static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx,
+                                           c4g_engine_report_t *r, uint32_t n, uint32_t any)
+{
+    c4g_status_t st = C4G_OK;
+    if ((any & C4G_SF_MODE_RESTORED) != 0U) {
+        st = C4G_ERR_MODE_RESTORED;
+    }
+    if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
+        st = arm_faults(ctl, tx, r);
+    }
+    if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
+        stroke_stops(ctl, n, r);
+    }
+    return st;
+}
+
+/* Every open axis of an arm went out with its latch: the latch was sent. */
+static void latches_sent(c4g_engine_t *ctl)
+{
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        if ((ctl->map.n_axes_arm[a] != 0U) && (ctl->arm[a].latch != 0U)) {
+            ctl->arm[a].latch_sent = 1U;
+        }
+    }
+}
+
+static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                  c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+{
+    const uint32_t n = axes_in(rx->n_axes);
+    const uint32_t n_filtered = r->n_filtered;
+    c4g_status_t st = C4G_OK;
+    uint32_t any;
+    /* Each axis is recorded as soon as it is filtered while nothing can change the
+     * overlays of the axes before it (no joint check, no fault, no following error);
+     * otherwise every axis is recorded again once the overlays are final. */
+    uint32_t rec = ((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] | ctl->joint_on[3]) !=
+                    0U) ? 0U : 1U;
+    tx->infpar = exit_bytes(ctl, r);
+    any = finish_axes(ctl, rx, tx, r, n, &rec);
+    if (rec == 0U) {
+        int32_t over[C4G_ARMS];
+        any |= finish_joints(ctl, rx, tx, r);
+        st = finish_faults(ctl, tx, r, n, any);
+        (void)arm_overlays(ctl, over); /* the filter may have latched an arm or an axis */
+        r->n_filtered = n_filtered;
+        finish_record(ctl, over, tx, r);
+    } else if ((any & C4G_SF_MODE_RESTORED) != 0U) {
+        st = C4G_ERR_MODE_RESTORED;
+    } else {
+        /* nothing filtered that changes the overlays */
+    }
+    latches_sent(ctl);
+    ctl->have_last = 1U;
+    ctl->stepped = 0U;
+    return st;
+}
+
 c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_engine_report_t *rep)
 {
@@ -396,78 +526,7 @@ c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c
         st = C4G_ERR_STATE;
         if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
             (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
-            const uint32_t n = axes_in(rx->n_axes);
-            const uint32_t n_filtered = r->n_filtered;
-            int32_t over[C4G_ARMS];
-            uint32_t any = 0U;
-            uint32_t some;
-            uint32_t i;
-            uint32_t a;
-            /* Each axis is recorded as soon as it is filtered while nothing can change the
-             * overlays of the axes before it (no joint check, no fault, no following error);
-             * otherwise every axis is recorded again once the overlays are final. */
-            uint32_t rec = 1U;
-            if ((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] | ctl->joint_on[3]) !=
-                0U) {
-                rec = 0U;
-            }
-            st = C4G_OK;
-            tx->infpar = exit_bytes(ctl, r);
-            some = arm_overlays(ctl, over);
-            for (i = 0U; i < n; i++) {
-                const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
-                                                   : ctl->prep_mode[i];
-                c4g_pc_axis_t d;
-                keep_axis(&d, &tx->ax[i]);
-                r->follow_err[i] = 0.0F;
-                r->axis_flags[i] |= finish_axis(ctl, i, shown, &rx->ax[i], &d,
-                                                &r->follow_err[i]);
-                any |= r->axis_flags[i];
-                if ((any & REDO_FLAGS) != 0U) {
-                    rec = 0U;
-                }
-                if (rec != 0U) {
-                    record_axis(ctl, i, shown, &d, r);
-                }
-                keep_axis(&tx->ax[i], &d);
-            }
-            for (a = 0U; a < C4G_ARMS; a++) {
-                if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
-                    filter_joints(ctl, a, rx, tx, r);
-                    for (i = 0U; i < tx->n_axes; i++) {
-                        if ((ctl->map.arm_of[i] == a) &&
-                            ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
-                            r->axis_flags[i] |= finish_fe(ctl, i, &rx->ax[i], &tx->ax[i],
-                                                          &r->follow_err[i]);
-                            any |= r->axis_flags[i];
-                        }
-                    }
-                }
-            }
-            if ((any & C4G_SF_MODE_RESTORED) != 0U) {
-                st = C4G_ERR_MODE_RESTORED;
-            }
-            if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
-                st = arm_faults(ctl, tx, r);
-            }
-            if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
-                stroke_stops(ctl, n, r);
-            }
-            if ((any & REDO_FLAGS) != 0U) {
-                (void)arm_overlays(ctl, over); /* the filter latched an arm or an axis */
-            }
-            if (rec == 0U) {
-                r->n_filtered = n_filtered;
-                finish_record(ctl, over, tx, r);
-            }
-            for (a = 0U; a < C4G_ARMS; a++) {
-                /* every open axis went out: the arm's latch did */
-                if ((ctl->map.n_axes_arm[a] != 0U) && (ctl->arm[a].latch != 0U)) {
-                    ctl->arm[a].latch_sent = 1U;
-                }
-            }
-            ctl->have_last = 1U;
-            ctl->stepped = 0U;
+            st = finish_packet(ctl, rx, tx, r);
         }
     }
     return st;

@@ -77,6 +77,35 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
     return st;
 }
 
+/* The cyclic reply: the safety filter, then the encoder; neutral when nothing was prepared,
+ * when the engine refused the packet, or when the encoder refuses what the caller wrote. */
+static c4g_status_t loop_cyclic_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len)
+{
+    c4g_status_t st;
+    lp->finish_status = C4G_OK;
+    if (lp->prepared == 0U) {
+        lp->counters.neutral_replies++;
+    } else {
+        /* after any other status the filtered reply is safe and must be sent (an arm may
+         * carry 505): only a refused call falls back to neutral */
+        lp->finish_status = c4g_engine_finish(&lp->engine, lp->rx, &lp->tx, &lp->report);
+        if (lp->finish_status == C4G_ERR_STATE) {
+            lp->counters.neutral_replies++;
+            (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+        }
+        lp->prepared = 0U;
+    }
+    st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+    if ((st != C4G_OK) && (st != C4G_ERR_CAPACITY)) {
+        /* the encoder refused what the caller wrote (NaN, unknown mode) */
+        lp->counters.neutral_replies++;
+        lp->counters.encode_refused++;
+        (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+        st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+    }
+    return st;
+}
+
 c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
                             c4g_engine_report_t *rep)
 {
@@ -87,37 +116,14 @@ c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *ou
         } else if (lp->rx == NULL) {
             st = c4g_session_reply(&lp->session, NULL, buf, cap, out_len);
         } else {
-            lp->finish_status = C4G_OK;
-            if (lp->prepared == 0U) {
-                lp->counters.neutral_replies++;
-            } else {
-                /* after any other status the filtered reply is safe and must be sent (an
-                 * arm may carry 505): only a refused call falls back to neutral */
-                lp->finish_status = c4g_engine_finish(&lp->engine, lp->rx, &lp->tx, &lp->report);
-                if (lp->finish_status == C4G_ERR_STATE) {
-                    lp->counters.neutral_replies++;
-                    (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
-                }
-                lp->prepared = 0U;
-            }
-            st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
-            if ((st != C4G_OK) && (st != C4G_ERR_CAPACITY)) {
-                /* the encoder refused what the caller wrote (NaN, unknown mode) */
-                lp->counters.neutral_replies++;
-                lp->counters.encode_refused++;
-                (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
-                st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
-            }
+            st = loop_cyclic_reply(lp, buf, cap, out_len);
             if (rep != NULL) {
                 *rep = lp->report;
             }
         }
         if (st == C4G_OK) {
             lp->due = 0U;
-            lp->timed = 0U;
-            if (lp->rx != NULL) {
-                lp->timed = 1U;
-            }
+            lp->timed = (lp->rx != NULL) ? 1U : 0U;
         }
     }
     return st;
