@@ -411,66 +411,81 @@ static void accepted(c4g_session_t *s, uint64_t now_ns, uint32_t was_silent,
     }
 }
 
+static void result_reset(c4g_rx_result_t *res)
+{
+    (void)memset(res, 0, sizeof *res);
+    res->diag.arm = -1;
+    res->diag.axis = -1;
+}
+
+/* A start-up packet (sync or init) while a session runs: the old session is over, a new
+ * handshake starts, locked to whoever starts it. */
+static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                         int other, const c4g_counters_t *before, uint32_t lost_ev,
+                         c4g_rx_result_t *res)
+{
+    s->phase = C4G_PHASE_WAIT_INIT;
+    s->sync_seen = 0U;
+    s->restart_pending = 0U;
+    s->frozen = 0U;
+    s->frozen_active = 0U;
+    on_sync(s, buf, len, now_ns, res);
+    if (res->kind != C4G_RX_DROPPED) {
+        s->peer_locked = 0U; /* accepted() locks to its sender */
+    } else {
+        s->phase = C4G_PHASE_LOST; /* not a start-up after all */
+        if (other != 0) {
+            /* from a stranger it is foreign, not the controller's malformed datagram */
+            s->counters = *before;
+            result_reset(res);
+            res->events |= lost_ev;
+            on_foreign(s, len, res);
+        }
+    }
+}
+
+/* One datagram of a session that has not ended. */
+static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
+                             const c4g_endpoint_t *from, c4g_rx_result_t *res)
+{
+    const int other =
+        ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) ? 1
+                                                                                            : 0;
+    uint32_t was_silent;
+    uint32_t lost_ev;
+    c4g_counters_t before;
+    s->counters.rx++;
+    s->pending_num = -1;
+    res->events |= check_lost(s, now_ns);
+    was_silent = ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) ? 1U : 0U;
+    lost_ev = res->events;
+    before = s->counters;
+    if (new_startup(s, buf, len, other) != 0) {
+        restart_from(s, buf, len, now_ns, other, &before, lost_ev, res);
+    } else if (other != 0) {
+        on_foreign(s, len, res);
+    } else {
+        dispatch(s, buf, len, now_ns, res);
+    }
+    if (res->kind != C4G_RX_DROPPED) {
+        accepted(s, now_ns, was_silent, from, res);
+    }
+}
+
 c4g_status_t c4g_session_rx_from(c4g_session_t *s, const uint8_t *buf, size_t len,
                                  uint64_t now_ns, const c4g_endpoint_t *from,
                                  c4g_rx_result_t *res)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((s != NULL) && (res != NULL) && ((buf != NULL) || (len == 0U))) {
-        (void)memset(res, 0, sizeof *res);
-        res->diag.arm = -1;
-        res->diag.axis = -1;
+        result_reset(res);
         st = C4G_OK;
         if ((from != NULL) && (from->addr_len > 16U)) {
             st = C4G_ERR_ARG;
         } else if (s->phase == C4G_PHASE_ENDED) {
             st = C4G_ERR_ENDED;
         } else {
-            int other = 0;
-            uint32_t was_silent = 0U;
-            uint32_t lost_ev;
-            c4g_counters_t before;
-            if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
-                other = 1;
-            }
-            s->counters.rx++;
-            s->pending_num = -1;
-            res->events |= check_lost(s, now_ns);
-            if ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) {
-                was_silent = 1U;
-            }
-            lost_ev = res->events;
-            before = s->counters;
-            if (new_startup(s, buf, len, other) != 0) {
-                /* the old session is over: a new handshake, locked to whoever starts it */
-                s->phase = C4G_PHASE_WAIT_INIT;
-                s->sync_seen = 0U;
-                s->restart_pending = 0U;
-                s->frozen = 0U;
-                s->frozen_active = 0U;
-                on_sync(s, buf, len, now_ns, res);
-                if (res->kind == C4G_RX_DROPPED) {
-                    s->phase = C4G_PHASE_LOST; /* not a start-up after all */
-                    if (other != 0) {
-                        /* from a stranger it is foreign, not the controller's malformed datagram */
-                        s->counters = before;
-                        (void)memset(res, 0, sizeof *res);
-                        res->diag.arm = -1;
-                        res->diag.axis = -1;
-                        res->events |= lost_ev;
-                        on_foreign(s, len, res);
-                    }
-                } else {
-                    s->peer_locked = 0U; /* accepted() locks to its sender */
-                }
-            } else if (other != 0) {
-                on_foreign(s, len, res);
-            } else {
-                dispatch(s, buf, len, now_ns, res);
-            }
-            if (res->kind != C4G_RX_DROPPED) {
-                accepted(s, now_ns, was_silent, from, res);
-            }
+            session_datagram(s, buf, len, now_ns, from, res);
         }
     }
     return st;
@@ -500,43 +515,48 @@ static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
     }
 }
 
+/* The bytes of the reply to what is pending: the encoded cyclic reply, or the echo of the
+ * start-up packet padded to its reply size. */
+static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
+                                size_t cap, size_t *n)
+{
+    c4g_status_t st;
+    if (s->pending_kind == C4G_RX_CYCLIC) {
+        if (tx == NULL) {
+            st = C4G_ERR_NULL;
+        } else if (tx->n_axes != s->map.n_axes) {
+            st = C4G_ERR_AXES;
+        } else {
+            st = c4g_pc_encode(tx, buf, cap, n);
+            if (st == C4G_OK) {
+                track_active_freezing(s, tx);
+            }
+        }
+    } else {
+        *n = (s->pending_kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE;
+        st = C4G_ERR_CAPACITY;
+        if (cap >= *n) {
+            (void)memcpy(buf, s->pending_raw, s->pending_len);
+            (void)memset(&buf[s->pending_len], 0, *n - s->pending_len);
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
 c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
                                size_t cap, size_t *out_len)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((s != NULL) && (buf != NULL) && (out_len != NULL)) {
-        const int32_t num = c4g_reply_num(s->pending_num, s->cfg.num_policy);
         size_t n = 0U;
         *out_len = 0U;
-        if ((s->pending_num < 0) || (s->pending_kind == C4G_RX_DROPPED)) {
-            st = C4G_ERR_STATE; /* nothing received to answer, or answered already */
-        } else if (s->pending_kind == C4G_RX_CYCLIC) {
-            if (tx == NULL) {
-                st = C4G_ERR_NULL;
-            } else if (tx->n_axes != s->map.n_axes) {
-                st = C4G_ERR_AXES;
-            } else {
-                st = c4g_pc_encode(tx, buf, cap, &n);
-                if (st == C4G_OK) {
-                    track_active_freezing(s, tx);
-                }
-            }
-        } else {
-            if (s->pending_kind == C4G_RX_INIT) {
-                n = C4G_INIT_SIZE;
-            } else {
-                n = C4G_SYNC_REPLY_SIZE;
-            }
-            if (cap < n) {
-                st = C4G_ERR_CAPACITY;
-            } else {
-                (void)memcpy(buf, s->pending_raw, s->pending_len);
-                (void)memset(&buf[s->pending_len], 0, n - s->pending_len);
-                st = C4G_OK;
-            }
+        st = C4G_ERR_STATE; /* nothing received to answer, or answered already */
+        if ((s->pending_num >= 0) && (s->pending_kind != C4G_RX_DROPPED)) {
+            st = reply_bytes(s, tx, buf, cap, &n);
         }
         if (st == C4G_OK) {
-            c4g_put_i32le(buf, num);
+            c4g_put_i32le(buf, c4g_reply_num(s->pending_num, s->cfg.num_policy));
             *out_len = n;
             s->counters.tx++;
             if (s->pending_kind != C4G_RX_CYCLIC) {
