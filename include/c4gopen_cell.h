@@ -42,28 +42,28 @@
 extern "C" {
 #endif
 
-/** Status of a cell-protocol call: C4G_CELL_OK or a C4G_CELL_ERR_* code (-201..-299). */
-typedef int32_t c4g_cell_status_t;
+/** Status of a cell-protocol call: C4G_OK or a C4G_ERR_CELL_* code (-201..-299). */
+typedef int32_t c4g_status_t;
 
-/** @name Status codes (stable values; c4g_cell_strerror() / c4g_strerror() name them) */
+/** @name Status codes (stable values; c4g_strerror() / c4g_strerror() name them) */
 /**@{*/
-#define C4G_CELL_OK ((c4g_cell_status_t)0)
-#define C4G_CELL_ERR_NULL ((c4g_cell_status_t)-201)      /**< required pointer is NULL */
-#define C4G_CELL_ERR_CAPACITY ((c4g_cell_status_t)-202)  /**< output buffer too small */
-#define C4G_CELL_ERR_ARG ((c4g_cell_status_t)-203)       /**< argument outside its enum/range */
-#define C4G_CELL_ERR_LENGTH ((c4g_cell_status_t)-204)    /**< line shorter/longer than its format */
-#define C4G_CELL_ERR_TERMINATOR ((c4g_cell_status_t)-205)/**< missing CR LF, or CR/LF inside */
-#define C4G_CELL_ERR_HEAD ((c4g_cell_status_t)-206)      /**< unknown instruction or reply head */
-#define C4G_CELL_ERR_SIGN ((c4g_cell_status_t)-207)      /**< sign character is not '+' or '-' */
-#define C4G_CELL_ERR_DIGIT ((c4g_cell_status_t)-208)     /**< digit expected */
-#define C4G_CELL_ERR_POINT ((c4g_cell_status_t)-209)     /**< '.' expected */
-#define C4G_CELL_ERR_FLAG ((c4g_cell_status_t)-210)      /**< 'T' or 'F' expected */
-#define C4G_CELL_ERR_MODE ((c4g_cell_status_t)-211)      /**< MOV mode is not 'A' or 'R' */
-#define C4G_CELL_ERR_ACTION ((c4g_cell_status_t)-212)    /**< HND action is not OPEN or CLOSE */
-#define C4G_CELL_ERR_RANGE ((c4g_cell_status_t)-213)     /**< value outside its field/semantic range */
-#define C4G_CELL_ERR_NONFINITE ((c4g_cell_status_t)-214) /**< NaN or infinity */
-#define C4G_CELL_ERR_AXES ((c4g_cell_status_t)-215)      /**< axis count is not 2 or 4 */
-#define C4G_CELL_ERR_OVERLONG ((c4g_cell_status_t)-216)  /**< line longer than the splitter limit */
+#define C4G_OK ((c4g_status_t)0)
+#define C4G_ERR_CELL_NULL ((c4g_status_t)-201)      /**< required pointer is NULL */
+#define C4G_ERR_CELL_CAPACITY ((c4g_status_t)-202)  /**< output buffer too small */
+#define C4G_ERR_CELL_ARG ((c4g_status_t)-203)       /**< argument outside its enum/range */
+#define C4G_ERR_CELL_LENGTH ((c4g_status_t)-204)    /**< line shorter/longer than its format */
+#define C4G_ERR_CELL_TERMINATOR ((c4g_status_t)-205)/**< missing CR LF, or CR/LF inside */
+#define C4G_ERR_CELL_HEAD ((c4g_status_t)-206)      /**< unknown instruction or reply head */
+#define C4G_ERR_CELL_SIGN ((c4g_status_t)-207)      /**< sign character is not '+' or '-' */
+#define C4G_ERR_CELL_DIGIT ((c4g_status_t)-208)     /**< digit expected */
+#define C4G_ERR_CELL_POINT ((c4g_status_t)-209)     /**< '.' expected */
+#define C4G_ERR_CELL_FLAG ((c4g_status_t)-210)      /**< 'T' or 'F' expected */
+#define C4G_ERR_CELL_MODE ((c4g_status_t)-211)      /**< MOV mode is not 'A' or 'R' */
+#define C4G_ERR_CELL_ACTION ((c4g_status_t)-212)    /**< HND action is not OPEN or CLOSE */
+#define C4G_ERR_CELL_RANGE ((c4g_status_t)-213)     /**< value outside its field/semantic range */
+#define C4G_ERR_CELL_NONFINITE ((c4g_status_t)-214) /**< NaN or infinity */
+#define C4G_ERR_CELL_AXES ((c4g_status_t)-215)      /**< axis count is not 2 or 4 */
+#define C4G_ERR_CELL_OVERLONG ((c4g_status_t)-216)  /**< line longer than the splitter limit */
 /**@}*/
 
 /** @name Limits */
@@ -266,7 +266,7 @@ typedef enum c4g_cell_part {
 
 /** Decoder diagnostic: all members set on error. */
 typedef struct c4g_cell_diag {
-    c4g_cell_status_t status; /**< same value the decoder returned */
+    c4g_status_t status; /**< same value the decoder returned */
     uint32_t column;          /**< 1-based column of the first offending character */
     c4g_cell_part_t part;     /**< what was being parsed there */
     int32_t axis;             /**< 0-based axis index for PART_AXIS, else -1 */
@@ -276,7 +276,7 @@ typedef struct c4g_cell_diag {
  * Short, constant, never-NULL description of a cell status (-201..-299).
  * @return "ok" for 0, the text of a known code, else "unknown cell-protocol status".
  */
-const char *c4g_cell_strerror(int status);
+const char *c4g_strerror(int status);
 
 /**
  * Meaning of a wire error number (ER replies, STA error field): the spec's list
@@ -291,18 +291,18 @@ const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd);
 
 /**
  * The command table's row of @p cmd (head, argument layout, reply, devices).
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (cmd outside the table).
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd outside the table).
  */
-c4g_cell_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out);
+c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out);
 
 /**
  * Convert a real value to counts: rounds to the nearest count, halves away from
  * zero, then checks the field range (after rounding: +-999.9995 mm rounds out).
  * @param[in] unit C4G_CELL_UNIT_MM (value in mm), _RAD (rad) or _INT.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (unit),
- *         C4G_CELL_ERR_NONFINITE, C4G_CELL_ERR_RANGE.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit),
+ *         C4G_ERR_CELL_NONFINITE, C4G_ERR_CELL_RANGE.
  */
-c4g_cell_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
+c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
 
 /**
  * Convert decimal text ("[+-]digits[.digits]", no exponent, no spaces) to counts
@@ -310,72 +310,72 @@ c4g_cell_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32
  * halves away from zero) but applied to the decimal digits, so "1.0005" mm is
  * 1001 counts. Used for human input, where a binary double would round 1.0005
  * down.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (unit), C4G_CELL_ERR_LENGTH
- *         (empty), C4G_CELL_ERR_DIGIT (syntax), C4G_CELL_ERR_RANGE.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_LENGTH
+ *         (empty), C4G_ERR_CELL_DIGIT (syntax), C4G_ERR_CELL_RANGE.
  */
-c4g_cell_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
                                      int32_t *out);
 
 /**
  * Convert counts to a real value (mm, rad or units). Exact to the printed digits.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (unit), C4G_CELL_ERR_RANGE.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_RANGE.
  */
-c4g_cell_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
+c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
 
 /**
  * Format one field: 8 chars (MM, RAD) or 6 chars (INT), no terminator.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG, C4G_CELL_ERR_CAPACITY,
- *         C4G_CELL_ERR_RANGE.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_CAPACITY,
+ *         C4G_ERR_CELL_RANGE.
  */
-c4g_cell_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
+c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
                                         size_t cap, size_t *out_len);
 
 /**
  * Parse one field of exactly 8 (MM, RAD) or 6 (INT) chars.
  * @param[out] diag optional; its column is relative to @p buf (1 = first char)
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG, C4G_CELL_ERR_LENGTH,
- *         C4G_CELL_ERR_SIGN, C4G_CELL_ERR_DIGIT, C4G_CELL_ERR_POINT.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_LENGTH,
+ *         C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT.
  */
-c4g_cell_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
                                         int32_t *out, c4g_cell_diag_t *diag);
 
 /**
  * Encode an instruction with its CR LF. Validates first: OVR 0..100, ACQ and HND
  * ids 0..99999, MOV 2 or 4 axes, PNP 4 axes, every count within its field.
  * @param[out] out_len bytes written (no NUL is written)
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (cmd), C4G_CELL_ERR_AXES,
- *         C4G_CELL_ERR_RANGE, C4G_CELL_ERR_CAPACITY.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd), C4G_ERR_CELL_AXES,
+ *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-c4g_cell_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
  * Decode one instruction line (with CR LF). MOV's layout follows its length:
  * 38 chars robot (4 axes), 22 platform (2 axes). OVR must be 0..100 (RANGE),
  * ACQ/HND ids must be >= 0 (RANGE).
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_LENGTH, C4G_CELL_ERR_TERMINATOR,
- *         C4G_CELL_ERR_HEAD, C4G_CELL_ERR_SIGN, C4G_CELL_ERR_DIGIT, C4G_CELL_ERR_POINT,
- *         C4G_CELL_ERR_MODE, C4G_CELL_ERR_ACTION, C4G_CELL_ERR_RANGE; @p out is zeroed
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_LENGTH, C4G_ERR_CELL_TERMINATOR,
+ *         C4G_ERR_CELL_HEAD, C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT,
+ *         C4G_ERR_CELL_MODE, C4G_ERR_CELL_ACTION, C4G_ERR_CELL_RANGE; @p out is zeroed
  *         on error.
  */
-c4g_cell_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
+c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
  * Encode a reply with its CR LF. OK: 4 chars; ER: error number 0..99999 (10
  * chars); STA: 4 axes -> robot (50), 2 axes -> platform (34), override 0..100.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG (kind), C4G_CELL_ERR_AXES,
- *         C4G_CELL_ERR_RANGE, C4G_CELL_ERR_CAPACITY.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (kind), C4G_ERR_CELL_AXES,
+ *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-c4g_cell_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
  * Decode one reply line (with CR LF): "OK" (4), "ER"+Sxxxxx (10), robot STA (50) or
  * platform STA (34). The STA override must be 0..100 (RANGE).
- * @return as c4g_cell_instr_decode (with C4G_CELL_ERR_FLAG); @p out zeroed on error.
+ * @return as c4g_cell_instr_decode (with C4G_ERR_CELL_FLAG); @p out zeroed on error.
  */
-c4g_cell_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
+c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
@@ -401,24 +401,24 @@ typedef enum c4g_cell_split_event {
 
 /**
  * Attach @p buf (@p cap bytes, 4..65535) to @p sp and empty it.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL, C4G_CELL_ERR_ARG.
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG.
  */
-c4g_cell_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
+c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
 
 /**
  * Append up to @p n bytes of @p data (as many as fit; the rest stays with the
  * caller, who calls c4g_cell_split_next and pushes again).
  * @param[out] used bytes taken from @p data
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL (data may be NULL only when n is 0).
+ * @return C4G_OK, C4G_ERR_CELL_NULL (data may be NULL only when n is 0).
  */
-c4g_cell_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
+c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
                                       size_t *used);
 
 /**
  * Take the next event. @p line / @p len are set for C4G_CELL_SPLIT_LINE only.
- * @return C4G_CELL_OK, C4G_CELL_ERR_NULL.
+ * @return C4G_OK, C4G_ERR_CELL_NULL.
  */
-c4g_cell_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
+c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
                                       const char **line, size_t *len);
 
 #ifdef __cplusplus

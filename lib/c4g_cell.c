@@ -45,7 +45,7 @@ static const char k_close[ACTION_CLOSE_LEN] = {'C', 'L', 'O', 'S', 'E'};
 
 /* Switches over string literals: a pointer table would land in .data.rel.ro under
    PIE, and a 2-D char table is a partial initialization (MISRA 9.3). */
-const char *c4g_cell_strerror(int status)
+const char *c4g_strerror(int status)
 {
     const char *text = "unknown cell-protocol status";
     switch (status) {
@@ -104,13 +104,13 @@ const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd)
     return name;
 }
 
-c4g_cell_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out)
+c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if (out == NULL) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if ((uint32_t)cmd >= (uint32_t)C4G_CELL_CMD_COUNT_) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else {
         const cmd_row_t *row = &k_cmds[cmd];
         out->cmd = cmd;
@@ -144,17 +144,17 @@ static int in_range(int32_t v, const field_fmt_t *f)
     return ((v <= f->max) && (v >= -f->max)) ? 1 : 0;
 }
 
-c4g_cell_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out)
+c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if (out == NULL) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (f == NULL) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else if (!((value >= -DBL_MAX) && (value <= DBL_MAX))) {
         /* NaN fails every comparison, infinities fail the bounds (no libm) */
-        st = C4G_CELL_ERR_NONFINITE;
+        st = C4G_ERR_CELL_NONFINITE;
     } else {
         double scale = 1.0;
         if (unit == C4G_CELL_UNIT_MM) {
@@ -168,7 +168,7 @@ c4g_cell_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32
         /* Range test before the conversion: converting an out-of-range double is UB. */
         const double lim = (double)f->max + 0.5;
         if ((x >= lim) || (x <= -lim)) {
-            st = C4G_CELL_ERR_RANGE;
+            st = C4G_ERR_CELL_RANGE;
         } else if (x >= 0.0) {
             const double r = x + 0.5; /* truncating x + 0.5: halves go up */
             *out = (int32_t)r;
@@ -180,16 +180,16 @@ c4g_cell_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32
     return st;
 }
 
-c4g_cell_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out)
+c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if (out == NULL) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (f == NULL) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else if (in_range(counts, f) == 0) {
-        st = C4G_CELL_ERR_RANGE;
+        st = C4G_ERR_CELL_RANGE;
     } else if (unit == C4G_CELL_UNIT_MM) {
         *out = (double)counts / SCALE_MM;
     } else if (unit == C4G_CELL_UNIT_RAD) {
@@ -218,19 +218,19 @@ static void put_field(int32_t counts, const field_fmt_t *f, char *dst)
     }
 }
 
-c4g_cell_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
+c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
                                         size_t cap, size_t *out_len)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((buf == NULL) || (out_len == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (f == NULL) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else if (in_range(counts, f) == 0) {
-        st = C4G_CELL_ERR_RANGE;
+        st = C4G_ERR_CELL_RANGE;
     } else if (cap < f->width) {
-        st = C4G_CELL_ERR_CAPACITY;
+        st = C4G_ERR_CELL_CAPACITY;
     } else {
         put_field(counts, f, buf);
         *out_len = f->width;
@@ -248,7 +248,7 @@ typedef struct {
     c4g_cell_diag_t *diag;
 } cursor_t;
 
-static c4g_cell_status_t fail_at(const cursor_t *c, c4g_cell_status_t st, size_t index,
+static c4g_status_t fail_at(const cursor_t *c, c4g_status_t st, size_t index,
                                  c4g_cell_part_t part, int32_t axis)
 {
     if (c->diag != NULL) {
@@ -261,9 +261,9 @@ static c4g_cell_status_t fail_at(const cursor_t *c, c4g_cell_status_t st, size_t
 }
 
 /* Lines end in CR LF with no other CR or LF: sets c->body. */
-static c4g_cell_status_t check_terminator(cursor_t *c, size_t len)
+static c4g_status_t check_terminator(cursor_t *c, size_t len)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     size_t i = 0U;
     size_t bad = len; /* index of the first CR or LF, len if none */
     const char *s = c->s;
@@ -274,33 +274,33 @@ static c4g_cell_status_t check_terminator(cursor_t *c, size_t len)
         i++;
     }
     if (len == 0U) {
-        st = fail_at(c, C4G_CELL_ERR_LENGTH, 0U, C4G_CELL_PART_LENGTH, -1);
+        st = fail_at(c, C4G_ERR_CELL_LENGTH, 0U, C4G_CELL_PART_LENGTH, -1);
     } else if (((bad + CRLF_LEN) == len) && (s[bad] == '\r') && (s[bad + 1U] == '\n')) {
         c->body = bad;
     } else if (((bad + 1U) == len) && (s[bad] == '\r')) {
-        st = fail_at(c, C4G_CELL_ERR_TERMINATOR, len, C4G_CELL_PART_TERMINATOR, -1);
+        st = fail_at(c, C4G_ERR_CELL_TERMINATOR, len, C4G_CELL_PART_TERMINATOR, -1);
     } else {
-        st = fail_at(c, C4G_CELL_ERR_TERMINATOR, bad, C4G_CELL_PART_TERMINATOR, -1);
+        st = fail_at(c, C4G_ERR_CELL_TERMINATOR, bad, C4G_CELL_PART_TERMINATOR, -1);
     }
     return st;
 }
 
 /* Need n more chars in the body. */
-static c4g_cell_status_t need(const cursor_t *c, size_t n, c4g_cell_part_t part, int32_t axis)
+static c4g_status_t need(const cursor_t *c, size_t n, c4g_cell_part_t part, int32_t axis)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((c->body - c->pos) < n) {
-        st = fail_at(c, C4G_CELL_ERR_LENGTH, c->body, part, axis);
+        st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, part, axis);
     }
     return st;
 }
 
 /* The body must end here. */
-static c4g_cell_status_t expect_end(const cursor_t *c)
+static c4g_status_t expect_end(const cursor_t *c)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if (c->pos != c->body) {
-        st = fail_at(c, C4G_CELL_ERR_LENGTH, c->pos, C4G_CELL_PART_LENGTH, -1);
+        st = fail_at(c, C4G_ERR_CELL_LENGTH, c->pos, C4G_CELL_PART_LENGTH, -1);
     }
     return st;
 }
@@ -322,44 +322,44 @@ static int is_digit(char ch)
 }
 
 /* Parse the field at s[0..f->width); *bad gets the offending index and part. */
-static c4g_cell_status_t parse_field(const char *s, const field_fmt_t *f, int32_t *out,
+static c4g_status_t parse_field(const char *s, const field_fmt_t *f, int32_t *out,
                                      size_t *bad)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     int32_t v = 0;
     size_t i = 1U;
     if ((s[0] != '+') && (s[0] != '-')) {
-        st = C4G_CELL_ERR_SIGN;
+        st = C4G_ERR_CELL_SIGN;
         *bad = 0U;
     }
-    while ((st == C4G_CELL_OK) && (i < f->width)) {
+    while ((st == C4G_OK) && (i < f->width)) {
         if ((f->point != 0U) && (i == f->point)) {
             if (s[i] != '.') {
-                st = C4G_CELL_ERR_POINT;
+                st = C4G_ERR_CELL_POINT;
                 *bad = i;
             }
         } else if (is_digit(s[i]) == 0) {
-            st = C4G_CELL_ERR_DIGIT;
+            st = C4G_ERR_CELL_DIGIT;
             *bad = i;
         } else {
             v = (v * 10) + ((int32_t)s[i] - (int32_t)'0');
         }
         i++;
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         *out = (s[0] == '-') ? -v : v;
     }
     return st;
 }
 
-static c4g_cell_status_t take_field(cursor_t *c, const field_fmt_t *f, c4g_cell_part_t part,
+static c4g_status_t take_field(cursor_t *c, const field_fmt_t *f, c4g_cell_part_t part,
                                     int32_t axis, int32_t *out)
 {
-    c4g_cell_status_t st = need(c, f->width, part, axis);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, f->width, part, axis);
+    if (st == C4G_OK) {
         size_t bad = 0U;
         st = parse_field(&c->s[c->pos], f, out, &bad);
-        if (st != C4G_CELL_OK) {
+        if (st != C4G_OK) {
             st = fail_at(c, st, c->pos + bad, part, axis);
         } else {
             c->pos += f->width;
@@ -368,40 +368,40 @@ static c4g_cell_status_t take_field(cursor_t *c, const field_fmt_t *f, c4g_cell_
     return st;
 }
 
-c4g_cell_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
                                         int32_t *out, c4g_cell_diag_t *diag)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((buf == NULL) || (out == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (f == NULL) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else {
         cursor_t c = {buf, len, 0U, diag};
         int32_t v = 0;
         st = take_field(&c, f, C4G_CELL_PART_VALUE, -1, &v);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = expect_end(&c);
         }
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             *out = v;
         }
     }
     return st;
 }
 
-static c4g_cell_status_t take_flag(cursor_t *c, uint8_t *out)
+static c4g_status_t take_flag(cursor_t *c, uint8_t *out)
 {
-    c4g_cell_status_t st = need(c, 1U, C4G_CELL_PART_FLAG, -1);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, 1U, C4G_CELL_PART_FLAG, -1);
+    if (st == C4G_OK) {
         const char ch = cur_char(c);
         if (ch == 'T') {
             *out = 1U;
         } else if (ch == 'F') {
             *out = 0U;
         } else {
-            st = fail_at(c, C4G_CELL_ERR_FLAG, c->pos, C4G_CELL_PART_FLAG, -1);
+            st = fail_at(c, C4G_ERR_CELL_FLAG, c->pos, C4G_CELL_PART_FLAG, -1);
         }
         c->pos++;
     }
@@ -414,12 +414,12 @@ static const field_fmt_t *axis_fmt(uint32_t n_axes, uint32_t axis)
     return ((n_axes == C4G_CELL_AXES_ROBOT) && (axis < 3U)) ? &k_fmt_mm : &k_fmt_rad;
 }
 
-static c4g_cell_status_t take_pose(cursor_t *c, uint32_t n_axes, c4g_cell_pose_t *pose)
+static c4g_status_t take_pose(cursor_t *c, uint32_t n_axes, c4g_cell_pose_t *pose)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     uint32_t a = 0U;
     pose->n_axes = n_axes;
-    while ((st == C4G_CELL_OK) && (a < n_axes)) {
+    while ((st == C4G_OK) && (a < n_axes)) {
         st = take_field(c, axis_fmt(n_axes, a), C4G_CELL_PART_AXIS, (int32_t)a, &pose->v[a]);
         a++;
     }
@@ -427,25 +427,25 @@ static c4g_cell_status_t take_pose(cursor_t *c, uint32_t n_axes, c4g_cell_pose_t
 }
 
 /* Integer field with a lower and upper semantic bound. */
-static c4g_cell_status_t take_int(cursor_t *c, int32_t lo, int32_t hi, int32_t *out)
+static c4g_status_t take_int(cursor_t *c, int32_t lo, int32_t hi, int32_t *out)
 {
     const size_t at = c->pos;
-    c4g_cell_status_t st = take_field(c, &k_fmt_int, C4G_CELL_PART_VALUE, -1, out);
-    if ((st == C4G_CELL_OK) && ((*out < lo) || (*out > hi))) {
-        st = fail_at(c, C4G_CELL_ERR_RANGE, at, C4G_CELL_PART_VALUE, -1);
+    c4g_status_t st = take_field(c, &k_fmt_int, C4G_CELL_PART_VALUE, -1, out);
+    if ((st == C4G_OK) && ((*out < lo) || (*out > hi))) {
+        st = fail_at(c, C4G_ERR_CELL_RANGE, at, C4G_CELL_PART_VALUE, -1);
     }
     return st;
 }
 
 /* Match the fixed word w (n chars) at the cursor; mismatch -> st_bad. */
-static c4g_cell_status_t take_word(cursor_t *c, const char *w, size_t n, c4g_cell_status_t st_bad,
+static c4g_status_t take_word(cursor_t *c, const char *w, size_t n, c4g_status_t st_bad,
                                    c4g_cell_part_t part)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     size_t i = 0U;
-    while ((st == C4G_CELL_OK) && (i < n)) {
+    while ((st == C4G_OK) && (i < n)) {
         if (c->pos >= c->body) {
-            st = fail_at(c, C4G_CELL_ERR_LENGTH, c->body, part, -1);
+            st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, part, -1);
         } else if (char_differs(cur_char(c), w[i]) != 0) {
             st = fail_at(c, st_bad, c->pos, part, -1);
         } else {
@@ -472,10 +472,10 @@ static size_t head_match(const cursor_t *c, const cmd_row_t *row)
 /* The row whose whole head starts the body. Errors point at the first char no head
    continues with: column 1 when no head shares the first three chars (the spec's
    head), else the char after the longest partial match (LENGTH when the line ends). */
-static c4g_cell_status_t find_head(cursor_t *c, c4g_cell_cmd_t *cmd)
+static c4g_status_t find_head(cursor_t *c, c4g_cell_cmd_t *cmd)
 {
-    c4g_cell_status_t st = need(c, HEAD_LEN, C4G_CELL_PART_HEAD, -1);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, HEAD_LEN, C4G_CELL_PART_HEAD, -1);
+    if (st == C4G_OK) {
         uint32_t k = 0U;
         uint32_t found = (uint32_t)C4G_CELL_CMD_COUNT_;
         size_t best = 0U;
@@ -494,50 +494,50 @@ static c4g_cell_status_t find_head(cursor_t *c, c4g_cell_cmd_t *cmd)
             *cmd = (c4g_cell_cmd_t)found;
             c->pos += k_cmds[found].head_len;
         } else if (best < HEAD_LEN) {
-            st = fail_at(c, C4G_CELL_ERR_HEAD, c->pos, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos, C4G_CELL_PART_HEAD, -1);
         } else if ((c->pos + best) == c->body) {
-            st = fail_at(c, C4G_CELL_ERR_LENGTH, c->body, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, C4G_CELL_PART_HEAD, -1);
         } else {
-            st = fail_at(c, C4G_CELL_ERR_HEAD, c->pos + best, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos + best, C4G_CELL_PART_HEAD, -1);
         }
     }
     return st;
 }
 
-static c4g_cell_status_t take_action(cursor_t *c, uint8_t *open)
+static c4g_status_t take_action(cursor_t *c, uint8_t *open)
 {
-    c4g_cell_status_t st = need(c, 1U, C4G_CELL_PART_ACTION, -1);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, 1U, C4G_CELL_PART_ACTION, -1);
+    if (st == C4G_OK) {
         const char ch = cur_char(c);
         if (ch == 'O') {
             *open = 1U;
-            st = take_word(c, k_open, ACTION_OPEN_LEN, C4G_CELL_ERR_ACTION, C4G_CELL_PART_ACTION);
+            st = take_word(c, k_open, ACTION_OPEN_LEN, C4G_ERR_CELL_ACTION, C4G_CELL_PART_ACTION);
         } else if (ch == 'C') {
             *open = 0U;
-            st = take_word(c, k_close, ACTION_CLOSE_LEN, C4G_CELL_ERR_ACTION,
+            st = take_word(c, k_close, ACTION_CLOSE_LEN, C4G_ERR_CELL_ACTION,
                            C4G_CELL_PART_ACTION);
         } else {
-            st = fail_at(c, C4G_CELL_ERR_ACTION, c->pos, C4G_CELL_PART_ACTION, -1);
+            st = fail_at(c, C4G_ERR_CELL_ACTION, c->pos, C4G_CELL_PART_ACTION, -1);
         }
     }
     return st;
 }
 
-static c4g_cell_status_t take_mov(cursor_t *c, c4g_cell_instr_t *out)
+static c4g_status_t take_mov(cursor_t *c, c4g_cell_instr_t *out)
 {
-    c4g_cell_status_t st = need(c, 1U, C4G_CELL_PART_MODE, -1);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, 1U, C4G_CELL_PART_MODE, -1);
+    if (st == C4G_OK) {
         const char ch = cur_char(c);
         if (ch == 'A') {
             out->relative = 0U;
         } else if (ch == 'R') {
             out->relative = 1U;
         } else {
-            st = fail_at(c, C4G_CELL_ERR_MODE, c->pos, C4G_CELL_PART_MODE, -1);
+            st = fail_at(c, C4G_ERR_CELL_MODE, c->pos, C4G_CELL_PART_MODE, -1);
         }
         c->pos++;
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         /* The body length picks the layout: robot 36, platform 20; the midpoint
            splits malformed lines so the column points at the real problem. */
         uint32_t n = C4G_CELL_AXES_PLATFORM;
@@ -550,16 +550,16 @@ static c4g_cell_status_t take_mov(cursor_t *c, c4g_cell_instr_t *out)
 }
 
 /* The arguments of row's layout. */
-static c4g_cell_status_t take_args(cursor_t *c, const cmd_row_t *row, c4g_cell_instr_t *out)
+static c4g_status_t take_args(cursor_t *c, const cmd_row_t *row, c4g_cell_instr_t *out)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     switch (row->args) {
     case C4G_CELL_ARGS_INT:
         st = take_int(c, row->lo, row->hi, &out->value);
         break;
     case C4G_CELL_ARGS_INT_ACTION:
         st = take_int(c, row->lo, row->hi, &out->value);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = take_action(c, &out->open);
         }
         break;
@@ -568,7 +568,7 @@ static c4g_cell_status_t take_args(cursor_t *c, const cmd_row_t *row, c4g_cell_i
         break;
     case C4G_CELL_ARGS_CLEAR_POSE:
         st = take_field(c, &k_fmt_mm, C4G_CELL_PART_VALUE, -1, &out->clearance);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = take_pose(c, C4G_CELL_AXES_ROBOT, &out->pose);
         }
         break;
@@ -579,36 +579,36 @@ static c4g_cell_status_t take_args(cursor_t *c, const cmd_row_t *row, c4g_cell_i
     return st;
 }
 
-static c4g_cell_status_t decode_instr_body(cursor_t *c, c4g_cell_instr_t *out)
+static c4g_status_t decode_instr_body(cursor_t *c, c4g_cell_instr_t *out)
 {
     c4g_cell_cmd_t cmd = C4G_CELL_CMD_STA;
-    c4g_cell_status_t st = find_head(c, &cmd);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = find_head(c, &cmd);
+    if (st == C4G_OK) {
         st = take_args(c, &k_cmds[cmd], out);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = expect_end(c);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         out->cmd = cmd;
     }
     return st;
 }
 
-c4g_cell_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
+c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
                                         c4g_cell_diag_t *diag)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((line == NULL) || (out == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else {
         cursor_t c = {line, 0U, 0U, diag};
         (void)memset(out, 0, sizeof *out);
         st = check_terminator(&c, len);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = decode_instr_body(&c, out);
         }
-        if (st != C4G_CELL_OK) {
+        if (st != C4G_OK) {
             (void)memset(out, 0, sizeof *out);
         }
     }
@@ -616,35 +616,35 @@ c4g_cell_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_i
 }
 
 /* "OK" followed by the status data: robot body 48, platform 32. */
-static c4g_cell_status_t take_sta(cursor_t *c, c4g_cell_reply_t *out)
+static c4g_status_t take_sta(cursor_t *c, c4g_cell_reply_t *out)
 {
     /* The midpoint picks the layout, so a malformed line's column is meaningful. */
     uint32_t n = C4G_CELL_AXES_PLATFORM;
-    c4g_cell_status_t st;
+    c4g_status_t st;
     if (c->body > 40U) {
         n = C4G_CELL_AXES_ROBOT;
     }
     out->kind = C4G_CELL_REPLY_STA;
     st = take_flag(c, &out->moving);
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = take_pose(c, n, &out->pose);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = take_flag(c, &out->servo_on);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = take_int(c, 0, C4G_CELL_OVR_MAX, &out->override_pct);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = take_int(c, -C4G_CELL_INT_MAX, C4G_CELL_INT_MAX, &out->error);
     }
     return st;
 }
 
-static c4g_cell_status_t decode_reply_body(cursor_t *c, c4g_cell_reply_t *out)
+static c4g_status_t decode_reply_body(cursor_t *c, c4g_cell_reply_t *out)
 {
-    c4g_cell_status_t st = need(c, REPLY_HEAD_LEN, C4G_CELL_PART_HEAD, -1);
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = need(c, REPLY_HEAD_LEN, C4G_CELL_PART_HEAD, -1);
+    if (st == C4G_OK) {
         const char h0 = c->s[0];
         const char h1 = c->s[1];
         c->pos = REPLY_HEAD_LEN;
@@ -658,31 +658,31 @@ static c4g_cell_status_t decode_reply_body(cursor_t *c, c4g_cell_reply_t *out)
                 st = take_sta(c, out);
             }
         } else if ((h0 == 'O') || (h0 == 'E')) {
-            st = fail_at(c, C4G_CELL_ERR_HEAD, 1U, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_CELL_HEAD, 1U, C4G_CELL_PART_HEAD, -1);
         } else {
-            st = fail_at(c, C4G_CELL_ERR_HEAD, 0U, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_CELL_HEAD, 0U, C4G_CELL_PART_HEAD, -1);
         }
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         st = expect_end(c);
     }
     return st;
 }
 
-c4g_cell_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
+c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
                                         c4g_cell_diag_t *diag)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((line == NULL) || (out == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else {
         cursor_t c = {line, 0U, 0U, diag};
         (void)memset(out, 0, sizeof *out);
         st = check_terminator(&c, len);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = decode_reply_body(&c, out);
         }
-        if (st != C4G_CELL_OK) {
+        if (st != C4G_OK) {
             (void)memset(out, 0, sizeof *out);
         }
     }
@@ -709,11 +709,11 @@ static void w_char(writer_t *w, char ch)
     w->n++;
 }
 
-static c4g_cell_status_t w_field(writer_t *w, int32_t v, const field_fmt_t *f)
+static c4g_status_t w_field(writer_t *w, int32_t v, const field_fmt_t *f)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if (in_range(v, f) == 0) {
-        st = C4G_CELL_ERR_RANGE;
+        st = C4G_ERR_CELL_RANGE;
     } else {
         put_field(v, f, &w->b[w->n]);
         w->n += f->width;
@@ -721,36 +721,36 @@ static c4g_cell_status_t w_field(writer_t *w, int32_t v, const field_fmt_t *f)
     return st;
 }
 
-static c4g_cell_status_t w_pose(writer_t *w, const c4g_cell_pose_t *p)
+static c4g_status_t w_pose(writer_t *w, const c4g_cell_pose_t *p)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     uint32_t a = 0U;
     if ((p->n_axes != C4G_CELL_AXES_ROBOT) && (p->n_axes != C4G_CELL_AXES_PLATFORM)) {
-        st = C4G_CELL_ERR_AXES;
+        st = C4G_ERR_CELL_AXES;
     }
-    while ((st == C4G_CELL_OK) && (a < p->n_axes)) {
+    while ((st == C4G_OK) && (a < p->n_axes)) {
         st = w_field(w, p->v[a], axis_fmt(p->n_axes, a));
         a++;
     }
     return st;
 }
 
-static c4g_cell_status_t w_int(writer_t *w, int32_t v, int32_t lo, int32_t hi)
+static c4g_status_t w_int(writer_t *w, int32_t v, int32_t lo, int32_t hi)
 {
-    c4g_cell_status_t st = C4G_CELL_ERR_RANGE;
+    c4g_status_t st = C4G_ERR_CELL_RANGE;
     if ((v >= lo) && (v <= hi)) {
         st = w_field(w, v, &k_fmt_int);
     }
     return st;
 }
 
-static c4g_cell_status_t w_flush(const writer_t *w, c4g_cell_status_t st_in, char *buf, size_t cap,
+static c4g_status_t w_flush(const writer_t *w, c4g_status_t st_in, char *buf, size_t cap,
                                  size_t *out_len)
 {
-    c4g_cell_status_t st = st_in;
-    if (st == C4G_CELL_OK) {
+    c4g_status_t st = st_in;
+    if (st == C4G_OK) {
         if (cap < (w->n + CRLF_LEN)) {
-            st = C4G_CELL_ERR_CAPACITY;
+            st = C4G_ERR_CELL_CAPACITY;
         } else {
             (void)memcpy(buf, w->b, w->n);
             buf[w->n] = '\r';
@@ -761,10 +761,10 @@ static c4g_cell_status_t w_flush(const writer_t *w, c4g_cell_status_t st_in, cha
     return st;
 }
 
-static c4g_cell_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd_row_t *row,
+static c4g_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd_row_t *row,
                                            writer_t *w)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     switch (row->args) {
     case C4G_CELL_ARGS_INT:
         st = w_int(w, in->value, row->lo, row->hi);
@@ -783,10 +783,10 @@ static c4g_cell_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd
         break;
     case C4G_CELL_ARGS_CLEAR_POSE:
         st = w_field(w, in->clearance, &k_fmt_mm);
-        if ((st == C4G_CELL_OK) && (in->pose.n_axes != C4G_CELL_AXES_ROBOT)) {
-            st = C4G_CELL_ERR_AXES;
+        if ((st == C4G_OK) && (in->pose.n_axes != C4G_CELL_AXES_ROBOT)) {
+            st = C4G_ERR_CELL_AXES;
         }
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             st = w_pose(w, &in->pose);
         }
         break;
@@ -797,14 +797,14 @@ static c4g_cell_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd
     return st;
 }
 
-c4g_cell_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
                                         size_t *out_len)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((in == NULL) || (buf == NULL) || (out_len == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if ((uint32_t)in->cmd >= (uint32_t)C4G_CELL_CMD_COUNT_) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else {
         writer_t w;
         w.n = 0U;
@@ -815,12 +815,12 @@ c4g_cell_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, s
     return st;
 }
 
-c4g_cell_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
                                         size_t *out_len)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     if ((in == NULL) || (buf == NULL) || (out_len == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else {
         writer_t w;
         w.n = 0U;
@@ -836,16 +836,16 @@ c4g_cell_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, s
             w_chars(&w, "OK", REPLY_HEAD_LEN);
             w_char(&w, (in->moving != 0U) ? 'T' : 'F');
             st = w_pose(&w, &in->pose);
-            if (st == C4G_CELL_OK) {
+            if (st == C4G_OK) {
                 w_char(&w, (in->servo_on != 0U) ? 'T' : 'F');
                 st = w_int(&w, in->override_pct, 0, C4G_CELL_OVR_MAX);
             }
-            if (st == C4G_CELL_OK) {
+            if (st == C4G_OK) {
                 st = w_int(&w, in->error, -C4G_CELL_INT_MAX, C4G_CELL_INT_MAX);
             }
             break;
         default:
-            st = C4G_CELL_ERR_ARG;
+            st = C4G_ERR_CELL_ARG;
             break;
         }
         st = w_flush(&w, st, buf, cap, out_len);
@@ -898,42 +898,42 @@ static void dec_digit(dec_t *t, int32_t d)
     }
 }
 
-static c4g_cell_status_t dec_scan(const char *s, size_t len, size_t start, dec_t *t)
+static c4g_status_t dec_scan(const char *s, size_t len, size_t start, dec_t *t)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     size_t i = start;
-    while ((st == C4G_CELL_OK) && (i < len)) {
+    while ((st == C4G_OK) && (i < len)) {
         const char ch = s[i];
         if ((ch == '.') && (t->point == 0U)) {
             t->point = 1U;
         } else if (is_digit(ch) == 0) {
-            st = C4G_CELL_ERR_DIGIT;
+            st = C4G_ERR_CELL_DIGIT;
         } else {
             dec_digit(t, (int32_t)ch - (int32_t)'0');
         }
         i++;
     }
-    if ((st == C4G_CELL_OK) && (t->digits == 0U)) {
-        st = C4G_CELL_ERR_DIGIT;
+    if ((st == C4G_OK) && (t->digits == 0U)) {
+        st = C4G_ERR_CELL_DIGIT;
     }
-    while ((st == C4G_CELL_OK) && (t->frac < t->places)) {
+    while ((st == C4G_OK) && (t->frac < t->places)) {
         t->mag = dec_push(t->mag, 0, t->max);
         t->frac++;
     }
     return st;
 }
 
-c4g_cell_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
                                      int32_t *out)
 {
-    c4g_cell_status_t st = C4G_CELL_OK;
+    c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((s == NULL) || (out == NULL)) {
-        st = C4G_CELL_ERR_NULL;
+        st = C4G_ERR_CELL_NULL;
     } else if (f == NULL) {
-        st = C4G_CELL_ERR_ARG;
+        st = C4G_ERR_CELL_ARG;
     } else if (len == 0U) {
-        st = C4G_CELL_ERR_LENGTH;
+        st = C4G_ERR_CELL_LENGTH;
     } else {
         dec_t t;
         size_t start = 0U;
@@ -952,10 +952,10 @@ c4g_cell_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t 
             /* unsigned: starts with a digit or '.' */
         }
         st = dec_scan(s, len, start, &t);
-        if (st == C4G_CELL_OK) {
+        if (st == C4G_OK) {
             const int32_t mag = t.mag + (int32_t)t.round_up;
             if ((t.over != 0U) || (mag > t.max)) {
-                st = C4G_CELL_ERR_RANGE;
+                st = C4G_ERR_CELL_RANGE;
             } else {
                 *out = (neg != 0U) ? -mag : mag;
             }

@@ -16,38 +16,38 @@
 #define GUARD 0xA5
 
 /* Decode from an exact-size heap copy so ASan catches any over-read. */
-static c4g_cell_status_t dec_instr(const char *s, c4g_cell_instr_t *in, c4g_cell_diag_t *d)
+static c4g_status_t dec_instr(const char *s, c4g_cell_instr_t *in, c4g_cell_diag_t *d)
 {
     size_t n = strlen(s);
     char *copy = malloc(n ? n : 1);
     memcpy(copy, s, n);
-    c4g_cell_status_t st = c4g_cell_instr_decode(copy, n, in, d);
+    c4g_status_t st = c4g_cell_instr_decode(copy, n, in, d);
     free(copy);
     return st;
 }
 
-static c4g_cell_status_t dec_reply(const char *s, c4g_cell_reply_t *r, c4g_cell_diag_t *d)
+static c4g_status_t dec_reply(const char *s, c4g_cell_reply_t *r, c4g_cell_diag_t *d)
 {
     size_t n = strlen(s);
     char *copy = malloc(n ? n : 1);
     memcpy(copy, s, n);
-    c4g_cell_status_t st = c4g_cell_reply_decode(copy, n, r, d);
+    c4g_status_t st = c4g_cell_reply_decode(copy, n, r, d);
     free(copy);
     return st;
 }
 
 /* Encode into the middle of a guard-filled buffer; check the guards; NUL-terminate a copy. */
-static c4g_cell_status_t enc_instr(const c4g_cell_instr_t *in, char *out)
+static c4g_status_t enc_instr(const c4g_cell_instr_t *in, char *out)
 {
     char buf[128 + 2 * 16];
     size_t len = 0;
     memset(buf, GUARD, sizeof buf);
-    c4g_cell_status_t st = c4g_cell_instr_encode(in, buf + 16, 128, &len);
+    c4g_status_t st = c4g_cell_instr_encode(in, buf + 16, 128, &len);
     for (size_t i = 0; i < 16; i++) {
         assert_int_equal((unsigned char)buf[i], GUARD);
         assert_int_equal((unsigned char)buf[16 + 128 + i], GUARD);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         memcpy(out, buf + 16, len);
         out[len] = '\0';
     } else {
@@ -59,17 +59,17 @@ static c4g_cell_status_t enc_instr(const c4g_cell_instr_t *in, char *out)
     return st;
 }
 
-static c4g_cell_status_t enc_reply(const c4g_cell_reply_t *r, char *out)
+static c4g_status_t enc_reply(const c4g_cell_reply_t *r, char *out)
 {
     char buf[128 + 2 * 16];
     size_t len = 0;
     memset(buf, GUARD, sizeof buf);
-    c4g_cell_status_t st = c4g_cell_reply_encode(r, buf + 16, 128, &len);
+    c4g_status_t st = c4g_cell_reply_encode(r, buf + 16, 128, &len);
     for (size_t i = 0; i < 16; i++) {
         assert_int_equal((unsigned char)buf[i], GUARD);
         assert_int_equal((unsigned char)buf[16 + 128 + i], GUARD);
     }
-    if (st == C4G_CELL_OK) {
+    if (st == C4G_OK) {
         memcpy(out, buf + 16, len);
         out[len] = '\0';
     } else {
@@ -88,7 +88,7 @@ static void test_spec_sta_robot_reply(void **state)
     c4g_cell_diag_t d;
     assert_int_equal(strlen(line), 50);
     assert_int_equal(strlen(line), C4G_CELL_LEN_STA_ROBOT);
-    assert_int_equal(dec_reply(line, &r, &d), C4G_CELL_OK);
+    assert_int_equal(dec_reply(line, &r, &d), C4G_OK);
     assert_int_equal(r.kind, C4G_CELL_REPLY_STA);
     assert_int_equal(r.moving, 0);
     assert_int_equal(r.pose.n_axes, 4);
@@ -100,12 +100,12 @@ static void test_spec_sta_robot_reply(void **state)
     assert_int_equal(r.override_pct, 80);
     assert_int_equal(r.error, 0);
     char out[128];
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_OK);
+    assert_int_equal(enc_reply(&r, out), C4G_OK);
     assert_string_equal(out, line);
     double v;
-    assert_int_equal(c4g_cell_to_double(r.pose.v[2], C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_to_double(r.pose.v[2], C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_true(fabs(v - 5.999) < 1e-12);
-    assert_int_equal(c4g_cell_to_double(r.pose.v[3], C4G_CELL_UNIT_RAD, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_to_double(r.pose.v[3], C4G_CELL_UNIT_RAD, &v), C4G_OK);
     assert_true(fabs(v + 1.2322) < 1e-12);
 }
 
@@ -115,27 +115,27 @@ static void test_spec_instructions(void **state)
     c4g_cell_instr_t in;
     char out[128];
     /* STA CR LF: 5 chars */
-    assert_int_equal(dec_instr("STA\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("STA\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.cmd, C4G_CELL_CMD_STA);
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, "STA\r\n");
     /* SRVON CR LF to the platform: 7 chars */
-    assert_int_equal(dec_instr("SRVON\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("SRVON\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.cmd, C4G_CELL_CMD_SRVON);
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, "SRVON\r\n");
     assert_int_equal(strlen(out), C4G_CELL_LEN_SRV);
     /* OVR+00050: 11 chars, 50 % */
-    assert_int_equal(dec_instr("OVR+00050\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("OVR+00050\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.cmd, C4G_CELL_CMD_OVR);
     assert_int_equal(in.value, 50);
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, "OVR+00050\r\n");
     assert_int_equal(strlen(out), C4G_CELL_LEN_OVR);
     /* MOVA robot: 38 chars */
     const char *mov = "MOVA+010.000-002.000+005.999-01.2322\r\n";
     assert_int_equal(strlen(mov), 38);
-    assert_int_equal(dec_instr(mov, &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr(mov, &in, NULL), C4G_OK);
     assert_int_equal(in.cmd, C4G_CELL_CMD_MOV);
     assert_int_equal(in.relative, 0);
     assert_int_equal(in.pose.n_axes, 4);
@@ -143,16 +143,16 @@ static void test_spec_instructions(void **state)
     assert_int_equal(in.pose.v[1], -2000);
     assert_int_equal(in.pose.v[2], 5999);
     assert_int_equal(in.pose.v[3], -12322);
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, mov);
     /* STP to the platform */
-    assert_int_equal(dec_instr("STP\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("STP\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.cmd, C4G_CELL_CMD_STP);
     /* OK reply: 4 chars */
     c4g_cell_reply_t r;
-    assert_int_equal(dec_reply("OK\r\n", &r, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_reply("OK\r\n", &r, NULL), C4G_OK);
     assert_int_equal(r.kind, C4G_CELL_REPLY_OK);
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_OK);
+    assert_int_equal(enc_reply(&r, out), C4G_OK);
     assert_string_equal(out, "OK\r\n");
 }
 
@@ -186,34 +186,34 @@ static void test_every_instruction(void **state)
         c4g_cell_instr_t in;
         char out[128];
         assert_int_equal(strlen(v[i].line), v[i].len);
-        assert_int_equal(dec_instr(v[i].line, &in, NULL), C4G_CELL_OK);
+        assert_int_equal(dec_instr(v[i].line, &in, NULL), C4G_OK);
         assert_int_equal(in.cmd, v[i].cmd);
-        assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+        assert_int_equal(enc_instr(&in, out), C4G_OK);
         assert_string_equal(out, v[i].line);
         /* every truncation is rejected */
         for (size_t n = 0; n < v[i].len; n++) {
             char *copy = malloc(n ? n : 1);
             memcpy(copy, v[i].line, n);
-            assert_int_not_equal(c4g_cell_instr_decode(copy, n, &in, NULL), C4G_CELL_OK);
+            assert_int_not_equal(c4g_cell_instr_decode(copy, n, &in, NULL), C4G_OK);
             free(copy);
         }
     }
     c4g_cell_instr_t in;
-    assert_int_equal(dec_instr("HND+00001CLOSE\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("HND+00001CLOSE\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.value, 1);
     assert_int_equal(in.open, 0);
-    assert_int_equal(dec_instr("HND+00000OPEN\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("HND+00000OPEN\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.value, 0);
     assert_int_equal(in.open, 1);
-    assert_int_equal(dec_instr("MOVA+01.5708-00.7854\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("MOVA+01.5708-00.7854\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.pose.n_axes, 2);
     assert_int_equal(in.pose.v[0], 15708);
     assert_int_equal(in.pose.v[1], -7854);
     assert_int_equal(dec_instr("PNP+050.000+010.000-002.000+005.999-01.2322\r\n", &in, NULL),
-                     C4G_CELL_OK);
+                     C4G_OK);
     assert_int_equal(in.clearance, 50000);
     assert_int_equal(in.pose.v[3], -12322);
-    assert_int_equal(dec_instr("ACQ+00002\r\n", &in, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_instr("ACQ+00002\r\n", &in, NULL), C4G_OK);
     assert_int_equal(in.value, 2);
 }
 
@@ -226,17 +226,17 @@ static void test_every_reply(void **state)
     static const char *ers[] = {"ER+00001\r\n", "ER+00002\r\n", "ER+00003\r\n", "ER+00104\r\n"};
     static const int32_t codes[] = {1, 2, 3, 104};
     for (size_t i = 0; i < 4; i++) {
-        assert_int_equal(dec_reply(ers[i], &r, NULL), C4G_CELL_OK);
+        assert_int_equal(dec_reply(ers[i], &r, NULL), C4G_OK);
         assert_int_equal(r.kind, C4G_CELL_REPLY_ER);
         assert_int_equal(r.error, codes[i]);
-        assert_int_equal(enc_reply(&r, out), C4G_CELL_OK);
+        assert_int_equal(enc_reply(&r, out), C4G_OK);
         assert_string_equal(out, ers[i]);
         assert_int_equal(strlen(out), C4G_CELL_LEN_ER);
     }
     /* platform STA: 34 chars, A and B in the angle format */
     const char *p = "OKT+01.5708-00.0001F+00100+00003\r\n";
     assert_int_equal(strlen(p), C4G_CELL_LEN_STA_PLATFORM);
-    assert_int_equal(dec_reply(p, &r, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_reply(p, &r, NULL), C4G_OK);
     assert_int_equal(r.kind, C4G_CELL_REPLY_STA);
     assert_int_equal(r.moving, 1);
     assert_int_equal(r.pose.n_axes, 2);
@@ -245,19 +245,19 @@ static void test_every_reply(void **state)
     assert_int_equal(r.servo_on, 0);
     assert_int_equal(r.override_pct, 100);
     assert_int_equal(r.error, 3);
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_OK);
+    assert_int_equal(enc_reply(&r, out), C4G_OK);
     assert_string_equal(out, p);
     for (size_t n = 0; n < strlen(p); n++) {
         char *copy = malloc(n ? n : 1);
         memcpy(copy, p, n);
-        assert_int_not_equal(c4g_cell_reply_decode(copy, n, &r, NULL), C4G_CELL_OK);
+        assert_int_not_equal(c4g_cell_reply_decode(copy, n, &r, NULL), C4G_OK);
         free(copy);
     }
 }
 
 /* ---------------------------------------------------------------- strictness */
 
-static void expect_instr_error(const char *line, c4g_cell_status_t st, uint32_t column,
+static void expect_instr_error(const char *line, c4g_status_t st, uint32_t column,
                                c4g_cell_part_t part)
 {
     c4g_cell_instr_t in;
@@ -271,7 +271,7 @@ static void expect_instr_error(const char *line, c4g_cell_status_t st, uint32_t 
     assert_int_equal(in.value, 0);
 }
 
-static void expect_reply_error(const char *line, c4g_cell_status_t st, uint32_t column)
+static void expect_reply_error(const char *line, c4g_status_t st, uint32_t column)
 {
     c4g_cell_reply_t r;
     c4g_cell_diag_t d;
@@ -284,70 +284,70 @@ static void expect_reply_error(const char *line, c4g_cell_status_t st, uint32_t 
 static void test_instr_strict(void **state)
 {
     (void)state;
-    expect_instr_error("", C4G_CELL_ERR_LENGTH, 1, C4G_CELL_PART_LENGTH);
-    expect_instr_error("STA", C4G_CELL_ERR_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
-    expect_instr_error("STA\n", C4G_CELL_ERR_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
-    expect_instr_error("STA\r", C4G_CELL_ERR_TERMINATOR, 5, C4G_CELL_PART_TERMINATOR);
-    expect_instr_error("ST\rA\r\n", C4G_CELL_ERR_TERMINATOR, 3, C4G_CELL_PART_TERMINATOR);
-    expect_instr_error("STA\r\n\r\n", C4G_CELL_ERR_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
-    expect_instr_error("\r\n", C4G_CELL_ERR_LENGTH, 1, C4G_CELL_PART_HEAD);
-    expect_instr_error("ST\r\n", C4G_CELL_ERR_LENGTH, 3, C4G_CELL_PART_HEAD);
-    expect_instr_error("sta\r\n", C4G_CELL_ERR_HEAD, 1, C4G_CELL_PART_HEAD);
-    expect_instr_error("XYZ\r\n", C4G_CELL_ERR_HEAD, 1, C4G_CELL_PART_HEAD);
-    expect_instr_error("STAX\r\n", C4G_CELL_ERR_LENGTH, 4, C4G_CELL_PART_LENGTH);
-    expect_instr_error("SRVXN\r\n", C4G_CELL_ERR_HEAD, 4, C4G_CELL_PART_HEAD);
-    expect_instr_error("SRVOX\r\n", C4G_CELL_ERR_HEAD, 5, C4G_CELL_PART_HEAD);
-    expect_instr_error("SRVO\r\n", C4G_CELL_ERR_LENGTH, 5, C4G_CELL_PART_HEAD);
-    expect_instr_error("SRV\r\n", C4G_CELL_ERR_LENGTH, 4, C4G_CELL_PART_HEAD);
-    expect_instr_error("SRVONN\r\n", C4G_CELL_ERR_LENGTH, 6, C4G_CELL_PART_LENGTH);
+    expect_instr_error("", C4G_ERR_CELL_LENGTH, 1, C4G_CELL_PART_LENGTH);
+    expect_instr_error("STA", C4G_ERR_CELL_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
+    expect_instr_error("STA\n", C4G_ERR_CELL_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
+    expect_instr_error("STA\r", C4G_ERR_CELL_TERMINATOR, 5, C4G_CELL_PART_TERMINATOR);
+    expect_instr_error("ST\rA\r\n", C4G_ERR_CELL_TERMINATOR, 3, C4G_CELL_PART_TERMINATOR);
+    expect_instr_error("STA\r\n\r\n", C4G_ERR_CELL_TERMINATOR, 4, C4G_CELL_PART_TERMINATOR);
+    expect_instr_error("\r\n", C4G_ERR_CELL_LENGTH, 1, C4G_CELL_PART_HEAD);
+    expect_instr_error("ST\r\n", C4G_ERR_CELL_LENGTH, 3, C4G_CELL_PART_HEAD);
+    expect_instr_error("sta\r\n", C4G_ERR_CELL_HEAD, 1, C4G_CELL_PART_HEAD);
+    expect_instr_error("XYZ\r\n", C4G_ERR_CELL_HEAD, 1, C4G_CELL_PART_HEAD);
+    expect_instr_error("STAX\r\n", C4G_ERR_CELL_LENGTH, 4, C4G_CELL_PART_LENGTH);
+    expect_instr_error("SRVXN\r\n", C4G_ERR_CELL_HEAD, 4, C4G_CELL_PART_HEAD);
+    expect_instr_error("SRVOX\r\n", C4G_ERR_CELL_HEAD, 5, C4G_CELL_PART_HEAD);
+    expect_instr_error("SRVO\r\n", C4G_ERR_CELL_LENGTH, 5, C4G_CELL_PART_HEAD);
+    expect_instr_error("SRV\r\n", C4G_ERR_CELL_LENGTH, 4, C4G_CELL_PART_HEAD);
+    expect_instr_error("SRVONN\r\n", C4G_ERR_CELL_LENGTH, 6, C4G_CELL_PART_LENGTH);
     /* integers: sign, digits, range */
-    expect_instr_error("OVR 00050\r\n", C4G_CELL_ERR_SIGN, 4, C4G_CELL_PART_VALUE);
-    expect_instr_error("OVR+0005x\r\n", C4G_CELL_ERR_DIGIT, 9, C4G_CELL_PART_VALUE);
-    expect_instr_error("OVR+00101\r\n", C4G_CELL_ERR_RANGE, 4, C4G_CELL_PART_VALUE);
-    expect_instr_error("OVR-00001\r\n", C4G_CELL_ERR_RANGE, 4, C4G_CELL_PART_VALUE);
-    expect_instr_error("OVR+0050\r\n", C4G_CELL_ERR_LENGTH, 9, C4G_CELL_PART_VALUE);
-    expect_instr_error("OVR+000500\r\n", C4G_CELL_ERR_LENGTH, 10, C4G_CELL_PART_LENGTH);
-    expect_instr_error("ACQ-00001\r\n", C4G_CELL_ERR_RANGE, 4, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR 00050\r\n", C4G_ERR_CELL_SIGN, 4, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR+0005x\r\n", C4G_ERR_CELL_DIGIT, 9, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR+00101\r\n", C4G_ERR_CELL_RANGE, 4, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR-00001\r\n", C4G_ERR_CELL_RANGE, 4, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR+0050\r\n", C4G_ERR_CELL_LENGTH, 9, C4G_CELL_PART_VALUE);
+    expect_instr_error("OVR+000500\r\n", C4G_ERR_CELL_LENGTH, 10, C4G_CELL_PART_LENGTH);
+    expect_instr_error("ACQ-00001\r\n", C4G_ERR_CELL_RANGE, 4, C4G_CELL_PART_VALUE);
     /* MOV: mode, sign, point, digit, per axis column */
-    expect_instr_error("MOVX+010.000-002.000+005.999-01.2322\r\n", C4G_CELL_ERR_MODE, 4,
+    expect_instr_error("MOVX+010.000-002.000+005.999-01.2322\r\n", C4G_ERR_CELL_MODE, 4,
                        C4G_CELL_PART_MODE);
-    expect_instr_error("MOV\r\n", C4G_CELL_ERR_LENGTH, 4, C4G_CELL_PART_MODE);
-    expect_instr_error("MOVA*010.000-002.000+005.999-01.2322\r\n", C4G_CELL_ERR_SIGN, 5,
+    expect_instr_error("MOV\r\n", C4G_ERR_CELL_LENGTH, 4, C4G_CELL_PART_MODE);
+    expect_instr_error("MOVA*010.000-002.000+005.999-01.2322\r\n", C4G_ERR_CELL_SIGN, 5,
                        C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+010,000-002.000+005.999-01.2322\r\n", C4G_CELL_ERR_POINT, 9,
+    expect_instr_error("MOVA+010,000-002.000+005.999-01.2322\r\n", C4G_ERR_CELL_POINT, 9,
                        C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+010.000-002.000+005.999-012322.\r\n", C4G_CELL_ERR_POINT, 32,
+    expect_instr_error("MOVA+010.000-002.000+005.999-012322.\r\n", C4G_ERR_CELL_POINT, 32,
                        C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+010.000-002.000+005.9a9-01.2322\r\n", C4G_CELL_ERR_DIGIT, 27,
+    expect_instr_error("MOVA+010.000-002.000+005.9a9-01.2322\r\n", C4G_ERR_CELL_DIGIT, 27,
                        C4G_CELL_PART_AXIS);
     /* C in the length format is wrong: the point is one column early */
-    expect_instr_error("MOVA+010.000-002.000+005.999-001.232\r\n", C4G_CELL_ERR_POINT, 32,
+    expect_instr_error("MOVA+010.000-002.000+005.999-001.232\r\n", C4G_ERR_CELL_POINT, 32,
                        C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+010.000-002.000+005.999-01.232\r\n", C4G_CELL_ERR_LENGTH, 36,
+    expect_instr_error("MOVA+010.000-002.000+005.999-01.232\r\n", C4G_ERR_CELL_LENGTH, 36,
                        C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+010.000-002.000+005.999-01.23222\r\n", C4G_CELL_ERR_LENGTH, 37,
+    expect_instr_error("MOVA+010.000-002.000+005.999-01.23222\r\n", C4G_ERR_CELL_LENGTH, 37,
                        C4G_CELL_PART_LENGTH);
-    expect_instr_error("MOVA+01.5708-00.785\r\n", C4G_CELL_ERR_LENGTH, 20, C4G_CELL_PART_AXIS);
-    expect_instr_error("MOVA+01.5708+001.000\r\n", C4G_CELL_ERR_POINT, 16, C4G_CELL_PART_AXIS);
+    expect_instr_error("MOVA+01.5708-00.785\r\n", C4G_ERR_CELL_LENGTH, 20, C4G_CELL_PART_AXIS);
+    expect_instr_error("MOVA+01.5708+001.000\r\n", C4G_ERR_CELL_POINT, 16, C4G_CELL_PART_AXIS);
     /* HND: action */
-    expect_instr_error("HND+00000OPEX\r\n", C4G_CELL_ERR_ACTION, 13, C4G_CELL_PART_ACTION);
-    expect_instr_error("HND+00000CLOSED\r\n", C4G_CELL_ERR_LENGTH, 15, C4G_CELL_PART_LENGTH);
-    expect_instr_error("HND+00000CLOS\r\n", C4G_CELL_ERR_LENGTH, 14, C4G_CELL_PART_ACTION);
-    expect_instr_error("HND+00000XOPEN\r\n", C4G_CELL_ERR_ACTION, 10, C4G_CELL_PART_ACTION);
-    expect_instr_error("HND+00000\r\n", C4G_CELL_ERR_LENGTH, 10, C4G_CELL_PART_ACTION);
-    expect_instr_error("HND+0000xOPEN\r\n", C4G_CELL_ERR_DIGIT, 9, C4G_CELL_PART_VALUE);
+    expect_instr_error("HND+00000OPEX\r\n", C4G_ERR_CELL_ACTION, 13, C4G_CELL_PART_ACTION);
+    expect_instr_error("HND+00000CLOSED\r\n", C4G_ERR_CELL_LENGTH, 15, C4G_CELL_PART_LENGTH);
+    expect_instr_error("HND+00000CLOS\r\n", C4G_ERR_CELL_LENGTH, 14, C4G_CELL_PART_ACTION);
+    expect_instr_error("HND+00000XOPEN\r\n", C4G_ERR_CELL_ACTION, 10, C4G_CELL_PART_ACTION);
+    expect_instr_error("HND+00000\r\n", C4G_ERR_CELL_LENGTH, 10, C4G_CELL_PART_ACTION);
+    expect_instr_error("HND+0000xOPEN\r\n", C4G_ERR_CELL_DIGIT, 9, C4G_CELL_PART_VALUE);
     /* PNP */
-    expect_instr_error("PNP+050.00x+010.000-002.000+005.999-01.2322\r\n", C4G_CELL_ERR_DIGIT, 11,
+    expect_instr_error("PNP+050.00x+010.000-002.000+005.999-01.2322\r\n", C4G_ERR_CELL_DIGIT, 11,
                        C4G_CELL_PART_VALUE);
-    expect_instr_error("PNP+050.000+010.000-002.000+005.999+01.2322X\r\n", C4G_CELL_ERR_LENGTH, 44,
+    expect_instr_error("PNP+050.000+010.000-002.000+005.999+01.2322X\r\n", C4G_ERR_CELL_LENGTH, 44,
                        C4G_CELL_PART_LENGTH);
 
     /* diag may be NULL */
     c4g_cell_instr_t in;
-    assert_int_equal(dec_instr("XYZ\r\n", &in, NULL), C4G_CELL_ERR_HEAD);
+    assert_int_equal(dec_instr("XYZ\r\n", &in, NULL), C4G_ERR_CELL_HEAD);
     c4g_cell_diag_t d;
     assert_int_equal(dec_instr("MOVA+010.000-002.000+005.999-01.23x2\r\n", &in, &d),
-                     C4G_CELL_ERR_DIGIT);
+                     C4G_ERR_CELL_DIGIT);
     assert_int_equal(d.axis, 3);
     assert_int_equal(d.column, 35);
 }
@@ -355,30 +355,30 @@ static void test_instr_strict(void **state)
 static void test_reply_strict(void **state)
 {
     (void)state;
-    expect_reply_error("", C4G_CELL_ERR_LENGTH, 1);
-    expect_reply_error("OK", C4G_CELL_ERR_TERMINATOR, 3);
-    expect_reply_error("O\r\n", C4G_CELL_ERR_LENGTH, 2);
-    expect_reply_error("NO\r\n", C4G_CELL_ERR_HEAD, 1);
-    expect_reply_error("OX\r\n", C4G_CELL_ERR_HEAD, 2);
-    expect_reply_error("EX+00001\r\n", C4G_CELL_ERR_HEAD, 2);
-    expect_reply_error("ok\r\n", C4G_CELL_ERR_HEAD, 1);
-    expect_reply_error("ER+0001\r\n", C4G_CELL_ERR_LENGTH, 8);
-    expect_reply_error("ER+000011\r\n", C4G_CELL_ERR_LENGTH, 9);
-    expect_reply_error("ER00001\r\n", C4G_CELL_ERR_LENGTH, 8);
-    expect_reply_error("ERX00001\r\n", C4G_CELL_ERR_SIGN, 3);
-    expect_reply_error("OKX+010.000-002.000+005.999-01.2322T+00080+00000\r\n", C4G_CELL_ERR_FLAG, 3);
-    expect_reply_error("OKF+010.000-002.000+005.999-01.2322Y+00080+00000\r\n", C4G_CELL_ERR_FLAG, 36);
-    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00180+00000\r\n", C4G_CELL_ERR_RANGE, 37);
-    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00080+0000x\r\n", C4G_CELL_ERR_DIGIT, 48);
-    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00080+00000 \r\n", C4G_CELL_ERR_LENGTH, 49);
+    expect_reply_error("", C4G_ERR_CELL_LENGTH, 1);
+    expect_reply_error("OK", C4G_ERR_CELL_TERMINATOR, 3);
+    expect_reply_error("O\r\n", C4G_ERR_CELL_LENGTH, 2);
+    expect_reply_error("NO\r\n", C4G_ERR_CELL_HEAD, 1);
+    expect_reply_error("OX\r\n", C4G_ERR_CELL_HEAD, 2);
+    expect_reply_error("EX+00001\r\n", C4G_ERR_CELL_HEAD, 2);
+    expect_reply_error("ok\r\n", C4G_ERR_CELL_HEAD, 1);
+    expect_reply_error("ER+0001\r\n", C4G_ERR_CELL_LENGTH, 8);
+    expect_reply_error("ER+000011\r\n", C4G_ERR_CELL_LENGTH, 9);
+    expect_reply_error("ER00001\r\n", C4G_ERR_CELL_LENGTH, 8);
+    expect_reply_error("ERX00001\r\n", C4G_ERR_CELL_SIGN, 3);
+    expect_reply_error("OKX+010.000-002.000+005.999-01.2322T+00080+00000\r\n", C4G_ERR_CELL_FLAG, 3);
+    expect_reply_error("OKF+010.000-002.000+005.999-01.2322Y+00080+00000\r\n", C4G_ERR_CELL_FLAG, 36);
+    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00180+00000\r\n", C4G_ERR_CELL_RANGE, 37);
+    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00080+0000x\r\n", C4G_ERR_CELL_DIGIT, 48);
+    expect_reply_error("OKF+010.000-002.000+005.999-01.2322T+00080+00000 \r\n", C4G_ERR_CELL_LENGTH, 49);
     /* platform STA sent with length-format angles */
-    expect_reply_error("OKT+001.570-00.0001F+00100+00003\r\n", C4G_CELL_ERR_POINT, 7);
-    expect_reply_error("OKT+01.5708-00.0001F+00100+0000\r\n", C4G_CELL_ERR_LENGTH, 32);
+    expect_reply_error("OKT+001.570-00.0001F+00100+00003\r\n", C4G_ERR_CELL_POINT, 7);
+    expect_reply_error("OKT+01.5708-00.0001F+00100+0000\r\n", C4G_ERR_CELL_LENGTH, 32);
     /* negative error numbers parse (integers are signed); '-00000' is zero */
     c4g_cell_reply_t r;
-    assert_int_equal(dec_reply("ER-00001\r\n", &r, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_reply("ER-00001\r\n", &r, NULL), C4G_OK);
     assert_int_equal(r.error, -1);
-    assert_int_equal(dec_reply("ER-00000\r\n", &r, NULL), C4G_CELL_OK);
+    assert_int_equal(dec_reply("ER-00000\r\n", &r, NULL), C4G_OK);
     assert_int_equal(r.error, 0);
 }
 
@@ -391,52 +391,52 @@ static void test_fields(void **state)
     size_t n = 0;
     int32_t v = 0;
     c4g_cell_diag_t d;
-    assert_int_equal(c4g_cell_field_encode(0, C4G_CELL_UNIT_MM, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(0, C4G_CELL_UNIT_MM, b, sizeof b, &n), C4G_OK);
     assert_int_equal(n, 8);
     assert_memory_equal(b, "+000.000", 8);
-    assert_int_equal(c4g_cell_field_encode(-999999, C4G_CELL_UNIT_MM, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(-999999, C4G_CELL_UNIT_MM, b, sizeof b, &n), C4G_OK);
     assert_memory_equal(b, "-999.999", 8);
-    assert_int_equal(c4g_cell_field_encode(999999, C4G_CELL_UNIT_RAD, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(999999, C4G_CELL_UNIT_RAD, b, sizeof b, &n), C4G_OK);
     assert_memory_equal(b, "+99.9999", 8);
-    assert_int_equal(c4g_cell_field_encode(-1, C4G_CELL_UNIT_RAD, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(-1, C4G_CELL_UNIT_RAD, b, sizeof b, &n), C4G_OK);
     assert_memory_equal(b, "-00.0001", 8);
-    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_INT, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_INT, b, sizeof b, &n), C4G_OK);
     assert_int_equal(n, 6);
     assert_memory_equal(b, "+00001", 6);
-    assert_int_equal(c4g_cell_field_encode(-99999, C4G_CELL_UNIT_INT, b, sizeof b, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_encode(-99999, C4G_CELL_UNIT_INT, b, sizeof b, &n), C4G_OK);
     assert_memory_equal(b, "-99999", 6);
     /* out of range is an error, never clamped */
     assert_int_equal(c4g_cell_field_encode(1000000, C4G_CELL_UNIT_MM, b, sizeof b, &n),
-                     C4G_CELL_ERR_RANGE);
+                     C4G_ERR_CELL_RANGE);
     assert_int_equal(c4g_cell_field_encode(-1000000, C4G_CELL_UNIT_RAD, b, sizeof b, &n),
-                     C4G_CELL_ERR_RANGE);
+                     C4G_ERR_CELL_RANGE);
     assert_int_equal(c4g_cell_field_encode(100000, C4G_CELL_UNIT_INT, b, sizeof b, &n),
-                     C4G_CELL_ERR_RANGE);
-    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, b, 7, &n), C4G_CELL_ERR_CAPACITY);
-    assert_int_equal(c4g_cell_field_encode(1, (c4g_cell_unit_t)7, b, 8, &n), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, NULL, 8, &n), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, b, 8, NULL), C4G_CELL_ERR_NULL);
+                     C4G_ERR_CELL_RANGE);
+    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, b, 7, &n), C4G_ERR_CELL_CAPACITY);
+    assert_int_equal(c4g_cell_field_encode(1, (c4g_cell_unit_t)7, b, 8, &n), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, NULL, 8, &n), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_field_encode(1, C4G_CELL_UNIT_MM, b, 8, NULL), C4G_ERR_CELL_NULL);
     /* decode */
-    assert_int_equal(c4g_cell_field_decode("-01.2322", 8, C4G_CELL_UNIT_RAD, &v, &d), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_decode("-01.2322", 8, C4G_CELL_UNIT_RAD, &v, &d), C4G_OK);
     assert_int_equal(v, -12322);
-    assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_MM, &v, &d), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_MM, &v, &d), C4G_OK);
     assert_int_equal(v, 5999);
-    assert_int_equal(c4g_cell_field_decode("+00080", 6, C4G_CELL_UNIT_INT, &v, &d), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_field_decode("+00080", 6, C4G_CELL_UNIT_INT, &v, &d), C4G_OK);
     assert_int_equal(v, 80);
     assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_RAD, &v, &d),
-                     C4G_CELL_ERR_POINT);
+                     C4G_ERR_CELL_POINT);
     assert_int_equal(d.column, 4);
     assert_int_equal(c4g_cell_field_decode("+005.99", 7, C4G_CELL_UNIT_MM, &v, &d),
-                     C4G_CELL_ERR_LENGTH);
+                     C4G_ERR_CELL_LENGTH);
     assert_int_equal(d.column, 8);
     assert_int_equal(c4g_cell_field_decode("x005.999", 8, C4G_CELL_UNIT_MM, &v, &d),
-                     C4G_CELL_ERR_SIGN);
+                     C4G_ERR_CELL_SIGN);
     assert_int_equal(d.column, 1);
-    assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_MM, &v, NULL), C4G_CELL_OK);
-    assert_int_equal(c4g_cell_field_decode("+0", 2, (c4g_cell_unit_t)9, &v, &d), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_field_decode(NULL, 8, C4G_CELL_UNIT_MM, &v, &d), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_MM, &v, NULL), C4G_OK);
+    assert_int_equal(c4g_cell_field_decode("+0", 2, (c4g_cell_unit_t)9, &v, &d), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_field_decode(NULL, 8, C4G_CELL_UNIT_MM, &v, &d), C4G_ERR_CELL_NULL);
     assert_int_equal(c4g_cell_field_decode("+005.999", 8, C4G_CELL_UNIT_MM, NULL, &d),
-                     C4G_CELL_ERR_NULL);
+                     C4G_ERR_CELL_NULL);
 }
 
 static void test_rounding(void **state)
@@ -444,56 +444,56 @@ static void test_rounding(void **state)
     (void)state;
     int32_t v = 0;
     /* nearest count, halves away from zero */
-    assert_int_equal(c4g_cell_from_double(5.999, C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(5.999, C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_int_equal(v, 5999);
-    assert_int_equal(c4g_cell_from_double(-1.2322, C4G_CELL_UNIT_RAD, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(-1.2322, C4G_CELL_UNIT_RAD, &v), C4G_OK);
     assert_int_equal(v, -12322);
-    assert_int_equal(c4g_cell_from_double(0.0005, C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(0.0005, C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_int_equal(v, 1);
-    assert_int_equal(c4g_cell_from_double(-0.0005, C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(-0.0005, C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_int_equal(v, -1);
-    assert_int_equal(c4g_cell_from_double(0.00049, C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(0.00049, C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_int_equal(v, 0);
-    assert_int_equal(c4g_cell_from_double(-0.00004, C4G_CELL_UNIT_RAD, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(-0.00004, C4G_CELL_UNIT_RAD, &v), C4G_OK);
     assert_int_equal(v, 0);
-    assert_int_equal(c4g_cell_from_double(2.5, C4G_CELL_UNIT_INT, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(2.5, C4G_CELL_UNIT_INT, &v), C4G_OK);
     assert_int_equal(v, 3);
-    assert_int_equal(c4g_cell_from_double(-2.5, C4G_CELL_UNIT_INT, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(-2.5, C4G_CELL_UNIT_INT, &v), C4G_OK);
     assert_int_equal(v, -3);
-    assert_int_equal(c4g_cell_from_double(999.999, C4G_CELL_UNIT_MM, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(999.999, C4G_CELL_UNIT_MM, &v), C4G_OK);
     assert_int_equal(v, 999999);
-    assert_int_equal(c4g_cell_from_double(-99.9999, C4G_CELL_UNIT_RAD, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_double(-99.9999, C4G_CELL_UNIT_RAD, &v), C4G_OK);
     assert_int_equal(v, -999999);
     /* out of range after rounding: error, not clamped */
     v = 77;
-    assert_int_equal(c4g_cell_from_double(999.9995, C4G_CELL_UNIT_MM, &v), C4G_CELL_ERR_RANGE);
+    assert_int_equal(c4g_cell_from_double(999.9995, C4G_CELL_UNIT_MM, &v), C4G_ERR_CELL_RANGE);
     assert_int_equal(v, 77);
-    assert_int_equal(c4g_cell_from_double(-1000.0, C4G_CELL_UNIT_MM, &v), C4G_CELL_ERR_RANGE);
-    assert_int_equal(c4g_cell_from_double(100.0, C4G_CELL_UNIT_RAD, &v), C4G_CELL_ERR_RANGE);
-    assert_int_equal(c4g_cell_from_double(1e300, C4G_CELL_UNIT_INT, &v), C4G_CELL_ERR_RANGE);
-    assert_int_equal(c4g_cell_from_double(NAN, C4G_CELL_UNIT_MM, &v), C4G_CELL_ERR_NONFINITE);
-    assert_int_equal(c4g_cell_from_double(INFINITY, C4G_CELL_UNIT_MM, &v), C4G_CELL_ERR_NONFINITE);
+    assert_int_equal(c4g_cell_from_double(-1000.0, C4G_CELL_UNIT_MM, &v), C4G_ERR_CELL_RANGE);
+    assert_int_equal(c4g_cell_from_double(100.0, C4G_CELL_UNIT_RAD, &v), C4G_ERR_CELL_RANGE);
+    assert_int_equal(c4g_cell_from_double(1e300, C4G_CELL_UNIT_INT, &v), C4G_ERR_CELL_RANGE);
+    assert_int_equal(c4g_cell_from_double(NAN, C4G_CELL_UNIT_MM, &v), C4G_ERR_CELL_NONFINITE);
+    assert_int_equal(c4g_cell_from_double(INFINITY, C4G_CELL_UNIT_MM, &v), C4G_ERR_CELL_NONFINITE);
     assert_int_equal(c4g_cell_from_double(-INFINITY, C4G_CELL_UNIT_RAD, &v),
-                     C4G_CELL_ERR_NONFINITE);
-    assert_int_equal(c4g_cell_from_double(1.0, (c4g_cell_unit_t)5, &v), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_from_double(1.0, C4G_CELL_UNIT_MM, NULL), C4G_CELL_ERR_NULL);
+                     C4G_ERR_CELL_NONFINITE);
+    assert_int_equal(c4g_cell_from_double(1.0, (c4g_cell_unit_t)5, &v), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_from_double(1.0, C4G_CELL_UNIT_MM, NULL), C4G_ERR_CELL_NULL);
     /* back to doubles */
     double x = 0;
-    assert_int_equal(c4g_cell_to_double(42, C4G_CELL_UNIT_INT, &x), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_to_double(42, C4G_CELL_UNIT_INT, &x), C4G_OK);
     assert_true(fabs(x - 42.0) < 1e-12);
-    assert_int_equal(c4g_cell_to_double(1000000, C4G_CELL_UNIT_MM, &x), C4G_CELL_ERR_RANGE);
-    assert_int_equal(c4g_cell_to_double(1, (c4g_cell_unit_t)5, &x), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_to_double(1, C4G_CELL_UNIT_MM, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_to_double(1000000, C4G_CELL_UNIT_MM, &x), C4G_ERR_CELL_RANGE);
+    assert_int_equal(c4g_cell_to_double(1, (c4g_cell_unit_t)5, &x), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_to_double(1, C4G_CELL_UNIT_MM, NULL), C4G_ERR_CELL_NULL);
 }
 
 static void text_ok(const char *s, c4g_cell_unit_t u, int32_t want)
 {
     int32_t v = 12345678;
-    assert_int_equal(c4g_cell_from_text(s, strlen(s), u, &v), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_from_text(s, strlen(s), u, &v), C4G_OK);
     assert_int_equal(v, want);
 }
 
-static void text_bad(const char *s, c4g_cell_unit_t u, c4g_cell_status_t st)
+static void text_bad(const char *s, c4g_cell_unit_t u, c4g_status_t st)
 {
     int32_t v = 12345678;
     assert_int_equal(c4g_cell_from_text(s, strlen(s), u, &v), st);
@@ -519,23 +519,23 @@ static void test_from_text(void **state)
     text_ok("999.999", C4G_CELL_UNIT_MM, 999999);
     text_ok("99.99994", C4G_CELL_UNIT_RAD, 999999);
     text_ok("0000000000000001", C4G_CELL_UNIT_INT, 1);
-    text_bad("", C4G_CELL_UNIT_MM, C4G_CELL_ERR_LENGTH);
-    text_bad("-", C4G_CELL_UNIT_MM, C4G_CELL_ERR_DIGIT);
-    text_bad(".", C4G_CELL_UNIT_MM, C4G_CELL_ERR_DIGIT);
-    text_bad("1..2", C4G_CELL_UNIT_MM, C4G_CELL_ERR_DIGIT);
-    text_bad("1e3", C4G_CELL_UNIT_MM, C4G_CELL_ERR_DIGIT);
-    text_bad(" 1", C4G_CELL_UNIT_MM, C4G_CELL_ERR_DIGIT);
-    text_bad("999.9995", C4G_CELL_UNIT_MM, C4G_CELL_ERR_RANGE);
-    text_bad("1000", C4G_CELL_UNIT_MM, C4G_CELL_ERR_RANGE);
-    text_bad("100", C4G_CELL_UNIT_RAD, C4G_CELL_ERR_RANGE);
-    text_bad("99999999999999999999", C4G_CELL_UNIT_INT, C4G_CELL_ERR_RANGE);
-    text_bad("99999999999999999999x", C4G_CELL_UNIT_INT, C4G_CELL_ERR_DIGIT);
-    text_bad("99999.5", C4G_CELL_UNIT_INT, C4G_CELL_ERR_RANGE);
-    text_bad("12345678.123", C4G_CELL_UNIT_MM, C4G_CELL_ERR_RANGE);
-    text_bad("1", (c4g_cell_unit_t)4, C4G_CELL_ERR_ARG);
+    text_bad("", C4G_CELL_UNIT_MM, C4G_ERR_CELL_LENGTH);
+    text_bad("-", C4G_CELL_UNIT_MM, C4G_ERR_CELL_DIGIT);
+    text_bad(".", C4G_CELL_UNIT_MM, C4G_ERR_CELL_DIGIT);
+    text_bad("1..2", C4G_CELL_UNIT_MM, C4G_ERR_CELL_DIGIT);
+    text_bad("1e3", C4G_CELL_UNIT_MM, C4G_ERR_CELL_DIGIT);
+    text_bad(" 1", C4G_CELL_UNIT_MM, C4G_ERR_CELL_DIGIT);
+    text_bad("999.9995", C4G_CELL_UNIT_MM, C4G_ERR_CELL_RANGE);
+    text_bad("1000", C4G_CELL_UNIT_MM, C4G_ERR_CELL_RANGE);
+    text_bad("100", C4G_CELL_UNIT_RAD, C4G_ERR_CELL_RANGE);
+    text_bad("99999999999999999999", C4G_CELL_UNIT_INT, C4G_ERR_CELL_RANGE);
+    text_bad("99999999999999999999x", C4G_CELL_UNIT_INT, C4G_ERR_CELL_DIGIT);
+    text_bad("99999.5", C4G_CELL_UNIT_INT, C4G_ERR_CELL_RANGE);
+    text_bad("12345678.123", C4G_CELL_UNIT_MM, C4G_ERR_CELL_RANGE);
+    text_bad("1", (c4g_cell_unit_t)4, C4G_ERR_CELL_ARG);
     int32_t v;
-    assert_int_equal(c4g_cell_from_text(NULL, 1, C4G_CELL_UNIT_MM, &v), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_from_text("1", 1, C4G_CELL_UNIT_MM, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_from_text(NULL, 1, C4G_CELL_UNIT_MM, &v), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_from_text("1", 1, C4G_CELL_UNIT_MM, NULL), C4G_ERR_CELL_NULL);
 }
 
 /* ---------------------------------------------------------------- encoders: validation */
@@ -549,78 +549,78 @@ static void test_encode_errors(void **state)
     memset(&in, 0, sizeof in);
     in.cmd = C4G_CELL_CMD_OVR;
     in.value = 101;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.value = -1;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.cmd = C4G_CELL_CMD_ACQ;
     in.value = 100000;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.cmd = C4G_CELL_CMD_HND;
     in.value = -3;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.cmd = C4G_CELL_CMD_MOV;
     in.pose.n_axes = 3;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_AXES);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_AXES);
     in.pose.n_axes = 4;
     in.pose.v[3] = 1000000;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.pose.v[3] = 0;
     in.relative = 1;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, "MOVR+000.000+000.000+000.000+00.0000\r\n");
     in.pose.n_axes = 2;
     in.pose.v[0] = -999999;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     assert_string_equal(out, "MOVR-99.9999+00.0000\r\n");
     in.cmd = C4G_CELL_CMD_PNP;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_AXES);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_AXES);
     in.pose.n_axes = 4;
     in.clearance = -1000000;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_RANGE);
     in.clearance = 0;
     in.pose.v[0] = 0;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_OK);
+    assert_int_equal(enc_instr(&in, out), C4G_OK);
     in.cmd = C4G_CELL_CMD_COUNT_;
-    assert_int_equal(enc_instr(&in, out), C4G_CELL_ERR_ARG);
+    assert_int_equal(enc_instr(&in, out), C4G_ERR_CELL_ARG);
     in.cmd = C4G_CELL_CMD_CLO;
-    assert_int_equal(c4g_cell_instr_encode(&in, out, 4, &n), C4G_CELL_ERR_CAPACITY);
-    assert_int_equal(c4g_cell_instr_encode(&in, out, 5, &n), C4G_CELL_OK);
+    assert_int_equal(c4g_cell_instr_encode(&in, out, 4, &n), C4G_ERR_CELL_CAPACITY);
+    assert_int_equal(c4g_cell_instr_encode(&in, out, 5, &n), C4G_OK);
     assert_int_equal(n, 5);
-    assert_int_equal(c4g_cell_instr_encode(NULL, out, 5, &n), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_instr_encode(&in, NULL, 5, &n), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_instr_encode(&in, out, 5, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_instr_encode(NULL, out, 5, &n), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_instr_encode(&in, NULL, 5, &n), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_instr_encode(&in, out, 5, NULL), C4G_ERR_CELL_NULL);
 
     c4g_cell_reply_t r;
     memset(&r, 0, sizeof r);
     r.kind = C4G_CELL_REPLY_ER;
     r.error = 100000;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_reply(&r, out), C4G_ERR_CELL_RANGE);
     r.kind = C4G_CELL_REPLY_STA;
     r.error = 0;
     r.pose.n_axes = 1;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_ERR_AXES);
+    assert_int_equal(enc_reply(&r, out), C4G_ERR_CELL_AXES);
     r.pose.n_axes = 2;
     r.override_pct = 101;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_reply(&r, out), C4G_ERR_CELL_RANGE);
     r.override_pct = 100;
     r.error = -100000;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_ERR_RANGE);
+    assert_int_equal(enc_reply(&r, out), C4G_ERR_CELL_RANGE);
     r.error = 105;
     r.moving = 1;
     r.servo_on = 1;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_OK);
+    assert_int_equal(enc_reply(&r, out), C4G_OK);
     assert_string_equal(out, "OKT+00.0000+00.0000T+00100+00105\r\n");
-    assert_int_equal(c4g_cell_reply_encode(&r, out, 33, &n), C4G_CELL_ERR_CAPACITY);
+    assert_int_equal(c4g_cell_reply_encode(&r, out, 33, &n), C4G_ERR_CELL_CAPACITY);
     r.kind = (c4g_cell_reply_kind_t)9;
-    assert_int_equal(enc_reply(&r, out), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_reply_encode(NULL, out, 64, &n), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_reply_encode(&r, NULL, 64, &n), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_reply_encode(&r, out, 64, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(enc_reply(&r, out), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_reply_encode(NULL, out, 64, &n), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_reply_encode(&r, NULL, 64, &n), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_reply_encode(&r, out, 64, NULL), C4G_ERR_CELL_NULL);
     c4g_cell_instr_t in2;
-    assert_int_equal(c4g_cell_instr_decode(NULL, 5, &in2, NULL), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_instr_decode("STA\r\n", 5, NULL, NULL), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_reply_decode(NULL, 4, &r, NULL), C4G_CELL_ERR_NULL);
-    assert_int_equal(c4g_cell_reply_decode("OK\r\n", 4, NULL, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_instr_decode(NULL, 5, &in2, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_instr_decode("STA\r\n", 5, NULL, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_reply_decode(NULL, 4, &r, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_reply_decode("OK\r\n", 4, NULL, NULL), C4G_ERR_CELL_NULL);
 }
 
 /* ---------------------------------------------------------------- round trips */
@@ -668,10 +668,10 @@ static void test_roundtrip_random(void **state)
             break;
         default: break;
         }
-        if (c4g_cell_instr_encode(&in, line, sizeof line, &n) != C4G_CELL_OK) {
+        if (c4g_cell_instr_encode(&in, line, sizeof line, &n) != C4G_OK) {
             fail_msg("encode failed, seed state %u", rng);
         }
-        assert_int_equal(c4g_cell_instr_decode(line, n, &back, NULL), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_instr_decode(line, n, &back, NULL), C4G_OK);
         assert_memory_equal(&in, &back, sizeof in);
 
         c4g_cell_reply_t r, rb;
@@ -689,8 +689,8 @@ static void test_roundtrip_random(void **state)
                 r.pose.v[a] = rnd_counts(999999);
             }
         }
-        assert_int_equal(c4g_cell_reply_encode(&r, line, sizeof line, &n), C4G_CELL_OK);
-        assert_int_equal(c4g_cell_reply_decode(line, n, &rb, NULL), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_reply_encode(&r, line, sizeof line, &n), C4G_OK);
+        assert_int_equal(c4g_cell_reply_decode(line, n, &rb, NULL), C4G_OK);
         if (r.kind == C4G_CELL_REPLY_ER || r.kind == C4G_CELL_REPLY_OK) {
             assert_int_equal(rb.kind, r.kind);
             assert_int_equal(rb.error, r.error);
@@ -700,11 +700,11 @@ static void test_roundtrip_random(void **state)
         /* to_double then from_double is the identity on counts */
         int32_t c = rnd_counts(999999), c2 = 0;
         double x;
-        assert_int_equal(c4g_cell_to_double(c, C4G_CELL_UNIT_MM, &x), C4G_CELL_OK);
-        assert_int_equal(c4g_cell_from_double(x, C4G_CELL_UNIT_MM, &c2), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_to_double(c, C4G_CELL_UNIT_MM, &x), C4G_OK);
+        assert_int_equal(c4g_cell_from_double(x, C4G_CELL_UNIT_MM, &c2), C4G_OK);
         assert_int_equal(c, c2);
-        assert_int_equal(c4g_cell_to_double(c, C4G_CELL_UNIT_RAD, &x), C4G_CELL_OK);
-        assert_int_equal(c4g_cell_from_double(x, C4G_CELL_UNIT_RAD, &c2), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_to_double(c, C4G_CELL_UNIT_RAD, &x), C4G_OK);
+        assert_int_equal(c4g_cell_from_double(x, C4G_CELL_UNIT_RAD, &c2), C4G_OK);
         assert_int_equal(c, c2);
     }
 }
@@ -714,15 +714,15 @@ static void test_roundtrip_random(void **state)
 static void test_texts(void **state)
 {
     (void)state;
-    assert_string_equal(c4g_cell_strerror(0), "ok");
-    assert_string_equal(c4g_cell_strerror(C4G_CELL_ERR_NULL), "cell: null pointer argument");
-    assert_string_equal(c4g_cell_strerror(C4G_CELL_ERR_OVERLONG),
+    assert_string_equal(c4g_strerror(0), "ok");
+    assert_string_equal(c4g_strerror(C4G_ERR_CELL_NULL), "cell: null pointer argument");
+    assert_string_equal(c4g_strerror(C4G_ERR_CELL_OVERLONG),
                         "cell: line longer than the splitter limit");
-    assert_string_equal(c4g_cell_strerror(-217), "unknown cell-protocol status");
-    assert_string_equal(c4g_cell_strerror(-200), "unknown cell-protocol status");
-    assert_string_equal(c4g_cell_strerror(5), "unknown cell-protocol status");
+    assert_string_equal(c4g_strerror(-217), "unknown cell-protocol status");
+    assert_string_equal(c4g_strerror(-200), "unknown cell-protocol status");
+    assert_string_equal(c4g_strerror(5), "unknown cell-protocol status");
     for (int s = -201; s >= -216; s--) {
-        assert_true(strncmp(c4g_cell_strerror(s), "cell: ", 6) == 0);
+        assert_true(strncmp(c4g_strerror(s), "cell: ", 6) == 0);
     }
     int proj = -1;
     assert_string_equal(c4g_cell_error_text(0, &proj), "no error");
@@ -776,7 +776,7 @@ static void test_command_table(void **state)
         size_t n = 0;
         memset(&in, 0, sizeof in);
         assert_int_equal(t_rows[k].cmd, (c4g_cell_cmd_t)k);
-        assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)k, &info), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)k, &info), C4G_OK);
         assert_int_equal(info.cmd, (c4g_cell_cmd_t)k);
         assert_string_equal(info.head, t_rows[k].head);
         assert_int_equal(info.head_len, strlen(t_rows[k].head));
@@ -799,9 +799,9 @@ static void test_command_table(void **state)
         in.cmd = (c4g_cell_cmd_t)k;
         in.value = info.lo;
         in.pose.n_axes = C4G_CELL_AXES_ROBOT;
-        assert_int_equal(c4g_cell_instr_encode(&in, out, sizeof out, &n), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_instr_encode(&in, out, sizeof out, &n), C4G_OK);
         assert_memory_equal(out, info.head, info.head_len);
-        assert_int_equal(c4g_cell_instr_decode(out, n, &back, NULL), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_instr_decode(out, n, &back, NULL), C4G_OK);
         assert_int_equal(back.cmd, in.cmd);
         assert_int_equal(back.value, in.value);
         if (info.args == C4G_CELL_ARGS_NONE) {
@@ -813,18 +813,18 @@ static void test_command_table(void **state)
             memcpy(head_only, info.head, info.head_len);
             memcpy(&head_only[info.head_len], "\r\n", 2U);
             assert_int_equal(c4g_cell_instr_decode(head_only, info.head_len + 2U, &back, NULL),
-                             C4G_CELL_ERR_LENGTH);
+                             C4G_ERR_CELL_LENGTH);
         }
     }
-    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_COUNT_, &info), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)-1, &info), C4G_CELL_ERR_ARG);
-    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_STA, NULL), C4G_CELL_ERR_NULL);
+    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_COUNT_, &info), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)-1, &info), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_STA, NULL), C4G_ERR_CELL_NULL);
     /* a head two rows share for three chars: the column is after the longest match */
     c4g_cell_instr_t in;
     c4g_cell_diag_t d;
-    assert_int_equal(dec_instr("SROON\r\n", &in, &d), C4G_CELL_ERR_HEAD);
+    assert_int_equal(dec_instr("SROON\r\n", &in, &d), C4G_ERR_CELL_HEAD);
     assert_int_equal(d.column, 1);
-    assert_int_equal(dec_instr("SRVOFF\r\n", &in, &d), C4G_CELL_ERR_LENGTH);
+    assert_int_equal(dec_instr("SRVOFF\r\n", &in, &d), C4G_ERR_CELL_LENGTH);
     assert_int_equal(d.column, 6);
 }
 

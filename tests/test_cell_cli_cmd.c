@@ -37,7 +37,7 @@ static void test_every_row_parses(void **st)
     for (size_t i = 0; i < N_ROWS; i++) {
         alt_t a;
         c4g_cell_cmd_info_t info;
-        assert_int_equal(c4g_cell_cmd_info(k_rows[i].cmd, &info), C4G_CELL_OK);
+        assert_int_equal(c4g_cell_cmd_info(k_rows[i].cmd, &info), C4G_OK);
         for (int d = 0; d < CELL_DEVICES; d++) {
             if ((k_rows[i].devices & (1U << d)) == 0U) {
                 continue;

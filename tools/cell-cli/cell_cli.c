@@ -187,7 +187,7 @@ static double axis_value(int dev, const c4g_cell_reply_t *r, uint32_t a)
 
 /* A reply that does not decode. */
 static int show_invalid(int dev, const char *req, size_t rl, const char *line, size_t len,
-                        c4g_cell_status_t st, const c4g_cell_diag_t *d)
+                        c4g_status_t st, const c4g_cell_diag_t *d)
 {
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
     if (g_json) {
@@ -195,10 +195,10 @@ static int show_invalid(int dev, const char *req, size_t rl, const char *line, s
         json_str(stdout, req, rl);
         printf(",\"reply\":\"invalid\",\"raw\":");
         json_str(stdout, line, len);
-        printf(",\"problem\":\"%s\",\"column\":%u}\n", c4g_cell_strerror(st), (unsigned)d->column);
+        printf(",\"problem\":\"%s\",\"column\":%u}\n", c4g_strerror(st), (unsigned)d->column);
     } else {
         printf("%s: invalid reply \"%.*s\": %s at column %u\n", cell_dev_name(dev), (int)ll, line,
-               c4g_cell_strerror(st), (unsigned)d->column);
+               c4g_strerror(st), (unsigned)d->column);
     }
     return EXIT_PROTOCOL;
 }
@@ -266,10 +266,10 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
 {
     c4g_cell_reply_t r;
     c4g_cell_diag_t d;
-    c4g_cell_status_t st = c4g_cell_reply_decode(line, len, &r, &d);
+    c4g_status_t st = c4g_cell_reply_decode(line, len, &r, &d);
     size_t rl = (req_len >= 2) ? req_len - 2 : req_len;
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
-    if (st != C4G_CELL_OK) {
+    if (st != C4G_OK) {
         return show_invalid(dev, req, rl, line, len, st, &d);
     }
     if (g_json) {
@@ -302,7 +302,7 @@ static int wait_stopped(int dev, double timeout_s)
         if (rc != 0) {
             return rc;
         }
-        if (c4g_cell_reply_decode(reply, n, &r, NULL) != C4G_CELL_OK) {
+        if (c4g_cell_reply_decode(reply, n, &r, NULL) != C4G_OK) {
             return show_reply(dev, "STA\r\n", 5, reply, n);
         }
         if (r.kind == C4G_CELL_REPLY_ER) {

@@ -176,13 +176,13 @@ static int row_has_word(const cmd_row_t *r, const char *w)
 static int parse_value(const char *s, c4g_cell_unit_t unit, int32_t *out, const char *what,
                        char *err, size_t cap)
 {
-    c4g_cell_status_t st = c4g_cell_from_text(s, strlen(s), unit, out);
-    if (st == C4G_CELL_ERR_RANGE) {
+    c4g_status_t st = c4g_cell_from_text(s, strlen(s), unit, out);
+    if (st == C4G_ERR_CELL_RANGE) {
         return errf(err, cap, "%s=%s is out of range (%s)", what, s,
                     unit == C4G_CELL_UNIT_MM ? "+-999.999 mm"
                     : unit == C4G_CELL_UNIT_RAD ? "+-99.9999 rad" : "+-99999");
     }
-    if (st != C4G_CELL_OK) {
+    if (st != C4G_OK) {
         return errf(err, cap, "%s: not a number: '%s'", what, s);
     }
     return 0;
@@ -260,7 +260,7 @@ static int parse_int_arg(const char *s, int32_t lo, int32_t hi, const char *what
     if (s == NULL) {
         return errf(err, cap, "missing %s", what);
     }
-    if (c4g_cell_from_text(s, strlen(s), C4G_CELL_UNIT_INT, &v) != C4G_CELL_OK ||
+    if (c4g_cell_from_text(s, strlen(s), C4G_CELL_UNIT_INT, &v) != C4G_OK ||
         strchr(s, '.') != NULL || v < lo || v > hi) {
         return errf(err, cap, "%s must be an integer %d..%d, got '%s'", what, (int)lo, (int)hi, s);
     }
@@ -451,10 +451,10 @@ int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
     if (parse_device_cmd(dev, w, n, out, err, err_cap) != 0) {
         return -1;
     }
-    c4g_cell_status_t st = c4g_cell_instr_encode(&out->instr, out->line, sizeof out->line,
+    c4g_status_t st = c4g_cell_instr_encode(&out->instr, out->line, sizeof out->line,
                                                  &out->len);
-    if (st != C4G_CELL_OK) {
-        return errf(err, err_cap, "cannot encode: %s", c4g_cell_strerror(st));
+    if (st != C4G_OK) {
+        return errf(err, err_cap, "cannot encode: %s", c4g_strerror(st));
     }
     return 0;
 }

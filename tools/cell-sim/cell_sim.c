@@ -199,7 +199,7 @@ static void queue_er(client_t *c, int32_t code)
     memset(&r, 0, sizeof r);
     r.kind = C4G_CELL_REPLY_ER;
     r.error = code;
-    if (c4g_cell_reply_encode(&r, b, sizeof b, &n) == C4G_CELL_OK) {
+    if (c4g_cell_reply_encode(&r, b, sizeof b, &n) == C4G_OK) {
         queue(c, b, n);
     }
 }
@@ -214,22 +214,22 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
     size_t n = 0;
     int close_after = 0;
     const char *dev = cell_dev_name(c->dev);
-    c4g_cell_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
+    c4g_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
     c->lines++;
-    if (st != C4G_CELL_OK) {
-        int32_t code = (st == C4G_CELL_ERR_HEAD) ? C4G_CELL_E_UNKNOWN_CMD
-                       : (st == C4G_CELL_ERR_RANGE) ? C4G_CELL_E_RANGE
+    if (st != C4G_OK) {
+        int32_t code = (st == C4G_ERR_CELL_HEAD) ? C4G_CELL_E_UNKNOWN_CMD
+                       : (st == C4G_ERR_CELL_RANGE) ? C4G_CELL_E_RANGE
                                                     : C4G_CELL_E_MALFORMED;
         if (client_log_ok(c)) {
             printable(line, len, pr, sizeof pr);
             logf_(0, dev, c->peer, "error", "ER+%05d for \"%s\": %s at column %u", (int)code, pr,
-                  c4g_cell_strerror(st), (unsigned)d.column);
+                  c4g_strerror(st), (unsigned)d.column);
         }
         queue_er(c, code);
         return;
     }
     const char *note = sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
-    if (c4g_cell_reply_encode(&rep, out, sizeof out, &n) != C4G_CELL_OK) {
+    if (c4g_cell_reply_encode(&rep, out, sizeof out, &n) != C4G_OK) {
         rep.kind = C4G_CELL_REPLY_ER;
         rep.error = C4G_CELL_E_GENERIC;
         (void)c4g_cell_reply_encode(&rep, out, sizeof out, &n);
