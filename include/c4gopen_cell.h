@@ -88,20 +88,96 @@ extern "C" {
 #define C4G_CELL_E_BUSY 107         /**< project: motion already in progress */
 /**@}*/
 
-/** Instruction heads. */
+/** @name Devices an instruction is meant for (bit mask of the command table) */
+/**@{*/
+#define C4G_CELL_ON_ROBOT 0x1U        /**< the robot controller (port 2001) */
+#define C4G_CELL_ON_PLATFORM 0x2U     /**< the orientation platform (2002) */
+#define C4G_CELL_ON_CONDITIONING 0x4U /**< the conditioning system (2003) */
+#define C4G_CELL_ON_MOTION 0x3U       /**< robot and platform */
+#define C4G_CELL_ON_ALL 0x7U          /**< every device */
+/**@}*/
+
+/** What follows an instruction's head on the wire (its argument layout). */
+typedef enum c4g_cell_args {
+    C4G_CELL_ARGS_NONE = 0,  /**< nothing */
+    C4G_CELL_ARGS_INT,       /**< integer Sxxxxx in [lo, hi] -> value */
+    C4G_CELL_ARGS_INT_ACTION,/**< integer Sxxxxx in [lo, hi] -> value, then OPEN|CLOSE -> open */
+    C4G_CELL_ARGS_MODE_POSE, /**< 'A'|'R' -> relative, then robot X Y Z C (38-char line) or
+                                  platform A B (22-char line) -> pose */
+    C4G_CELL_ARGS_CLEAR_POSE /**< length Sxxx.yyy -> clearance, then robot X Y Z C -> pose */
+} c4g_cell_args_t;
+
+/**
+ * THE CELL COMMAND TABLE: the one definition of the instruction vocabulary
+ * (docs/cell-commands.md: how to add a command). Each row is
+ *
+ *   X(cmd, head, args, lo, hi, reply, devices, words, arg, what, help)
+ *
+ *   cmd      enum constant (c4g_cell_cmd_t, in row order; STA is 0)
+ *   head     head text on the wire, >= 3 chars; no head may be a prefix of another
+ *            (SRVON and SRVOF share the spec's "SRV" and differ in the rest)
+ *   args     c4g_cell_args_t: what follows the head
+ *   lo, hi   range of the integer argument (ARGS_INT, ARGS_INT_ACTION), else 0, 0
+ *   reply    c4g_cell_reply_kind_t of a successful reply (ER is always possible)
+ *   devices  C4G_CELL_ON_* mask of the devices that handle it
+ *   words    command words of the tools, '|' between alternatives, the first is the
+ *            primary one; "servo on" is a two-word alternative
+ *   arg      tools: placeholder of the integer argument in usage texts ("" if none)
+ *   what     tools: the integer argument's name in error messages ("" if none)
+ *   help     tools: help text (cell-cli "help")
+ *
+ * The library expands it into c4g_cell_cmd_t, the head table, the encoder and the
+ * decoder; cell-cli into its command parser, help and completion.
+ */
+/* Deviation D-05 (MISRA 20.7): X names the row macro to apply; it cannot be parenthesized. */
+/* cppcheck-suppress misra-c2012-20.7 */
+#define C4G_CELL_COMMANDS(X) \
+    X(C4G_CELL_CMD_STA, "STA", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_STA, \
+      C4G_CELL_ON_MOTION, "sta|status", "", "", \
+      "DEV sta            status: moving flag, position, servo, override, error (STA)") \
+    X(C4G_CELL_CMD_SRVON, "SRVON", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "srvon|servo on", "", "", \
+      "DEV srvon | DEV servo on     switch the servo motors on (SRVON)") \
+    X(C4G_CELL_CMD_SRVOF, "SRVOF", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "srvof|srvoff|servo off", "", "", \
+      "DEV srvof | DEV servo off    switch the servo motors off (SRVOF)") \
+    X(C4G_CELL_CMD_OVR, "OVR", C4G_CELL_ARGS_INT, 0, C4G_CELL_OVR_MAX, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "ovr|override", "PERCENT", "override (percent)", \
+      "DEV ovr PERCENT    set the override 0..100 % (OVR), e.g. robot ovr 50") \
+    X(C4G_CELL_CMD_MOV, "MOV", C4G_CELL_ARGS_MODE_POSE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "mov|move", "", "", \
+      "robot mov abs|rel x=MM y=MM z=MM c=RAD    point-to-point motion (MOVA/MOVR)\n" \
+      "platform mov abs|rel a=RAD b=RAD          absolute needs every axis;\n" \
+      "                                          relative axes default to 0") \
+    X(C4G_CELL_CMD_STP, "STP", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "stp|stop", "", "", \
+      "DEV stp            stop the motion (STP)") \
+    X(C4G_CELL_CMD_RST, "RST", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_ALL, "rst|reset", "", "", \
+      "DEV rst            reset: stop, clear the error, home if the servo is on (RST)") \
+    X(C4G_CELL_CMD_CLO, "CLO", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_ALL, "clo|close", "", "", \
+      "DEV clo            ask the device to close the connection (CLO)") \
+    X(C4G_CELL_CMD_ACQ, "ACQ", C4G_CELL_ARGS_INT, 0, C4G_CELL_INT_MAX, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_CONDITIONING, "acq", "CAMERA", "camera id", \
+      "conditioning acq CAMERA         acquire an image (ACQ), cameras 1..2 on cell-sim") \
+    X(C4G_CELL_CMD_HND, "HND", C4G_CELL_ARGS_INT_ACTION, 0, C4G_CELL_INT_MAX, \
+      C4G_CELL_REPLY_OK, C4G_CELL_ON_CONDITIONING, "hnd|gripper", "GRIPPER", "gripper id", \
+      "conditioning hnd ID open|close  gripper valve (HND): 0 vacuum, 1 blow") \
+    X(C4G_CELL_CMD_ITR, "ITR", C4G_CELL_ARGS_NONE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_MOTION, "itr", "", "", \
+      "DEV itr            interrupt the motion (project extension ITR, as STP)") \
+    X(C4G_CELL_CMD_PNP, "PNP", C4G_CELL_ARGS_CLEAR_POSE, 0, 0, C4G_CELL_REPLY_OK, \
+      C4G_CELL_ON_ROBOT, "pnp", "", "", \
+      "robot pnp clear=MM x=MM y=MM z=MM c=RAD  pick-and-place (project extension PNP):\n" \
+      "                                          lift to Z=clear, travel, descend")
+
+/** Expands one row of C4G_CELL_COMMANDS into its enum constant. */
+#define C4G_CELL_X_CMD(cmd, head, args, lo, hi, reply, devices, words, arg, what, help) cmd,
+
+/** Instruction heads: one constant per row of C4G_CELL_COMMANDS, in its order. */
 typedef enum c4g_cell_cmd {
-    C4G_CELL_CMD_STA = 0, /**< status */
-    C4G_CELL_CMD_SRVON,   /**< servo on */
-    C4G_CELL_CMD_SRVOF,   /**< servo off */
-    C4G_CELL_CMD_OVR,     /**< set override 0..100 % */
-    C4G_CELL_CMD_MOV,     /**< point-to-point motion, absolute or relative */
-    C4G_CELL_CMD_STP,     /**< stop the motion */
-    C4G_CELL_CMD_RST,     /**< reset (home) */
-    C4G_CELL_CMD_CLO,     /**< close the connection */
-    C4G_CELL_CMD_ACQ,     /**< acquire an image (camera id) */
-    C4G_CELL_CMD_HND,     /**< open/close a gripper valve (gripper id) */
-    C4G_CELL_CMD_ITR,     /**< project extension: interrupt the motion */
-    C4G_CELL_CMD_PNP,     /**< project extension: pick-and-place motion */
+    C4G_CELL_COMMANDS(C4G_CELL_X_CMD)
     C4G_CELL_CMD_COUNT_
 } c4g_cell_cmd_t;
 
@@ -145,6 +221,18 @@ typedef struct c4g_cell_reply {
     c4g_cell_pose_t pose;   /**< STA: position */
 } c4g_cell_reply_t;
 
+/** One row of the command table as the library sees it (c4g_cell_cmd_info()). */
+typedef struct c4g_cell_cmd_info {
+    c4g_cell_cmd_t cmd;
+    const char *head;            /**< head text on the wire ("STA", "SRVON" ...), NUL-ended */
+    size_t head_len;             /**< its length */
+    c4g_cell_args_t args;        /**< argument layout */
+    int32_t lo;                  /**< integer argument range (ARGS_INT, ARGS_INT_ACTION) */
+    int32_t hi;
+    c4g_cell_reply_kind_t reply; /**< kind of a successful reply */
+    uint32_t devices;            /**< C4G_CELL_ON_* mask */
+} c4g_cell_cmd_info_t;
+
 /** Which part of a line a diagnostic points at. */
 typedef enum c4g_cell_part {
     C4G_CELL_PART_NONE = 0, C4G_CELL_PART_HEAD, C4G_CELL_PART_FLAG, C4G_CELL_PART_VALUE,
@@ -169,8 +257,14 @@ typedef struct c4g_cell_diag {
  */
 const char *c4g_cell_error_text(int32_t code, int *project);
 
-/** Three-letter head of @p cmd ("STA", "SRV" for both servo commands...); "???" if invalid. */
+/** Head text of @p cmd as on the wire ("STA", "SRVON", "SRVOF"...); "???" if invalid. */
 const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd);
+
+/**
+ * The command table's row of @p cmd (head, argument layout, reply, devices).
+ * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd outside the table).
+ */
+c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out);
 
 /**
  * Convert a real value to counts: rounds to the nearest count, halves away from
@@ -179,7 +273,7 @@ const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd);
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit),
  *         C4G_ERR_CELL_NONFINITE, C4G_ERR_CELL_RANGE.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
+c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
 
 /**
  * Convert decimal text ("[+-]digits[.digits]", no exponent, no spaces) to counts
@@ -190,21 +284,21 @@ C4G_NODISCARD c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t un
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_LENGTH
  *         (empty), C4G_ERR_CELL_DIGIT (syntax), C4G_ERR_CELL_RANGE.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
                                      int32_t *out);
 
 /**
  * Convert counts to a real value (mm, rad or units). Exact to the printed digits.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_RANGE.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
+c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
 
 /**
  * Format one field: 8 chars (MM, RAD) or 6 chars (INT), no terminator.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_CAPACITY,
  *         C4G_ERR_CELL_RANGE.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
+c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
                                         size_t cap, size_t *out_len);
 
 /**
@@ -213,7 +307,7 @@ C4G_NODISCARD c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_LENGTH,
  *         C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
+c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
                                         int32_t *out, c4g_cell_diag_t *diag);
 
 /**
@@ -223,7 +317,7 @@ C4G_NODISCARD c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd), C4G_ERR_CELL_AXES,
  *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
@@ -235,7 +329,7 @@ C4G_NODISCARD c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, cha
  *         C4G_ERR_CELL_MODE, C4G_ERR_CELL_ACTION, C4G_ERR_CELL_RANGE; @p out is zeroed
  *         on error.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
+c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
@@ -244,7 +338,7 @@ C4G_NODISCARD c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (kind), C4G_ERR_CELL_AXES,
  *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
+c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
                                         size_t *out_len);
 
 /**
@@ -252,7 +346,7 @@ C4G_NODISCARD c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, cha
  * platform STA (34). The STA override must be 0..100 (RANGE).
  * @return as c4g_cell_instr_decode (with C4G_ERR_CELL_FLAG); @p out zeroed on error.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
+c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_t *out,
                                         c4g_cell_diag_t *diag);
 
 /**
@@ -280,7 +374,7 @@ typedef enum c4g_cell_split_event {
  * Attach @p buf (@p cap bytes, 4..65535) to @p sp and empty it.
  * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
+c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
 
 /**
  * Append up to @p n bytes of @p data (as many as fit; the rest stays with the
@@ -288,14 +382,14 @@ C4G_NODISCARD c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *bu
  * @param[out] used bytes taken from @p data
  * @return C4G_OK, C4G_ERR_CELL_NULL (data may be NULL only when n is 0).
  */
-C4G_NODISCARD c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
+c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
                                       size_t *used);
 
 /**
  * Take the next event. @p line / @p len are set for C4G_CELL_SPLIT_LINE only.
  * @return C4G_OK, C4G_ERR_CELL_NULL.
  */
-C4G_NODISCARD c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
+c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
                                       const char **line, size_t *len);
 
 #ifdef __cplusplus

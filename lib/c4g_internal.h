@@ -14,6 +14,16 @@
 #define C4G_HOT_INLINE inline
 #endif
 
+/* A condition as a 0/1 flag word (the struct flags are uint32_t). */
+static inline uint32_t c4g_flag(bool b)
+{
+    uint32_t r = 0U;
+    if (b) {
+        r = 1U;
+    }
+    return r;
+}
+
 static inline uint32_t c4g_get_u32le(const uint8_t *p)
 {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8U) | ((uint32_t)p[2] << 16U) |

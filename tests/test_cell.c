@@ -752,6 +752,82 @@ static void test_texts(void **state)
     assert_string_equal(c4g_cell_cmd_name((c4g_cell_cmd_t)-1), "???");
 }
 
+/* The command table: c4g_cell_cmd_info agrees with the codec for every row. */
+#define T_ROW(cmd, head, args, lo, hi, reply, devices, words, arg, what, help) \
+    {(cmd), (head), (args), (devices), (words), (help)},
+static const struct {
+    c4g_cell_cmd_t cmd;
+    const char *head;
+    c4g_cell_args_t args;
+    uint32_t devices;
+    const char *words;
+    const char *help;
+} t_rows[] = {C4G_CELL_COMMANDS(T_ROW)};
+#undef T_ROW
+
+static void test_command_table(void **state)
+{
+    (void)state;
+    c4g_cell_cmd_info_t info;
+    assert_int_equal(sizeof t_rows / sizeof t_rows[0], C4G_CELL_CMD_COUNT_);
+    for (int k = 0; k < C4G_CELL_CMD_COUNT_; k++) {
+        c4g_cell_instr_t in, back;
+        char out[C4G_CELL_LINE_MAX + 1];
+        size_t n = 0;
+        memset(&in, 0, sizeof in);
+        assert_int_equal(t_rows[k].cmd, (c4g_cell_cmd_t)k);
+        assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)k, &info), C4G_OK);
+        assert_int_equal(info.cmd, (c4g_cell_cmd_t)k);
+        assert_string_equal(info.head, t_rows[k].head);
+        assert_int_equal(info.head_len, strlen(t_rows[k].head));
+        assert_true(info.head_len >= 3U);
+        assert_int_equal(info.args, t_rows[k].args);
+        assert_int_equal(info.devices, t_rows[k].devices);
+        assert_true(info.devices != 0U && (info.devices & ~(uint32_t)C4G_CELL_ON_ALL) == 0U);
+        assert_true(info.lo <= info.hi);
+        assert_int_equal(info.reply, k == C4G_CELL_CMD_STA ? C4G_CELL_REPLY_STA
+                                                            : C4G_CELL_REPLY_OK);
+        assert_true(t_rows[k].words[0] != '\0' && t_rows[k].help[0] != '\0');
+        assert_string_equal(c4g_cell_cmd_name((c4g_cell_cmd_t)k), info.head);
+        /* no head is a prefix of another */
+        for (int j = 0; j < C4G_CELL_CMD_COUNT_; j++) {
+            if (j != k) {
+                assert_true(strncmp(t_rows[j].head, info.head, info.head_len) != 0);
+            }
+        }
+        /* the smallest valid instruction of the row encodes to head + data and back */
+        in.cmd = (c4g_cell_cmd_t)k;
+        in.value = info.lo;
+        in.pose.n_axes = C4G_CELL_AXES_ROBOT;
+        assert_int_equal(c4g_cell_instr_encode(&in, out, sizeof out, &n), C4G_OK);
+        assert_memory_equal(out, info.head, info.head_len);
+        assert_int_equal(c4g_cell_instr_decode(out, n, &back, NULL), C4G_OK);
+        assert_int_equal(back.cmd, in.cmd);
+        assert_int_equal(back.value, in.value);
+        if (info.args == C4G_CELL_ARGS_NONE) {
+            assert_int_equal(n, info.head_len + 2U);
+        }
+        /* the head alone is too short for a row with data */
+        if (info.args != C4G_CELL_ARGS_NONE) {
+            char head_only[16];
+            memcpy(head_only, info.head, info.head_len);
+            memcpy(&head_only[info.head_len], "\r\n", 2U);
+            assert_int_equal(c4g_cell_instr_decode(head_only, info.head_len + 2U, &back, NULL),
+                             C4G_ERR_CELL_LENGTH);
+        }
+    }
+    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_COUNT_, &info), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_cmd_info((c4g_cell_cmd_t)-1, &info), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_cmd_info(C4G_CELL_CMD_STA, NULL), C4G_ERR_CELL_NULL);
+    /* a head two rows share for three chars: the column is after the longest match */
+    c4g_cell_instr_t in;
+    c4g_cell_diag_t d;
+    assert_int_equal(dec_instr("SROON\r\n", &in, &d), C4G_ERR_CELL_HEAD);
+    assert_int_equal(d.column, 1);
+    assert_int_equal(dec_instr("SRVOFF\r\n", &in, &d), C4G_ERR_CELL_LENGTH);
+    assert_int_equal(d.column, 6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -767,6 +843,7 @@ int main(void)
         cmocka_unit_test(test_encode_errors),
         cmocka_unit_test(test_roundtrip_random),
         cmocka_unit_test(test_texts),
+        cmocka_unit_test(test_command_table),
     };
     return cmocka_run_group_tests_name("cell codec", tests, NULL, NULL);
 }

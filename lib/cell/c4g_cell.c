@@ -23,12 +23,22 @@ static const field_fmt_t k_fmt_mm = {C4G_CELL_FIELD_LEN, 4U, C4G_CELL_COUNTS_MAX
 static const field_fmt_t k_fmt_rad = {C4G_CELL_FIELD_LEN, 3U, C4G_CELL_COUNTS_MAX};
 static const field_fmt_t k_fmt_int = {C4G_CELL_INT_LEN, 0U, C4G_CELL_INT_MAX};
 
-/* Heads in c4g_cell_cmd_t order; SRVON and SRVOF share "SRV". */
-static const char k_heads[C4G_CELL_CMD_COUNT_][HEAD_LEN] = {
-    {'S', 'T', 'A'}, {'S', 'R', 'V'}, {'S', 'R', 'V'}, {'O', 'V', 'R'},
-    {'M', 'O', 'V'}, {'S', 'T', 'P'}, {'R', 'S', 'T'}, {'C', 'L', 'O'},
-    {'A', 'C', 'Q'}, {'H', 'N', 'D'}, {'I', 'T', 'R'}, {'P', 'N', 'P'}};
+/* The command table (C4G_CELL_COMMANDS in c4gopen_cell.h) as the codec uses it. */
+typedef struct {
+    const char *head;
+    size_t head_len;
+    c4g_cell_args_t args;
+    int32_t lo;
+    int32_t hi;
+    c4g_cell_reply_kind_t reply;
+    uint32_t devices;
+} cmd_row_t;
 
+/* Deviation D-05 (MISRA 2.5): the row macro is used, as the argument of the table. */
+/* cppcheck-suppress misra-c2012-2.5 */
+#define CELL_X_ROW(cmd, head, args, lo, hi, reply, devices, words, arg, what, help) \
+    {(head), sizeof(head) - 1U, (args), (lo), (hi), (reply), (devices)},
+static const cmd_row_t k_cmds[C4G_CELL_CMD_COUNT_] = {C4G_CELL_COMMANDS(CELL_X_ROW)};
 
 static const char k_open[ACTION_OPEN_LEN] = {'O', 'P', 'E', 'N'};
 static const char k_close[ACTION_CLOSE_LEN] = {'C', 'L', 'O', 'S', 'E'};
@@ -60,23 +70,31 @@ const char *c4g_cell_error_text(int32_t code, int *project)
 const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd)
 {
     const char *name = "???";
-    switch (cmd) {
-    case C4G_CELL_CMD_STA: name = "STA"; break;
-    case C4G_CELL_CMD_SRVON: name = "SRVON"; break;
-    case C4G_CELL_CMD_SRVOF: name = "SRVOF"; break;
-    case C4G_CELL_CMD_OVR: name = "OVR"; break;
-    case C4G_CELL_CMD_MOV: name = "MOV"; break;
-    case C4G_CELL_CMD_STP: name = "STP"; break;
-    case C4G_CELL_CMD_RST: name = "RST"; break;
-    case C4G_CELL_CMD_CLO: name = "CLO"; break;
-    case C4G_CELL_CMD_ACQ: name = "ACQ"; break;
-    case C4G_CELL_CMD_HND: name = "HND"; break;
-    case C4G_CELL_CMD_ITR: name = "ITR"; break;
-    case C4G_CELL_CMD_PNP: name = "PNP"; break;
-    case C4G_CELL_CMD_COUNT_:
-    default: break;
+    if ((uint32_t)cmd < (uint32_t)C4G_CELL_CMD_COUNT_) {
+        name = k_cmds[cmd].head;
     }
     return name;
+}
+
+c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out)
+{
+    c4g_status_t st = C4G_OK;
+    if (out == NULL) {
+        st = C4G_ERR_CELL_NULL;
+    } else if ((uint32_t)cmd >= (uint32_t)C4G_CELL_CMD_COUNT_) {
+        st = C4G_ERR_CELL_ARG;
+    } else {
+        const cmd_row_t *row = &k_cmds[cmd];
+        out->cmd = cmd;
+        out->head = row->head;
+        out->head_len = row->head_len;
+        out->args = row->args;
+        out->lo = row->lo;
+        out->hi = row->hi;
+        out->reply = row->reply;
+        out->devices = row->devices;
+    }
+    return st;
 }
 
 /* ------------------------------------------------------------------ values */
@@ -410,45 +428,50 @@ static c4g_status_t take_word(cursor_t *c, const char *w, size_t n, c4g_status_t
     return st;
 }
 
+/* How many chars of row's head the body at the cursor matches. */
+static size_t head_match(const cursor_t *c, const cmd_row_t *row)
+{
+    const size_t avail = c->body - c->pos;
+    const char *s = &c->s[c->pos];
+    const char *h = row->head;
+    size_t m = 0U;
+    while ((m < row->head_len) && (m < avail) && (char_differs(s[m], h[m]) == 0)) {
+        m++;
+    }
+    return m;
+}
+
+/* The row whose whole head starts the body. Errors point at the first char no head
+   continues with: column 1 when no head shares the first three chars (the spec's
+   head), else the char after the longest partial match (LENGTH when the line ends). */
 static c4g_status_t find_head(cursor_t *c, c4g_cell_cmd_t *cmd)
 {
     c4g_status_t st = need(c, HEAD_LEN, C4G_CELL_PART_HEAD, -1);
     if (st == C4G_OK) {
         uint32_t k = 0U;
         uint32_t found = (uint32_t)C4G_CELL_CMD_COUNT_;
+        size_t best = 0U;
         while ((k < (uint32_t)C4G_CELL_CMD_COUNT_) && (found == (uint32_t)C4G_CELL_CMD_COUNT_)) {
-            if (memcmp(&c->s[c->pos], k_heads[k], HEAD_LEN) == 0) {
+            const size_t m = head_match(c, &k_cmds[k]);
+            if (m == k_cmds[k].head_len) {
                 found = k;
+            } else if (m > best) {
+                best = m;
+            } else {
+                /* a shorter partial match: keep the best */
             }
             k++;
         }
-        if (found == (uint32_t)C4G_CELL_CMD_COUNT_) {
-            st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos, C4G_CELL_PART_HEAD, -1);
-        } else {
+        if (found != (uint32_t)C4G_CELL_CMD_COUNT_) {
             *cmd = (c4g_cell_cmd_t)found;
-            c->pos += HEAD_LEN;
-        }
-    }
-    return st;
-}
-
-/* "ON" or "OF" after "SRV". */
-static c4g_status_t take_servo(cursor_t *c, c4g_cell_cmd_t *cmd)
-{
-    c4g_status_t st = take_word(c, "O", 1U, C4G_ERR_CELL_HEAD, C4G_CELL_PART_HEAD);
-    if (st == C4G_OK) {
-        st = need(c, 1U, C4G_CELL_PART_HEAD, -1);
-    }
-    if (st == C4G_OK) {
-        const char ch = cur_char(c);
-        if (ch == 'N') {
-            *cmd = C4G_CELL_CMD_SRVON;
-        } else if (ch == 'F') {
-            *cmd = C4G_CELL_CMD_SRVOF;
-        } else {
+            c->pos += k_cmds[found].head_len;
+        } else if (best < HEAD_LEN) {
             st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos, C4G_CELL_PART_HEAD, -1);
+        } else if ((c->pos + best) == c->body) {
+            st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, C4G_CELL_PART_HEAD, -1);
+        } else {
+            st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos + best, C4G_CELL_PART_HEAD, -1);
         }
-        c->pos++;
     }
     return st;
 }
@@ -498,46 +521,42 @@ static c4g_status_t take_mov(cursor_t *c, c4g_cell_instr_t *out)
     return st;
 }
 
+/* The arguments of row's layout. */
+static c4g_status_t take_args(cursor_t *c, const cmd_row_t *row, c4g_cell_instr_t *out)
+{
+    c4g_status_t st = C4G_OK;
+    switch (row->args) {
+    case C4G_CELL_ARGS_INT:
+        st = take_int(c, row->lo, row->hi, &out->value);
+        break;
+    case C4G_CELL_ARGS_INT_ACTION:
+        st = take_int(c, row->lo, row->hi, &out->value);
+        if (st == C4G_OK) {
+            st = take_action(c, &out->open);
+        }
+        break;
+    case C4G_CELL_ARGS_MODE_POSE:
+        st = take_mov(c, out);
+        break;
+    case C4G_CELL_ARGS_CLEAR_POSE:
+        st = take_field(c, &k_fmt_mm, C4G_CELL_PART_VALUE, -1, &out->clearance);
+        if (st == C4G_OK) {
+            st = take_pose(c, C4G_CELL_AXES_ROBOT, &out->pose);
+        }
+        break;
+    case C4G_CELL_ARGS_NONE:
+    default:
+        break; /* no data */
+    }
+    return st;
+}
+
 static c4g_status_t decode_instr_body(cursor_t *c, c4g_cell_instr_t *out)
 {
     c4g_cell_cmd_t cmd = C4G_CELL_CMD_STA;
     c4g_status_t st = find_head(c, &cmd);
     if (st == C4G_OK) {
-        switch (cmd) {
-        case C4G_CELL_CMD_SRVON:
-        case C4G_CELL_CMD_SRVOF:
-            st = take_servo(c, &cmd);
-            break;
-        case C4G_CELL_CMD_OVR:
-            st = take_int(c, 0, C4G_CELL_OVR_MAX, &out->value);
-            break;
-        case C4G_CELL_CMD_MOV:
-            st = take_mov(c, out);
-            break;
-        case C4G_CELL_CMD_ACQ:
-            st = take_int(c, 0, C4G_CELL_INT_MAX, &out->value);
-            break;
-        case C4G_CELL_CMD_HND:
-            st = take_int(c, 0, C4G_CELL_INT_MAX, &out->value);
-            if (st == C4G_OK) {
-                st = take_action(c, &out->open);
-            }
-            break;
-        case C4G_CELL_CMD_PNP:
-            st = take_field(c, &k_fmt_mm, C4G_CELL_PART_VALUE, -1, &out->clearance);
-            if (st == C4G_OK) {
-                st = take_pose(c, C4G_CELL_AXES_ROBOT, &out->pose);
-            }
-            break;
-        case C4G_CELL_CMD_STA:
-        case C4G_CELL_CMD_STP:
-        case C4G_CELL_CMD_RST:
-        case C4G_CELL_CMD_CLO:
-        case C4G_CELL_CMD_ITR:
-        case C4G_CELL_CMD_COUNT_:
-        default:
-            break; /* no data */
-        }
+        st = take_args(c, &k_cmds[cmd], out);
     }
     if (st == C4G_OK) {
         st = expect_end(c);
@@ -714,35 +733,27 @@ static c4g_status_t w_flush(const writer_t *w, c4g_status_t st_in, char *buf, si
     return st;
 }
 
-static c4g_status_t encode_instr_data(const c4g_cell_instr_t *in, writer_t *w)
+static c4g_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd_row_t *row,
+                                           writer_t *w)
 {
     c4g_status_t st = C4G_OK;
-    switch (in->cmd) {
-    case C4G_CELL_CMD_SRVON:
-        w_chars(w, "ON", 2U);
+    switch (row->args) {
+    case C4G_CELL_ARGS_INT:
+        st = w_int(w, in->value, row->lo, row->hi);
         break;
-    case C4G_CELL_CMD_SRVOF:
-        w_chars(w, "OF", 2U);
-        break;
-    case C4G_CELL_CMD_OVR:
-        st = w_int(w, in->value, 0, C4G_CELL_OVR_MAX);
-        break;
-    case C4G_CELL_CMD_MOV:
-        w_char(w, (in->relative != 0U) ? 'R' : 'A');
-        st = w_pose(w, &in->pose);
-        break;
-    case C4G_CELL_CMD_ACQ:
-        st = w_int(w, in->value, 0, C4G_CELL_INT_MAX);
-        break;
-    case C4G_CELL_CMD_HND:
-        st = w_int(w, in->value, 0, C4G_CELL_INT_MAX);
+    case C4G_CELL_ARGS_INT_ACTION:
+        st = w_int(w, in->value, row->lo, row->hi);
         if (in->open != 0U) {
             w_chars(w, k_open, ACTION_OPEN_LEN);
         } else {
             w_chars(w, k_close, ACTION_CLOSE_LEN);
         }
         break;
-    case C4G_CELL_CMD_PNP:
+    case C4G_CELL_ARGS_MODE_POSE:
+        w_char(w, (in->relative != 0U) ? 'R' : 'A');
+        st = w_pose(w, &in->pose);
+        break;
+    case C4G_CELL_ARGS_CLEAR_POSE:
         st = w_field(w, in->clearance, &k_fmt_mm);
         if ((st == C4G_OK) && (in->pose.n_axes != C4G_CELL_AXES_ROBOT)) {
             st = C4G_ERR_CELL_AXES;
@@ -751,12 +762,7 @@ static c4g_status_t encode_instr_data(const c4g_cell_instr_t *in, writer_t *w)
             st = w_pose(w, &in->pose);
         }
         break;
-    case C4G_CELL_CMD_STA:
-    case C4G_CELL_CMD_STP:
-    case C4G_CELL_CMD_RST:
-    case C4G_CELL_CMD_CLO:
-    case C4G_CELL_CMD_ITR:
-    case C4G_CELL_CMD_COUNT_:
+    case C4G_CELL_ARGS_NONE:
     default:
         break; /* no data */
     }
@@ -774,8 +780,9 @@ c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t
     } else {
         writer_t w;
         w.n = 0U;
-        w_chars(&w, k_heads[in->cmd], HEAD_LEN);
-        st = w_flush(&w, encode_instr_data(in, &w), buf, cap, out_len);
+        const cmd_row_t *row = &k_cmds[in->cmd];
+        w_chars(&w, row->head, row->head_len);
+        st = w_flush(&w, encode_instr_data(in, row, &w), buf, cap, out_len);
     }
     return st;
 }

@@ -203,8 +203,8 @@ static uint32_t arm_flags(c4g_arm_sm_t *sm, uint32_t mixed, uint32_t drive_on, u
         ev |= C4G_CEV_MIXED;
     }
     sm->drive_on = drive_on;
-    sm->moving = (moving != 0U) ? 1U : 0U;
-    sm->mixed = (mixed != 0U) ? 1U : 0U;
+    sm->moving = c4g_flag(moving != 0U);
+    sm->mixed = c4g_flag(mixed != 0U);
     return ev;
 }
 
@@ -229,7 +229,7 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg,
         *events = 0U;
         st = C4G_ERR_MODE;
         if (c4g_mode_is_known(mode)) {
-            const uint32_t drive_on = (drive_byte == (uint8_t)C4G_STS_MOVING) ? 1U : 0U;
+            const uint32_t drive_on = c4g_flag(drive_byte == (uint8_t)C4G_STS_MOVING);
             uint32_t ev = arm_flags(sm, mixed, drive_on, moving);
             if ((sm->started == 0U) || (mode != sm->mode)) {
                 ev |= enter_mode(sm, sm->mode, mode, now_ns);
@@ -237,7 +237,7 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg,
                 ev |= stay_in_mode(sm, cfg, now_ns);
             }
             sm->started = 1U;
-            sm->driving_on = (mode == C4G_MODE_DRIVING_ON) ? 1U : 0U;
+            sm->driving_on = c4g_flag(mode == C4G_MODE_DRIVING_ON);
             ev |= latch_end(sm);
             sm->fsm = infer_fsm(sm);
             *events = ev;

@@ -337,8 +337,11 @@ c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uin
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_engine_report_t local;
-        c4g_engine_report_t *r = (rep != NULL) ? rep : &local;
+        c4g_engine_report_t *r = rep;
         arm_view_t v[C4G_ARMS];
+        if (r == NULL) {
+            r = &local;
+        }
         (void)memset(r, 0, sizeof *r);
         st = C4G_ERR_PACKET;
         if (rx->n_axes == ctl->map.n_axes) {

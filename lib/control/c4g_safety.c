@@ -210,11 +210,11 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
     const uint32_t n = ctl->n_joint[arm];
     double qm[C4G_AXES_PER_ARM];
     double q[C4G_AXES_PER_ARM];
-    uint32_t j;
     joint_motor_refs(ctl, arm, rx, tx, qm);
     if ((c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) &&
         (joint_clamp(ctl, arm, q, r) != 0U) &&
         (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
+        uint32_t j;
         for (j = 0U; j < n; j++) {
             const uint32_t i = ctl->map.open_of[arm][j];
             const uint32_t rules = ctl->prep_rules[i];
@@ -490,8 +490,8 @@ static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx
     /* Each axis is recorded as soon as it is filtered while nothing can change the
      * overlays of the axes before it (no joint check, no fault, no following error);
      * otherwise every axis is recorded again once the overlays are final. */
-    uint32_t rec = ((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] | ctl->joint_on[3]) !=
-                    0U) ? 0U : 1U;
+    uint32_t rec = c4g_flag((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] |
+                             ctl->joint_on[3]) == 0U);
     tx->infpar = exit_bytes(ctl, r);
     any = finish_axes(ctl, rx, tx, r, n, &rec);
     if (rec == 0U) {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The PC-side loop object: session + control engine, so that the safety filter and the
  * neutral fallback are on the only path a reply can take. */
-#include "c4gopen.h"
+#include "../c4g_internal.h"
 
 #include <string.h>
 
@@ -123,7 +123,7 @@ c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *ou
         }
         if (st == C4G_OK) {
             lp->due = 0U;
-            lp->timed = (lp->rx != NULL) ? 1U : 0U;
+            lp->timed = c4g_flag(lp->rx != NULL);
         }
     }
     return st;

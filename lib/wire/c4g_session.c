@@ -448,16 +448,17 @@ static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint6
 static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
                              const c4g_endpoint_t *from, c4g_rx_result_t *res)
 {
-    const int other =
-        ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) ? 1
-                                                                                            : 0;
+    int other = 0;
     uint32_t was_silent;
     uint32_t lost_ev;
     c4g_counters_t before;
+    if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
+        other = 1;
+    }
     s->counters.rx++;
     s->pending_num = -1;
     res->events |= check_lost(s, now_ns);
-    was_silent = ((s->silent != 0U) || (s->phase == C4G_PHASE_LOST)) ? 1U : 0U;
+    was_silent = c4g_flag((s->silent != 0U) || (s->phase == C4G_PHASE_LOST));
     lost_ev = res->events;
     before = s->counters;
     if (new_startup(s, buf, len, other) != 0) {
@@ -533,7 +534,10 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
             }
         }
     } else {
-        *n = (s->pending_kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE;
+        *n = C4G_SYNC_REPLY_SIZE;
+        if (s->pending_kind == C4G_RX_INIT) {
+            *n = C4G_INIT_SIZE;
+        }
         st = C4G_ERR_CAPACITY;
         if (cap >= *n) {
             (void)memcpy(buf, s->pending_raw, s->pending_len);

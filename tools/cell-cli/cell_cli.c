@@ -2,7 +2,6 @@
 /* cell-cli: terminal client for the cell's robot, platform and conditioning
  * controllers (REPL with libedit, one-shot, scripts, --json). See docs/cell-cli.md. */
 #include <errno.h>
-#include <getopt.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +13,8 @@
 #include <editline/readline.h>
 
 #include "c4gopen.h"
+#include "c4g_cli.h"
+#include "c4g_textfile.h"
 #include "cell_common.h"
 #include "cli_cmd.h"
 #include "cli_config.h"
@@ -172,6 +173,94 @@ static c4g_cell_unit_t axis_unit(int dev, int a)
     return (dev == CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
 }
 
+static int axis_places(int dev, int a)
+{
+    return axis_unit(dev, a) == C4G_CELL_UNIT_MM ? 3 : 4;
+}
+
+static double axis_value(int dev, const c4g_cell_reply_t *r, uint32_t a)
+{
+    double v = 0;
+    (void)c4g_cell_to_double(r->pose.v[a], axis_unit(dev, (int)a), &v);
+    return v;
+}
+
+/* A reply that does not decode. */
+static int show_invalid(int dev, const char *req, size_t rl, const char *line, size_t len,
+                        c4g_status_t st, const c4g_cell_diag_t *d)
+{
+    size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
+    if (g_json) {
+        printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
+        json_str(stdout, req, rl);
+        printf(",\"reply\":\"invalid\",\"raw\":");
+        json_str(stdout, line, len);
+        printf(",\"problem\":\"%s\",\"column\":%u}\n", c4g_strerror(st), (unsigned)d->column);
+    } else {
+        printf("%s: invalid reply \"%.*s\": %s at column %u\n", cell_dev_name(dev), (int)ll, line,
+               c4g_strerror(st), (unsigned)d->column);
+    }
+    return EXIT_PROTOCOL;
+}
+
+static void show_json(int dev, const char *req, size_t rl, const char *line, size_t ll,
+                      const c4g_cell_reply_t *r)
+{
+    int project = 0;
+    const char *etext = c4g_cell_error_text(r->error, &project);
+    printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
+    json_str(stdout, req, rl);
+    printf(",\"raw\":");
+    json_str(stdout, line, ll);
+    if (r->kind == C4G_CELL_REPLY_ER) {
+        printf(",\"reply\":\"ER\",\"error\":%d,\"error_text\":\"%s\",\"project_code\":%s}\n",
+               (int)r->error, etext, project ? "true" : "false");
+        return;
+    }
+    if (r->kind == C4G_CELL_REPLY_OK) {
+        printf(",\"reply\":\"OK\"}\n");
+        return;
+    }
+    printf(",\"reply\":\"OK\",\"moving\":%s,\"servo\":%s,\"override\":%d,\"error\":%d,"
+           "\"error_text\":\"%s\",\"position\":{",
+           r->moving ? "true" : "false", r->servo_on ? "true" : "false", (int)r->override_pct,
+           (int)r->error, etext);
+    for (uint32_t a = 0; a < r->pose.n_axes; a++) {
+        printf("%s\"%s\":%.*f", a ? "," : "", axis_label(dev, (int)a), axis_places(dev, (int)a),
+               axis_value(dev, r, a));
+    }
+    printf("}}\n");
+}
+
+static void show_text(int dev, const c4g_cell_reply_t *r)
+{
+    int project = 0;
+    const char *etext = c4g_cell_error_text(r->error, &project);
+    if (r->kind == C4G_CELL_REPLY_ER) {
+        printf("%s: ER %+06d  %s (%s)\n", cell_dev_name(dev), (int)r->error, etext,
+               project ? "project code" : "spec");
+        return;
+    }
+    if (r->kind == C4G_CELL_REPLY_OK) {
+        printf("%s: OK\n", cell_dev_name(dev));
+        return;
+    }
+    printf("%s: %s, servo %s, override %d %%, error %+06d (%s)\n", cell_dev_name(dev),
+           r->moving ? "MOVING" : "stopped", r->servo_on ? "ON" : "off", (int)r->override_pct,
+           (int)r->error, etext);
+    for (uint32_t a = 0; a < r->pose.n_axes; a++) {
+        char h[16];
+        snprintf(h, sizeof h, "%s [%s]", axis_label(dev, (int)a),
+                 axis_unit(dev, (int)a) == C4G_CELL_UNIT_MM ? "mm" : "rad");
+        printf("  %10s", h);
+    }
+    printf("\n");
+    for (uint32_t a = 0; a < r->pose.n_axes; a++) {
+        printf("  %10.*f", axis_places(dev, (int)a), axis_value(dev, r, a));
+    }
+    printf("\n");
+}
+
 /* Show a reply; returns the exit class it implies. */
 static int show_reply(int dev, const char *req, size_t req_len, const char *line, size_t len)
 {
@@ -181,65 +270,12 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
     size_t rl = (req_len >= 2) ? req_len - 2 : req_len;
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
     if (st != C4G_OK) {
-        if (g_json) {
-            printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
-            json_str(stdout, req, rl);
-            printf(",\"reply\":\"invalid\",\"raw\":");
-            json_str(stdout, line, len);
-            printf(",\"problem\":\"%s\",\"column\":%u}\n", c4g_strerror(st), (unsigned)d.column);
-        } else {
-            printf("%s: invalid reply \"%.*s\": %s at column %u\n", cell_dev_name(dev), (int)ll,
-                   line, c4g_strerror(st), (unsigned)d.column);
-        }
-        return EXIT_PROTOCOL;
+        return show_invalid(dev, req, rl, line, len, st, &d);
     }
-    int project = 0;
-    const char *etext = c4g_cell_error_text(r.error, &project);
     if (g_json) {
-        printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
-        json_str(stdout, req, rl);
-        printf(",\"raw\":");
-        json_str(stdout, line, ll);
-        if (r.kind == C4G_CELL_REPLY_ER) {
-            printf(",\"reply\":\"ER\",\"error\":%d,\"error_text\":\"%s\",\"project_code\":%s}\n",
-                   (int)r.error, etext, project ? "true" : "false");
-        } else if (r.kind == C4G_CELL_REPLY_OK) {
-            printf(",\"reply\":\"OK\"}\n");
-        } else {
-            printf(",\"reply\":\"OK\",\"moving\":%s,\"servo\":%s,\"override\":%d,\"error\":%d,"
-                   "\"error_text\":\"%s\",\"position\":{",
-                   r.moving ? "true" : "false", r.servo_on ? "true" : "false",
-                   (int)r.override_pct, (int)r.error, etext);
-            for (uint32_t a = 0; a < r.pose.n_axes; a++) {
-                double v = 0;
-                (void)c4g_cell_to_double(r.pose.v[a], axis_unit(dev, (int)a), &v);
-                printf("%s\"%s\":%.*f", a ? "," : "", axis_label(dev, (int)a),
-                       axis_unit(dev, (int)a) == C4G_CELL_UNIT_MM ? 3 : 4, v);
-            }
-            printf("}}\n");
-        }
-    } else if (r.kind == C4G_CELL_REPLY_ER) {
-        printf("%s: ER %+06d  %s (%s)\n", cell_dev_name(dev), (int)r.error, etext,
-               project ? "project code" : "spec");
-    } else if (r.kind == C4G_CELL_REPLY_OK) {
-        printf("%s: OK\n", cell_dev_name(dev));
+        show_json(dev, req, rl, line, ll, &r);
     } else {
-        printf("%s: %s, servo %s, override %d %%, error %+06d (%s)\n", cell_dev_name(dev),
-               r.moving ? "MOVING" : "stopped", r.servo_on ? "ON" : "off", (int)r.override_pct,
-               (int)r.error, etext);
-        for (uint32_t a = 0; a < r.pose.n_axes; a++) {
-            char h[16];
-            snprintf(h, sizeof h, "%s [%s]", axis_label(dev, (int)a),
-                     axis_unit(dev, (int)a) == C4G_CELL_UNIT_MM ? "mm" : "rad");
-            printf("  %10s", h);
-        }
-        printf("\n");
-        for (uint32_t a = 0; a < r.pose.n_axes; a++) {
-            double v = 0;
-            (void)c4g_cell_to_double(r.pose.v[a], axis_unit(dev, (int)a), &v);
-            printf("  %10.*f", axis_unit(dev, (int)a) == C4G_CELL_UNIT_MM ? 3 : 4, v);
-        }
-        printf("\n");
+        show_text(dev, &r);
     }
     fflush(stdout);
     return r.kind == C4G_CELL_REPLY_ER ? EXIT_DEVICE_ER : EXIT_OK;
@@ -299,26 +335,26 @@ static int run_cmd(const cli_cmd_t *cmd)
     size_t n = 0;
     int rc;
     switch (cmd->kind) {
-    case CLI_EMPTY:
-    case CLI_QUIT:
+    case CMD_EMPTY:
+    case CMD_QUIT:
         return EXIT_OK;
-    case CLI_HELP:
-        rc = cli_help(cmd->topic, help, sizeof help);
+    case CMD_HELP:
+        rc = cli_cmd_help(cmd->topic, help, sizeof help);
         fputs(help, stdout);
         return rc == 0 ? EXIT_OK : EXIT_USAGE;
-    case CLI_SLEEP:
+    case CMD_SLEEP:
         sleep_s(cmd->seconds);
         return EXIT_OK;
-    case CLI_WAIT:
+    case CMD_WAIT:
         return wait_stopped(cmd->dev, cmd->seconds);
-    case CLI_SEND:
-    case CLI_RAW:
+    case CMD_SEND:
+    case CMD_RAW:
         rc = transact(cmd->dev, cmd->line, cmd->len, reply, sizeof reply, &n);
         if (rc != 0) {
             return rc;
         }
         rc = show_reply(cmd->dev, cmd->line, cmd->len, reply, n);
-        if (cmd->kind == CLI_SEND && cmd->instr.cmd == C4G_CELL_CMD_CLO && rc == EXIT_OK) {
+        if (cmd->kind == CMD_SEND && cmd->instr.cmd == C4G_CELL_CMD_CLO && rc == EXIT_OK) {
             conn_drop(cmd->dev); /* the device closes after OK */
         }
         return rc;
@@ -373,14 +409,14 @@ static int run_script(FILE *f, const char *name, int keep_going)
             fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, lerr);
             return EXIT_USAGE;
         }
-        if (cli_parse(line, &cmd, err, sizeof err) != 0) {
+        if (cli_cmd_parse(line, &cmd, err, sizeof err) != 0) {
             fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, err);
             return EXIT_USAGE;
         }
-        if (cmd.kind == CLI_EMPTY) {
+        if (cmd.kind == CMD_EMPTY) {
             continue;
         }
-        if (cmd.kind == CLI_QUIT) {
+        if (cmd.kind == CMD_QUIT) {
             break;
         }
         if (g_echo && !g_json) {
@@ -419,7 +455,7 @@ static char *complete_gen(const char *text, int state)
         if (pl > 0 && buf[pl - 1] != ' ' && buf[pl - 1] != '\t' && n > 0) {
             word = n - 1; /* completing the last, unfinished word */
         }
-        list = cli_words(word, w[0] ? w[0] : "", word >= 2 ? w[1] : NULL);
+        list = cli_cmd_words(word, w[0] ? w[0] : "", word >= 2 ? w[1] : NULL);
         idx = 0;
         tl = strlen(text);
     }
@@ -474,9 +510,9 @@ static int run_repl(int use_history)
                 (void)history_truncate_file(hist, 1000);
             }
         }
-        if (cli_parse(line, &cmd, err, sizeof err) != 0) {
+        if (cli_cmd_parse(line, &cmd, err, sizeof err) != 0) {
             printf("error: %s\n", err);
-        } else if (cmd.kind == CLI_QUIT) {
+        } else if (cmd.kind == CMD_QUIT) {
             free(line);
             break;
         } else {
@@ -488,272 +524,262 @@ static int run_repl(int use_history)
     return EXIT_OK;
 }
 
-static void usage(FILE *f)
+/* ------------------------------------------------------------------ command line */
+
+#define HOST_CAP sizeof g_conn[0].host
+
+/* What the options say; 0 / "" for "not given" (defaults < config file < options). */
+typedef struct opts {
+    char config[1024];
+    char script[1024];
+    char host_all[HOST_CAP];
+    char dev_addr[CELL_DEVICES][HOST_CAP + 8];
+    unsigned port_base;
+    unsigned connect_ms, reply_ms;
+    long long repeat;
+    double interval;
+    int keep_going, no_history;
+} opts_t;
+
+static opts_t g_opt = {.repeat = 1};
+
+/* --robot / --platform / --conditioning HOST[:PORT]: checked now, applied after the file. */
+static int on_addr(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
 {
-    fprintf(f,
-"Usage: cell-cli [options] [DEVICE COMMAND [ARGS...]]\n"
-"Terminal client of the cell protocol (robot 2001, platform 2002, conditioning 2003).\n"
-"No command: interactive REPL (libedit: history in ~/.cell_cli_history, TAB completion);\n"
-"with stdin not a terminal, or -f FILE, commands are read as a script.\n"
-"\n"
-"Options:\n"
-"  -H, --host HOST            host of all three devices (default 127.0.0.1)\n"
-"  -p, --port-base N          robot on N, platform N+1, conditioning N+2\n"
-"      --robot HOST[:PORT]    robot address (also --platform, --conditioning)\n"
-"      --platform HOST[:PORT]\n"
-"      --conditioning HOST[:PORT]\n"
-"  -c, --config FILE          INI file: [robot] host= port=, [platform], [conditioning],\n"
-"                             [cli] connect_timeout_ms= reply_timeout_ms=\n"
-"                             (default: $CELL_CLI_CONFIG or ~/.config/cell-cli.ini if present)\n"
-"      --connect-timeout MS   connect timeout (default 2000)\n"
-"  -t, --timeout MS           reply timeout (default 2000)\n"
-"  -f, --file FILE            run a script ('-' = stdin)\n"
-"  -k, --keep-going           scripts: do not stop at the first ER reply\n"
-"  -e, --echo                 scripts: print each command before running it\n"
-"  -r, --repeat N             one-shot: run the command N times (-1: forever)\n"
-"  -i, --interval SEC         one-shot: pause between repeats (default 0)\n"
-"  -j, --json                 one JSON object per reply\n"
-"      --no-history           REPL: do not read or write the history file\n"
-"  -h, --help                 this help (commands: cell-cli help)\n"
-"  -V, --version              print the version\n"
-"\n"
-"Commands (see 'cell-cli help'): DEV sta | srvon | srvof | ovr N | stp | itr | rst | clo,\n"
-"  robot mov abs|rel x= y= z= c=, platform mov abs|rel a= b=, robot pnp clear= x= y= z= c=,\n"
-"  conditioning acq N, conditioning hnd N open|close, raw DEV TEXT,\n"
-"  wait DEV stopped [TIMEOUT], sleep SEC.\n"
-"\n"
-"Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
-"failure or reply timeout, 4 invalid reply, 5 wait timed out.\n"
-"\n"
-"Examples:\n"
-"  cell-cli robot sta\n"
-"  cell-cli robot mov abs x=10 y=-2 z=5.999 c=-1.2322\n"
-"  cell-cli --json -r 10 -i 0.5 platform sta        monitor the platform\n"
-"  cell-cli -p 21001 -f fixtures/cell/pick_and_place.cell\n"
-"  cell-cli raw robot OVR+00050\n");
+    opts_t *o = ctx;
+    char host[HOST_CAP];
+    unsigned port = 0;
+    if (strlen(v) >= sizeof o->dev_addr[0] || cell_parse_hostport(v, host, sizeof host, &port) != 0) {
+        snprintf(why, wl, "expected HOST[:PORT]");
+        return -1;
+    }
+    snprintf(o->dev_addr[row->key], sizeof o->dev_addr[0], "%s", v);
+    return 0;
 }
 
-int main(int argc, char **argv)
+static int on_repeat(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
 {
-    static const struct option opts[] = {
-        {"host", required_argument, NULL, 'H'},
-        {"port-base", required_argument, NULL, 'p'},
-        {"robot", required_argument, NULL, 1000},
-        {"platform", required_argument, NULL, 1001},
-        {"conditioning", required_argument, NULL, 1002},
-        {"config", required_argument, NULL, 'c'},
-        {"connect-timeout", required_argument, NULL, 1003},
-        {"timeout", required_argument, NULL, 't'},
-        {"file", required_argument, NULL, 'f'},
-        {"keep-going", no_argument, NULL, 'k'},
-        {"echo", no_argument, NULL, 'e'},
-        {"repeat", required_argument, NULL, 'r'},
-        {"interval", required_argument, NULL, 'i'},
-        {"json", no_argument, NULL, 'j'},
-        {"no-history", no_argument, NULL, 1004},
-        {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, 'V'},
-        {NULL, 0, NULL, 0}};
-    const char *config = NULL;
-    const char *script = NULL;
-    const char *host_all = NULL;
-    const char *dev_addr[CELL_DEVICES] = {NULL, NULL, NULL};
-    long port_base = -1;
-    long connect_ms = -1, reply_ms = -1;
-    long repeat = 1;
-    double interval = 0.0;
-    int keep_going = 0, use_history = 1;
-    int ch;
+    opts_t *o = ctx;
+    long long x = 0;
+    (void)row;
+    if (tf_parse_int(v, -1, 100000000LL, &x) != TF_NUM_OK || x == 0) {
+        snprintf(why, wl, "a count 1..100000000, or -1 for forever");
+        return -1;
+    }
+    o->repeat = x;
+    return 0;
+}
 
+static const cli_opt_t k_opts[] = {
+    {"host", 'H', CLI_STRING, "HOST", "host of all three devices (default 127.0.0.1)",
+     g_opt.host_all, sizeof g_opt.host_all, 0, 0, NULL, 0},
+    {"port-base", 'p', CLI_UINT, "N", "robot on N, platform N+1, conditioning N+2",
+     &g_opt.port_base, 0, 1, 65533, NULL, 0},
+    {"robot", 0, CLI_CALL, "HOST[:PORT]", "robot address", NULL, 0, 0, 0, on_addr,
+     CELL_DEV_ROBOT},
+    {"platform", 0, CLI_CALL, "HOST[:PORT]", "platform address", NULL, 0, 0, 0, on_addr,
+     CELL_DEV_PLATFORM},
+    {"conditioning", 0, CLI_CALL, "HOST[:PORT]", "conditioning controller address", NULL, 0, 0,
+     0, on_addr, CELL_DEV_CONDITIONING},
+    {"config", 'c', CLI_STRING, "FILE", "INI file (see below)", g_opt.config,
+     sizeof g_opt.config, 0, 0, NULL, 0},
+    {"connect-timeout", 0, CLI_UINT, "MS", "connect timeout 1..600000 (default 2000)",
+     &g_opt.connect_ms, 0, 1, 600000, NULL, 0},
+    {"timeout", 't', CLI_UINT, "MS", "reply timeout 1..600000 (default 2000)", &g_opt.reply_ms,
+     0, 1, 600000, NULL, 0},
+    {"file", 'f', CLI_STRING, "FILE", "run a script ('-' = stdin)", g_opt.script,
+     sizeof g_opt.script, 0, 0, NULL, 0},
+    {"keep-going", 'k', CLI_FLAG, NULL, "scripts: do not stop at the first ER reply",
+     &g_opt.keep_going, 0, 0, 0, NULL, 0},
+    {"echo", 'e', CLI_FLAG, NULL, "scripts: print each command before running it", &g_echo, 0,
+     0, 0, NULL, 0},
+    {"repeat", 'r', CLI_CALL, "N", "one-shot: run the command N times (-1: forever)", NULL, 0,
+     0, 0, on_repeat, 0},
+    {"interval", 'i', CLI_DOUBLE, "SEC", "one-shot: pause between repeats 0..86400 (default 0)",
+     &g_opt.interval, 0, 0, 86400, NULL, 0},
+    {"json", 'j', CLI_FLAG, NULL, "one JSON object per reply", &g_json, 0, 0, 0, NULL, 0},
+    {"no-history", 0, CLI_FLAG, NULL, "REPL: do not read or write the history file",
+     &g_opt.no_history, 0, 0, 0, NULL, 0},
+};
+
+static const char *const k_examples[] = {
+    "cell-cli robot sta",
+    "cell-cli robot mov abs x=10 y=-2 z=5.999 c=-1.2322",
+    "cell-cli --json -r 10 -i 0.5 platform sta        monitor the platform",
+    "cell-cli -p 21001 -f fixtures/cell/pick_and_place.cell",
+    "cell-cli raw robot OVR+00050",
+    NULL};
+
+static const cli_spec_t k_spec = {
+    "cell-cli", NULL,
+    "Usage: cell-cli [options] [DEVICE COMMAND [ARGS...]]\n"
+    "Terminal client of the cell protocol (robot 2001, platform 2002, conditioning 2003).\n"
+    "No command: interactive REPL (libedit: history in ~/.cell_cli_history, TAB completion);\n"
+    "with stdin not a terminal, or -f FILE, commands are read as a script.\n",
+    k_opts, sizeof k_opts / sizeof k_opts[0], k_examples,
+    "Config file (-c FILE, default: $CELL_CLI_CONFIG or ~/.config/cell-cli.ini if present):\n"
+    "  [robot] host= port=, [platform], [conditioning], [cli] connect_timeout_ms=\n"
+    "  reply_timeout_ms=; options win over the file.\n"
+    "\n"
+    "Commands (see 'cell-cli help'): DEV sta | srvon | srvof | ovr N | stp | itr | rst | clo,\n"
+    "  robot mov abs|rel x= y= z= c=, platform mov abs|rel a= b=, robot pnp clear= x= y= z= c=,\n"
+    "  conditioning acq N, conditioning hnd N open|close, raw DEV TEXT,\n"
+    "  wait DEV stopped [TIMEOUT], sleep SEC.\n"
+    "\n"
+    "Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
+    "failure or reply timeout, 4 invalid reply, 5 wait timed out.\n",
+    0, -1};
+
+/* The config file: -c, else $CELL_CLI_CONFIG, else ~/.config/cell-cli.ini if present. */
+static const char *config_path(void)
+{
+    static char def[1024];
+    const char *env = getenv("CELL_CLI_CONFIG");
+    const char *home = getenv("HOME");
+    if (g_opt.config[0] != '\0') {
+        return g_opt.config;
+    }
+    if (env != NULL) {
+        return env;
+    }
+    if (home != NULL) {
+        snprintf(def, sizeof def, "%s/.config/cell-cli.ini", home);
+        if (access(def, R_OK) == 0) {
+            return def;
+        }
+    }
+    return NULL;
+}
+
+static int load_config(const char *path)
+{
+    cli_config_t cc;
+    char err[600];
+    cli_config_default(&cc);
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        strcpy(cc.host[d], g_conn[d].host);
+        cc.port[d] = g_conn[d].port;
+    }
+    cc.connect_ms = g_connect_ms;
+    cc.reply_ms = g_reply_ms;
+    if (cli_config_load(&cc, path, err, sizeof err) != 0) {
+        fprintf(stderr, "cell-cli: config file %s\n", err);
+        return EXIT_USAGE;
+    }
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        strcpy(g_conn[d].host, cc.host[d]);
+        g_conn[d].port = cc.port[d];
+    }
+    g_connect_ms = cc.connect_ms;
+    g_reply_ms = cc.reply_ms;
+    return EXIT_OK;
+}
+
+/* Defaults, then the config file, then the options. */
+static int configure(void)
+{
+    const char *config = config_path();
     for (int d = 0; d < CELL_DEVICES; d++) {
         strcpy(g_conn[d].host, "127.0.0.1");
         g_conn[d].port = cell_dev_default_port(d);
         g_conn[d].fd = -1;
     }
-    /* "+" stops at the first non-option: command words like "mov" pass through */
-    while ((ch = getopt_long(argc, argv, "+H:p:c:t:f:ker:i:jhV", opts, NULL)) != -1) {
-        unsigned long u;
-        switch (ch) {
-        case 'H':
-            host_all = optarg;
-            break;
-        case 'p':
-            if (cell_parse_uint(optarg, 65533UL, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-cli: --port-base: not a port: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            port_base = (long)u;
-            break;
-        case 1000:
-        case 1001:
-        case 1002:
-            dev_addr[ch - 1000] = optarg;
-            break;
-        case 'c':
-            config = optarg;
-            break;
-        case 1003:
-        case 't':
-            if (cell_parse_uint(optarg, 600000UL, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-cli: timeout: milliseconds 1..600000: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            if (ch == 't') {
-                reply_ms = (long)u;
-            } else {
-                connect_ms = (long)u;
-            }
-            break;
-        case 'f':
-            script = optarg;
-            break;
-        case 'k':
-            keep_going = 1;
-            break;
-        case 'e':
-            g_echo = 1;
-            break;
-        case 'r':
-            if (strcmp(optarg, "-1") == 0) {
-                repeat = -1;
-            } else if (cell_parse_uint(optarg, 100000000UL, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-cli: --repeat: a count >= 1, or -1: %s\n", optarg);
-                return EXIT_USAGE;
-            } else {
-                repeat = (long)u;
-            }
-            break;
-        case 'i':
-            if (cell_parse_double(optarg, &interval) != 0 || interval < 0 || interval > 86400) {
-                fprintf(stderr, "cell-cli: --interval: seconds 0..86400: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            break;
-        case 'j':
-            g_json = 1;
-            break;
-        case 1004:
-            use_history = 0;
-            break;
-        case 'h':
-            usage(stdout);
-            return EXIT_OK;
-        case 'V':
-            printf("cell-cli %s\n", C4G_VERSION_STRING);
-            return EXIT_OK;
-        default:
-            usage(stderr);
-            return EXIT_USAGE;
-        }
+    if (config != NULL && load_config(config) != EXIT_OK) {
+        return EXIT_USAGE;
     }
-
-    /* precedence: defaults < config file < options */
-    if (config == NULL) {
-        const char *env = getenv("CELL_CLI_CONFIG");
-        static char def[1024];
-        const char *home = getenv("HOME");
-        if (env != NULL) {
-            config = env;
-        } else if (home != NULL) {
-            snprintf(def, sizeof def, "%s/.config/cell-cli.ini", home);
-            if (access(def, R_OK) == 0) {
-                config = def;
-            }
-        }
+    if (g_opt.connect_ms > 0) {
+        g_connect_ms = (int)g_opt.connect_ms;
     }
-    if (config != NULL) {
-        cli_config_t cc;
-        char err[600];
-        cli_config_default(&cc);
-        for (int d = 0; d < CELL_DEVICES; d++) {
-            strcpy(cc.host[d], g_conn[d].host);
-            cc.port[d] = g_conn[d].port;
-        }
-        cc.connect_ms = g_connect_ms;
-        cc.reply_ms = g_reply_ms;
-        if (cli_config_load(&cc, config, err, sizeof err) != 0) {
-            fprintf(stderr, "cell-cli: config file %s\n", err);
-            return EXIT_USAGE;
-        }
-        for (int d = 0; d < CELL_DEVICES; d++) {
-            strcpy(g_conn[d].host, cc.host[d]);
-            g_conn[d].port = cc.port[d];
-        }
-        g_connect_ms = cc.connect_ms;
-        g_reply_ms = cc.reply_ms;
-    }
-    if (connect_ms > 0) {
-        g_connect_ms = (int)connect_ms;
-    }
-    if (reply_ms > 0) {
-        g_reply_ms = (int)reply_ms;
+    if (g_opt.reply_ms > 0) {
+        g_reply_ms = (int)g_opt.reply_ms;
     }
     for (int d = 0; d < CELL_DEVICES; d++) {
-        if (host_all != NULL) {
-            if (strlen(host_all) >= sizeof g_conn[d].host) {
-                fprintf(stderr, "cell-cli: --host too long\n");
-                return EXIT_USAGE;
-            }
-            strcpy(g_conn[d].host, host_all);
+        if (g_opt.host_all[0] != '\0') {
+            strcpy(g_conn[d].host, g_opt.host_all);
         }
-        if (port_base > 0) {
-            g_conn[d].port = (unsigned)port_base + (unsigned)d;
+        if (g_opt.port_base > 0) {
+            g_conn[d].port = g_opt.port_base + (unsigned)d;
         }
-        if (dev_addr[d] != NULL &&
-            cell_parse_hostport(dev_addr[d], g_conn[d].host, sizeof g_conn[d].host,
-                                &g_conn[d].port) != 0) {
-            fprintf(stderr, "cell-cli: --%s: expected HOST[:PORT]: %s\n", cell_dev_name(d),
-                    dev_addr[d]);
-            return EXIT_USAGE;
+        if (g_opt.dev_addr[d][0] != '\0') {
+            (void)cell_parse_hostport(g_opt.dev_addr[d], g_conn[d].host, sizeof g_conn[d].host,
+                                      &g_conn[d].port); /* checked by on_addr */
         }
     }
+    return EXIT_OK;
+}
 
+static int run_script_file(const char *script)
+{
+    int is_stdin = strcmp(script, "-") == 0;
+    FILE *f = is_stdin ? stdin : fopen(script, "r");
     int rc;
-    if (script != NULL) {
-        if (optind < argc) {
+    if (f == NULL) {
+        fprintf(stderr, "cell-cli: cannot open script %s: %s\n", script, strerror(errno));
+        return EXIT_USAGE;
+    }
+    rc = run_script(f, is_stdin ? "stdin" : script, g_opt.keep_going);
+    if (!is_stdin) {
+        fclose(f);
+    }
+    return rc;
+}
+
+/* One-shot: the operands are one command, run --repeat times. */
+static int run_oneshot(int n, char **words)
+{
+    char text[1024] = "";
+    size_t o = 0;
+    cli_cmd_t cmd;
+    char err[256];
+    int rc = EXIT_OK;
+    for (int i = 0; i < n; i++) {
+        int w = snprintf(text + o, sizeof text - o, "%s%s", i > 0 ? " " : "", words[i]);
+        if (w < 0 || (size_t)w >= sizeof text - o) {
+            fprintf(stderr, "cell-cli: command too long\n");
+            return EXIT_USAGE;
+        }
+        o += (size_t)w;
+    }
+    if (cli_cmd_parse(text, &cmd, err, sizeof err) != 0) {
+        fprintf(stderr, "cell-cli: %s\n", err);
+        return EXIT_USAGE;
+    }
+    for (long long k = 0; g_opt.repeat < 0 || k < g_opt.repeat; k++) {
+        if (k > 0 && g_opt.interval > 0) {
+            sleep_s(g_opt.interval);
+        }
+        rc = run_cmd(&cmd);
+        if (rc != EXIT_OK && rc != EXIT_DEVICE_ER) {
+            break;
+        }
+    }
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    int first = 0;
+    int rc;
+    cli_result_t pr = cli_parse(&k_spec, &g_opt, argc, argv, &first);
+    if (pr != CLI_RUN) {
+        return pr == CLI_DONE ? EXIT_OK : EXIT_USAGE;
+    }
+    rc = configure();
+    if (rc != EXIT_OK) {
+        return rc;
+    }
+    if (g_opt.script[0] != '\0') {
+        if (first < argc) {
             fprintf(stderr, "cell-cli: -f and a command cannot be combined\n");
             return EXIT_USAGE;
         }
-        FILE *f = strcmp(script, "-") == 0 ? stdin : fopen(script, "r");
-        if (f == NULL) {
-            fprintf(stderr, "cell-cli: cannot open script %s: %s\n", script, strerror(errno));
-            return EXIT_USAGE;
-        }
-        rc = run_script(f, strcmp(script, "-") == 0 ? "stdin" : script, keep_going);
-        if (f != stdin) {
-            fclose(f);
-        }
-    } else if (optind < argc) {
-        char text[1024] = "";
-        size_t o = 0;
-        cli_cmd_t cmd;
-        char err[256];
-        for (int i = optind; i < argc; i++) {
-            int w = snprintf(text + o, sizeof text - o, "%s%s", i > optind ? " " : "", argv[i]);
-            if (w < 0 || (size_t)w >= sizeof text - o) {
-                fprintf(stderr, "cell-cli: command too long\n");
-                return EXIT_USAGE;
-            }
-            o += (size_t)w;
-        }
-        if (cli_parse(text, &cmd, err, sizeof err) != 0) {
-            fprintf(stderr, "cell-cli: %s\n", err);
-            return EXIT_USAGE;
-        }
-        rc = EXIT_OK;
-        for (long k = 0; repeat < 0 || k < repeat; k++) {
-            if (k > 0 && interval > 0) {
-                sleep_s(interval);
-            }
-            rc = run_cmd(&cmd);
-            if (rc != EXIT_OK && rc != EXIT_DEVICE_ER) {
-                break;
-            }
-        }
+        rc = run_script_file(g_opt.script);
+    } else if (first < argc) {
+        rc = run_oneshot(argc - first, argv + first);
     } else if (isatty(STDIN_FILENO)) {
-        rc = run_repl(use_history);
+        rc = run_repl(!g_opt.no_history);
     } else {
-        rc = run_script(stdin, "stdin", keep_going);
+        rc = run_script(stdin, "stdin", g_opt.keep_going);
     }
     for (int d = 0; d < CELL_DEVICES; d++) {
         conn_drop(d);

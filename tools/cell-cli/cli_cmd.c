@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* cell-cli command language (see cli_cmd.h and docs/cell-cli.md). */
+/* cell-cli command language (see cli_cmd.h and docs/cell-cli.md). The device commands are
+ * the rows of the library's command table; nothing here names one of them. */
 #include "cli_cmd.h"
 
 #include <ctype.h>
@@ -11,6 +12,37 @@
 #include "cell_common.h"
 
 #define MAX_WORDS 12
+#define WORD_MAX 32 /* longest command word of the table, NUL included */
+
+/* One row of C4G_CELL_COMMANDS as the command language needs it. */
+typedef struct cmd_row {
+    c4g_cell_cmd_t cmd;
+    c4g_cell_args_t args;
+    int32_t lo, hi;
+    unsigned devices;
+    const char *words; /* "stp|stop", "srvon|servo on" */
+    const char *arg;   /* usage placeholder of the integer argument */
+    const char *what;  /* its name in messages */
+    const char *help;
+} cmd_row_t;
+
+#define CLI_X_ROW(cmd, head, args, lo, hi, reply, devices, words, arg, what, help) \
+    {(cmd), (args), (lo), (hi), (devices), (words), (arg), (what), (help)},
+static const cmd_row_t k_rows[] = {C4G_CELL_COMMANDS(CLI_X_ROW)};
+#undef CLI_X_ROW
+#define N_ROWS (sizeof k_rows / sizeof k_rows[0])
+
+/* The commands of the tool itself (after the device commands in the help). */
+static const struct {
+    const char *topic;
+    const char *text;
+} k_tool_help[] = {
+    {"raw", "raw DEV TEXT       send TEXT + CR LF unchanged, e.g. raw robot OVR+00050"},
+    {"wait", "wait DEV stopped [TIMEOUT]  poll STA until the device has stopped (default 60 s)"},
+    {"sleep", "sleep SECONDS      pause (scripts)"},
+    {"quit", "quit | exit        leave the REPL"},
+};
+#define N_TOOL_HELP (sizeof k_tool_help / sizeof k_tool_help[0])
 
 static int errf(char *err, size_t cap, const char *fmt, ...)
 {
@@ -46,15 +78,100 @@ static int split_words(char *s, char **w, int max)
     return n;
 }
 
-static const struct {
-    const char *word;
-    c4g_cell_cmd_t cmd;
-} k_simple[] = {
-    {"sta", C4G_CELL_CMD_STA},   {"status", C4G_CELL_CMD_STA}, {"srvon", C4G_CELL_CMD_SRVON},
-    {"srvof", C4G_CELL_CMD_SRVOF}, {"srvoff", C4G_CELL_CMD_SRVOF}, {"stp", C4G_CELL_CMD_STP},
-    {"stop", C4G_CELL_CMD_STP},  {"rst", C4G_CELL_CMD_RST},    {"reset", C4G_CELL_CMD_RST},
-    {"clo", C4G_CELL_CMD_CLO},   {"close", C4G_CELL_CMD_CLO},  {"itr", C4G_CELL_CMD_ITR},
-};
+/* ------------------------------------------------------------------ the table's words */
+
+/* One alternative of a row's words: first word and optional second word. */
+typedef struct alt {
+    char first[WORD_MAX];
+    char second[WORD_MAX];
+} alt_t;
+
+/* The k-th alternative of words into a; 0 when there is none. */
+static int alt_get(const char *words, int k, alt_t *a)
+{
+    const char *p = words;
+    size_t n, sp;
+    for (int i = 0; i < k; i++) {
+        p = strchr(p, '|');
+        if (p == NULL) {
+            return 0;
+        }
+        p++;
+    }
+    n = strcspn(p, "|");
+    sp = strcspn(p, " |");
+    snprintf(a->first, sizeof a->first, "%.*s", (int)sp, p);
+    a->second[0] = '\0';
+    if (sp < n) {
+        snprintf(a->second, sizeof a->second, "%.*s", (int)(n - sp - 1), p + sp + 1);
+    }
+    return 1;
+}
+
+/* The primary (first) word of a row. */
+static const char *primary(const cmd_row_t *r, char *buf, size_t cap)
+{
+    snprintf(buf, cap, "%.*s", (int)strcspn(r->words, "|"), r->words);
+    return buf;
+}
+
+/* The row for verb [next]: *used 1 or 2 words. *partial is set when verb starts a
+ * two-word alternative whose second word does not follow. */
+static const cmd_row_t *row_find(const char *verb, const char *next, int *used, int *partial)
+{
+    alt_t a;
+    *partial = 0;
+    for (size_t i = 0; i < N_ROWS; i++) {
+        for (int k = 0; alt_get(k_rows[i].words, k, &a); k++) {
+            if (strcasecmp(a.first, verb) != 0) {
+                continue;
+            }
+            if (a.second[0] == '\0') {
+                *used = 1;
+                return &k_rows[i];
+            }
+            *partial = 1;
+            if (next != NULL && strcasecmp(a.second, next) == 0) {
+                *used = 2;
+                return &k_rows[i];
+            }
+        }
+    }
+    return NULL;
+}
+
+/* "servo on|off": verb and the second words of its two-word alternatives. */
+static void two_word_usage(const char *verb, char *buf, size_t cap)
+{
+    alt_t a;
+    size_t o = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < N_ROWS && o < cap; i++) {
+        for (int k = 0; alt_get(k_rows[i].words, k, &a) && o < cap; k++) {
+            if (a.second[0] != '\0' && strcasecmp(a.first, verb) == 0) {
+                if (o == 0) {
+                    o = (size_t)snprintf(buf, cap, "%s %s", a.first, a.second);
+                } else {
+                    o += (size_t)snprintf(buf + o, cap - o, "|%s", a.second);
+                }
+            }
+        }
+    }
+}
+
+/* Is w the first word of one of the row's alternatives? */
+static int row_has_word(const cmd_row_t *r, const char *w)
+{
+    alt_t a;
+    for (int k = 0; alt_get(r->words, k, &a); k++) {
+        if (strcasecmp(a.first, w) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ arguments */
 
 static int parse_value(const char *s, c4g_cell_unit_t unit, int32_t *out, const char *what,
                        char *err, size_t cap)
@@ -71,50 +188,66 @@ static int parse_value(const char *s, c4g_cell_unit_t unit, int32_t *out, const 
     return 0;
 }
 
-/* key=value pose for a device; absolute moves need every axis. */
-static int parse_pose(int dev, char **w, int n, int need_all, c4g_cell_instr_t *in, char *err,
-                      size_t cap)
+/* Pose keys: robot x y z c (and clear, the PNP clearance, as index 4); platform a b. */
+static const char *pose_key(int dev, int j)
 {
     static const char *const rk[5] = {"x", "y", "z", "c", "clear"};
     static const char *const pk[2] = {"a", "b"};
+    return dev == CELL_DEV_ROBOT ? rk[j] : pk[j];
+}
+
+/* Index of key k, -1 if the device (with or without a clearance) has none. */
+static int pose_key_index(int dev, int clear, const char *k)
+{
+    int nk = dev == CELL_DEV_ROBOT ? 4 + clear : 2;
+    for (int j = 0; j < nk; j++) {
+        if (strcasecmp(k, pose_key(dev, j)) == 0) {
+            return j;
+        }
+    }
+    return -1;
+}
+
+/* One key=value of a pose; seen[] marks the keys given. */
+static int parse_pose_word(int dev, int clear, char *word, int *seen, c4g_cell_instr_t *in,
+                           char *err, size_t cap)
+{
+    char *eq = strchr(word, '=');
+    int k;
+    if (eq == NULL) {
+        return errf(err, cap, "expected key=value, got '%s'", word);
+    }
+    *eq = '\0';
+    k = pose_key_index(dev, clear, word);
+    if (k < 0) {
+        return errf(err, cap, "unknown axis '%s' for the %s (use %s)", word, cell_dev_name(dev),
+                    dev == CELL_DEV_ROBOT ? (clear ? "clear, x, y, z, c" : "x, y, z, c")
+                                          : "a, b");
+    }
+    if (seen[k]) {
+        return errf(err, cap, "axis '%s' given twice", word);
+    }
+    seen[k] = 1;
+    c4g_cell_unit_t u = (dev == CELL_DEV_ROBOT && k != 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
+    return parse_value(eq + 1, u, k == 4 ? &in->clearance : &in->pose.v[k], word, err, cap);
+}
+
+/* key=value pose for a device; absolute moves need every axis. */
+static int parse_pose(int dev, int clear, char **w, int n, int need_all, c4g_cell_instr_t *in,
+                      char *err, size_t cap)
+{
     int seen[5] = {0};
     int nk = dev == CELL_DEV_ROBOT ? 4 : 2;
-    int allow_clear = in->cmd == C4G_CELL_CMD_PNP;
     in->pose.n_axes = (uint32_t)nk;
     for (int i = 0; i < n; i++) {
-        char *eq = strchr(w[i], '=');
-        int k = -1;
-        if (eq == NULL) {
-            return errf(err, cap, "expected key=value, got '%s'", w[i]);
-        }
-        *eq = '\0';
-        for (int j = 0; j < (dev == CELL_DEV_ROBOT ? 4 + allow_clear : 2); j++) {
-            if (strcasecmp(w[i], dev == CELL_DEV_ROBOT ? rk[j] : pk[j]) == 0) {
-                k = j;
-            }
-        }
-        if (k < 0) {
-            return errf(err, cap, "unknown axis '%s' for the %s (use %s)", w[i],
-                        cell_dev_name(dev),
-                        dev == CELL_DEV_ROBOT ? (allow_clear ? "clear, x, y, z, c" : "x, y, z, c")
-                                              : "a, b");
-        }
-        if (seen[k]) {
-            return errf(err, cap, "axis '%s' given twice", w[i]);
-        }
-        seen[k] = 1;
-        c4g_cell_unit_t u = (dev == CELL_DEV_ROBOT && k != 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
-        int32_t *dst = k == 4 ? &in->clearance : &in->pose.v[k];
-        if (parse_value(eq + 1, u, dst, w[i], err, cap) != 0) {
+        if (parse_pose_word(dev, clear, w[i], seen, in, err, cap) != 0) {
             return -1;
         }
     }
-    if (need_all) {
-        for (int j = 0; j < nk + allow_clear; j++) {
-            if (!seen[j]) {
-                return errf(err, cap, "missing %s= (absolute targets need every axis)",
-                            dev == CELL_DEV_ROBOT ? rk[j] : pk[j]);
-            }
+    for (int j = 0; need_all && j < nk + clear; j++) {
+        if (!seen[j]) {
+            return errf(err, cap, "missing %s= (absolute targets need every axis)",
+                        pose_key(dev, j));
         }
     }
     return 0;
@@ -135,165 +268,183 @@ static int parse_int_arg(const char *s, int32_t lo, int32_t hi, const char *what
     return 0;
 }
 
-static int parse_device_cmd(int dev, char **w, int n, cli_cmd_t *out, char *err, size_t cap)
+/* The arguments w[first..n) of a row's layout. */
+static int parse_args(const cmd_row_t *r, int dev, char **w, int n, int first,
+                      c4g_cell_instr_t *in, char *err, size_t cap)
 {
-    c4g_cell_instr_t *in = &out->instr;
-    const char *verb = n > 1 ? w[1] : NULL;
-    memset(in, 0, sizeof *in);
-    if (verb == NULL) {
-        return errf(err, cap, "missing command after '%s' (try: help)", w[0]);
-    }
-    out->kind = CLI_SEND;
-    out->dev = dev;
-    for (size_t i = 0; i < sizeof k_simple / sizeof k_simple[0]; i++) {
-        if (strcasecmp(verb, k_simple[i].word) == 0) {
-            if (n > 2) {
-                return errf(err, cap, "'%s' takes no arguments", verb);
-            }
-            in->cmd = k_simple[i].cmd;
-            return 0;
+    char pw[WORD_MAX];
+    switch (r->args) {
+    case C4G_CELL_ARGS_INT:
+        if (n > first + 1) {
+            return errf(err, cap, "usage: %s %s %s", w[0], primary(r, pw, sizeof pw), r->arg);
         }
-    }
-    if (strcasecmp(verb, "servo") == 0) {
-        if (n != 3 || (strcasecmp(w[2], "on") != 0 && strcasecmp(w[2], "off") != 0)) {
-            return errf(err, cap, "usage: %s servo on|off", w[0]);
-        }
-        in->cmd = strcasecmp(w[2], "on") == 0 ? C4G_CELL_CMD_SRVON : C4G_CELL_CMD_SRVOF;
-        return 0;
-    }
-    if (strcasecmp(verb, "ovr") == 0 || strcasecmp(verb, "override") == 0) {
-        in->cmd = C4G_CELL_CMD_OVR;
-        if (n > 3) {
-            return errf(err, cap, "usage: %s ovr PERCENT", w[0]);
-        }
-        return parse_int_arg(n > 2 ? w[2] : NULL, 0, 100, "override (percent)", &in->value, err,
+        return parse_int_arg(n > first ? w[first] : NULL, r->lo, r->hi, r->what, &in->value, err,
                              cap);
-    }
-    if (strcasecmp(verb, "acq") == 0) {
-        in->cmd = C4G_CELL_CMD_ACQ;
-        if (n > 3) {
-            return errf(err, cap, "usage: %s acq CAMERA", w[0]);
+    case C4G_CELL_ARGS_INT_ACTION:
+        if (n != first + 2 ||
+            (strcasecmp(w[first + 1], "open") != 0 && strcasecmp(w[first + 1], "close") != 0)) {
+            return errf(err, cap, "usage: %s %s %s open|close", w[0], primary(r, pw, sizeof pw),
+                        r->arg);
         }
-        return parse_int_arg(n > 2 ? w[2] : NULL, 0, 99999, "camera id", &in->value, err, cap);
-    }
-    if (strcasecmp(verb, "hnd") == 0 || strcasecmp(verb, "gripper") == 0) {
-        in->cmd = C4G_CELL_CMD_HND;
-        if (n != 4 || (strcasecmp(w[3], "open") != 0 && strcasecmp(w[3], "close") != 0)) {
-            return errf(err, cap, "usage: %s hnd GRIPPER open|close", w[0]);
-        }
-        in->open = strcasecmp(w[3], "open") == 0;
-        return parse_int_arg(w[2], 0, 99999, "gripper id", &in->value, err, cap);
-    }
-    if (strcasecmp(verb, "mov") == 0 || strcasecmp(verb, "move") == 0) {
-        in->cmd = C4G_CELL_CMD_MOV;
+        in->open = strcasecmp(w[first + 1], "open") == 0;
+        return parse_int_arg(w[first], r->lo, r->hi, r->what, &in->value, err, cap);
+    case C4G_CELL_ARGS_MODE_POSE:
         if (dev == CELL_DEV_CONDITIONING) {
             return errf(err, cap, "the conditioning controller has no axes");
         }
-        if (n < 3 || (strcasecmp(w[2], "abs") != 0 && strcasecmp(w[2], "rel") != 0)) {
-            return errf(err, cap, "usage: %s mov abs|rel %s", w[0],
+        if (n <= first ||
+            (strcasecmp(w[first], "abs") != 0 && strcasecmp(w[first], "rel") != 0)) {
+            return errf(err, cap, "usage: %s %s abs|rel %s", w[0], primary(r, pw, sizeof pw),
                         dev == CELL_DEV_ROBOT ? "x=MM y=MM z=MM c=RAD" : "a=RAD b=RAD");
         }
-        in->relative = strcasecmp(w[2], "rel") == 0;
-        return parse_pose(dev, w + 3, n - 3, !in->relative, in, err, cap);
-    }
-    if (strcasecmp(verb, "pnp") == 0) {
-        in->cmd = C4G_CELL_CMD_PNP;
+        in->relative = strcasecmp(w[first], "rel") == 0;
+        return parse_pose(dev, 0, w + first + 1, n - first - 1, !in->relative, in, err, cap);
+    case C4G_CELL_ARGS_CLEAR_POSE:
         if (dev != CELL_DEV_ROBOT) {
-            return errf(err, cap, "pnp is a robot command");
+            return errf(err, cap, "%s is a robot command", primary(r, pw, sizeof pw));
         }
-        return parse_pose(dev, w + 2, n - 2, 1, in, err, cap);
+        return parse_pose(dev, 1, w + first, n - first, 1, in, err, cap);
+    case C4G_CELL_ARGS_NONE:
+    default:
+        if (n > first) {
+            return errf(err, cap, "'%s' takes no arguments", w[1]);
+        }
+        return 0;
     }
-    return errf(err, cap, "unknown command '%s' for the %s (try: help)", verb, cell_dev_name(dev));
 }
 
-int cli_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
+static int parse_device_cmd(int dev, char **w, int n, cli_cmd_t *out, char *err, size_t cap)
+{
+    c4g_cell_instr_t *in = &out->instr;
+    const cmd_row_t *r;
+    int used = 1, partial = 0;
+    char usage[96];
+    memset(in, 0, sizeof *in);
+    if (n < 2) {
+        return errf(err, cap, "missing command after '%s' (try: help)", w[0]);
+    }
+    out->kind = CMD_SEND;
+    out->dev = dev;
+    r = row_find(w[1], n > 2 ? w[2] : NULL, &used, &partial);
+    if ((r == NULL && partial) || (r != NULL && used == 2 && n != 3)) {
+        two_word_usage(w[1], usage, sizeof usage);
+        return errf(err, cap, "usage: %s %s", w[0], usage);
+    }
+    if (r == NULL) {
+        return errf(err, cap, "unknown command '%s' for the %s (try: help)", w[1],
+                    cell_dev_name(dev));
+    }
+    in->cmd = r->cmd;
+    return parse_args(r, dev, w, n, 1 + used, in, err, cap);
+}
+
+/* ------------------------------------------------------------------ the tool's commands */
+
+/* "raw DEV TEXT": the text after the device verbatim (spaces included); 1 if not raw. */
+static int parse_raw(const char *text, cli_cmd_t *out, char *err, size_t cap)
+{
+    const char *p = text;
+    char devw[32];
+    size_t dl = 0, tl;
+    while (isspace((unsigned char)*p)) {
+        p++;
+    }
+    if (strncasecmp(p, "raw", 3) != 0 || (p[3] != '\0' && !isspace((unsigned char)p[3]))) {
+        return 1;
+    }
+    p += 3;
+    while (isspace((unsigned char)*p)) {
+        p++;
+    }
+    while (p[dl] != '\0' && !isspace((unsigned char)p[dl]) && dl < sizeof devw - 1) {
+        devw[dl] = p[dl];
+        dl++;
+    }
+    devw[dl] = '\0';
+    out->dev = cell_dev_parse(devw);
+    if (out->dev < 0) {
+        return errf(err, cap, "usage: raw robot|platform|conditioning TEXT");
+    }
+    p += dl;
+    if (isspace((unsigned char)*p)) {
+        p++;
+    }
+    tl = strlen(p);
+    while (tl > 0 && (p[tl - 1] == '\n' || p[tl - 1] == '\r')) {
+        tl--;
+    }
+    if (tl + 2 > sizeof out->line) {
+        return errf(err, cap, "raw text too long");
+    }
+    memcpy(out->line, p, tl);
+    out->line[tl] = '\r';
+    out->line[tl + 1] = '\n';
+    out->len = tl + 2;
+    out->kind = CMD_RAW;
+    return 0;
+}
+
+/* quit, help, sleep, wait: 1 if w[0] is none of them. */
+static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap)
+{
+    if (strcasecmp(w[0], "quit") == 0 || strcasecmp(w[0], "exit") == 0) {
+        out->kind = CMD_QUIT;
+        return 0;
+    }
+    if (strcasecmp(w[0], "help") == 0 || strcmp(w[0], "?") == 0) {
+        out->kind = CMD_HELP;
+        snprintf(out->topic, sizeof out->topic, "%s", n > 1 ? w[1] : "");
+        return 0;
+    }
+    if (strcasecmp(w[0], "sleep") == 0) {
+        out->kind = CMD_SLEEP;
+        if (n != 2 || cell_parse_double(w[1], &out->seconds) != 0 || out->seconds < 0 ||
+            out->seconds > 3600) {
+            return errf(err, cap, "usage: sleep SECONDS (0..3600)");
+        }
+        return 0;
+    }
+    if (strcasecmp(w[0], "wait") == 0) {
+        out->kind = CMD_WAIT;
+        out->seconds = 60.0;
+        if (n < 3 || n > 4 || (out->dev = cell_dev_parse(w[1])) < 0 ||
+            out->dev == CELL_DEV_CONDITIONING || strcasecmp(w[2], "stopped") != 0 ||
+            (n == 4 && (cell_parse_double(w[3], &out->seconds) != 0 || out->seconds <= 0))) {
+            return errf(err, cap, "usage: wait robot|platform stopped [TIMEOUT_SECONDS]");
+        }
+        return 0;
+    }
+    return 1;
+}
+
+int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
 {
     char buf[512];
     char *w[MAX_WORDS];
-    int n;
+    int n, rc, dev;
     memset(out, 0, sizeof *out);
     out->dev = -1;
     if (strlen(text) >= sizeof buf) {
         return errf(err, err_cap, "command too long");
     }
     strcpy(buf, text);
-    /* raw keeps the text after the device verbatim (spaces included) */
-    {
-        const char *p = text;
-        while (isspace((unsigned char)*p)) {
-            p++;
-        }
-        if (strncasecmp(p, "raw", 3) == 0 && (p[3] == '\0' || isspace((unsigned char)p[3]))) {
-            char devw[32];
-            size_t dl = 0;
-            p += 3;
-            while (isspace((unsigned char)*p)) {
-                p++;
-            }
-            while (p[dl] != '\0' && !isspace((unsigned char)p[dl]) && dl < sizeof devw - 1) {
-                devw[dl] = p[dl];
-                dl++;
-            }
-            devw[dl] = '\0';
-            out->dev = cell_dev_parse(devw);
-            if (out->dev < 0) {
-                return errf(err, err_cap, "usage: raw robot|platform|conditioning TEXT");
-            }
-            p += dl;
-            if (isspace((unsigned char)*p)) {
-                p++;
-            }
-            size_t tl = strlen(p);
-            while (tl > 0 && (p[tl - 1] == '\n' || p[tl - 1] == '\r')) {
-                tl--;
-            }
-            if (tl + 2 > sizeof out->line) {
-                return errf(err, err_cap, "raw text too long");
-            }
-            memcpy(out->line, p, tl);
-            out->line[tl] = '\r';
-            out->line[tl + 1] = '\n';
-            out->len = tl + 2;
-            out->kind = CLI_RAW;
-            return 0;
-        }
+    rc = parse_raw(text, out, err, err_cap);
+    if (rc <= 0) {
+        return rc;
     }
     n = split_words(buf, w, MAX_WORDS);
     if (n < 0) {
         return errf(err, err_cap, "too many words");
     }
     if (n == 0) {
-        out->kind = CLI_EMPTY;
+        out->kind = CMD_EMPTY;
         return 0;
     }
-    if (strcasecmp(w[0], "quit") == 0 || strcasecmp(w[0], "exit") == 0) {
-        out->kind = CLI_QUIT;
-        return 0;
+    rc = parse_tool_cmd(w, n, out, err, err_cap);
+    if (rc <= 0) {
+        return rc;
     }
-    if (strcasecmp(w[0], "help") == 0 || strcmp(w[0], "?") == 0) {
-        out->kind = CLI_HELP;
-        snprintf(out->topic, sizeof out->topic, "%s", n > 1 ? w[1] : "");
-        return 0;
-    }
-    if (strcasecmp(w[0], "sleep") == 0) {
-        out->kind = CLI_SLEEP;
-        if (n != 2 || cell_parse_double(w[1], &out->seconds) != 0 || out->seconds < 0 ||
-            out->seconds > 3600) {
-            return errf(err, err_cap, "usage: sleep SECONDS (0..3600)");
-        }
-        return 0;
-    }
-    if (strcasecmp(w[0], "wait") == 0) {
-        out->kind = CLI_WAIT;
-        out->seconds = 60.0;
-        if (n < 3 || n > 4 || (out->dev = cell_dev_parse(w[1])) < 0 ||
-            out->dev == CELL_DEV_CONDITIONING || strcasecmp(w[2], "stopped") != 0 ||
-            (n == 4 && (cell_parse_double(w[3], &out->seconds) != 0 || out->seconds <= 0))) {
-            return errf(err, err_cap, "usage: wait robot|platform stopped [TIMEOUT_SECONDS]");
-        }
-        return 0;
-    }
-    int dev = cell_dev_parse(w[0]);
+    dev = cell_dev_parse(w[0]);
     if (dev < 0) {
         return errf(err, err_cap, "unknown device or command '%s' (try: help)", w[0]);
     }
@@ -308,52 +459,40 @@ int cli_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
     return 0;
 }
 
-static const struct {
-    const char *topic;
-    const char *text;
-} k_help[] = {
-    {"sta", "DEV sta            status: moving flag, position, servo, override, error (STA)"},
-    {"srvon", "DEV srvon | DEV servo on     switch the servo motors on (SRVON)"},
-    {"srvof", "DEV srvof | DEV servo off    switch the servo motors off (SRVOF)"},
-    {"ovr", "DEV ovr PERCENT    set the override 0..100 % (OVR), e.g. robot ovr 50"},
-    {"mov", "robot mov abs|rel x=MM y=MM z=MM c=RAD    point-to-point motion (MOVA/MOVR)\n"
-            "platform mov abs|rel a=RAD b=RAD          absolute needs every axis;\n"
-            "                                          relative axes default to 0"},
-    {"pnp", "robot pnp clear=MM x=MM y=MM z=MM c=RAD  pick-and-place (project extension PNP):\n"
-            "                                          lift to Z=clear, travel, descend"},
-    {"stp", "DEV stp            stop the motion (STP)"},
-    {"itr", "DEV itr            interrupt the motion (project extension ITR, as STP)"},
-    {"rst", "DEV rst            reset: stop, clear the error, home if the servo is on (RST)"},
-    {"clo", "DEV clo            ask the device to close the connection (CLO)"},
-    {"acq", "conditioning acq CAMERA         acquire an image (ACQ), cameras 1..2 on cell-sim"},
-    {"hnd", "conditioning hnd ID open|close  gripper valve (HND): 0 vacuum, 1 blow"},
-    {"raw", "raw DEV TEXT       send TEXT + CR LF unchanged, e.g. raw robot OVR+00050"},
-    {"wait", "wait DEV stopped [TIMEOUT]  poll STA until the device has stopped (default 60 s)"},
-    {"sleep", "sleep SECONDS      pause (scripts)"},
-    {"quit", "quit | exit        leave the REPL"},
-};
+/* ------------------------------------------------------------------ help, completion */
 
-int cli_help(const char *topic, char *out, size_t cap)
+static int help_overview(char *out, size_t cap)
 {
-    size_t o = 0;
-    if (topic == NULL || topic[0] == '\0') {
-        o += (size_t)snprintf(out + o, cap - o,
-                              "Devices: robot (port 2001), platform (2002), conditioning (2003);\n"
-                              "any unique prefix works (r, p, c). Commands:\n");
-        for (size_t i = 0; i < sizeof k_help / sizeof k_help[0] && o < cap; i++) {
-            o += (size_t)snprintf(out + o, cap - o, "  %s\n", k_help[i].text);
-        }
-        if (o < cap) {
-            snprintf(out + o, cap - o, "help COMMAND shows one command; replies ER+nnnnn are "
-                                       "explained with the spec's meaning.\n");
-        }
-        return 0;
+    size_t o = (size_t)snprintf(out, cap,
+                                "Devices: robot (port 2001), platform (2002), conditioning (2003);\n"
+                                "any unique prefix works (r, p, c). Commands:\n");
+    for (size_t i = 0; i < N_ROWS && o < cap; i++) {
+        o += (size_t)snprintf(out + o, cap - o, "  %s\n", k_rows[i].help);
     }
-    for (size_t i = 0; i < sizeof k_help / sizeof k_help[0]; i++) {
-        if (strcasecmp(topic, k_help[i].topic) == 0 ||
-            (strcasecmp(topic, "srvoff") == 0 && strcmp(k_help[i].topic, "srvof") == 0) ||
-            (strcasecmp(topic, "servo") == 0 && strcmp(k_help[i].topic, "srvon") == 0)) {
-            snprintf(out, cap, "%s\n", k_help[i].text);
+    for (size_t i = 0; i < N_TOOL_HELP && o < cap; i++) {
+        o += (size_t)snprintf(out + o, cap - o, "  %s\n", k_tool_help[i].text);
+    }
+    if (o < cap) {
+        snprintf(out + o, cap - o, "help COMMAND shows one command; replies ER+nnnnn are "
+                                   "explained with the spec's meaning.\n");
+    }
+    return 0;
+}
+
+int cli_cmd_help(const char *topic, char *out, size_t cap)
+{
+    if (topic == NULL || topic[0] == '\0') {
+        return help_overview(out, cap);
+    }
+    for (size_t i = 0; i < N_ROWS; i++) {
+        if (row_has_word(&k_rows[i], topic)) {
+            snprintf(out, cap, "%s\n", k_rows[i].help);
+            return 0;
+        }
+    }
+    for (size_t i = 0; i < N_TOOL_HELP; i++) {
+        if (strcasecmp(topic, k_tool_help[i].topic) == 0) {
+            snprintf(out, cap, "%s\n", k_tool_help[i].text);
             return 0;
         }
     }
@@ -361,27 +500,69 @@ int cli_help(const char *topic, char *out, size_t cap)
     return -1;
 }
 
-const char *const *cli_words(int word, const char *first, const char *second)
+/* Completion lists built once from the table: the primary words per device, and the
+ * help topics (every primary word, then the tool's commands). */
+static char g_primary[N_ROWS][WORD_MAX];
+static const char *g_dev_cmds[CELL_DEVICES][N_ROWS + 1];
+static const char *g_topics[N_ROWS + N_TOOL_HELP + 1];
+
+static void words_init(void)
+{
+    size_t nd[CELL_DEVICES] = {0, 0, 0};
+    size_t nt = 0;
+    if (g_topics[0] != NULL) {
+        return;
+    }
+    for (size_t i = 0; i < N_ROWS; i++) {
+        primary(&k_rows[i], g_primary[i], sizeof g_primary[i]);
+        for (int d = 0; d < CELL_DEVICES; d++) {
+            if ((k_rows[i].devices & (1U << d)) != 0U) {
+                g_dev_cmds[d][nd[d]++] = g_primary[i];
+            }
+        }
+        g_topics[nt++] = g_primary[i];
+    }
+    for (size_t i = 0; i < N_TOOL_HELP; i++) {
+        g_topics[nt++] = k_tool_help[i].topic;
+    }
+}
+
+/* Words after "DEV VERB": from the layout of VERB's row. */
+static const char *const *arg_words(int word, int dev, const char *second)
+{
+    static const char *const absrel[] = {"abs", "rel", NULL};
+    static const char *const robot_keys[] = {"x=", "y=", "z=", "c=", NULL};
+    static const char *const pnp_keys[] = {"clear=", "x=", "y=", "z=", "c=", NULL};
+    static const char *const plat_keys[] = {"a=", "b=", NULL};
+    static const char *const openclose[] = {"open", "close", NULL};
+    int used = 1, partial = 0;
+    const cmd_row_t *r = second != NULL ? row_find(second, NULL, &used, &partial) : NULL;
+    if (r == NULL) {
+        return NULL;
+    }
+    switch (r->args) {
+    case C4G_CELL_ARGS_MODE_POSE:
+        return word == 2 ? absrel : dev == CELL_DEV_ROBOT ? robot_keys : plat_keys;
+    case C4G_CELL_ARGS_CLEAR_POSE:
+        return dev == CELL_DEV_ROBOT ? pnp_keys : NULL;
+    case C4G_CELL_ARGS_INT_ACTION:
+        return word == 3 ? openclose : NULL;
+    case C4G_CELL_ARGS_INT:
+    case C4G_CELL_ARGS_NONE:
+    default:
+        return NULL;
+    }
+}
+
+const char *const *cli_cmd_words(int word, const char *first, const char *second)
 {
     static const char *const w0[] = {"robot", "platform", "conditioning", "raw", "wait",
                                      "sleep", "help", "quit", NULL};
     static const char *const devs[] = {"robot", "platform", "conditioning", NULL};
     static const char *const motion_devs[] = {"robot", "platform", NULL};
-    static const char *const robot_cmds[] = {"sta", "srvon", "srvof", "ovr", "mov", "pnp", "stp",
-                                             "itr", "rst", "clo", NULL};
-    static const char *const plat_cmds[] = {"sta", "srvon", "srvof", "ovr", "mov", "stp", "itr",
-                                            "rst", "clo", NULL};
-    static const char *const cond_cmds[] = {"acq", "hnd", "rst", "clo", NULL};
-    static const char *const absrel[] = {"abs", "rel", NULL};
     static const char *const stopped[] = {"stopped", NULL};
-    static const char *const topics[] = {"sta", "srvon", "srvof", "ovr", "mov", "pnp", "stp",
-                                         "itr", "rst", "clo", "acq", "hnd", "raw", "wait",
-                                         "sleep", "quit", NULL};
-    static const char *const robot_keys[] = {"x=", "y=", "z=", "c=", NULL};
-    static const char *const pnp_keys[] = {"clear=", "x=", "y=", "z=", "c=", NULL};
-    static const char *const plat_keys[] = {"a=", "b=", NULL};
-    static const char *const openclose[] = {"open", "close", NULL};
     int dev;
+    words_init();
     if (word == 0) {
         return w0;
     }
@@ -392,23 +573,14 @@ const char *const *cli_words(int word, const char *first, const char *second)
         return word == 1 ? motion_devs : word == 2 ? stopped : NULL;
     }
     if (strcasecmp(first, "help") == 0) {
-        return word == 1 ? topics : NULL;
+        return word == 1 ? g_topics : NULL;
     }
     dev = cell_dev_parse(first);
     if (dev < 0) {
         return NULL;
     }
     if (word == 1) {
-        return dev == CELL_DEV_ROBOT ? robot_cmds : dev == CELL_DEV_PLATFORM ? plat_cmds : cond_cmds;
+        return g_dev_cmds[dev];
     }
-    if (second != NULL && strcasecmp(second, "mov") == 0) {
-        return word == 2 ? absrel : dev == CELL_DEV_ROBOT ? robot_keys : plat_keys;
-    }
-    if (second != NULL && strcasecmp(second, "pnp") == 0 && dev == CELL_DEV_ROBOT) {
-        return pnp_keys;
-    }
-    if (second != NULL && strcasecmp(second, "hnd") == 0 && word == 3) {
-        return openclose;
-    }
-    return NULL;
+    return arg_words(word, dev, second);
 }

@@ -5,7 +5,6 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <getopt.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -21,6 +20,8 @@
 #include <unistd.h>
 
 #include "c4gopen.h"
+#include "c4g_cli.h"
+#include "c4g_textfile.h"
 #include "cell_common.h"
 #include "sim_device.h"
 
@@ -115,44 +116,6 @@ static void printable(const char *s, size_t n, char *out, size_t cap)
         }
     }
     out[o] = '\0';
-}
-
-static void usage(FILE *f)
-{
-    fprintf(f,
-"Usage: cell-sim [options]\n"
-"Simulates the cell's robot (port 2001), orientation platform (2002) and\n"
-"conditioning controller (2003) speaking the cell protocol over TCP.\n"
-"\n"
-"Options:\n"
-"  -b, --bind ADDR           IPv4 address to listen on (default 127.0.0.1)\n"
-"  -p, --port-base N         robot on N, platform N+1, conditioning N+2\n"
-"      --robot-port N        robot port (default 2001)\n"
-"      --platform-port N     platform port (default 2002)\n"
-"      --conditioning-port N conditioning port (default 2003)\n"
-"  -s, --speed-factor F      multiply every axis speed by F (default 1)\n"
-"  -w, --workspace DEV:AXIS:MIN:MAX   workspace limit, e.g. robot:x:-50:50\n"
-"      --home DEV:V1,V2[,V3,V4]      home pose used by RST (mm / rad)\n"
-"      --servo-fault DEV:N   SRVON on DEV fails with error +0000(N+1), N = 1 or 2\n"
-"      --cameras N           camera ids 1..N accepted by ACQ (default 2)\n"
-"      --max-clients N       concurrent connections (default 2048)\n"
-"      --idle-timeout SEC    close connections silent that long (default 0: never)\n"
-"  -j, --json                log as JSON lines\n"
-"  -v, --verbose             log every request and reply\n"
-"  -q, --quiet               log errors only\n"
-"  -h, --help                this help\n"
-"  -V, --version             print the version\n"
-"\n"
-"Logs go to stderr, one line per connection, disconnection and error, with the peer.\n"
-"Errors: at most 5 lines per second per client, then one line\n"
-"\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
-"Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n"
-"\n"
-"Examples:\n"
-"  cell-sim                                  spec ports on 127.0.0.1\n"
-"  cell-sim -p 21001 -s 10 -v                test ports, 10x faster motion\n"
-"  cell-sim -w robot:z:-20:80 --home robot:0,0,50,0\n"
-"  cell-sim --servo-fault platform:2         platform SRVON replies ER+00003\n");
 }
 
 static int listen_on(const char *addr, unsigned port)
@@ -366,33 +329,29 @@ static void client_write(client_t *c)
     }
 }
 
-static int parse_dev_axis(const char *arg, int *dev, int *axis, double *lo, double *hi)
-{
-    char tmp[128];
-    char *f[4];
-    int n = 0;
-    if (strlen(arg) >= sizeof tmp) {
-        return -1;
-    }
-    strcpy(tmp, arg);
-    for (char *p = strtok(tmp, ":"); p != NULL && n < 4; p = strtok(NULL, ":")) {
-        f[n++] = p;
-    }
-    if (n != 4 || (*dev = cell_dev_parse(f[0])) < 0 || *dev == CELL_DEV_CONDITIONING) {
-        return -1;
-    }
-    *axis = -1;
-    for (int a = 0; a < 4; a++) {
-        if (strcmp(f[1], sim_axis_name(*dev, a)) == 0) {
-            *axis = a;
-        }
-    }
-    if (*axis < 0 || cell_parse_double(f[2], lo) != 0 || cell_parse_double(f[3], hi) != 0 ||
-        *lo > *hi) {
-        return -1;
-    }
-    return 0;
-}
+/* ------------------------------------------------------------------ command line */
+
+#define MAX_WS 32
+
+typedef struct ws_limit {
+    int dev, axis;
+    double lo, hi;
+} ws_limit_t;
+
+/* What the options say (defaults set in main before parsing). */
+typedef struct sim_opts {
+    char bind[64];
+    unsigned ports[CELL_DEVICES];
+    double speed;
+    unsigned cameras, max_clients, idle_s;
+    ws_limit_t ws[MAX_WS];
+    int n_ws;
+    double home[CELL_DEVICES][4];
+    int home_set[CELL_DEVICES];
+    int fault[CELL_DEVICES];
+} sim_opts_t;
+
+static sim_opts_t g_opt = {.bind = "127.0.0.1", .speed = 1.0, .cameras = 2, .max_clients = 2048};
 
 /* Largest magnitude a STA field can show: lengths 999.999 mm, angles 99.9999 rad. */
 static double axis_field_max(int dev, int axis)
@@ -400,380 +359,467 @@ static double axis_field_max(int dev, int axis)
     return (dev == CELL_DEV_ROBOT && axis < 3) ? 999.999 : 99.9999;
 }
 
-int main(int argc, char **argv)
+/* "DEV:" prefix of arg: the motion device it names, -1 if none; *rest after the colon. */
+static int motion_dev_prefix(const char *arg, const char **rest)
 {
-    static const struct option opts[] = {
-        {"bind", required_argument, NULL, 'b'},
-        {"port-base", required_argument, NULL, 'p'},
-        {"robot-port", required_argument, NULL, 1001},
-        {"platform-port", required_argument, NULL, 1002},
-        {"conditioning-port", required_argument, NULL, 1003},
-        {"speed-factor", required_argument, NULL, 's'},
-        {"workspace", required_argument, NULL, 'w'},
-        {"home", required_argument, NULL, 1004},
-        {"servo-fault", required_argument, NULL, 1005},
-        {"cameras", required_argument, NULL, 1006},
-        {"max-clients", required_argument, NULL, 1007},
-        {"idle-timeout", required_argument, NULL, 1008},
-        {"json", no_argument, NULL, 'j'},
-        {"verbose", no_argument, NULL, 'v'},
-        {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, 'V'},
-        {NULL, 0, NULL, 0}};
-    const char *bind_addr = "127.0.0.1";
-    unsigned ports[CELL_DEVICES];
-    double speed = 1.0;
-    unsigned long max_clients = 2048, idle_s = 0, cameras = 2;
-    struct {
-        int dev, axis;
-        double lo, hi;
-    } ws[32];
-    int n_ws = 0;
-    double home[CELL_DEVICES][4] = {{0}};
-    int home_set[CELL_DEVICES] = {0};
-    int fault[CELL_DEVICES] = {0};
-    sim_device_t devs[CELL_DEVICES];
-    int lfd[CELL_DEVICES];
-    int ch;
+    char tmp[32];
+    const char *colon = strchr(arg, ':');
+    int dev;
+    if (colon == NULL || (size_t)(colon - arg) >= sizeof tmp) {
+        return -1;
+    }
+    memcpy(tmp, arg, (size_t)(colon - arg));
+    tmp[colon - arg] = '\0';
+    dev = cell_dev_parse(tmp);
+    *rest = colon + 1;
+    return dev == CELL_DEV_CONDITIONING ? -1 : dev;
+}
 
+static int on_port_base(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    sim_opts_t *o = ctx;
+    long long x = 0;
+    tf_num_t st = tf_parse_int(v, 1, 65533, &x);
+    if (st != TF_NUM_OK) {
+        tf_num_explain(st, v, row->lo, row->hi, why, wl);
+        return -1;
+    }
     for (int d = 0; d < CELL_DEVICES; d++) {
-        ports[d] = cell_dev_default_port(d);
+        o->ports[d] = (unsigned)x + (unsigned)d;
     }
-    while ((ch = getopt_long(argc, argv, "b:p:s:w:jvqhV", opts, NULL)) != -1) {
-        unsigned long u;
-        switch (ch) {
-        case 'b':
-            bind_addr = optarg;
-            break;
-        case 'p':
-            if (cell_parse_uint(optarg, 65533UL, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-sim: --port-base: not a port: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            for (int d = 0; d < CELL_DEVICES; d++) {
-                ports[d] = (unsigned)u + (unsigned)d;
-            }
-            break;
-        case 1001:
-        case 1002:
-        case 1003:
-            if (cell_parse_uint(optarg, 65535UL, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-sim: %s: not a port: %s\n", argv[optind - 1], optarg);
-                return EXIT_USAGE;
-            }
-            ports[ch - 1001] = (unsigned)u;
-            break;
-        case 's':
-            if (cell_parse_double(optarg, &speed) != 0 || !(speed > 0.0) || speed > 1e6) {
-                fprintf(stderr, "cell-sim: --speed-factor: need a number > 0: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            break;
-        case 'w': {
-            int dev, axis;
-            double lo, hi;
-            if (n_ws >= 32 || parse_dev_axis(optarg, &dev, &axis, &lo, &hi) != 0 ||
-                lo < -axis_field_max(dev, axis) || hi > axis_field_max(dev, axis)) {
-                fprintf(stderr, "cell-sim: --workspace: expected DEV:AXIS:MIN:MAX within the "
-                                "field range (robot x,y,z,c; platform a,b): %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            ws[n_ws].dev = dev;
-            ws[n_ws].axis = axis;
-            ws[n_ws].lo = lo;
-            ws[n_ws].hi = hi;
-            n_ws++;
-            break;
-        }
-        case 1004: {
-            char tmp[128];
-            char *colon = strchr(optarg, ':');
-            int dev, n = 0;
-            if (colon == NULL || (size_t)(colon - optarg) >= sizeof tmp) {
-                fprintf(stderr, "cell-sim: --home: expected DEV:V1,V2[,V3,V4]: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            memcpy(tmp, optarg, (size_t)(colon - optarg));
-            tmp[colon - optarg] = '\0';
-            dev = cell_dev_parse(tmp);
-            if (dev < 0 || dev == CELL_DEV_CONDITIONING || strlen(colon + 1) >= sizeof tmp) {
-                fprintf(stderr, "cell-sim: --home: unknown device in %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            strcpy(tmp, colon + 1);
-            for (char *p = strtok(tmp, ","); p != NULL; p = strtok(NULL, ",")) {
-                if (n >= 4 || cell_parse_double(p, &home[dev][n]) != 0) {
-                    n = 99;
-                    break;
-                }
-                n++;
-            }
-            if (n != (dev == CELL_DEV_ROBOT ? 4 : 2)) {
-                fprintf(stderr, "cell-sim: --home: %s needs %d numbers: %s\n",
-                        cell_dev_name(dev), dev == CELL_DEV_ROBOT ? 4 : 2, optarg);
-                return EXIT_USAGE;
-            }
-            home_set[dev] = 1;
-            break;
-        }
-        case 1005: {
-            char *colon = strchr(optarg, ':');
-            char tmp[32];
-            int dev;
-            if (colon == NULL || (size_t)(colon - optarg) >= sizeof tmp ||
-                cell_parse_uint(colon + 1, 2, &u) != 0 || u == 0) {
-                fprintf(stderr, "cell-sim: --servo-fault: expected DEV:1 or DEV:2: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            memcpy(tmp, optarg, (size_t)(colon - optarg));
-            tmp[colon - optarg] = '\0';
-            dev = cell_dev_parse(tmp);
-            if (dev < 0 || dev == CELL_DEV_CONDITIONING) {
-                fprintf(stderr, "cell-sim: --servo-fault: robot or platform: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            fault[dev] = (int)u;
-            break;
-        }
-        case 1006:
-            if (cell_parse_uint(optarg, 99999UL, &cameras) != 0) {
-                fprintf(stderr, "cell-sim: --cameras: not a number: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            break;
-        case 1007:
-            if (cell_parse_uint(optarg, 100000UL, &max_clients) != 0 || max_clients == 0) {
-                fprintf(stderr, "cell-sim: --max-clients: need 1..100000: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            break;
-        case 1008:
-            if (cell_parse_uint(optarg, 86400UL, &idle_s) != 0) {
-                fprintf(stderr, "cell-sim: --idle-timeout: seconds, 0..86400: %s\n", optarg);
-                return EXIT_USAGE;
-            }
-            break;
-        case 'j':
-            g_json = 1;
-            break;
-        case 'v':
-            g_verbose = 2;
-            break;
-        case 'q':
-            g_verbose = 0;
-            break;
-        case 'h':
-            usage(stdout);
-            return EXIT_OK;
-        case 'V':
-            printf("cell-sim %s\n", C4G_VERSION_STRING);
-            return EXIT_OK;
-        default:
-            usage(stderr);
-            return EXIT_USAGE;
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "cell-sim: unexpected argument: %s\n", argv[optind]);
-        return EXIT_USAGE;
-    }
+    return 0;
+}
 
+static int on_speed(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    sim_opts_t *o = ctx;
+    double x = 0.0;
+    (void)row;
+    if (tf_parse_double(v, 0.0, 1e6, &x) != TF_NUM_OK || !(x > 0.0)) {
+        snprintf(why, wl, "need a number > 0 and <= 1e6");
+        return -1;
+    }
+    o->speed = x;
+    return 0;
+}
+
+/* DEV:AXIS:MIN:MAX, within the STA field range. */
+static int on_workspace(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    sim_opts_t *o = ctx;
+    char tmp[128];
+    char *f[4];
+    int n = 0;
+    ws_limit_t w = {-1, -1, 0.0, 0.0};
+    (void)row;
+    snprintf(why, wl, "expected DEV:AXIS:MIN:MAX within the field range "
+                      "(robot x,y,z,c; platform a,b), at most %d", MAX_WS);
+    if (o->n_ws >= MAX_WS || strlen(v) >= sizeof tmp) {
+        return -1;
+    }
+    strcpy(tmp, v);
+    for (char *p = strtok(tmp, ":"); p != NULL && n < 4; p = strtok(NULL, ":")) {
+        f[n++] = p;
+    }
+    if (n != 4 || (w.dev = cell_dev_parse(f[0])) < 0 || w.dev == CELL_DEV_CONDITIONING) {
+        return -1;
+    }
+    for (int a = 0; a < 4; a++) {
+        if (strcmp(f[1], sim_axis_name(w.dev, a)) == 0) {
+            w.axis = a;
+        }
+    }
+    if (w.axis < 0 || cell_parse_double(f[2], &w.lo) != 0 ||
+        cell_parse_double(f[3], &w.hi) != 0 || w.lo > w.hi ||
+        w.lo < -axis_field_max(w.dev, w.axis) || w.hi > axis_field_max(w.dev, w.axis)) {
+        return -1;
+    }
+    o->ws[o->n_ws++] = w;
+    return 0;
+}
+
+/* DEV:V1,V2[,V3,V4]: the robot takes 4 numbers, the platform 2. */
+static int on_home(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    sim_opts_t *o = ctx;
+    const char *rest = NULL;
+    char tmp[128];
+    int n = 0;
+    int dev = motion_dev_prefix(v, &rest);
+    (void)row;
+    if (dev < 0 || strlen(rest) >= sizeof tmp) {
+        snprintf(why, wl, "expected DEV:V1,V2[,V3,V4] with DEV robot or platform");
+        return -1;
+    }
+    strcpy(tmp, rest);
+    for (char *p = strtok(tmp, ","); p != NULL; p = strtok(NULL, ",")) {
+        if (n >= 4 || cell_parse_double(p, &o->home[dev][n]) != 0) {
+            n = 99;
+            break;
+        }
+        n++;
+    }
+    if (n != (dev == CELL_DEV_ROBOT ? 4 : 2)) {
+        snprintf(why, wl, "the %s needs %d numbers", cell_dev_name(dev),
+                 dev == CELL_DEV_ROBOT ? 4 : 2);
+        return -1;
+    }
+    o->home_set[dev] = 1;
+    return 0;
+}
+
+/* DEV:1 or DEV:2, DEV robot or platform. */
+static int on_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    sim_opts_t *o = ctx;
+    const char *rest = NULL;
+    unsigned long u = 0;
+    int dev = motion_dev_prefix(v, &rest);
+    (void)row;
+    if (dev < 0 || cell_parse_uint(rest, 2, &u) != 0 || u == 0) {
+        snprintf(why, wl, "expected DEV:1 or DEV:2 with DEV robot or platform");
+        return -1;
+    }
+    o->fault[dev] = (int)u;
+    return 0;
+}
+
+static int on_verbosity(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    (void)ctx;
+    (void)v;
+    (void)why;
+    (void)wl;
+    g_verbose = row->key;
+    return 0;
+}
+
+static const cli_opt_t k_opts[] = {
+    {"bind", 'b', CLI_STRING, "ADDR", "IPv4 address to listen on (default 127.0.0.1)", g_opt.bind,
+     sizeof g_opt.bind, 0, 0, NULL, 0},
+    {"port-base", 'p', CLI_CALL, "N", "robot on N, platform N+1, conditioning N+2", NULL, 0, 1,
+     65533, on_port_base, 0},
+    {"robot-port", 0, CLI_UINT, "N", "robot port (default 2001)", &g_opt.ports[CELL_DEV_ROBOT], 0,
+     1, 65535, NULL, 0},
+    {"platform-port", 0, CLI_UINT, "N", "platform port (default 2002)",
+     &g_opt.ports[CELL_DEV_PLATFORM], 0, 1, 65535, NULL, 0},
+    {"conditioning-port", 0, CLI_UINT, "N", "conditioning port (default 2003)",
+     &g_opt.ports[CELL_DEV_CONDITIONING], 0, 1, 65535, NULL, 0},
+    {"speed-factor", 's', CLI_CALL, "F", "multiply every axis speed by F (default 1)", NULL, 0, 0,
+     0, on_speed, 0},
+    {"workspace", 'w', CLI_CALL, "DEV:AXIS:MIN:MAX", "workspace limit, e.g. robot:x:-50:50", NULL,
+     0, 0, 0, on_workspace, 0},
+    {"home", 0, CLI_CALL, "DEV:V1,V2[,V3,V4]", "home pose used by RST (mm / rad)", NULL, 0, 0, 0,
+     on_home, 0},
+    {"servo-fault", 0, CLI_CALL, "DEV:N", "SRVON on DEV fails with error +0000(N+1), N = 1 or 2",
+     NULL, 0, 0, 0, on_fault, 0},
+    {"cameras", 0, CLI_UINT, "N", "camera ids 1..N accepted by ACQ (default 2)", &g_opt.cameras,
+     0, 0, 99999, NULL, 0},
+    {"max-clients", 0, CLI_UINT, "N", "concurrent connections (default 2048)",
+     &g_opt.max_clients, 0, 1, 100000, NULL, 0},
+    {"idle-timeout", 0, CLI_UINT, "SEC", "close connections silent that long (default 0: never)",
+     &g_opt.idle_s, 0, 0, 86400, NULL, 0},
+    {"json", 'j', CLI_FLAG, NULL, "log as JSON lines", &g_json, 0, 0, 0, NULL, 0},
+    {"verbose", 'v', CLI_CALL, NULL, "log every request and reply", NULL, 0, 0, 0, on_verbosity,
+     2},
+    {"quiet", 'q', CLI_CALL, NULL, "log errors only", NULL, 0, 0, 0, on_verbosity, 0},
+};
+
+static const char *const k_examples[] = {
+    "cell-sim                                  spec ports on 127.0.0.1",
+    "cell-sim -p 21001 -s 10 -v                test ports, 10x faster motion",
+    "cell-sim -w robot:z:-20:80 --home robot:0,0,50,0",
+    "cell-sim --servo-fault platform:2         platform SRVON replies ER+00003",
+    NULL};
+
+static const cli_spec_t k_spec = {
+    "cell-sim", NULL,
+    "Usage: cell-sim [options]\n"
+    "Simulates the cell's robot (port 2001), orientation platform (2002) and\n"
+    "conditioning controller (2003) speaking the cell protocol over TCP.\n",
+    k_opts, sizeof k_opts / sizeof k_opts[0], k_examples,
+    "Logs go to stderr, one line per connection, disconnection and error, with the peer.\n"
+    "Errors: at most 5 lines per second per client, then one line\n"
+    "\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
+    "Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n",
+    0, 0};
+
+/* The devices as the options configure them; -1 when a home is outside its workspace. */
+static int devices_setup(sim_device_t *devs)
+{
     for (int d = 0; d < CELL_DEVICES; d++) {
-        sim_device_init(&devs[d], d, speed);
-        devs[d].servo_fault = fault[d];
-        devs[d].cameras = (int)cameras;
+        sim_device_init(&devs[d], d, g_opt.speed);
+        devs[d].servo_fault = g_opt.fault[d];
+        devs[d].cameras = (int)g_opt.cameras;
         devs[d].last_ns = cell_now_ns();
     }
-    for (int i = 0; i < n_ws; i++) {
-        devs[ws[i].dev].lo[ws[i].axis] = ws[i].lo;
-        devs[ws[i].dev].hi[ws[i].axis] = ws[i].hi;
+    for (int i = 0; i < g_opt.n_ws; i++) {
+        devs[g_opt.ws[i].dev].lo[g_opt.ws[i].axis] = g_opt.ws[i].lo;
+        devs[g_opt.ws[i].dev].hi[g_opt.ws[i].axis] = g_opt.ws[i].hi;
     }
     for (int d = 0; d < CELL_DEVICES; d++) {
-        if (home_set[d]) {
-            memcpy(devs[d].home, home[d], sizeof home[d]);
+        if (g_opt.home_set[d]) {
+            memcpy(devs[d].home, g_opt.home[d], sizeof g_opt.home[d]);
         }
         for (int a = 0; a < devs[d].n_axes; a++) {
             if (devs[d].home[a] < devs[d].lo[a] || devs[d].home[a] > devs[d].hi[a]) {
                 fprintf(stderr, "cell-sim: %s home %s=%g is outside the workspace\n",
                         cell_dev_name(d), sim_axis_name(d, a), devs[d].home[a]);
-                return EXIT_USAGE;
+                return -1;
             }
         }
         memcpy(devs[d].pos, devs[d].home, sizeof devs[d].pos); /* start at home */
     }
+    return 0;
+}
 
-    /* 1000+ clients need more descriptors than the usual soft limit of 1024. */
+/* Descriptors for 1000+ clients, SIGPIPE ignored, SIGINT/SIGTERM stop the loop. */
+static void process_setup(void)
+{
     struct rlimit rl;
+    struct sigaction sa;
+    /* 1000+ clients need more descriptors than the usual soft limit of 1024. */
     if (getrlimit(RLIMIT_NOFILE, &rl) == 0 && rl.rlim_cur < rl.rlim_max) {
         rl.rlim_cur = rl.rlim_max;
         (void)setrlimit(RLIMIT_NOFILE, &rl);
     }
     signal(SIGPIPE, SIG_IGN);
-    struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+}
 
+/* ------------------------------------------------------------------ the server */
+
+typedef struct server {
+    int lfd[CELL_DEVICES];
+    client_t *cl;
+    struct pollfd *pf;
+    int *map;               /* pf index -> client slot, or -1 - device for a listener */
+    unsigned long max_clients;
+    size_t free_hint;
+} server_t;
+
+static int server_open(server_t *s)
+{
+    memset(s, 0, sizeof *s);
+    s->max_clients = g_opt.max_clients;
     for (int d = 0; d < CELL_DEVICES; d++) {
-        lfd[d] = listen_on(bind_addr, ports[d]);
-        if (lfd[d] < 0) {
-            fprintf(stderr, "cell-sim: cannot listen on %s:%u for the %s: %s\n", bind_addr,
-                    ports[d], cell_dev_name(d), strerror(errno));
-            return EXIT_SOCKET;
+        char where[96];
+        s->lfd[d] = listen_on(g_opt.bind, g_opt.ports[d]);
+        if (s->lfd[d] < 0) {
+            fprintf(stderr, "cell-sim: cannot listen on %s:%u for the %s: %s\n", g_opt.bind,
+                    g_opt.ports[d], cell_dev_name(d), strerror(errno));
+            return -1;
         }
-        char where[64];
-        snprintf(where, sizeof where, "%s:%u", bind_addr, ports[d]);
+        snprintf(where, sizeof where, "%s:%u", g_opt.bind, g_opt.ports[d]);
         logf_(1, cell_dev_name(d), where, "listen", "ready");
     }
-
-    client_t *cl = calloc(max_clients, sizeof *cl);
-    struct pollfd *pf = calloc(max_clients + CELL_DEVICES, sizeof *pf);
-    int *map = calloc(max_clients + CELL_DEVICES, sizeof *map);
-    if (cl == NULL || pf == NULL || map == NULL) {
-        fprintf(stderr, "cell-sim: out of memory for %lu clients\n", max_clients);
-        return EXIT_SOCKET;
+    s->cl = calloc(s->max_clients, sizeof *s->cl);
+    s->pf = calloc(s->max_clients + CELL_DEVICES, sizeof *s->pf);
+    s->map = calloc(s->max_clients + CELL_DEVICES, sizeof *s->map);
+    if (s->cl == NULL || s->pf == NULL || s->map == NULL) {
+        fprintf(stderr, "cell-sim: out of memory for %lu clients\n", s->max_clients);
+        return -1;
     }
-    for (unsigned long i = 0; i < max_clients; i++) {
-        cl[i].fd = -1;
+    for (unsigned long i = 0; i < s->max_clients; i++) {
+        s->cl[i].fd = -1;
     }
-    size_t free_hint = 0;
+    return 0;
+}
 
+static void server_close(server_t *s)
+{
+    for (unsigned long i = 0; i < s->max_clients; i++) {
+        if (s->cl[i].fd >= 0) {
+            client_close(&s->cl[i], "shutting down");
+        }
+    }
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        close(s->lfd[d]);
+    }
+    free(s->cl);
+    free(s->pf);
+    free(s->map);
+}
+
+/* The poll set: the listeners, then every client with what it waits for. */
+static nfds_t poll_set(server_t *s)
+{
+    nfds_t n = 0;
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        s->pf[n].fd = s->lfd[d];
+        s->pf[n].events = POLLIN;
+        s->map[n] = -1 - d;
+        n++;
+    }
+    for (unsigned long i = 0; i < s->max_clients; i++) {
+        const client_t *c = &s->cl[i];
+        if (c->fd < 0) {
+            continue;
+        }
+        s->pf[n].fd = c->fd;
+        s->pf[n].events = 0;
+        /* Backpressure: stop reading from a client whose replies pile up. */
+        if (!c->closing && OUT_CAP - c->out_len >= READ_MIN_ROOM) {
+            s->pf[n].events |= POLLIN;
+        }
+        if (c->out_len > 0) {
+            s->pf[n].events |= POLLOUT;
+        }
+        s->map[n] = (int)i;
+        n++;
+    }
+    return n;
+}
+
+static unsigned long free_slot(server_t *s)
+{
+    for (unsigned long j = 0; j < s->max_clients; j++) {
+        unsigned long slot = (s->free_hint + j) % s->max_clients;
+        if (s->cl[slot].fd < 0) {
+            return slot;
+        }
+    }
+    return s->max_clients;
+}
+
+static void client_start(client_t *c, int fd, int dev, const char *peer, uint64_t now)
+{
+    int one = 1;
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    c->fd = fd;
+    c->dev = dev;
+    c->closing = 0;
+    c->out_len = 0;
+    c->lines = 0;
+    c->last_ns = now;
+    c->log_win_ns = now;
+    c->log_in_win = 0;
+    c->log_last_ns = now;
+    c->sup_err = 0;
+    snprintf(c->peer, sizeof c->peer, "%s", peer);
+    (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
+    logf_(1, cell_dev_name(dev), c->peer, "connect", "connection accepted");
+}
+
+/* Accept every pending connection of device d's listener. */
+static void accept_all(server_t *s, int d, uint64_t now)
+{
+    for (;;) {
+        struct sockaddr_in peer;
+        socklen_t pl = sizeof peer;
+        char ps[64];
+        unsigned long slot;
+        int fd = accept(s->lfd[d], (struct sockaddr *)&peer, &pl);
+        if (fd < 0) {
+            if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR &&
+                errno != ECONNABORTED) {
+                logf_(0, cell_dev_name(d), "-", "error", "accept: %s", strerror(errno));
+            }
+            return;
+        }
+        slot = free_slot(s);
+        cell_peer_string(fd, ps, sizeof ps);
+        if (slot == s->max_clients) {
+            logf_(0, cell_dev_name(d), ps, "error", "refused: %lu connections already open",
+                  s->max_clients);
+            close(fd);
+            continue;
+        }
+        s->free_hint = slot + 1;
+        client_start(&s->cl[slot], fd, d, ps, now);
+    }
+}
+
+static void client_event(client_t *c, short revents, sim_device_t *devs)
+{
+    if (c->fd < 0) {
+        return;
+    }
+    if (revents & (POLLERR | POLLNVAL)) {
+        client_close(c, "socket error");
+        return;
+    }
+    if (revents & (POLLIN | POLLHUP)) {
+        client_read(c, devs);
+    }
+    if (c->fd >= 0 && (revents & POLLOUT || c->out_len > 0)) {
+        client_write(c);
+    }
+}
+
+/* Summaries of bursts that are over, idle timeouts. */
+static void housekeeping(server_t *s)
+{
+    /* Reads stamped clients after the poll returned: compare with a fresh clock, never a
+     * difference that wraps around. */
+    const uint64_t now = cell_now_ns();
+    for (unsigned long i = 0; i < s->max_clients; i++) {
+        client_t *c = &s->cl[i];
+        /* a burst is over once its client caused no log line for a second */
+        if (g_sup_clients > 0 && c->fd >= 0 && c->sup_err > 0 &&
+            now >= c->log_last_ns + LOG_WINDOW_NS) {
+            client_log_summary(c, "burst over");
+        }
+        if (g_opt.idle_s > 0 && c->fd >= 0 &&
+            now > c->last_ns + (uint64_t)g_opt.idle_s * 1000000000ULL) {
+            client_close(c, "idle timeout");
+        }
+    }
+}
+
+static void server_loop(server_t *s, sim_device_t *devs)
+{
     while (!g_stop) {
-        nfds_t n = 0;
-        for (int d = 0; d < CELL_DEVICES; d++) {
-            pf[n].fd = lfd[d];
-            pf[n].events = POLLIN;
-            map[n] = -1 - d;
-            n++;
-        }
-        for (unsigned long i = 0; i < max_clients; i++) {
-            if (cl[i].fd < 0) {
-                continue;
-            }
-            pf[n].fd = cl[i].fd;
-            pf[n].events = 0;
-            /* Backpressure: stop reading from a client whose replies pile up. */
-            if (!cl[i].closing && OUT_CAP - cl[i].out_len >= READ_MIN_ROOM) {
-                pf[n].events |= POLLIN;
-            }
-            if (cl[i].out_len > 0) {
-                pf[n].events |= POLLOUT;
-            }
-            map[n] = (int)i;
-            n++;
-        }
-        int rc = poll(pf, n, 1000);
+        nfds_t n = poll_set(s);
+        int rc = poll(s->pf, n, 1000);
+        uint64_t now;
         if (rc < 0) {
             if (errno == EINTR) {
                 continue;
             }
             fprintf(stderr, "cell-sim: poll: %s\n", strerror(errno));
-            break;
+            return;
         }
-        uint64_t now = cell_now_ns();
-        for (nfds_t k = 0; k < n && rc > 0; k++) {
-            if (pf[k].revents == 0) {
-                continue;
-            }
-            if (map[k] < 0) {
-                int d = -1 - map[k];
-                for (;;) {
-                    struct sockaddr_in peer;
-                    socklen_t pl = sizeof peer;
-                    int fd = accept(lfd[d], (struct sockaddr *)&peer, &pl);
-                    if (fd < 0) {
-                        if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR &&
-                            errno != ECONNABORTED) {
-                            logf_(0, cell_dev_name(d), "-", "error", "accept: %s",
-                                  strerror(errno));
-                        }
-                        break;
-                    }
-                    unsigned long slot = max_clients;
-                    for (unsigned long j = 0; j < max_clients; j++) {
-                        unsigned long s = (free_hint + j) % max_clients;
-                        if (cl[s].fd < 0) {
-                            slot = s;
-                            break;
-                        }
-                    }
-                    char ps[64];
-                    cell_peer_string(fd, ps, sizeof ps);
-                    if (slot == max_clients) {
-                        logf_(0, cell_dev_name(d), ps, "error",
-                              "refused: %lu connections already open", max_clients);
-                        close(fd);
-                        continue;
-                    }
-                    free_hint = slot + 1;
-                    client_t *c = &cl[slot];
-                    int one = 1;
-                    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
-                    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-                    c->fd = fd;
-                    c->dev = d;
-                    c->closing = 0;
-                    c->out_len = 0;
-                    c->lines = 0;
-                    c->last_ns = now;
-                    c->log_win_ns = now;
-                    c->log_in_win = 0;
-                    c->log_last_ns = now;
-                    c->sup_err = 0;
-                    snprintf(c->peer, sizeof c->peer, "%s", ps);
-                    (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
-                    logf_(1, cell_dev_name(d), c->peer, "connect", "connection accepted");
-                }
-                continue;
-            }
-            client_t *c = &cl[map[k]];
-            if (c->fd < 0) {
-                continue;
-            }
-            if (pf[k].revents & (POLLERR | POLLNVAL)) {
-                client_close(c, "socket error");
-                continue;
-            }
-            if (pf[k].revents & (POLLIN | POLLHUP)) {
-                client_read(c, devs);
-            }
-            if (c->fd >= 0 && (pf[k].revents & POLLOUT || c->out_len > 0)) {
-                client_write(c);
-            }
-        }
-        /* Reads above stamped clients after `now` was taken: compare with a fresh
-         * clock, never a difference that wraps around. */
         now = cell_now_ns();
-        if (g_sup_clients > 0) {
-            /* a burst is over once its client caused no log line for a second */
-            for (unsigned long i = 0; i < max_clients; i++) {
-                if (cl[i].fd >= 0 && cl[i].sup_err > 0 &&
-                    now >= cl[i].log_last_ns + LOG_WINDOW_NS) {
-                    client_log_summary(&cl[i], "burst over");
-                }
+        for (nfds_t k = 0; k < n && rc > 0; k++) {
+            if (s->pf[k].revents == 0) {
+                continue;
+            }
+            if (s->map[k] < 0) {
+                accept_all(s, -1 - s->map[k], now);
+            } else {
+                client_event(&s->cl[s->map[k]], s->pf[k].revents, devs);
             }
         }
-        if (idle_s > 0) {
-            for (unsigned long i = 0; i < max_clients; i++) {
-                if (cl[i].fd >= 0 && now > cl[i].last_ns + (uint64_t)idle_s * 1000000000ULL) {
-                    client_close(&cl[i], "idle timeout");
-                }
-            }
-        }
+        housekeeping(s);
     }
-    for (unsigned long i = 0; i < max_clients; i++) {
-        if (cl[i].fd >= 0) {
-            client_close(&cl[i], "shutting down");
-        }
-    }
+}
+
+int main(int argc, char **argv)
+{
+    sim_device_t devs[CELL_DEVICES];
+    server_t srv;
+    cli_result_t pr;
     for (int d = 0; d < CELL_DEVICES; d++) {
-        close(lfd[d]);
+        g_opt.ports[d] = cell_dev_default_port(d);
     }
-    free(cl);
-    free(pf);
-    free(map);
+    pr = cli_parse(&k_spec, &g_opt, argc, argv, NULL);
+    if (pr != CLI_RUN) {
+        return pr == CLI_DONE ? EXIT_OK : EXIT_USAGE;
+    }
+    if (devices_setup(devs) != 0) {
+        return EXIT_USAGE;
+    }
+    process_setup();
+    if (server_open(&srv) != 0) {
+        return EXIT_SOCKET;
+    }
+    server_loop(&srv, devs);
+    server_close(&srv);
     logf_(1, "-", "-", "exit", "stopped by signal");
     return EXIT_OK;
 }

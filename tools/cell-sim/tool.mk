@@ -1,0 +1,1 @@
+cell-sim_LDLIBS := -linih
