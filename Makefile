@@ -69,7 +69,7 @@ DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e docs-examples fuzz-build
+  e2e docs-examples fuzz-build complexity nodiscard
 
 all: lib tools
 
@@ -252,7 +252,21 @@ analyzer: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/fanalyzer
 	@set -e; for f in $(LIB_SRCS); do gcc -std=c99 -fanalyzer -Werror -Iinclude -c $$f -o $(BUILD)/fanalyzer/$$(basename $$f .c).o; done
 	@echo "analyzer: gcc -fanalyzer clean"
-static-analysis: cppcheck misra clang-tidy analyzer
+# Cognitive complexity of the tools and tests (laxer than the library's 25, set in
+# .clang-tidy): functions of one job each, mains that only wire the parts together.
+TOOL_COMPLEXITY ?= 40
+TEST_COMPLEXITY ?= 90
+CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Iinclude -Itools/common \
+  -Itools/c4g-sim -Itools/c4g-server -Itools/cell-cli -Itools/cell-sim
+complexity: | $(DEPS_STAMP)
+	@sh scripts/complexity.sh $(TOOL_COMPLEXITY) "$(CPLX_INC)" $(sort $(wildcard tools/*/*.c))
+	@sh scripts/complexity.sh $(TEST_COMPLEXITY) "$(CPLX_INC)" $(UNIT_SRCS) $(FUZZ_SRCS)
+# Statuses nobody reads: clang honours C4G_NODISCARD (and a deliberate (void) cast).
+nodiscard: | $(DEPS_STAMP)
+	@set -e; for f in $(sort $(wildcard tools/*/*.c)) examples/*.c bench/*.c $(UNIT_SRCS) $(FUZZ_SRCS); do \
+	  $(CLANG) $(CPLX_INC) -fsyntax-only -Werror=unused-result $$f; done
+	@echo "nodiscard: every status is used or deliberately dropped"
+static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
 
 # ---- end-to-end tests (real processes, loopback) and doc examples
 e2e: all
