@@ -187,6 +187,81 @@ static int section_axis(const char *s, unsigned *a, unsigned *l)
     return 1;
 }
 
+/* [sim] seed: 0..2^64-1 */
+static int seed_key(sim_config_t *c, const kv_t *k)
+{
+    const char *name = k->name;
+    const char *value = k->value;
+    unsigned long long v = 0;
+    const tf_num_t st = tf_parse_uint(value, ~0ULL, &v);
+    if (st == TF_NUM_RANGE) {
+        /* 2^64 - 1 as text: a double bound would print rounded */
+        char v80[80];
+        tf_escape(value, strlen(value), v80, sizeof v80);
+        snprintf(k->msg, k->msglen, "[%s] %s: '%s' is out of range 0..18446744073709551615",
+                 k->section, name, v80);
+        return -1;
+    }
+    if (st != TF_NUM_OK) {
+        return bad_num(k, st, 0.0, 0.0);
+    }
+    c->seed = (uint64_t)v;
+    return 0;
+}
+
+/* [sim] num_policy */
+static int policy_key(sim_config_t *c, const kv_t *k)
+{
+    const char *value = k->value;
+    if (strcmp(value, "plus-one") == 0) {
+        c->policy = SIM_NUM_PLUS_ONE;
+    } else if (strcmp(value, "echo") == 0) {
+        c->policy = SIM_NUM_ECHO;
+    } else if (strcmp(value, "either") == 0) {
+        c->policy = SIM_NUM_EITHER;
+    } else {
+        return bad_text(k, "plus-one, echo or either");
+    }
+    return 0;
+}
+
+/* [sim] version: MAJOR.MINOR.BUILD, each 0..65535 */
+static int version_key(sim_config_t *c, const kv_t *k)
+{
+    const char *value = k->value;
+    char tmp[64];
+    char *part[3];
+    char *p;
+    int n = 0;
+    int v[3];
+    if (strlen(value) >= sizeof tmp) {
+        return bad_text(k, "a version MAJOR.MINOR.BUILD");
+    }
+    strcpy(tmp, value);
+    part[n++] = tmp;
+    for (p = tmp; *p != '\0'; p++) {
+        if (*p == '.') {
+            if (n == 3) {
+                return bad_text(k, "a version MAJOR.MINOR.BUILD");
+            }
+            *p = '\0';
+            part[n++] = p + 1;
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        long long x = 0;
+        if (tf_parse_int(part[i], 0, 65535, &x) != TF_NUM_OK) {
+            return bad_text(k, "a version MAJOR.MINOR.BUILD (each 0..65535)");
+        }
+        v[i] = (int)x;
+    }
+    if (n != 3) {
+        return bad_text(k, "a version MAJOR.MINOR.BUILD");
+    }
+    memcpy(c->version, v, sizeof v);
+    return 0;
+}
+
 static int sim_key(sim_config_t *c, const kv_t *k)
 {
     const char *name = k->name;
@@ -212,36 +287,13 @@ static int sim_key(sim_config_t *c, const kv_t *k)
         return uns(k, 1, 1000000, &c->t_cycle1_us);
     }
     if (strcmp(name, "num_policy") == 0) {
-        if (strcmp(value, "plus-one") == 0) {
-            c->policy = SIM_NUM_PLUS_ONE;
-        } else if (strcmp(value, "echo") == 0) {
-            c->policy = SIM_NUM_ECHO;
-        } else if (strcmp(value, "either") == 0) {
-            c->policy = SIM_NUM_EITHER;
-        } else {
-            return bad_text(k, "plus-one, echo or either");
-        }
-        return 0;
+        return policy_key(c, k);
     }
     if (strcmp(name, "max_miss") == 0) {
         return uns(k, 1, 1000000, &c->max_miss);
     }
     if (strcmp(name, "seed") == 0) {
-        unsigned long long v = 0;
-        const tf_num_t st = tf_parse_uint(value, ~0ULL, &v);
-        if (st == TF_NUM_RANGE) {
-            /* 2^64 - 1 as text: a double bound would print rounded */
-            char v80[80];
-            tf_escape(value, strlen(value), v80, sizeof v80);
-            snprintf(k->msg, k->msglen, "[%s] %s: '%s' is out of range 0..18446744073709551615",
-                     k->section, name, v80);
-            return -1;
-        }
-        if (st != TF_NUM_OK) {
-            return bad_num(k, st, 0.0, 0.0);
-        }
-        c->seed = (uint64_t)v;
-        return 0;
+        return seed_key(c, k);
     }
     if (strcmp(name, "drive_on_ms") == 0) {
         return dbl(k, 0, 1e5, &c->drive_on_ms);
@@ -259,38 +311,7 @@ static int sim_key(sim_config_t *c, const kv_t *k)
         return uns(k, 0, 100, &c->sync_after);
     }
     if (strcmp(name, "version") == 0) {
-        /* MAJOR.MINOR.BUILD, each 0..65535 */
-        char tmp[64];
-        char *part[3];
-        char *p;
-        int n = 0;
-        int v[3];
-        if (strlen(value) >= sizeof tmp) {
-            return bad_text(k, "a version MAJOR.MINOR.BUILD");
-        }
-        strcpy(tmp, value);
-        part[n++] = tmp;
-        for (p = tmp; *p != '\0'; p++) {
-            if (*p == '.') {
-                if (n == 3) {
-                    return bad_text(k, "a version MAJOR.MINOR.BUILD");
-                }
-                *p = '\0';
-                part[n++] = p + 1;
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            long long x = 0;
-            if (tf_parse_int(part[i], 0, 65535, &x) != TF_NUM_OK) {
-                return bad_text(k, "a version MAJOR.MINOR.BUILD (each 0..65535)");
-            }
-            v[i] = (int)x;
-        }
-        if (n != 3) {
-            return bad_text(k, "a version MAJOR.MINOR.BUILD");
-        }
-        memcpy(c->version, v, sizeof v);
-        return 0;
+        return version_key(c, k);
     }
     return -2;
 }

@@ -85,196 +85,320 @@ static int get_int(const scn_line_t *L, int k, long lo, long hi, int *out, const
 #define POS_MAX 1e6
 #define MS_MAX 3.6e6
 
+/* ---- one parser per command --------------------------------------------
+ * Each gets the line with c->op set from its table row and returns the index of the
+ * first word it did not use (the caller refuses leftovers), or -1 after an error. */
+
+/* Word k must be there. */
+static int need(const scn_line_t *L, int k, const char *what)
+{
+    if (L->nt <= k) {
+        return scn_fail(L, -1, "%s: missing %s", L->t[0], what);
+    }
+    return 0;
+}
+
+static int get_arm(const scn_line_t *L, int k, scn_cmd_t *c)
+{
+    if (need(L, k, "arm") != 0) {
+        return -1;
+    }
+    return get_int(L, k, 1, 4, &c->arm, "arm");
+}
+
+/* RESTART, END */
+static int p_bare(const scn_line_t *L, scn_cmd_t *c)
+{
+    (void)L;
+    (void)c;
+    return 1;
+}
+
+/* EXIT OPEN */
+static int p_two_words(const scn_line_t *L, scn_cmd_t *c)
+{
+    (void)L;
+    (void)c;
+    return 2;
+}
+
+/* DRIVE ON|OFF [[ARM] a] */
+static int p_drive(const scn_line_t *L, scn_cmd_t *c)
+{
+    int i = 2;
+    if (L->nt > 2) {
+        if (kw(L->t[2], "ARM")) {
+            i = 3;
+        }
+        if (get_arm(L, i, c) != 0) {
+            return -1;
+        }
+        i++;
+    }
+    return i;
+}
+
+/* MOVE|MOVEREL a p1 .. pn [NOWAIT] */
+static int p_move(const scn_line_t *L, scn_cmd_t *c)
+{
+    int i;
+    if (get_arm(L, 1, c) != 0) {
+        return -1;
+    }
+    for (i = 2; i < L->nt && !c->nowait; i++) {
+        char what[32];
+        if (kw(L->t[i], "NOWAIT")) {
+            c->nowait = 1; /* the loop ends past it */
+            continue;
+        }
+        if (c->n >= SCN_MAX_VALUES) {
+            return scn_fail(L, i, "%s: more than %d targets", L->t[0], SCN_MAX_VALUES);
+        }
+        snprintf(what, sizeof what, "target %d [turns]", c->n + 1);
+        if (get_num(L, i, -POS_MAX, POS_MAX, &c->v[c->n], what) != 0) {
+            return -1;
+        }
+        c->n++;
+    }
+    if (c->n == 0) {
+        return scn_fail(L, -1, "%s: no targets", L->t[0]);
+    }
+    return i;
+}
+
+/* WAIT MOVE a */
+static int p_wait_move(const scn_line_t *L, scn_cmd_t *c)
+{
+    return (get_arm(L, 2, c) != 0) ? -1 : 3;
+}
+
+/* WAIT [FOR] PC a [TIMEOUT ms] */
+static int p_wait_pc(const scn_line_t *L, scn_cmd_t *c)
+{
+    int i = kw(L->t[1], "FOR") ? 2 : 1;
+    if (!kw(L->nt > i ? L->t[i] : NULL, "PC")) {
+        return scn_fail(L, i, "WAIT: expected MOVE, PC or FOR PC");
+    }
+    i++;
+    if (get_arm(L, i, c) != 0) {
+        return -1;
+    }
+    i++;
+    if (L->nt > i && kw(L->t[i], "TIMEOUT")) {
+        if (need(L, i + 1, "timeout [ms]") != 0 ||
+            get_num(L, i + 1, 0.0, MS_MAX, &c->ms, "timeout [ms]") != 0) {
+            return -1;
+        }
+        i += 2;
+    }
+    return i;
+}
+
+/* DELAY ms, FREEZE ms */
+static int p_time(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (need(L, 1, "time [ms]") != 0 || get_num(L, 1, 0.0, MS_MAX, &c->ms, "time [ms]") != 0) {
+        return -1;
+    }
+    return 2;
+}
+
+/* MODE a m [AXES l ..] */
+static int p_mode(const scn_line_t *L, scn_cmd_t *c)
+{
+    int i;
+    if (get_arm(L, 1, c) != 0 || need(L, 2, "mode") != 0 ||
+        get_int(L, 2, 0, 1000, &c->iv, "mode") != 0) {
+        return -1;
+    }
+    if (L->nt <= 3 || !kw(L->t[3], "AXES")) {
+        return 3;
+    }
+    for (i = 4; i < L->nt; i++) {
+        int ax;
+        if (get_int(L, i, 1, 10, &ax, "axis") != 0) {
+            return -1;
+        }
+        c->axes_mask |= 1U << (ax - 1);
+    }
+    if (c->axes_mask == 0U) {
+        return scn_fail(L, 3, "MODE: AXES without axes");
+    }
+    return i;
+}
+
+/* CMD a v */
+static int p_cmd(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (get_arm(L, 1, c) != 0 || need(L, 2, "value") != 0 ||
+        get_int(L, 2, 0, 255, &c->iv, "value") != 0) {
+        return -1;
+    }
+    return 3;
+}
+
+/* OVERRIDE pct */
+static int p_override(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (need(L, 1, "percent") != 0 || get_num(L, 1, 0.0, 100.0, &c->ms, "percent") != 0) {
+        return -1;
+    }
+    return 2;
+}
+
+/* SELECTOR AUTO|PROG */
+static int p_selector(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (need(L, 1, "AUTO or PROG") != 0) {
+        return -1;
+    }
+    if (!kw(L->t[1], "AUTO") && !kw(L->t[1], "PROG")) {
+        return scn_fail(L, 1, "SELECTOR: expected AUTO or PROG, got '%s'", L->t[1]);
+    }
+    c->iv = kw(L->t[1], "PROG");
+    return 2;
+}
+
+/* EXPECT POS|MODE a l ...: the arm, the axis and that a value follows. */
+static int expect_axis(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (get_arm(L, 2, c) != 0 || need(L, 3, "axis") != 0 ||
+        get_int(L, 3, 1, 10, &c->iv, "axis") != 0 || need(L, 4, "value") != 0) {
+        return -1;
+    }
+    return 0;
+}
+
+/* EXPECT POS a l value tol */
+static int p_expect_pos(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (expect_axis(L, c) != 0 ||
+        get_num(L, 4, -POS_MAX, POS_MAX, &c->v[0], "position [turns]") != 0 ||
+        need(L, 5, "tolerance") != 0 ||
+        get_num(L, 5, 0.0, POS_MAX, &c->v[1], "tolerance [turns]") != 0) {
+        return -1;
+    }
+    c->n = 2;
+    return 6;
+}
+
+/* EXPECT MODE a l mode: a mode code, compared as an integer with the packet's mode */
+static int p_expect_mode(const scn_line_t *L, scn_cmd_t *c)
+{
+    int m;
+    if (expect_axis(L, c) != 0 || get_int(L, 4, 0, 1000, &m, "mode") != 0) {
+        return -1;
+    }
+    c->v[0] = m;
+    c->n = 1;
+    return 5;
+}
+
+/* EXPECT ERROR NAME|NONE */
+static int p_expect_error(const scn_line_t *L, scn_cmd_t *c)
+{
+    if (need(L, 2, "error name (or NONE)") != 0) {
+        return -1;
+    }
+    if (strlen(L->t[2]) >= sizeof c->name) {
+        return scn_fail(L, 2, "EXPECT ERROR: name longer than %d characters", (int)sizeof c->name - 1);
+    }
+    strcpy(c->name, L->t[2]);
+    return 3;
+}
+
+/* ---- the command table ----------------------------------------------------- */
+
+typedef struct scn_row {
+    const char *word;   /* first keyword */
+    const char *word2;  /* second keyword, NULL for one-word commands */
+    scn_op_t op;
+    int (*parse)(const scn_line_t *L, scn_cmd_t *c);
+} scn_row_t;
+
+/* One row per command (WAIT PC twice: "WAIT PC" and "WAIT FOR PC"). */
+static const scn_row_t scn_rows[] = {
+    {"DRIVE", "ON", SCN_DRIVE_ON, p_drive},
+    {"DRIVE", "OFF", SCN_DRIVE_OFF, p_drive},
+    {"MOVE", NULL, SCN_MOVE, p_move},
+    {"MOVEREL", NULL, SCN_MOVE_REL, p_move},
+    {"WAIT", "MOVE", SCN_WAIT_MOVE, p_wait_move},
+    {"WAIT", "PC", SCN_WAIT_PC, p_wait_pc},
+    {"WAIT", "FOR", SCN_WAIT_PC, p_wait_pc},
+    {"DELAY", NULL, SCN_DELAY, p_time},
+    {"MODE", NULL, SCN_MODE, p_mode},
+    {"CMD", NULL, SCN_CMD, p_cmd},
+    {"FREEZE", NULL, SCN_FREEZE, p_time},
+    {"RESTART", NULL, SCN_RESTART, p_bare},
+    {"EXIT", "OPEN", SCN_EXIT_OPEN, p_two_words},
+    {"OVERRIDE", NULL, SCN_OVERRIDE, p_override},
+    {"SELECTOR", NULL, SCN_SELECTOR, p_selector},
+    {"EXPECT", "POS", SCN_EXPECT_POS, p_expect_pos},
+    {"EXPECT", "MODE", SCN_EXPECT_MODE, p_expect_mode},
+    {"EXPECT", "ERROR", SCN_EXPECT_ERROR, p_expect_error},
+    {"END", NULL, SCN_END, p_bare},
+};
+
+/* Two-word commands whose second word is missing or unknown. */
+typedef struct scn_family {
+    const char *word;
+    const char *missing;  /* "missing ..." */
+    const char *expected; /* "expected ...", may name the word found ('%s') */
+} scn_family_t;
+
+static const scn_family_t scn_families[] = {
+    {"DRIVE", "ON or OFF", "DRIVE: expected ON or OFF, got '%s'"},
+    {"WAIT", "MOVE or PC", "WAIT: expected MOVE, PC or FOR PC"},
+    {"EXIT", "OPEN", "EXIT: expected OPEN"},
+    {"EXPECT", "POS, MODE or ERROR", "EXPECT: expected POS, MODE or ERROR, got '%s'"},
+};
+
+static const scn_row_t *find_row(const scn_line_t *L)
+{
+    size_t r;
+    for (r = 0; r < sizeof scn_rows / sizeof scn_rows[0]; r++) {
+        const scn_row_t *row = &scn_rows[r];
+        if (kw(L->t[0], row->word) && (row->word2 == NULL || (L->nt > 1 && kw(L->t[1], row->word2)))) {
+            return row;
+        }
+    }
+    return NULL;
+}
+
+/* No row: a family with a wrong or missing second word, or an unknown command. */
+static int no_row(const scn_line_t *L)
+{
+    size_t r;
+    for (r = 0; r < sizeof scn_families / sizeof scn_families[0]; r++) {
+        const scn_family_t *f = &scn_families[r];
+        if (kw(L->t[0], f->word)) {
+            if (L->nt <= 1) {
+                return scn_fail(L, -1, "%s: missing %s", L->t[0], f->missing);
+            }
+            return scn_fail(L, 1, f->expected, L->t[1]);
+        }
+    }
+    return scn_fail(L, 0, "unknown command '%s'", L->t[0]);
+}
+
 /* Parse one tokenised line into c. */
 static int parse_line(const scn_line_t *L, scn_cmd_t *c)
 {
-    char *const *t = L->t;
-    const int nt = L->nt;
-    int i = 1;
+    const scn_row_t *row = find_row(L);
+    int i;
     memset(c, 0, sizeof *c);
     c->line = (int)L->f->line;
-#define NEED(k, what) do { if (nt <= (k)) return scn_fail(L, -1, "%s: missing %s", t[0], what); } while (0)
-#define ARM(k) do { NEED(k, "arm"); if (get_int(L, k, 1, 4, &c->arm, "arm") != 0) return -1; } while (0)
-    if (kw(t[0], "DRIVE")) {
-        NEED(1, "ON or OFF");
-        if (kw(t[1], "ON")) {
-            c->op = SCN_DRIVE_ON;
-        } else if (kw(t[1], "OFF")) {
-            c->op = SCN_DRIVE_OFF;
-        } else {
-            return scn_fail(L, 1, "DRIVE: expected ON or OFF, got '%s'", t[1]);
-        }
-        i = 2;
-        if (nt > 2) {
-            if (kw(t[2], "ARM")) {
-                i = 3;
-            }
-            ARM(i);
-            i++;
-        }
-    } else if (kw(t[0], "MOVE") || kw(t[0], "MOVEREL")) {
-        c->op = kw(t[0], "MOVE") ? SCN_MOVE : SCN_MOVE_REL;
-        ARM(1);
-        for (i = 2; i < nt; i++) {
-            char what[32];
-            if (kw(t[i], "NOWAIT")) {
-                c->nowait = 1;
-                i++;
-                break;
-            }
-            if (c->n >= SCN_MAX_VALUES) {
-                return scn_fail(L, i, "%s: more than %d targets", t[0], SCN_MAX_VALUES);
-            }
-            snprintf(what, sizeof what, "target %d [turns]", c->n + 1);
-            if (get_num(L, i, -POS_MAX, POS_MAX, &c->v[c->n], what) != 0) {
-                return -1;
-            }
-            c->n++;
-        }
-        if (c->n == 0) {
-            return scn_fail(L, -1, "%s: no targets", t[0]);
-        }
-    } else if (kw(t[0], "WAIT")) {
-        NEED(1, "MOVE or PC");
-        if (kw(t[1], "MOVE")) {
-            c->op = SCN_WAIT_MOVE;
-            ARM(2);
-            i = 3;
-        } else {
-            i = 1;
-            if (kw(t[i], "FOR")) {
-                i++;
-            }
-            if (!kw(nt > i ? t[i] : NULL, "PC")) {
-                return scn_fail(L, i, "WAIT: expected MOVE, PC or FOR PC");
-            }
-            c->op = SCN_WAIT_PC;
-            i++;
-            ARM(i);
-            i++;
-            if (nt > i && kw(t[i], "TIMEOUT")) {
-                NEED(i + 1, "timeout [ms]");
-                if (get_num(L, i + 1, 0.0, MS_MAX, &c->ms, "timeout [ms]") != 0) {
-                    return -1;
-                }
-                i += 2;
-            }
-        }
-    } else if (kw(t[0], "DELAY") || kw(t[0], "FREEZE")) {
-        c->op = kw(t[0], "DELAY") ? SCN_DELAY : SCN_FREEZE;
-        NEED(1, "time [ms]");
-        if (get_num(L, 1, 0.0, MS_MAX, &c->ms, "time [ms]") != 0) {
-            return -1;
-        }
-        i = 2;
-    } else if (kw(t[0], "MODE")) {
-        c->op = SCN_MODE;
-        ARM(1);
-        NEED(2, "mode");
-        if (get_int(L, 2, 0, 1000, &c->iv, "mode") != 0) {
-            return -1;
-        }
-        i = 3;
-        if (nt > 3 && kw(t[3], "AXES")) {
-            for (i = 4; i < nt; i++) {
-                int ax;
-                if (get_int(L, i, 1, 10, &ax, "axis") != 0) {
-                    return -1;
-                }
-                c->axes_mask |= 1U << (ax - 1);
-            }
-            if (c->axes_mask == 0U) {
-                return scn_fail(L, 3, "MODE: AXES without axes");
-            }
-        }
-    } else if (kw(t[0], "CMD")) {
-        c->op = SCN_CMD;
-        ARM(1);
-        NEED(2, "value");
-        if (get_int(L, 2, 0, 255, &c->iv, "value") != 0) {
-            return -1;
-        }
-        i = 3;
-    } else if (kw(t[0], "RESTART")) {
-        c->op = SCN_RESTART;
-    } else if (kw(t[0], "EXIT")) {
-        NEED(1, "OPEN");
-        if (!kw(t[1], "OPEN")) {
-            return scn_fail(L, 1, "EXIT: expected OPEN");
-        }
-        c->op = SCN_EXIT_OPEN;
-        i = 2;
-    } else if (kw(t[0], "OVERRIDE")) {
-        c->op = SCN_OVERRIDE;
-        NEED(1, "percent");
-        if (get_num(L, 1, 0.0, 100.0, &c->ms, "percent") != 0) {
-            return -1;
-        }
-        i = 2;
-    } else if (kw(t[0], "SELECTOR")) {
-        c->op = SCN_SELECTOR;
-        NEED(1, "AUTO or PROG");
-        if (kw(t[1], "AUTO")) {
-            c->iv = 0;
-        } else if (kw(t[1], "PROG")) {
-            c->iv = 1;
-        } else {
-            return scn_fail(L, 1, "SELECTOR: expected AUTO or PROG, got '%s'", t[1]);
-        }
-        i = 2;
-    } else if (kw(t[0], "EXPECT")) {
-        NEED(1, "POS, MODE or ERROR");
-        if (kw(t[1], "POS") || kw(t[1], "MODE")) {
-            const int pos = kw(t[1], "POS");
-            c->op = pos ? SCN_EXPECT_POS : SCN_EXPECT_MODE;
-            ARM(2);
-            NEED(3, "axis");
-            if (get_int(L, 3, 1, 10, &c->iv, "axis") != 0) {
-                return -1;
-            }
-            NEED(4, "value");
-            if (pos) {
-                if (get_num(L, 4, -POS_MAX, POS_MAX, &c->v[0], "position [turns]") != 0) {
-                    return -1;
-                }
-                NEED(5, "tolerance");
-                if (get_num(L, 5, 0.0, POS_MAX, &c->v[1], "tolerance [turns]") != 0) {
-                    return -1;
-                }
-                c->n = 2;
-                i = 6;
-            } else {
-                int m;
-                /* a mode code: compared as an integer with the packet's mode */
-                if (get_int(L, 4, 0, 1000, &m, "mode") != 0) {
-                    return -1;
-                }
-                c->v[0] = m;
-                c->n = 1;
-                i = 5;
-            }
-        } else if (kw(t[1], "ERROR")) {
-            c->op = SCN_EXPECT_ERROR;
-            NEED(2, "error name (or NONE)");
-            if (strlen(t[2]) >= sizeof c->name) {
-                return scn_fail(L, 2, "EXPECT ERROR: name longer than %d characters",
-                                (int)sizeof c->name - 1);
-            }
-            strcpy(c->name, t[2]);
-            i = 3;
-        } else {
-            return scn_fail(L, 1, "EXPECT: expected POS, MODE or ERROR, got '%s'", t[1]);
-        }
-    } else if (kw(t[0], "END")) {
-        c->op = SCN_END;
-    } else {
-        return scn_fail(L, 0, "unknown command '%s'", t[0]);
+    if (row == NULL) {
+        return no_row(L);
     }
-    if (i < nt) {
-        return scn_fail(L, i, "%s: unexpected '%s'", scn_op_name(c->op), t[i]);
+    c->op = row->op;
+    i = row->parse(L, c);
+    if (i < 0) {
+        return -1;
     }
-#undef NEED
-#undef ARM
+    if (i < L->nt) {
+        return scn_fail(L, i, "%s: unexpected '%s'", scn_op_name(c->op), L->t[i]);
+    }
     return 0;
 }
 

@@ -277,160 +277,240 @@ static void expect_fail(sim_t *s, const scn_cmd_t *c, const char *fmt, double go
     }
 }
 
-/* Execute one command; returns 1 if it blocks (the interpreter stays on it). */
-static int run_cmd(sim_t *s, const scn_cmd_t *c, int first)
+/* ---- one function per scenario command: 1 if it blocks (the interpreter stays on it) */
+
+static int cmd_drive_on(sim_t *s, const scn_cmd_t *c, int first)
 {
     const int arm = c->arm - 1;
     int a;
-    switch (c->op) {
-    case SCN_DRIVE_ON:
-        if (first) {
-            for (a = 0; a < s->cfg.n_arms; a++) {
-                if ((c->arm == 0 || a == arm) && s->arm[a].drive == DRV_OFF) {
-                    int i;
-                    s->arm[a].drive = DRV_DRIVING_ON;
-                    s->arm[a].drive_ticks = (long)ceil(s->cfg.drive_on_ms / (1000.0 * s->period));
-                    for (i = 0; i < s->n_axes; i++) {
-                        if (s->ax[i].arm == a) {
-                            s->ax[i].m.drive_on = 1;
-                            s->ax[i].hold = s->ax[i].m.meas_pos;
-                            s->ax[i].pos_i = s->ax[i].hold;
-                            s->ax[i].m.integ = 0.0;
-                        }
-                    }
-                }
-            }
-        }
-        for (a = 0; a < s->cfg.n_arms; a++) {
-            if ((c->arm == 0 || a == arm) && s->arm[a].drive != DRV_ON) {
-                return 1;
-            }
-        }
-        return 0;
-    case SCN_DRIVE_OFF:
-        for (a = 0; a < (int)C4G_ARMS; a++) {
-            if (c->arm == 0 || a == arm) {
-                arm_drive_off(s, a);
-            }
-        }
-        return 0;
-    case SCN_MOVE:
-    case SCN_MOVE_REL:
-        if (first) {
-            if (s->arm[arm].drive != DRV_ON) {
-                logf_(s, "scenario line %d: MOVE with the drives of arm %d off: aborted", c->line, c->arm);
-                s->scn_aborted = 1;
-                return 1;
-            }
-            start_move(s, c);
-        }
-        return c->nowait ? 0 : s->arm[arm].moving;
-    case SCN_WAIT_MOVE:
-        return s->arm[arm].moving;
-    case SCN_DELAY:
-        if (first) {
-            s->wait_until = s->tick + (unsigned long)ceil(c->ms / (1000.0 * s->period));
-        }
-        return s->tick < s->wait_until;
-    case SCN_MODE:
-        request_mode(s, c);
-        return 0;
-    case SCN_CMD:
-        s->arm[arm].cmd = c->iv;
-        return 0;
-    case SCN_WAIT_PC:
-        if (first) {
-            s->wait_pc_deadline = (c->ms > 0.0) ? s->tick + (unsigned long)ceil(c->ms / (1000.0 * s->period)) : 0UL;
-        }
-        if (s->arm[arm].exit_seen && !arm_in_transition(s, arm)) {
-            s->arm[arm].exit_seen = 0;
-            return 0;
-        }
-        if (s->wait_pc_deadline != 0UL && s->tick >= s->wait_pc_deadline) {
-            logf_(s, "scenario line %d: WAIT PC timed out after %.0f ms", c->line, c->ms);
-            s->scn_timeout = 1;
-            s->scn_aborted = 1;
-        }
-        return 1;
-    case SCN_FREEZE:
-        if (first) {
-            s->special_out = C4G_MODE_FREEZING_P_IN;
-            s->freeze_ticks = (long)ceil(c->ms / (1000.0 * s->period));
-            if (s->freeze_ticks < 1) {
-                s->freeze_ticks = 1;
-            }
-            return 1;
-        }
-        return s->freeze_ticks > 0;
-    case SCN_RESTART:
-        if (first) {
-            s->special_out = C4G_MODE_SVR_RESTART;
-            s->restart_req = 1;
-            return 1;
-        }
-        return s->restart_req != 0;
-    case SCN_EXIT_OPEN:
-        if (first) {
-            s->special_out = C4G_MODE_EXIT_OPEN;
-        }
-        s->exit_open_req = 1;
-        return 1;
-    case SCN_OVERRIDE:
-        s->override = c->ms / 100.0;
-        return 0;
-    case SCN_SELECTOR:
-        if (c->iv != s->selector_prog) {
+    for (a = 0; first && a < s->cfg.n_arms; a++) {
+        if ((c->arm == 0 || a == arm) && s->arm[a].drive == DRV_OFF) {
             int i;
-            int forced[C4G_ARMS] = {0, 0, 0, 0};
-            s->selector_prog = c->iv;
+            s->arm[a].drive = DRV_DRIVING_ON;
+            s->arm[a].drive_ticks = (long)ceil(s->cfg.drive_on_ms / (1000.0 * s->period));
             for (i = 0; i < s->n_axes; i++) {
-                sim_ax_t *x = &s->ax[i];
-                if (x->set_mode != C4G_MODE_0) {
-                    x->set_mode = C4G_MODE_0;
-                    x->pos_i = x->m.meas_pos;
-                    x->ref.offset = 0.0;
-                    x->counter = 0;
-                    forced[x->arm] = 1;
-                }
-            }
-            for (a = 0; a < (int)C4G_ARMS; a++) {
-                if (forced[a]) {
-                    sim_raise(s, C4G_CERR_SET_0_MODALITY, a + 1, 0);
+                if (s->ax[i].arm == a) {
+                    s->ax[i].m.drive_on = 1;
+                    s->ax[i].hold = s->ax[i].m.meas_pos;
+                    s->ax[i].pos_i = s->ax[i].hold;
+                    s->ax[i].m.integ = 0.0;
                 }
             }
         }
-        return 0;
-    case SCN_EXPECT_POS:
-    case SCN_EXPECT_MODE: {
-        sim_ax_t *x = find_axis(s, arm, c->iv - 1);
-        if (x == NULL) {
-            expect_fail(s, c, "axis not open (%g, %g)", 0.0, 0.0);
-        } else if (c->op == SCN_EXPECT_POS) {
-            if (fabs(x->m.meas_pos - c->v[0]) > c->v[1]) {
-                expect_fail(s, c, "position %.6f, expected %.6f", x->m.meas_pos, c->v[0]);
-            } else {
-                s->expect_passed++;
-            }
-        } else if (x->mode != (int)c->v[0]) {
-            expect_fail(s, c, "mode %g, expected %g", (double)x->mode, c->v[0]);
-        } else {
-            s->expect_passed++;
+    }
+    /* waits until every arm it drives on is on */
+    for (a = 0; a < s->cfg.n_arms; a++) {
+        if ((c->arm == 0 || a == arm) && s->arm[a].drive != DRV_ON) {
+            return 1;
         }
+    }
+    return 0;
+}
+
+static int cmd_drive_off(sim_t *s, const scn_cmd_t *c, int first)
+{
+    int a;
+    (void)first;
+    for (a = 0; a < (int)C4G_ARMS; a++) {
+        if (c->arm == 0 || a == c->arm - 1) {
+            arm_drive_off(s, a);
+        }
+    }
+    return 0;
+}
+
+static int cmd_move(sim_t *s, const scn_cmd_t *c, int first)
+{
+    const int arm = c->arm - 1;
+    if (first) {
+        if (s->arm[arm].drive != DRV_ON) {
+            logf_(s, "scenario line %d: MOVE with the drives of arm %d off: aborted", c->line, c->arm);
+            s->scn_aborted = 1;
+            return 1;
+        }
+        start_move(s, c);
+    }
+    return c->nowait ? 0 : s->arm[arm].moving;
+}
+
+static int cmd_wait_move(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)first;
+    return s->arm[c->arm - 1].moving;
+}
+
+static unsigned long ms_ticks(const sim_t *s, double ms)
+{
+    return (unsigned long)ceil(ms / (1000.0 * s->period));
+}
+
+static int cmd_delay(sim_t *s, const scn_cmd_t *c, int first)
+{
+    if (first) {
+        s->wait_until = s->tick + ms_ticks(s, c->ms);
+    }
+    return s->tick < s->wait_until;
+}
+
+static int cmd_mode(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)first;
+    request_mode(s, c);
+    return 0;
+}
+
+static int cmd_cmd(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)first;
+    s->arm[c->arm - 1].cmd = c->iv;
+    return 0;
+}
+
+static int cmd_wait_pc(sim_t *s, const scn_cmd_t *c, int first)
+{
+    const int arm = c->arm - 1;
+    if (first) {
+        s->wait_pc_deadline = (c->ms > 0.0) ? s->tick + ms_ticks(s, c->ms) : 0UL;
+    }
+    if (s->arm[arm].exit_seen && !arm_in_transition(s, arm)) {
+        s->arm[arm].exit_seen = 0;
         return 0;
     }
-    case SCN_EXPECT_ERROR:
-        if ((strcmp(c->name, "NONE") == 0) ? (s->n_err != 0) : !sim_has_error(s, c->name)) {
-            expect_fail(s, c, "errors raised: %g (%g)", (double)s->n_err, 0.0);
-        } else {
-            s->expect_passed++;
+    if (s->wait_pc_deadline != 0UL && s->tick >= s->wait_pc_deadline) {
+        logf_(s, "scenario line %d: WAIT PC timed out after %.0f ms", c->line, c->ms);
+        s->scn_timeout = 1;
+        s->scn_aborted = 1;
+    }
+    return 1;
+}
+
+static int cmd_freeze(sim_t *s, const scn_cmd_t *c, int first)
+{
+    if (first) {
+        s->special_out = C4G_MODE_FREEZING_P_IN;
+        s->freeze_ticks = (long)ceil(c->ms / (1000.0 * s->period));
+        if (s->freeze_ticks < 1) {
+            s->freeze_ticks = 1;
         }
-        return 0;
-    case SCN_END:
-        s->scn_done = 1;
         return 1;
-    default:
+    }
+    return s->freeze_ticks > 0;
+}
+
+static int cmd_restart(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)c;
+    if (first) {
+        s->special_out = C4G_MODE_SVR_RESTART;
+        s->restart_req = 1;
+        return 1;
+    }
+    return s->restart_req != 0;
+}
+
+static int cmd_exit_open(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)c;
+    if (first) {
+        s->special_out = C4G_MODE_EXIT_OPEN;
+    }
+    s->exit_open_req = 1;
+    return 1;
+}
+
+static int cmd_override(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)first;
+    s->override = c->ms / 100.0;
+    return 0;
+}
+
+/* The state selector changed with a mode other than 0 set: back to mode 0 and
+ * ERR_C4GOPEN_SET_0_MODALITY for each arm concerned. */
+static int cmd_selector(sim_t *s, const scn_cmd_t *c, int first)
+{
+    int forced[C4G_ARMS] = {0, 0, 0, 0};
+    int i;
+    (void)first;
+    if (c->iv == s->selector_prog) {
         return 0;
     }
+    s->selector_prog = c->iv;
+    for (i = 0; i < s->n_axes; i++) {
+        sim_ax_t *x = &s->ax[i];
+        if (x->set_mode != C4G_MODE_0) {
+            x->set_mode = C4G_MODE_0;
+            x->pos_i = x->m.meas_pos;
+            x->ref.offset = 0.0;
+            x->counter = 0;
+            forced[x->arm] = 1;
+        }
+    }
+    for (i = 0; i < (int)C4G_ARMS; i++) {
+        if (forced[i]) {
+            sim_raise(s, C4G_CERR_SET_0_MODALITY, i + 1, 0);
+        }
+    }
+    return 0;
+}
+
+static int cmd_expect_axis(sim_t *s, const scn_cmd_t *c, int first)
+{
+    const sim_ax_t *x = find_axis(s, c->arm - 1, c->iv - 1);
+    (void)first;
+    if (x == NULL) {
+        expect_fail(s, c, "axis not open (%g, %g)", 0.0, 0.0);
+    } else if (c->op == SCN_EXPECT_POS) {
+        if (fabs(x->m.meas_pos - c->v[0]) > c->v[1]) {
+            expect_fail(s, c, "position %.6f, expected %.6f", x->m.meas_pos, c->v[0]);
+        } else {
+            s->expect_passed++;
+        }
+    } else if (x->mode != (int)c->v[0]) {
+        expect_fail(s, c, "mode %g, expected %g", (double)x->mode, c->v[0]);
+    } else {
+        s->expect_passed++;
+    }
+    return 0;
+}
+
+static int cmd_expect_error(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)first;
+    if ((strcmp(c->name, "NONE") == 0) ? (s->n_err != 0) : !sim_has_error(s, c->name)) {
+        expect_fail(s, c, "errors raised: %g (%g)", (double)s->n_err, 0.0);
+    } else {
+        s->expect_passed++;
+    }
+    return 0;
+}
+
+static int cmd_end(sim_t *s, const scn_cmd_t *c, int first)
+{
+    (void)c;
+    (void)first;
+    s->scn_done = 1;
+    return 1;
+}
+
+typedef int (*cmd_fn)(sim_t *s, const scn_cmd_t *c, int first);
+
+/* Indexed by scn_op_t (1 = SCN_DRIVE_ON .. SCN_END). */
+static const cmd_fn cmd_fns[] = {
+    NULL, cmd_drive_on, cmd_drive_off, cmd_move, cmd_move, cmd_wait_move, cmd_delay,
+    cmd_mode, cmd_cmd, cmd_wait_pc, cmd_freeze, cmd_restart, cmd_exit_open,
+    cmd_override, cmd_selector, cmd_expect_axis, cmd_expect_axis, cmd_expect_error, cmd_end};
+
+/* Execute one command; returns 1 if it blocks (the interpreter stays on it). */
+static int run_cmd(sim_t *s, const scn_cmd_t *c, int first)
+{
+    const int op = (int)c->op;
+    typedef char one_fn_per_op[(sizeof cmd_fns / sizeof cmd_fns[0] == (size_t)SCN_END + 1U) ? 1 : -1];
+    (void)sizeof(one_fn_per_op);
+    if (op < 1 || op >= (int)(sizeof cmd_fns / sizeof cmd_fns[0])) {
+        return 0;
+    }
+    return cmd_fns[op](s, c, first);
 }
 
 static void run_scenario(sim_t *s)

@@ -184,7 +184,7 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
         }
         o = cli_row_of(spec, c);
         if (o == NULL) {
-            cli_error(spec, "unknown option '%s' (see --help)", argv[optind - 1]);
+            cli_error(spec, "unrecognized option '%s' (see --help)", argv[optind - 1]);
             return CLI_BAD;
         }
         why[0] = '\0';

@@ -1,0 +1,119 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim the process: the controller model (sim.h) and the controller side of the
+ * protocol (c4g_ctrlside.h) wired to a socket, a clock, fault injection and output files.
+ * options.c: command line; net.c: socket and timestamps; faults.c: fault injection;
+ * run.c: the tick loop; report.c: summary and CSV; main.c: the steps in order. */
+#ifndef SIM_APP_H
+#define SIM_APP_H
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "c4g_ctrlside.h"
+#include "c4g_pcap.h"
+#include "sim.h"
+
+/* Exit codes (docs/c4g-sim.md): 0, 1 and 2 are the shared ones of c4g_cli.h. */
+#define EXIT_OK 0
+#define EXIT_RUNTIME 1
+#define EXIT_USAGE 2
+#define EXIT_EXPECT 3
+#define EXIT_OUTPUT 4
+
+#define MAX_PENDING 8
+#define MAX_DGRAM 2048
+
+enum fault { F_DROP = 0, F_DELAY, F_DUP, F_REORDER, F_CORRUPT, F_TRUNCATE, F_COUNT };
+extern const char *const fault_names[F_COUNT];
+
+typedef struct pending {
+    int used;
+    uint64_t due_ns;
+    size_t len;
+    uint8_t buf[C4G_INIT_SIZE];
+} pending_t;
+
+/* What the command line asks for besides sim_config_t. */
+typedef struct app_opts {
+    const char *config_path;
+    const char *scenario_path;
+    const char *csv_path;
+    const char *pcap_path;
+    int quiet;
+    int json;
+    int verbose;
+    double fault_frac[F_COUNT];
+    unsigned delay_us;
+    unsigned long pause_at, pause_len;
+    int entry_fault; /* --entry-fault: 0 none, 1 drop, 2 truncate */
+} app_opts_t;
+
+/* The simulator's own counters (the protocol's are in cs_t). */
+typedef struct app_stats {
+    unsigned long sent;
+    unsigned long fault[F_COUNT];
+    unsigned long paused_ticks;
+    unsigned long overruns;
+    uint64_t overrun_max;
+} app_stats_t;
+
+typedef struct app {
+    app_opts_t o;
+    sim_config_t cfg;
+    sim_t sim;
+    scn_t scn;
+    cs_t cs;
+    int fd;
+    struct sockaddr_in srv;
+    struct sockaddr_in local;
+    uint32_t local_ip;
+    uint16_t local_port;
+    FILE *csv;
+    c4g_pcap_t *pcap;
+    int out_error;
+    app_stats_t st;
+    pending_t pend[MAX_PENDING];
+    pending_t held;          /* reorder: sent after the next packet */
+    int32_t sent_modes[C4G_MAX_AXES]; /* modes of the last cyclic packet sent */
+    sim_rng_t frng;
+    int kstamp;              /* kernel send/receive timestamps (SO_TIMESTAMPING) are on */
+    uint32_t tx_seq;         /* SO_TIMESTAMPING id of the next sendto */
+    int has_key;             /* tx_key: SO_TIMESTAMPING id of the outstanding packet */
+    uint32_t tx_key;
+    uint64_t tol_ns;         /* own lateness beyond which a tick is an overrun */
+} app_t;
+
+extern volatile sig_atomic_t g_stop;
+
+uint64_t now_ns(void);
+
+/* options.c: 0 to run; otherwise the exit code (help printed, or the error on stderr). */
+int app_options(app_t *a, int argc, char **argv, int *done);
+/* options.c: addresses, scenario and sim_init; 0 or EXIT_USAGE. */
+int app_prepare(app_t *a);
+
+/* net.c */
+int net_open(app_t *a);
+int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key);
+void drain(app_t *a);
+void window(app_t *a, uint64_t until);
+
+/* faults.c */
+int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key);
+
+/* run.c */
+void app_run(app_t *a);
+void judge(app_t *a, uint64_t woke);
+void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
+               uint64_t t);
+
+/* report.c */
+int outputs_open(app_t *a);
+void outputs_close(app_t *a);
+void csv_row(app_t *a, const c4g_ctrl_packet_t *p, int sent, int reply_ok);
+void summary(const app_t *a, int code, const char *result, double cpu_s);
+double cpu_seconds(void);
+
+#endif

@@ -1,0 +1,248 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim's socket: sending, receiving with kernel timestamps, waiting for the next tick. */
+#include <arpa/inet.h>
+#include <errno.h>
+#include <linux/errqueue.h>
+#include <linux/net_tstamp.h>
+#include <string.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "app.h"
+
+uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000ULL + (uint64_t)ts.tv_nsec;
+}
+
+static uint64_t ts_ns(const struct timespec *ts)
+{
+    return (uint64_t)ts->tv_sec * 1000000000ULL + (uint64_t)ts->tv_nsec;
+}
+
+static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
+                        const uint8_t *buf, size_t len)
+{
+    struct timespec ts;
+    uint32_t pip;
+    uint16_t pport;
+    int rc;
+    if (a->pcap == NULL) {
+        return;
+    }
+    clock_gettime(CLOCK_REALTIME, &ts);
+    pip = ntohl(peer->sin_addr.s_addr);
+    pport = ntohs(peer->sin_port);
+    if (outgoing) {
+        rc = c4g_pcap_write_udp(a->pcap, &ts, a->local_ip, a->local_port, pip, pport, buf, len);
+    } else {
+        rc = c4g_pcap_write_udp(a->pcap, &ts, pip, pport, a->local_ip, a->local_port, buf, len);
+    }
+    if (rc != 0) {
+        a->out_error = 1;
+    }
+}
+
+/* Returns 1 and the SO_TIMESTAMPING id of the datagram in @p key if it went out. */
+int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key)
+{
+    ssize_t n = sendto(a->fd, buf, len, 0, (const struct sockaddr *)&a->srv, sizeof a->srv);
+    if (n < 0 && errno != ECONNREFUSED) {
+        if (!a->sim.fatal) {
+            fprintf(stderr, "c4g-sim: sendto: %s\n", strerror(errno));
+            sim_raise(&a->sim, C4G_CERR_TX_UDP, 0, 0);
+            sim_all_drive_off(&a->sim);
+            a->sim.fatal = 1;
+        }
+        return 0;
+    }
+    pcap_record(a, 1, &a->srv, buf, len);
+    if (n < 0) {
+        return 0;
+    }
+    if (key != NULL) {
+        *key = a->tx_seq;
+    }
+    a->tx_seq++; /* the kernel numbers every datagram sent, from 0 */
+    return 1;
+}
+
+/* Bound to any address: the source address the kernel picks towards the server. */
+static void local_ip_towards_server(app_t *a)
+{
+    int t = socket(AF_INET, SOCK_DGRAM, 0);
+    struct sockaddr_in r;
+    socklen_t rl = sizeof r;
+    if (t >= 0 && connect(t, (struct sockaddr *)&a->srv, sizeof a->srv) == 0 &&
+        getsockname(t, (struct sockaddr *)&r, &rl) == 0) {
+        a->local_ip = ntohl(r.sin_addr.s_addr);
+    }
+    if (t >= 0) {
+        close(t);
+    }
+}
+
+int net_open(app_t *a)
+{
+    /* Replies are judged by their kernel arrival time and our packets by their kernel
+     * send time, so the simulator's own scheduling delays are not charged to the PC.
+     * If the kernel refuses them: clock reads in user space. */
+    const unsigned ts = SOF_TIMESTAMPING_RX_SOFTWARE | SOF_TIMESTAMPING_TX_SOFTWARE |
+                        SOF_TIMESTAMPING_SOFTWARE | SOF_TIMESTAMPING_OPT_ID |
+                        SOF_TIMESTAMPING_OPT_TSONLY;
+    struct sockaddr_in *la = &a->local;
+    socklen_t ll = sizeof *la;
+    a->fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (a->fd < 0 || bind(a->fd, (struct sockaddr *)la, sizeof *la) != 0 ||
+        getsockname(a->fd, (struct sockaddr *)la, &ll) != 0) {
+        return -1;
+    }
+    a->local_port = ntohs(la->sin_port);
+    a->local_ip = ntohl(la->sin_addr.s_addr);
+    a->kstamp = setsockopt(a->fd, SOL_SOCKET, SO_TIMESTAMPING, &ts, sizeof ts) == 0;
+    if (!a->kstamp && a->o.verbose) {
+        fprintf(stderr, "c4g-sim: no kernel timestamps (%s): reply times from user space\n",
+                strerror(errno));
+    }
+    if (a->local_ip == 0U) {
+        local_ip_towards_server(a);
+    }
+    return 0;
+}
+
+/* CLOCK_REALTIME minus CLOCK_MONOTONIC: kernel timestamps are real time, the tick grid is
+ * monotonic. The real-time read sits between two monotonic reads; the narrowest of three
+ * brackets wins, so a preemption between the reads does not shift the offset. */
+static uint64_t real_minus_mono(void)
+{
+    uint64_t best = 0, width = UINT64_MAX;
+    int i;
+    for (i = 0; i < 3 && width > 2000U; i++) {
+        struct timespec r;
+        const uint64_t m1 = now_ns();
+        uint64_t m2;
+        clock_gettime(CLOCK_REALTIME, &r);
+        m2 = now_ns();
+        if (m2 - m1 < width) {
+            width = m2 - m1;
+            best = ts_ns(&r) - (m1 + (m2 - m1) / 2U);
+        }
+    }
+    return best;
+}
+
+/* The software timestamp of a received or error-queue message, on the monotonic clock;
+ * 0 if there is none. Sets @p key for a send timestamp from the error queue. */
+static uint64_t msg_stamp(struct msghdr *m, uint64_t off, int *has_key, uint32_t *key)
+{
+    struct cmsghdr *c;
+    uint64_t t = 0;
+    for (c = CMSG_FIRSTHDR(m); c != NULL; c = CMSG_NXTHDR(m, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPING) {
+            struct scm_timestamping st;
+            memcpy(&st, CMSG_DATA(c), sizeof st);
+            t = ts_ns(&st.ts[0]);
+        } else if (has_key != NULL && c->cmsg_level == IPPROTO_IP && c->cmsg_type == IP_RECVERR) {
+            struct sock_extended_err e;
+            memcpy(&e, CMSG_DATA(c), sizeof e);
+            if (e.ee_origin == SO_EE_ORIGIN_TIMESTAMPING) {
+                *has_key = 1;
+                *key = e.ee_data;
+            }
+        }
+    }
+    return (t > off) ? t - off : 0U;
+}
+
+/* Read one datagram (errq: a send timestamp from the error queue); 0 when none is left. */
+static int read_one(app_t *a, int errq, uint64_t off)
+{
+    uint8_t buf[MAX_DGRAM];
+    union { char c[256]; struct cmsghdr align; } ctl;
+    struct sockaddr_in from;
+    struct iovec iov;
+    struct msghdr m;
+    ssize_t n;
+    uint64_t t, now;
+    int has_key = 0;
+    uint32_t key = 0;
+    memset(&m, 0, sizeof m);
+    memset(&from, 0, sizeof from);
+    iov.iov_base = buf;
+    iov.iov_len = sizeof buf;
+    m.msg_name = &from;
+    m.msg_namelen = sizeof from;
+    m.msg_iov = &iov;
+    m.msg_iovlen = 1;
+    m.msg_control = ctl.c;
+    m.msg_controllen = sizeof ctl.c;
+    n = recvmsg(a->fd, &m, MSG_DONTWAIT | (errq ? MSG_ERRQUEUE : 0));
+    if (n < 0) {
+        return 0;
+    }
+    t = a->kstamp ? msg_stamp(&m, off, errq ? &has_key : NULL, &key) : 0U;
+    now = now_ns();
+    if (errq) {
+        /* the send happened after the clock read in emit and before now */
+        if (has_key && a->has_key && key == a->tx_key) {
+            (void)cs_sent_stamp(&a->cs, t, now);
+        }
+        return 1;
+    }
+    pcap_record(a, 0, &from, buf, (size_t)n); /* every datagram, before any check */
+    handle_rx(a, buf, (size_t)n, &from, (t != 0U && t <= now) ? t : now);
+    return 1;
+}
+
+/* Read everything that has arrived, each datagram with its kernel arrival time, so a reply
+ * that waited in the socket while the simulator was descheduled keeps its real time; then
+ * the send timestamps of our own datagrams. */
+void drain(app_t *a)
+{
+    const uint64_t off = a->kstamp ? real_minus_mono() : 0U;
+    while (read_one(a, 0, off)) {
+    }
+    while (a->kstamp && read_one(a, 1, off)) {
+    }
+}
+
+/* Send the delayed packets that are due; returns the earliest due time left (or until). */
+static uint64_t release_pending(app_t *a, uint64_t t, uint64_t until)
+{
+    uint64_t wake = until;
+    int i;
+    for (i = 0; i < MAX_PENDING; i++) {
+        if (a->pend[i].used && a->pend[i].due_ns <= t) {
+            (void)raw_send(a, a->pend[i].buf, a->pend[i].len, NULL);
+            a->pend[i].used = 0;
+        } else if (a->pend[i].used && a->pend[i].due_ns < wake) {
+            wake = a->pend[i].due_ns;
+        }
+    }
+    return wake;
+}
+
+/* Receive (and release delayed packets) until @p until. */
+void window(app_t *a, uint64_t until)
+{
+    for (;;) {
+        const uint64_t t = now_ns();
+        const uint64_t wake = release_pending(a, t, until);
+        fd_set rf;
+        struct timeval tv;
+        if (t >= until || g_stop) {
+            break;
+        }
+        FD_ZERO(&rf);
+        FD_SET(a->fd, &rf);
+        tv.tv_sec = (time_t)((wake - t) / 1000000000U);
+        tv.tv_usec = (suseconds_t)(((wake - t) % 1000000000U) / 1000U);
+        if (select(a->fd + 1, &rf, NULL, NULL, &tv) > 0) {
+            drain(a);
+        }
+    }
+}

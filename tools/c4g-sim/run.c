@@ -1,0 +1,259 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-sim's tick loop: at each tick, read what arrived, judge the previous packet's reply
+ * (tools/common/c4g_ctrlside.c), send the packet the handshake driver asks for, then
+ * wait on an absolute grid for the next tick. */
+#include <arpa/inet.h>
+#include <errno.h>
+#include <string.h>
+#include <time.h>
+
+#include "app.h"
+
+volatile sig_atomic_t g_stop;
+
+/* ---- replies ------------------------------------------------------------- */
+
+static void log_refused(const app_t *a, cs_rx_t r, size_t len)
+{
+    const cs_t *c = &a->cs;
+    if (r == CS_RX_WRONG_NUM) {
+        fprintf(stderr, "c4g-sim: reply NUM %d to packet NUM %d violates the %s policy\n",
+                c->last_num, c->out.num, cs_policy_name((int)c->cfg.policy));
+    } else if (r == CS_RX_BAD_DECODE) {
+        fprintf(stderr, "c4g-sim: bad reply (%u bytes): %s, field %s, axis %d, value %lld\n",
+                (unsigned)len, c4g_strerror(c->last_diag.status), c4g_field_name(c->last_diag.field),
+                c->last_diag.axis, (long long)c->last_diag.value);
+    }
+}
+
+void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
+               uint64_t t)
+{
+    cs_rx_t r;
+    if (from->sin_addr.s_addr != a->srv.sin_addr.s_addr || from->sin_port != a->srv.sin_port) {
+        cs_foreign(&a->cs);
+        if (a->o.verbose) {
+            char ip[INET_ADDRSTRLEN];
+            inet_ntop(AF_INET, &from->sin_addr, ip, sizeof ip);
+            fprintf(stderr, "c4g-sim: ignored a datagram from foreign %s:%u\n", ip, ntohs(from->sin_port));
+        }
+        return;
+    }
+    r = cs_reply(&a->cs, buf, len, t);
+    if (a->o.verbose) {
+        log_refused(a, r, len);
+    }
+}
+
+static void log_miss(const app_t *a, cs_verdict_t v, uint64_t woke)
+{
+    const cs_outstanding_t *o = &a->cs.out;
+    const unsigned long row = a->cs.n.consecutive;
+    if (v == CS_J_UNJUDGED) {
+        fprintf(stderr, "c4g-sim: no reply to NUM %d by a deadline the simulator overran "
+                        "itself (%.1f ms late; %lu in a row)\n", o->num,
+                (double)(woke - o->deadline_ns) / 1e6, row);
+        return;
+    }
+    fprintf(stderr, "c4g-sim: %s: %s (NUM %d, %lu in a row; ", c4g_ctrl_error_name(C4G_CERR_UDP_DEBUG),
+            c4g_ctrl_error_message(C4G_CERR_UDP_DEBUG), o->num, row);
+    if (o->got) {
+        fprintf(stderr, "the reply came %.1f us after the packet, %.1f us after the deadline)\n",
+                (double)(o->got_ns - o->sent_ns) / 1e3, (double)(o->got_ns - o->deadline_ns) / 1e3);
+    } else {
+        fprintf(stderr, "no reply %.1f us after the packet)\n", (double)(woke - o->sent_ns) / 1e3);
+    }
+}
+
+/* At a tick boundary (woken at @p woke, everything that arrived is read): did the reply
+ * to the outstanding packet arrive by its deadline? */
+void judge(app_t *a, uint64_t woke)
+{
+    const cs_verdict_t v = cs_judge(&a->cs, woke, sim_checks_suspended(&a->sim));
+    if (v == CS_J_MISSING) {
+        a->sim.udp_debug++; /* ERR_C4GOPEN_UDP_DEBUG: not fatal, not listed among the errors */
+    }
+    if ((v == CS_J_MISSING || v == CS_J_UNJUDGED) && a->o.verbose) {
+        log_miss(a, v, woke);
+    }
+    if (a->cs.fatal) {
+        sim_raise(&a->sim, C4G_CERR_UDP, 0, 0);
+        sim_all_drive_off(&a->sim);
+        a->sim.fatal = 1;
+    }
+}
+
+static void emit(app_t *a, cs_kind_t kind, int32_t num, const uint8_t *buf, size_t len, int check)
+{
+    cs_emit(&a->cs, kind, num, buf, len, check, now_ns());
+    a->has_key = send_packet(a, buf, len, &a->tx_key);
+}
+
+/* ---- one tick per phase --------------------------------------------------- */
+
+typedef struct loop {
+    uint64_t deadline;
+    unsigned long cyclic_ticks;
+    unsigned long pause_left;
+    long freeze_left;
+    int ended;
+} loop_t;
+
+static void tick_sync(app_t *a)
+{
+    uint8_t buf[C4G_INIT_SIZE];
+    size_t len = 0;
+    c4g_ctrl_packet_t pkt;
+    memset(&pkt, 0, sizeof pkt);
+    pkt.num = cs_next_num(&a->cs);
+    pkt.n_axes = (uint32_t)a->sim.n_axes;
+    (void)c4g_ctrl_encode(&pkt, buf, sizeof buf, &len);
+    emit(a, CS_SYNC, pkt.num, buf, len, 1);
+    cs_advance(&a->cs);
+}
+
+static void tick_init(app_t *a)
+{
+    uint8_t buf[C4G_INIT_SIZE];
+    size_t len = 0;
+    a->sim.init.num = C4G_INIT_NUM;
+    (void)c4g_init_encode(&a->sim.init, buf, sizeof buf, &len);
+    emit(a, CS_INIT, C4G_INIT_NUM, buf, len, 1);
+    cs_advance(&a->cs);
+    a->sim.restart_req = 0;
+}
+
+/* Passive freezing (502, silence, 503) and --pause: 1 if this tick's packet goes out. */
+static int tick_silence(app_t *a, loop_t *L)
+{
+    int send = 1;
+    if (L->freeze_left > 0) {
+        L->freeze_left--;
+        a->sim.freeze_ticks = L->freeze_left;
+        send = (L->freeze_left == 0);
+    } else if (a->sim.freeze_ticks > 0) {
+        L->freeze_left = a->sim.freeze_ticks; /* 502 goes out now, then silence */
+    }
+    if (L->pause_left > 0U) {
+        L->pause_left--;
+        a->st.paused_ticks++;
+        send = 0;
+    }
+    return send;
+}
+
+static int tick_send(app_t *a, c4g_ctrl_packet_t *pkt)
+{
+    uint8_t buf[C4G_INIT_SIZE];
+    size_t len = 0;
+    if (c4g_ctrl_encode(pkt, buf, sizeof buf, &len) != C4G_OK) {
+        fprintf(stderr, "c4g-sim: internal: packet not encodable\n");
+        return 0;
+    }
+    emit(a, CS_CYCLIC, pkt->num, buf, len, !a->sim.exit_open_req);
+    cs_advance(&a->cs);
+    return 1;
+}
+
+/* After a cyclic tick: 1 if the run is over. */
+static int run_over(const app_t *a, const loop_t *L)
+{
+    const sim_t *s = &a->sim;
+    if (s->exit_open_req) {
+        return 1; /* 504 sent: end of communication */
+    }
+    if (a->cfg.ticks != 0U && L->cyclic_ticks >= a->cfg.ticks) {
+        return 1;
+    }
+    return s->scn != NULL && (s->scn_done || s->scn_aborted) && !a->cfg.hold && L->freeze_left == 0;
+}
+
+static void tick_cyclic(app_t *a, loop_t *L)
+{
+    const c4g_pc_packet_t *rep = cs_take_reply(&a->cs);
+    c4g_ctrl_packet_t pkt;
+    int send;
+    if (a->o.pause_len > 0U && L->cyclic_ticks == a->o.pause_at) {
+        L->pause_left = a->o.pause_len;
+        a->o.pause_len = 0;
+    }
+    if (L->freeze_left == 1) {
+        a->sim.special_out = C4G_MODE_FREEZING_P_OUT;
+    }
+    sim_tick(&a->sim, rep, &pkt);
+    L->cyclic_ticks++;
+    send = tick_silence(a, L);
+    pkt.num = cs_next_num(&a->cs);
+    if (send) {
+        send = tick_send(a, &pkt);
+    }
+    csv_row(a, &pkt, send, rep != NULL);
+    if (!a->sim.exit_open_req && a->sim.restart_req && send) {
+        cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
+        return;
+    }
+    L->ended = run_over(a, L);
+}
+
+/* The simulator's own overrun: its packet left so late that a PC answering within
+ * t-cycle1 could miss the next tick. No burst to catch up: the grid restarts at the
+ * send, so the PC always gets its period. */
+static void check_overrun(app_t *a, loop_t *L)
+{
+    const uint64_t t = now_ns();
+    if (t > L->deadline && t - L->deadline > a->tol_ns) {
+        a->st.overruns++;
+        if (t - L->deadline > a->st.overrun_max) {
+            a->st.overrun_max = t - L->deadline;
+        }
+        L->deadline = t;
+    }
+}
+
+static void sleep_until(uint64_t deadline)
+{
+    struct timespec ts;
+    ts.tv_sec = (time_t)(deadline / 1000000000U);
+    ts.tv_nsec = (long)(deadline % 1000000000U);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !g_stop) {
+    }
+}
+
+void app_run(app_t *a)
+{
+    loop_t L;
+    memset(&L, 0, sizeof L);
+    L.deadline = now_ns();
+    while (!L.ended && !g_stop) {
+        const uint64_t woke = now_ns();
+        drain(a);
+        judge(a, woke);
+        if (a->sim.fatal) {
+            break;
+        }
+        switch (cs_next_kind(&a->cs)) {
+        case CS_SYNC:
+            tick_sync(a);
+            break;
+        case CS_INIT:
+            tick_init(a);
+            break;
+        case CS_CYCLIC:
+        default:
+            tick_cyclic(a, &L);
+            break;
+        }
+        check_overrun(a, &L);
+        L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
+        cs_set_deadline(&a->cs, L.deadline);
+        window(a, L.deadline);
+        sleep_until(L.deadline);
+    }
+    if (!a->sim.fatal) {
+        const uint64_t woke = now_ns();
+        drain(a); /* what arrived before the end (or the signal) is counted */
+        if (!g_stop) {
+            judge(a, woke); /* the last packet had its window */
+        }
+    }
+}
