@@ -256,7 +256,7 @@ analyzer: | $(DEPS_STAMP)
 # .clang-tidy): functions of one job each, mains that only wire the parts together.
 TOOL_COMPLEXITY ?= 40
 TEST_COMPLEXITY ?= 90
-CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Iinclude -Itools/common \
+CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -DFIXTURES_DIR=\"\" -Iinclude -Itools/common \
   -Itools/c4g-sim -Itools/c4g-server -Itools/cell-cli -Itools/cell-sim
 complexity: | $(DEPS_STAMP)
 	@sh scripts/complexity.sh $(TOOL_COMPLEXITY) "$(CPLX_INC)" $(sort $(wildcard tools/*/*.c))
