@@ -263,7 +263,7 @@ complexity: | $(DEPS_STAMP)
 	@sh scripts/complexity.sh $(TEST_COMPLEXITY) "$(CPLX_INC)" $(UNIT_SRCS) $(FUZZ_SRCS)
 # Statuses nobody reads: clang honours C4G_NODISCARD (and a deliberate (void) cast).
 nodiscard: | $(DEPS_STAMP)
-	@set -e; for f in $(sort $(wildcard tools/*/*.c)) examples/*.c bench/*.c $(UNIT_SRCS) $(FUZZ_SRCS); do \
+	@set -e; for f in $(sort $(wildcard tools/*/*.c)) examples/*.c docs/examples/*.c bench/*.c $(UNIT_SRCS) $(FUZZ_SRCS); do \
 	  $(CLANG) $(CPLX_INC) -fsyntax-only -Werror=unused-result $$f; done
 	@echo "nodiscard: every status is used or deliberately dropped"
 static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard

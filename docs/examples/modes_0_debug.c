@@ -3,6 +3,7 @@
  * in mode 0' (10, debug echo) the library copies D1..D5 back, whatever the caller wrote.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -5,6 +5,7 @@
  * EXIT_FROM_OPEN, holds the robot in 1 stand-by (11) while ramping out with rho, and the
  * controller returns to mode 0. Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -6,6 +6,7 @@
  * and stops the arm (505) before joint 5 crosses its stroke end. Exit status 0 only if
  * every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -6,6 +6,8 @@
  * SMP+ current plus the delta stays within AzLim. Moni type 23 rows are written as CSV.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
+#include "c4g_csv.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -5,6 +5,7 @@
  * every axis of the arm), and the drive-off latch that ends when the drives are off.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -5,6 +5,7 @@
  * initialization packet like the manual's figure 10.1, then the session counters and the
  * chapter 22 timing report. Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
+#include "c4g_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -50,17 +51,17 @@ int main(void)
     int32_t num;
     unsigned i, bad = 0;
 
-    c4g_init_fig10_1(&init);
-    c4g_session_init(&s, NULL);
+    bad += c4g_init_fig10_1(&init) != C4G_OK;
+    bad += c4g_session_init(&s, NULL) != C4G_OK;
     for (num = 1; num <= 12; num++) {            /* 9 syncs, init (10), 2 syncs */
         if (num == C4G_INIT_NUM) {
-            c4g_init_encode(&init, buf, sizeof buf, &len);
+            bad += c4g_init_encode(&init, buf, sizeof buf, &len) != C4G_OK;
         } else {
             memset(buf, 0, C4G_SYNC_REPLY_SIZE);
             buf[0] = (uint8_t)num;
             len = C4G_SYNC_REPLY_SIZE;
         }
-        c4g_session_rx(&s, buf, len, now, &r);
+        bad += c4g_session_rx(&s, buf, len, now, &r) != C4G_OK;
         bad += c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_OK;
         now += 2000000;
     }
@@ -89,18 +90,18 @@ int main(void)
         if (i == 500 || i == 501) {
             continue;                             /* two packets lost on the wire */
         }
-        c4g_ctrl_encode(&p, buf, sizeof buf, &len);
+        bad += c4g_ctrl_encode(&p, buf, sizeof buf, &len) != C4G_OK;
         if (i == 700) {
             len -= 1;                             /* a truncated datagram */
         }
-        c4g_session_rx(&s, buf, len, now, &r);
+        bad += c4g_session_rx(&s, buf, len, now, &r) != C4G_OK;
         if (r.kind == C4G_RX_CYCLIC) {
-            c4g_pc_reply_neutral(r.pkt, &tx);
+            bad += c4g_pc_reply_neutral(r.pkt, &tx) != C4G_OK;
             bad += c4g_session_reply(&s, &tx, out, sizeof out, &n) != C4G_OK;
-            c4g_session_sent(&s, now + 40000 + (i % 13) * 1000);
+            bad += c4g_session_sent(&s, now + 40000 + (i % 13) * 1000) != C4G_OK;
         }
     }
-    c4g_session_timing(&s, &t);
+    bad += c4g_session_timing(&s, &t) != C4G_OK;
     printf("Session counters: rx %llu, tx %llu, sync %llu, init %llu, cyclic %llu\n",
            (unsigned long long)s.counters.rx, (unsigned long long)s.counters.tx,
            (unsigned long long)s.counters.sync, (unsigned long long)s.counters.init,
