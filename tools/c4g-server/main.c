@@ -419,7 +419,7 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
  * keeps the socket busy: the loss must not wait for a quiet moment). Exit code, or -1. */
 static int time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
-    const c4g_session_t *s = &S->session;
+    const c4g_session_t *s = &S->loop.session;
     if ((ev & C4G_EV_SILENCE) != 0U) {
         srv_log(S, t, "controller silent for more than %.1f ms: session kept",
                 (double)s->silence_ns * 1e-6);
@@ -439,9 +439,9 @@ static int on_idle(srv_t *S, uint64_t start)
 {
     uint32_t ev = 0U;
     const uint64_t t = now_ns();
-    c4g_session_t *s = &S->session;
+    const c4g_session_t *s = &S->loop.session;
     int code;
-    (void)c4g_session_poll(s, t, &ev);
+    (void)c4g_loop_poll(&S->loop, t, &ev);
     code = time_events(S, ev, t);
     if (code >= 0) {
         return code;
@@ -501,10 +501,11 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
     struct sockaddr_in p2;
     socklen_t l2 = sizeof p2;
     c4g_endpoint_t e;
+    c4g_loop_event_t ev;
     unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
     int have;
     endpoint_of(peer, &e);
-    have = c4g_session_is_peer(&S->session, &e);
+    have = c4g_session_is_peer(&S->loop.session, &e);
     while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
                                                 (struct sockaddr *)&p2, &l2)) >= 0) {
         const uint64_t t = now_ns();
@@ -515,19 +516,17 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
             n_foreign++;
             continue;
         }
-        if (!c4g_session_is_peer(&S->session, &e)) {
-            c4g_rx_result_t res;
-            (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
-            log_foreign(S, &S->session, &p2, k, t);
+        if (!c4g_session_is_peer(&S->loop.session, &e)) {
+            (void)c4g_loop_rx(&S->loop, other, k, t, &e, &ev); /* counted */
+            log_foreign(S, &S->loop.session, &p2, k, t);
             n_foreign++;
             continue;
         }
         if (!have) { /* the first datagram was another endpoint's: count it before it goes */
-            c4g_rx_result_t res;
             c4g_endpoint_t e0;
             endpoint_of(peer, &e0);
-            (void)c4g_session_rx_from(&S->session, in, *len, t, &e0, &res);
-            log_foreign(S, &S->session, peer, *len, t);
+            (void)c4g_loop_rx(&S->loop, in, *len, t, &e0, &ev);
+            log_foreign(S, &S->loop.session, peer, *len, t);
             n_foreign++;
             have = 1;
         }
@@ -540,200 +539,260 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
             "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
 }
 
-/* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
+/* One received datagram of the controller's address. */
+typedef struct dgram {
+    size_t len;
+    struct sockaddr_in peer;
+    socklen_t plen;
+    uint64_t t_rx;
+} dgram_t;
+
+enum { SRV_NEXT = -1, SRV_HAVE = -2 }; /* besides exit codes: go on / a datagram is in */
+
+static uint8_t g_in[2048];
+static uint8_t g_out[C4G_INIT_SIZE];
+
+/* Wait for one datagram of the controller's address into g_in. SRV_HAVE, SRV_NEXT (nothing
+ * came, or another address's), or an exit code. */
+static int receive(srv_t *S, int fd, uint64_t start, int thaw, dgram_t *d)
+{
+    ssize_t n;
+    int code;
+    if (g_stop) {
+        return EXIT_SIGNAL;
+    }
+    if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
+        return EXIT_TIMEOUT;
+    }
+    d->plen = sizeof d->peer;
+    if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
+        n = -1;
+        errno = EAGAIN;
+    } else {
+        /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
+        n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC, (struct sockaddr *)&d->peer, &d->plen);
+    }
+    d->t_rx = now_ns();
+    if (n < 0) {
+        /* a timeout runs the idle checks; EINTR or a transient error: go on */
+        code = (errno == EAGAIN || errno == EWOULDBLOCK) ? on_idle(S, start) : SRV_NEXT;
+        return (code >= 0) ? code : SRV_NEXT;
+    }
+    if (foreign_address(S, &d->peer, n, d->t_rx)) {
+        /* a stream from another address keeps recvfrom from timing out: the silence
+         * and loss checks must not wait for a quiet socket */
+        code = on_idle(S, start);
+        return (code >= 0) ? code : SRV_NEXT;
+    }
+    if ((size_t)n > sizeof g_in) {
+        S->stats.oversize++;
+        d->len = sizeof g_in;
+    } else {
+        d->len = (size_t)n;
+    }
+    if (thaw) {
+        drain_queue(S, fd, g_in, sizeof g_in, &d->len, &d->peer);
+        d->t_rx = now_ns();
+    }
+    return SRV_HAVE;
+}
+
+/* Datagrams the session refused or that need no answer: logged. 1 when nothing is due. */
+static int refused(srv_t *S, const dgram_t *d, const c4g_loop_event_t *ev)
+{
+    const uint32_t e = ev->events;
+    if ((e & C4G_EV_FOREIGN) != 0U) {
+        log_foreign(S, &S->loop.session, &d->peer, d->len, d->t_rx);
+        return 1;
+    }
+    if ((e & C4G_EV_RESUMED) != 0U) {
+        srv_log(S, d->t_rx, "controller back after %.1f ms of silence", (double)ev->silence_ns * 1e-6);
+    }
+    if ((e & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U && ev->kind == C4G_RX_DROPPED) {
+        srv_log(S, d->t_rx, "dropped %s packet NUM %d (newest %d): not answered",
+                (e & C4G_EV_DUPLICATE) ? "duplicate" : "stale",
+                (int)((uint32_t)g_in[0] | (uint32_t)g_in[1] << 8 | (uint32_t)g_in[2] << 16 |
+                      (uint32_t)g_in[3] << 24),
+                (int)S->loop.session.last_num);
+        return 1;
+    }
+    if ((e & C4G_EV_MALFORMED) != 0U && ev->diag.status == C4G_ERR_STATE) {
+        srv_log(S, d->t_rx, "refused a %zu-byte initialization packet mid-session (NUM %lld): "
+                "accepted only at start-up or after 506", d->len, (long long)ev->diag.value);
+        return 1;
+    }
+    if ((e & C4G_EV_MALFORMED) != 0U) {
+        srv_log(S, d->t_rx, "dropped malformed %zu-byte datagram: %s (field %s, offset %u, axis %d, value %lld)",
+                d->len, c4g_strerror(ev->diag.status), c4g_field_name(ev->diag.field),
+                (unsigned)ev->diag.offset, (int)ev->diag.axis, (long long)ev->diag.value);
+        return 1;
+    }
+    return 0;
+}
+
+/* The session's events on a datagram that is answered. */
+static void session_events(srv_t *S, const dgram_t *d, const c4g_loop_event_t *ev)
+{
+    const c4g_session_t *s = &S->loop.session;
+    const uint32_t e = ev->events;
+    const uint64_t t = d->t_rx;
+    if ((e & C4G_EV_LOST) != 0U && ev->kind == C4G_RX_CYCLIC) {
+        S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
+        srv_log(S, t, "long gap: more than %.1f ms without a packet",
+                (double)s->lost_timeout_ns * 1e-6);
+    }
+    if ((e & C4G_EV_INIT) != 0U) {
+        S->stats.inits++;
+        srv_behave_init(S, t);
+        srv_log(S, t, "init packet: %u open axes, period %d ms, version %d.%d.%d",
+                (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
+                (int)s->init.version_minor, (int)s->init.version_build);
+    }
+    if ((e & C4G_EV_RESTART) != 0U) {
+        S->stats.restarts++;
+        srv_log(S, t, "506: client restart, a new init packet follows");
+    }
+    if ((e & C4G_EV_FREEZE_IN) != 0U) {
+        S->stats.frozen_passive++;
+        srv_log(S, t, "502: passive freezing (loss check suspended)");
+    }
+    if ((e & C4G_EV_FREEZE_OUT) != 0U) {
+        srv_log(S, t, "503: passive freezing over");
+    }
+    if ((e & C4G_EV_DRIVES) != 0U) {
+        srv_log(S, t, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
+    }
+    if ((e & C4G_EV_CYCLIC_START) != 0U) {
+        srv_log(S, t, "cyclic communication started");
+    }
+}
+
+/* The reply to a cyclic packet: the controllers fill what the loop prepared, the loop
+ * filters and encodes it (neutral when it cannot). A reply --skip-replies holds back is
+ * still finished, so that the control engine sees every tick as the controller does, but
+ * not encoded (zero capacity). 1 when g_out holds a reply to send. */
+static int reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, int *thaw,
+                        size_t *olen)
+{
+    const uint64_t k = S->loop.session.counters.cyclic;
+    const uint64_t neutral0 = S->loop.counters.neutral_replies;
+    const int skip = S->cfg.skip_at > 0U && k >= S->cfg.skip_at &&
+                     k < S->cfg.skip_at + S->cfg.skip_count;
+    c4g_ctl_report_t rep;
+    c4g_status_t st;
+    S->cyc_k = k;
+    S->thaw = *thaw;
+    *thaw = 0;
+    if (ev->cmd != NULL) {
+        srv_behave(S, ev, t_rx);
+    }
+    st = c4g_loop_reply(&S->loop, g_out, skip ? 0U : sizeof g_out, olen, &rep);
+    S->stats.encode_errors += S->loop.counters.neutral_replies - neutral0;
+    if (ev->cmd != NULL) {
+        srv_behave_done(S, &rep, t_rx);
+    }
+    if (skip) {
+        S->stats.skipped++;
+        return 0;
+    }
+    return st == C4G_OK;
+}
+
+/* Answer the datagram (sync/init echo or cyclic reply), then the active-freezing pause. */
+static void answer(srv_t *S, int fd, const dgram_t *d, const c4g_loop_event_t *ev, int *thaw)
+{
+    size_t olen = 0U;
+    int send_it = 0;
+    if (ev->kind == C4G_RX_SYNC || ev->kind == C4G_RX_INIT) {
+        send_it = (c4g_loop_reply(&S->loop, g_out, sizeof g_out, &olen, NULL) == C4G_OK);
+    } else if (ev->kind == C4G_RX_CYCLIC) {
+        send_it = reply_cyclic(S, ev, d->t_rx, thaw, &olen);
+    }
+    if (send_it) {
+        uint64_t t_tx;
+        if (sendto(fd, g_out, olen, 0, (const struct sockaddr *)&d->peer, d->plen) != (ssize_t)olen) {
+            S->stats.send_errors++;
+        }
+        t_tx = now_ns();
+        if (ev->kind == C4G_RX_CYCLIC) {
+            const int64_t cyc = (int64_t)(t_tx - d->t_rx);
+            (void)c4g_loop_sent(&S->loop, t_tx);
+            hist_add(&S->stats, cyc);
+            if (cyc > (int64_t)S->cfg.late_us * 1000) {
+                S->stats.late++;
+            }
+            log_moni(S, d->t_rx, ev->pkt, &S->loop.tx);
+        }
+        log_datagram(S, LOG_PCAP_TX, t_tx, g_out, olen, &d->peer);
+    }
+    if (ev->kind == C4G_RX_CYCLIC && S->cfg.freeze_at == S->loop.session.counters.cyclic &&
+        S->loop.tx.ax[0].mode == C4G_MODE_FREEZING_A) {
+        S->stats.freezes++;
+        srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
+        pause_ms(S->cfg.freeze_ms);
+        *thaw = 1;
+    }
+}
+
+/* One datagram through the loop. An exit code, or SRV_NEXT. */
+static int handle(srv_t *S, int fd, const dgram_t *d, int *thaw)
+{
+    c4g_endpoint_t from;
+    c4g_loop_event_t ev;
+    int was_lost;
+    endpoint_of(&d->peer, &from);
+    log_datagram(S, LOG_PCAP_RX, d->t_rx, g_in, d->len, &d->peer);
+    was_lost = (S->loop.session.phase == C4G_PHASE_LOST);
+    if (c4g_loop_rx(&S->loop, g_in, d->len, d->t_rx, &from, &ev) != C4G_OK) {
+        return SRV_NEXT;
+    }
+    if (ev.kind != C4G_RX_CYCLIC) {
+        /* the session checks the clock before it classifies a datagram: a loss it found
+         * there ends the session (without --persist) whether the datagram was refused or
+         * opens a new start-up, which is then not answered. A cyclic packet of the
+         * controller after the loss timeout is a long gap (session_events). */
+        const int code = time_events(S, ev.events, d->t_rx);
+        if (code >= 0) {
+            return code;
+        }
+        if (ev.kind == C4G_RX_SYNC && (was_lost || (ev.events & C4G_EV_LOST) != 0U)) {
+            char a[INET_ADDRSTRLEN];
+            inet_ntop(AF_INET, &d->peer.sin_addr, a, sizeof a);
+            srv_log(S, d->t_rx, "new start-up from %s:%u: a new session", a,
+                    (unsigned)ntohs(d->peer.sin_port));
+        }
+    } else if ((ev.events & C4G_EV_SILENCE) != 0U) {
+        (void)time_events(S, C4G_EV_SILENCE, d->t_rx);
+    }
+    if (refused(S, d, &ev)) {
+        return SRV_NEXT;
+    }
+    session_events(S, d, &ev);
+    answer(S, fd, d, &ev, thaw);
+    if ((ev.events & C4G_EV_END) != 0U) {
+        srv_log(S, d->t_rx, "504: end of communication");
+        if (!S->cfg.persist) {
+            return EXIT_END;
+        }
+        srv_counters_add(&S->done, &S->loop.session.counters); /* the exit report adds every session */
+        (void)c4g_loop_init(&S->loop, &S->loop_cfg);
+    }
+    return SRV_NEXT;
+}
+
+/* The per-packet loop. Returns the exit code. */
 static int serve(srv_t *S, int fd)
 {
-    static uint8_t in[2048];
-    static uint8_t out[C4G_INIT_SIZE];
-    static c4g_pc_packet_t tx;
-    c4g_session_t *s = &S->session;
     const uint64_t start = now_ns();
     int thaw = 0;
     for (;;) {
-        struct sockaddr_in peer;
-        socklen_t plen = sizeof peer;
-        c4g_endpoint_t from;
-        c4g_rx_result_t res;
-        uint64_t t_rx, t_tx;
-        ssize_t n;
-        size_t len, olen = 0U;
-        int send_it = 0, was_lost;
-        if (g_stop) {
-            return EXIT_SIGNAL;
+        dgram_t d;
+        int code = receive(S, fd, start, thaw, &d);
+        if (code == SRV_HAVE) {
+            code = handle(S, fd, &d, &thaw);
         }
-        if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
-            return EXIT_TIMEOUT;
-        }
-        if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
-            n = -1;
-            errno = EAGAIN;
-        } else {
-            /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
-            n = recvfrom(fd, in, sizeof in, MSG_TRUNC, (struct sockaddr *)&peer, &plen);
-        }
-        t_rx = now_ns();
-        if (n < 0) {
-            if (errno == EAGAIN || errno == EWOULDBLOCK) {
-                const int code = on_idle(S, start);
-                if (code >= 0) {
-                    return code;
-                }
-            }
-            continue; /* timeout, EINTR or a transient error */
-        }
-        if (foreign_address(S, &peer, n, t_rx)) {
-            /* a stream from another address keeps recvfrom from timing out: the silence
-             * and loss checks must not wait for a quiet socket */
-            const int code = on_idle(S, start);
-            if (code >= 0) {
-                return code;
-            }
-            continue;
-        }
-        if ((size_t)n > sizeof in) {
-            S->stats.oversize++;
-            len = sizeof in;
-        } else {
-            len = (size_t)n;
-        }
-        if (thaw) {
-            drain_queue(S, fd, in, sizeof in, &len, &peer);
-            t_rx = now_ns();
-        }
-        endpoint_of(&peer, &from);
-        log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
-        was_lost = (s->phase == C4G_PHASE_LOST);
-        if (c4g_session_rx_from(s, in, len, t_rx, &from, &res) != C4G_OK) {
-            continue;
-        }
-        if (res.kind != C4G_RX_CYCLIC) {
-            /* the session checks the clock before it classifies a datagram: a loss it found
-             * there ends the session (without --persist) whether the datagram was refused or
-             * opens a new start-up, which is then not answered. A cyclic packet of the
-             * controller after the loss timeout is a long gap (below). */
-            const int code = time_events(S, res.events, t_rx);
-            if (code >= 0) {
-                return code;
-            }
-            if (res.kind == C4G_RX_SYNC && (was_lost || (res.events & C4G_EV_LOST) != 0U)) {
-                char a[INET_ADDRSTRLEN];
-                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
-                srv_log(S, t_rx, "new start-up from %s:%u: a new session", a,
-                        (unsigned)ntohs(peer.sin_port));
-            }
-        } else if ((res.events & C4G_EV_SILENCE) != 0U) {
-            (void)time_events(S, C4G_EV_SILENCE, t_rx);
-        }
-        if ((res.events & C4G_EV_FOREIGN) != 0U) {
-            log_foreign(S, s, &peer, len, t_rx);
-            continue;
-        }
-        if ((res.events & C4G_EV_RESUMED) != 0U) {
-            srv_log(S, t_rx, "controller back after %.1f ms of silence", (double)res.silence_ns * 1e-6);
-        }
-        if ((res.events & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U &&
-            res.kind == C4G_RX_DROPPED) {
-            srv_log(S, t_rx, "dropped %s packet NUM %d (newest %d): not answered",
-                    (res.events & C4G_EV_DUPLICATE) ? "duplicate" : "stale",
-                    (int)((uint32_t)in[0] | (uint32_t)in[1] << 8 | (uint32_t)in[2] << 16 |
-                          (uint32_t)in[3] << 24),
-                    (int)s->last_num);
-            continue;
-        }
-        if ((res.events & C4G_EV_MALFORMED) != 0U && res.diag.status == C4G_ERR_STATE) {
-            srv_log(S, t_rx, "refused a %zu-byte initialization packet mid-session (NUM %lld): "
-                    "accepted only at start-up or after 506", len, (long long)res.diag.value);
-            continue;
-        }
-        if ((res.events & C4G_EV_MALFORMED) != 0U) {
-            srv_log(S, t_rx, "dropped malformed %zu-byte datagram: %s (field %s, offset %u, axis %d, value %lld)",
-                    len, c4g_strerror(res.diag.status), c4g_field_name(res.diag.field),
-                    (unsigned)res.diag.offset, (int)res.diag.axis, (long long)res.diag.value);
-            continue;
-        }
-        if ((res.events & C4G_EV_LOST) != 0U && res.kind == C4G_RX_CYCLIC) {
-            S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
-            srv_log(S, t_rx, "long gap: more than %.1f ms without a packet",
-                    (double)s->lost_timeout_ns * 1e-6);
-        }
-        if ((res.events & C4G_EV_INIT) != 0U) {
-            S->stats.inits++;
-            srv_behave_init(S, t_rx);
-            srv_log(S, t_rx, "init packet: %u open axes, period %d ms, version %d.%d.%d",
-                    (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
-                    (int)s->init.version_minor, (int)s->init.version_build);
-        }
-        if ((res.events & C4G_EV_RESTART) != 0U) {
-            S->stats.restarts++;
-            srv_log(S, t_rx, "506: client restart, a new init packet follows");
-        }
-        if ((res.events & C4G_EV_FREEZE_IN) != 0U) {
-            S->stats.frozen_passive++;
-            srv_log(S, t_rx, "502: passive freezing (loss check suspended)");
-        }
-        if ((res.events & C4G_EV_FREEZE_OUT) != 0U) {
-            srv_log(S, t_rx, "503: passive freezing over");
-        }
-        if ((res.events & C4G_EV_DRIVES) != 0U) {
-            srv_log(S, t_rx, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
-        }
-        if ((res.events & C4G_EV_CYCLIC_START) != 0U) {
-            srv_log(S, t_rx, "cyclic communication started");
-        }
-        if (res.kind == C4G_RX_SYNC || res.kind == C4G_RX_INIT) {
-            send_it = (c4g_session_reply(s, NULL, out, sizeof out, &olen) == C4G_OK);
-        } else if (res.kind == C4G_RX_CYCLIC) {
-            const uint64_t k = s->counters.cyclic;
-            S->cyc_k = k;
-            S->thaw = thaw;
-            thaw = 0;
-            if (srv_reply(S, res.pkt, &tx, t_rx) != 0) {
-                S->stats.encode_errors++;
-            }
-            if (S->cfg.skip_at > 0U && k >= S->cfg.skip_at && k < S->cfg.skip_at + S->cfg.skip_count) {
-                S->stats.skipped++;
-            } else {
-                const c4g_status_t st = c4g_session_reply(s, &tx, out, sizeof out, &olen);
-                if (st == C4G_OK) {
-                    send_it = 1;
-                } else {
-                    /* the encoder refused the reply (NaN, unknown mode): answer neutral */
-                    S->stats.encode_errors++;
-                    (void)c4g_pc_reply_neutral(res.pkt, &tx);
-                    send_it = (c4g_session_reply(s, &tx, out, sizeof out, &olen) == C4G_OK);
-                }
-            }
-        }
-        if (send_it) {
-            if (sendto(fd, out, olen, 0, (struct sockaddr *)&peer, plen) != (ssize_t)olen) {
-                S->stats.send_errors++;
-            }
-            t_tx = now_ns();
-            if (res.kind == C4G_RX_CYCLIC) {
-                const int64_t cyc = (int64_t)(t_tx - t_rx);
-                (void)c4g_session_sent(s, t_tx);
-                hist_add(&S->stats, cyc);
-                if (cyc > (int64_t)S->cfg.late_us * 1000) {
-                    S->stats.late++;
-                }
-                log_moni(S, t_rx, res.pkt, &tx);
-            }
-            log_datagram(S, LOG_PCAP_TX, t_tx, out, olen, &peer);
-        }
-        if (res.kind == C4G_RX_CYCLIC && S->cfg.freeze_at == s->counters.cyclic &&
-            tx.ax[0].mode == C4G_MODE_FREEZING_A) {
-            S->stats.freezes++;
-            srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
-            pause_ms(S->cfg.freeze_ms);
-            thaw = 1;
-        }
-        if ((res.events & C4G_EV_END) != 0U) {
-            srv_log(S, t_rx, "504: end of communication");
-            if (!S->cfg.persist) {
-                return EXIT_END;
-            }
-            srv_counters_add(&S->done, &s->counters); /* the exit report adds every session */
-            (void)c4g_session_init(s, &s->cfg);
+        if (code >= 0) {
+            return code;
         }
     }
 }
@@ -741,7 +800,6 @@ static int serve(srv_t *S, int fd)
 int main(int argc, char **argv)
 {
     srv_t *S = &g_srv;
-    c4g_session_config_t scfg;
     struct sigaction sa;
     int fd, code;
     const char *why;
@@ -750,10 +808,12 @@ int main(int argc, char **argv)
     if (parse_args(&S->cfg, argc, argv) != 0 || load_files(&S->cfg) != 0) {
         return EXIT_USAGE;
     }
-    (void)c4g_session_config_default(&scfg);
-    scfg.num_policy = S->cfg.num_policy;
-    scfg.lost_timeout_ns = S->cfg.lost_timeout_ns;
-    if (c4g_session_init(&S->session, &scfg) != C4G_OK) {
+    (void)c4g_session_config_default(&S->loop_cfg.session);
+    (void)c4g_ctl_config_default(&S->loop_cfg.control);
+    S->loop_cfg.session.num_policy = S->cfg.num_policy;
+    S->loop_cfg.session.lost_timeout_ns = S->cfg.lost_timeout_ns;
+    S->loop_cfg.control.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
+    if (c4g_loop_init(&S->loop, &S->loop_cfg) != C4G_OK) {
         fprintf(stderr, "c4g-server: session configuration refused\n");
         return EXIT_USAGE;
     }
@@ -796,7 +856,7 @@ int main(int argc, char **argv)
     switch (code) {
     case EXIT_END: why = "504 from the controller (end of communication)"; break;
     case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
-    case EXIT_TIMEOUT: why = (S->session.counters.rx == 0U) ? "idle timeout: no controller"
+    case EXIT_TIMEOUT: why = (S->loop.session.counters.rx == 0U) ? "idle timeout: no controller"
                                                             : "--max-seconds reached"; break;
     case EXIT_SIGNAL: why = "stopped by a signal"; break;
     default: why = "?"; break;
