@@ -12,7 +12,6 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -69,174 +68,6 @@ void srv_log(srv_t *S, uint64_t t_ns, const char *fmt, ...)
     rec->t_ns = t_ns;
     rec->len = (uint32_t)n;
     c4g_rtlog_commit(&S->log);
-}
-
-static const char *const usage_text[] = {
-"Usage: c4g-server [OPTIONS]\n",
-"The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n",
-"controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n",
-"sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n",
-"a built-in behaviour for the open mode the controller selects, through the PC-side\n",
-"safety filter (following error -> 508, current saturation to AzLim, delta-current\n",
-"clamp, stroke ends and reference continuity -> 505).\n",
-"\n",
-"Network:\n",
-"  -p, --port N             UDP port to bind (default 1000)\n",
-"  -b, --bind ADDR          local address (default 0.0.0.0)\n",
-"  -c, --controller ADDR    accept packets only from ADDR (default 10.2.12.150, the\n",
-"                           manual's SMP+ address); 'any' accepts every source.\n",
-"                           Other sources are dropped and counted (\"foreign\").\n",
-"      --num-policy P       plus1 (field library, default: reply NUM+1, 0x7FFF->1)\n",
-"                           or echo (manual text: reply with the same NUM)\n",
-"      --lost-timeout-ms N  silence that ends the session (default 1000 ms; shorter\n"
-"                           silences are reported and ridden out)\n",
-"      --idle-timeout S     give up if no packet at all arrives within S s (default: wait)\n",
-"      --max-seconds S      stop after S s in total (default: no limit)\n",
-"      --persist            keep serving after 504 or a lost controller\n",
-"      --config FILE        INI file: [server] [rt] [output] [test] sections take the\n",
-"                           long option names as keys, [arm1]..[arm4] the per-arm ones\n",
-"Real time:\n",
-"      --rt                 --mlock and SCHED_FIFO priority 80\n",
-"      --mlock              mlockall(MCL_CURRENT|MCL_FUTURE) and prefault the stack\n",
-"      --prio N             SCHED_FIFO priority 1..99 for the packet loop\n",
-"      --cpu N              pin the packet loop to CPU N\n",
-"      --rt-strict          a refused real-time setting is fatal (exit 2); by default\n",
-"                           the server says what was refused and why, and continues\n",
-"      --spin               busy-poll the socket (lowest latency, burns a CPU)\n",
-"      --poll-us N          non-blocking recvfrom + clock_nanosleep(TIMER_ABSTIME) every\n",
-"                           N us instead of a blocking wait\n",
-"      --late-us N          reply deadline counted as \"late\" (default 500, T_CYCLE1)\n",
-"Per-arm behaviours (apply to every arm, or to the arm named by the last --arm N):\n",
-"      --arm N              following per-arm options apply to arm N (1..4)\n",
-"      --axes LIST          logical axes driven, e.g. 1,2,3 (default all)\n",
-"      --sine A,F[,C]       modes 1/4/5: raised cosine A turns, F Hz, C cycles (default\n",
-"                           0.1,0.5,1), then EXIT_FROM_OPEN\n",
-"      --traj FILE          modes 1/4/5: follow a trajectory CSV (t,ax1..axN offsets)\n",
-"      --hold               modes 1/4/5: hold the entry position for --duration\n",
-"      --offset A,R[,H]     mode 7: offset step to A turns over R s, hold H s (0.05,0.5,0.5)\n",
-"      --vel A,F[,C]        mode 8: zero-mean velocity addition (0.0005,1,1)\n",
-"      --ff FILE            mode 9: current feedforward parameter file (all arms)\n",
-"      --duration S         modes 1 (hold), 2, 9: time before EXIT_FROM_OPEN (default 2)\n",
-"      --gains KP,KD[,KI]   modes 1/2 joint PD(+I) [A/turn, A/(turn/tick), A/(turn s)]\n",
-"      --i-max A            integrator limit (anti-windup), default AzLim\n",
-"      --scs S              soft-control-switching ramp of the PC current limit (0 = off)\n",
-"      --no-exit            never send EXIT_FROM_OPEN (the controller ends the mode)\n",
-"      --max-step T         reference continuity limit [turns/tick] -> 505 (0 = off)\n",
-"      --stroke MIN,MAX     stroke ends for PC absolute references [turns] -> 505\n",
-"      --fe-limit T         following-error threshold override (default: init packet)\n",
-"Outputs:\n",
-"      --pcap FILE          every datagram in and out (written by the log thread)\n",
-"      --moni FILE          moni CSV, one row per axis per cyclic packet\n",
-"      --moni-type N        0 = full rx/tx rows (default), 19..24 = the manual's types\n",
-"      --json FILE          JSON summary at exit ('-' = stdout)\n",
-"      --log FILE           log lines (default stderr)\n",
-"  -v, --verbose            log every mode change and session event\n",
-"  -q, --quiet              no log lines, no text report (JSON still written)\n",
-"Test hooks:\n",
-"      --skip-replies AT[,N]  do not answer cyclic packets AT..AT+N-1\n",
-"      --inject 505@N | 508@N[:AXIS]  request drive off / following error at packet N\n",
-"      --freeze AT,MS       active freezing: at packet AT reply 500, pause MS ms, then\n",
-"                           re-activate with EXIT_FROM_OPEN\n",
-"  -h, --help               this text\n",
-"  -V, --version            library version\n",
-"\n",
-"Exit codes: 0 ended by 504, 1 bad option or input file, 2 setup failure (socket,\n",
-"bind, thread, refused RT setting with --rt-strict), 3 controller lost, 4\n",
-"--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n",
-"--persist). The chapter 22 timing report, the counters and the safety events are\n",
-"printed at every exit that follows a session (with --persist the counters add up\n",
-"every session since the start, the timing lines are the last session's).\n",
-"\n",
-"Examples:\n",
-"  c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150\n",
-"  c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim\n",
-"  c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1\n",
-"  c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv\n",
-"  c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward\n",
-"  c4g-server --config fixtures/server/server_example.ini\n",
-NULL};
-
-static int parse_args(srv_config_t *cfg, int argc, char **argv)
-{
-    static const struct option longopts[] = {
-        {"port", required_argument, NULL, 'p'}, {"bind", required_argument, NULL, 'b'},
-        {"controller", required_argument, NULL, 'c'}, {"num-policy", required_argument, NULL, 0},
-        {"lost-timeout-ms", required_argument, NULL, 0}, {"idle-timeout", required_argument, NULL, 0},
-        {"max-seconds", required_argument, NULL, 0}, {"persist", no_argument, NULL, 0},
-        {"config", required_argument, NULL, 0}, {"rt", no_argument, NULL, 0},
-        {"mlock", no_argument, NULL, 0}, {"prio", required_argument, NULL, 0},
-        {"cpu", required_argument, NULL, 0}, {"rt-strict", no_argument, NULL, 0},
-        {"spin", no_argument, NULL, 0}, {"poll-us", required_argument, NULL, 0},
-        {"late-us", required_argument, NULL, 0}, {"arm", required_argument, NULL, 0},
-        {"axes", required_argument, NULL, 0}, {"sine", required_argument, NULL, 0},
-        {"traj", required_argument, NULL, 0}, {"hold", no_argument, NULL, 0},
-        {"offset", required_argument, NULL, 0}, {"vel", required_argument, NULL, 0},
-        {"ff", required_argument, NULL, 0}, {"duration", required_argument, NULL, 0},
-        {"gains", required_argument, NULL, 0}, {"i-max", required_argument, NULL, 0},
-        {"scs", required_argument, NULL, 0}, {"no-exit", no_argument, NULL, 0},
-        {"max-step", required_argument, NULL, 0}, {"stroke", required_argument, NULL, 0},
-        {"fe-limit", required_argument, NULL, 0}, {"pcap", required_argument, NULL, 0},
-        {"moni", required_argument, NULL, 0}, {"moni-type", required_argument, NULL, 0},
-        {"json", required_argument, NULL, 0}, {"log", required_argument, NULL, 0},
-        {"verbose", no_argument, NULL, 'v'}, {"quiet", no_argument, NULL, 'q'},
-        {"skip-replies", required_argument, NULL, 0}, {"inject", required_argument, NULL, 0},
-        {"freeze", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
-    int arm = -1, c, idx = 0;
-    char err[256];
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":p:b:c:vqhV", longopts, &idx)) != -1) {
-        const char *name;
-        int a, lo, hi;
-        switch (c) {
-        case 'p': name = "port"; break;
-        case 'b': name = "bind"; break;
-        case 'c': name = "controller"; break;
-        case 'v': name = "verbose"; break;
-        case 'q': name = "quiet"; break;
-        case 'h': { int u; for (u = 0; usage_text[u] != NULL; u++) fputs(usage_text[u], stdout); } exit(0);
-        case 'V': printf("c4g-server %s (libc4gopen %s, %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING, C4G_PCAP_ANCHOR()); exit(0);
-        case 0: name = longopts[idx].name; break;
-        case ':':
-            fprintf(stderr, "c4g-server: option '%s' needs a value (see --help)\n", argv[optind - 1]);
-            return -1;
-        default:
-            fprintf(stderr, "c4g-server: unknown option '%s' (see --help)\n", argv[optind - 1]);
-            return -1;
-        }
-        if (strcmp(name, "arm") == 0) {
-            char *end;
-            long v = strtol(optarg, &end, 10);
-            if (*end != '\0' || v < 1 || v > (long)C4G_ARMS) {
-                fprintf(stderr, "c4g-server: --arm: bad value '%s' (want 1..4)\n", optarg);
-                return -1;
-            }
-            arm = (int)v - 1;
-            continue;
-        }
-        if (strcmp(name, "config") == 0) {
-            char ierr[600];
-            if (srv_config_load_ini(cfg, optarg, ierr, sizeof ierr) != 0) {
-                fprintf(stderr, "c4g-server: %s\n", ierr);
-                return -1;
-            }
-            continue;
-        }
-        lo = (arm < 0) ? 0 : arm;
-        hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
-        for (a = lo; a <= hi; a++) {
-            if (srv_config_apply(cfg, name, (c != 0 || longopts[idx].has_arg) ? optarg : NULL, a,
-                                 err, sizeof err) != 0) {
-                fprintf(stderr, "c4g-server: --%s\n", err);
-                return -1;
-            }
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "c4g-server: unexpected argument '%s' (see --help)\n", argv[optind]);
-        return -1;
-    }
-    return 0;
 }
 
 static int load_files(srv_config_t *cfg)
@@ -805,7 +636,12 @@ int main(int argc, char **argv)
     const char *why;
 
     srv_config_default(&S->cfg);
-    if (parse_args(&S->cfg, argc, argv) != 0 || load_files(&S->cfg) != 0) {
+    switch (srv_config_cli(&S->cfg, C4G_PCAP_ANCHOR(), argc, argv)) {
+    case CLI_RUN: break;
+    case CLI_DONE: return 0; /* --help, --version */
+    default: return EXIT_USAGE;
+    }
+    if (load_files(&S->cfg) != 0) {
         return EXIT_USAGE;
     }
     (void)c4g_session_config_default(&S->loop_cfg.session);
