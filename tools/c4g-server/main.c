@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-server: the PC side of C4G Open. Binds the UDP port, accepts packets only from
- * the controller's address, runs the libc4gopen session engine and answers every
- * packet with a per-arm behaviour passed through the PC-side safety filter.
+ * the controller's address, runs the libc4gopen loop object (session + control engine)
+ * and answers every packet with a per-arm behaviour passed through the PC-side safety
+ * filter.
  *
- * The real-time loop: recvfrom -> c4g_session_rx -> behaviour -> safety
- * filter -> c4g_session_reply -> sendto -> c4g_session_sent. Nothing on that path
- * allocates or does file I/O: logs, pcap and moni rows go through a lock-free ring
+ * The real-time loop: recvfrom -> c4g_loop_rx (session, control step) -> controllers
+ * (behave.c, tools/common/c4g_controllers.c) -> c4g_loop_reply (safety filter, encoding,
+ * neutral fallback) -> sendto -> c4g_loop_sent. Nothing on that path allocates or does
+ * file I/O: logs, pcap and moni rows go through a lock-free ring
  * (tools/common/c4g_rtlog.h) to a writer thread. */
 #include "srv.h"
 #include "c4g_pcap.h"
@@ -628,13 +630,10 @@ static int serve(srv_t *S, int fd)
     }
 }
 
-int main(int argc, char **argv)
+/* The configuration: command line, INI file, input files, the loop. SRV_NEXT to go on,
+ * else the exit code (0 after --help / --version). */
+static int configure(srv_t *S, int argc, char **argv)
 {
-    srv_t *S = &g_srv;
-    struct sigaction sa;
-    int fd, code;
-    const char *why;
-
     srv_config_default(&S->cfg);
     switch (srv_config_cli(&S->cfg, C4G_PCAP_ANCHOR(), argc, argv)) {
     case CLI_RUN: break;
@@ -654,19 +653,27 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     srv_behave_reset(S);
-    fd = open_socket(S);
-    if (fd < 0) {
-        return (fd == -1) ? EXIT_USAGE : EXIT_SETUP;
+    return SRV_NEXT;
+}
+
+/* Socket, outputs, the log writer thread, signals, real time. SRV_NEXT with the socket in
+ * *fd, else the exit code. */
+static int start(srv_t *S, int *fd)
+{
+    struct sigaction sa;
+    *fd = open_socket(S);
+    if (*fd < 0) {
+        return (*fd == -1) ? EXIT_USAGE : EXIT_SETUP;
     }
     S->local_port = htons((uint16_t)S->cfg.port);
     if (srv_outputs_open(S) != 0) {
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     c4g_rtlog_init(&S->log, srv_sink, S);
     if (c4g_rtlog_start(&S->log) != 0) {
         fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     memset(&sa, 0, sizeof sa);
@@ -677,7 +684,7 @@ int main(int argc, char **argv)
     /* RT settings last: the writer thread stays SCHED_OTHER; memory is locked from here */
     if (srv_rt_setup(&S->cfg, stderr) != 0) {
         c4g_rtlog_stop(&S->log);
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     if (!S->cfg.quiet) {
@@ -685,15 +692,18 @@ int main(int argc, char **argv)
                 S->cfg.bind_addr, S->cfg.port, S->cfg.ctrl_addr,
                 S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1");
     }
-    S->t0_ns = now_ns();
-    code = serve(S, fd);
-    c4g_rtlog_stop(&S->log);
-    close(fd);
+    return SRV_NEXT;
+}
+
+/* The report and the JSON summary at exit. Returns the exit code. */
+static int finish(srv_t *S, int code)
+{
+    const char *why;
     switch (code) {
     case EXIT_END: why = "504 from the controller (end of communication)"; break;
     case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
     case EXIT_TIMEOUT: why = (S->loop.session.counters.rx == 0U) ? "idle timeout: no controller"
-                                                            : "--max-seconds reached"; break;
+                                                                 : "--max-seconds reached"; break;
     case EXIT_SIGNAL: why = "stopped by a signal"; break;
     default: why = "?"; break;
     }
@@ -705,4 +715,22 @@ int main(int argc, char **argv)
     }
     srv_outputs_close(S);
     return code;
+}
+
+int main(int argc, char **argv)
+{
+    srv_t *S = &g_srv;
+    int fd = -1;
+    int code = configure(S, argc, argv);
+    if (code == SRV_NEXT) {
+        code = start(S, &fd);
+    }
+    if (code != SRV_NEXT) {
+        return code;
+    }
+    S->t0_ns = now_ns();
+    code = serve(S, fd);
+    c4g_rtlog_stop(&S->log);
+    close(fd);
+    return finish(S, code);
 }
