@@ -247,8 +247,8 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
-/* Silence and loss events of the session, whether c4g_session_poll found them or
- * c4g_session_rx_from did before it classified a datagram (a stream of refused datagrams
+/* Silence and loss events of the session, whether c4g_loop_poll found them or
+ * c4g_loop_rx did before it classified a datagram (a stream of refused datagrams
  * keeps the socket busy: the loss must not wait for a quiet moment). Exit code, or -1. */
 static int time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
