@@ -8,14 +8,14 @@
  * One cycle:
  * @code
  *   c4g_loop_rx(&lp, buf, n, t_rx, &from, &ev);      // decode, init, step
- *   if (ev.cmd != NULL) { fill ev.cmd->ax[i] for the modes it carries; requests on &lp.ctl }
+ *   if (ev.cmd != NULL) { fill ev.cmd->ax[i] for the modes it carries; requests on &lp.engine }
  *   if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { sendto(); c4g_loop_sent(); }
  *   // when no datagram came for a while: c4g_loop_poll(&lp, now, &events)
  * @endcode
  * c4g_loop_reply always runs the safety filter on a cyclic reply and answers neutral when
  * the reply cannot be encoded or the control engine has no step for it, so a program
  * built on the loop cannot skip either. The lower
- * layers (c4g_session_*, c4g_ctl_*) stay public for programs that need to split the work
+ * layers (c4g_session_*, c4g_engine_*) stay public for programs that need to split the work
  * differently; they then own both duties.
  */
 #ifndef C4GOPEN_LOOP_H
@@ -30,31 +30,31 @@ extern "C" {
 /** Loop configuration; c4g_loop_init with NULL uses the defaults of both layers. */
 typedef struct c4g_loop_config {
     c4g_session_config_t session;
-    c4g_ctl_config_t control;
+    c4g_engine_config_t control;
 } c4g_loop_config_t;
 
 /** Loop counters (the session's and the control engine's own stay in their structs). */
 typedef struct c4g_loop_counters {
     uint64_t neutral_replies;   /**< cyclic replies answered neutral (encoder refused, or the
                                      control engine refused the packet) */
-    uint64_t ctl_init_refused;  /**< accepted init packets the control engine refused */
+    uint64_t engine_init_refused;  /**< accepted init packets the control engine refused */
     uint64_t encode_refused;    /**< cyclic replies the encoder refused (NaN, unknown mode) */
 } c4g_loop_counters_t;
 
 /** The PC-side loop. Members are read-only for the caller except through the API; the
- *  control engine `ctl` takes requests (c4g_ctl_request_*) and limits (c4g_ctl_set_limits). */
+ *  control engine `ctl` takes requests (c4g_engine_request_*) and limits (c4g_engine_set_limits). */
 typedef struct c4g_loop {
     c4g_session_t session;
-    c4g_ctl_t ctl;
-    c4g_ctl_config_t ctl_cfg;
+    c4g_engine_t ctl;
+    c4g_engine_config_t engine_cfg;
     c4g_loop_counters_t counters;
     c4g_pc_packet_t tx;            /**< the cyclic reply being prepared */
     const c4g_ctrl_packet_t *rx;   /**< the cyclic packet it answers, NULL if none */
-    c4g_ctl_report_t report;       /**< of the last step and finish */
-    c4g_status_t finish_status;    /**< c4g_ctl_finish of the last cyclic reply (505 sent on
-                                        C4G_ERR_CTL_MISSING_DATA or C4G_ERR_NONFINITE) */
-    uint32_t ctl_ready;            /**< the control engine holds the accepted init packet */
-    uint32_t prepared;             /**< tx was prepared by c4g_ctl_step for rx */
+    c4g_engine_report_t report;       /**< of the last step and finish */
+    c4g_status_t finish_status;    /**< c4g_engine_finish of the last cyclic reply (505 sent on
+                                        C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE) */
+    uint32_t engine_ready;            /**< the control engine holds the accepted init packet */
+    uint32_t prepared;             /**< tx was prepared by c4g_engine_step for rx */
     uint32_t timed;                /**< a cyclic reply was encoded, its send time is due */
     uint32_t due;                  /**< a reply is due (C4G_RX_SYNC, _INIT or _CYCLIC) */
 } c4g_loop_t;
@@ -63,7 +63,7 @@ typedef struct c4g_loop {
 typedef struct c4g_loop_event {
     c4g_rx_kind_t kind;            /**< C4G_RX_DROPPED: nothing to answer */
     uint32_t events;               /**< C4G_EV_* of the session */
-    uint32_t ctl_events;           /**< C4G_CEV_* of the control step (cyclic packets) */
+    uint32_t engine_events;           /**< C4G_CEV_* of the control step (cyclic packets) */
     const c4g_ctrl_packet_t *pkt;  /**< the controller's cyclic packet, else NULL */
     c4g_pc_packet_t *cmd;          /**< the reply to fill (cyclic packets with the control
                                         engine ready), else NULL; modes are already set and
@@ -89,7 +89,7 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
 
 /**
  * Encode the reply due: the sync/init echo, or the cyclic reply after the packet rules and
- * the safety filter (c4g_ctl_finish). A cyclic reply that cannot be encoded, or whose
+ * the safety filter (c4g_engine_finish). A cyclic reply that cannot be encoded, or whose
  * packet the control engine refused, is replaced by the neutral reply (counted in
  * counters.neutral_replies).
  * @param[out] rep  the filter's report (flags per axis, events), may be NULL
@@ -97,7 +97,7 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
  *         C4G_ERR_NULL; C4G_ERR_CAPACITY when @p cap is too small.
  */
 c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
-                            c4g_ctl_report_t *rep);
+                            c4g_engine_report_t *rep);
 
 /** Record the time the reply left: the cycle time of a cyclic reply (chapter 22
  *  statistics); after a sync or init reply nothing is timed. @return C4G_OK, C4G_ERR_NULL. */
@@ -108,7 +108,7 @@ c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events);
 
 /**
  * Whether EXIT_FROM_OPEN is under way on @p arm: requested and being sent, or accepted and
- * the arm not back in mode 0 yet (a c4g_ctl_request_exit now changes nothing).
+ * the arm not back in mode 0 yet (a c4g_engine_request_exit now changes nothing).
  * @param[out] out 1 under way, else 0
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (arm >= C4G_ARMS), C4G_ERR_STATE (the control
  *         engine holds no init packet). O(1).
@@ -117,7 +117,7 @@ c4g_status_t c4g_loop_exit_pending(const c4g_loop_t *lp, uint32_t arm, uint32_t 
 
 /**
  * The limits the safety filter applies to OPEN axis @p axis: the user limits
- * (c4g_ctl_set_limits) tightened by the init packet's FollowError and AzLim.
+ * (c4g_engine_set_limits) tightened by the init packet's FollowError and AzLim.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis not open), C4G_ERR_STATE (the control
  *         engine holds no init packet). O(1).
  */

@@ -11,10 +11,10 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
     if (lp != NULL) {
         (void)memset(lp, 0, sizeof *lp);
         if (cfg != NULL) {
-            lp->ctl_cfg = cfg->control;
+            lp->engine_cfg = cfg->engine;
             st = c4g_session_init(&lp->session, &cfg->session);
         } else {
-            (void)c4g_ctl_config_default(&lp->ctl_cfg);
+            (void)c4g_engine_config_default(&lp->engine_cfg);
             st = c4g_session_init(&lp->session, NULL);
         }
     }
@@ -28,13 +28,13 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
     c4g_status_t st = C4G_ERR_STATE;
     lp->rx = pkt;
     lp->prepared = 0U;
-    if (lp->ctl_ready != 0U) {
-        st = c4g_ctl_step(&lp->ctl, pkt, now_ns, &lp->tx, &lp->report); /* clears report */
+    if (lp->engine_ready != 0U) {
+        st = c4g_engine_step(&lp->engine, pkt, now_ns, &lp->tx, &lp->report); /* clears report */
     }
     if (st == C4G_OK) {
         lp->prepared = 1U;
         ev->cmd = &lp->tx;
-        ev->ctl_events = lp->report.events;
+        ev->engine_events = lp->report.events;
     } else {
         /* no engine for this packet: the neutral reply is the only safe one */
         (void)memset(&lp->report, 0, sizeof lp->report);
@@ -59,11 +59,11 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
             ev->diag = res.diag;
             ev->silence_ns = res.silence_ns;
             if (res.kind == C4G_RX_INIT) {
-                lp->ctl_ready = 0U;
-                if (c4g_ctl_init(&lp->ctl, &lp->session.init, &lp->ctl_cfg) == C4G_OK) {
-                    lp->ctl_ready = 1U;
+                lp->engine_ready = 0U;
+                if (c4g_engine_init(&lp->engine, &lp->session.init, &lp->engine_cfg) == C4G_OK) {
+                    lp->engine_ready = 1U;
                 } else {
-                    lp->counters.ctl_init_refused++;
+                    lp->counters.engine_init_refused++;
                 }
             }
             if (res.kind == C4G_RX_CYCLIC) {
@@ -78,7 +78,7 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
 }
 
 c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *out_len,
-                            c4g_ctl_report_t *rep)
+                            c4g_engine_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((lp != NULL) && (buf != NULL) && (out_len != NULL)) {
@@ -93,7 +93,7 @@ c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *ou
             } else {
                 /* after any other status the filtered reply is safe and must be sent (an
                  * arm may carry 505): only a refused call falls back to neutral */
-                lp->finish_status = c4g_ctl_finish(&lp->ctl, lp->rx, &lp->tx, &lp->report);
+                lp->finish_status = c4g_engine_finish(&lp->engine, lp->rx, &lp->tx, &lp->report);
                 if (lp->finish_status == C4G_ERR_STATE) {
                     lp->counters.neutral_replies++;
                     (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
@@ -152,10 +152,10 @@ c4g_status_t c4g_loop_exit_pending(const c4g_loop_t *lp, uint32_t arm, uint32_t 
         *out = 0U;
         if (arm >= C4G_ARMS) {
             st = C4G_ERR_ARG;
-        } else if (lp->ctl_ready == 0U) {
+        } else if (lp->engine_ready == 0U) {
             st = C4G_ERR_STATE;
         } else {
-            const c4g_arm_sm_t *sm = &lp->ctl.arm[arm];
+            const c4g_arm_sm_t *sm = &lp->engine.arm[arm];
             *out = ((sm->exit_req != 0U) || (sm->leaving != 0U)) ? 1U : 0U;
             st = C4G_OK;
         }
@@ -167,12 +167,12 @@ c4g_status_t c4g_loop_limits(const c4g_loop_t *lp, uint32_t axis, c4g_axis_limit
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((lp != NULL) && (out != NULL)) {
-        if (lp->ctl_ready == 0U) {
+        if (lp->engine_ready == 0U) {
             st = C4G_ERR_STATE;
-        } else if (axis >= lp->ctl.map.n_axes) {
+        } else if (axis >= lp->engine.map.n_axes) {
             st = C4G_ERR_ARG;
         } else {
-            *out = lp->ctl.lim[axis];
+            *out = lp->engine.lim[axis];
             st = C4G_OK;
         }
     }

@@ -53,7 +53,7 @@ static void cold_start(fx_t *f)
     for (num = 1; num <= 12; num++) {
         if (num == 10) {
             assert_int_equal(feed_from(f, fig, sizeof fig, &f->ctl), C4G_RX_INIT);
-            assert_int_equal(f->lp.ctl_ready, 1U);
+            assert_int_equal(f->lp.engine_ready, 1U);
             answer(f, 1200U);
             continue;
         }
@@ -111,14 +111,14 @@ static void test_reply_is_filtered(void **state)
     fx_t f;
     c4g_pc_packet_t pc;
     c4g_axis_limits_t lim;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     uint32_t i;
     (void)state;
     cold_start(&f);
     memset(&lim, 0, sizeof lim);
     lim.motor_min = 0.9f;
     lim.motor_max = 1.1f;
-    assert_int_equal(c4g_ctl_set_limits(&f.lp.ctl, f.lp.session.map.arm_of[0],
+    assert_int_equal(c4g_engine_set_limits(&f.lp.engine, f.lp.session.map.arm_of[0],
                                         f.lp.session.map.logical_of[0], &lim), C4G_OK);
     cyclic(&f, 13, C4G_MODE_0, 1.0f);
     answer(&f, C4G_CYCLIC_SIZE(6U));
@@ -143,7 +143,7 @@ static void test_neutral_without_engine(void **state)
     c4g_pc_packet_t pc;
     (void)state;
     cold_start(&f);
-    f.lp.ctl_ready = 0U;
+    f.lp.engine_ready = 0U;
     cyclic(&f, 13, C4G_MODE_4, 1.0f);
     assert_null(f.ev.cmd);
     answer(&f, C4G_CYCLIC_SIZE(6U));
@@ -171,7 +171,7 @@ static void test_neutral_when_encoder_refuses(void **state)
     assert_int_equal(f.lp.counters.neutral_replies, 2U);
     /* a finish refused (no matching step): neutral too */
     cyclic(&f, 14, C4G_MODE_0, 1.0f);
-    f.lp.ctl.stepped = 0U;
+    f.lp.engine.stepped = 0U;
     answer(&f, C4G_CYCLIC_SIZE(6U));
     assert_int_equal(f.lp.finish_status, C4G_ERR_STATE);
     assert_int_equal(f.lp.counters.neutral_replies, 3U);
@@ -212,7 +212,7 @@ static void test_foreign_and_misuse(void **state)
     assert_int_equal(c4g_loop_poll(NULL, 0, &ev), C4G_ERR_NULL);
     /* an explicit configuration */
     assert_int_equal(c4g_session_config_default(&cfg.session), C4G_OK);
-    assert_int_equal(c4g_ctl_config_default(&cfg.control), C4G_OK);
+    assert_int_equal(c4g_engine_config_default(&cfg.engine), C4G_OK);
     cfg.session.num_policy = C4G_NUM_ECHO;
     assert_int_equal(c4g_loop_init(&f.lp, &cfg), C4G_OK);
     assert_int_equal(f.lp.session.cfg.num_policy, C4G_NUM_ECHO);
@@ -229,8 +229,8 @@ static void test_engine_refused(void **state)
     (void)state;
     memset(&f, 0, sizeof f);
     cold_start(&f);
-    f.lp.ctl_cfg.moving_eps = -1.0f;
-    f.lp.ctl_ready = 0U;
+    f.lp.engine_cfg.moving_eps = -1.0f;
+    f.lp.engine_ready = 0U;
     /* a 506 restart brings a new init packet, which the engine now refuses */
     {
         uint8_t b[732];
@@ -244,8 +244,8 @@ static void test_engine_refused(void **state)
         assert_int_equal(feed_from(&f, fig, sizeof fig, &f.ctl), C4G_RX_INIT);
         answer(&f, 1200U);
     }
-    assert_int_equal(f.lp.counters.ctl_init_refused, 1U);
-    assert_int_equal(f.lp.ctl_ready, 0U);
+    assert_int_equal(f.lp.counters.engine_init_refused, 1U);
+    assert_int_equal(f.lp.engine_ready, 0U);
     cyclic(&f, 11, C4G_MODE_0, 1.0f);
     assert_null(f.ev.cmd);
     answer(&f, C4G_CYCLIC_SIZE(6U));
@@ -265,11 +265,11 @@ static void test_queries(void **state)
     cyclic(&f, 13, C4G_MODE_4, 1.0f);
     assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
     assert_int_equal(pend, 0U);
-    assert_int_equal(c4g_ctl_request_exit(&f.lp.ctl, 0U), C4G_OK);
+    assert_int_equal(c4g_engine_request_exit(&f.lp.engine, 0U), C4G_OK);
     assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
     assert_int_equal(pend, 1U);
-    f.lp.ctl.arm[0].exit_req = 0U;
-    f.lp.ctl.arm[0].leaving = 1U;
+    f.lp.engine.arm[0].exit_req = 0U;
+    f.lp.engine.arm[0].leaving = 1U;
     pend = 0U;
     assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
     assert_int_equal(pend, 1U);
@@ -281,17 +281,17 @@ static void test_queries(void **state)
     memset(&lim, 0, sizeof lim);
     lim.motor_min = -2.0f;
     lim.motor_max = 3.0f;
-    assert_int_equal(c4g_ctl_set_limits(&f.lp.ctl, f.lp.session.map.arm_of[1],
+    assert_int_equal(c4g_engine_set_limits(&f.lp.engine, f.lp.session.map.arm_of[1],
                                         f.lp.session.map.logical_of[1], &lim), C4G_OK);
     assert_int_equal(c4g_loop_limits(&f.lp, 1U, &got), C4G_OK);
     assert_true(got.motor_min == -2.0f);
     assert_true(got.motor_max == 3.0f);
-    assert_true(got.follow_error == f.lp.ctl.ctl_fe[1]);
+    assert_true(got.follow_error == f.lp.engine.ctl_fe[1]);
     assert_int_equal(c4g_loop_limits(&f.lp, 6U, &got), C4G_ERR_ARG);
     assert_int_equal(c4g_loop_limits(NULL, 0U, &got), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_limits(&f.lp, 0U, NULL), C4G_ERR_NULL);
     /* no engine: nothing to ask */
-    f.lp.ctl_ready = 0U;
+    f.lp.engine_ready = 0U;
     assert_int_equal(c4g_loop_limits(&f.lp, 0U, &got), C4G_ERR_STATE);
     assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_ERR_STATE);
 }

@@ -3,7 +3,7 @@
  * the library's loop object: c4g_loop_rx steps the control engine and prepares the reply
  * (mode echo, mode-10 copy, required fields marked unset), the controllers
  * (tools/common/c4g_controllers.h) fill the fields of the mode, requests (exit from
- * open, 505, 508, active freezing) go through c4g_ctl_request_*, and c4g_loop_reply
+ * open, 505, 508, active freezing) go through c4g_engine_request_*, and c4g_loop_reply
  * applies the packet rules and the PC-side safety filter. Runs on the real-time path: no
  * allocation, no I/O (log lines go through the rtlog ring), loops bounded by the axis
  * count. */
@@ -44,7 +44,7 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     }
     /* where the axis stood in mode 0, not this one packet's target: the packet that
      * opens the mode may be the second one the controller sent in it */
-    (void)c4g_ctl_anchor(&S->loop.ctl, i, &anchor);
+    (void)c4g_engine_anchor(&S->loop.engine, i, &anchor);
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
 }
 
@@ -55,10 +55,10 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
     const c4g_axis_map_t *m = &S->loop.session.map;
     uint32_t i;
     srv_behave_reset(S);
-    if (S->loop.ctl_ready == 0U) {
+    if (S->loop.engine_ready == 0U) {
         /* the loop keeps only the count: ask the engine again for the reason */
-        static c4g_ctl_t scratch;
-        const c4g_status_t st = c4g_ctl_init(&scratch, &S->loop.session.init, &S->loop.ctl_cfg);
+        static c4g_engine_t scratch;
+        const c4g_status_t st = c4g_engine_init(&scratch, &S->loop.session.init, &S->loop.engine_cfg);
         srv_log(S, t_ns, "control layer refused the init packet: %s", c4g_strerror(st));
         return;
     }
@@ -74,7 +74,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
             lim.motor_min = (float)A->pos_min[lax];
             lim.motor_max = (float)A->pos_max[lax];
         }
-        st = c4g_ctl_set_limits(&S->loop.ctl, arm, lax, &lim);
+        st = c4g_engine_set_limits(&S->loop.engine, arm, lax, &lim);
         if (st != C4G_OK) {
             srv_log(S, t_ns, "limits of arm %u axis %u refused: %s", (unsigned)arm + 1U,
                     (unsigned)lax + 1U, c4g_strerror(st));
@@ -140,7 +140,7 @@ static void request_exits(srv_t *S, const uint32_t arm_open[C4G_ARMS],
             c4g_loop_exit_pending(&S->loop, a, &pending) != C4G_OK || pending != 0U) {
             continue;
         }
-        if (c4g_ctl_request_exit(&S->loop.ctl, a) == C4G_OK) {
+        if (c4g_engine_request_exit(&S->loop.engine, a) == C4G_OK) {
             srv_log(S, t_ns, "arm %u: EXIT_FROM_OPEN requested", (unsigned)a + 1U);
         }
     }
@@ -150,13 +150,13 @@ static void request_exits(srv_t *S, const uint32_t arm_open[C4G_ARMS],
 static void test_hooks(srv_t *S, uint64_t t_ns)
 {
     const c4g_axis_map_t *m = &S->loop.session.map;
-    c4g_ctl_t *ctl = &S->loop.ctl;
+    c4g_engine_t *ctl = &S->loop.engine;
     uint32_t a;
     c4g_status_t st;
     if (S->cfg.inject_at == S->cyc_k && S->cfg.inject_mode != 0) {
         const uint32_t ia = ((uint32_t)S->cfg.inject_axis < m->n_axes) ? m->arm_of[S->cfg.inject_axis] : 0U;
-        st = (S->cfg.inject_mode == C4G_MODE_DRIVE_OFF) ? c4g_ctl_request_drive_off(ctl, ia)
-                                                        : c4g_ctl_request_follow_error(ctl, ia);
+        st = (S->cfg.inject_mode == C4G_MODE_DRIVE_OFF) ? c4g_engine_request_drive_off(ctl, ia)
+                                                        : c4g_engine_request_follow_error(ctl, ia);
         S->safety.injected++;
         srv_log(S, t_ns, "injected %d on arm %u: %s", S->cfg.inject_mode, (unsigned)ia + 1U,
                 c4g_strerror(st));
@@ -164,7 +164,7 @@ static void test_hooks(srv_t *S, uint64_t t_ns)
     if (S->cfg.freeze_at == S->cyc_k) {
         for (a = 0U; a < C4G_ARMS; a++) {
             if (m->n_axes_arm[a] > 0U) {
-                st = c4g_ctl_request_freeze(ctl, a);
+                st = c4g_engine_request_freeze(ctl, a);
                 srv_log(S, t_ns, "active freezing requested on arm %u: %s", (unsigned)a + 1U,
                         c4g_strerror(st));
             }
@@ -173,7 +173,7 @@ static void test_hooks(srv_t *S, uint64_t t_ns)
     if (S->thaw) {
         for (a = 0U; a < C4G_ARMS; a++) {
             if (m->n_axes_arm[a] > 0U) {
-                (void)c4g_ctl_request_exit(ctl, a);
+                (void)c4g_engine_request_exit(ctl, a);
             }
         }
         srv_log(S, t_ns, "active freezing over: EXIT_FROM_OPEN requested");
@@ -185,7 +185,7 @@ void srv_behave(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_ns)
 {
     uint32_t arm_open[C4G_ARMS] = {0U, 0U, 0U, 0U};
     uint32_t arm_done[C4G_ARMS] = {1U, 1U, 1U, 1U};
-    if ((ev->ctl_events & C4G_CEV_DRIVING_ON_END) != 0U) {
+    if ((ev->engine_events & C4G_CEV_DRIVING_ON_END) != 0U) {
         S->stats.drive_on_end++;
         srv_log(S, t_ns, "drive-on finished (501 left)");
     }
@@ -238,7 +238,7 @@ static void note_flags(srv_t *S, uint32_t i, uint32_t f, float fe, const c4g_pc_
     }
 }
 
-void srv_behave_done(srv_t *S, const c4g_ctl_report_t *rep, uint64_t t_ns)
+void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns)
 {
     const c4g_pc_packet_t *tx = &S->loop.tx;
     uint32_t i, a;

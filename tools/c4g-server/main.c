@@ -511,7 +511,7 @@ static int reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, int
     const uint64_t neutral0 = S->loop.counters.neutral_replies;
     const int skip = S->cfg.skip_at > 0U && k >= S->cfg.skip_at &&
                      k < S->cfg.skip_at + S->cfg.skip_count;
-    c4g_ctl_report_t rep;
+    c4g_engine_report_t rep;
     c4g_status_t st;
     S->cyc_k = k;
     S->thaw = *thaw;
@@ -644,7 +644,7 @@ static int configure(srv_t *S, int argc, char **argv)
         return EXIT_USAGE;
     }
     (void)c4g_session_config_default(&S->loop_cfg.session);
-    (void)c4g_ctl_config_default(&S->loop_cfg.control);
+    (void)c4g_engine_config_default(&S->loop_cfg.control);
     S->loop_cfg.session.num_policy = S->cfg.num_policy;
     S->loop_cfg.session.lost_timeout_ns = S->cfg.lost_timeout_ns;
     S->loop_cfg.control.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);

@@ -136,7 +136,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns);
 /* a cyclic packet with a prepared reply (ev->cmd): fill it, post the requests */
 void srv_behave(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_ns);
 /* after c4g_loop_reply: the finish status, exits sent, the filter's safety events */
-void srv_behave_done(srv_t *S, const c4g_ctl_report_t *rep, uint64_t t_ns);
+void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns);
 
 struct tf_file;
 
