@@ -106,6 +106,24 @@ C4G_NODISCARD c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns);
 /** The silence and loss check when no datagram came (c4g_session_poll). */
 C4G_NODISCARD c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events);
 
+/**
+ * Whether EXIT_FROM_OPEN is under way on @p arm: requested and being sent, or accepted and
+ * the arm not back in mode 0 yet (a c4g_engine_request_exit now changes nothing).
+ * @param[out] out true while under way
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (arm >= C4G_ARMS), C4G_ERR_STATE (the control
+ *         engine holds no init packet). O(1).
+ */
+C4G_NODISCARD c4g_status_t c4g_loop_exit_pending(const c4g_loop_t *lp, uint32_t arm, bool *out);
+
+/**
+ * The limits the safety filter applies to OPEN axis @p axis: the user limits
+ * (c4g_engine_set_limits) tightened by the init packet's FollowError and AzLim.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis not open), C4G_ERR_STATE (the control
+ *         engine holds no init packet). O(1).
+ */
+C4G_NODISCARD c4g_status_t c4g_loop_limits(const c4g_loop_t *lp, uint32_t axis,
+                                           c4g_axis_limits_t *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -254,6 +254,48 @@ static void test_engine_refused(void **state)
     assert_true(f.lp.counters.neutral_replies >= 2U);
 }
 
+/* The queries: an exit under way (requested, or accepted and leaving), effective limits. */
+static void test_queries(void **state)
+{
+    fx_t f;
+    c4g_axis_limits_t lim, got;
+    bool pend = true;
+    (void)state;
+    cold_start(&f);
+    cyclic(&f, 13, C4G_MODE_4, 1.0f);
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
+    assert_false(pend);
+    assert_int_equal(c4g_engine_request_exit(&f.lp.engine, 0U), C4G_OK);
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
+    assert_true(pend);
+    f.lp.engine.arm[0].exit_req = 0U;
+    f.lp.engine.arm[0].leaving = 1U;
+    pend = false;
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_OK);
+    assert_true(pend);
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, C4G_ARMS, &pend), C4G_ERR_ARG);
+    assert_false(pend);
+    assert_int_equal(c4g_loop_exit_pending(NULL, 0U, &pend), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, NULL), C4G_ERR_NULL);
+    /* limits: the user's stroke ends, the init packet's following error */
+    memset(&lim, 0, sizeof lim);
+    lim.motor_min = -2.0f;
+    lim.motor_max = 3.0f;
+    assert_int_equal(c4g_engine_set_limits(&f.lp.engine, f.lp.session.map.arm_of[1],
+                                        f.lp.session.map.logical_of[1], &lim), C4G_OK);
+    assert_int_equal(c4g_loop_limits(&f.lp, 1U, &got), C4G_OK);
+    assert_true(got.motor_min == -2.0f);
+    assert_true(got.motor_max == 3.0f);
+    assert_true(got.follow_error == f.lp.engine.ctl_fe[1]);
+    assert_int_equal(c4g_loop_limits(&f.lp, 6U, &got), C4G_ERR_ARG);
+    assert_int_equal(c4g_loop_limits(NULL, 0U, &got), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_limits(&f.lp, 0U, NULL), C4G_ERR_NULL);
+    /* no engine: nothing to ask */
+    f.lp.engine_ready = 0U;
+    assert_int_equal(c4g_loop_limits(&f.lp, 0U, &got), C4G_ERR_STATE);
+    assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_ERR_STATE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -263,6 +305,7 @@ int main(void)
         cmocka_unit_test(test_neutral_when_encoder_refuses),
         cmocka_unit_test(test_foreign_and_misuse),
         cmocka_unit_test(test_engine_refused),
+        cmocka_unit_test(test_queries),
     };
     return cmocka_run_group_tests_name("loop", tests, load, NULL);
 }

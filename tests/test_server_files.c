@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "../tools/common/c4g_textfile.c"
+#include "../tools/common/c4g_cli.c"
 #include "../tools/c4g-server/files.c"
 #include "../tools/c4g-server/opts.c"
 

@@ -150,3 +150,37 @@ c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events)
     }
     return st;
 }
+
+c4g_status_t c4g_loop_exit_pending(const c4g_loop_t *lp, uint32_t arm, bool *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = false;
+        if (arm >= C4G_ARMS) {
+            st = C4G_ERR_ARG;
+        } else if (lp->engine_ready == 0U) {
+            st = C4G_ERR_STATE;
+        } else {
+            const c4g_arm_sm_t *sm = &lp->engine.arm[arm];
+            *out = (sm->exit_req != 0U) || (sm->leaving != 0U);
+            st = C4G_OK;
+        }
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_limits(const c4g_loop_t *lp, uint32_t axis, c4g_axis_limits_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        if (lp->engine_ready == 0U) {
+            st = C4G_ERR_STATE;
+        } else if (axis >= lp->engine.map.n_axes) {
+            st = C4G_ERR_ARG;
+        } else {
+            *out = lp->engine.lim[axis];
+            st = C4G_OK;
+        }
+    }
+    return st;
+}

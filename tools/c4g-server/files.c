@@ -74,6 +74,63 @@ static int blank_or_comment(const char *s)
     return *s == '\0' || *s == '#';
 }
 
+/* The header line allowed before the first row: its first field cannot start a number. */
+static int is_header(const char *tok0)
+{
+    double d;
+    const tf_num_t st = tf_parse_double(tok0, -1e308, 1e308, &d);
+    return st == TF_NUM_SYNTAX && !(tok0[0] == '-' || tok0[0] == '+' || tok0[0] == '.' ||
+                                    (tok0[0] >= '0' && tok0[0] <= '9'));
+}
+
+/* The n fields of a row: t in [0, TRAJ_T_MAX], offsets within +-TRAJ_Q_MAX. 0, or -1. */
+static int traj_values(tf_file_t *f, char *const *tok, const size_t *col, int n, double *vals,
+                       char *err, size_t errlen)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        const double lim = (k == 0) ? TRAJ_T_MAX : TRAJ_Q_MAX;
+        const tf_num_t st = tf_parse_double(tok[k], (k == 0) ? 0.0 : -lim, lim, &vals[k]);
+        if (st != TF_NUM_OK) {
+            char why[200];
+            tf_num_explain(st, tok[k], (k == 0) ? 0.0 : -lim, lim, why, sizeof why);
+            return tf_error(f, col[k], err, errlen, "column %d (%s): %s", k + 1,
+                            k == 0 ? "t [s]" : "axis offset [turns]", why);
+        }
+    }
+    return 0;
+}
+
+/* Append a row of n values (t and n - 1 offsets); col0 is the column of its time. */
+static int traj_add(tf_file_t *f, srv_traj_t *tr, const double *vals, int n, size_t col0,
+                    char *err, size_t errlen)
+{
+    int k;
+    if (n < 2) {
+        return tf_error(f, 0U, err, errlen, "need t and at least one axis column, got %d value(s)", n);
+    }
+    if (tr->rows == 0U) {
+        tr->cols = (uint32_t)n - 1U;
+    } else if ((uint32_t)n - 1U != tr->cols) {
+        return tf_error(f, 0U, err, errlen, "%d axis columns, the first row has %u", n - 1,
+                        tr->cols);
+    }
+    if (tr->rows >= SRV_MAX_TRAJ_ROWS) {
+        return tf_error(f, 0U, err, errlen, "more than %u rows", SRV_MAX_TRAJ_ROWS);
+    }
+    if (tr->rows > 0U && vals[0] <= tr->t[tr->rows - 1U]) {
+        return tf_error(f, col0, err, errlen,
+                        "column 1 (t [s]): %g is not after the previous row's time %g", vals[0],
+                        tr->t[tr->rows - 1U]);
+    }
+    tr->t[tr->rows] = vals[0];
+    for (k = 0; k < (int)C4G_AXES_PER_ARM; k++) {
+        tr->q[tr->rows][k] = ((uint32_t)k < tr->cols) ? (float)vals[k + 1] : 0.0f;
+    }
+    tr->rows++;
+    return 0;
+}
+
 int srv_parse_traj(tf_file_t *f, srv_traj_t *tr, char *err, size_t errlen)
 {
     char line[TRAJ_LINE];
@@ -87,7 +144,6 @@ int srv_parse_traj(tf_file_t *f, srv_traj_t *tr, char *err, size_t errlen)
         double vals[C4G_AXES_PER_ARM + 1U];
         size_t bad = 0U;
         int n;
-        int k;
         if (blank_or_comment(line)) {
             continue;
         }
@@ -98,48 +154,15 @@ int srv_parse_traj(tf_file_t *f, srv_traj_t *tr, char *err, size_t errlen)
         if (n < 0) {
             return tf_error(f, bad, err, errlen, "empty field");
         }
-        /* One header line before the first row: its first field is not a number. */
-        if (tr->rows == 0U && !header_seen) {
-            double d;
-            const tf_num_t st = tf_parse_double(tok[0], -1e308, 1e308, &d);
-            if (st == TF_NUM_SYNTAX && !(tok[0][0] == '-' || tok[0][0] == '+' ||
-                                         tok[0][0] == '.' || (tok[0][0] >= '0' && tok[0][0] <= '9'))) {
-                header_seen = 1;
-                continue;
-            }
+        /* One header line before the first row. */
+        if (tr->rows == 0U && !header_seen && is_header(tok[0])) {
+            header_seen = 1;
+            continue;
         }
-        for (k = 0; k < n; k++) {
-            const double lim = (k == 0) ? TRAJ_T_MAX : TRAJ_Q_MAX;
-            const tf_num_t st = tf_parse_double(tok[k], (k == 0) ? 0.0 : -lim, lim, &vals[k]);
-            if (st != TF_NUM_OK) {
-                char why[200];
-                tf_num_explain(st, tok[k], (k == 0) ? 0.0 : -lim, lim, why, sizeof why);
-                return tf_error(f, col[k], err, errlen, "column %d (%s): %s", k + 1,
-                                k == 0 ? "t [s]" : "axis offset [turns]", why);
-            }
+        if (traj_values(f, tok, col, n, vals, err, errlen) != 0 ||
+            traj_add(f, tr, vals, n, col[0], err, errlen) != 0) {
+            return -1;
         }
-        if (n < 2) {
-            return tf_error(f, 0U, err, errlen, "need t and at least one axis column, got %d value(s)", n);
-        }
-        if (tr->rows == 0U) {
-            tr->cols = (uint32_t)n - 1U;
-        } else if ((uint32_t)n - 1U != tr->cols) {
-            return tf_error(f, 0U, err, errlen, "%d axis columns, the first row has %u", n - 1,
-                            tr->cols);
-        }
-        if (tr->rows >= SRV_MAX_TRAJ_ROWS) {
-            return tf_error(f, 0U, err, errlen, "more than %u rows", SRV_MAX_TRAJ_ROWS);
-        }
-        if (tr->rows > 0U && vals[0] <= tr->t[tr->rows - 1U]) {
-            return tf_error(f, col[0], err, errlen,
-                            "column 1 (t [s]): %g is not after the previous row's time %g", vals[0],
-                            tr->t[tr->rows - 1U]);
-        }
-        tr->t[tr->rows] = vals[0];
-        for (k = 0; k < (int)C4G_AXES_PER_ARM; k++) {
-            tr->q[tr->rows][k] = ((uint32_t)k < tr->cols) ? (float)vals[k + 1] : 0.0f;
-        }
-        tr->rows++;
     }
     if (r < 0) {
         return -1;

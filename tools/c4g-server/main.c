@@ -1,18 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-server: the PC side of C4G Open. Binds the UDP port, accepts packets only from
- * the controller's address, runs the libc4gopen session engine and answers every
- * packet with a per-arm behaviour passed through the PC-side safety filter.
+ * the controller's address, runs the libc4gopen loop object (session + control engine)
+ * and answers every packet with a per-arm behaviour passed through the PC-side safety
+ * filter.
  *
- * The real-time loop: recvfrom -> c4g_session_rx -> behaviour -> safety
- * filter -> c4g_session_reply -> sendto -> c4g_session_sent. Nothing on that path
- * allocates or does file I/O: logs, pcap and moni rows go through a lock-free ring
+ * The real-time loop: recvfrom -> c4g_loop_rx (session, control step) -> controllers
+ * (behave.c, tools/common/c4g_controllers.c) -> c4g_loop_reply (safety filter, encoding,
+ * neutral fallback) -> sendto -> c4g_loop_sent. Nothing on that path allocates or does
+ * file I/O: logs, pcap and moni rows go through a lock-free ring
  * (tools/common/c4g_rtlog.h) to a writer thread. */
 #include "srv.h"
 #include "c4g_pcap.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -69,174 +70,6 @@ void srv_log(srv_t *S, uint64_t t_ns, const char *fmt, ...)
     rec->t_ns = t_ns;
     rec->len = (uint32_t)n;
     c4g_rtlog_commit(&S->log);
-}
-
-static const char *const usage_text[] = {
-"Usage: c4g-server [OPTIONS]\n",
-"The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n",
-"controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n",
-"sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n",
-"a built-in behaviour for the open mode the controller selects, through the PC-side\n",
-"safety filter (following error -> 508, current saturation to AzLim, delta-current\n",
-"clamp, stroke ends and reference continuity -> 505).\n",
-"\n",
-"Network:\n",
-"  -p, --port N             UDP port to bind (default 1000)\n",
-"  -b, --bind ADDR          local address (default 0.0.0.0)\n",
-"  -c, --controller ADDR    accept packets only from ADDR (default 10.2.12.150, the\n",
-"                           manual's SMP+ address); 'any' accepts every source.\n",
-"                           Other sources are dropped and counted (\"foreign\").\n",
-"      --num-policy P       plus1 (field library, default: reply NUM+1, 0x7FFF->1)\n",
-"                           or echo (manual text: reply with the same NUM)\n",
-"      --lost-timeout-ms N  silence that ends the session (default 1000 ms; shorter\n"
-"                           silences are reported and ridden out)\n",
-"      --idle-timeout S     give up if no packet at all arrives within S s (default: wait)\n",
-"      --max-seconds S      stop after S s in total (default: no limit)\n",
-"      --persist            keep serving after 504 or a lost controller\n",
-"      --config FILE        INI file: [server] [rt] [output] [test] sections take the\n",
-"                           long option names as keys, [arm1]..[arm4] the per-arm ones\n",
-"Real time:\n",
-"      --rt                 --mlock and SCHED_FIFO priority 80\n",
-"      --mlock              mlockall(MCL_CURRENT|MCL_FUTURE) and prefault the stack\n",
-"      --prio N             SCHED_FIFO priority 1..99 for the packet loop\n",
-"      --cpu N              pin the packet loop to CPU N\n",
-"      --rt-strict          a refused real-time setting is fatal (exit 2); by default\n",
-"                           the server says what was refused and why, and continues\n",
-"      --spin               busy-poll the socket (lowest latency, burns a CPU)\n",
-"      --poll-us N          non-blocking recvfrom + clock_nanosleep(TIMER_ABSTIME) every\n",
-"                           N us instead of a blocking wait\n",
-"      --late-us N          reply deadline counted as \"late\" (default 500, T_CYCLE1)\n",
-"Per-arm behaviours (apply to every arm, or to the arm named by the last --arm N):\n",
-"      --arm N              following per-arm options apply to arm N (1..4)\n",
-"      --axes LIST          logical axes driven, e.g. 1,2,3 (default all)\n",
-"      --sine A,F[,C]       modes 1/4/5: raised cosine A turns, F Hz, C cycles (default\n",
-"                           0.1,0.5,1), then EXIT_FROM_OPEN\n",
-"      --traj FILE          modes 1/4/5: follow a trajectory CSV (t,ax1..axN offsets)\n",
-"      --hold               modes 1/4/5: hold the entry position for --duration\n",
-"      --offset A,R[,H]     mode 7: offset step to A turns over R s, hold H s (0.05,0.5,0.5)\n",
-"      --vel A,F[,C]        mode 8: zero-mean velocity addition (0.0005,1,1)\n",
-"      --ff FILE            mode 9: current feedforward parameter file (all arms)\n",
-"      --duration S         modes 1 (hold), 2, 9: time before EXIT_FROM_OPEN (default 2)\n",
-"      --gains KP,KD[,KI]   modes 1/2 joint PD(+I) [A/turn, A/(turn/tick), A/(turn s)]\n",
-"      --i-max A            integrator limit (anti-windup), default AzLim\n",
-"      --scs S              soft-control-switching ramp of the PC current limit (0 = off)\n",
-"      --no-exit            never send EXIT_FROM_OPEN (the controller ends the mode)\n",
-"      --max-step T         reference continuity limit [turns/tick] -> 505 (0 = off)\n",
-"      --stroke MIN,MAX     stroke ends for PC absolute references [turns] -> 505\n",
-"      --fe-limit T         following-error threshold override (default: init packet)\n",
-"Outputs:\n",
-"      --pcap FILE          every datagram in and out (written by the log thread)\n",
-"      --moni FILE          moni CSV, one row per axis per cyclic packet\n",
-"      --moni-type N        0 = full rx/tx rows (default), 19..24 = the manual's types\n",
-"      --json FILE          JSON summary at exit ('-' = stdout)\n",
-"      --log FILE           log lines (default stderr)\n",
-"  -v, --verbose            log every mode change and session event\n",
-"  -q, --quiet              no log lines, no text report (JSON still written)\n",
-"Test hooks:\n",
-"      --skip-replies AT[,N]  do not answer cyclic packets AT..AT+N-1\n",
-"      --inject 505@N | 508@N[:AXIS]  request drive off / following error at packet N\n",
-"      --freeze AT,MS       active freezing: at packet AT reply 500, pause MS ms, then\n",
-"                           re-activate with EXIT_FROM_OPEN\n",
-"  -h, --help               this text\n",
-"  -V, --version            library version\n",
-"\n",
-"Exit codes: 0 ended by 504, 1 bad option or input file, 2 setup failure (socket,\n",
-"bind, thread, refused RT setting with --rt-strict), 3 controller lost, 4\n",
-"--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n",
-"--persist). The chapter 22 timing report, the counters and the safety events are\n",
-"printed at every exit that follows a session (with --persist the counters add up\n",
-"every session since the start, the timing lines are the last session's).\n",
-"\n",
-"Examples:\n",
-"  c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150\n",
-"  c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim\n",
-"  c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1\n",
-"  c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv\n",
-"  c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward\n",
-"  c4g-server --config fixtures/server/server_example.ini\n",
-NULL};
-
-static int parse_args(srv_config_t *cfg, int argc, char **argv)
-{
-    static const struct option longopts[] = {
-        {"port", required_argument, NULL, 'p'}, {"bind", required_argument, NULL, 'b'},
-        {"controller", required_argument, NULL, 'c'}, {"num-policy", required_argument, NULL, 0},
-        {"lost-timeout-ms", required_argument, NULL, 0}, {"idle-timeout", required_argument, NULL, 0},
-        {"max-seconds", required_argument, NULL, 0}, {"persist", no_argument, NULL, 0},
-        {"config", required_argument, NULL, 0}, {"rt", no_argument, NULL, 0},
-        {"mlock", no_argument, NULL, 0}, {"prio", required_argument, NULL, 0},
-        {"cpu", required_argument, NULL, 0}, {"rt-strict", no_argument, NULL, 0},
-        {"spin", no_argument, NULL, 0}, {"poll-us", required_argument, NULL, 0},
-        {"late-us", required_argument, NULL, 0}, {"arm", required_argument, NULL, 0},
-        {"axes", required_argument, NULL, 0}, {"sine", required_argument, NULL, 0},
-        {"traj", required_argument, NULL, 0}, {"hold", no_argument, NULL, 0},
-        {"offset", required_argument, NULL, 0}, {"vel", required_argument, NULL, 0},
-        {"ff", required_argument, NULL, 0}, {"duration", required_argument, NULL, 0},
-        {"gains", required_argument, NULL, 0}, {"i-max", required_argument, NULL, 0},
-        {"scs", required_argument, NULL, 0}, {"no-exit", no_argument, NULL, 0},
-        {"max-step", required_argument, NULL, 0}, {"stroke", required_argument, NULL, 0},
-        {"fe-limit", required_argument, NULL, 0}, {"pcap", required_argument, NULL, 0},
-        {"moni", required_argument, NULL, 0}, {"moni-type", required_argument, NULL, 0},
-        {"json", required_argument, NULL, 0}, {"log", required_argument, NULL, 0},
-        {"verbose", no_argument, NULL, 'v'}, {"quiet", no_argument, NULL, 'q'},
-        {"skip-replies", required_argument, NULL, 0}, {"inject", required_argument, NULL, 0},
-        {"freeze", required_argument, NULL, 0}, {"help", no_argument, NULL, 'h'},
-        {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
-    int arm = -1, c, idx = 0;
-    char err[256];
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":p:b:c:vqhV", longopts, &idx)) != -1) {
-        const char *name;
-        int a, lo, hi;
-        switch (c) {
-        case 'p': name = "port"; break;
-        case 'b': name = "bind"; break;
-        case 'c': name = "controller"; break;
-        case 'v': name = "verbose"; break;
-        case 'q': name = "quiet"; break;
-        case 'h': { int u; for (u = 0; usage_text[u] != NULL; u++) fputs(usage_text[u], stdout); } exit(0);
-        case 'V': printf("c4g-server %s (libc4gopen %s, %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING, C4G_PCAP_ANCHOR()); exit(0);
-        case 0: name = longopts[idx].name; break;
-        case ':':
-            fprintf(stderr, "c4g-server: option '%s' needs a value (see --help)\n", argv[optind - 1]);
-            return -1;
-        default:
-            fprintf(stderr, "c4g-server: unknown option '%s' (see --help)\n", argv[optind - 1]);
-            return -1;
-        }
-        if (strcmp(name, "arm") == 0) {
-            char *end;
-            long v = strtol(optarg, &end, 10);
-            if (*end != '\0' || v < 1 || v > (long)C4G_ARMS) {
-                fprintf(stderr, "c4g-server: --arm: bad value '%s' (want 1..4)\n", optarg);
-                return -1;
-            }
-            arm = (int)v - 1;
-            continue;
-        }
-        if (strcmp(name, "config") == 0) {
-            char ierr[600];
-            if (srv_config_load_ini(cfg, optarg, ierr, sizeof ierr) != 0) {
-                fprintf(stderr, "c4g-server: %s\n", ierr);
-                return -1;
-            }
-            continue;
-        }
-        lo = (arm < 0) ? 0 : arm;
-        hi = (arm < 0) ? (int)C4G_ARMS - 1 : arm;
-        for (a = lo; a <= hi; a++) {
-            if (srv_config_apply(cfg, name, (c != 0 || longopts[idx].has_arg) ? optarg : NULL, a,
-                                 err, sizeof err) != 0) {
-                fprintf(stderr, "c4g-server: --%s\n", err);
-                return -1;
-            }
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "c4g-server: unexpected argument '%s' (see --help)\n", argv[optind]);
-        return -1;
-    }
-    return 0;
 }
 
 static int load_files(srv_config_t *cfg)
@@ -414,12 +247,12 @@ static void log_moni(srv_t *S, uint64_t t, const c4g_ctrl_packet_t *rx, const c4
     c4g_rtlog_commit(&S->log);
 }
 
-/* Silence and loss events of the session, whether c4g_session_poll found them or
- * c4g_session_rx_from did before it classified a datagram (a stream of refused datagrams
+/* Silence and loss events of the session, whether c4g_loop_poll found them or
+ * c4g_loop_rx did before it classified a datagram (a stream of refused datagrams
  * keeps the socket busy: the loss must not wait for a quiet moment). Exit code, or -1. */
 static int time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
-    const c4g_session_t *s = &S->session;
+    const c4g_session_t *s = &S->loop.session;
     if ((ev & C4G_EV_SILENCE) != 0U) {
         srv_log(S, t, "controller silent for more than %.1f ms: session kept",
                 (double)s->silence_ns * 1e-6);
@@ -439,9 +272,9 @@ static int on_idle(srv_t *S, uint64_t start)
 {
     uint32_t ev = 0U;
     const uint64_t t = now_ns();
-    c4g_session_t *s = &S->session;
+    const c4g_session_t *s = &S->loop.session;
     int code;
-    (void)c4g_session_poll(s, t, &ev);
+    (void)c4g_loop_poll(&S->loop, t, &ev);
     code = time_events(S, ev, t);
     if (code >= 0) {
         return code;
@@ -501,10 +334,11 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
     struct sockaddr_in p2;
     socklen_t l2 = sizeof p2;
     c4g_endpoint_t e;
+    c4g_loop_event_t ev;
     unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
     int have;
     endpoint_of(peer, &e);
-    have = c4g_session_is_peer(&S->session, &e);
+    have = c4g_session_is_peer(&S->loop.session, &e);
     while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
                                                 (struct sockaddr *)&p2, &l2)) >= 0) {
         const uint64_t t = now_ns();
@@ -515,19 +349,17 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
             n_foreign++;
             continue;
         }
-        if (!c4g_session_is_peer(&S->session, &e)) {
-            c4g_rx_result_t res;
-            (void)c4g_session_rx_from(&S->session, other, k, t, &e, &res); /* counted */
-            log_foreign(S, &S->session, &p2, k, t);
+        if (!c4g_session_is_peer(&S->loop.session, &e)) {
+            (void)c4g_loop_rx(&S->loop, other, k, t, &e, &ev); /* counted */
+            log_foreign(S, &S->loop.session, &p2, k, t);
             n_foreign++;
             continue;
         }
         if (!have) { /* the first datagram was another endpoint's: count it before it goes */
-            c4g_rx_result_t res;
             c4g_endpoint_t e0;
             endpoint_of(peer, &e0);
-            (void)c4g_session_rx_from(&S->session, in, *len, t, &e0, &res);
-            log_foreign(S, &S->session, peer, *len, t);
+            (void)c4g_loop_rx(&S->loop, in, *len, t, &e0, &ev);
+            log_foreign(S, &S->loop.session, peer, *len, t);
             n_foreign++;
             have = 1;
         }
@@ -540,237 +372,308 @@ static void drain_queue(srv_t *S, int fd, uint8_t *in, size_t cap, size_t *len,
             "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
 }
 
-/* The per-packet path. Returns an exit code >= 0 to stop, -1 to continue. */
+/* One received datagram of the controller's address. */
+typedef struct dgram {
+    size_t len;
+    struct sockaddr_in peer;
+    socklen_t plen;
+    uint64_t t_rx;
+} dgram_t;
+
+enum { SRV_NEXT = -1, SRV_HAVE = -2 }; /* besides exit codes: go on / a datagram is in */
+
+static uint8_t g_in[2048];
+static uint8_t g_out[C4G_INIT_SIZE];
+
+/* Wait for one datagram of the controller's address into g_in. SRV_HAVE, SRV_NEXT (nothing
+ * came, or another address's), or an exit code. */
+static int receive(srv_t *S, int fd, uint64_t start, int thaw, dgram_t *d)
+{
+    ssize_t n;
+    int code;
+    if (g_stop) {
+        return EXIT_SIGNAL;
+    }
+    if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
+        return EXIT_TIMEOUT;
+    }
+    d->plen = sizeof d->peer;
+    if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
+        n = -1;
+        errno = EAGAIN;
+    } else {
+        /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
+        n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC, (struct sockaddr *)&d->peer, &d->plen);
+    }
+    d->t_rx = now_ns();
+    if (n < 0) {
+        /* a timeout runs the idle checks; EINTR or a transient error: go on */
+        code = (errno == EAGAIN || errno == EWOULDBLOCK) ? on_idle(S, start) : SRV_NEXT;
+        return (code >= 0) ? code : SRV_NEXT;
+    }
+    if (foreign_address(S, &d->peer, n, d->t_rx)) {
+        /* a stream from another address keeps recvfrom from timing out: the silence
+         * and loss checks must not wait for a quiet socket */
+        code = on_idle(S, start);
+        return (code >= 0) ? code : SRV_NEXT;
+    }
+    if ((size_t)n > sizeof g_in) {
+        S->stats.oversize++;
+        d->len = sizeof g_in;
+    } else {
+        d->len = (size_t)n;
+    }
+    if (thaw) {
+        drain_queue(S, fd, g_in, sizeof g_in, &d->len, &d->peer);
+        d->t_rx = now_ns();
+    }
+    return SRV_HAVE;
+}
+
+/* Datagrams the session refused or that need no answer: logged. 1 when nothing is due. */
+static int refused(srv_t *S, const dgram_t *d, const c4g_loop_event_t *ev)
+{
+    const uint32_t e = ev->events;
+    if ((e & C4G_EV_FOREIGN) != 0U) {
+        log_foreign(S, &S->loop.session, &d->peer, d->len, d->t_rx);
+        return 1;
+    }
+    if ((e & C4G_EV_RESUMED) != 0U) {
+        srv_log(S, d->t_rx, "controller back after %.1f ms of silence", (double)ev->silence_ns * 1e-6);
+    }
+    if ((e & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U && ev->kind == C4G_RX_DROPPED) {
+        srv_log(S, d->t_rx, "dropped %s packet NUM %d (newest %d): not answered",
+                (e & C4G_EV_DUPLICATE) ? "duplicate" : "stale",
+                (int)((uint32_t)g_in[0] | (uint32_t)g_in[1] << 8 | (uint32_t)g_in[2] << 16 |
+                      (uint32_t)g_in[3] << 24),
+                (int)S->loop.session.last_num);
+        return 1;
+    }
+    if ((e & C4G_EV_MALFORMED) != 0U && ev->diag.status == C4G_ERR_STATE) {
+        srv_log(S, d->t_rx, "refused a %zu-byte initialization packet mid-session (NUM %lld): "
+                "accepted only at start-up or after 506", d->len, (long long)ev->diag.value);
+        return 1;
+    }
+    if ((e & C4G_EV_MALFORMED) != 0U) {
+        srv_log(S, d->t_rx, "dropped malformed %zu-byte datagram: %s (field %s, offset %u, axis %d, value %lld)",
+                d->len, c4g_strerror(ev->diag.status), c4g_field_name(ev->diag.field),
+                (unsigned)ev->diag.offset, (int)ev->diag.axis, (long long)ev->diag.value);
+        return 1;
+    }
+    return 0;
+}
+
+/* The session's events on a datagram that is answered. */
+static void session_events(srv_t *S, const dgram_t *d, const c4g_loop_event_t *ev)
+{
+    const c4g_session_t *s = &S->loop.session;
+    const uint32_t e = ev->events;
+    const uint64_t t = d->t_rx;
+    if ((e & C4G_EV_LOST) != 0U && ev->kind == C4G_RX_CYCLIC) {
+        S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
+        srv_log(S, t, "long gap: more than %.1f ms without a packet",
+                (double)s->lost_timeout_ns * 1e-6);
+    }
+    if ((e & C4G_EV_INIT) != 0U) {
+        S->stats.inits++;
+        srv_behave_init(S, t);
+        srv_log(S, t, "init packet: %u open axes, period %d ms, version %d.%d.%d",
+                (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
+                (int)s->init.version_minor, (int)s->init.version_build);
+    }
+    if ((e & C4G_EV_RESTART) != 0U) {
+        S->stats.restarts++;
+        srv_log(S, t, "506: client restart, a new init packet follows");
+    }
+    if ((e & C4G_EV_FREEZE_IN) != 0U) {
+        S->stats.frozen_passive++;
+        srv_log(S, t, "502: passive freezing (loss check suspended)");
+    }
+    if ((e & C4G_EV_FREEZE_OUT) != 0U) {
+        srv_log(S, t, "503: passive freezing over");
+    }
+    if ((e & C4G_EV_DRIVES) != 0U) {
+        srv_log(S, t, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
+    }
+    if ((e & C4G_EV_CYCLIC_START) != 0U) {
+        srv_log(S, t, "cyclic communication started");
+    }
+}
+
+/* The reply to a cyclic packet: the controllers fill what the loop prepared, the loop
+ * filters and encodes it (neutral when it cannot). A reply --skip-replies holds back is
+ * still finished, so that the control engine sees every tick as the controller does, but
+ * not encoded (zero capacity). 1 when g_out holds a reply to send. */
+static int reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, int *thaw,
+                        size_t *olen)
+{
+    const uint64_t k = S->loop.session.counters.cyclic;
+    const uint64_t neutral0 = S->loop.counters.neutral_replies;
+    const int skip = S->cfg.skip_at > 0U && k >= S->cfg.skip_at &&
+                     k < S->cfg.skip_at + S->cfg.skip_count;
+    c4g_engine_report_t rep;
+    c4g_status_t st;
+    S->cyc_k = k;
+    S->thaw = *thaw;
+    *thaw = 0;
+    if (ev->cmd != NULL) {
+        srv_behave(S, ev, t_rx);
+    }
+    st = c4g_loop_reply(&S->loop, g_out, skip ? 0U : sizeof g_out, olen, &rep);
+    S->stats.encode_errors += S->loop.counters.neutral_replies - neutral0;
+    if (ev->cmd != NULL) {
+        srv_behave_done(S, &rep, t_rx);
+    }
+    if (skip) {
+        S->stats.skipped++;
+        return 0;
+    }
+    return st == C4G_OK;
+}
+
+/* Answer the datagram (sync/init echo or cyclic reply), then the active-freezing pause. */
+static void answer(srv_t *S, int fd, const dgram_t *d, const c4g_loop_event_t *ev, int *thaw)
+{
+    size_t olen = 0U;
+    int send_it = 0;
+    if (ev->kind == C4G_RX_SYNC || ev->kind == C4G_RX_INIT) {
+        send_it = (c4g_loop_reply(&S->loop, g_out, sizeof g_out, &olen, NULL) == C4G_OK);
+    } else if (ev->kind == C4G_RX_CYCLIC) {
+        send_it = reply_cyclic(S, ev, d->t_rx, thaw, &olen);
+    }
+    if (send_it) {
+        uint64_t t_tx;
+        if (sendto(fd, g_out, olen, 0, (const struct sockaddr *)&d->peer, d->plen) != (ssize_t)olen) {
+            S->stats.send_errors++;
+        }
+        t_tx = now_ns();
+        if (ev->kind == C4G_RX_CYCLIC) {
+            const int64_t cyc = (int64_t)(t_tx - d->t_rx);
+            (void)c4g_loop_sent(&S->loop, t_tx);
+            hist_add(&S->stats, cyc);
+            if (cyc > (int64_t)S->cfg.late_us * 1000) {
+                S->stats.late++;
+            }
+            log_moni(S, d->t_rx, ev->pkt, &S->loop.tx);
+        }
+        log_datagram(S, LOG_PCAP_TX, t_tx, g_out, olen, &d->peer);
+    }
+    if (ev->kind == C4G_RX_CYCLIC && S->cfg.freeze_at == S->loop.session.counters.cyclic &&
+        S->loop.tx.ax[0].mode == C4G_MODE_FREEZING_A) {
+        S->stats.freezes++;
+        srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
+        pause_ms(S->cfg.freeze_ms);
+        *thaw = 1;
+    }
+}
+
+/* One datagram through the loop. An exit code, or SRV_NEXT. */
+static int handle(srv_t *S, int fd, const dgram_t *d, int *thaw)
+{
+    c4g_endpoint_t from;
+    c4g_loop_event_t ev;
+    int was_lost;
+    endpoint_of(&d->peer, &from);
+    log_datagram(S, LOG_PCAP_RX, d->t_rx, g_in, d->len, &d->peer);
+    was_lost = (S->loop.session.phase == C4G_PHASE_LOST);
+    if (c4g_loop_rx(&S->loop, g_in, d->len, d->t_rx, &from, &ev) != C4G_OK) {
+        return SRV_NEXT;
+    }
+    if (ev.kind != C4G_RX_CYCLIC) {
+        /* the session checks the clock before it classifies a datagram: a loss it found
+         * there ends the session (without --persist) whether the datagram was refused or
+         * opens a new start-up, which is then not answered. A cyclic packet of the
+         * controller after the loss timeout is a long gap (session_events). */
+        const int code = time_events(S, ev.events, d->t_rx);
+        if (code >= 0) {
+            return code;
+        }
+        if (ev.kind == C4G_RX_SYNC && (was_lost || (ev.events & C4G_EV_LOST) != 0U)) {
+            char a[INET_ADDRSTRLEN];
+            inet_ntop(AF_INET, &d->peer.sin_addr, a, sizeof a);
+            srv_log(S, d->t_rx, "new start-up from %s:%u: a new session", a,
+                    (unsigned)ntohs(d->peer.sin_port));
+        }
+    } else if ((ev.events & C4G_EV_SILENCE) != 0U) {
+        (void)time_events(S, C4G_EV_SILENCE, d->t_rx);
+    }
+    if (refused(S, d, &ev)) {
+        return SRV_NEXT;
+    }
+    session_events(S, d, &ev);
+    answer(S, fd, d, &ev, thaw);
+    if ((ev.events & C4G_EV_END) != 0U) {
+        srv_log(S, d->t_rx, "504: end of communication");
+        if (!S->cfg.persist) {
+            return EXIT_END;
+        }
+        srv_counters_add(&S->done, &S->loop.session.counters); /* the exit report adds every session */
+        (void)c4g_loop_init(&S->loop, &S->loop_cfg);
+    }
+    return SRV_NEXT;
+}
+
+/* The per-packet loop. Returns the exit code. */
 static int serve(srv_t *S, int fd)
 {
-    static uint8_t in[2048];
-    static uint8_t out[C4G_INIT_SIZE];
-    static c4g_pc_packet_t tx;
-    c4g_session_t *s = &S->session;
     const uint64_t start = now_ns();
     int thaw = 0;
     for (;;) {
-        struct sockaddr_in peer;
-        socklen_t plen = sizeof peer;
-        c4g_endpoint_t from;
-        c4g_rx_result_t res;
-        uint64_t t_rx, t_tx;
-        ssize_t n;
-        size_t len, olen = 0U;
-        int send_it = 0, was_lost;
-        if (g_stop) {
-            return EXIT_SIGNAL;
+        dgram_t d;
+        int code = receive(S, fd, start, thaw, &d);
+        if (code == SRV_HAVE) {
+            code = handle(S, fd, &d, &thaw);
         }
-        if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
-            return EXIT_TIMEOUT;
-        }
-        if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
-            n = -1;
-            errno = EAGAIN;
-        } else {
-            /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
-            n = recvfrom(fd, in, sizeof in, MSG_TRUNC, (struct sockaddr *)&peer, &plen);
-        }
-        t_rx = now_ns();
-        if (n < 0) {
-            if (errno == EAGAIN || errno == EWOULDBLOCK) {
-                const int code = on_idle(S, start);
-                if (code >= 0) {
-                    return code;
-                }
-            }
-            continue; /* timeout, EINTR or a transient error */
-        }
-        if (foreign_address(S, &peer, n, t_rx)) {
-            /* a stream from another address keeps recvfrom from timing out: the silence
-             * and loss checks must not wait for a quiet socket */
-            const int code = on_idle(S, start);
-            if (code >= 0) {
-                return code;
-            }
-            continue;
-        }
-        if ((size_t)n > sizeof in) {
-            S->stats.oversize++;
-            len = sizeof in;
-        } else {
-            len = (size_t)n;
-        }
-        if (thaw) {
-            drain_queue(S, fd, in, sizeof in, &len, &peer);
-            t_rx = now_ns();
-        }
-        endpoint_of(&peer, &from);
-        log_datagram(S, LOG_PCAP_RX, t_rx, in, len, &peer);
-        was_lost = (s->phase == C4G_PHASE_LOST);
-        if (c4g_session_rx_from(s, in, len, t_rx, &from, &res) != C4G_OK) {
-            continue;
-        }
-        if (res.kind != C4G_RX_CYCLIC) {
-            /* the session checks the clock before it classifies a datagram: a loss it found
-             * there ends the session (without --persist) whether the datagram was refused or
-             * opens a new start-up, which is then not answered. A cyclic packet of the
-             * controller after the loss timeout is a long gap (below). */
-            const int code = time_events(S, res.events, t_rx);
-            if (code >= 0) {
-                return code;
-            }
-            if (res.kind == C4G_RX_SYNC && (was_lost || (res.events & C4G_EV_LOST) != 0U)) {
-                char a[INET_ADDRSTRLEN];
-                inet_ntop(AF_INET, &peer.sin_addr, a, sizeof a);
-                srv_log(S, t_rx, "new start-up from %s:%u: a new session", a,
-                        (unsigned)ntohs(peer.sin_port));
-            }
-        } else if ((res.events & C4G_EV_SILENCE) != 0U) {
-            (void)time_events(S, C4G_EV_SILENCE, t_rx);
-        }
-        if ((res.events & C4G_EV_FOREIGN) != 0U) {
-            log_foreign(S, s, &peer, len, t_rx);
-            continue;
-        }
-        if ((res.events & C4G_EV_RESUMED) != 0U) {
-            srv_log(S, t_rx, "controller back after %.1f ms of silence", (double)res.silence_ns * 1e-6);
-        }
-        if ((res.events & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U &&
-            res.kind == C4G_RX_DROPPED) {
-            srv_log(S, t_rx, "dropped %s packet NUM %d (newest %d): not answered",
-                    (res.events & C4G_EV_DUPLICATE) ? "duplicate" : "stale",
-                    (int)((uint32_t)in[0] | (uint32_t)in[1] << 8 | (uint32_t)in[2] << 16 |
-                          (uint32_t)in[3] << 24),
-                    (int)s->last_num);
-            continue;
-        }
-        if ((res.events & C4G_EV_MALFORMED) != 0U && res.diag.status == C4G_ERR_STATE) {
-            srv_log(S, t_rx, "refused a %zu-byte initialization packet mid-session (NUM %lld): "
-                    "accepted only at start-up or after 506", len, (long long)res.diag.value);
-            continue;
-        }
-        if ((res.events & C4G_EV_MALFORMED) != 0U) {
-            srv_log(S, t_rx, "dropped malformed %zu-byte datagram: %s (field %s, offset %u, axis %d, value %lld)",
-                    len, c4g_strerror(res.diag.status), c4g_field_name(res.diag.field),
-                    (unsigned)res.diag.offset, (int)res.diag.axis, (long long)res.diag.value);
-            continue;
-        }
-        if ((res.events & C4G_EV_LOST) != 0U && res.kind == C4G_RX_CYCLIC) {
-            S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
-            srv_log(S, t_rx, "long gap: more than %.1f ms without a packet",
-                    (double)s->lost_timeout_ns * 1e-6);
-        }
-        if ((res.events & C4G_EV_INIT) != 0U) {
-            S->stats.inits++;
-            srv_behave_init(S, t_rx);
-            srv_log(S, t_rx, "init packet: %u open axes, period %d ms, version %d.%d.%d",
-                    (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
-                    (int)s->init.version_minor, (int)s->init.version_build);
-        }
-        if ((res.events & C4G_EV_RESTART) != 0U) {
-            S->stats.restarts++;
-            srv_log(S, t_rx, "506: client restart, a new init packet follows");
-        }
-        if ((res.events & C4G_EV_FREEZE_IN) != 0U) {
-            S->stats.frozen_passive++;
-            srv_log(S, t_rx, "502: passive freezing (loss check suspended)");
-        }
-        if ((res.events & C4G_EV_FREEZE_OUT) != 0U) {
-            srv_log(S, t_rx, "503: passive freezing over");
-        }
-        if ((res.events & C4G_EV_DRIVES) != 0U) {
-            srv_log(S, t_rx, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
-        }
-        if ((res.events & C4G_EV_CYCLIC_START) != 0U) {
-            srv_log(S, t_rx, "cyclic communication started");
-        }
-        if (res.kind == C4G_RX_SYNC || res.kind == C4G_RX_INIT) {
-            send_it = (c4g_session_reply(s, NULL, out, sizeof out, &olen) == C4G_OK);
-        } else if (res.kind == C4G_RX_CYCLIC) {
-            const uint64_t k = s->counters.cyclic;
-            S->cyc_k = k;
-            S->thaw = thaw;
-            thaw = 0;
-            if (srv_reply(S, res.pkt, &tx, t_rx) != 0) {
-                S->stats.encode_errors++;
-            }
-            if (S->cfg.skip_at > 0U && k >= S->cfg.skip_at && k < S->cfg.skip_at + S->cfg.skip_count) {
-                S->stats.skipped++;
-            } else {
-                const c4g_status_t st = c4g_session_reply(s, &tx, out, sizeof out, &olen);
-                if (st == C4G_OK) {
-                    send_it = 1;
-                } else {
-                    /* the encoder refused the reply (NaN, unknown mode): answer neutral */
-                    S->stats.encode_errors++;
-                    (void)c4g_pc_reply_neutral(res.pkt, &tx);
-                    send_it = (c4g_session_reply(s, &tx, out, sizeof out, &olen) == C4G_OK);
-                }
-            }
-        }
-        if (send_it) {
-            if (sendto(fd, out, olen, 0, (struct sockaddr *)&peer, plen) != (ssize_t)olen) {
-                S->stats.send_errors++;
-            }
-            t_tx = now_ns();
-            if (res.kind == C4G_RX_CYCLIC) {
-                const int64_t cyc = (int64_t)(t_tx - t_rx);
-                (void)c4g_session_sent(s, t_tx);
-                hist_add(&S->stats, cyc);
-                if (cyc > (int64_t)S->cfg.late_us * 1000) {
-                    S->stats.late++;
-                }
-                log_moni(S, t_rx, res.pkt, &tx);
-            }
-            log_datagram(S, LOG_PCAP_TX, t_tx, out, olen, &peer);
-        }
-        if (res.kind == C4G_RX_CYCLIC && S->cfg.freeze_at == s->counters.cyclic &&
-            tx.ax[0].mode == C4G_MODE_FREEZING_A) {
-            S->stats.freezes++;
-            srv_log(S, now_ns(), "active freezing: pausing %.0f ms", S->cfg.freeze_ms);
-            pause_ms(S->cfg.freeze_ms);
-            thaw = 1;
-        }
-        if ((res.events & C4G_EV_END) != 0U) {
-            srv_log(S, t_rx, "504: end of communication");
-            if (!S->cfg.persist) {
-                return EXIT_END;
-            }
-            srv_counters_add(&S->done, &s->counters); /* the exit report adds every session */
-            (void)c4g_session_init(s, &s->cfg);
+        if (code >= 0) {
+            return code;
         }
     }
 }
 
-int main(int argc, char **argv)
+/* The configuration: command line, INI file, input files, the loop. SRV_NEXT to go on,
+ * else the exit code (0 after --help / --version). */
+static int configure(srv_t *S, int argc, char **argv)
 {
-    srv_t *S = &g_srv;
-    c4g_session_config_t scfg;
-    struct sigaction sa;
-    int fd, code;
-    const char *why;
-
     srv_config_default(&S->cfg);
-    if (parse_args(&S->cfg, argc, argv) != 0 || load_files(&S->cfg) != 0) {
+    switch (srv_config_cli(&S->cfg, C4G_PCAP_ANCHOR(), argc, argv)) {
+    case CLI_RUN: break;
+    case CLI_DONE: return 0; /* --help, --version */
+    default: return EXIT_USAGE;
+    }
+    if (load_files(&S->cfg) != 0) {
         return EXIT_USAGE;
     }
-    (void)c4g_session_config_default(&scfg);
-    scfg.num_policy = S->cfg.num_policy;
-    scfg.lost_timeout_ns = S->cfg.lost_timeout_ns;
-    if (c4g_session_init(&S->session, &scfg) != C4G_OK) {
+    (void)c4g_session_config_default(&S->loop_cfg.session);
+    (void)c4g_engine_config_default(&S->loop_cfg.engine);
+    S->loop_cfg.session.num_policy = S->cfg.num_policy;
+    S->loop_cfg.session.lost_timeout_ns = S->cfg.lost_timeout_ns;
+    S->loop_cfg.engine.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
+    if (c4g_loop_init(&S->loop, &S->loop_cfg) != C4G_OK) {
         fprintf(stderr, "c4g-server: session configuration refused\n");
         return EXIT_USAGE;
     }
     srv_behave_reset(S);
-    fd = open_socket(S);
-    if (fd < 0) {
-        return (fd == -1) ? EXIT_USAGE : EXIT_SETUP;
+    return SRV_NEXT;
+}
+
+/* Socket, outputs, the log writer thread, signals, real time. SRV_NEXT with the socket in
+ * *fd, else the exit code. */
+static int start(srv_t *S, int *fd)
+{
+    struct sigaction sa;
+    *fd = open_socket(S);
+    if (*fd < 0) {
+        return (*fd == -1) ? EXIT_USAGE : EXIT_SETUP;
     }
     S->local_port = htons((uint16_t)S->cfg.port);
     if (srv_outputs_open(S) != 0) {
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     c4g_rtlog_init(&S->log, srv_sink, S);
     if (c4g_rtlog_start(&S->log) != 0) {
         fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     memset(&sa, 0, sizeof sa);
@@ -781,7 +684,7 @@ int main(int argc, char **argv)
     /* RT settings last: the writer thread stays SCHED_OTHER; memory is locked from here */
     if (srv_rt_setup(&S->cfg, stderr) != 0) {
         c4g_rtlog_stop(&S->log);
-        close(fd);
+        close(*fd);
         return EXIT_SETUP;
     }
     if (!S->cfg.quiet) {
@@ -789,15 +692,18 @@ int main(int argc, char **argv)
                 S->cfg.bind_addr, S->cfg.port, S->cfg.ctrl_addr,
                 S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1");
     }
-    S->t0_ns = now_ns();
-    code = serve(S, fd);
-    c4g_rtlog_stop(&S->log);
-    close(fd);
+    return SRV_NEXT;
+}
+
+/* The report and the JSON summary at exit. Returns the exit code. */
+static int finish(srv_t *S, int code)
+{
+    const char *why;
     switch (code) {
     case EXIT_END: why = "504 from the controller (end of communication)"; break;
     case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
-    case EXIT_TIMEOUT: why = (S->session.counters.rx == 0U) ? "idle timeout: no controller"
-                                                            : "--max-seconds reached"; break;
+    case EXIT_TIMEOUT: why = (S->loop.session.counters.rx == 0U) ? "idle timeout: no controller"
+                                                                 : "--max-seconds reached"; break;
     case EXIT_SIGNAL: why = "stopped by a signal"; break;
     default: why = "?"; break;
     }
@@ -809,4 +715,22 @@ int main(int argc, char **argv)
     }
     srv_outputs_close(S);
     return code;
+}
+
+int main(int argc, char **argv)
+{
+    srv_t *S = &g_srv;
+    int fd = -1;
+    int code = configure(S, argc, argv);
+    if (code == SRV_NEXT) {
+        code = start(S, &fd);
+    }
+    if (code != SRV_NEXT) {
+        return code;
+    }
+    S->t0_ns = now_ns();
+    code = serve(S, fd);
+    c4g_rtlog_stop(&S->log);
+    close(fd);
+    return finish(S, code);
 }

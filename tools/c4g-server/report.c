@@ -106,7 +106,7 @@ static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
     const double t = (double)(rec->t_ns - S->t0_ns) * 1e-9;
-    const c4g_axis_map_t *m = &S->session.map;
+    const c4g_axis_map_t *m = &S->loop.session.map;
     uint32_t i;
     memcpy(&rx, rec->data, sizeof rx);
     memcpy(&tx, rec->data + sizeof rx, sizeof tx);
@@ -218,7 +218,7 @@ void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
 static void counters_total(const srv_t *S, c4g_counters_t *tot)
 {
     *tot = S->done;
-    srv_counters_add(tot, &S->session.counters);
+    srv_counters_add(tot, &S->loop.session.counters);
 }
 
 void srv_report(srv_t *S, FILE *out, const char *why, int code)
@@ -230,7 +230,7 @@ void srv_report(srv_t *S, FILE *out, const char *why, int code)
     const srv_safety_t *sf = &S->safety;
     uint32_t k;
     counters_total(S, &tot);
-    (void)c4g_session_timing(&S->session, &t);
+    (void)c4g_session_timing(&S->loop.session, &t);
     fprintf(out, "c4g-server: session ended: %s (exit code %d)\n", why, code);
     fprintf(out, "== Timing (manual chapter 22, PC point of view)\n");
     fprintf(out, "Nominal Inter-Packets Period = %.9f s\n", (double)t.nominal_period_ns * 1e-9);
@@ -300,12 +300,12 @@ int srv_json(srv_t *S, const char *path, const char *why, int code)
         return -1;
     }
     counters_total(S, &tot);
-    (void)c4g_session_timing(&S->session, &t);
+    (void)c4g_session_timing(&S->loop.session, &t);
     fprintf(fp, "{\"tool\":\"c4g-server\",\"version\":\"%s\",\"exit_code\":%d,\"reason\":\"%s\",",
             C4G_VERSION_STRING, code, why);
     fprintf(fp, "\"num_policy\":\"%s\",\"axes\":%u,\"period_ms\":%d,",
-            S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1", (unsigned)S->session.map.n_axes,
-            (int)S->session.init.period_ms);
+            S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1", (unsigned)S->loop.session.map.n_axes,
+            (int)S->loop.session.init.period_ms);
     fprintf(fp, "\"timing\":{\"nominal_period_ns\":%lld,\"worst_cycle_ns\":%lld,"
             "\"min_inter_ns\":%lld,\"max_inter_ns\":%lld,\"min_jitter_ns\":%lld,"
             "\"max_jitter_ns\":%lld,\"min_jitter_pct\":%.6f,\"max_jitter_pct\":%.6f,"

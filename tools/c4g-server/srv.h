@@ -4,13 +4,15 @@
 #define C4G_SRV_H
 
 #include "c4gopen.h"
+#include "c4g_cli.h"
+#include "c4g_controllers.h"
 #include "c4g_rtlog.h"
 
 #include <netinet/in.h>
 #include <stdint.h>
 #include <stdio.h>
 
-#define SRV_MAX_TRAJ_ROWS 20000U  /* trajectory file rows (static storage) */
+#define SRV_MAX_TRAJ_ROWS CTLR_MAX_TRAJ_ROWS /* trajectory file rows (static storage) */
 #define SRV_MAX_TRAJ_BYTES (8U << 20) /* file size caps: a bigger file (or /dev/zero) is refused */
 #define SRV_MAX_FF_BYTES (1U << 20)
 #define SRV_HIST_US 20000U        /* cycle-time histogram: 1 us bins up to 20 ms */
@@ -28,61 +30,13 @@ enum {
 /* Log record kinds carried by the rtlog ring. */
 enum { LOG_TEXT = 1, LOG_PCAP_RX = 2, LOG_PCAP_TX = 3, LOG_MONI = 4 };
 
-/* Trajectory source for modes 1, 4, 5. */
-enum { SRC_NONE = 0, SRC_SINE = 1, SRC_FILE = 2 };
-
-/* Per-axis mode-9 feedforward parameters (see fixtures/server/ff_example.txt). */
-typedef struct srv_ff {
-    int set;                /* 0, or the line of the parameter file that set it */
-    double c0, cv, cc, ca, gs, gscale, gphase;
-} srv_ff_t;
-
-/* Per-arm behaviour configuration. Times in seconds, positions in motor turns,
- * velocities in delta motor turns per tick, currents in A. */
-typedef struct srv_arm_cfg {
-    uint32_t axes;          /* logical axes driven (bit 0 = axis 1); default all */
-    int src;                /* SRC_SINE or SRC_FILE (modes 1, 4, 5) */
-    double sine_amp;        /* raised-cosine amplitude [turns] */
-    double sine_freq;       /* [Hz] */
-    double sine_cycles;     /* cycles before exit from open */
-    char traj_path[512];
-    double offset_amp;      /* mode 7 offset step [turns] */
-    double offset_ramp;     /* mode 7 ramp time [s] */
-    double offset_hold;     /* mode 7 hold time before exit [s] */
-    double vel_amp;         /* mode 8 velocity delta amplitude [delta turns/tick] */
-    double vel_freq;        /* mode 8 [Hz] */
-    double vel_cycles;      /* mode 8 full cycles (zero mean) */
-    char ff_path[512];      /* mode 9 parameter file */
-    double duration;        /* modes 1 (with no trajectory), 2, 9: time before exit [s] */
-    double kp, kd, ki;      /* modes 1, 2: PD(+I) gains [A/turn], [A/(turn/tick)], [A/(turn s)] */
-    double i_max;           /* integrator limit [A] (anti-windup); 0 = AzLim */
-    double scs;             /* soft control switching ramp time [s] (mode 1/2 entry) */
-    int exit_open;          /* send EXIT_FROM_OPEN when the behaviour is done */
-    double max_step;        /* continuity limit on PC position refs [turns/tick]; 0 = off */
-    double pos_min[C4G_AXES_PER_ARM], pos_max[C4G_AXES_PER_ARM]; /* stroke ends */
-    int have_stroke;
-    double fe_limit;        /* following-error limit override [turns]; 0 = init packet */
-} srv_arm_cfg_t;
-
-/* A loaded trajectory file: t[s] plus up to 10 offset columns (logical axes). */
-typedef struct srv_traj {
-    uint32_t rows, cols;
-    double t[SRV_MAX_TRAJ_ROWS];
-    float q[SRV_MAX_TRAJ_ROWS][C4G_AXES_PER_ARM];
-} srv_traj_t;
-
-/* Per OPEN-index axis runtime state (behaviours + safety). */
-typedef struct srv_axis {
-    int32_t mode;           /* mode seen on the previous packet, -1 none */
-    uint32_t ticks;         /* packets in the current mode */
-    double start;           /* reference at mode entry */
-    double q_prev;          /* previous generator offset */
-    double ref_prev;        /* previous absolute PC position reference */
-    int have_ref_prev;
-    double integ;           /* integrator state [A] */
-    double v_prev;          /* previous target velocity (mode 9 acceleration) */
-    int done;               /* behaviour finished (exit from open requested) */
-} srv_axis_t;
+/* The controllers' types (tools/common/c4g_controllers.h) under the server's names. */
+#define SRC_NONE CTLR_SRC_NONE
+#define SRC_SINE CTLR_SRC_SINE
+#define SRC_FILE CTLR_SRC_FILE
+typedef ctlr_ff_t srv_ff_t;
+typedef ctlr_arm_cfg_t srv_arm_cfg_t;
+typedef ctlr_traj_t srv_traj_t;
 
 /* Safety events and counters (reported at exit). */
 typedef struct srv_safety {
@@ -156,15 +110,12 @@ typedef struct srv_config {
 /* The whole server state (static storage; nothing allocated after start-up). */
 typedef struct srv {
     srv_config_t cfg;
-    c4g_session_t session;
+    c4g_loop_config_t loop_cfg;   /* the loop's configuration (a new session after 504) */
+    c4g_loop_t loop;              /* library loop: session + control engine + reply path */
     c4g_counters_t done;          /* counters of the sessions --persist ended by 504 */
-    srv_axis_t ax[C4G_MAX_AXES];
+    ctlr_axis_t ax[C4G_MAX_AXES]; /* controller state per OPEN index */
     srv_safety_t safety;
     srv_stats_t stats;
-    uint32_t arm_busy[C4G_ARMS];  /* arm has an axis in an open mode with a behaviour */
-    c4g_engine_t ctl;                /* library control layer: state machines, rules, safety */
-    c4g_engine_config_t engine_cfg;
-    int ctl_ok;                   /* ctl initialised from the current init packet */
     uint64_t cyc_k;               /* cyclic packet number (session counter) being answered */
     int thaw;                     /* active freezing over: request EXIT_FROM_OPEN */
     c4g_rtlog_t log;
@@ -178,10 +129,14 @@ typedef struct srv {
 
 extern srv_traj_t srv_traj[C4G_ARMS];
 
-/* behave.c */
+/* behave.c: the controllers (tools/common/c4g_controllers.h) on the loop's control engine */
 void srv_behave_reset(srv_t *S);
+/* after an accepted init packet: the control engine's user limits */
 void srv_behave_init(srv_t *S, uint64_t t_ns);
-int srv_reply(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns);
+/* a cyclic packet with a prepared reply (ev->cmd): fill it, post the requests */
+void srv_behave(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_ns);
+/* after c4g_loop_reply: the finish status, exits sent, the filter's safety events */
+void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns);
 
 struct tf_file;
 
@@ -189,6 +144,9 @@ struct tf_file;
 void srv_config_default(srv_config_t *c);
 int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
                      size_t errlen);
+/* the command line (tools/common/c4g_cli.h): CLI_RUN, CLI_DONE (--help, --version) or
+ * CLI_BAD (the error is on stderr) */
+cli_result_t srv_config_cli(srv_config_t *c, const char *version_extra, int argc, char **argv);
 /* INI file (at most 1 MiB): 0, or -1 with "PATH:LINE:COL: ..." in err */
 int srv_config_load_ini(srv_config_t *c, const char *path, char *err, size_t errlen);
 int srv_config_parse_ini(srv_config_t *c, struct tf_file *f, char *err, size_t errlen);
