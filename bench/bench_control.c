@@ -133,10 +133,19 @@ static void setup(void)
     if (c4g_ctrl_encode(&p, g_in, sizeof g_in, &len) != C4G_OK) { fprintf(stderr, "enc\n"); exit(1); }
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     double base, wire, full;
     setup();
+    if (argc == 4 && strcmp(argv[1], "--only") == 0) { /* N ticks of one path, for callgrind */
+        const long n = atol(argv[3]);
+        void (*op)(void) = (strcmp(argv[2], "full") == 0)   ? op_full
+                           : (strcmp(argv[2], "wire") == 0) ? op_wire
+                                                            : op_memcpy;
+        long k;
+        for (k = 0; k < n; k++) op();
+        return 0;
+    }
     base = median_ns(op_memcpy);
     wire = median_ns(op_wire);
     full = median_ns(op_full);

@@ -95,18 +95,20 @@ static inline uint32_t nonfinite(uint32_t bits)
     | (((code) < LOW_MODES_LIMIT) ? (1U << ((uint32_t)(code) % 18U)) : 0U)
 #define LOW_MODES_MASK (0U C4G_MODE_TABLE(LOW_MODE_BIT_))
 
-static inline bool mode_known_fast(int32_t mode)
+static inline uint32_t mode_unknown_fast(int32_t mode)
 {
-    bool known;
+    uint32_t unknown = 0U;
     if ((mode >= 0) && (mode < LOW_MODES_LIMIT)) {
         /* Deviation D-05 (MISRA 12.2): the mask's shift counts are code % 18, below 32. */
         /* cppcheck-suppress misra-c2012-12.2 */
         const uint32_t shifted = LOW_MODES_MASK >> (uint32_t)mode;
-        known = (shifted & 1U) != 0U;
+        unknown = (shifted & 1U) ^ 1U;
+    } else if (!c4g_mode_is_known(mode)) {
+        unknown = 1U;
     } else {
-        known = c4g_mode_is_known(mode);
+        /* a known mode above 17 */
     }
-    return known;
+    return unknown;
 }
 
 /* Returns non-zero if a float field is NaN/inf (the slow path names it); values stored anyway. */
@@ -216,7 +218,7 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
             const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
                                           &a->actual_pos, &a->actual_vel, &a->current_ref,
                                           &a->ext[0], &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
+            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
                 st = axis_error(a->mode, p, i, diag);
             }
         }
@@ -249,7 +251,7 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
             const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
                                           &a->measure, &a->vel_add, &a->current_add, &a->ext[0],
                                           &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
+            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
                 st = axis_error(a->mode, p, i, diag);
             }
         }
@@ -306,7 +308,7 @@ c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t 
                 put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
                          a->actual_pos, a->actual_vel, a->current_ref, a->ext[0], a->ext[1],
                          a->ext[2]);
-            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
+            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
                 st = encode_error(a->mode, buf);
             }
         }
@@ -330,7 +332,7 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
             const uint32_t bad =
                 put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
                          a->measure, a->vel_add, a->current_add, a->ext[0], a->ext[1], a->ext[2]);
-            if ((bad != 0U) || (!mode_known_fast(a->mode))) {
+            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
                 st = encode_error(a->mode, buf);
             }
         }
