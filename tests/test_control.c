@@ -795,6 +795,15 @@ static void test_more_paths(void **state)
     assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_int_equal(tx.ax[6].mode, 4);
+    /* a mode written by the caller on an arm with a joint check: restored, reported */
+    assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_OK);
+    mk_rx(&rx, 8, 8, 0, 5);
+    assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
+    tx.ax[1].mode = C4G_MODE_4;
+    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
+    assert_int_equal(tx.ax[1].mode, 0);
+    assert_true(rep.axis_flags[1] & C4G_SF_MODE_RESTORED);
 }
 
 int main(void)

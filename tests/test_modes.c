@@ -32,7 +32,24 @@ static void test_table(void **state)
         assert_int_equal(c4g_mode_pc_fields(m), mi.pc_fields);
         assert_int_equal(c4g_mode_operating(m), mi.operating);
         assert_int_equal(c4g_mode_is_known(m), 1);
+        assert_int_equal(c4g_mode_rules(m), mi.rules);
+        assert_ptr_equal(c4g_mode_find(m)->name, mi.name);
     }
+    assert_null(c4g_mode_find(13));
+    assert_int_equal(c4g_mode_rules(13), 0);
+    /* the filter rules: what the controller does with the PC's fields */
+    assert_int_equal(c4g_mode_rules(C4G_MODE_4), C4G_MR_ABS | C4G_MR_VEL | C4G_MR_FE);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_5), C4G_MR_INT_D2 | C4G_MR_VEL | C4G_MR_FE);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_7), C4G_MR_INT_D1 | C4G_MR_FE);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_8), C4G_MR_INT_D4 | C4G_MR_VADD | C4G_MR_FE);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_9), C4G_MR_DCUR | C4G_MR_FE);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_0_DEBUG), C4G_MR_COPY);
+    assert_int_equal(c4g_mode_rules(C4G_MODE_4_STANDBY), 0);
+    /* the transition columns */
+    assert_int_equal(c4g_mode_find(C4G_MODE_7_STANDBY_EXIT)->from, C4G_MODE_7_STANDBY);
+    assert_int_equal(c4g_mode_find(C4G_MODE_FREEZING_P_OUT)->from, C4G_MODE_FREEZING_P_IN);
+    assert_int_equal(c4g_mode_find(C4G_MODE_FREEZING_A)->from, C4G_FROM_IDLE);
+    assert_int_equal(c4g_mode_find(C4G_MODE_EXIT_OPEN)->from, C4G_FROM_ANY);
     assert_int_equal(c4g_mode_info(13, &mi), C4G_ERR_MODE);
     assert_int_equal(c4g_mode_info(0, NULL), C4G_ERR_NULL);
     assert_string_equal(c4g_mode_name(13), "UNKNOWN");
