@@ -28,6 +28,19 @@ static inline size_t th_read_file(const char *path, uint8_t *buf, size_t cap)
     return n;
 }
 
+#ifdef TH_FIG10_1
+/* The manual's figure 10.1 initialization packet, byte for byte, loaded by the group setup
+ * th_load_fig (tests that want it define TH_FIG10_1 before including this header). */
+static uint8_t th_fig[C4G_INIT_SIZE];
+static int th_load_fig(void **state)
+{
+    (void)state;
+    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", th_fig, sizeof th_fig),
+                     C4G_INIT_SIZE);
+    return 0;
+}
+#endif
+
 /* xorshift32: deterministic, seed printed by the tests that use it */
 static inline uint32_t th_rand(uint32_t *s)
 {

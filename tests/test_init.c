@@ -1,16 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Initialization packet: the manual's figure 10.1 vector, validation, axis maps. */
+#define TH_FIG10_1
 #include "test_helpers.h"
 #include <math.h>
 
-static uint8_t fig[1200];
-
-static int load(void **state)
-{
-    (void)state;
-    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", fig, sizeof fig), 1200);
-    return 0;
-}
 
 static void test_fig10_1_decode(void **state)
 {
@@ -18,7 +11,7 @@ static void test_fig10_1_decode(void **state)
     c4g_diag_t d;
     unsigned ax;
     (void)state;
-    assert_int_equal(c4g_init_decode(fig, sizeof fig, &in, &d), C4G_OK);
+    assert_int_equal(c4g_init_decode(th_fig, sizeof th_fig, &in, &d), C4G_OK);
     assert_int_equal(d.status, C4G_OK);
     assert_int_equal(in.num, 10);
     assert_int_equal(in.n_field_pck, 3);
@@ -59,7 +52,7 @@ static void test_fig10_1_builtin_matches_vector(void **state)
     assert_int_equal(c4g_init_fig10_1(&in), C4G_OK);
     assert_int_equal(c4g_init_encode(&in, out, sizeof out, &len), C4G_OK);
     assert_int_equal(len, 1200);
-    assert_memory_equal(out, fig, 1200);   /* byte-exact against the shared vector */
+    assert_memory_equal(out, th_fig, 1200);   /* byte-exact against the shared vector */
     assert_int_equal(c4g_init_encode(&in, out, 1199, &len), C4G_ERR_CAPACITY);
     assert_int_equal(len, 0);
     assert_int_equal(c4g_init_fig10_1(NULL), C4G_ERR_NULL);
@@ -72,7 +65,7 @@ static void test_axis_map(void **state)
     c4g_diag_t d;
     unsigned i;
     (void)state;
-    assert_int_equal(c4g_init_decode(fig, sizeof fig, &in, NULL), C4G_OK);
+    assert_int_equal(c4g_init_decode(th_fig, sizeof th_fig, &in, NULL), C4G_OK);
     assert_int_equal(c4g_axis_map_build(&in, &m, &d), C4G_OK);
     assert_int_equal(m.n_axes, 6);
     assert_int_equal(m.n_axes_arm[0], 6);
@@ -130,7 +123,7 @@ static void expect_bad_at(uint32_t off, uint32_t value, c4g_status_t st, c4g_fie
     uint8_t b[1200];
     c4g_init_t in;
     c4g_diag_t d;
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(&b[off], value);
     assert_int_equal(c4g_init_decode(b, sizeof b, &in, &d), st);
     assert_int_equal(d.status, st);
@@ -191,7 +184,7 @@ static void test_hostile_fields(void **state)
         for (ax = 0; ax < 10; ax++) {
             uint8_t b[1200];
             c4g_init_t in;
-            memcpy(b, fig, sizeof b);
+            memcpy(b, th_fig, sizeof b);
             th_put_u32(&b[16 + 40 * arm + 4 * ax], 0xFF);
             assert_int_equal(c4g_init_decode(b, sizeof b, &in, NULL), C4G_OK);
         }
@@ -220,7 +213,7 @@ static void test_openmask_minus1_vector(void **state)
     assert_int_equal(c4g_init_encode(&in, out, sizeof out, &len), C4G_OK);
     assert_memory_equal(out, b, sizeof b);
     /* any value is accepted where the axis is not open, 0 and -1 alike */
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(&b[16 + 40 * 2 + 4 * 7], 12345u);
     assert_int_equal(c4g_init_decode(b, sizeof b, &in, NULL), C4G_OK);
     assert_int_equal(in.open_mask[2][7], 12345);
@@ -232,7 +225,7 @@ static void test_diag_names_arm_axis(void **state)
     c4g_init_t in;
     c4g_diag_t d;
     (void)state;
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_f32(&b[388 + 40 * 2 + 4 * 7], NAN);
     assert_int_equal(c4g_init_decode(b, sizeof b, &in, &d), C4G_ERR_NONFINITE);
     assert_int_equal(d.arm, 2);
@@ -245,7 +238,7 @@ static void test_every_length(void **state)
     static uint8_t big[1500];
     uint32_t len;
     (void)state;
-    memcpy(big, fig, sizeof fig);
+    memcpy(big, th_fig, sizeof th_fig);
     for (len = 0; len <= sizeof big; len++) {
         c4g_init_t in;
         c4g_diag_t d;
@@ -267,7 +260,7 @@ static void test_nulls_and_encode_validation(void **state)
     c4g_diag_t d;
     (void)state;
     assert_int_equal(c4g_init_decode(NULL, 1200, &in, &d), C4G_ERR_NULL);
-    assert_int_equal(c4g_init_decode(fig, 1200, NULL, &d), C4G_ERR_NULL);
+    assert_int_equal(c4g_init_decode(th_fig, 1200, NULL, &d), C4G_ERR_NULL);
     assert_int_equal(c4g_init_validate(NULL, &d), C4G_ERR_NULL);
     assert_int_equal(d.status, C4G_ERR_NULL);
     assert_int_equal(c4g_init_encode(NULL, out, 1200, &len), C4G_ERR_NULL);
@@ -291,5 +284,5 @@ int main(void)
         cmocka_unit_test(test_every_length),
         cmocka_unit_test(test_nulls_and_encode_validation),
     };
-    return cmocka_run_group_tests_name("init", tests, load, NULL);
+    return cmocka_run_group_tests_name("init", tests, th_load_fig, NULL);
 }

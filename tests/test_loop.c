@@ -1,18 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* The PC-side loop object: handshake, control engine, the safety filter and the neutral
  * fallback on the only reply path. */
+#define TH_FIG10_1
 #include "test_helpers.h"
 
 #define MS 1000000ULL
 
-static uint8_t fig[1200];
-
-static int load(void **state)
-{
-    (void)state;
-    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", fig, sizeof fig), 1200);
-    return 0;
-}
 
 typedef struct {
     c4g_loop_t lp;
@@ -52,7 +45,7 @@ static void cold_start(fx_t *f)
     f->t = 1000 * MS;
     for (num = 1; num <= 12; num++) {
         if (num == 10) {
-            assert_int_equal(feed_from(f, fig, sizeof fig, &f->ctl), C4G_RX_INIT);
+            assert_int_equal(feed_from(f, th_fig, sizeof th_fig, &f->ctl), C4G_RX_INIT);
             assert_int_equal(f->lp.engine_ready, 1U);
             answer(f, 1200U);
             continue;
@@ -240,8 +233,8 @@ static void test_engine_refused(void **state)
         assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
         assert_int_equal(feed_from(&f, b, len, &f.ctl), C4G_RX_CYCLIC);
         answer(&f, C4G_CYCLIC_SIZE(6U));
-        th_put_u32(fig, 10U);
-        assert_int_equal(feed_from(&f, fig, sizeof fig, &f.ctl), C4G_RX_INIT);
+        th_put_u32(th_fig, 10U);
+        assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &f.ctl), C4G_RX_INIT);
         answer(&f, 1200U);
     }
     assert_int_equal(f.lp.counters.engine_init_refused, 1U);
@@ -307,5 +300,5 @@ int main(void)
         cmocka_unit_test(test_engine_refused),
         cmocka_unit_test(test_queries),
     };
-    return cmocka_run_group_tests_name("loop", tests, load, NULL);
+    return cmocka_run_group_tests_name("loop", tests, th_load_fig, NULL);
 }

@@ -1,17 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Session engine: field facts handshake, NUM policies, counters, timing, special modes. */
+#define TH_FIG10_1
 #include "test_helpers.h"
 
 #define MS 1000000ULL
 
-static uint8_t fig[1200];
-
-static int load(void **state)
-{
-    (void)state;
-    assert_int_equal(th_read_file(FIXTURES_DIR "/vectors/init-fig10-1.bin", fig, sizeof fig), 1200);
-    return 0;
-}
 
 typedef struct {
     c4g_session_t s;
@@ -55,13 +48,13 @@ static void cold_start(fx_t *f, c4g_num_policy_t pol)
         assert_int_equal(f->out[20], 0x5A);
         assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_ERR_STATE);
     }
-    assert_int_equal(feed(f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(feed(f, th_fig, sizeof th_fig), C4G_RX_INIT);
     assert_true(f->r.events & C4G_EV_INIT);
     assert_int_equal(f->s.phase, C4G_PHASE_POST_SYNC);
     assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
     assert_int_equal(f->out_len, 1200);
     assert_int_equal(th_get_u32(f->out), pol == C4G_NUM_PLUS_ONE ? 11 : 10);
-    assert_memory_equal(&f->out[4], &fig[4], 1196);
+    assert_memory_equal(&f->out[4], &th_fig[4], 1196);
     sync_packet(b, 10); /* a post-init sync repeating a NUM is dropped like any stale packet */
     assert_int_equal(feed(f, b, sizeof b), C4G_RX_DROPPED);
     assert_true(f->r.events & C4G_EV_DUPLICATE);
@@ -218,12 +211,12 @@ static void test_bad_init_rejected(void **state)
     (void)state;
     assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
     f.t = 0;
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(b, 9);   /* init whose NUM is not 10 */
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_DROPPED);
     assert_int_equal(f.r.diag.field, C4G_FIELD_NUM);
     assert_int_equal(f.s.counters.malformed[C4G_MAL_NUM], 1);
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(&b[12], 0);
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_DROPPED);
     assert_int_equal(f.s.counters.malformed[C4G_MAL_INIT], 1);
@@ -267,7 +260,7 @@ static void test_restart_506(void **state)
     cyclic(&f, 14, C4G_MODE_SVR_RESTART);
     assert_true(f.r.events & C4G_EV_RESTART);
     /* client restart: the init packet comes first, no sync before or after */
-    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT);
     assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
     assert_int_equal(th_get_u32(f.out), 11);
@@ -293,7 +286,7 @@ static void test_restart_then_cold_sync(void **state)
     }
     sync_packet(b, 1);
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
-    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT);
     assert_int_equal(f.s.phase, C4G_PHASE_POST_SYNC); /* a cold start: the 506 is forgotten */
 }
 
@@ -319,7 +312,7 @@ static void test_init_without_sync(void **state)
     (void)state;
     assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
     f.t = 0;
-    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT);
     assert_int_equal(f.s.phase, C4G_PHASE_CYCLIC);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, 1199, &f.out_len), C4G_ERR_CAPACITY);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
@@ -436,7 +429,7 @@ static void test_lost_then_cold_restart(void **state)
     sync_packet(b, 1);                                /* NUM 1 does not go on from 13 */
     assert_int_equal(feed(&f, b, sizeof b), C4G_RX_SYNC);
     assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
-    assert_int_equal(feed(&f, fig, sizeof fig), C4G_RX_INIT);
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT);
     assert_int_equal(f.s.phase, C4G_PHASE_POST_SYNC);
 }
 
@@ -470,7 +463,7 @@ static void test_timing(void **state)
     unsigned i;
     (void)state;
     assert_int_equal(c4g_session_init(&s, NULL), C4G_OK);
-    assert_int_equal(c4g_session_rx(&s, fig, sizeof fig, now, &r), C4G_OK);
+    assert_int_equal(c4g_session_rx(&s, th_fig, sizeof th_fig, now, &r), C4G_OK);
     assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out + 0, &n), C4G_ERR_CAPACITY);
     for (i = 0; i < 5; i++) {
         if (i > 0) {
@@ -540,7 +533,7 @@ static void test_api_misuse(void **state)
     sync_packet(b, 1);
     assert_int_equal(c4g_session_rx(&s, b, sizeof b, 0, &r), C4G_OK);
     assert_int_equal(c4g_session_reply(&s, NULL, out, sizeof out, &n), C4G_OK);
-    assert_int_equal(c4g_session_rx(&s, fig, sizeof fig, 1, &r), C4G_OK);
+    assert_int_equal(c4g_session_rx(&s, th_fig, sizeof th_fig, 1, &r), C4G_OK);
     assert_int_equal(s.phase, C4G_PHASE_CYCLIC);
     assert_int_equal(s.lost_timeout_ns, 5 * MS);
     len = th_ctrl_bytes(b, sizeof b, 11, 6, 0);
@@ -603,7 +596,7 @@ static void cold_start_from(fx_t *f, const c4g_endpoint_t *e)
         assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
         assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
     }
-    assert_int_equal(feed_from(f, fig, sizeof fig, e), C4G_RX_INIT);
+    assert_int_equal(feed_from(f, th_fig, sizeof th_fig, e), C4G_RX_INIT);
     assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
     for (num = 11; num <= 12; num++) {
         sync_packet(b, num);
@@ -623,7 +616,7 @@ static void cold_start_from_keep(fx_t *f, const c4g_endpoint_t *e)
         assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
         assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
     }
-    assert_int_equal(feed_from(f, fig, sizeof fig, e), C4G_RX_INIT);
+    assert_int_equal(feed_from(f, th_fig, sizeof th_fig, e), C4G_RX_INIT);
     for (num = 11; num <= 12; num++) {
         sync_packet(b, num);
         assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
@@ -671,7 +664,7 @@ static void test_endpoint_lock(void **state)
     assert_int_equal(c4g_session_is_peer(NULL, &ctl), 0);
     cyclic_from(&f, 13, 0, &ctl);
     /* forged init (AzLim 1e6, FollowError 0), 504, 508, unknown mode, zero flood, 4 bytes */
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(&b[548], 0x49742400u); /* 1e6 */
     th_put_u32(&b[1040], 0);
     expect_foreign(&f, b, sizeof b, &other_port, C4G_FOREIGN_INIT);
@@ -705,7 +698,7 @@ static void test_init_only_at_start_up(void **state)
     cold_start_from(&f, &ctl);
     cyclic_from(&f, 13, 0, &ctl);
     /* from the controller's own endpoint, mid-session: refused, reported, not answered */
-    memcpy(b, fig, sizeof b);
+    memcpy(b, th_fig, sizeof b);
     th_put_u32(&b[548], 0x49742400u);
     assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
     assert_true(f.r.events & C4G_EV_MALFORMED);
@@ -724,13 +717,13 @@ static void test_init_only_at_start_up(void **state)
             sync_packet(s1, num);
             assert_int_equal(feed_from(&g, s1, sizeof s1, &ctl), C4G_RX_SYNC);
         }
-        assert_int_equal(feed_from(&g, fig, sizeof fig, &ctl), C4G_RX_INIT);
-        assert_int_equal(feed_from(&g, fig, sizeof fig, &ctl), C4G_RX_DROPPED);
+        assert_int_equal(feed_from(&g, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+        assert_int_equal(feed_from(&g, th_fig, sizeof th_fig, &ctl), C4G_RX_DROPPED);
         assert_int_equal(g.s.counters.malformed[C4G_MAL_PHASE], 1);
     }
     /* after 506 the new init is taken */
     cyclic_from(&f, 14, C4G_MODE_SVR_RESTART, &ctl);
-    assert_int_equal(feed_from(&f, fig, sizeof fig, &ctl), C4G_RX_INIT);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
     assert_int_equal(f.s.counters.init, 2);
 }
 
@@ -754,7 +747,7 @@ static void test_lost_restart_new_endpoint(void **state)
     assert_int_equal(ev, C4G_EV_LOST);
     f.t += 1000 * MS;
     /* after the loss: an init first from the new endpoint is still foreign */
-    expect_foreign(&f, fig, sizeof fig, &neu, C4G_FOREIGN_INIT);
+    expect_foreign(&f, th_fig, sizeof th_fig, &neu, C4G_FOREIGN_INIT);
     /* a malformed start-up from a stranger does not end the lost state and is foreign */
     memset(b, 0, sizeof b);
     th_put_u32(&b[16], 0x7F800000u);
@@ -818,5 +811,5 @@ int main(void)
         cmocka_unit_test(test_lost_restart_new_endpoint),
         cmocka_unit_test(test_lost_resume_same_endpoint),
     };
-    return cmocka_run_group_tests_name("session", tests, load, NULL);
+    return cmocka_run_group_tests_name("session", tests, th_load_fig, NULL);
 }

@@ -243,7 +243,7 @@ static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *
     const float u = ctl_unset();
     (void)memset(t, 0, sizeof *t);
     t->mode = mode;
-    if ((rules & R_COPY) == 0U) {
+    if ((rules & C4G_MR_COPY) == 0U) {
         t->target_pos = ((rules & C4G_PCF_D1) != 0U) ? u : 0.0F;
         t->target_vel = ((rules & C4G_PCF_D2) != 0U) ? u : 0.0F;
         t->measure = ((rules & C4G_PCF_D3) != 0U) ? u : 0.0F;
@@ -279,7 +279,7 @@ static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS],
         } else {
             (void)memset(tx, 0, sizeof *tx);
         }
-    } else if ((ctl->prep_rules[i] & R_COPY) != 0U) {
+    } else if ((ctl->prep_rules[i] & C4G_MR_COPY) != 0U) {
         (void)memset(tx, 0, sizeof *tx);
         copy_back(rx, tx);
     } else {

@@ -18,19 +18,9 @@ static inline uint32_t axes_in(uint32_t n)
 
 /* What the controller does with the PC's fields in a mode (the mode table's rules column,
  * C4G_MR_*), with the PC fields (C4G_PCF_*) in the low bits. */
-#define R_ABS C4G_MR_ABS
-#define R_INT_D1 C4G_MR_INT_D1
-#define R_INT_D2 C4G_MR_INT_D2
-#define R_INT_D4 C4G_MR_INT_D4
-#define R_VEL C4G_MR_VEL
-#define R_VADD C4G_MR_VADD
-#define R_CUR C4G_MR_CUR
-#define R_DCUR C4G_MR_DCUR
-#define R_FE C4G_MR_FE
-#define R_COPY C4G_MR_COPY
 #define R_FIELDS 0x001FU
 #define R_SHOWN 0x40000U /* (axis_data_check only) the axis carries its prepared mode */
-#define R_INT (R_INT_D1 | R_INT_D2 | R_INT_D4)
+#define R_INT (C4G_MR_INT_D1 | C4G_MR_INT_D2 | C4G_MR_INT_D4)
 
 static inline uint32_t mode_rules(int32_t m)
 {

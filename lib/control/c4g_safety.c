@@ -60,9 +60,9 @@ static inline uint32_t rewritten_check(const c4g_pc_axis_t *tx)
 static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
 {
     float *f = &tx->target_pos;
-    if ((rules & R_INT_D2) != 0U) {
+    if ((rules & C4G_MR_INT_D2) != 0U) {
         f = &tx->target_vel;
-    } else if ((rules & R_INT_D4) != 0U) {
+    } else if ((rules & C4G_MR_INT_D4) != 0U) {
         f = &tx->vel_add;
     } else {
         /* D1 */
@@ -89,10 +89,10 @@ static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint3
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
     /* integrating modes: the reference moves by the controller's own target velocity too */
-    const float base = ((rules & R_ABS) != 0U) ? abs_base(ctl, i)
+    const float base = ((rules & C4G_MR_ABS) != 0U) ? abs_base(ctl, i)
                                                : (rx->target_pos + rx->target_vel);
     float *field = int_field(rules, tx);
-    const float req = ((rules & R_ABS) != 0U) ? (tx->target_pos - base) : *field;
+    const float req = ((rules & C4G_MR_ABS) != 0U) ? (tx->target_pos - base) : *field;
     uint32_t f = 0U;
     float d = req;
     if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base + req)) != 0U) {
@@ -103,7 +103,7 @@ static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint3
             f |= C4G_SF_STROKE;
         }
         if (f != 0U) { /* rewritten only when a check changed it (base + d may round) */
-            if ((rules & R_ABS) != 0U) {
+            if ((rules & C4G_MR_ABS) != 0U) {
                 tx->target_pos = base + d;
             } else {
                 *field = d;
@@ -119,21 +119,21 @@ static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t
     const c4g_axis_limits_t *l = &ctl->lim[i];
     uint32_t f = 0U;
     float o = 0.0F;
-    if ((rules & (R_ABS | R_INT)) != 0U) {
+    if ((rules & (C4G_MR_ABS | R_INT)) != 0U) {
         f = filter_targets(ctl, i, rules, rx, tx);
     }
-    if ((rules & R_VEL) != 0U) {
+    if ((rules & C4G_MR_VEL) != 0U) {
         f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
         tx->target_vel = o;
     }
-    if ((rules & R_VADD) != 0U) {
+    if ((rules & C4G_MR_VADD) != 0U) {
         f |= sfc_velocity(tx->vel_add, l->max_vel, &o);
         tx->vel_add = o;
     }
-    if ((rules & R_CUR) != 0U) {
+    if ((rules & C4G_MR_CUR) != 0U) {
         f |= sfc_sym(tx->current_add, l->current_max, C4G_SF_CURRENT, &o);
         tx->current_add = o;
-    } else if ((rules & R_DCUR) != 0U) {
+    } else if ((rules & C4G_MR_DCUR) != 0U) {
         f |= sfc_delta_current(rx->current_ref, tx->current_add, l->current_max, &o);
         tx->current_add = o;
     } else {
@@ -148,8 +148,8 @@ static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
                                  float *fe_out)
 {
     uint32_t f = 0U;
-    if ((rules & R_FE) != 0U) {
-        const float ref = ((rules & R_ABS) != 0U) ? tx->target_pos : rx->target_pos;
+    if ((rules & C4G_MR_FE) != 0U) {
+        const float ref = ((rules & C4G_MR_ABS) != 0U) ? tx->target_pos : rx->target_pos;
         f = sfc_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
             ctl->fe_latch[i] = 1U;
@@ -169,7 +169,7 @@ static void joint_motor_refs(const c4g_engine_t *ctl, uint32_t arm, const c4g_ct
         const uint32_t i = ctl->map.open_of[arm][j];
         const uint32_t rules = ctl->prep_rules[i];
         double v = (double)rx->ax[i].target_pos;
-        if ((rules & R_ABS) != 0U) {
+        if ((rules & C4G_MR_ABS) != 0U) {
             v = (double)tx->ax[i].target_pos;
         } else if ((rules & R_INT) != 0U) {
             v += (double)*int_field(rules, &tx->ax[i]);
@@ -193,7 +193,7 @@ static uint32_t joint_clamp(const c4g_engine_t *ctl, uint32_t arm, double q[C4G_
             ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
             q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
             /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
-            if ((ctl->prep_rules[i] & (R_ABS | R_INT)) != 0U) {
+            if ((ctl->prep_rules[i] & (C4G_MR_ABS | R_INT)) != 0U) {
                 r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
             }
             changed = 1U;
@@ -218,7 +218,7 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
         for (j = 0U; j < n; j++) {
             const uint32_t i = ctl->map.open_of[arm][j];
             const uint32_t rules = ctl->prep_rules[i];
-            if ((rules & R_ABS) != 0U) {
+            if ((rules & C4G_MR_ABS) != 0U) {
                 tx->ax[i].target_pos = (float)qm[j];
             } else if ((rules & R_INT) != 0U) {
                 *int_field(rules, &tx->ax[i]) = (float)(qm[j] - (double)rx->ax[i].target_pos);
@@ -310,7 +310,7 @@ static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
     }
     tx->mode = m;
-    if ((rules & R_COPY) != 0U) {
+    if ((rules & C4G_MR_COPY) != 0U) {
         copy_back(rx, tx);
         f |= C4G_SF_COPY_BACK;
     }
@@ -452,14 +452,11 @@ static CTL_COLD uint32_t finish_joints(c4g_engine_t *ctl, const c4g_ctrl_packet_
     return any;
 }
 
-/* What the flags of this reply lead to: the status, 505 on faulty arms, stroke stops. */
+/* The faults of this reply: 505 on faulty arms (with their status), stroke stops. */
 static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx,
                                            c4g_engine_report_t *r, uint32_t n, uint32_t any)
 {
     c4g_status_t st = C4G_OK;
-    if ((any & C4G_SF_MODE_RESTORED) != 0U) {
-        st = C4G_ERR_MODE_RESTORED;
-    }
     if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
         st = arm_faults(ctl, tx, r);
     }
@@ -501,10 +498,9 @@ static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx
         (void)arm_overlays(ctl, over); /* the filter may have latched an arm or an axis */
         r->n_filtered = n_filtered;
         finish_record(ctl, over, tx, r);
-    } else if ((any & C4G_SF_MODE_RESTORED) != 0U) {
-        st = C4G_ERR_MODE_RESTORED;
-    } else {
-        /* nothing filtered that changes the overlays */
+    }
+    if ((st == C4G_OK) && ((any & C4G_SF_MODE_RESTORED) != 0U)) {
+        st = C4G_ERR_MODE_RESTORED; /* a fault's status comes first */
     }
     latches_sent(ctl);
     ctl->have_last = 1U;
