@@ -26,6 +26,10 @@ python3:python3
 ss:iproute2
 /usr/include/histedit.h:libedit-dev
 /usr/include/ini.h:libinih-dev
+/usr/include/jansson.h:libjansson-dev
+gnuplot:gnuplot-nox
+tcpdump:tcpdump
+editcap:wireshark-common
 '
 
 missing=''

@@ -112,7 +112,9 @@ static int cli_tables(const cli_spec_t *spec, struct option *lo, char *so, size_
     if (spec->n_opts + 3U > CLI_MAX_OPTS) {
         return -1;
     }
-    so[k++] = '+'; /* POSIX order: stop at the first operand */
+    if (!spec->permute) {
+        so[k++] = '+'; /* POSIX order: stop at the first operand */
+    }
     so[k++] = ':'; /* report a missing argument as ':' */
     for (i = 0; i < spec->n_opts; i++) {
         const cli_opt_t *o = &spec->opts[i];
@@ -164,7 +166,11 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
         return CLI_BAD;
     }
     opterr = 0;
+#if defined(__GLIBC__)
+    optind = 0; /* glibc: a full restart, which re-reads the ordering ('+' or not) */
+#else
     optind = 1;
+#endif
     while ((c = getopt_long(argc, argv, so, lo, NULL)) != -1) {
         const cli_opt_t *o;
         char why[300];

@@ -51,6 +51,7 @@ typedef struct cli_spec {
     const char *const *examples;  /* NULL-terminated, printed under "Examples:" */
     const char *epilogue;         /* printed last (may be NULL) */
     int operands_min, operands_max; /* non-option arguments allowed; max < 0: any */
+    int permute;                  /* options may follow operands (GNU order; "--" ends them) */
 } cli_spec_t;
 
 /* The outcome of cli_parse: go on, stop with exit code 0 (--help/--version printed),
@@ -59,7 +60,8 @@ typedef enum cli_result { CLI_RUN = 0, CLI_DONE = 1, CLI_BAD = 2 } cli_result_t;
 
 /* Parse argv against the table. --help and --version are built in (-h, -V). On CLI_RUN
  * *first_operand is the index of the first non-option argument. getopt stops at the first
- * operand (POSIX order), so options after it are operands. */
+ * operand (POSIX order), so options after it are operands, unless spec->permute (then
+ * argv is reordered so the operands come last). */
 cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
                        int *first_operand);
 

@@ -1,0 +1,342 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-replay export: one row per cyclic tick (the controller's packet and the reply it got),
+ * every field of every axis both ways, as CSV, JSON lines, or the manual's monitoring rows.
+ * The fields are read straight from the datagrams, so a NaN the decoder refuses is still
+ * exported ("nan" in CSV, null in JSON). */
+#include "replay.h"
+
+#include "c4g_csv.h"
+#include "c4g_textfile.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct ex_ctx {
+    rp_common_t c;
+    unsigned moni;            /* 19..24, 0 = all fields */
+    int json_lines;
+    uint32_t axes;            /* OPEN indexes (bit 0 = 1), 0 = all */
+    double from_s, to_s;      /* window since the session's first packet; to < 0: open */
+    unsigned session;         /* 0 = all */
+    unsigned last_header_axes;/* axis count of the last CSV header written */
+    unsigned header_done;
+    uint64_t rows;
+    FILE *out;
+} ex_ctx_t;
+
+static int32_t rd_i32(const uint8_t *p)
+{
+    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
+                       ((uint32_t)p[3] << 24);
+    return (int32_t)u;
+}
+
+static uint32_t rd_u32(const uint8_t *p) { return (uint32_t)rd_i32(p); }
+
+static float rd_f32(const uint8_t *p)
+{
+    const uint32_t u = rd_u32(p);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static unsigned axes_in(size_t len)
+{
+    if (len < C4G_CYCLIC_SIZE(1U) || len > C4G_MAX_CYCLIC_SIZE || (len - C4G_HEADER_SIZE) % C4G_AXIS_SIZE != 0U) {
+        return 0U;
+    }
+    return (unsigned)((len - C4G_HEADER_SIZE) / C4G_AXIS_SIZE);
+}
+
+static int axis_on(const ex_ctx_t *e, unsigned i) { return e->axes == 0U || (e->axes & (1U << i)) != 0U; }
+
+static const char *const fnames[8] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
+
+static void csv_header(ex_ctx_t *e, unsigned n)
+{
+    unsigned i, k;
+    char side;
+    fprintf(e->out, "session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,ctrl_infpar,ctrl_cmd,"
+            "pc_infpar,pc_cmd");
+    for (side = 'c'; side != 0; side = (side == 'c') ? 'p' : 0) {
+        for (i = 0U; i < n; i++) {
+            if (!axis_on(e, i)) {
+                continue;
+            }
+            fprintf(e->out, ",%c%u_mode", side, i + 1U);
+            for (k = 0U; k < 8U; k++) {
+                fprintf(e->out, ",%c%u_%s", side, i + 1U, fnames[k]);
+            }
+        }
+    }
+    fputc('\n', e->out);
+}
+
+static void csv_side(ex_ctx_t *e, const uint8_t *d, size_t len, unsigned n)
+{
+    const unsigned have = (d != NULL) ? axes_in(len) : 0U;
+    unsigned i, k;
+    for (i = 0U; i < n; i++) {
+        if (!axis_on(e, i)) {
+            continue;
+        }
+        if (i >= have) {
+            fprintf(e->out, ",,,,,,,,,");
+            continue;
+        }
+        fprintf(e->out, ",%d", (int)rd_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
+        for (k = 0U; k < 8U; k++) {
+            fprintf(e->out, ",%.9g", (double)rd_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
+        }
+    }
+}
+
+static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
+{
+    const unsigned n = axes_in(x->ctrl_len);
+    if (!e->header_done || n != e->last_header_axes) {
+        csv_header(e, n);
+        e->header_done = 1U;
+        e->last_header_axes = n;
+    }
+    fprintf(e->out, "%u,%llu,%.9f,%llu,", x->s->id, (unsigned long long)x->tick, t,
+            (unsigned long long)x->ctrl_frame);
+    if (x->reply != NULL) {
+        fprintf(e->out, "%llu", (unsigned long long)x->reply_frame);
+    }
+    fprintf(e->out, ",%d,", (int)rd_i32(x->ctrl));
+    if (x->reply != NULL && x->reply_len >= 4U) {
+        fprintf(e->out, "%d,%.3f", (int)rd_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+    } else {
+        fputc(',', e->out);
+    }
+    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)rd_u32(x->ctrl + 4), (unsigned)rd_u32(x->ctrl + 8));
+    if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
+        fprintf(e->out, "0x%08x,0x%08x", (unsigned)rd_u32(x->reply + 4), (unsigned)rd_u32(x->reply + 8));
+    } else {
+        fputc(',', e->out);
+    }
+    csv_side(e, x->ctrl, x->ctrl_len, n);
+    csv_side(e, x->reply, x->reply_len, n);
+    fputc('\n', e->out);
+}
+
+static void json_float(FILE *out, float v)
+{
+    if (isfinite(v)) {
+        fprintf(out, "%.9g", (double)v);
+    } else {
+        fputs("null", out);
+    }
+}
+
+static void json_side(ex_ctx_t *e, const char *name, const uint8_t *d, size_t len)
+{
+    const unsigned n = axes_in(len);
+    unsigned i, k, first = 1U;
+    if (d == NULL || n == 0U) {
+        fprintf(e->out, ",\"%s\":null", name);
+        return;
+    }
+    fprintf(e->out, ",\"%s\":{\"num\":%d,\"infpar\":%u,\"cmd\":%u,\"axes\":[", name, (int)rd_i32(d),
+            (unsigned)rd_u32(d + 4), (unsigned)rd_u32(d + 8));
+    for (i = 0U; i < n; i++) {
+        const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
+        if (!axis_on(e, i)) {
+            continue;
+        }
+        fprintf(e->out, "%s{\"axis\":%u,\"mode\":%d", first ? "" : ",", i + 1U, (int)rd_i32(a));
+        first = 0U;
+        for (k = 0U; k < 8U; k++) {
+            fprintf(e->out, ",\"%s\":", fnames[k]);
+            json_float(e->out, rd_f32(a + 4U + 4U * k));
+        }
+        fputc('}', e->out);
+    }
+    fputs("]}", e->out);
+}
+
+static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
+{
+    fprintf(e->out, "{\"session\":%u,\"tick\":%llu,\"time\":%.9f,\"ctrl_frame\":%llu,\"pc_frame\":", x->s->id,
+            (unsigned long long)x->tick, t, (unsigned long long)x->ctrl_frame);
+    if (x->reply != NULL) {
+        fprintf(e->out, "%llu,\"latency_us\":%.3f", (unsigned long long)x->reply_frame,
+                (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+    } else {
+        fputs("null,\"latency_us\":null", e->out);
+    }
+    fprintf(e->out, ",\"verdict\":\"%s\"", x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
+                                          : (x->verdict == CS_J_MISSING ? "missing" : "unjudged"));
+    json_side(e, "ctrl", x->ctrl, x->ctrl_len);
+    json_side(e, "pc", x->reply, x->reply_len);
+    fputs("}\n", e->out);
+}
+
+static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
+{
+    char buf[C4G_MONI_ROW_MAX + 8U];
+    size_t len = 0U;
+    uint32_t i;
+    if (x->rx == NULL || x->tx == NULL) {
+        return; /* moni records need both packets decoded */
+    }
+    if (!e->header_done) {
+        if (c4g_moni_csv_header(e->moni, buf, sizeof buf, &len) == C4G_OK) {
+            fputs(buf, e->out);
+        }
+        e->header_done = 1U;
+    }
+    for (i = 0U; i < x->rx->n_axes; i++) {
+        c4g_moni_rec_t rec;
+        if (!axis_on(e, i) || c4g_moni_record(e->moni, x->rx, x->tx, i, &rec) != C4G_OK) {
+            continue;
+        }
+        if (c4g_moni_csv_row(&rec, buf, sizeof buf, &len) == C4G_OK) {
+            fputs(buf, e->out);
+        }
+    }
+}
+
+static void on_exchange(void *ctx, const an_exchange_t *x)
+{
+    ex_ctx_t *e = ctx;
+    const double t = (double)(x->ctrl_ns - x->s->first_ns) * 1e-9;
+    if (x->kind != CS_CYCLIC || axes_in(x->ctrl_len) == 0U) {
+        return;
+    }
+    if ((e->session != 0U && x->s->id != e->session) || t < e->from_s || (e->to_s >= 0.0 && t > e->to_s)) {
+        return;
+    }
+    e->rows++;
+    if (e->moni != 0U) {
+        moni_rows(e, x);
+    } else if (e->json_lines) {
+        json_row(e, x, t);
+    } else {
+        csv_row(e, x, t);
+    }
+}
+
+/* --axes 1,3-5: OPEN indexes 1..20 */
+static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+{
+    ex_ctx_t *e = ctx;
+    const char *p = v;
+    (void)row;
+    e->axes = 0U;
+    while (*p != '\0') {
+        char item[16];
+        const size_t n = strcspn(p, ",");
+        long long lo = 0, hi = 0;
+        char *dash;
+        if (n == 0U || n >= sizeof item) {
+            (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
+            return -1;
+        }
+        memcpy(item, p, n);
+        item[n] = '\0';
+        dash = strchr(item, '-');
+        if (dash != NULL) {
+            *dash = '\0';
+        }
+        if (tf_parse_int(item, 1, 20, &lo) != TF_NUM_OK ||
+            (dash != NULL && tf_parse_int(dash + 1, lo, 20, &hi) != TF_NUM_OK)) {
+            (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
+            return -1;
+        }
+        if (dash == NULL) {
+            hi = lo;
+        }
+        for (; lo <= hi; lo++) {
+            e->axes |= 1U << (unsigned)(lo - 1);
+        }
+        p += n;
+        if (*p == ',') {
+            p++;
+        }
+    }
+    return 0;
+}
+
+static int opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+{
+    return rp_opt_port(&((ex_ctx_t *)ctx)->c, row, v, why, whylen);
+}
+
+static const char *const examples[] = {
+    RP_TOOL " export fixtures/replay/mode4.pcap > ticks.csv",
+    RP_TOOL " export --axes 1-3 --from 0.5 --to 1.5 field.pcap",
+    RP_TOOL " export --moni 20 field.pcap > moni20.csv",
+    RP_TOOL " export --json-lines field.pcap | jq -c 'select(.verdict != \"ok\")'",
+    NULL};
+
+static const char epilogue[] =
+    "CSV columns: session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,ctrl_infpar,\n"
+    "ctrl_cmd,pc_infpar,pc_cmd, then per OPEN axis i: ci_mode,ci_d1..ci_d5,ci_ext1..ci_ext3 (the\n"
+    "controller's packet) and pi_mode..pi_ext3 (the PC's reply; empty when none came in time).\n"
+    "time is seconds since the session's first packet; floats are printed with 9 digits.\n";
+
+int rp_cmd_export(int argc, char **argv)
+{
+    ex_ctx_t e;
+    cli_spec_t spec;
+    an_t a;
+    rp_file_t file;
+    int first = 0, rc;
+    cli_result_t r;
+    const cli_opt_t rows[] = {
+        {"moni", 'm', CLI_UINT, "TYPE", "the manual's monitoring rows of type 19..24 instead", &e.moni, 0, 19,
+         24, NULL, 0},
+        {"axes", 0, CLI_CALL, "LIST", "OPEN axes to export, e.g. 1,3-5 (default all)", NULL, 0, 0, 0,
+         opt_axes, 0},
+        {"from", 0, CLI_DOUBLE, "S", "first tick at or after S seconds into the session", &e.from_s, 0, 0,
+         1e9, NULL, 0},
+        {"to", 0, CLI_DOUBLE, "S", "last tick at or before S seconds", &e.to_s, 0, 0, 1e9, NULL, 0},
+        {"session", 's', CLI_UINT, "N", "only session N (summary numbers them)", &e.session, 0, 1, 1e6,
+         NULL, 0},
+        {"json-lines", 0, CLI_FLAG, NULL, "one JSON object per tick instead of CSV", &e.json_lines, 0, 0, 0,
+         NULL, 0},
+        {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
+         opt_port, 0},
+    };
+    memset(&e, 0, sizeof e);
+    rp_common_default(&e.c);
+    e.to_s = -1.0;
+    e.out = stdout;
+    memset(&spec, 0, sizeof spec);
+    spec.tool = RP_TOOL;
+    spec.usage = "Usage: " RP_TOOL " export [OPTIONS] FILE\n"
+                 "One row per cyclic tick of every session: the controller's packet, the reply,\n"
+                 "the reply latency and the NUMs, every field of every axis both ways.\n";
+    spec.opts = rows;
+    spec.n_opts = sizeof rows / sizeof rows[0];
+    spec.examples = examples;
+    spec.epilogue = epilogue;
+    spec.operands_min = 1;
+    spec.operands_max = 1;
+    spec.permute = 1;
+    r = cli_parse(&spec, &e, argc, argv, &first);
+    if (r != CLI_RUN) {
+        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    }
+    if (e.moni != 0U && e.json_lines) {
+        cli_error(&spec, "--moni and --json-lines exclude each other");
+        return CLI_EXIT_USAGE;
+    }
+    e.c.an.on_exchange = on_exchange;
+    e.c.an.ctx = &e;
+    if (an_init(&a, &e.c.an) != 0) {
+        fprintf(stderr, RP_TOOL ": out of memory\n");
+        return CLI_EXIT_RUNTIME;
+    }
+    rc = rp_read(&a, argv[first], &file, 1);
+    an_free(&a);
+    if (fflush(stdout) != 0) {
+        fprintf(stderr, RP_TOOL ": writing the export failed\n");
+        return CLI_EXIT_RUNTIME;
+    }
+    return (rc == 2) ? RP_EXIT_UNREADABLE : (rc == 1 ? CLI_EXIT_RUNTIME : CLI_EXIT_OK);
+}

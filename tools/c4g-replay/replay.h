@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-replay: the commands and what they share (reading files through the analysis,
+ * the common options, the report). */
+#ifndef C4G_REPLAY_H
+#define C4G_REPLAY_H
+
+#include "analyze.h"
+#include "c4g_cli.h"
+#include "capture.h"
+
+#include <stdio.h>
+
+#define RP_TOOL "c4g-replay"
+
+/* Exit codes: the tools' shared ones, and for check: */
+#define RP_EXIT_FINDINGS 1   /* the captures show findings (check) */
+#define RP_EXIT_UNREADABLE 2 /* an input could not be read (also bad usage) */
+
+/* What reading one file found. */
+typedef struct rp_file {
+    const char *path;
+    int opened;               /* 0: not a readable capture (fatal[] says why) */
+    int complete;             /* read to its end */
+    char format[8];
+    char link[16];
+    int nano;
+    cap_counts_t n;
+    char first_bad[400];      /* the first damaged frame, in words */
+    char fatal[400];           /* why reading stopped early, or why it could not start */
+} rp_file_t;
+
+/* Options of the analysing commands. */
+typedef struct rp_common {
+    an_options_t an;
+    int json;
+    int quiet;
+    int no_progress;
+} rp_common_t;
+
+void rp_common_default(rp_common_t *c);
+/* CLI_CALL handlers for the shared rows (ctx is the rp_common_t) */
+int rp_opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
+int rp_opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
+
+/* Read @p path through the analysis @p a (which must outlive the file names). Errors go to
+ * stderr as "c4g-replay: ...". Returns 0 when the file was read to its end (damaged frames
+ * are counted and reported, not fatal), 1 when it stopped early, 2 when it could not be
+ * opened. */
+int rp_read(an_t *a, const char *path, rp_file_t *info, int progress);
+
+/* Reports (report.c) */
+void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+                    uint32_t allow);
+int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+                   uint32_t allow);
+/* One line per finding (check): returns the number of findings not waived. */
+unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+                            uint32_t allow);
+/* Findings not waived, damaged files counted. */
+unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow);
+
+/* Commands: argv[0] is the command's name. */
+int rp_cmd_summary(int argc, char **argv);
+int rp_cmd_check(int argc, char **argv);
+int rp_cmd_export(int argc, char **argv);
+int rp_cmd_rerun(int argc, char **argv);
+int rp_cmd_live(int argc, char **argv);
+int rp_cmd_plot(int argc, char **argv);
+
+#endif

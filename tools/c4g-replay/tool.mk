@@ -1,0 +1,1 @@
+c4g-replay_LDLIBS := -lpcap -ljansson -linih
