@@ -186,8 +186,11 @@ FUZZ_TOOL_fuzz_traj := tools/c4g-server/files.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_ff := tools/c4g-server/files.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_server_ini := tools/c4g-server/opts.c tools/common/c4g_cli.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \
+  tools/common/c4g_ctrlside.c
+FUZZ_LIBS_fuzz_capture := -lpcap
 FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
-  -Itools/c4g-server -Itools/cell-cli
+  -Itools/c4g-server -Itools/cell-cli -Itools/c4g-replay
 
 .SECONDARY: $(FUZZ_LIB_OBJS)
 $(BUILD)/fuzz/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
@@ -199,7 +202,7 @@ $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_OBJS) $(wildcard tests/fuzz
 	@mkdir -p $(@D)
 	@echo "  FUZZLD  $@"; $(CLANG) -std=c99 -Iinclude -Itools/common $(if $(FUZZ_TOOL_$(@F)),$(FUZZ_TOOL_INC)) \
 	  $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $< $(FUZZ_TOOL_$(@F)) $(FUZZ_LIB_OBJS) \
-	  $(if $(FUZZ_TOOL_$(@F)),-linih) -lm
+	  $(if $(FUZZ_TOOL_$(@F)),-linih) $(FUZZ_LIBS_$(@F)) -lm
 
 fuzz-build: $(FUZZ_NAMES:%=$(BUILD)/fuzz/%)
 fuzz: fuzz-build

@@ -66,12 +66,10 @@ static void say(char *err, size_t errlen, const char *fmt, ...)
     va_end(ap);
 }
 
-/* What the first bytes of a file say it is, for a clear refusal before libpcap's. */
-static int sniff(const char *path, uint8_t magic[4], uint64_t *size, char *err, size_t errlen)
+/* A clear refusal of what is not a file before libpcap's. */
+static int sniff(const char *path, uint64_t *size, char *err, size_t errlen)
 {
     struct stat st;
-    FILE *f;
-    size_t got;
     if (stat(path, &st) != 0) {
         say(err, errlen, "%s: %s", path, strerror(errno));
         return -1;
@@ -80,22 +78,11 @@ static int sniff(const char *path, uint8_t magic[4], uint64_t *size, char *err, 
         say(err, errlen, "%s: is a directory, not a capture file", path);
         return -1;
     }
-    *size = S_ISREG(st.st_mode) ? (uint64_t)st.st_size : 0U;
-    f = fopen(path, "rb");
-    if (f == NULL) {
-        say(err, errlen, "%s: %s", path, strerror(errno));
+    if (!S_ISREG(st.st_mode)) {
+        say(err, errlen, "%s: not a regular file (captures are read from files)", path);
         return -1;
     }
-    got = fread(magic, 1U, 4U, f);
-    (void)fclose(f);
-    if (got == 0U && S_ISREG(st.st_mode)) {
-        say(err, errlen, "%s: empty file, not a capture", path);
-        return -1;
-    }
-    if (got < 4U && S_ISREG(st.st_mode)) {
-        say(err, errlen, "%s: %u bytes, too short for a capture file header", path, (unsigned)got);
-        return -1;
-    }
+    *size = (uint64_t)st.st_size;
     return 0;
 }
 
@@ -124,30 +111,21 @@ static int link_supported(int lt)
     }
 }
 
-cap_t *cap_open(const char *path, char *err, size_t errlen)
+/* The reader over an open stream (libpcap owns it from here on). */
+static cap_t *open_stream(FILE *fp, const char *name, uint64_t size, char *err, size_t errlen)
 {
     char perr[PCAP_ERRBUF_SIZE];
-    uint8_t magic[4] = {0, 0, 0, 0};
-    uint64_t size = 0U;
-    int ng = 0, nano = 0;
-    cap_t *c;
-    if (sniff(path, magic, &size, err, errlen) != 0) {
-        return NULL;
-    }
-    if (size != 0U && !known_magic(magic, &ng, &nano)) {
-        say(err, errlen, "%s: not a pcap or pcapng file (starts with %02x %02x %02x %02x)", path,
-            magic[0], magic[1], magic[2], magic[3]);
+    cap_t *c = calloc(1U, sizeof *c);
+    if (c == NULL) {
+        say(err, errlen, "%s: out of memory", name);
+        (void)fclose(fp);
         return NULL;
     }
     perr[0] = '\0';
-    c = calloc(1U, sizeof *c);
-    if (c == NULL) {
-        say(err, errlen, "%s: out of memory", path);
-        return NULL;
-    }
-    c->pc = pcap_open_offline_with_tstamp_precision(path, PCAP_TSTAMP_PRECISION_NANO, perr);
+    c->pc = pcap_fopen_offline_with_tstamp_precision(fp, PCAP_TSTAMP_PRECISION_NANO, perr);
     if (c->pc == NULL) {
-        say(err, errlen, "%s: offset 0: cannot read the capture header: %s", path, perr);
+        say(err, errlen, "%s: offset 0: cannot read the capture header: %s", name, perr);
+        (void)fclose(fp);
         free(c);
         return NULL;
     }
@@ -155,17 +133,66 @@ cap_t *cap_open(const char *path, char *err, size_t errlen)
     if (!link_supported(c->link)) {
         const char *nm = pcap_datalink_val_to_name(c->link);
         say(err, errlen, "%s: link type %d (%s) is not supported (Ethernet, raw IPv4, Linux SLL/SLL2, "
-            "BSD loopback)", path, c->link, nm != NULL ? nm : "unknown");
+            "BSD loopback)", name, c->link, nm != NULL ? nm : "unknown");
         pcap_close(c->pc);
         free(c);
         return NULL;
     }
-    c->fp = pcap_file(c->pc);
-    (void)snprintf(c->path, sizeof c->path, "%s", path);
-    c->ng = ng;
-    c->nano = nano;
+    c->fp = fp;
+    (void)snprintf(c->path, sizeof c->path, "%s", name);
     c->size = size;
-    c->rec_off = (c->fp != NULL && ftell(c->fp) >= 0) ? (uint64_t)ftell(c->fp) : 0U;
+    c->rec_off = (ftell(fp) >= 0) ? (uint64_t)ftell(fp) : 0U;
+    return c;
+}
+
+cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen)
+{
+    uint8_t magic[4] = {0, 0, 0, 0};
+    int ng = 0, nano = 0;
+    const size_t got = fread(magic, 1U, 4U, fp);
+    cap_t *c;
+    if (got < 4U) {
+        say(err, errlen, got == 0U ? "%s: empty file, not a capture" : "%s: too short for a capture file header",
+            name);
+        (void)fclose(fp);
+        return NULL;
+    }
+    if (!known_magic(magic, &ng, &nano)) {
+        say(err, errlen, "%s: not a pcap or pcapng file (starts with %02x %02x %02x %02x)", name, magic[0],
+            magic[1], magic[2], magic[3]);
+        (void)fclose(fp);
+        return NULL;
+    }
+    if (fseek(fp, 0L, SEEK_SET) != 0) {
+        say(err, errlen, "%s: cannot rewind: %s", name, strerror(errno));
+        (void)fclose(fp);
+        return NULL;
+    }
+    c = open_stream(fp, name, 0U, err, errlen);
+    if (c != NULL) {
+        c->ng = ng;
+        c->nano = nano;
+    }
+    return c;
+}
+
+cap_t *cap_open(const char *path, char *err, size_t errlen)
+{
+    uint64_t size = 0U;
+    FILE *fp;
+    cap_t *c;
+    if (sniff(path, &size, err, errlen) != 0) {
+        return NULL;
+    }
+    fp = fopen(path, "rb");
+    if (fp == NULL) {
+        say(err, errlen, "%s: %s", path, strerror(errno));
+        return NULL;
+    }
+    c = cap_open_stream(fp, path, err, errlen);
+    if (c != NULL) {
+        c->size = size;
+    }
     return c;
 }
 
@@ -335,6 +362,11 @@ cap_res_t cap_next(cap_t *c, cap_pkt_t *p, char *err, size_t errlen)
     memset(p, 0, sizeof *p);
     p->frame = c->n.frames;
     p->offset = c->rec_off;
+    if (h->ts.tv_sec < 0 || (uint64_t)h->ts.tv_sec > 9000000000ULL || h->ts.tv_usec < 0 ||
+        h->ts.tv_usec >= 1000000000L) {
+        return bad(c, err, errlen, "timestamp %lld.%09ld s is out of range", (long long)h->ts.tv_sec,
+                   (long)h->ts.tv_usec);
+    }
     p->ts_ns = (int64_t)h->ts.tv_sec * 1000000000LL + (int64_t)h->ts.tv_usec;
     if (h->caplen > h->len) {
         return bad(c, err, errlen, "captured length %u exceeds the frame length %u",

@@ -10,6 +10,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 typedef struct cap cap_t;
 
@@ -45,6 +46,9 @@ typedef struct cap_counts {
 
 /* Open @p path. NULL with "PATH: why" in err when it is not a readable capture. */
 cap_t *cap_open(const char *path, char *err, size_t errlen);
+/* The same over an open stream (fmemopen, a pipe that can seek); @p name is used in
+ * messages. The stream is closed by cap_close, or at once on failure. */
+cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen);
 /* The next frame; CAP_BAD and CAP_FATAL write "PATH: packet N (offset O): why" to err. */
 cap_res_t cap_next(cap_t *c, cap_pkt_t *p, char *err, size_t errlen);
 const cap_counts_t *cap_counts(const cap_t *c);

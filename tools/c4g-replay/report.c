@@ -171,7 +171,7 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
     for (i = 0U; i < n_files; i++) {
         const rp_file_t *f = &files[i];
         if (!f->opened) {
-            fprintf(out, "%s: unreadable: %s\n", f->path, f->fatal);
+            fprintf(out, "unreadable: %s\n", f->fatal);
             continue;
         }
         fprintf(out, "%s: %s (%s, %s), %llu frames, %llu UDP, %llu other, %llu damaged%s%s\n", f->path,
