@@ -137,7 +137,7 @@ $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 # library), so every test sees tools/common and links inih.
 TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude \
   -Itools/common -g
-TEST_LIBS := -lcmocka -linih -lm
+TEST_LIBS := -lcmocka -linih -lpcap -lm
 $(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
