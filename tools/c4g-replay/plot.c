@@ -1,10 +1,240 @@
 /* SPDX-License-Identifier: MIT */
+/* c4g-replay plot: one field of one axis over time with the arm's mode changes marked, or
+ * the reply latency histogram, drawn by gnuplot (PNG, SVG, or text on the terminal). The
+ * data goes through a temporary file; gnuplot reads the script on its standard input. */
 #include "replay.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+typedef struct pl_ctx {
+    rp_common_t c;
+    unsigned axis;          /* OPEN index, 1-based */
+    char field[16];
+    char side[8];           /* "ctrl" or "pc" */
+    char output[512];
+    unsigned session;       /* 0: the first with cyclic packets */
+    int latency;
+    unsigned field_k;       /* 0 mode, 1..5 D1..D5, 6..8 EXT1..3 */
+    FILE *data;
+    unsigned chosen;        /* session plotted */
+    uint64_t points;
+} pl_ctx_t;
+
+static const char *const field_names[9] = {"mode", "d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
+
+static float rd_f32(const uint8_t *p)
+{
+    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static void on_exchange(void *ctx, const an_exchange_t *x)
+{
+    pl_ctx_t *p = ctx;
+    const uint8_t *d;
+    size_t len, off;
+    double v;
+    if (x->kind != CS_CYCLIC) {
+        return;
+    }
+    if (p->chosen == 0U && (p->session == 0U || p->session == x->s->id)) {
+        p->chosen = x->s->id;
+    }
+    if (x->s->id != p->chosen) {
+        return;
+    }
+    if (p->latency) {
+        if (x->reply != NULL) {
+            fprintf(p->data, "%.3f\n", (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+            p->points++;
+        }
+        return;
+    }
+    d = (strcmp(p->side, "pc") == 0) ? x->reply : x->ctrl;
+    len = (strcmp(p->side, "pc") == 0) ? x->reply_len : x->ctrl_len;
+    off = C4G_HEADER_SIZE + (size_t)(p->axis - 1U) * C4G_AXIS_SIZE + 4U * p->field_k;
+    if (d == NULL || len < off + 4U) {
+        return;
+    }
+    if (p->field_k == 0U) {
+        v = (double)(int32_t)((uint32_t)d[off] | ((uint32_t)d[off + 1] << 8) | ((uint32_t)d[off + 2] << 16) |
+                              ((uint32_t)d[off + 3] << 24));
+    } else {
+        v = (double)rd_f32(d + off);
+    }
+    if (isfinite(v)) {
+        fprintf(p->data, "%.9f %.9g\n", (double)(x->ctrl_ns - x->s->first_ns) * 1e-9, v);
+        p->points++;
+    }
+}
+
+static const char *terminal_for(const char *out)
+{
+    const size_t n = strlen(out);
+    if (n >= 4U && strcmp(out + n - 4U, ".svg") == 0) {
+        return "svg size 1000,500 dynamic";
+    }
+    if (n >= 4U && strcmp(out + n - 4U, ".png") == 0) {
+        return "pngcairo size 1000,500";
+    }
+    return NULL;
+}
+
+/* The gnuplot script: output, mode changes as labelled vertical lines, the data. */
+static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
+{
+    const an_session_t *s = NULL;
+    FILE *gp;
+    unsigned i;
+    int rc;
+    for (i = 0U; i < a->n_sess; i++) {
+        if (a->sess[i].id == p->chosen) {
+            s = &a->sess[i];
+        }
+    }
+    gp = popen("gnuplot", "w");
+    if (gp == NULL) {
+        fprintf(stderr, RP_TOOL ": plot: cannot run gnuplot (install gnuplot-nox)\n");
+        return CLI_EXIT_RUNTIME;
+    }
+    if (p->output[0] != '\0') {
+        fprintf(gp, "set terminal %s\nset output '%s'\n", terminal_for(p->output), p->output);
+    } else {
+        fprintf(gp, "set terminal dumb size 100,30\n");
+    }
+    if (p->latency) {
+        fprintf(gp, "set title 'session %u: reply latency'\nset xlabel 'us'\nset ylabel 'replies'\n"
+                "binwidth = 5\nbin(x) = binwidth * floor(x / binwidth)\nset style fill solid 0.5\n"
+                "plot '%s' using (bin($1)):(1.0) smooth freq with boxes title 'latency'\n", p->chosen,
+                data_path);
+    } else {
+        fprintf(gp, "set title 'session %u: axis %u %s %s'\nset xlabel 's'\nset ylabel '%s'\nset grid\n",
+                p->chosen, p->axis, p->side, p->field, p->field);
+        if (s != NULL && p->axis <= s->n_axes) {
+            const uint32_t arm = s->map.arm_of[p->axis - 1U];
+            for (i = 0U; arm < C4G_ARMS && i < s->n_tl[arm]; i++) {
+                const double t = (double)s->tl[arm][i].t_ns * 1e-9;
+                fprintf(gp, "set arrow from %.6f, graph 0 to %.6f, graph 1 nohead dt 2 lc rgb 'gray40'\n"
+                        "set label 'mode %d' at %.6f, graph 0.95 left rotate by 90 font ',8'\n", t, t,
+                        (int)s->tl[arm][i].to, t);
+            }
+        }
+        fprintf(gp, "plot '%s' using 1:2 with lines title 'axis %u %s %s'\n", data_path, p->axis, p->side,
+                p->field);
+    }
+    rc = pclose(gp);
+    if (rc != 0) {
+        fprintf(stderr, RP_TOOL ": plot: gnuplot failed (status %d)\n", rc);
+        return CLI_EXIT_RUNTIME;
+    }
+    if (p->output[0] != '\0') {
+        fprintf(stderr, RP_TOOL ": plot: %llu points of session %u written to %s\n",
+                (unsigned long long)p->points, p->chosen, p->output);
+    }
+    return CLI_EXIT_OK;
+}
+
+static int run(pl_ctx_t *p, const char *path)
+{
+    char tmp[] = "/tmp/c4g-replay-plot-XXXXXX";
+    const int fd = mkstemp(tmp);
+    an_t a;
+    rp_file_t file;
+    int rc;
+    if (fd < 0 || (p->data = fdopen(fd, "w")) == NULL) {
+        fprintf(stderr, RP_TOOL ": plot: cannot create a temporary file\n");
+        return CLI_EXIT_RUNTIME;
+    }
+    p->c.an.on_exchange = on_exchange;
+    p->c.an.ctx = p;
+    if (an_init(&a, &p->c.an) != 0) {
+        fclose(p->data);
+        unlink(tmp);
+        return CLI_EXIT_RUNTIME;
+    }
+    rc = rp_read(&a, path, &file, 1);
+    fclose(p->data);
+    if (rc == 2) {
+        rc = RP_EXIT_UNREADABLE;
+    } else if (p->points == 0U) {
+        fprintf(stderr, RP_TOOL ": plot: %s: nothing to plot (session %u, axis %u, %s %s)\n", path, p->session,
+                p->axis, p->side, p->latency ? "latency" : p->field);
+        rc = CLI_EXIT_RUNTIME;
+    } else {
+        rc = draw(p, &a, tmp);
+    }
+    an_free(&a);
+    unlink(tmp);
+    return rc;
+}
+
+static const char *const examples[] = {
+    RP_TOOL " plot fixtures/replay/mode4.pcap --axis 1 --field d1",
+    RP_TOOL " plot field.pcap --axis 2 --field d1 --side pc --output d1.png",
+    RP_TOOL " plot field.pcap --latency --output latency.svg",
+    NULL};
 
 int rp_cmd_plot(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, RP_TOOL ": plot: not built yet\n");
-    return CLI_EXIT_USAGE;
+    pl_ctx_t p;
+    cli_spec_t spec;
+    int first = 0;
+    unsigned k;
+    cli_result_t r;
+    const cli_opt_t rows[] = {
+        {"axis", 'a', CLI_UINT, "N", "OPEN axis 1..20 (default 1)", &p.axis, 0, 1, 20, NULL, 0},
+        {"field", 'f', CLI_STRING, "F", "mode, d1..d5 or ext1..ext3 (default d1)", p.field, sizeof p.field, 0, 0,
+         NULL, 0},
+        {"side", 0, CLI_STRING, "ctrl|pc", "the controller's packets or the PC's replies (default ctrl)", p.side,
+         sizeof p.side, 0, 0, NULL, 0},
+        {"session", 's', CLI_UINT, "N", "session N (default the first)", &p.session, 0, 1, 1e6, NULL, 0},
+        {"latency", 0, CLI_FLAG, NULL, "the reply latency histogram instead", &p.latency, 0, 0, 0, NULL, 0},
+        {"output", 'o', CLI_STRING, "FILE", "FILE.png or FILE.svg (default: a text plot on stdout)", p.output,
+         sizeof p.output, 0, 0, NULL, 0},
+    };
+    memset(&p, 0, sizeof p);
+    rp_common_default(&p.c);
+    p.axis = 1U;
+    strcpy(p.field, "d1");
+    strcpy(p.side, "ctrl");
+    memset(&spec, 0, sizeof spec);
+    spec.tool = RP_TOOL;
+    spec.usage = "Usage: " RP_TOOL " plot [OPTIONS] FILE\n"
+                 "One field of one axis over time, with the arm's mode changes marked, or the\n"
+                 "reply latency histogram (gnuplot).\n";
+    spec.opts = rows;
+    spec.n_opts = sizeof rows / sizeof rows[0];
+    spec.examples = examples;
+    spec.operands_min = 1;
+    spec.operands_max = 1;
+    spec.permute = 1;
+    r = cli_parse(&spec, &p, argc, argv, &first);
+    if (r != CLI_RUN) {
+        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    }
+    for (k = 0U; k < 9U && strcmp(field_names[k], p.field) != 0; k++) {
+    }
+    if (k == 9U) {
+        cli_error(&spec, "--field: bad value '%s' (want mode, d1..d5 or ext1..ext3)", p.field);
+        return CLI_EXIT_USAGE;
+    }
+    p.field_k = k;
+    if (strcmp(p.side, "ctrl") != 0 && strcmp(p.side, "pc") != 0) {
+        cli_error(&spec, "--side: bad value '%s' (want ctrl or pc)", p.side);
+        return CLI_EXIT_USAGE;
+    }
+    if (p.output[0] != '\0' && terminal_for(p.output) == NULL) {
+        cli_error(&spec, "--output: bad value '%s' (want a name ending in .png or .svg)", p.output);
+        return CLI_EXIT_USAGE;
+    }
+    if (strchr(p.output, '\'') != NULL) {
+        cli_error(&spec, "--output: bad value '%s' (no quotes in the name)", p.output);
+        return CLI_EXIT_USAGE;
+    }
+    return run(&p, argv[first]);
 }
