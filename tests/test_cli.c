@@ -44,7 +44,7 @@ static const cli_opt_t rows[] = {
 };
 static const char *const ex[] = {"tool -v", NULL};
 static const cli_spec_t spec = {"tool", NULL, "Usage: tool [OPTIONS] [FILE]\n", rows,
-                                sizeof rows / sizeof rows[0], ex, NULL, 0, 1};
+                                sizeof rows / sizeof rows[0], ex, NULL, 0, 1, 0};
 
 static cli_result_t run(int argc, const char *const *argv_in, int *first)
 {
