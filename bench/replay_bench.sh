@@ -84,6 +84,7 @@ best() {
 }
 
 row() {  # row LABEL "wall cpu rss" FRAMES [NOTE]
+    # shellcheck disable=SC2086 # the three figures become $2..$4
     set -- "$1" $2 "$3" "${4:-}"
     awk -v l="$1" -v w="$2" -v c="$3" -v m="$4" -v f="$5" -v note="$6" 'BEGIN {
         printf "%-34s %9.3f %8.2f %10.0f %10.1f%s\n", l, w, c, w * 1e9 / f, m / 1024,
