@@ -42,6 +42,9 @@ static void setup(uint32_t axes)
     in.n_ax_open = (int32_t)axes;
     for (i = 0; i < 40; i++) {
         in.open_ax[i / 10][i % 10] = (i < axes) ? (int32_t)i : C4G_OPEN_AX_NONE;
+        if (i < axes && i >= 6) {
+            in.az_lim[i / 10][i % 10] = 10.0f; /* an open axis needs AzLim > 0 */
+        }
     }
     if (c4g_init_encode(&in, out, sizeof out, &n) != C4G_OK) {
         abort();

@@ -30,6 +30,7 @@ ss:iproute2
 gnuplot:gnuplot-nox
 tcpdump:tcpdump
 editcap:wireshark-common
+/usr/bin/time:time
 '
 
 missing=''

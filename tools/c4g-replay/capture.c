@@ -34,6 +34,7 @@ struct cap {
     int nano;
     uint64_t size;
     uint64_t rec_off;  /* offset of the record being read */
+    uint64_t next_off; /* pcap: the next record's, counted (ftell is a system call each) */
     cap_counts_t n;
 };
 
@@ -142,6 +143,7 @@ static cap_t *open_stream(FILE *fp, const char *name, uint64_t size, char *err, 
     (void)snprintf(c->path, sizeof c->path, "%s", name);
     c->size = size;
     c->rec_off = (ftell(fp) >= 0) ? (uint64_t)ftell(fp) : 0U;
+    c->next_off = c->rec_off;
     return c;
 }
 
@@ -343,7 +345,9 @@ cap_res_t cap_next(cap_t *c, cap_pkt_t *p, char *err, size_t errlen)
     uint32_t ipo = 0U;
     link_res_t lr;
     int rc;
-    if (c->fp != NULL) {
+    if (!c->ng) {
+        c->rec_off = c->next_off;
+    } else if (c->fp != NULL) {
         const long pos = ftell(c->fp);
         if (pos >= 0) {
             c->rec_off = (uint64_t)pos;
@@ -359,6 +363,7 @@ cap_res_t cap_next(cap_t *c, cap_pkt_t *p, char *err, size_t errlen)
         return CAP_FATAL;
     }
     c->n.frames++;
+    c->next_off = c->rec_off + 16U + h->caplen; /* a pcap record: 16-byte header, data */
     memset(p, 0, sizeof *p);
     p->frame = c->n.frames;
     p->offset = c->rec_off;
