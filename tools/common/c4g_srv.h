@@ -135,7 +135,8 @@ typedef struct srv_verdict {
     uint32_t events;              /* C4G_EV_* of the session */
     bool send;                    /* out[0 .. *out_len) is the reply: send it now */
     bool skipped;                 /* a cyclic reply --skip-replies held back */
-    bool ended;                   /* 504: the session ended (--persist: a new one is ready) */
+    bool ended;                   /* 504: the session ended (--persist: a new one starts
+                                     at srv_sent or the next call) */
     srv_stop_t stop;              /* the run ends here, after the send */
     bool freeze;                  /* active freezing: pause pause_ms after the send, then
                                      answer only the newest datagram queued meanwhile */
