@@ -13,8 +13,8 @@
 
 #include "../tools/common/c4g_textfile.c"
 #include "../tools/common/c4g_cli.c"
-#include "../tools/c4g-server/files.c"
-#include "../tools/c4g-server/opts.c"
+#include "../tools/common/c4g_srv_files.c"
+#include "../tools/common/c4g_srv_opts.c"
 
 static srv_traj_t g_tr;
 static srv_ff_t g_ff[C4G_ARMS][C4G_AXES_PER_ARM];

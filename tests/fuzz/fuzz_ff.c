@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's mode-9 feedforward parameter file (tools/c4g-server/files.c).
+/* libFuzzer: c4g-server's mode-9 feedforward parameter file (tools/common/c4g_srv_files.c).
  * Invariants: an error is one well-formed "PATH:..." message; an accepted file sets at
  * least one axis, each once, with finite coefficients within +-1e6. */
 #include "fuzz_text.h"
-#include "srv.h"
+#include "c4g_srv.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's INI configuration (tools/c4g-server/opts.c through the shared
+/* libFuzzer: c4g-server's INI configuration (tools/common/c4g_srv_opts.c through the shared
  * INI layer and inih). Invariants: an error is one well-formed "PATH:..." message; an
  * accepted file leaves every setting inside its documented range. */
 #include <math.h>
 
 #include "fuzz_text.h"
-#include "srv.h"
+#include "c4g_srv.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's trajectory CSV (tools/c4g-server/files.c). Invariants: an
+/* libFuzzer: c4g-server's trajectory CSV (tools/common/c4g_srv_files.c). Invariants: an
  * error is one well-formed "PATH:..." message; an accepted file has 1..20000 rows of
  * 1..10 columns, strictly increasing finite times and offsets within +-1e6 turns. */
 #include "fuzz_text.h"
-#include "srv.h"
+#include "c4g_srv.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

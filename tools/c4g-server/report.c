@@ -13,69 +13,72 @@
 
 static uint64_t wall_offset_ns; /* CLOCK_REALTIME - CLOCK_MONOTONIC at start */
 
-int srv_outputs_open(srv_t *S)
+int srv_outputs_open(srv_host_t *H)
 {
+    const srv_t *S = &H->s;
     struct timespec r, m;
     clock_gettime(CLOCK_REALTIME, &r);
     clock_gettime(CLOCK_MONOTONIC, &m);
     wall_offset_ns = ((uint64_t)r.tv_sec * 1000000000ULL + (uint64_t)r.tv_nsec) -
                      ((uint64_t)m.tv_sec * 1000000000ULL + (uint64_t)m.tv_nsec);
-    S->log_fp = NULL;
-    S->pcap = NULL;
-    S->moni_fp = NULL;
+    H->log_fp = NULL;
+    H->pcap = NULL;
+    H->moni_fp = NULL;
     if (S->cfg.log_path[0] != '\0') {
-        S->log_fp = fopen(S->cfg.log_path, "w");
-        if (S->log_fp == NULL) {
+        H->log_fp = fopen(S->cfg.log_path, "w");
+        if (H->log_fp == NULL) {
             fprintf(stderr, "c4g-server: --log %s: %s\n", S->cfg.log_path, strerror(errno));
             return -1;
         }
     }
     if (S->cfg.pcap_path[0] != '\0') {
         char err[256];
-        S->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
-        if (S->pcap == NULL) {
+        H->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
+        if (H->pcap == NULL) {
             fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, err);
             return -1;
         }
     }
     if (S->cfg.moni_path[0] != '\0') {
-        S->moni_fp = fopen(S->cfg.moni_path, "w");
-        if (S->moni_fp == NULL) {
+        H->moni_fp = fopen(S->cfg.moni_path, "w");
+        if (H->moni_fp == NULL) {
             fprintf(stderr, "c4g-server: --moni %s: %s\n", S->cfg.moni_path, strerror(errno));
             return -1;
         }
         if (S->cfg.moni_type == 0) {
             fputs("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,"
-                  "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", S->moni_fp);
+                  "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", H->moni_fp);
         } else {
             char hdr[256];
             size_t hl = 0U;
-            fprintf(S->moni_fp, "# moni type %d (manual chapter 16), rows from c4g_moni_csv_row\n",
+            fprintf(H->moni_fp, "# moni type %d (manual chapter 16), rows from c4g_moni_csv_row\n",
                     S->cfg.moni_type);
             if (c4g_moni_csv_header((uint32_t)S->cfg.moni_type, hdr, sizeof hdr, &hl) == C4G_OK) {
-                fwrite(hdr, 1, hl, S->moni_fp);
+                fwrite(hdr, 1, hl, H->moni_fp);
             }
         }
     }
     return 0;
 }
 
-void srv_outputs_close(srv_t *S)
+void srv_outputs_close(srv_host_t *H)
 {
-    if (S->log_fp != NULL) fclose(S->log_fp);
-    if (S->pcap != NULL && c4g_pcap_close(S->pcap) != 0) {
+    const srv_t *S = &H->s;
+    if (H->log_fp != NULL) fclose(H->log_fp);
+    if (H->pcap != NULL && c4g_pcap_close(H->pcap) != 0) {
         fprintf(stderr, "c4g-server: --pcap %s: write error\n", S->cfg.pcap_path);
     }
-    S->pcap = NULL;
-    if (S->moni_fp != NULL) fclose(S->moni_fp);
-    S->log_fp = S->moni_fp = NULL;
+    H->pcap = NULL;
+    if (H->moni_fp != NULL) fclose(H->moni_fp);
+    H->log_fp = H->moni_fp = NULL;
 }
 
 /* rec->data: peer addr (4, network order), peer port (2), local port (2), payload.
  * Written with the shared tools/common/c4g_pcap writer (Ethernet/IPv4/UDP frames), the
  * same format as c4g-sim's --pcap. */
-static void write_pcap(srv_t *S, const c4g_rtlog_rec_t *rec)
+static void write_pcap(srv_host_t *H, const c4g_rtlog_rec_t *rec)
 {
+    const srv_t *S = &H->s;
     uint32_t peer, local;
     uint16_t pport, lport;
     struct timespec ts;
@@ -94,15 +97,16 @@ static void write_pcap(srv_t *S, const c4g_rtlog_rec_t *rec)
     }
     ts.tv_sec = (time_t)(t / 1000000000ULL);
     ts.tv_nsec = (long)(t % 1000000000ULL);
-    if (c4g_pcap_write_udp(S->pcap, &ts, rx ? peer : local, rx ? pport : lport,
+    if (c4g_pcap_write_udp(H->pcap, &ts, rx ? peer : local, rx ? pport : lport,
                            rx ? local : peer, rx ? lport : pport, rec->data + 8,
                            rec->len - 8U) != 0) {
-        S->pcap_errors++;
+        H->pcap_errors++;
     }
 }
 
-static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
+static void write_moni(srv_host_t *H, const c4g_rtlog_rec_t *rec)
 {
+    const srv_t *S = &H->s;
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
     const double t = (double)(rec->t_ns - S->t0_ns) * 1e-9;
@@ -119,12 +123,12 @@ static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
             size_t rl = 0U;
             if (c4g_moni_record((uint32_t)S->cfg.moni_type, &rx, &tx, i, &mr) == C4G_OK &&
                 c4g_moni_csv_row(&mr, row, sizeof row, &rl) == C4G_OK) {
-                fwrite(row, 1, rl, S->moni_fp);
+                fwrite(row, 1, rl, H->moni_fp);
             }
             continue;
         }
         {
-            fprintf(S->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
+            fprintf(H->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
                     "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (int)rx.num, (unsigned)i + 1U,
                     (unsigned)m->arm_of[i] + 1U, (unsigned)m->logical_of[i] + 1U, (int)r->mode,
                     (double)r->target_pos, (double)r->target_vel, (double)r->actual_pos,
@@ -138,11 +142,12 @@ static void write_moni(srv_t *S, const c4g_rtlog_rec_t *rec)
 
 void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
 {
-    srv_t *S = (srv_t *)ctx;
+    srv_host_t *H = (srv_host_t *)ctx;
+    const srv_t *S = &H->s;
     switch (rec->kind) {
     case LOG_TEXT: {
-        FILE *fp = (S->log_fp != NULL) ? S->log_fp : stderr;
-        if (S->cfg.quiet && S->log_fp == NULL) {
+        FILE *fp = (H->log_fp != NULL) ? H->log_fp : stderr;
+        if (S->cfg.quiet && H->log_fp == NULL) {
             break;
         }
         fprintf(fp, "c4g-server: [%10.6f] %.*s\n", (double)(rec->t_ns - S->t0_ns) * 1e-9,
@@ -151,13 +156,13 @@ void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
     }
     case LOG_PCAP_RX:
     case LOG_PCAP_TX:
-        if (S->pcap != NULL && rec->len >= 8U) {
-            write_pcap(S, rec);
+        if (H->pcap != NULL && rec->len >= 8U) {
+            write_pcap(H, rec);
         }
         break;
     case LOG_MONI:
-        if (S->moni_fp != NULL) {
-            write_moni(S, rec);
+        if (H->moni_fp != NULL) {
+            write_moni(H, rec);
         }
         break;
     default:
@@ -186,34 +191,6 @@ static double pct_us(const srv_stats_t *st, double p)
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
                                                       "init", "phase"};
 
-/* Counters of one more session added to @p sum (the longest silence is the longest). */
-void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
-{
-    uint32_t k;
-    sum->rx += c->rx;
-    sum->tx += c->tx;
-    sum->sync += c->sync;
-    sum->init += c->init;
-    sum->cyclic += c->cyclic;
-    sum->gaps += c->gaps;
-    sum->missed += c->missed;
-    sum->duplicates += c->duplicates;
-    sum->out_of_order += c->out_of_order;
-    sum->malformed_total += c->malformed_total;
-    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
-        sum->malformed[k] += c->malformed[k];
-    }
-    sum->lost_events += c->lost_events;
-    sum->foreign_total += c->foreign_total;
-    for (k = 0U; k < C4G_FOREIGN_COUNT_; k++) {
-        sum->foreign[k] += c->foreign[k];
-    }
-    sum->silences += c->silences;
-    if (c->longest_silence_ns > sum->longest_silence_ns) {
-        sum->longest_silence_ns = c->longest_silence_ns;
-    }
-}
-
 /* Every session since the start (--persist starts a new one after each 504). */
 static void counters_total(const srv_t *S, c4g_counters_t *tot)
 {
@@ -221,8 +198,9 @@ static void counters_total(const srv_t *S, c4g_counters_t *tot)
     srv_counters_add(tot, &S->loop.session.counters);
 }
 
-void srv_report(srv_t *S, FILE *out, const char *why, int code)
+void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
 {
+    const srv_t *S = &H->s;
     c4g_timing_t t;
     c4g_counters_t tot;
     const c4g_counters_t *c = &tot;
@@ -266,7 +244,7 @@ void srv_report(srv_t *S, FILE *out, const char *why, int code)
             (double)c->longest_silence_ns * 1e-6);
     fprintf(out, "replies skipped %llu, send errors %llu, encode errors %llu, log records dropped %llu\n",
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
-            (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped);
+            (unsigned long long)st->encode_errors, (unsigned long long)H->log.dropped);
     fprintf(out, "restarts (506) %llu, passive freezings %llu, active freezings %llu, drive-on ends %llu, "
             "mode changes %llu\n", (unsigned long long)st->restarts,
             (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
@@ -286,8 +264,9 @@ void srv_report(srv_t *S, FILE *out, const char *why, int code)
     fflush(out);
 }
 
-int srv_json(srv_t *S, const char *path, const char *why, int code)
+int srv_json(srv_host_t *H, const char *path, const char *why, int code)
 {
+    const srv_t *S = &H->s;
     c4g_timing_t t;
     c4g_counters_t tot;
     const c4g_counters_t *c = &tot;
@@ -343,7 +322,7 @@ int srv_json(srv_t *S, const char *path, const char *why, int code)
             "\"mode_changes\":%llu,\"exits_sent\":[%llu,%llu,%llu,%llu]},",
             (unsigned long long)st->oversize,
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
-            (unsigned long long)st->encode_errors, (unsigned long long)S->log.dropped,
+            (unsigned long long)st->encode_errors, (unsigned long long)H->log.dropped,
             (unsigned long long)st->restarts, (unsigned long long)st->inits,
             (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
             (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes,

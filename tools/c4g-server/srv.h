@@ -1,21 +1,15 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server internals: configuration, per-arm behaviours, safety filter, statistics. */
-#ifndef C4G_SRV_H
-#define C4G_SRV_H
+/* c4g-server's I/O around the server core (tools/common/c4g_srv.h): the socket's address
+ * filter, the log ring and its writer thread's outputs (text log, pcap, moni), exit codes. */
+#ifndef SRV_IO_H
+#define SRV_IO_H
 
-#include "c4gopen.h"
-#include "c4g_cli.h"
-#include "c4g_controllers.h"
+#include "c4g_srv.h"
 #include "c4g_rtlog.h"
 
 #include <netinet/in.h>
 #include <stdint.h>
 #include <stdio.h>
-
-#define SRV_MAX_TRAJ_ROWS CTLR_MAX_TRAJ_ROWS /* trajectory file rows (static storage) */
-#define SRV_MAX_TRAJ_BYTES (8U << 20) /* file size caps: a bigger file (or /dev/zero) is refused */
-#define SRV_MAX_FF_BYTES (1U << 20)
-#define SRV_HIST_US 20000U        /* cycle-time histogram: 1 us bins up to 20 ms */
 
 /* Exit codes (documented in --help and docs/c4g-server.md). */
 enum {
@@ -30,147 +24,25 @@ enum {
 /* Log record kinds carried by the rtlog ring. */
 enum { LOG_TEXT = 1, LOG_PCAP_RX = 2, LOG_PCAP_TX = 3, LOG_MONI = 4 };
 
-/* The controllers' types (tools/common/c4g_controllers.h) under the server's names. */
-#define SRC_NONE CTLR_SRC_NONE
-#define SRC_SINE CTLR_SRC_SINE
-#define SRC_FILE CTLR_SRC_FILE
-typedef ctlr_ff_t srv_ff_t;
-typedef ctlr_arm_cfg_t srv_arm_cfg_t;
-typedef ctlr_traj_t srv_traj_t;
-
-/* Safety events and counters (reported at exit). */
-typedef struct srv_safety {
-    uint64_t follow_error;      /* 508 replies */
-    uint64_t drive_off;         /* 505 replies */
-    uint64_t cur_saturated;     /* |D5| clamped to AzLim (modes 1, 2) */
-    uint64_t delta_clamped;     /* mode 9 delta clamped to AzLim */
-    uint64_t stroke;            /* stroke-end violations */
-    uint64_t continuity;        /* reference step violations */
-    uint64_t nonfinite;         /* NaN/inf produced by a behaviour */
-    uint64_t injected;          /* --inject requests */
-    char first[256];            /* first safety event, human-readable */
-} srv_safety_t;
-
-typedef struct srv_stats {
-    uint64_t foreign;           /* datagrams from another source address: dropped */
-    uint64_t oversize;          /* datagrams larger than the receive buffer */
-    uint64_t send_errors;
-    uint64_t skipped;           /* replies deliberately not sent (--skip-replies) */
-    uint64_t late;              /* replies later than --late-us after reception */
-    uint64_t encode_errors;
-    uint64_t drive_on_end;      /* 501 -> other transitions (drive-on finished) */
-    uint64_t restarts;          /* 506 seen */
-    uint64_t inits;
-    uint64_t exits_sent[C4G_ARMS]; /* packets carrying EXIT_FROM_OPEN per arm */
-    uint64_t freezes;           /* active freezings done */
-    uint64_t frozen_passive;    /* 502 seen */
-    uint64_t long_gaps;         /* a packet came after more than the loss timeout */
-    uint64_t mode_changes;
-    uint32_t hist[SRV_HIST_US + 1U]; /* cycle time histogram (1 us bins, last = overflow) */
-    uint64_t hist_n;
-    int64_t cycle_max_ns;
-    double cycle_sum_us;
-} srv_stats_t;
-
-typedef struct srv_config {
-    char bind_addr[64];
-    unsigned port;
-    char ctrl_addr[64];         /* "any" or an IPv4 address */
-    c4g_num_policy_t num_policy;
-    uint64_t lost_timeout_ns;   /* 0: 10 periods */
-    double idle_timeout;        /* s without any packet before the first one; 0 = forever */
-    double max_seconds;         /* total run bound; 0 = none */
-    int persist;                /* keep serving after 504 / loss */
-    /* real time */
-    int mlock;
-    int prio;                   /* SCHED_FIFO priority, 0 = off */
-    int cpu;                    /* CPU affinity, -1 = off */
-    int rt_strict;              /* a refused RT setting is fatal */
-    int spin;                   /* busy-poll the socket */
-    unsigned poll_us;           /* >0: non-blocking recv + clock_nanosleep every poll_us */
-    unsigned late_us;           /* reply deadline for the "late" counter (500) */
-    /* outputs */
-    char pcap_path[512];
-    char moni_path[512];
-    int moni_type;              /* 19..24, 0 = full rx/tx rows */
-    char json_path[512];
-    char log_path[512];
-    int verbose, quiet;
-    /* test hooks */
-    uint64_t skip_at, skip_count;   /* don't answer cyclic packets skip_at .. +count-1 */
-    uint64_t inject_at;             /* cyclic packet number to inject inject_mode at */
-    int inject_mode;                /* 505 or 508 */
-    int inject_axis;                /* OPEN index for 508 (0-based) */
-    uint64_t freeze_at;             /* active freezing: cyclic packet number */
-    double freeze_ms;               /* pause length */
-    srv_arm_cfg_t arm[C4G_ARMS];
-    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM];
-} srv_config_t;
-
-/* The whole server state (static storage; nothing allocated after start-up). */
-typedef struct srv {
-    srv_config_t cfg;
-    c4g_loop_config_t loop_cfg;   /* the loop's configuration (a new session after 504) */
-    c4g_loop_t loop;              /* library loop: session + control engine + reply path */
-    c4g_counters_t done;          /* counters of the sessions --persist ended by 504 */
-    ctlr_axis_t ax[C4G_MAX_AXES]; /* controller state per OPEN index */
-    srv_safety_t safety;
-    srv_stats_t stats;
-    uint64_t cyc_k;               /* cyclic packet number (session counter) being answered */
-    int thaw;                     /* active freezing over: request EXIT_FROM_OPEN */
-    c4g_rtlog_t log;
+/* The server: its core and the I/O the core never does. */
+typedef struct srv_host {
+    srv_t s;                      /* the per-datagram core */
+    c4g_rtlog_t log;              /* RT-safe ring to the writer thread */
     FILE *log_fp, *moni_fp;
     struct c4g_pcap *pcap;        /* tools/common/c4g_pcap writer (log thread only) */
     uint64_t pcap_errors;
     struct sockaddr_in ctrl;      /* controller filter (sin_addr.s_addr 0 = any) */
     uint16_t local_port;
-    uint64_t t0_ns;
-} srv_t;
-
-extern srv_traj_t srv_traj[C4G_ARMS];
-
-/* behave.c: the controllers (tools/common/c4g_controllers.h) on the loop's control engine */
-void srv_behave_reset(srv_t *S);
-/* after an accepted init packet: the control engine's user limits */
-void srv_behave_init(srv_t *S, uint64_t t_ns);
-/* a cyclic packet with a prepared reply (ev->cmd): fill it, post the requests */
-void srv_behave(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_ns);
-/* after c4g_loop_reply: the finish status, exits sent, the filter's safety events */
-void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns);
-
-struct tf_file;
-
-/* opts.c: one option table for the command line and the INI file */
-void srv_config_default(srv_config_t *c);
-int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
-                     size_t errlen);
-/* the command line (tools/common/c4g_cli.h): CLI_RUN, CLI_DONE (--help, --version) or
- * CLI_BAD (the error is on stderr) */
-cli_result_t srv_config_cli(srv_config_t *c, const char *version_extra, int argc, char **argv);
-/* INI file (at most 1 MiB): 0, or -1 with "PATH:LINE:COL: ..." in err */
-int srv_config_load_ini(srv_config_t *c, const char *path, char *err, size_t errlen);
-int srv_config_parse_ini(srv_config_t *c, struct tf_file *f, char *err, size_t errlen);
-
-/* files.c: "PATH:LINE:COL: ..." in err on an error */
-int srv_load_traj(const char *path, srv_traj_t *tr, char *err, size_t errlen);
-int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
-                size_t errlen);
-/* the same over a file already in memory (tools/common/c4g_textfile.h) */
-int srv_parse_traj(struct tf_file *f, srv_traj_t *tr, char *err, size_t errlen);
-int srv_parse_ff(struct tf_file *f, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
-                 size_t errlen);
+} srv_host_t;
 
 /* report.c */
-void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c);
+void srv_report(srv_host_t *H, FILE *out, const char *why, int code);
+int srv_json(srv_host_t *H, const char *path, const char *why, int code);
+void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec);
+int srv_outputs_open(srv_host_t *H);
+void srv_outputs_close(srv_host_t *H);
 
 /* rt.c */
 int srv_rt_setup(const srv_config_t *cfg, FILE *msg);
-
-/* logging helper (ring, RT-safe) */
-void srv_log(srv_t *S, uint64_t t_ns, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
 
 #endif

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server configuration: one option table shared by the command line (getopt_long)
+/* The server's configuration (c4g-server's options): one option table shared by the command line (getopt_long)
  * and the INI file (inih), so every setting has the same name in both. */
-#include "srv.h"
+#include "c4g_srv.h"
 
 #include "c4g_cli.h"
 #include "c4g_textfile.h"

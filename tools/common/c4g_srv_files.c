@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server input files: trajectory CSV (modes 1, 4, 5) and the mode-9 feedforward
+/* The server's input files: trajectory CSV (modes 1, 4, 5) and the mode-9 feedforward
  * parameter file. Loaded once at start-up into static storage; every error names the
  * file, the line, the column, the field and the value (tools/common/c4g_textfile.h). */
-#include "srv.h"
+#include "c4g_srv.h"
 
 #include "c4g_textfile.h"
 
@@ -17,6 +17,8 @@
 #define FF_COEF_MAX 1e6
 #define TRAJ_LINE 4096
 #define FF_LINE 1024
+
+srv_traj_t srv_traj[C4G_ARMS]; /* static: large */
 
 /* Split s in place into at most max fields. Blanks separate fields, and so does one
  * ',' or ';' with optional blanks around it; an empty field ("1,,2", a leading or
@@ -268,4 +270,37 @@ int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char 
     rc = srv_parse_ff(&f, ff, err, errlen);
     tf_free(&f);
     return rc;
+}
+
+/* Every arm's trajectory (into srv_traj; an arm naming an earlier arm's file shares its
+ * rows) and the feedforward parameters (into cfg->ff). */
+int srv_load_files(srv_config_t *cfg, char *err, size_t errlen)
+{
+    char why[600];
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        const srv_arm_cfg_t *A = &cfg->arm[a];
+        uint32_t b;
+        int shared = 0;
+        if (A->src != SRC_FILE) {
+            continue;
+        }
+        for (b = 0U; b < a; b++) { /* same file as an earlier arm: copy, don't re-read */
+            if (cfg->arm[b].src == SRC_FILE && strcmp(cfg->arm[b].traj_path, A->traj_path) == 0) {
+                memcpy(&srv_traj[a], &srv_traj[b], sizeof srv_traj[a]);
+                shared = 1;
+                break;
+            }
+        }
+        if (!shared && srv_load_traj(A->traj_path, &srv_traj[a], why, sizeof why) != 0) {
+            snprintf(err, errlen, "trajectory: %s", why);
+            return -1;
+        }
+    }
+    if (cfg->arm[0].ff_path[0] != '\0' &&
+        srv_load_ff(cfg->arm[0].ff_path, cfg->ff, why, sizeof why) != 0) {
+        snprintf(err, errlen, "feedforward: %s", why);
+        return -1;
+    }
+    return 0;
 }

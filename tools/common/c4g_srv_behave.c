@@ -1,17 +1,15 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server behaviours (per arm, chosen by the mode the controller reports) on top of
+/* The server's behaviours (per arm, chosen by the mode the controller reports) on top of
  * the library's loop object: c4g_loop_rx steps the control engine and prepares the reply
  * (mode echo, mode-10 copy, required fields marked unset), the controllers
  * (tools/common/c4g_controllers.h) fill the fields of the mode, requests (exit from
  * open, 505, 508, active freezing) go through c4g_engine_request_*, and c4g_loop_reply
  * applies the packet rules and the PC-side safety filter. Runs on the real-time path: no
- * allocation, no I/O (log lines go through the rtlog ring), loops bounded by the axis
- * count. */
-#include "srv.h"
+ * allocation, no I/O (log lines go to the caller's logger, srv_log), loops bounded by
+ * the axis count. */
+#include "c4g_srv.h"
 
 #include <string.h>
-
-srv_traj_t srv_traj[C4G_ARMS];
 
 void srv_behave_reset(srv_t *S)
 {
