@@ -63,6 +63,10 @@
  *   --start SECONDS    time of the first packet (default 1700000000)
  *   --ctrl-port N, --pc-port N   UDP ports (default 45001, 45000)
  *   --seed N           reply latency sequence (default 1)
+ *   --first-num N      the capture starts in the middle of a session, as a capture started
+ *                      late does: no start-up, cyclic tick k carries NUM (N + k - 1) mod
+ *                      0x8000, so the counter wraps from 0x7FFF to 0 within the file when N
+ *                      is close to it (the reply to 0x7FFF carries 1, as does the reply to 0)
  * Exit status: 0 written, 1 write error, 2 usage. */
 #include "c4gopen.h"
 #include "c4g_fixtures.h"
@@ -94,7 +98,7 @@ static const char *const link_names[] = {"eth", "vlan", "raw", "null", "sll", "s
 static struct {
     const char *out;
     enum inj inj;
-    long at, ticks, start;
+    long at, ticks, start, first_num;
     int axes, mode, period_ms, frag_init;
     enum link link;
     unsigned ctrl_port, pc_port;
@@ -376,7 +380,7 @@ static int run(void)
     init.period_ms = o.period_ms;
     for (i = n; i < 6; i++) init.open_ax[0][i] = C4G_OPEN_AX_NONE;
     /* start-up: 9 sync, init, 2 sync; the PC answers each one */
-    for (k = 1; k <= 12; k++) {
+    for (k = 1; k <= 12 && o.first_num < 0; k++) {
         t = t0 + (uint64_t)(k - 1) * P;
         if (k == C4G_INIT_NUM) {
             if (c4g_init_encode(&init, buf, sizeof buf, &len) != C4G_OK) return -1;
@@ -404,9 +408,9 @@ static int run(void)
         int answer = 1;
         size_t rlen = 0;
         if (dropped_at >= 0 && m != C4G_MODE_EXIT_OPEN) m = C4G_MODE_0;
-        t = t0 + (uint64_t)(11 + k) * P;
+        t = t0 + (uint64_t)(o.first_num < 0 ? 11 + k : k - 1) * P;
         memset(&c, 0, sizeof c);
-        c.num = (int32_t)(12 + k);
+        c.num = (o.first_num < 0) ? (int32_t)(12 + k) : (int32_t)((o.first_num + k - 1) % 0x8000);
         c.infpar = drives ? C4G_STS_MOVING : 0U;
         c.n_axes = (uint32_t)n;
         for (i = 0; i < n; i++) {
@@ -527,7 +531,8 @@ static void usage(void)
             "                     truncate|unknown-mode|unknown-mode-pc] [--at TICK] [--ticks N]\n"
             "                     [--axes N] [--mode 0|2|4|9] [--period 1|2]\n"
             "                     [--link eth|vlan|raw|null|sll|sll2] [--fragment-init]\n"
-            "                     [--start SECONDS] [--ctrl-port N] [--pc-port N] [--seed N]\n");
+            "                     [--start SECONDS] [--ctrl-port N] [--pc-port N] [--seed N]\n"
+            "                     [--first-num N]\n");
 }
 
 static int pick(const char *v, const char *const *names, int n)
@@ -563,6 +568,7 @@ static int parse(int argc, char **argv)
     o.ctrl_port = 45001U;
     o.pc_port = 45000U;
     o.seed = 1UL;
+    o.first_num = -1;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -582,6 +588,7 @@ static int parse(int argc, char **argv)
         else if (strcmp(a, "--ctrl-port") == 0 && num_arg(val, 1, 65535, &v)) { o.ctrl_port = (unsigned)v; }
         else if (strcmp(a, "--pc-port") == 0 && num_arg(val, 1, 65535, &v)) { o.pc_port = (unsigned)v; }
         else if (strcmp(a, "--seed") == 0 && num_arg(val, 0, 2147483647L, &v)) { o.seed = (unsigned long)v; }
+        else if (strcmp(a, "--first-num") == 0 && num_arg(val, 0, C4G_NUM_MAX, &v)) { o.first_num = v; }
         else { fprintf(stderr, "forge_capture: bad option or value: %s %s\n", a, val); return 0; }
     }
     if (o.out == NULL) { fprintf(stderr, "forge_capture: --out is required\n"); return 0; }
@@ -628,7 +635,7 @@ int main(int argc, char **argv)
            o.out, frames, o.ticks, o.axes, o.mode, link_names[o.link],
            o.frag_init ? " (init fragmented)" : "", inj_names[o.inj]);
     if (o.inj != INJ_NONE) {
-        printf(" at tick %ld (NUM %ld)", o.at, 12 + o.at);
+        printf(" at tick %ld (NUM %ld)", o.at, o.first_num < 0 ? 12 + o.at : (o.first_num + o.at - 1) % 0x8000);
     }
     printf("\n");
     return 0;
