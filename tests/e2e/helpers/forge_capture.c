@@ -29,11 +29,12 @@
  *   --out FILE         capture to write (required)
  *   --inject KIND      the defect (default none):
  *     none             a clean session
- *     follow-error     axis 2: |D1 - D3| grows as 8 (j/20)^2 turns over ticks AT-19..AT
- *                      (j = 1..20): 7.22 at AT-1, 8.0 at AT, over FollowError 7.5 at AT only
- *                      (the current saturates at AzLim); the controller drives the arm off
- *                      from AT+1 (INFPAR 0, mode 0, D1 = D3). With 6 axes, axis 6 (FollowError
- *                      0 = no threshold) deviates 1.25 times as much: never a finding
+ *     follow-error     axis 2 (axis 1 with one axis): |D1 - D3| grows as 8 (j/20)^2 turns
+ *                      over ticks AT-19..AT (j = 1..20): 7.22 at AT-1, 8.0 at AT, over
+ *                      FollowError 7.5 at AT only (the current saturates at AzLim); the
+ *                      controller drives the arm off from AT+1 (INFPAR 0, mode 0, D1 = D3).
+ *                      With 6 axes, axis 6 (FollowError 0 = no threshold) deviates 1.25
+ *                      times as much: never a finding
  *     current          mode 2: the PC's D5 on axis 1 is 30 A at AT (AzLim 24.5 A). Mode 9: the
  *                      PC's D5 on axis 1 is 30 A at AT, and (4 axes or more) on axis 4 it is
  *                      8.5 A at AT+10 while the SMP+ current D5 is 1.5 A: 10 A > AzLim 9.5 A
