@@ -2,6 +2,7 @@
 #   make            library (static + shared) and tools
 #   make check      every test and quality gate (installs missing deps first)
 #   make demo       a real session on loopback, printed
+#   make replay-fixtures  regenerate the capture fixtures in fixtures/replay
 #   make bench      benchmarks with an in-run baseline
 #   make coverage   line/branch coverage of lib/ (gated)
 #   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15)
@@ -69,7 +70,7 @@ DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e docs-examples fuzz-build complexity nodiscard
+  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures
 
 all: lib tools
 
@@ -295,6 +296,10 @@ check: $(DEPS_STAMP)
 
 demo: all
 	@sh scripts/demo.sh $(BUILD)
+
+# c4g-replay's capture fixtures (fixtures/replay/README.md); real runs on 127.0.0.1
+replay-fixtures: lib tools
+	@sh scripts/make-replay-fixtures.sh $(BUILD)
 
 bench: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all

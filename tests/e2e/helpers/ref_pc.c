@@ -5,7 +5,13 @@
  * and plays a minimal PC role in every supported mode so the scenarios can finish. It
  * counts its own slow replies (sent more than 1 ms after the packet's kernel arrival time;
  * with --slow-us each one is logged with its NUM), so a test can tell a late PC from a
- * simulator that blames the PC. */
+ * simulator that blames the PC.
+ *
+ * Late on purpose: --late-us US[@N[,COUNT]] holds the replies to cyclic packets N..N+COUNT-1
+ * (COUNT default 1; every cyclic packet without @N) until US microseconds after the packet's
+ * kernel arrival time, and may be given up to 8 times; --wrong-num-at N[,COUNT] puts a wrong
+ * NUM (+5) in the replies to those cyclic packets only (--wrong-num: in every reply). Both
+ * make captures of a misbehaving PC. */
 #include <arpa/inet.h>
 #include <errno.h>
 #include <math.h>
@@ -36,7 +42,54 @@ static void usage(void)
     fprintf(stderr,
             "usage: ref_pc -p PORT [--echo] [--no-reply] [--wrong-num] [--stop-after N]\n"
             "              [--drop-nth N] [--exit-after K] [--request MODE@N] [--idle-ms MS]\n"
-            "              [--max-s S] [--bind ADDR] [--slow-us US]\n");
+            "              [--max-s S] [--bind ADDR] [--slow-us US] [--late-us US[@N[,COUNT]]]\n"
+            "              [--wrong-num-at N[,COUNT]]\n");
+}
+
+/* A range of cyclic packets (1-based, as counted by this PC) and a reply delay. */
+typedef struct late_rule {
+    long us;
+    long from;
+    long count;
+} late_rule_t;
+
+#define MAX_LATE 8
+
+/* "US", "US@N" or "US@N,COUNT"; 0 on a malformed value. */
+static int parse_late(const char *v, late_rule_t *r)
+{
+    char tail = '\0';
+    r->from = 1;
+    r->count = -1;
+    if (sscanf(v, "%ld@%ld,%ld%c", &r->us, &r->from, &r->count, &tail) == 3) { /* N,COUNT */ }
+    else if (sscanf(v, "%ld@%ld%c", &r->us, &r->from, &tail) == 2) { r->count = 1; }
+    else if (sscanf(v, "%ld%c", &r->us, &tail) == 1) { r->from = 1; r->count = -1; }
+    else { return 0; }
+    return r->us >= 0 && r->us < 1000000 && r->from >= 1 && (r->count == -1 || r->count >= 1);
+}
+
+static int in_range(unsigned long k, long from, long count)
+{
+    return from >= 1 && (long)k >= from && (count < 0 || (long)k < from + count);
+}
+
+/* Wait until @p us after the kernel arrival time @p arrived (CLOCK_REALTIME), or @p us
+ * from now when the arrival time is unknown. */
+static void hold_reply(const struct timespec *arrived, long us)
+{
+    struct timespec due;
+    if (arrived->tv_sec != 0) {
+        due = *arrived;
+        due.tv_nsec += us * 1000L;
+        due.tv_sec += due.tv_nsec / 1000000000L;
+        due.tv_nsec %= 1000000000L;
+        while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &due, NULL) == EINTR && !stop_flag) {
+        }
+    } else {
+        due.tv_sec = us / 1000000L;
+        due.tv_nsec = (us % 1000000L) * 1000L;
+        (void)nanosleep(&due, NULL);
+    }
 }
 
 typedef struct axstate {
@@ -73,6 +126,11 @@ int main(int argc, char **argv)
     unsigned long syncs = 0;
     unsigned long inits = 0;
     unsigned long dropped = 0;
+    late_rule_t late[MAX_LATE];
+    int n_late = 0;
+    long wrong_from = -1;
+    long wrong_count = 1;
+    unsigned long held = 0;
     int ended = 0;
     int i;
     int fd;
@@ -100,6 +158,17 @@ int main(int argc, char **argv)
         else if (strcmp(o, "--idle-ms") == 0 && v) { idle_ms = atol(v); i++; }
         else if (strcmp(o, "--max-s") == 0 && v) { max_s = atol(v); i++; }
         else if (strcmp(o, "--slow-us") == 0 && v) { slow_us = atol(v); log_slow = 1; i++; }
+        else if (strcmp(o, "--late-us") == 0 && v) {
+            if (n_late >= MAX_LATE || !parse_late(v, &late[n_late])) { usage(); return 2; }
+            n_late++;
+            i++;
+        }
+        else if (strcmp(o, "--wrong-num-at") == 0 && v) {
+            char tail = '\0';
+            const int got = sscanf(v, "%ld,%ld%c", &wrong_from, &wrong_count, &tail);
+            if ((got != 1 && got != 2) || wrong_from < 1 || wrong_count < 1) { usage(); return 2; }
+            i++;
+        }
         else { usage(); return 2; }
     }
     if (port == 0U) { usage(); return 2; }
@@ -253,10 +322,20 @@ int main(int argc, char **argv)
             if (no_reply || (stop_after >= 0 && (long)rx_total > stop_after)) { continue; }
             if (c4g_session_reply(&s, NULL, out, sizeof out, &olen) != C4G_OK) { continue; }
         }
-        if (wrong_num) {
+        if (wrong_num || (res.kind == C4G_RX_CYCLIC && in_range(cyclic, wrong_from, wrong_count))) {
             const int32_t w = (int32_t)(out[0] | (out[1] << 8)) + 5;
             out[0] = (uint8_t)w;
             out[1] = (uint8_t)(w >> 8);
+        }
+        if (res.kind == C4G_RX_CYCLIC) {
+            int r;
+            for (r = 0; r < n_late; r++) {
+                if (in_range(cyclic, late[r].from, late[r].count)) {
+                    hold_reply(&arrived, late[r].us);
+                    held++;
+                    break;
+                }
+            }
         }
         if (sendto(fd, out, olen, 0, (struct sockaddr *)&from, fl) == (ssize_t)olen) {
             struct timespec sent;
@@ -278,8 +357,8 @@ int main(int argc, char **argv)
         }
     }
     fprintf(stderr, "ref_pc: rx %lu sync %lu init %lu cyclic %lu replied %lu dropped %lu ended %d "
-            "slow %lu worst %.1f us\n", rx_total, syncs, inits, cyclic, replied, dropped, ended, slow,
-            (double)worst_ns / 1000.0);
+            "slow %lu worst %.1f us held %lu\n", rx_total, syncs, inits, cyclic, replied, dropped, ended,
+            slow, (double)worst_ns / 1000.0, held);
     close(fd);
     return 0;
 }
