@@ -143,7 +143,6 @@ local f = {
     arm = ProtoField.uint8("c4g.arm", "Arm", base.DEC),
     arm_axis = ProtoField.uint8("c4g.arm_axis", "Logical axis of the arm", base.DEC),
     mode = ProtoField.int32("c4g.mode", "Mode (SM)", base.DEC, mode_names),
-    d = {}, ext = {},
     trailing = ProtoField.bytes("c4g.trailing", "Bytes after the last whole axis"),
     response_to = ProtoField.framenum("c4g.response_to", "Reply to the controller packet in frame",
         base.NONE, frametype and frametype.RESPONSE),
@@ -153,8 +152,17 @@ local f = {
         "time from the controller packet to the PC's reply"),
     infpar_arm = {}, cmd_arm = {},
 }
-for i = 1, 5 do f.d[i] = ProtoField.float("c4g.d" .. i, "D" .. i) end
-for i = 1, 3 do f.ext[i] = ProtoField.float("c4g.ext" .. i, "EXT" .. i) end
+-- D1..D5 and EXT1..EXT3 once per sender: same abbreviation (c4g.d1 ... matches both), the
+-- name tells the meaning. f.data[dir][k], k = 1..8.
+f.data = { ctrl = {}, pc = {} }
+for dir, labels in pairs(D_LABELS) do
+    for k = 1, 5 do
+        f.data[dir][k] = ProtoField.float("c4g.d" .. k, "D" .. k .. " " .. labels[k])
+    end
+    for k = 1, 3 do
+        f.data[dir][5 + k] = ProtoField.float("c4g.ext" .. k, "EXT" .. k)
+    end
+end
 for a = 1, ARMS do
     local mask = 0xFF * (256 ^ (a - 1))
     f.infpar_arm[a] = ProtoField.uint32("c4g.infpar.arm" .. a, "Arm " .. a, base.DEC, nil, mask)
@@ -186,7 +194,7 @@ for _, k in ipairs({ "dir", "dir_by", "type", "n_axes", "num", "infpar", "cmd", 
                      "response_time" }) do
     list[#list + 1] = f[k]
 end
-for _, t in ipairs({ f.d, f.ext, f.infpar_arm, f.cmd_arm }) do
+for _, t in ipairs({ f.data.ctrl, f.data.pc, f.infpar_arm, f.cmd_arm }) do
     for _, x in ipairs(t) do list[#list + 1] = x end
 end
 for _, x in pairs(fi) do list[#list + 1] = x end
@@ -487,14 +495,9 @@ local function learn(tvb, pinfo)
 end
 
 -- ---------------------------------------------------------------- tree
-local function add_float(tree, field, range, label)
-    local v = range:le_float()
-    local item = tree:add_le(field, range)
-    item:set_text(label .. ": " .. fmt_float(v, range:raw()))
-    if not finite(v) then
-        item:add_proto_expert_info(ex.nonfinite, label .. " is " .. fmt_float(v, range:raw()))
-    end
-    return v
+-- true if the float32 with these bits is NaN or an infinity
+local function nonfinite_bits(u)
+    return (u >= 0x7F800000 and u < 0x80000000) or u >= 0xFF800000
 end
 
 local function mode_text(m)
@@ -533,27 +536,34 @@ local function add_header(tree, tvb, dir)
 end
 
 local function add_axes(tree, tvb, dir, n, map)
-    local labels = D_LABELS[dir]
+    local fields = f.data[dir]
     local modes = {}
     for i = 1, n do
         local o = HEADER + AXIS * (i - 1)
-        local m = tvb(o, 4):le_int()
+        local ar = tvb(o, AXIS)
+        local mr = tvb(o, 4)
+        local m = mr:le_int()
         modes[i] = m
-        local where = ""
         local pos = map and map[i]
-        if pos then where = string.format(" (arm %d, axis %d)", pos[1], pos[2]) end
-        local at = tree:add(tvb(o, AXIS), string.format("Axis %d%s: %s", i, where, mode_text(m)))
-        at:add(f.axis, tvb(o, AXIS), i):set_generated()
+        local at
         if pos then
-            at:add(f.arm, tvb(o, AXIS), pos[1]):set_generated()
-            at:add(f.arm_axis, tvb(o, AXIS), pos[2]):set_generated()
+            at = tree:add(ar, string.format("Axis %d (arm %d, axis %d): %s", i, pos[1], pos[2],
+                mode_text(m)))
+            at:add(f.axis, ar, i):set_generated()
+            at:add(f.arm, ar, pos[1]):set_generated()
+            at:add(f.arm_axis, ar, pos[2]):set_generated()
+        else
+            at = tree:add(ar, string.format("Axis %d: %s", i, mode_text(m)))
+            at:add(f.axis, ar, i):set_generated()
         end
-        add_mode(at, tvb(o, 4))
-        for k = 1, 5 do
-            add_float(at, f.d[k], tvb(o + 4 * k, 4), "D" .. k .. " " .. labels[k])
-        end
-        for k = 1, 3 do
-            add_float(at, f.ext[k], tvb(o + 20 + 4 * k, 4), "EXT" .. k)
+        add_mode(at, mr)
+        for k = 1, 8 do
+            local r = tvb(o + 4 * k, 4)
+            local item = at:add_le(fields[k], r)
+            if nonfinite_bits(r:le_uint()) then
+                item:add_proto_expert_info(ex.nonfinite, string.format("%s of axis %d is %s",
+                    k <= 5 and ("D" .. k) or ("EXT" .. (k - 5)), i, fmt_float(r:le_float(), r:raw())))
+            end
         end
     end
     return modes
