@@ -224,6 +224,9 @@ c4g.experts = { ex.bad_length, ex.nonfinite, ex.unknown_mode, ex.num_range, ex.i
 c4g.prefs.ports = Pref.range("PC ports", "1000-1001",
     "UDP ports of the C4G Open PC (server): the dissector is registered on them, and a "
     .. "datagram to one of them comes from the controller when nothing better tells", 65535)
+c4g.prefs.trust_ports = Pref.bool("Trust the PC ports over the timing rule", false,
+    "Let the PC ports decide the direction before the timing rule (for a capture without "
+    .. "the start-up handshake of a PC that answers late in the period)")
 
 local pc_ports = {}
 local registered = ""
@@ -336,6 +339,7 @@ local LEVEL = { first = 1, port = 1, timing = 2, init = 3, ["init-echo"] = 3, ["
 
 local function set_ctrl(conv, ep, by)
     local lvl = LEVEL[by]
+    if by == "port" and c4g.prefs.trust_ports then lvl = 2.5 end
     if lvl > conv.level or (lvl == 2 and conv.level == 2) then
         conv.ctrl, conv.by, conv.level = ep, by, lvl
     end
@@ -492,6 +496,26 @@ local function learn(tvb, pinfo)
     if len == INIT_SIZE then tail = tvb:raw(4, INIT_SIZE - 4) end
     conv.last = { ep = src, len = len, num = num, t = t, tail = tail }
     return rec
+end
+
+-- A copy inside an ICMP error, or a datagram cut by the capture's snapshot length: its
+-- sender from what the conversation already knows, else from the PC ports; nothing learnt.
+local function quoted_record(tvb, pinfo)
+    local src = tostring(pinfo.src) .. "/" .. pinfo.src_port
+    local dst = tostring(pinfo.dst) .. "/" .. pinfo.dst_port
+    local conv = convs[conv_key(src, dst)]
+    local dir, by = "?", "quoted"
+    if conv and conv.ctrl then
+        dir = (src == conv.ctrl) and "ctrl" or "pc"
+    elseif is_pc_port(pinfo.dst_port) and not is_pc_port(pinfo.src_port) then
+        dir = "ctrl"
+    elseif is_pc_port(pinfo.src_port) and not is_pc_port(pinfo.dst_port) then
+        dir = "pc"
+    end
+    local n = cyclic_axes(tvb:reported_len())
+    local typ = (tvb:reported_len() == INIT_SIZE) and (dir == "pc" and "init-echo" or "init")
+        or (n and "cyclic") or "unknown"
+    return { dir = dir, type = typ, by = by, quoted = true }
 end
 
 -- ---------------------------------------------------------------- tree
@@ -704,7 +728,7 @@ function c4g.dissector(tvb, pinfo, tree)
     local quoted = (icmp_type() ~= nil) or (icmpv6_type() ~= nil) or len < tvb:reported_len()
     local rec
     if quoted then
-        rec = { dir = "?", type = "unknown", by = "quoted" }
+        rec = quoted_record(tvb, pinfo)
     elseif not pinfo.visited then
         rec = learn(tvb, pinfo)
         frames[pinfo.number] = rec
@@ -735,6 +759,8 @@ function c4g.dissector(tvb, pinfo, tree)
         if typ == "init-echo" and rec.echo_ok == false then
             root:add_proto_expert_info(ex.echo_mismatch)
         end
+    elseif rec.quoted and tvb:reported_len() == INIT_SIZE then
+        root:add(tvb(), string.format("Initialization packet, %d of its 1200 bytes", len))
     elseif len >= HEADER then
         local hdr_dir = (dir == "pc") and "pc" or "ctrl"
         local num = add_header(root, tvb, hdr_dir)
@@ -747,7 +773,7 @@ function c4g.dissector(tvb, pinfo, tree)
             if rest > 0 then root:add(f.trailing, tvb(HEADER + AXIS * whole, rest)) end
         end
     end
-    if len ~= INIT_SIZE and not n then
+    if len ~= INIT_SIZE and not n and not rec.quoted then
         root:add_proto_expert_info(ex.bad_length, "Length " .. len
             .. " is not 12 + 36 n (n = 1..20) nor 1200")
         info = info .. " [bad length " .. len .. "]"
