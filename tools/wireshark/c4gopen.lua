@@ -599,7 +599,9 @@ local function modes_summary(modes)
     for i = 2, #modes do
         if modes[i] ~= modes[1] then same = false end
     end
-    if same then return string.format(" %s x%d", mode_names[modes[1]] or tostring(modes[1]), #modes) end
+    if same then
+        return string.format(" %s x%d", mode_names[modes[1]] or ("mode " .. modes[1]), #modes)
+    end
     local s = {}
     for i, m in ipairs(modes) do s[i] = tostring(m) end
     return " modes " .. table.concat(s, ",")
