@@ -1,14 +1,14 @@
 #!/bin/sh
 # The Wireshark dissector (tools/wireshark/c4gopen.lua) under real tshark, checked packet by
 # packet against an independent decode of the same captures (tests/e2e/wireshark_check.py):
-# - the mode names against the header's C4G_MODE_TABLE;
 # - fixtures/wireshark/mode4-short.pcap (c4g-server --sine 0.25,2,0.5 against c4g-sim -S
 #   fixtures/server/sim_mode4.scn, PC on port 31000): sender, type, NUM, INFPAR, CMD, modes,
 #   D1..D5 and EXT1..EXT3 as exact float32 of every packet, all 300 fields of the init
 #   packet and its echo, reply links, display filters; the sender again with Decode As only
 #   (no port preference) and from a cut that starts in mid-stream on a PC packet;
 # - crafted datagrams on the default port 1000 (NaN and infinity, unknown mode 77, 13 and
-#   733 bytes, NUM out of range, an init packet out of range): their expert info;
+#   733 bytes, NUM out of range, an init packet out of range): their expert info; and every
+#   mode code of the header's C4G_MODE_TABLE, named as the table names it;
 # - a fresh two-arm capture (c4g-sim -c fixtures/sim/two-arms.ini, 1 ms period, 9 axes):
 #   the same full comparison, arms and axes from the init packet's OpenAx.
 set -u
@@ -28,10 +28,10 @@ trap cleanup EXIT
 trap 'exit 1' INT TERM
 rc=0
 # (every tshark run of the checker fails on a Lua error on stderr)
-$CHECK --tmp "$T" modes --header include/c4gopen_wire.h || rc=1
 $CHECK --tmp "$T" capture fixtures/wireshark/mode4-short.pcap --pc-port 31000 \
   --name mode4-short --filters --direction || rc=1
-$CHECK --tmp "$T" experts --init-bin fixtures/vectors/init-fig10-1.bin || rc=1
+$CHECK --tmp "$T" crafted --init-bin fixtures/vectors/init-fig10-1.bin \
+  --header include/c4gopen_wire.h || rc=1
 # A fresh capture: two arms, 1 ms period; the simulator records both directions.
 if [ -x "$B/bin/c4g-server" ] && [ -x "$B/bin/c4g-sim" ]; then
   . tests/e2e/helpers/wait.sh

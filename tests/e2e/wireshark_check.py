@@ -14,9 +14,13 @@ Two readings of one capture, compared packet by packet:
 
 Both readings give Packet objects (same shape), so a third source, e.g. c4g-replay's CSV
 export, can be compared with the same helpers: ticks() pairs each controller cyclic packet
-with the PC reply the dissector linked to it (ctrl_frame, pc_frame of the CSV).
+with the PC reply the dissector linked to it (the CSV's ctrl_frame, pc_frame); a row's
+ctrl_num/ctrl_infpar/ctrl_cmd and c{i}_mode, c{i}_d1..c{i}_ext3 are the controller
+Packet's num, infpar, cmd and axes[i-1].mode, .data[0..7]; p{i}_* the PC Packet's;
+latency_us the PC Packet's response_time (dissector) or the difference of the two .time
+(independent). Floats printed with %.9g read back exactly: compare them with same_float.
 
-Usage: wireshark_check.py --lua FILE [--tmp DIR] COMMAND ...   (see main()).
+Usage: wireshark_check.py --lua FILE [--tmp DIR] {capture,crafted} ...   (see main()).
 Prints one PASS/FAIL line per check; exit status 0 when all pass.
 """
 import argparse
@@ -83,8 +87,10 @@ class Packet:
         self.time = None                # seconds (epoch), from tshark
         self.src_port = None
         self.dst_port = None
-        self.response_to = None         # dissector only
+        self.response_to = None         # dissector only: c4g.response_to (frame)
+        self.response_time = None       # dissector only: c4g.response_time (s)
         self.experts = []               # dissector only: expert abbreviations
+        self.mode_labels = []           # dissector only: the mode items' labels
 
 
 def cyclic_axes(length):
@@ -170,6 +176,7 @@ class FieldOcc:
     def __init__(self, el):
         self.name = el.get("name")
         self.show = el.get("show")
+        self.showname = el.get("showname")
         self.value = el.get("value")
         self.pos = int(el.get("pos", "0"))
         self.size = int(el.get("size", "0"))
@@ -245,6 +252,8 @@ def dissector_packets(pcap, lua, opts, xml=None):
                 p.dir_by = o.show
             elif name == "c4g.response_to":
                 p.response_to = int(o.show)
+            elif name == "c4g.response_time":
+                p.response_time = float(o.show)
             elif name in ("c4g.num", "c4g.infpar", "c4g.cmd"):
                 off = {"c4g.num": 0, "c4g.infpar": 4, "c4g.cmd": 8}[name]
                 want_pos(o, base + off, frame)
@@ -261,6 +270,7 @@ def dissector_packets(pcap, lua, opts, xml=None):
             elif name == "c4g.mode":
                 want_pos(o, base + HEADER + AXIS * (ax.index - 1), frame)
                 ax.mode = int(o.show)
+                p.mode_labels.append(o.showname)
                 check_int_raw(o, ax.mode, True, frame)
             elif name[4:] in DATA_NAMES:
                 k = DATA_NAMES.index(name[4:])
@@ -571,11 +581,25 @@ def axis_bytes(mode, floats):
     return struct.pack("<i", mode) + b"".join(f32_bytes(x) for x in floats)
 
 
-def cmd_experts(rep, args):
-    """Crafted datagrams on the default port 1000: each draws its expert info."""
+def header_modes(header):
+    """{code: name} of the C4G_MODE_TABLE rows in include/c4gopen_wire.h."""
+    text = open(header).read()
+    table = text[text.index("#define C4G_MODE_TABLE(X)"):]
+    table = table[:table.index("\n\n")]
+    return {int(m.group(1)): m.group(2) for m in re.finditer(
+        r'X\(\s*\w+,\s*(\d+),.*?"([A-Z0-9_]+)",\s*\\?\s*"', table, re.S)}
+
+
+def cmd_crafted(rep, args):
+    """Crafted datagrams on the default port 1000 (so the default registration is tested
+    too): bad ones draw their expert info; two packets carry every mode code of the
+    header's C4G_MODE_TABLE and the dissector must name each one as the table does."""
     nan, inf = (0x7FC00000,), (0x7F800000,)
     init = bytearray(open(args.init_bin, "rb").read())
     struct.pack_into("<i", init, 4, 4)           # nFieldPck 4
+    modes = header_modes(args.header)
+    codes = sorted(modes)
+    half = (len(codes) + 1) // 2
     cases = [
         ("NaN D1, +inf EXT3, unknown mode 77",
          struct.pack("<iII", 5, 0, 0) + axis_bytes(77, [nan, 0.5, 0, 0, 0, 0, 0, inf]),
@@ -588,6 +612,9 @@ def cmd_experts(rep, args):
         ("init packet with nFieldPck 4", bytes(init), {"c4g.init_field": 1}),
         ("733-byte datagram", bytes(733), {"c4g.bad_length": 1}),
     ]
+    for part in (codes[:half], codes[half:]):
+        cases.append(("modes %d..%d" % (part[0], part[-1]), struct.pack("<iII", 20, 0, 0)
+                      + b"".join(axis_bytes(c, [0.0] * 8) for c in part), {}))
     path = args.tmp + "/crafted.pcap"
     write_pcap(path, [(40000, 1000, c[1]) for c in cases])
     diss = dissector_packets(path, args.lua, [])
@@ -603,27 +630,17 @@ def cmd_experts(rep, args):
               [] if p and p.axes and p.axes[0].mode == 77 and math.isnan(p.axes[0].data[0])
               and p.axes[0].data[1] == 0.5 and p.axes[0].data[7] == float("inf")
               else ["got %r" % (p.axes[0].fields() if p and p.axes else None)])
-
-
-def cmd_modes(rep, args):
-    """The dissector's mode value strings equal the header's C4G_MODE_TABLE rows."""
-    text = open(args.header).read()
-    table = text[text.index("#define C4G_MODE_TABLE(X)"):]
-    table = table[:table.index("\n\n")]
-    want = {}
-    for m in re.finditer(r'X\(\s*\w+,\s*(\d+),.*?"([A-Z0-9_]+)",\s*\\?\s*"', table, re.S):
-        want[int(m.group(1))] = m.group(2)
-    out = tshark(["-G", "values"] + lua_args(args.lua, []))
-    got = {}
-    for line in out.splitlines():
-        parts = line.split("\t")
-        if len(parts) == 4 and parts[0] == "V" and parts[1] == "c4g.mode":
-            got[int(parts[2])] = parts[3]
-    rep.check("c4g.mode names: the %d codes of C4G_MODE_TABLE" % len(want),
-              [] if got == want and len(want) >= 30 else
-              ["%r: %r, want %r" % (k, got.get(k), want.get(k))
-               for k in sorted(set(got) | set(want)) if got.get(k) != want.get(k)]
-              or ["only %d rows parsed" % len(want)])
+    labels = []
+    for fr in (len(cases) - 1, len(cases)):
+        labels += diss[fr].mode_labels if fr in diss else []
+    probs = ["only %d table rows parsed" % len(codes)] if len(codes) < 30 else []
+    for code, label in zip(codes, labels):
+        if not label.startswith("Mode (SM): %s (%d)" % (modes[code], code)):
+            probs.append("%d: %r, want %s" % (code, label, modes[code]))
+    if len(labels) != len(codes):
+        probs.append("%d mode items for %d codes" % (len(labels), len(codes)))
+    rep.check("c4g.mode names every code of C4G_MODE_TABLE as the table does (%d codes)"
+              % len(codes), probs)
 
 
 def main():
@@ -638,15 +655,13 @@ def main():
     c.add_argument("--filters", action="store_true", help="also check display filters")
     c.add_argument("--direction", action="store_true",
                    help="also check the sender without the port preference")
-    e = sub.add_parser("experts", help="crafted bad datagrams")
+    e = sub.add_parser("crafted", help="crafted datagrams: expert info and mode names")
     e.add_argument("--init-bin", required=True, help="a valid 1200-byte init packet")
-    m = sub.add_parser("modes", help="mode names against the header")
-    m.add_argument("--header", required=True)
+    e.add_argument("--header", required=True, help="include/c4gopen_wire.h")
     args = ap.parse_args()
     rep = Report()
     try:
-        {"capture": cmd_capture, "experts": cmd_experts,
-         "modes": cmd_modes}[args.cmd](rep, args)
+        {"capture": cmd_capture, "crafted": cmd_crafted}[args.cmd](rep, args)
     except (DissectorError, RuntimeError) as err:
         rep.check(args.cmd, [str(err)])
     return 0 if rep.fails == 0 else 1

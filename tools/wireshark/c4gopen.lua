@@ -1,7 +1,8 @@
 -- SPDX-License-Identifier: MIT
 --[[
 c4gopen.lua: Wireshark / tshark dissector for the Comau C4G Open real-time UDP protocol
-(libc4gopen, docs/protocol.md and docs/wireshark.md). Plain Lua, Wireshark 3.x / 4.x.
+(libc4gopen, docs/protocol.md and docs/wireshark.md). Plain Lua for Wireshark 3.x / 4.x
+(tested with tshark 4.0, tests/e2e/wireshark.sh).
 
 WHAT IT DISSECTS (all fields little-endian; int32 / uint32 / IEEE-754 binary32)
   * Cyclic packets, both directions: 12-byte header NUM (int32), INFPAR (uint32, one byte
@@ -26,7 +27,7 @@ WHAT IT DISSECTS (all fields little-endian; int32 / uint32 / IEEE-754 binary32)
   c4g.n_axes, c4g.arm, c4g.arm_axis, c4g.response_to, c4g.response_in, c4g.response_time.
 
 HOW THE DIRECTION IS DECIDED (per conversation = address/port pair; no fixed port assumed)
-  The first rule that applies decides; c4g.dir_by names it.
+  The strongest rule seen so far decides (1-2 over 3 over 4-5); c4g.dir_by names it.
   1. "init": a 1200-byte datagram that is not the echo of the one just before it comes
      from the controller. "init-echo": a 1200-byte datagram equal, from byte 4 on, to the
      1200-byte datagram the other endpoint sent just before comes from the PC (one with
@@ -46,7 +47,10 @@ HOW THE DIRECTION IS DECIDED (per conversation = address/port pair; no fixed por
   Rules 1-2 decide a conversation for good, rule 3 until rule 1-2 evidence arrives, rules
   4-5 only until any of 1-3 does. A one-pass read (plain tshark) labels the datagrams seen
   before the evidence with the provisional answer; Wireshark's GUI and `tshark -2` label
-  them again with the conversation's final answer (cyclic datagrams only).
+  them again with the conversation's final answer (cyclic datagrams only). Preference
+  c4g.trust_ports puts rule 4 before rule 3 (a capture without the handshake of a PC that
+  answers later than 2/3 of the period). A datagram quoted in an ICMP error or cut by the
+  snapshot length is shown, never learnt from (c4g.dir_by "quoted").
   The packet type then follows the PC session's state machine: a controller datagram of
   cyclic shape whose body (after NUM) is all zero is a synchronization packet before the
   initialization packet (at the start of a capture: if its NUM is at most 12) and for the
@@ -57,8 +61,10 @@ INSTALL AND USE
   One-off:      wireshark -X lua_script:tools/wireshark/c4gopen.lua capture.pcap
                 tshark -X lua_script:tools/wireshark/c4gopen.lua -r capture.pcap
   Per user:     make wireshark-install-user   (copies it to ~/.local/lib/wireshark/plugins)
-  System-wide:  make install (into $(PREFIX)/lib/wireshark/plugins; Wireshark's own global
-                Lua folder is shown by `tshark -G folders`, "Global Lua Plugins").
+  System-wide:  make install (into $(PREFIX)/lib/wireshark/plugins; Wireshark searches it
+                only when installed under the same prefix: its global Lua folder is the
+                "Global Lua Plugins" line of `tshark -G folders`, on Debian
+                /usr/lib/x86_64-linux-gnu/wireshark/plugins, set by WIRESHARK_PLUGIN_DIR=).
   Registered on UDP ports 1000 and 1001 (preference c4g.ports, e.g. -o c4g.ports:31000);
   any other port: Decode As "C4G" (tshark -d udp.port==31000,c4g).
   Filters: c4g.mode == 505, c4g.dir == "pc" && c4g.num == 100, c4g.type == "init".
