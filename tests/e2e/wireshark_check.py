@@ -597,6 +597,9 @@ def cmd_crafted(rep, args):
     nan, inf = (0x7FC00000,), (0x7F800000,)
     init = bytearray(open(args.init_bin, "rb").read())
     struct.pack_into("<i", init, 4, 4)           # nFieldPck 4
+    echo = bytearray(init)
+    struct.pack_into("<i", echo, 0, 11)          # NUM 11, and a period that is not the init's
+    struct.pack_into("<i", echo, 224, 3)
     modes = header_modes(args.header)
     codes = sorted(modes)
     half = (len(codes) + 1) // 2
@@ -610,13 +613,19 @@ def cmd_crafted(rep, args):
         ("NUM -1", struct.pack("<iII", -1, 0, 0) + axis_bytes(4, [0.0] * 8),
          {"c4g.num_range": 1}),
         ("init packet with nFieldPck 4", bytes(init), {"c4g.init_field": 1}),
+        ("PC echo of it with another period", bytes(echo),
+         {"c4g.init_field": 1, "c4g.echo_mismatch": 1}),
         ("733-byte datagram", bytes(733), {"c4g.bad_length": 1}),
     ]
+    cases.append(("PC packet with NUM 99 after the controller's NUM 0",
+                  struct.pack("<iII", 99, 0, 0) + axis_bytes(0, [0.0] * 8), {"c4g.reply_num": 1}))
     for part in (codes[:half], codes[half:]):
         cases.append(("modes %d..%d" % (part[0], part[-1]), struct.pack("<iII", 20, 0, 0)
                       + b"".join(axis_bytes(c, [0.0] * 8) for c in part), {}))
     path = args.tmp + "/crafted.pcap"
-    write_pcap(path, [(40000, 1000, c[1]) for c in cases])
+    from_pc = ("PC echo", "PC packet")
+    write_pcap(path, [(1000, 40000, c[1]) if c[0].startswith(from_pc) else (40000, 1000, c[1])
+                      for c in cases])
     diss = dissector_packets(path, args.lua, [])
     for i, (what, _, want) in enumerate(cases):
         p = diss.get(i + 1)
