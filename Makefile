@@ -7,10 +7,15 @@
 #   make coverage   line/branch coverage of lib/ (gated)
 #   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15)
 #   make install    PREFIX=/usr/local DESTDIR=
+#   make wireshark-install-user   the Wireshark dissector into ~/.local/lib/wireshark/plugins
 
 BUILD ?= build
 PREFIX ?= /usr/local
 DESTDIR ?=
+# Lua plugin folders of Wireshark (docs/wireshark.md): system-wide under the prefix, and the
+# per-user one Wireshark always searches (`tshark -G folders`, "Personal Lua Plugins").
+WIRESHARK_PLUGIN_DIR ?= $(PREFIX)/lib/wireshark/plugins
+WIRESHARK_USER_PLUGIN_DIR ?= $(HOME)/.local/lib/wireshark/plugins
 FUZZ_SECONDS ?= 15
 CLANG ?= clang
 CXX ?= g++
@@ -70,7 +75,7 @@ DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures
+  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures wireshark-install-user
 
 all: lib tools
 
@@ -318,12 +323,18 @@ install: lib tools
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
 	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	install -d $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)
+	install -m 644 tools/wireshark/c4gopen.lua $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/include/,$(notdir $(wildcard include/*.h)))
 	rm -f $(DESTDIR)$(PREFIX)/lib/libc4gopen.a $(DESTDIR)$(PREFIX)/lib/libc4gopen.so*
 	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
 	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+	rm -f $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/c4gopen.lua
+wireshark-install-user:
+	install -d $(WIRESHARK_USER_PLUGIN_DIR)
+	install -m 644 tools/wireshark/c4gopen.lua $(WIRESHARK_USER_PLUGIN_DIR)/
 
 clean:
 	rm -rf $(BUILD)
