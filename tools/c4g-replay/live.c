@@ -366,12 +366,18 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
 /* ---- playing ---------------------------------------------------------------- */
 
 /* Judge the pending packet at @p deadline and record its timing. */
-static void judge(lv_t *L, uint64_t deadline)
+static void judge(lv_t *L, uint64_t deadline, int own_short)
 {
     lv_pending_t *P = &L->pend;
     cs_verdict_t v;
+    uint64_t woke = uts_now_ns();
+    /* We sent the packet so late that the PC had less than its period: judged as our own
+     * lateness (cs_judge): a reply that is there counts, none is unjudged, not missing. */
+    if (own_short && woke <= deadline + L->tol_ns) {
+        woke = deadline + L->tol_ns + 1U;
+    }
     cs_set_deadline(&L->cs, deadline);
-    v = cs_judge(&L->cs, uts_now_ns(), P->suspended);
+    v = cs_judge(&L->cs, woke, P->suspended);
     if (!L->topspeed) {
         /* the kernel's send time when it came back, else the clock read before sendto */
         const uint64_t sent = L->cs.out.sent_ns;
@@ -391,6 +397,7 @@ static void close_pending(lv_t *L, uint64_t next_sched, int64_t next_rec_ns)
 {
     lv_pending_t *P = &L->pend;
     uint64_t deadline;
+    int own_short;
     if (L->topspeed) {
         uint64_t gap = (next_rec_ns > P->rec_ns) ? (uint64_t)(next_rec_ns - P->rec_ns) : 0U;
         if (gap > L->period_ns + L->period_ns / 2U) {
@@ -398,21 +405,22 @@ static void close_pending(lv_t *L, uint64_t next_sched, int64_t next_rec_ns)
         }
         deadline = P->sent_ns + gap;
         wait_reply(L, deadline);
-        judge(L, deadline);
+        judge(L, deadline, 0);
         return;
     }
     deadline = next_sched;
     if (next_sched > P->sched_ns + L->period_ns + L->period_ns / 2U) {
         deadline = P->sched_ns + L->period_ns;
     }
-    /* sent late (the host stalled us), the packet still gets its window: a PC that answers
-     * within t-cycle1 is never blamed for our lateness; the packets behind wait for it and
-     * catch up with the fixed schedule at the pace the windows allow */
+    /* Sent later than c4g-sim's margin (the host stalled us), the packet is not given a full
+     * period (the packets behind catch up with the fixed schedule) but at least t-cycle1 for
+     * its reply, and our lateness is not charged to the PC. */
+    own_short = deadline < P->sent_ns + L->period_ns - L->tol_ns;
     if (deadline < P->sent_ns + L->window_ns) {
         deadline = P->sent_ns + L->window_ns;
     }
     wait_until(L, deadline);
-    judge(L, deadline);
+    judge(L, deadline, own_short);
 }
 
 static void send_packet(lv_t *L, const an_exchange_t *x, uint64_t sched)

@@ -108,7 +108,7 @@ void lv_report_text(FILE *out, const lv_t *L)
     if (L->send_errors > 0U) {
         fprintf(out, "; %llu not sent (first: %s)", (unsigned long long)L->send_errors, L->send_error);
     }
-    fprintf(out, "\nreplies (NUM policy %s, the server's %s; t-cycle1 %.0f us): %lu ok, %lu late, "
+    fprintf(out, "\nreplies (NUM policy %s, server %s; t-cycle1 %.0f us): %lu ok, %lu late, "
             "%lu missing, %lu unjudged, %lu wrong NUM, %lu malformed, %lu duplicates, %lu stale\n",
             cs_policy_name(L->policy), cs_policy_name(L->cs.detected), (double)L->c.an.t_cycle1_ns * 1e-3,
             n->replies_ok, n->late, n->missing, n->unjudged, n->wrong_num, n->malformed,
@@ -121,8 +121,12 @@ void lv_report_text(FILE *out, const lv_t *L)
         fprintf(out, "other datagrams: %lu with no packet awaiting a checked reply (e.g. to 504), "
                 "%lu from other addresses\n", n->unexpected, n->foreign);
     }
-    fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", cs_lat_percentile(n, 0.5),
-            cs_lat_percentile(n, 0.99), (double)n->lat_max * 1e-3);
+    if (n->replies_ok > 0U) {
+        fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", cs_lat_percentile(n, 0.5),
+                cs_lat_percentile(n, 0.99), (double)n->lat_max * 1e-3);
+    } else {
+        fprintf(out, "latency: no reply judged ok\n");
+    }
     fprintf(out, "divergences: %llu of %llu replies compared differ from the recorded ones (floats %s)\n",
             (unsigned long long)L->differing, (unsigned long long)L->compared,
             L->tolerance > 0.0 ? "within the tolerance" : "exact, by bits");
