@@ -108,9 +108,13 @@ void lv_report_text(FILE *out, const lv_t *L)
     if (L->send_errors > 0U) {
         fprintf(out, "; %llu not sent (first: %s)", (unsigned long long)L->send_errors, L->send_error);
     }
-    fprintf(out, "\nreplies (NUM policy %s, server %s; t-cycle1 %.0f us): %lu ok, %lu late, "
+    fprintf(out, "\nreplies (NUM policy %s", cs_policy_name(L->policy));
+    if (L->policy == CS_NUM_EITHER) {
+        fprintf(out, ", server %s", cs_policy_name(L->cs.detected));
+    }
+    fprintf(out, "; t-cycle1 %.0f us): %lu ok, %lu late, "
             "%lu missing, %lu unjudged, %lu wrong NUM, %lu malformed, %lu duplicates, %lu stale\n",
-            cs_policy_name(L->policy), cs_policy_name(L->cs.detected), (double)L->c.an.t_cycle1_ns * 1e-3,
+            (double)L->c.an.t_cycle1_ns * 1e-3,
             n->replies_ok, n->late, n->missing, n->unjudged, n->wrong_num, n->malformed,
             n->duplicates, n->stale);
     fprintf(out, "longest run without a reply: %lu%s\n", n->max_consecutive,
