@@ -2,8 +2,6 @@
 /* c4g-sim's socket: sending, receiving with kernel timestamps, waiting for the next tick. */
 #include <arpa/inet.h>
 #include <errno.h>
-#include <linux/errqueue.h>
-#include <linux/net_tstamp.h>
 #include <string.h>
 #include <sys/select.h>
 #include <sys/socket.h>
@@ -11,18 +9,9 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "c4g_udpts.h"
 
-uint64_t now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000ULL + (uint64_t)ts.tv_nsec;
-}
-
-static uint64_t ts_ns(const struct timespec *ts)
-{
-    return (uint64_t)ts->tv_sec * 1000000000ULL + (uint64_t)ts->tv_nsec;
-}
+uint64_t now_ns(void) { return uts_now_ns(); }
 
 static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
                         const uint8_t *buf, size_t len)
@@ -88,12 +77,6 @@ static void local_ip_towards_server(app_t *a)
 
 int net_open(app_t *a)
 {
-    /* Replies are judged by their kernel arrival time and our packets by their kernel
-     * send time, so the simulator's own scheduling delays are not charged to the PC.
-     * If the kernel refuses them: clock reads in user space. */
-    const unsigned ts = SOF_TIMESTAMPING_RX_SOFTWARE | SOF_TIMESTAMPING_TX_SOFTWARE |
-                        SOF_TIMESTAMPING_SOFTWARE | SOF_TIMESTAMPING_OPT_ID |
-                        SOF_TIMESTAMPING_OPT_TSONLY;
     struct sockaddr_in *la = &a->local;
     socklen_t ll = sizeof *la;
     a->fd = socket(AF_INET, SOCK_DGRAM, 0);
@@ -103,7 +86,10 @@ int net_open(app_t *a)
     }
     a->local_port = ntohs(la->sin_port);
     a->local_ip = ntohl(la->sin_addr.s_addr);
-    a->kstamp = setsockopt(a->fd, SOL_SOCKET, SO_TIMESTAMPING, &ts, sizeof ts) == 0;
+    /* Replies are judged by their kernel arrival time and our packets by their kernel
+     * send time, so the simulator's own scheduling delays are not charged to the PC.
+     * If the kernel refuses them: clock reads in user space. */
+    a->kstamp = uts_enable(a->fd);
     if (!a->kstamp && a->o.verbose) {
         fprintf(stderr, "c4g-sim: no kernel timestamps (%s): reply times from user space\n",
                 strerror(errno));
@@ -114,87 +100,27 @@ int net_open(app_t *a)
     return 0;
 }
 
-/* CLOCK_REALTIME minus CLOCK_MONOTONIC: kernel timestamps are real time, the tick grid is
- * monotonic. The real-time read sits between two monotonic reads; the narrowest of three
- * brackets wins, so a preemption between the reads does not shift the offset. */
-static uint64_t real_minus_mono(void)
-{
-    uint64_t best = 0, width = UINT64_MAX;
-    int i;
-    for (i = 0; i < 3 && width > 2000U; i++) {
-        struct timespec r;
-        const uint64_t m1 = now_ns();
-        uint64_t m2;
-        clock_gettime(CLOCK_REALTIME, &r);
-        m2 = now_ns();
-        if (m2 - m1 < width) {
-            width = m2 - m1;
-            best = ts_ns(&r) - (m1 + (m2 - m1) / 2U);
-        }
-    }
-    return best;
-}
-
-/* The software timestamp of a received or error-queue message, on the monotonic clock;
- * 0 if there is none. Sets @p key for a send timestamp from the error queue. */
-static uint64_t msg_stamp(struct msghdr *m, uint64_t off, int *has_key, uint32_t *key)
-{
-    struct cmsghdr *c;
-    uint64_t t = 0;
-    for (c = CMSG_FIRSTHDR(m); c != NULL; c = CMSG_NXTHDR(m, c)) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPING) {
-            struct scm_timestamping st;
-            memcpy(&st, CMSG_DATA(c), sizeof st);
-            t = ts_ns(&st.ts[0]);
-        } else if (has_key != NULL && c->cmsg_level == IPPROTO_IP && c->cmsg_type == IP_RECVERR) {
-            struct sock_extended_err e;
-            memcpy(&e, CMSG_DATA(c), sizeof e);
-            if (e.ee_origin == SO_EE_ORIGIN_TIMESTAMPING) {
-                *has_key = 1;
-                *key = e.ee_data;
-            }
-        }
-    }
-    return (t > off) ? t - off : 0U;
-}
-
 /* Read one datagram (errq: a send timestamp from the error queue); 0 when none is left. */
 static int read_one(app_t *a, int errq, uint64_t off)
 {
     uint8_t buf[MAX_DGRAM];
-    union { char c[256]; struct cmsghdr align; } ctl;
-    struct sockaddr_in from;
-    struct iovec iov;
-    struct msghdr m;
-    ssize_t n;
+    uts_msg_t m;
+    const ssize_t n = uts_recv(a->fd, errq, off, buf, sizeof buf, &m);
     uint64_t t, now;
-    int has_key = 0;
-    uint32_t key = 0;
-    memset(&m, 0, sizeof m);
-    memset(&from, 0, sizeof from);
-    iov.iov_base = buf;
-    iov.iov_len = sizeof buf;
-    m.msg_name = &from;
-    m.msg_namelen = sizeof from;
-    m.msg_iov = &iov;
-    m.msg_iovlen = 1;
-    m.msg_control = ctl.c;
-    m.msg_controllen = sizeof ctl.c;
-    n = recvmsg(a->fd, &m, MSG_DONTWAIT | (errq ? MSG_ERRQUEUE : 0));
     if (n < 0) {
         return 0;
     }
-    t = a->kstamp ? msg_stamp(&m, off, errq ? &has_key : NULL, &key) : 0U;
+    t = a->kstamp ? m.stamp_ns : 0U;
     now = now_ns();
     if (errq) {
         /* the send happened after the clock read in emit and before now */
-        if (has_key && a->has_key && key == a->tx_key) {
+        if (m.has_key && a->has_key && m.key == a->tx_key) {
             (void)cs_sent_stamp(&a->cs, t, now);
         }
         return 1;
     }
-    pcap_record(a, 0, &from, buf, (size_t)n); /* every datagram, before any check */
-    handle_rx(a, buf, (size_t)n, &from, (t != 0U && t <= now) ? t : now);
+    pcap_record(a, 0, &m.from, buf, (size_t)n); /* every datagram, before any check */
+    handle_rx(a, buf, (size_t)n, &m.from, (t != 0U && t <= now) ? t : now);
     return 1;
 }
 
@@ -203,7 +129,7 @@ static int read_one(app_t *a, int errq, uint64_t off)
  * the send timestamps of our own datagrams. */
 void drain(app_t *a)
 {
-    const uint64_t off = a->kstamp ? real_minus_mono() : 0U;
+    const uint64_t off = a->kstamp ? uts_real_minus_mono() : 0U;
     while (read_one(a, 0, off)) {
     }
     while (a->kstamp && read_one(a, 1, off)) {

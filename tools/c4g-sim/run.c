@@ -3,11 +3,10 @@
  * (tools/common/c4g_ctrlside.c), send the packet the handshake driver asks for, then
  * wait on an absolute grid for the next tick. */
 #include <arpa/inet.h>
-#include <errno.h>
 #include <string.h>
-#include <time.h>
 
 #include "app.h"
+#include "c4g_udpts.h"
 
 volatile sig_atomic_t g_stop;
 
@@ -210,15 +209,6 @@ static void check_overrun(app_t *a, loop_t *L)
     }
 }
 
-static void sleep_until(uint64_t deadline)
-{
-    struct timespec ts;
-    ts.tv_sec = (time_t)(deadline / 1000000000U);
-    ts.tv_nsec = (long)(deadline % 1000000000U);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !g_stop) {
-    }
-}
-
 void app_run(app_t *a)
 {
     loop_t L;
@@ -247,7 +237,7 @@ void app_run(app_t *a)
         L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
         cs_set_deadline(&a->cs, L.deadline);
         window(a, L.deadline);
-        sleep_until(L.deadline);
+        uts_sleep_until(L.deadline, &g_stop);
     }
     if (!a->sim.fatal) {
         const uint64_t woke = now_ns();
