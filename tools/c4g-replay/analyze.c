@@ -236,7 +236,7 @@ static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
     memset(&x, 0, sizeof x);
     x.s = s;
     x.kind = s->cs.out.kind;
-    x.tick = (s->ctrl_cyclic > 0U) ? s->ctrl_cyclic - 1U : 0U;
+    x.tick = s->ctrl_cyclic;
     x.ctrl = s->ctrl_raw;
     x.ctrl_len = s->ctrl_len;
     x.ctrl_frame = s->ctrl_frame;
@@ -248,6 +248,12 @@ static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
         x.reply_frame = s->reply_frame;
         x.reply_ns = s->reply_ns;
         x.tx = (x.kind == CS_CYCLIC && s->cs.out.got) ? &s->cs.out.reply : NULL;
+    }
+    if (s->other_len > 0U) {
+        x.other = s->other_raw;
+        x.other_len = s->other_len;
+        x.other_frame = s->other_frame;
+        x.other_ns = s->other_ns;
     }
     x.verdict = v;
     x.late = s->cs.last_late;
@@ -468,6 +474,7 @@ static void new_controller_tick(an_session_t *s, const cap_pkt_t *p, cs_kind_t k
     s->ctrl_frame = p->frame;
     s->ctrl_ns = p->ts_ns;
     s->reply_len = 0U;
+    s->other_len = 0U;
     cs_emit(&s->cs, kind, num, p->payload, n, check, (uint64_t)p->ts_ns);
 }
 
@@ -719,6 +726,13 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
     r = cs_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns);
+    if (r != CS_RX_ACCEPTED && r != CS_RX_STALE && r != CS_RX_DUPLICATE && s->reply_len == 0U && s->other_len == 0U && p->len > 0U) {
+        const size_t n = (p->len <= sizeof s->other_raw) ? p->len : sizeof s->other_raw;
+        memcpy(s->other_raw, p->payload, n);
+        s->other_len = n;
+        s->other_ns = p->ts_ns;
+        s->other_frame = p->frame;
+    }
     switch (r) {
     case CS_RX_ACCEPTED: {
         const cs_outstanding_t *o = &s->cs.out;

@@ -134,6 +134,11 @@ typedef struct an_session {
     size_t reply_len;
     int64_t reply_ns;
     uint64_t reply_frame;
+    uint8_t other_raw[C4G_INIT_SIZE]; /* the first PC datagram of the tick that was not a valid
+                                       * reply (wrong NUM, the unchecked reply to 504, ...) */
+    size_t other_len;
+    int64_t other_ns;
+    uint64_t other_frame;
     uint64_t ctrl_frame;
     int64_t ctrl_ns;
     uint8_t ctrl_raw[C4G_INIT_SIZE];
@@ -145,7 +150,8 @@ typedef struct an_session {
 typedef struct an_exchange {
     const an_session_t *s;
     cs_kind_t kind;
-    uint64_t tick;              /* cyclic packets of the session before this one */
+    uint64_t tick;              /* cyclic: its number in the session (1 = the first); else the
+                                 * cyclic packets before it */
     const uint8_t *ctrl;        /* the controller's datagram */
     size_t ctrl_len;
     uint64_t ctrl_frame;
@@ -156,6 +162,12 @@ typedef struct an_exchange {
     uint64_t reply_frame;
     int64_t reply_ns;
     const c4g_pc_packet_t *tx;  /* decoded (cyclic), else NULL */
+    const uint8_t *other;       /* the first PC datagram after the packet that was not a valid
+                                 * reply (a wrong NUM, the unchecked reply to 504, a bad
+                                 * length), NULL if none came */
+    size_t other_len;
+    uint64_t other_frame;
+    int64_t other_ns;
     cs_verdict_t verdict;
     int late;                   /* verdict OK but later than T_CYCLE1 */
 } an_exchange_t;

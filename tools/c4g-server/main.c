@@ -420,7 +420,7 @@ static int configure(srv_host_t *H, int argc, char **argv)
 {
     char err[640];
     srv_config_default(&g_cfg);
-    switch (srv_config_cli(&g_cfg, C4G_PCAP_ANCHOR(), argc, argv)) {
+    switch (srv_config_cli(&g_cfg, "c4g-server", C4G_PCAP_ANCHOR(), argc, argv)) {
     case CLI_RUN: break;
     case CLI_DONE: return 0; /* --help, --version */
     default: return EXIT_USAGE;

@@ -195,8 +195,10 @@ void srv_config_default(srv_config_t *c);
 int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
                      size_t errlen);
 /* the command line (tools/common/c4g_cli.h): CLI_RUN, CLI_DONE (--help, --version) or
- * CLI_BAD (the error is on stderr) */
-cli_result_t srv_config_cli(srv_config_t *c, const char *version_extra, int argc, char **argv);
+ * CLI_BAD (the error is on stderr); @p tool names the program in messages (c4g-replay
+ * rerun takes c4g-server's options too) */
+cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra, int argc,
+                            char **argv);
 /* INI file (at most 1 MiB): 0, or -1 with "PATH:LINE:COL: ..." in err */
 int srv_config_load_ini(srv_config_t *c, const char *path, char *err, size_t errlen);
 int srv_config_parse_ini(srv_config_t *c, struct tf_file *f, char *err, size_t errlen);

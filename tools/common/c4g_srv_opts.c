@@ -720,7 +720,8 @@ static const char *const examples[] = {
     "c4g-server --config fixtures/server/server_example.ini",
     NULL};
 
-cli_result_t srv_config_cli(srv_config_t *c, const char *version_extra, int argc, char **argv)
+cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra, int argc,
+                            char **argv)
 {
     static cli_opt_t rows[N_SETTINGS];
     cli_spec_t spec;
@@ -742,7 +743,7 @@ cli_result_t srv_config_cli(srv_config_t *c, const char *version_extra, int argc
         n++;
     }
     memset(&spec, 0, sizeof spec);
-    spec.tool = "c4g-server";
+    spec.tool = tool;
     spec.version_extra = version_extra;
     spec.usage = usage;
     spec.opts = rows;
