@@ -3,6 +3,7 @@
 #   make check      every test and quality gate (installs missing deps first)
 #   make demo       a real session on loopback, printed
 #   make replay-fixtures  regenerate the capture fixtures in fixtures/replay
+#   make replay-golden    rewrite their expected summaries (fixtures/replay/golden; review the diff)
 #   make bench      benchmarks with an in-run baseline
 #   make coverage   line/branch coverage of lib/ (gated)
 #   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15)
@@ -75,7 +76,7 @@ DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures wireshark-install-user
+  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
 all: lib tools
 
@@ -305,6 +306,9 @@ demo: all
 # c4g-replay's capture fixtures (fixtures/replay/README.md); real runs on 127.0.0.1
 replay-fixtures: lib tools
 	@sh scripts/make-replay-fixtures.sh $(BUILD)
+
+replay-golden: tools
+	sh scripts/make-replay-golden.sh $(BUILD)
 
 bench: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all

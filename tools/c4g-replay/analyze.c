@@ -50,6 +50,7 @@ void an_options_default(an_options_t *o)
     o->ports[1] = 1001U;
     o->n_ports = 2U;
     o->t_cycle1_ns = 500000U;
+    o->num_policy = CS_NUM_EITHER;
 }
 
 int an_init(an_t *a, const an_options_t *o)
@@ -166,7 +167,7 @@ static void cs_setup(an_t *a, an_session_t *s, uint32_t n_axes)
 {
     cs_config_t cfg;
     memset(&cfg, 0, sizeof cfg);
-    cfg.policy = CS_NUM_EITHER;
+    cfg.policy = (cs_policy_t)a->opt.num_policy;
     cfg.n_axes = n_axes;
     cfg.t_cycle1_ns = a->opt.t_cycle1_ns;
     cfg.tol_ns = UINT64_MAX; /* the capture is the controller's clock: never late itself */
@@ -726,7 +727,8 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
     r = cs_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns);
-    if (r != CS_RX_ACCEPTED && r != CS_RX_STALE && r != CS_RX_DUPLICATE && s->reply_len == 0U && s->other_len == 0U && p->len > 0U) {
+    if (r != CS_RX_ACCEPTED && r != CS_RX_STALE && r != CS_RX_DUPLICATE && s->reply_len == 0U &&
+        s->other_len == 0U && p->len > 0U) {
         const size_t n = (p->len <= sizeof s->other_raw) ? p->len : sizeof s->other_raw;
         memcpy(s->other_raw, p->payload, n);
         s->other_len = n;
@@ -762,6 +764,12 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     }
     case CS_RX_WRONG_NUM:
         s->pc_other++;
+        if (looks_init(p->payload, p->len) && num == C4G_INIT_NUM + 1 && s->cs.out.kind != CS_INIT) {
+            finding(s, AN_K_CTRL_GAP, p, num, 1.0,
+                    "an initialization echo (NUM %d) with no initialization packet before it: the "
+                    "controller's packet is missing from the capture", (int)num);
+            break;
+        }
         finding(s, AN_K_NUM, p, num, 1.0, "reply NUM %d to controller NUM %d breaks the NUM policy",
                 (int)num, (int)s->cs.out.num);
         break;
@@ -856,9 +864,11 @@ static int decide(const an_t *a, const an_flow_t *fl, int final)
     for (i = 0U; i < fl->n_held; i++) {
         const an_held_t *h = &fl->held[i];
         const int side = same_ep(&fl->a, h->p.src_ip, h->p.src_port) ? 0 : 1;
-        /* the initialization packet comes from the controller; its echo follows it */
+        /* the initialization packet (NUM 10) comes from the controller; its plus-one echo
+         * (NUM 11) from the PC */
         if (looks_init(h->data, h->p.len)) {
-            return side == 0 ? 1 : 0;
+            const int from_ctrl = (get_i32(h->data) == C4G_INIT_NUM);
+            return (side == 0) == from_ctrl ? 1 : 0;
         }
         /* a 732-byte answer to a shorter cyclic-shaped packet is the PC's sync reply */
         if (h->p.len == C4G_SYNC_REPLY_SIZE && i > 0U && last[1 - side] >= 0 &&
@@ -964,8 +974,11 @@ void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
         fl->b.port = p->dst_port;
         fl->ctrl_is_a = -1;
         fl->sess = -1;
-        if (init && get_i32(p->payload) == C4G_INIT_NUM) {
-            fl->ctrl_is_a = 1; /* the initialization packet comes from the controller */
+        if (init) {
+            /* the initialization packet comes from the controller; a first one carrying
+             * NUM 11 is the PC's plus-one echo of an init packet the capture lost (a
+             * fragment, a drop): its receiver is the controller */
+            fl->ctrl_is_a = (get_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
             take_recent(a, fl, file);
         }
     }

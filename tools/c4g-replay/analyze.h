@@ -179,6 +179,8 @@ typedef struct an_options {
     unsigned n_ports;
     uint64_t t_cycle1_ns;         /* 500 us */
     double max_step;              /* position step per tick over which a reply is flagged; 0 off */
+    int num_policy;               /* the controller's: CS_NUM_EITHER (learnt from the
+                                   * init echo, default), CS_NUM_PLUS_ONE or CS_NUM_ECHO */
     an_exchange_fn on_exchange;   /* may be NULL */
     void *ctx;
 } an_options_t;

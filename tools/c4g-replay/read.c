@@ -68,6 +68,25 @@ int rp_opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, si
     return 0;
 }
 
+/* --num-policy: the controller's reply NUM rule, when the capture cannot tell it (a PC that
+ * answers under the other rule looks consistent on its own). */
+int rp_opt_num_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+{
+    rp_common_t *c = ctx;
+    (void)row;
+    if (strcmp(v, "auto") == 0) {
+        c->an.num_policy = CS_NUM_EITHER;
+    } else if (strcmp(v, "plus-one") == 0) {
+        c->an.num_policy = CS_NUM_PLUS_ONE;
+    } else if (strcmp(v, "echo") == 0) {
+        c->an.num_policy = CS_NUM_ECHO;
+    } else {
+        (void)snprintf(why, whylen, "want auto, plus-one or echo");
+        return -1;
+    }
+    return 0;
+}
+
 static void progress(const cap_t *c, int final)
 {
     const uint64_t size = cap_size(c), pos = cap_pos(c);

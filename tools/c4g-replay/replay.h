@@ -41,6 +41,7 @@ void rp_common_default(rp_common_t *c);
 /* CLI_CALL handlers for the shared rows (ctx is the rp_common_t) */
 int rp_opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
 int rp_opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
+int rp_opt_num_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
 
 /* Read @p path through the analysis @p a (which must outlive the file names). Errors go to
  * stderr as "c4g-replay: ...". Returns 0 when the file was read to its end (damaged frames

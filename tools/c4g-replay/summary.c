@@ -56,6 +56,11 @@ static int opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why
     return rp_opt_tcycle1(&((sum_ctx_t *)ctx)->c, row, v, why, whylen);
 }
 
+static int opt_num_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+{
+    return rp_opt_num_policy(&((sum_ctx_t *)ctx)->c, row, v, why, whylen);
+}
+
 static const char *const summary_examples[] = {
     RP_TOOL " summary fixtures/replay/mode4.pcap",
     RP_TOOL " summary --json field.pcapng | jq '.sessions[].replies'",
@@ -129,6 +134,8 @@ static int command(int argc, char **argv, int check)
          opt_port, 0},
         {"t-cycle1", 0, CLI_CALL, "US", "replies later than this count as late (default 500)", NULL, 0,
          0, 0, opt_tcycle1, 0},
+        {"num-policy", 0, CLI_CALL, "P", "the controller's NUM rule: auto (from the init echo), plus-one, echo",
+         NULL, 0, 0, 0, opt_num_policy, 0},
         {"max-step", 0, CLI_DOUBLE, "TURNS", "flag absolute targets that move more per tick (default off)",
          &s.c.an.max_step, 0, 0, 1e6, NULL, 0},
         {"allow", 'a', CLI_CALL, "KIND[,KIND]", "waive findings of these kinds (repeatable)", NULL, 0, 0,
