@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""Checks for tests/e2e/replay.sh (c4g-replay end to end).
+
+  oracle HELPER FILE...      the payloads c4g-replay's reader extracts (HELPER prints
+                             "FRAME HEX" / "FRAME bad") equal tshark's udp.payload, frame by frame
+  facts REPLAY               the key facts fixtures/replay/README.md states, from summary --json
+  live-capture REPLAY FILE LINK CYCLIC [PORT]
+                             a capture made by tcpdump during a sim + server run: one session
+                             ended by 504, LINK link type, CYCLIC cyclic ticks, each answered
+Every failure prints "FAIL: ..." and the exit status is 1.
+"""
+import json
+import subprocess
+import sys
+
+FAILS = []
+
+
+def fail(msg):
+    FAILS.append(msg)
+    print("FAIL: " + msg)
+
+
+def tshark_payloads(path):
+    out = subprocess.run(["tshark", "-r", path, "-T", "fields", "-e", "frame.number", "-e", "udp.payload"],
+                         capture_output=True, text=True, check=False).stdout
+    got = {}
+    for line in out.splitlines():
+        parts = line.split("\t")
+        if len(parts) == 2 and parts[1]:
+            got[int(parts[0])] = parts[1].replace(":", "").lower()
+    return got
+
+
+def reader_payloads(helper, path):
+    res = subprocess.run([helper, path], capture_output=True, text=True)
+    got, bad = {}, set()
+    for line in res.stdout.splitlines():
+        frame, _, hx = line.partition(" ")
+        if hx == "bad":
+            bad.add(int(frame))
+        else:
+            got[int(frame)] = hx
+    return res.returncode, got, bad
+
+
+def cmd_oracle(args):
+    helper, files = args[0], args[1:]
+    total = 0
+    for path in files:
+        rc, mine, bad = reader_payloads(helper, path)
+        if rc == 2:
+            print("oracle: %s: not a capture the reader opens" % path)
+            continue
+        theirs = tshark_payloads(path)
+        if rc == 1:  # a damaged file: the frames before the damage are compared
+            theirs = {k: v for k, v in theirs.items() if k <= max(list(mine) + list(bad) + [0])}
+        for frame, hx in sorted(mine.items()):
+            if frame not in theirs:
+                fail("%s: frame %d: c4g-replay reads a UDP datagram, tshark none" % (path, frame))
+            elif theirs[frame] != hx:
+                fail("%s: frame %d: payloads differ (c4g-replay %d bytes, tshark %d bytes)" %
+                     (path, frame, len(hx) // 2, len(theirs[frame]) // 2))
+        # tshark may show a payload c4g-replay refuses: only a frame it reported as damaged
+        # (an IP fragment tshark reassembles, a datagram cut by the snapshot length)
+        for frame in sorted(set(theirs) - set(mine)):
+            if frame not in bad:
+                fail("%s: frame %d: tshark reads a UDP datagram, c4g-replay neither reads nor reports it" %
+                     (path, frame))
+        total += len(mine)
+    print("oracle: %d files, %d datagrams equal to tshark's udp.payload" % (len(files), total))
+
+
+def summary(replay, path, *opts):
+    res = subprocess.run([replay, "summary", "--json", "--no-progress", *opts, path], capture_output=True, text=True)
+    if res.returncode != 0:
+        fail("%s: summary exit %d: %s" % (path, res.returncode, res.stderr.strip()))
+        return None
+    return json.loads(res.stdout)
+
+
+def findings(sess):
+    return {f["kind"]: f for f in sess["findings"]}
+
+
+def expect(path, what, got, want):
+    if got != want:
+        fail("%s: %s is %r, want %r" % (path, what, got, want))
+
+
+def cmd_facts(args):
+    replay = args[0]
+    fx = "fixtures/replay/"
+    n = 0
+
+    def one(name, *opts):
+        d = summary(replay, fx + name, *opts)
+        return d, (d["sessions"] if d else [])
+
+    d, ss = one("fault-late.pcap")
+    if ss:
+        r = ss[0]["replies"]
+        expect("fault-late", "late replies", r["late"], 20)
+        expect("fault-late", "missing replies", r["missing"], 1)
+        expect("fault-late", "NUM mismatches", r["num_mismatch"], 0)
+        n += 1
+    d, ss = one("fault-skip-3.pcap")
+    if ss:
+        r = ss[0]["replies"]
+        expect("fault-skip-3", "missing", r["missing"], 3)
+        expect("fault-skip-3", "longest run", r["longest_missing_run"], 3)
+        expect("fault-skip-3", "run start NUM", r["longest_run_from_num"], 162)
+        n += 1
+    d, ss = one("fault-wrong-num.pcap")
+    if ss:
+        f = findings(ss[0])
+        expect("fault-wrong-num", "num findings", f.get("num", {}).get("count"), 3)
+        expect("fault-wrong-num", "first wrong reply NUM", f.get("num", {}).get("num"), 168)
+        n += 1
+    d, ss = one("fault-drop.pcap")
+    if ss:
+        expect("fault-drop", "ctrl-gap count", findings(ss[0]).get("ctrl-gap", {}).get("count"), 8)
+        n += 1
+    d, ss = one("data-follow-error.pcap")
+    if ss:
+        f = findings(ss[0]).get("follow-error", {})
+        expect("data-follow-error", "follow-error count", f.get("count"), 1)
+        expect("data-follow-error", "follow-error NUM", f.get("num"), 112)
+        n += 1
+    d, ss = one("data-current-mode9.pcap")
+    if ss:
+        expect("data-current-mode9", "current-limit count", findings(ss[0]).get("current-limit", {}).get("count"), 2)
+        n += 1
+    d, ss = one("data-nan-ctrl-d3.pcap")
+    if ss:
+        expect("data-nan-ctrl-d3", "nonfinite NUM", findings(ss[0]).get("nonfinite", {}).get("num"), 132)
+        n += 1
+    d, ss = one("restart-506.pcap")
+    if d:
+        expect("restart-506", "sessions", len(ss), 2)
+        if len(ss) == 2:
+            expect("restart-506", "first session's end", ss[0]["end"], "506 restart")
+            expect("restart-506", "second session's end", ss[1]["end"], "504 end of communication")
+        n += 1
+    d, ss = one("two-controllers.pcap")
+    if d:
+        expect("two-controllers", "sessions", len(ss), 2)
+        expect("two-controllers", "PC ports", sorted(s["pc"]["port"] for s in ss), [46117, 46118])
+        expect("two-controllers", "findings", sum(len(s["findings"]) for s in ss), 0)
+        n += 1
+    d, ss = one("data-midsession-wrap.pcap", "--port", "46210")
+    if ss:
+        expect("data-midsession-wrap", "findings", len(ss[0]["findings"]), 0)
+        n += 1
+    d, ss = one("fmt-frag-init.pcap")
+    if d:
+        expect("fmt-frag-init", "damaged frames", d["files"][0]["damaged"], 2)
+        expect("fmt-frag-init", "controller side port", ss[0]["controller"]["port"] if ss else None, 46800)
+        n += 1
+    for name in ("fmt-eth", "fmt-vlan", "fmt-sll", "fmt-sll2", "fmt-raw", "fmt-null", "fmt-nsec"):
+        d, ss = one(name + ".pcap")
+        if d:
+            expect(name, "sessions", len(ss), 1)
+            expect(name, "verdict", d["verdict"], "clean")
+            n += 1
+    print("facts: %d fixtures checked" % n)
+
+
+def cmd_live_capture(args):
+    replay, path, link, cyclic = args[0], args[1], args[2], int(args[3])
+    d = summary(replay, path, "--port", args[4]) if len(args) > 4 else summary(replay, path)
+    if d is None:
+        return
+    expect(path, "link type", d["files"][0]["link"], link)
+    expect(path, "damaged frames", d["files"][0]["damaged"], 0)
+    ss = d["sessions"]
+    expect(path, "sessions", len(ss), 1)
+    if len(ss) != 1:
+        return
+    s = ss[0]
+    expect(path, "end", s["end"], "504 end of communication")
+    expect(path, "controller cyclic packets", s["packets"]["controller"]["cyclic"], cyclic)
+    # every packet answered once; a loaded host may make a reply late (timing is not judged here)
+    pk = s["packets"]
+    expect(path, "PC datagrams", sum(pk["pc"].values()), sum(pk["controller"].values()))
+    expect(path, "NUM mismatches", s["replies"]["num_mismatch"], 0)
+    print("live capture %s: %s, %d cyclic packets, one session ended by 504" % (path, link, cyclic))
+
+
+def main():
+    if len(sys.argv) < 3:
+        print(__doc__)
+        return 2
+    cmd, args = sys.argv[1], sys.argv[2:]
+    {"oracle": cmd_oracle, "facts": cmd_facts, "live-capture": cmd_live_capture}[cmd](args)
+    return 1 if FAILS else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
