@@ -359,21 +359,27 @@ def expected_kinds(pkts, pc_port, start_phase="wait"):
     return pkts
 
 
-def answers(q, r):
-    return r == q or r == (1 if q == NUM_MAX else q + 1)
+def answers(q, r, policy=None):
+    plus = 1 if q == NUM_MAX else q + 1
+    return {"plus-one": r == plus, "echo": r == q}.get(policy, r == q or r == plus)
 
 
 def expected_response_to(pkts):
     """{pc frame: ctrl frame}: each PC packet answers the newest controller packet before it,
-    when its NUM is that packet's NUM or NUM + 1 and no earlier PC packet answered it."""
-    out, last, answered = {}, None, False
+    when its NUM is that packet's NUM or NUM + 1 and no earlier PC packet answered it; after
+    the init echo, only under the policy its NUM showed (11: plus-one, 10: echo)."""
+    out, last, answered, policy = {}, None, False, None
     for fr in sorted(pkts):
         p = pkts[fr]
         if p.dir == "ctrl":
             last, answered = p, False
-        elif last is not None and not answered and answers(last.num, p.num):
+            if p.type == "init":
+                policy = None
+        elif last is not None and not answered and answers(last.num, p.num, policy):
             out[fr] = last.frame
             answered = True
+            if p.type == "init-echo" and last.type == "init":
+                policy = "echo" if p.num == last.num else "plus-one"
     return out
 
 
