@@ -8,7 +8,8 @@
 #   (no port preference) and from a cut that starts in mid-stream on a PC packet;
 # - crafted datagrams on the default port 1000 (NaN and infinity, unknown mode 77, 13 and
 #   733 bytes, NUM out of range, an init packet out of range): their expert info; and every
-#   mode code of the header's C4G_MODE_TABLE, named as the table names it;
+#   mode code of the header's C4G_MODE_TABLE, named as the table names it; sync packets
+#   whose replies come late, each reply still a sync reply;
 # - a fresh two-arm capture (c4g-sim -c fixtures/sim/two-arms.ini, 1 ms period, 9 axes):
 #   the same full comparison, arms and axes from the init packet's OpenAx.
 set -u

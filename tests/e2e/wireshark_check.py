@@ -630,9 +630,25 @@ def cmd_crafted(rep, args):
                       + b"".join(axis_bytes(c, [0.0] * 8) for c in part), {}))
     path = args.tmp + "/crafted.pcap"
     from_pc = ("PC echo", "PC packet")
+    # then, in a conversation of its own, sync packets whose replies come late: the reply
+    # to sync 2 after sync 3, so sync 3's own reply comes to an answered packet
+    def sync(num):
+        return 40001, 1000, struct.pack("<iII", num, 0, 0) + bytes(2 * AXIS)
+
+    def sync_reply(num):
+        return 1000, 40001, struct.pack("<i", num) + bytes(SYNC_REPLY - 4)
+
+    late = [sync(1), sync_reply(2), sync(2), sync(3), sync_reply(3), sync_reply(4), sync(4),
+            sync_reply(5)]
     write_pcap(path, [(1000, 40000, c[1]) if c[0].startswith(from_pc) else (40000, 1000, c[1])
-                      for c in cases])
+                      for c in cases] + late)
     diss = dissector_packets(path, args.lua, [])
+    got = [(diss[fr].dir, diss[fr].type) if fr in diss else None
+           for fr in range(len(cases) + 1, len(cases) + 1 + len(late))]
+    want = [("pc" if sport == 1000 else "ctrl", "sync-reply" if sport == 1000 else "sync")
+            for sport, _, _ in late]
+    rep.check("crafted sync packets with late replies: every 732-byte reply a sync-reply",
+              [] if got == want else ["got %r" % got])
     for i, (what, _, want) in enumerate(cases):
         p = diss.get(i + 1)
         got = {}

@@ -453,8 +453,8 @@ local function classify(conv, dir, len, num, tvb, body_zero)
         return "unknown"
     end
     if len == INIT_SIZE then return "init-echo" end
-    if len == SYNC_REPLY and conv.last_ctrl and conv.last_ctrl.type == "sync"
-        and not conv.last_ctrl.answered then
+    -- answered or not: after a reply to the previous sync packet came late, this one's follows
+    if len == SYNC_REPLY and conv.last_ctrl and conv.last_ctrl.type == "sync" then
         return "sync-reply"
     end
     if n then return "cyclic" end
