@@ -8,9 +8,17 @@
 #   (no port preference) and from a cut that starts in mid-stream on a PC packet;
 # - crafted datagrams on the default port 1000 (NaN and infinity, unknown mode 77, 13 and
 #   733 bytes, NUM out of range, an init packet out of range): their expert info; and every
-#   mode code of the header's C4G_MODE_TABLE, named as the table names it;
+#   mode code of the header's C4G_MODE_TABLE, named as the table names it; sync packets
+#   whose replies come late, each reply still a sync reply;
 # - a fresh two-arm capture (c4g-sim -c fixtures/sim/two-arms.ini, 1 ms period, 9 axes):
-#   the same full comparison, arms and axes from the init packet's OpenAx.
+#   the same full comparison, arms and axes from the init packet's OpenAx;
+# - `c4g-replay export` against the dissector, tick by tick (controller and reply frames,
+#   NUMs, INFPAR, CMD, every axis's mode and floats as exact float32 both ways): on the two
+#   captures above and on c4g-replay fixtures chosen for what they add (mode4-short has the
+#   mode 4 exit already): two arms with their own INFPAR and EXIT_FROM_OPEN, a plus-one reply
+#   late past the next packet, duplicated controller packets (no new tick), NaN from the
+#   controller (unanswered), infinity from the PC (a reply the controller refuses), and two
+#   more link layers.
 set -u
 B=${1:?usage: sh tests/e2e/wireshark.sh BUILD_DIR}
 LUA=tools/wireshark/c4gopen.lua
@@ -28,8 +36,14 @@ trap cleanup EXIT
 trap 'exit 1' INT TERM
 rc=0
 # (every tshark run of the checker fails on a Lua error on stderr)
+RP=$B/bin/c4g-replay
+[ -x "$RP" ] || fail "$RP not built"
 $CHECK --tmp "$T" capture fixtures/wireshark/mode4-short.pcap --pc-port 31000 \
-  --name mode4-short --filters --direction || rc=1
+  --name mode4-short --filters --direction --replay "$RP" || rc=1
+F=fixtures/replay
+$CHECK export-compare --replay "$RP" $F/two-arms.pcap:46116 $F/fault-late.pcap:46123 \
+  $F/fault-duplicate.pcap:46127 $F/data-nan-ctrl-d3.pcap:46204 $F/data-inf-pc-d1.pcap:46205 \
+  $F/fmt-vlan.pcap:46300 $F/fmt-sll2.pcap:46300 || rc=1
 $CHECK --tmp "$T" crafted --init-bin fixtures/vectors/init-fig10-1.bin \
   --header include/c4gopen_wire.h || rc=1
 # A fresh capture: two arms, 1 ms period; the simulator records both directions.
@@ -46,7 +60,8 @@ if [ -x "$B/bin/c4g-server" ] && [ -x "$B/bin/c4g-sim" ]; then
     --max-miss 500 -q --pcap "$T/two.pcap" >"$T/sim.out" 2>&1
   kill "$SPID" 2>/dev/null; wait "$SPID" 2>/dev/null; SPID=""
   if [ -s "$T/two.pcap" ]; then
-    $CHECK --tmp "$T" capture "$T/two.pcap" --pc-port "$PORT" --name two-arms || rc=1
+    $CHECK --tmp "$T" capture "$T/two.pcap" --pc-port "$PORT" --name two-arms \
+      --replay "$RP" || rc=1
   else
     echo "FAIL: no two-arm capture: $(cat "$T/sim.out" "$T/srv.err")"; rc=1
   fi

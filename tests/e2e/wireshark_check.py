@@ -12,18 +12,25 @@ Two readings of one capture, compared packet by packet:
   bytes (exact float32) after checking that the bytes sit at the right offset and that the
   value the dissector shows is their little-endian reading: `-T fields` prints 6 digits.
 
-Both readings give Packet objects (same shape), so a third source, e.g. c4g-replay's CSV
-export, can be compared with the same helpers: ticks() pairs each controller cyclic packet
-with the PC reply the dissector linked to it (the CSV's ctrl_frame, pc_frame); a row's
-ctrl_num/ctrl_infpar/ctrl_cmd and c{i}_mode, c{i}_d1..c{i}_ext3 are the controller
-Packet's num, infpar, cmd and axes[i-1].mode, .data[0..7]; p{i}_* the PC Packet's;
-latency_us the PC Packet's response_time (dissector) or the difference of the two .time
-(independent). Floats printed with %.9g read back exactly: compare them with same_float.
+A third reading, `c4g-replay export` (CSV), is compared with the dissector's tick by tick
+(export_compare; `export-compare`, or `capture --replay`): ticks() pairs each controller
+cyclic packet with the PC reply the dissector linked to it (the CSV's ctrl_frame,
+pc_frame); a row's ctrl_num/ctrl_infpar/ctrl_cmd and c{i}_mode, c{i}_d1..c{i}_ext3 are the
+controller Packet's num, infpar, cmd and axes[i-1].mode, .data[0..7]; p{i}_* the PC
+Packet's; latency_us its response_time. Floats printed with %.9g read back as the same
+float32: compared bit for bit (so -0 is not 0), NaN by its sign only. Where the two differ
+by design: the export's tick is a new controller NUM (a duplicate or late copy is none)
+and its reply one the controller accepts (it decodes: NUM in range, known modes, finite
+floats, the packet's length), while the dissector links by NUM and flags the rest with
+expert info.
 
-Usage: wireshark_check.py --lua FILE [--tmp DIR] {capture,crafted} ...   (see main()).
+Usage: wireshark_check.py --lua FILE [--tmp DIR] {capture,crafted,export-compare} ...
+(see main()).
 Prints one PASS/FAIL line per check; exit status 0 when all pass.
 """
 import argparse
+import csv
+import io
 import math
 import os
 import re
@@ -167,37 +174,44 @@ def lua_args(lua, opts):
 
 
 def pdml_args(pcap, lua, opts):
-    return ["-r", pcap, "-T", "pdml"] + lua_args(lua, opts)
+    # -J: only c4g and udp (with all their children) besides geninfo: a third less to parse
+    return ["-r", pcap, "-T", "pdml", "-J", "c4g udp"] + lua_args(lua, opts)
 
 
 class FieldOcc:
     """One occurrence of a field in the PDML: shown value, raw bytes, frame position."""
+    __slots__ = ("name", "show", "showname", "value", "pos", "size")
 
     def __init__(self, el):
-        self.name = el.get("name")
-        self.show = el.get("show")
-        self.showname = el.get("showname")
-        self.value = el.get("value")
-        self.pos = int(el.get("pos", "0"))
-        self.size = int(el.get("size", "0"))
+        a = el.attrib
+        self.name = a.get("name")
+        self.show = a.get("show")
+        self.showname = a.get("showname")
+        self.value = a.get("value")
+        self.pos = int(a.get("pos", "0"))
+        self.size = int(a.get("size", "0"))
 
 
 def pdml_c4g_fields(xml):
-    """{frame: (proto_pos, [FieldOcc in document order])} for every frame with c4g in the
-    PDML text `xml` (tshark -T pdml)."""
+    """{frame: (proto_pos, [FieldOcc in document order], proto_size, (udp src port, dst
+    port))} for every frame with c4g in the PDML text `xml` (tshark -T pdml)."""
     root = ET.fromstring(xml)
     out = {}
     for pkt in root.iter("packet"):
-        frame = None
+        frame, ports = None, (None, None)
         for proto in pkt.iter("proto"):
             if proto.get("name") == "geninfo":
                 for fld in proto.iter("field"):
                     if fld.get("name") == "num":
                         frame = int(fld.get("show"))
+            if proto.get("name") == "udp" and ports == (None, None):
+                got = {fld.get("name"): fld.get("show") for fld in proto.iter("field")}
+                if "udp.srcport" in got and "udp.dstport" in got:
+                    ports = (int(got["udp.srcport"]), int(got["udp.dstport"]))
             if proto.get("name") == "c4g":
                 occ = [FieldOcc(el) for el in proto.iter("field")
                        if (el.get("name") or "").startswith("c4g.")]
-                out[frame] = (int(proto.get("pos")), occ)
+                out[frame] = (int(proto.get("pos")), occ, int(proto.get("size")), ports)
     return out
 
 
@@ -235,8 +249,9 @@ def dissector_packets(pcap, lua, opts, xml=None):
     if xml is None:
         xml = tshark(pdml_args(pcap, lua, opts))
     pkts = {}
-    for frame, (base, occs) in pdml_c4g_fields(xml).items():
-        p = Packet(frame, None)
+    for frame, (base, occs, size, ports) in pdml_c4g_fields(xml).items():
+        p = Packet(frame, size)
+        p.src_port, p.dst_port = ports
         init = {}
         ax = None
         for o in occs:
@@ -359,21 +374,46 @@ def expected_kinds(pkts, pc_port, start_phase="wait"):
     return pkts
 
 
-def answers(q, r):
-    return r == q or r == (1 if q == NUM_MAX else q + 1)
+def answers(q, r, policy=None):
+    plus = 1 if q == NUM_MAX else q + 1
+    return {"plus-one": r == plus, "echo": r == q}.get(policy, r == q or r == plus)
 
 
 def expected_response_to(pkts):
     """{pc frame: ctrl frame}: each PC packet answers the newest controller packet before it,
-    when its NUM is that packet's NUM or NUM + 1 and no earlier PC packet answered it."""
-    out, last, answered = {}, None, False
+    when its NUM is that packet's NUM or NUM + 1 and no earlier PC packet answered it; after
+    the init echo, only under the policy its NUM showed (11: plus-one, 10: echo)."""
+    out, last, answered, policy = {}, None, False, None
     for fr in sorted(pkts):
         p = pkts[fr]
         if p.dir == "ctrl":
             last, answered = p, False
-        elif last is not None and not answered and answers(last.num, p.num):
+            if p.type == "init":
+                policy = None
+        elif last is not None and not answered and answers(last.num, p.num, policy):
             out[fr] = last.frame
             answered = True
+            if p.type == "init-echo" and last.type == "init":
+                policy = "echo" if p.num == last.num else "plus-one"
+    return out
+
+
+def late_replies(pkts):
+    """PC frames whose NUM answers not the newest controller packet but one of the 64
+    before it (policy as in expected_response_to): replies late past the next packet, which
+    a live capture on a busy host may have; c4g.reply_num flags them."""
+    out, recent, policy = set(), [], None
+    for fr in sorted(pkts):
+        p = pkts[fr]
+        if p.dir == "ctrl":
+            recent = (recent + [p])[-65:]
+            if p.type == "init":
+                policy = None
+        elif recent and p.type == "init-echo" and recent[-1].type == "init":
+            policy = "echo" if p.num == recent[-1].num else "plus-one"
+        elif recent and p.num is not None and not answers(recent[-1].num, p.num, policy) and any(
+                answers(q.num, p.num, policy) for q in recent[:-1]):
+            out.add(fr)
     return out
 
 
@@ -383,6 +423,203 @@ def ticks(pkts):
     reply = {p.response_to: p for p in pkts.values() if p.dir == "pc" and p.response_to}
     return [(p, reply.get(fr)) for fr, p in sorted(pkts.items())
             if p.dir == "ctrl" and p.type == "cyclic"]
+
+
+# ------------------------------------------------------------------ c4g-replay export
+# Experts that mean the controller refuses the datagram (c4g_pc_decode: NUM in range,
+# known modes, finite floats, a whole packet).
+REFUSING = ("c4g.bad_length", "c4g.num_range", "c4g.unknown_mode", "c4g.nonfinite")
+EXPORT_FIELDS = ["mode"] + DATA_NAMES
+
+
+def replay_export(binary, pcap, ports):
+    """`c4g-replay export -p PORTS PCAP` as [{column: text}]. CSV, not --json-lines: JSON
+    prints NaN and infinity both as null, CSV keeps them apart (nan, -nan, inf, -inf). The
+    header comes again before a row whose axis count differs (another session)."""
+    r = subprocess.run([binary, "export", "-p", ports, pcap], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE)
+    if r.returncode != 0:
+        raise RuntimeError("%s export %s: exit %d: %s" % (binary, pcap, r.returncode,
+                                                          r.stderr.decode(errors="replace")))
+    rows, cols = [], None
+    for rec in csv.reader(io.StringIO(r.stdout.decode())):
+        if rec and rec[0] == "session":
+            cols = rec
+        elif rec:
+            if cols is None or len(rec) != len(cols):
+                raise RuntimeError("export: a row of %d columns under a header of %s"
+                                   % (len(rec), len(cols) if cols else "none"))
+            rows.append(dict(zip(cols, rec)))
+    return rows
+
+
+def f32_key(x):
+    """Identity of a float32 value as text can carry it: the exact bits, or NaN and its sign
+    (%.9g prints no NaN payload)."""
+    bits = struct.unpack("<I", struct.pack("<f", x))[0]
+    return ("nan", bits >> 31) if math.isnan(x) else bits
+
+
+def refused(ctrl, pc):
+    """Why the controller does not take `pc` as its reply to `ctrl` although its NUM answers
+    (c4g_pc_decode with the packet's axis count), or None. The export leaves such a tick
+    without a reply; the dissector links the datagram and flags it with expert info."""
+    bad = [e for e in pc.experts if e in REFUSING]
+    if bad:
+        return ",".join(sorted(set(bad)))
+    if pc.length != ctrl.length:
+        return "%d bytes for a %d-byte packet" % (pc.length, ctrl.length)
+    return None
+
+
+def export_ticks(diss):
+    """{controller frame: tick} of the dissector's cyclic controller packets that are ticks
+    for c4g-replay: numbered from 1 after the conversation's last init packet (a restart
+    starts a new session); a packet that repeats the last tick's NUM or is older (by less
+    than 512: a duplicate, a reordered one) is no new tick."""
+    out, state = {}, {}
+    for fr, p in sorted(diss.items()):
+        if p.dir != "ctrl":
+            continue
+        conv = tuple(sorted((p.src_port, p.dst_port)))
+        if p.type == "init":
+            state[conv] = (0, None)
+        elif p.type == "cyclic":
+            n, last = state.get(conv, (0, None))
+            if last is not None and 0 <= (last - p.num) % (NUM_MAX + 1) < 512:
+                continue
+            state[conv] = (n + 1, p.num)
+            out[fr] = n + 1
+    return out
+
+
+def export_compare(diss, rows):
+    """Every export row against the dissector's tick (same ctrl_frame). Returns (ticks
+    compared, fields compared, problems, notes); a problem names the controller frame and
+    the column."""
+    probs, notes = [], {"unanswered": 0, "refused": [], "repeats": 0}
+    nfields = 0
+    tick_of = export_ticks(diss)
+    notes["repeats"] = sum(1 for c, _ in ticks(diss) if c.frame not in tick_of)
+    by_frame = {c.frame: (c, r) for c, r in ticks(diss) if c.frame in tick_of}
+    exported = {}
+    for row in rows:
+        fr = int(row["ctrl_frame"])
+        if fr in exported:
+            probs.append("frame %d: exported twice" % fr)
+        exported[fr] = row
+    for fr in sorted(set(exported) - set(by_frame)):
+        p = diss.get(fr)
+        probs.append("frame %d: an export tick, for the dissector %s" % (
+            fr, "%s %s" % (p.dir, p.type) if p else "no C4G Open packet"))
+    for fr in sorted(set(by_frame) - set(exported)):
+        probs.append("frame %d: a controller cyclic packet the export has no row for" % fr)
+
+    def same(fr, col, got, want):
+        nonlocal nfields
+        nfields += 1
+        if got != want:
+            probs.append("frame %d %s: export %r, dissector %r" % (fr, col, got, want))
+
+    n = 0
+    for fr in sorted(set(exported) & set(by_frame)):
+        row, (c, r) = exported[fr], by_frame[fr]
+        n += 1
+        why = refused(c, r) if r is not None else None
+        if r is None:
+            notes["unanswered"] += 1
+        elif why:
+            notes["refused"].append("frame %d (%s)" % (r.frame, why))
+            r = None
+        same(fr, "tick", int(row["tick"]), tick_of[fr])
+        same(fr, "pc_frame", row["pc_frame"], str(r.frame) if r else "")
+        same(fr, "ctrl_num", row["ctrl_num"], str(c.num))
+        same(fr, "pc_num", row["pc_num"], str(r.num) if r else "")
+        if r and row["latency_us"]:
+            # both from the same capture timestamps: the export in us to 3 decimals
+            nfields += 1
+            if abs(float(row["latency_us"]) - r.response_time * 1e6) > 0.0015:
+                probs.append("frame %d latency_us: export %s, dissector %.3f"
+                             % (fr, row["latency_us"], r.response_time * 1e6))
+        else:
+            same(fr, "latency_us", row["latency_us"], "")
+        for side, p in (("ctrl", c), ("pc", r)):
+            for word in ("infpar", "cmd"):
+                col = "%s_%s" % (side, word)
+                same(fr, col, int(row[col], 16) if row[col] else None,
+                     getattr(p, word) if p else None)
+        axes = len(c.axes)
+        if "c%d_mode" % axes not in row or "c%d_mode" % (axes + 1) in row:
+            probs.append("frame %d: export columns for another axis count than %d"
+                         % (fr, axes))
+            continue
+        for side, p in (("c", c), ("p", r)):
+            for i in range(axes):
+                ax = p.axes[i] if p else None
+                for k, name in enumerate(EXPORT_FIELDS):
+                    col = "%s%d_%s" % (side, i + 1, name)
+                    text = row[col]
+                    if ax is None:
+                        same(fr, col, text, "")
+                    elif k == 0:
+                        same(fr, col, text, str(ax.mode))
+                    else:
+                        v = ax.data[k - 1]
+                        try:
+                            ok = f32_key(float(text)) == f32_key(v)
+                        except (ValueError, OverflowError):
+                            ok = False
+                        nfields += 1
+                        if not ok:
+                            probs.append("frame %d %s: export %r, dissector %s" % (
+                                fr, col, text, ("-nan" if math.copysign(1, v) < 0 else "nan")
+                                if math.isnan(v) else "%.9g" % v))
+    return n, nfields, probs, notes
+
+
+def check_export(rep, name, diss, rows):
+    """One PASS/FAIL line for the export against the dissector, its problems listed first
+    (up to 20), each with the controller frame and the column."""
+    n, nfields, probs, notes = export_compare(diss, rows)
+    for line in probs[:20]:
+        print("  %s: %s" % (name, line))
+    if len(probs) > 20:
+        print("  %s: ... %d more" % (name, len(probs) - 20))
+    refused_n = len(notes["refused"])
+    rep.check("%s: c4g-replay export = dissector: %d ticks compared, %d fields (%d rows, %d "
+              "cyclic controller packets, %d of them repeated or late; %d ticks without a "
+              "reply, %d reply(ies) the controller refuses%s)"
+              % (name, n, nfields, len(rows), len(ticks(diss)), notes["repeats"],
+                 notes["unanswered"], refused_n,
+                 (": " + ", ".join(notes["refused"][:4])) if refused_n else ""),
+              probs if n else probs + ["no tick"])
+
+
+def capture_ports(spec, default):
+    """FILE or FILE:PORTS (PORTS: 46104 or 46117,46118) -> (file, ports)."""
+    head, sep, tail = spec.rpartition(":")
+    if sep and re.fullmatch(r"[0-9]+(,[0-9]+)*", tail):
+        return head, tail
+    if default is None:
+        raise SystemExit("%s: no PC port (FILE:PORTS or --pc-port)" % spec)
+    return spec, default
+
+
+def cmd_export_compare(rep, args):
+    """tshark with the dissector and c4g-replay export on each capture, tick by tick. The
+    tshark runs go ahead two at a time while the previous capture's PDML is parsed."""
+    jobs = [capture_ports(spec, args.pc_port) for spec in args.pcap]
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        runs = [(pcap, pool.submit(replay_export, args.replay, pcap, ports),
+                 pool.submit(tshark, pdml_args(pcap, args.lua, ["-o", "c4g.ports:" + ports])))
+                for pcap, ports in jobs]
+        for pcap, f_rows, f_pdml in runs:
+            name = args.name if args.name and len(jobs) == 1 else os.path.basename(pcap)
+            try:
+                diss = dissector_packets(pcap, args.lua, [], xml=f_pdml.result())
+                check_export(rep, name, diss, f_rows.result())
+            except (DissectorError, RuntimeError) as err:
+                rep.check(name, [str(err)])
 
 
 # ------------------------------------------------------------------ reporting
@@ -446,8 +683,9 @@ def arm_map(init):
 # ------------------------------------------------------------------ commands
 def cmd_capture(rep, args):
     """Full comparison of a capture: -o c4g.ports:PC_PORT, every packet, every field; with
-    --filters the display filters, with --direction the sender without the port preference.
-    The tshark runs go in parallel."""
+    --filters the display filters, with --direction the sender without the port preference,
+    with --replay also c4g-replay export (on the same dissection). The tshark runs go in
+    parallel."""
     pcap, port, lua = args.pcap, args.pc_port, args.lua
     opts = ["-o", "c4g.ports:%d" % port]
     decode_as = ["-d", "udp.port==%d,c4g" % port, "-o", "c4g.ports:1000-1001"]
@@ -471,8 +709,12 @@ def cmd_capture(rep, args):
             subprocess.run(["editcap", "-r", pcap, cut, "%d-%d" % (first_pc, max(indep))],
                            check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             f_cut = pool.submit(kinds_fields, lua, cut, ["-2"] + decode_as)
+        if args.replay:
+            f_rows = pool.submit(replay_export, args.replay, pcap, str(port))
         diss = dissector_packets(pcap, lua, opts, xml=f_pdml.result())
         check_fields(rep, args.name, indep, diss)
+        if args.replay:
+            check_export(rep, args.name, diss, f_rows.result())
         if args.filters:
             check_filters(rep, args.name, indep, f_mode0.result(), f_pc100.result())
         if args.direction:
@@ -493,8 +735,13 @@ def check_fields(rep, name, indep, diss):
               % (name, len(want)),
               ["frame %d -> %r, want %r" % (fr, got.get(fr), want.get(fr))
                for fr in sorted(set(want) | set(got)) if got.get(fr) != want.get(fr)])
-    rep.check("%s: no expert info on a clean capture" % name,
-              ["frame %d: %s" % (fr, p.experts) for fr, p in sorted(diss.items()) if p.experts])
+    late = late_replies(indep)
+    rep.check("%s: no expert info on a clean capture (but c4g.reply_num on %d late replies)"
+              % (name, len(late)),
+              ["frame %d: %s" % (fr, p.experts) for fr, p in sorted(diss.items())
+               if p.experts and not (fr in late and set(p.experts) == {"c4g.reply_num"})]
+              + ["frame %d: a late reply without c4g.reply_num" % fr for fr in sorted(late)
+                 if "c4g.reply_num" not in diss[fr].experts])
     # arm / axis of every axis block from the init packet's OpenAx
     probs, maps = [], None
     for fr in sorted(diss):
@@ -624,9 +871,25 @@ def cmd_crafted(rep, args):
                       + b"".join(axis_bytes(c, [0.0] * 8) for c in part), {}))
     path = args.tmp + "/crafted.pcap"
     from_pc = ("PC echo", "PC packet")
+    # then, in a conversation of its own, sync packets whose replies come late: the reply
+    # to sync 2 after sync 3, so sync 3's own reply comes to an answered packet
+    def sync(num):
+        return 40001, 1000, struct.pack("<iII", num, 0, 0) + bytes(2 * AXIS)
+
+    def sync_reply(num):
+        return 1000, 40001, struct.pack("<i", num) + bytes(SYNC_REPLY - 4)
+
+    late = [sync(1), sync_reply(2), sync(2), sync(3), sync_reply(3), sync_reply(4), sync(4),
+            sync_reply(5)]
     write_pcap(path, [(1000, 40000, c[1]) if c[0].startswith(from_pc) else (40000, 1000, c[1])
-                      for c in cases])
+                      for c in cases] + late)
     diss = dissector_packets(path, args.lua, [])
+    got = [(diss[fr].dir, diss[fr].type) if fr in diss else None
+           for fr in range(len(cases) + 1, len(cases) + 1 + len(late))]
+    want = [("pc" if sport == 1000 else "ctrl", "sync-reply" if sport == 1000 else "sync")
+            for sport, _, _ in late]
+    rep.check("crafted sync packets with late replies: every 732-byte reply a sync-reply",
+              [] if got == want else ["got %r" % got])
     for i, (what, _, want) in enumerate(cases):
         p = diss.get(i + 1)
         got = {}
@@ -664,13 +927,22 @@ def main():
     c.add_argument("--filters", action="store_true", help="also check display filters")
     c.add_argument("--direction", action="store_true",
                    help="also check the sender without the port preference")
+    c.add_argument("--replay", help="also compare `c4g-replay export` (this binary)")
     e = sub.add_parser("crafted", help="crafted datagrams: expert info and mode names")
     e.add_argument("--init-bin", required=True, help="a valid 1200-byte init packet")
     e.add_argument("--header", required=True, help="include/c4gopen_wire.h")
+    x = sub.add_parser("export-compare",
+                       help="c4g-replay export against the dissector, tick by tick")
+    x.add_argument("pcap", nargs="+", help="FILE or FILE:PORTS (the PC's ports)")
+    x.add_argument("--replay", required=True, help="the c4g-replay binary")
+    x.add_argument("--pc-port", help="PC port(s) of a FILE without :PORTS, e.g. 46104 or "
+                   "46117,46118")
+    x.add_argument("--name", help="name in the report (one capture; default the file name)")
     args = ap.parse_args()
     rep = Report()
     try:
-        {"capture": cmd_capture, "crafted": cmd_crafted}[args.cmd](rep, args)
+        {"capture": cmd_capture, "crafted": cmd_crafted,
+         "export-compare": cmd_export_compare}[args.cmd](rep, args)
     except (DissectorError, RuntimeError) as err:
         rep.check(args.cmd, [str(err)])
     return 0 if rep.fails == 0 else 1

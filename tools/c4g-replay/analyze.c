@@ -713,6 +713,26 @@ static void pc_data(an_t *a, an_session_t *s, const c4g_pc_packet_t *tx, const c
     }
 }
 
+/* The reply to 504 is not checked by the controller (cs_reply: unexpected), yet the PC sends
+ * it: the tick's reply if its NUM answers under the policy and it decodes, so the export
+ * shows it like any other (the counters do not change). */
+static void keep_unchecked_reply(an_session_t *s, const cap_pkt_t *p, int32_t num)
+{
+    c4g_pc_packet_t pkt;
+    if (s->reply_len != 0U || p->len > sizeof s->reply_raw ||
+        !cs_num_ok(&s->cs, s->cs.out.num, num) ||
+        c4g_pc_decode(p->payload, p->len, s->cs.cfg.n_axes, &pkt, NULL) != C4G_OK) {
+        return;
+    }
+    memcpy(s->reply_raw, p->payload, p->len);
+    s->reply_len = p->len;
+    s->reply_ns = p->ts_ns;
+    s->reply_frame = p->frame;
+    if (s->other_len != 0U && s->other_frame == p->frame) {
+        s->other_len = 0U; /* a reply, not another datagram */
+    }
+}
+
 static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
@@ -788,6 +808,7 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     case CS_RX_UNEXPECTED:
         if (s->cs.out.active && !s->cs.out.check) {
             s->pc_cyclic++; /* the reply to 504, which the controller does not check */
+            keep_unchecked_reply(s, p, num);
             break;
         }
         s->pc_other++;

@@ -157,14 +157,15 @@ typedef struct an_exchange {
     uint64_t ctrl_frame;
     int64_t ctrl_ns;            /* capture time */
     const c4g_ctrl_packet_t *rx;/* decoded (cyclic), else NULL */
-    const uint8_t *reply;       /* the first valid reply, NULL if none came */
+    const uint8_t *reply;       /* the first valid reply (to a 504, which the controller
+                                 * does not check: one that answers its NUM and decodes),
+                                 * NULL if none came */
     size_t reply_len;
     uint64_t reply_frame;
     int64_t reply_ns;
     const c4g_pc_packet_t *tx;  /* decoded (cyclic), else NULL */
     const uint8_t *other;       /* the first PC datagram after the packet that was not a valid
-                                 * reply (a wrong NUM, the unchecked reply to 504, a bad
-                                 * length), NULL if none came */
+                                 * reply (a wrong NUM, a bad length), NULL if none came */
     size_t other_len;
     uint64_t other_frame;
     int64_t other_ns;

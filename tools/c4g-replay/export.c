@@ -276,7 +276,8 @@ static const char *const examples[] = {
 static const char epilogue[] =
     "CSV columns: session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,ctrl_infpar,\n"
     "ctrl_cmd,pc_infpar,pc_cmd, then per OPEN axis i: ci_mode,ci_d1..ci_d5,ci_ext1..ci_ext3 (the\n"
-    "controller's packet) and pi_mode..pi_ext3 (the PC's reply; empty when none came in time).\n"
+    "controller's packet) and pi_mode..pi_ext3 (the PC's valid reply, the one to 504 included;\n"
+    "empty when none came in time).\n"
     "tick is the cyclic packet's number in its session (1 = the first), time seconds since\n"
     "the session's first packet; floats are printed with 9 digits.\n";
 

@@ -57,6 +57,12 @@ HOW THE DIRECTION IS DECIDED (per conversation = address/port pair; no fixed por
   2 packets after it (none after a client restart, 506); a 732-byte PC datagram answering
   a synchronization packet is a sync-reply; every other cyclic-shaped datagram is cyclic.
 
+REPLY LINKS
+  A PC datagram answers the newest controller packet of its conversation if no earlier one
+  did and its NUM is that packet's NUM + 1 (0x7FFF -> 1) or the same NUM; once the init
+  echo has shown the PC's policy (NUM 11: plus-one, 10: echo), only that one, as the
+  controller does (c4g.response_to / response_in / response_time, else c4g.reply_num).
+
 INSTALL AND USE
   One-off:      wireshark -X lua_script:tools/wireshark/c4gopen.lua capture.pcap
                 tshark -X lua_script:tools/wireshark/c4gopen.lua -r capture.pcap
@@ -286,8 +292,13 @@ local function reply_num(n)
     return n + 1
 end
 
-local function answers(q, r)
-    return q ~= nil and r ~= nil and (r == q or r == reply_num(q))
+-- Reply NUM r answers controller NUM q under the NUM policy: "plus-one" (q + 1, 0x7FFF -> 1),
+-- "echo" (q) or nil (not known yet: either).
+local function answers(q, r, policy)
+    if q == nil or r == nil then return false end
+    if policy == "plus-one" then return r == reply_num(q) end
+    if policy == "echo" then return r == q end
+    return r == q or r == reply_num(q)
 end
 
 local zeros_cache = {}
@@ -442,8 +453,8 @@ local function classify(conv, dir, len, num, tvb, body_zero)
         return "unknown"
     end
     if len == INIT_SIZE then return "init-echo" end
-    if len == SYNC_REPLY and conv.last_ctrl and conv.last_ctrl.type == "sync"
-        and not conv.last_ctrl.answered then
+    -- answered or not: after a reply to the previous sync packet came late, this one's follows
+    if len == SYNC_REPLY and conv.last_ctrl and conv.last_ctrl.type == "sync" then
         return "sync-reply"
     end
     if n then return "cyclic" end
@@ -477,6 +488,7 @@ local function learn(tvb, pinfo)
         if typ == "init" then
             conv.map = init_map(tvb)
             conv.init_tail = tvb:raw(4, INIT_SIZE - 4)
+            conv.policy = nil -- learnt again from this packet's echo
             rec.map = conv.map
         end
         conv.last_ctrl = { frame = pinfo.number, num = num, t = t, type = typ }
@@ -486,14 +498,21 @@ local function learn(tvb, pinfo)
             rec.echo_ok = (tvb:raw(4, INIT_SIZE - 4) == conv.init_tail)
         end
         if lc and not lc.answered and num ~= nil then
-            if answers(lc.num, num) then
+            if answers(lc.num, num, conv.policy) then
                 lc.answered = true
+                -- The init echo's NUM shows the PC's policy, as the controller locks on it:
+                -- under plus-one a reply late past the next packet carries that packet's
+                -- NUM and would otherwise pass for its echo.
+                if typ == "init-echo" and lc.type == "init" then
+                    conv.policy = (num == lc.num) and "echo" or "plus-one"
+                end
                 rec.response_to = lc.frame
                 rec.response_ns = math.floor((t - lc.t) * 1e9 + 0.5)
                 local lrec = frames[lc.frame]
                 if lrec then lrec.response_in = pinfo.number end
             else
                 rec.bad_reply = lc.num
+                rec.policy = conv.policy
             end
         end
     end
@@ -790,9 +809,13 @@ function c4g.dissector(tvb, pinfo, tree)
         root:add(f.response_to, rec.response_to):set_generated()
         root:add(f.response_time, ns_time(rec.response_ns)):set_generated()
     elseif rec.bad_reply then
+        local q = rec.bad_reply
+        local want = q .. " or " .. reply_num(q)
+        if rec.policy == "plus-one" then want = reply_num(q) .. " (plus-one policy)" end
+        if rec.policy == "echo" then want = q .. " (echo policy)" end
         root:add_proto_expert_info(ex.reply_num, string.format(
-            "Reply NUM answers neither %d nor %d (the last controller packet's NUM and + 1)",
-            rec.bad_reply, reply_num(rec.bad_reply)))
+            "Reply NUM %d does not answer the last controller packet, NUM %d: want %s",
+            tvb(0, 4):le_int(), q, want))
     end
     if rec.response_in then
         root:add(f.response_in, rec.response_in):set_generated()
