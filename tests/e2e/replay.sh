@@ -11,7 +11,8 @@
 #     sessions;
 #  5. rerun: 0 divergences on c4g-server's own captures with the options they were made with;
 #     another amplitude or gain gives the first divergent field where it must be;
-#  6. export (CSV, moni rows, JSON lines) and plot (PNG, SVG, text) on a fixture.
+#  6. export (CSV, moni rows, JSON lines) and plot (PNG, SVG, text) on a fixture; the
+#     examples of docs/c4g-replay.md print what the page shows.
 . tests/e2e/server_helpers/lib.sh "$1"
 RP=$BUILD/bin/c4g-replay
 FX=fixtures/replay
@@ -191,4 +192,5 @@ if command -v gnuplot >/dev/null 2>&1; then
 else
     ok "gnuplot installed (scripts/deps.sh)" false
 fi
+ok "docs/c4g-replay.md: every example prints what the page shows" $CHECK docs "$BUILD/bin" docs/c4g-replay.md
 finish

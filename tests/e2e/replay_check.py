@@ -7,6 +7,8 @@
   live-capture REPLAY FILE LINK CYCLIC [PORT]
                              a capture made by tcpdump during a sim + server run: one session
                              ended by 504, LINK link type, CYCLIC cyclic ticks, each answered
+  docs BINDIR FILE.md        every ```console block: each "$ COMMAND" run (BINDIR first in
+                             PATH) prints exactly the lines that follow it
 Every failure prints "FAIL: ..." and the exit status is 1.
 """
 import json
@@ -187,12 +189,40 @@ def cmd_live_capture(args):
     print("live capture %s: %s, %d cyclic packets, one session ended by 504" % (path, link, cyclic))
 
 
+def cmd_docs(args):
+    import os
+    bindir, path = args[0], args[1]
+    env = dict(os.environ, PATH=os.path.abspath(bindir) + os.pathsep + os.environ.get("PATH", ""))
+    lines = open(path).read().split("\n")
+    cmds, i, inblock = [], 0, False
+    for ln, line in enumerate(lines, 1):
+        if line.startswith("```console"):
+            inblock = True
+        elif line.startswith("```") and inblock:
+            inblock = False
+        elif inblock and line.startswith("$ "):
+            cmds.append([ln, line[2:], []])
+        elif inblock and cmds:
+            cmds[-1][2].append(line)
+    for ln, cmd, want in cmds:
+        got = subprocess.run(cmd, shell=True, capture_output=True, text=True, env=env).stdout.rstrip("\n").split("\n")
+        if got != want:
+            fail("%s:%d: '%s' prints other lines than the page shows" % (path, ln, cmd))
+            for k in range(max(len(got), len(want))):
+                a = want[k] if k < len(want) else "<none>"
+                b = got[k] if k < len(got) else "<none>"
+                if a != b:
+                    print("  line %d: page: %s\n          run:  %s" % (k + 1, a, b))
+                    break
+    print("docs: %d examples of %s run" % (len(cmds), path))
+
+
 def main():
     if len(sys.argv) < 3:
         print(__doc__)
         return 2
     cmd, args = sys.argv[1], sys.argv[2:]
-    {"oracle": cmd_oracle, "facts": cmd_facts, "live-capture": cmd_live_capture}[cmd](args)
+    {"oracle": cmd_oracle, "facts": cmd_facts, "live-capture": cmd_live_capture, "docs": cmd_docs}[cmd](args)
     return 1 if FAILS else 0
 
 
