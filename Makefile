@@ -267,7 +267,7 @@ analyzer: | $(DEPS_STAMP)
 TOOL_COMPLEXITY ?= 40
 TEST_COMPLEXITY ?= 90
 CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -DFIXTURES_DIR=\"\" -Iinclude -Itools/common \
-  -Itools/c4g-sim -Itools/c4g-server -Itools/cell-cli -Itools/cell-sim
+  -Itools/c4g-sim -Itools/c4g-server -Itools/cell-cli -Itools/cell-sim -Itools/c4g-replay
 complexity: | $(DEPS_STAMP)
 	@sh scripts/complexity.sh $(TOOL_COMPLEXITY) "$(CPLX_INC)" $(sort $(wildcard tools/*/*.c))
 	@sh scripts/complexity.sh $(TEST_COMPLEXITY) "$(CPLX_INC)" $(UNIT_SRCS) $(FUZZ_SRCS)
