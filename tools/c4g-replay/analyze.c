@@ -79,13 +79,6 @@ void an_free(an_t *a)
 
 /* ---- helpers ------------------------------------------------------------- */
 
-static int32_t get_i32(const uint8_t *p)
-{
-    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
-                       ((uint32_t)p[3] << 24);
-    return (int32_t)u;
-}
-
 static int is_cyclic_size(size_t len)
 {
     return len >= C4G_CYCLIC_SIZE(1U) && len <= C4G_MAX_CYCLIC_SIZE &&
@@ -94,8 +87,8 @@ static int is_cyclic_size(size_t len)
 
 static int looks_init(const uint8_t *d, size_t len)
 {
-    return len == C4G_INIT_SIZE && (get_i32(d) == 10 || get_i32(d) == 11) && get_i32(d + 4) == 3 &&
-           get_i32(d + 8) == 9;
+    return len == C4G_INIT_SIZE && (an_le_i32(d) == 10 || an_le_i32(d) == 11) && an_le_i32(d + 4) == 3 &&
+           an_le_i32(d + 8) == 9;
 }
 
 static int zero_body(const uint8_t *d, size_t len)
@@ -447,7 +440,7 @@ static void ctrl_data(an_session_t *s, const c4g_ctrl_packet_t *rx, const cap_pk
 static void diag_finding(an_session_t *s, const cap_pkt_t *p, const char *who, c4g_status_t st,
                          const c4g_diag_t *d)
 {
-    const int32_t num = (p->len >= 4U) ? get_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? an_le_i32(p->payload) : -1;
     an_kind_t k = AN_K_MALFORMED;
     char axis[32] = "";
     if (st == C4G_ERR_NONFINITE) {
@@ -468,7 +461,7 @@ static void diag_finding(an_session_t *s, const cap_pkt_t *p, const char *who, c
 static void new_controller_tick(an_session_t *s, const cap_pkt_t *p, cs_kind_t kind,
                                 int check)
 {
-    const int32_t num = (p->len >= 4U) ? get_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? an_le_i32(p->payload) : -1;
     const size_t n = (p->len <= sizeof s->ctrl_raw) ? p->len : sizeof s->ctrl_raw;
     memcpy(s->ctrl_raw, p->payload, n);
     s->ctrl_len = n;
@@ -511,7 +504,7 @@ static void ctrl_cyclic(an_t *a, an_session_t *s, const cap_pkt_t *p)
 {
     c4g_diag_t d;
     c4g_status_t st;
-    const int32_t num = get_i32(p->payload);
+    const int32_t num = an_le_i32(p->payload);
     int repeat;
     ctrl_num_seq(s, p, num, &repeat);
     if (repeat) {
@@ -578,7 +571,7 @@ static void ctrl_sync(an_t *a, an_session_t *s, const cap_pkt_t *p)
     if (s->post_sync > 0U) {
         s->post_sync--;
     }
-    s->ctrl_num = get_i32(p->payload);
+    s->ctrl_num = an_le_i32(p->payload);
     new_controller_tick(s, p, CS_SYNC, 1);
 }
 
@@ -603,7 +596,7 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
         if (init && (s->have_init || s->cyclic_started)) {
             session_close(a, s, p, s->cyclic_started ? "506 restart" : "init repeated");
             s = NULL;
-        } else if (sync && s->cyclic_started && get_i32(p->payload) <= 9) {
+        } else if (sync && s->cyclic_started && an_le_i32(p->payload) <= 9) {
             session_close(a, s, p, "cold restart");
             s = NULL;
         } else {
@@ -626,7 +619,7 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
         ctrl_cyclic(a, s, p);
     } else {
         s->ctrl_other++;
-        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? get_i32(p->payload) : -1, (double)p->len,
+        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? an_le_i32(p->payload) : -1, (double)p->len,
                 "controller datagram of %u bytes: not 12 + 36 n, not 1200", (unsigned)p->len);
     }
 }
@@ -737,7 +730,7 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
 {
     an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
     cs_rx_t r;
-    const int32_t num = (p->len >= 4U) ? get_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? an_le_i32(p->payload) : -1;
     if (s == NULL) {
         s = session_new(a, fl, file, p);
         if (s == NULL) {
@@ -888,7 +881,7 @@ static int decide(const an_t *a, const an_flow_t *fl, int final)
         /* the initialization packet (NUM 10) comes from the controller; its plus-one echo
          * (NUM 11) from the PC */
         if (looks_init(h->data, h->p.len)) {
-            const int from_ctrl = (get_i32(h->data) == C4G_INIT_NUM);
+            const int from_ctrl = (an_le_i32(h->data) == C4G_INIT_NUM);
             return (side == 0) == from_ctrl ? 1 : 0;
         }
         /* a 732-byte answer to a shorter cyclic-shaped packet is the PC's sync reply */
@@ -999,7 +992,7 @@ void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
             /* the initialization packet comes from the controller; a first one carrying
              * NUM 11 is the PC's plus-one echo of an init packet the capture lost (a
              * fragment, a drop): its receiver is the controller */
-            fl->ctrl_is_a = (get_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
+            fl->ctrl_is_a = (an_le_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
             take_recent(a, fl, file);
         }
     }

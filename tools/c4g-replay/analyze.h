@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #define AN_MAX_FLOWS 32U
 #define AN_MAX_SESSIONS 64U
@@ -24,6 +25,20 @@
 #define AN_MAX_PORTS 16U
 #define AN_RECENT 64U        /* other UDP datagrams remembered: a flow found by its init
                               * packet takes the synchronization packets before it */
+
+/* The wire's little-endian words (every field of a C4G Open datagram is 32 bits). */
+static inline uint32_t an_le_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+static inline int32_t an_le_i32(const uint8_t *p) { return (int32_t)an_le_u32(p); }
+static inline float an_f32_bits(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+static inline float an_le_f32(const uint8_t *p) { return an_f32_bits(an_le_u32(p)); }
 
 /* Kinds of finding: the names are what --allow takes. */
 #define AN_KINDS(X)                                                                          \

@@ -25,23 +25,6 @@ typedef struct ex_ctx {
     FILE *out;
 } ex_ctx_t;
 
-static int32_t rd_i32(const uint8_t *p)
-{
-    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
-                       ((uint32_t)p[3] << 24);
-    return (int32_t)u;
-}
-
-static uint32_t rd_u32(const uint8_t *p) { return (uint32_t)rd_i32(p); }
-
-static float rd_f32(const uint8_t *p)
-{
-    const uint32_t u = rd_u32(p);
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
 static unsigned axes_in(size_t len)
 {
     if (len < C4G_CYCLIC_SIZE(1U) || len > C4G_MAX_CYCLIC_SIZE || (len - C4G_HEADER_SIZE) % C4G_AXIS_SIZE != 0U) {
@@ -86,9 +69,9 @@ static void csv_side(ex_ctx_t *e, const uint8_t *d, size_t len, unsigned n)
             fprintf(e->out, ",,,,,,,,,");
             continue;
         }
-        fprintf(e->out, ",%d", (int)rd_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
+        fprintf(e->out, ",%d", (int)an_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",%.9g", (double)rd_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
+            fprintf(e->out, ",%.9g", (double)an_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
         }
     }
 }
@@ -106,15 +89,15 @@ static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
     if (x->reply != NULL) {
         fprintf(e->out, "%llu", (unsigned long long)x->reply_frame);
     }
-    fprintf(e->out, ",%d,", (int)rd_i32(x->ctrl));
+    fprintf(e->out, ",%d,", (int)an_le_i32(x->ctrl));
     if (x->reply != NULL && x->reply_len >= 4U) {
-        fprintf(e->out, "%d,%.3f", (int)rd_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        fprintf(e->out, "%d,%.3f", (int)an_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
         fputc(',', e->out);
     }
-    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)rd_u32(x->ctrl + 4), (unsigned)rd_u32(x->ctrl + 8));
+    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)an_le_u32(x->ctrl + 4), (unsigned)an_le_u32(x->ctrl + 8));
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        fprintf(e->out, "0x%08x,0x%08x", (unsigned)rd_u32(x->reply + 4), (unsigned)rd_u32(x->reply + 8));
+        fprintf(e->out, "0x%08x,0x%08x", (unsigned)an_le_u32(x->reply + 4), (unsigned)an_le_u32(x->reply + 8));
     } else {
         fputc(',', e->out);
     }
@@ -140,18 +123,18 @@ static void json_side(ex_ctx_t *e, const char *name, const uint8_t *d, size_t le
         fprintf(e->out, ",\"%s\":null", name);
         return;
     }
-    fprintf(e->out, ",\"%s\":{\"num\":%d,\"infpar\":%u,\"cmd\":%u,\"axes\":[", name, (int)rd_i32(d),
-            (unsigned)rd_u32(d + 4), (unsigned)rd_u32(d + 8));
+    fprintf(e->out, ",\"%s\":{\"num\":%d,\"infpar\":%u,\"cmd\":%u,\"axes\":[", name, (int)an_le_i32(d),
+            (unsigned)an_le_u32(d + 4), (unsigned)an_le_u32(d + 8));
     for (i = 0U; i < n; i++) {
         const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
         if (!axis_on(e, i)) {
             continue;
         }
-        fprintf(e->out, "%s{\"axis\":%u,\"mode\":%d", first ? "" : ",", i + 1U, (int)rd_i32(a));
+        fprintf(e->out, "%s{\"axis\":%u,\"mode\":%d", first ? "" : ",", i + 1U, (int)an_le_i32(a));
         first = 0U;
         for (k = 0U; k < 8U; k++) {
             fprintf(e->out, ",\"%s\":", fnames[k]);
-            json_float(e->out, rd_f32(a + 4U + 4U * k));
+            json_float(e->out, an_le_f32(a + 4U + 4U * k));
         }
         fputc('}', e->out);
     }

@@ -33,13 +33,6 @@ static void on_signal(int sig)
     g_stop = 1;
 }
 
-static int32_t rd_i32(const uint8_t *p)
-{
-    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
-                       ((uint32_t)p[3] << 24);
-    return (int32_t)u;
-}
-
 /* ---- options ------------------------------------------------------------- */
 
 static int opt_to(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
@@ -330,7 +323,7 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
     if (!P->has_rec) {
         divergence(L, &nd, LV_F_REPLY, 0U, "none", "a valid reply");
     } else if (P->kind != CS_CYCLIC) {
-        cmp_int(L, &nd, LV_F_NUM, 0U, rd_i32(P->rec_raw), rd_i32(L->live_raw), 0);
+        cmp_int(L, &nd, LV_F_NUM, 0U, an_le_i32(P->rec_raw), an_le_i32(L->live_raw), 0);
         if (P->rec_len != L->live_len || memcmp(P->rec_raw + 4, L->live_raw + 4, P->rec_len - 4U) != 0) {
             char a[24], b[24];
             (void)snprintf(a, sizeof a, "%u bytes", (unsigned)P->rec_len);
@@ -430,7 +423,7 @@ static void send_packet(lv_t *L, const an_exchange_t *x, uint64_t sched)
     uint32_t i;
     uint64_t t;
     ssize_t n;
-    const int32_t num = rd_i32(x->ctrl);
+    const int32_t num = an_le_i32(x->ctrl);
     /* the controller does not wait for the reply to 504 (the analysis' rule) */
     for (i = 0U; x->rx != NULL && i < x->rx->n_axes; i++) {
         if (x->rx->ax[i].mode == C4G_MODE_EXIT_OPEN) {

@@ -25,14 +25,6 @@ typedef struct pl_ctx {
 
 static const char *const field_names[9] = {"mode", "d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
 
-static float rd_f32(const uint8_t *p)
-{
-    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
 static void on_exchange(void *ctx, const an_exchange_t *x)
 {
     pl_ctx_t *p = ctx;
@@ -65,7 +57,7 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
         v = (double)(int32_t)((uint32_t)d[off] | ((uint32_t)d[off + 1] << 8) | ((uint32_t)d[off + 2] << 16) |
                               ((uint32_t)d[off + 3] << 24));
     } else {
-        v = (double)rd_f32(d + off);
+        v = (double)an_le_f32(d + off);
     }
     if (isfinite(v)) {
         fprintf(p->data, "%.9f %.9g\n", (double)(x->ctrl_ns - x->s->first_ns) * 1e-9, v);

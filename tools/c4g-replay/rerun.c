@@ -21,30 +21,31 @@
 
 #define RR_MAX_SERVER_ARGS 128
 
-/* Fields a divergence is counted under. */
-#define RR_FIELDS(X)                                                                          \
-    X(REPLY, "reply", "a reply sent on one side only")                                       \
-    X(LENGTH, "length", "the replies' lengths differ")                                       \
-    X(SYNC, "sync", "a word of the reply to a synchronization packet")                       \
-    X(INIT, "init", "a word of the echo of the initialization packet")                       \
-    X(NUM, "num", "NUM")                                                                     \
-    X(INFPAR, "infpar", "INFPAR")                                                            \
-    X(CMD, "cmd", "CMD")                                                                     \
-    X(MODE, "mode", "an axis mode (SMax)")                                                   \
-    X(D1, "d1", "D1")                                                                        \
-    X(D2, "d2", "D2")                                                                        \
-    X(D3, "d3", "D3")                                                                        \
-    X(D4, "d4", "D4")                                                                        \
-    X(D5, "d5", "D5")                                                                        \
-    X(EXT1, "ext1", "EXT1")                                                                  \
-    X(EXT2, "ext2", "EXT2")                                                                  \
-    X(EXT3, "ext3", "EXT3")
+/* Fields a divergence is counted under: reply (sent on one side only), length, a word of a
+ * sync reply or of the init echo, then the cyclic reply's words. */
+#define RR_FIELDS(X)                    \
+    X(REPLY, "reply")           \
+    X(LENGTH, "length")         \
+    X(SYNC, "sync")             \
+    X(INIT, "init")             \
+    X(NUM, "num")               \
+    X(INFPAR, "infpar")         \
+    X(CMD, "cmd")               \
+    X(MODE, "mode")             \
+    X(D1, "d1")                 \
+    X(D2, "d2")                 \
+    X(D3, "d3")                 \
+    X(D4, "d4")                 \
+    X(D5, "d5")                 \
+    X(EXT1, "ext1")             \
+    X(EXT2, "ext2")             \
+    X(EXT3, "ext3")
 
-#define RR_FIELD_ENUM(id, name, text) RR_F_##id,
+#define RR_FIELD_ENUM(id, name) RR_F_##id,
 typedef enum rr_field { RR_FIELDS(RR_FIELD_ENUM) RR_F_COUNT } rr_field_t;
 #undef RR_FIELD_ENUM
 
-#define RR_FIELD_NAME(id, name, text) name,
+#define RR_FIELD_NAME(id, name) name,
 static const char *const k_field_names[RR_F_COUNT] = {RR_FIELDS(RR_FIELD_NAME)};
 #undef RR_FIELD_NAME
 
@@ -134,18 +135,6 @@ typedef struct rr {
 static srv_t g_srv;          /* large: static storage, like c4g-server's */
 static rr_t g_rr;
 
-static uint32_t rd_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
-
-static float as_f32(uint32_t u)
-{
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
 /* ---- comparing one reply ------------------------------------------------- */
 
 static rr_sess_t *sess_of(rr_t *R, const an_session_t *s)
@@ -168,7 +157,7 @@ static rr_sess_t *sess_of(rr_t *R, const an_session_t *s)
 static void word_text(char *buf, size_t cap, rr_field_t f, uint32_t u)
 {
     if (f >= RR_F_D1) {
-        (void)snprintf(buf, cap, "%.9g", (double)as_f32(u));
+        (void)snprintf(buf, cap, "%.9g", (double)an_f32_bits(u));
     } else if (f == RR_F_NUM || f == RR_F_MODE) {
         (void)snprintf(buf, cap, "%d", (int)(int32_t)u);
     } else {
@@ -182,7 +171,7 @@ static void div_where(rr_div_t *d, const rr_pkt_t *p)
     d->session = p->session;
     d->tick = p->tick;
     d->kind = p->kind;
-    d->num = (p->ctrl_len >= 4U) ? (int32_t)rd_u32(p->ctrl) : -1;
+    d->num = (p->ctrl_len >= 4U) ? (int32_t)an_le_u32(p->ctrl) : -1;
     d->frame = p->ctrl_frame;
     d->t_s = (double)(p->ctrl_ns - p->s->first_ns) * 1e-9;
 }
@@ -237,7 +226,7 @@ static void count_div(rr_t *R, const rr_div_t *d)
 
 static int float_equal(const rr_t *R, uint32_t a, uint32_t b)
 {
-    const double x = (double)as_f32(a), y = (double)as_f32(b);
+    const double x = (double)an_f32_bits(a), y = (double)an_f32_bits(b);
     if (a == b) {
         return 1;
     }
@@ -265,7 +254,7 @@ static int compare_words(rr_t *R, const rr_pkt_t *p, const uint8_t *rec, const u
     unsigned w;
     int diverged = 0;
     for (w = 0U; w < (unsigned)(n / 4U); w++) {
-        const uint32_t a = rd_u32(rec + 4U * w), b = rd_u32(out + 4U * w);
+        const uint32_t a = an_le_u32(rec + 4U * w), b = an_le_u32(out + 4U * w);
         rr_div_t d;
         int axis = -1;
         rr_field_t f;
