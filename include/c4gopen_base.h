@@ -12,7 +12,7 @@
 #ifndef C4GOPEN_BASE_H
 #define C4GOPEN_BASE_H
 
-#if !defined(__STDC_VERSION__) || (__STDC_VERSION__ < 199901L)
+#if !defined(__cplusplus) && (!defined(__STDC_VERSION__) || (__STDC_VERSION__ < 199901L))
 #error "libc4gopen needs a C99 (or later) compiler"
 #endif
 

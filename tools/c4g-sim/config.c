@@ -123,7 +123,8 @@ static int axis_key(sim_axis_params_t *p, const kv_t *k)
         double lo, hi;
     } keys[] = {
 #define K(n, lo, hi) {#n, offsetof(sim_axis_params_t, n), lo, hi}
-        K(j, 1e-9, 1e3), K(kt, 1e-6, 1e3), K(fv, 0.0, 1e3), K(fc, 0.0, 1e3), K(gravity, -1e4, 1e4),
+        K(j, 1e-9, 1e3), K(kt, 1e-6, 1e3), K(fv, 0.0, 1e3), K(fc, 0.0, 1e3), K(fs, 0.0, 1e3), K(vs, 0.0, 1e4),
+        K(load, -1e4, 1e4), K(cur_noise, 0.0, 1e3), K(torque_noise, 0.0, 1e3), K(gravity, -1e4, 1e4),
         K(kp, 0.0, 1e5), K(kv, 0.0, 1e5), K(ki, 0.0, 1e7), K(az_lim, 0.0, 1e4),
         K(tx_rate, -1e5, 1e5), K(cal, -1e6, 1e6), K(ax_info, -1e3, 1e3), K(follow_error, 0.0, 1e6),
         K(counts, 0.0, 1e9), K(noise, 0.0, 1.0), K(vel_filter, 1e-6, 1.0), K(vmax, 1e-6, 1e5),

@@ -67,6 +67,11 @@ void sim_axis_params_default(sim_axis_params_t *p, unsigned logical)
     p->kt = (k < 3U) ? 0.8 : 0.5;
     p->fv = 1e-3;
     p->fc = (k < 3U) ? 0.15 : 0.05;
+    p->fs = p->fc;
+    p->vs = 0.0;
+    p->load = 0.0;
+    p->cur_noise = 0.0;
+    p->torque_noise = 0.0;
     p->gravity = (logical == 1U) ? 6.0 : ((logical == 2U) ? 3.0 : 0.0);
     p->kp = 40.0;
     /* Velocity loop bandwidth about 150 rad/s: kv = w * 2 pi J / Kt. */
@@ -103,11 +108,23 @@ void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)
     a->vel = 0.0;
     a->integ = 0.0;
     a->cur = 0.0;
+    a->cur_report = 0.0;
+    a->cur_sum = 0.0;
+    a->cur_n = 0U;
     a->meas_pos = measure(p, a->pos, rng);
     a->prev_meas = a->meas_pos;
     a->meas_vel = 0.0;
     a->saturated = 0;
     a->drive_on = 0;
+}
+
+double sim_axis_friction_level(const sim_axis_params_t *p, double vel)
+{
+    if (p->vs > 0.0) {
+        const double r = vel / p->vs;
+        return p->fc + (p->fs - p->fc) * exp(-r * r);
+    }
+    return p->fc;
 }
 
 double sim_axis_gravity(const sim_axis_params_t *p, double pos)
@@ -145,6 +162,7 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
         a->vel = 0.0;
         a->integ = 0.0;
         a->cur = 0.0;
+        a->cur_n++;
         a->saturated = 0;
         return;
     }
@@ -165,26 +183,46 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
     a->saturated = fabs(i_tot) > p->az_lim;
     a->cur = clampd(i_tot, p->az_lim);
 
-    /* Plant (semi-implicit Euler), Coulomb friction with sticking. */
-    torque = p->kt * a->cur - sim_axis_gravity(p, a->pos);
-    if (fabs(a->vel) < STICK_VEL && fabs(torque) <= p->fc) {
-        a->vel = 0.0;
-        return;
+    a->cur_sum += a->cur;
+    a->cur_n++;
+
+    /* Plant (semi-implicit Euler), Coulomb/Stribeck friction with sticking. */
+    torque = p->kt * a->cur - sim_axis_gravity(p, a->pos) - p->load;
+    if (p->torque_noise > 0.0) {
+        torque += p->torque_noise * sim_rng_gauss(rng);
+    }
+    {
+        const double stick = (p->vs > 0.0 && p->fs > p->fc) ? p->fs : p->fc;
+        if (fabs(a->vel) < STICK_VEL && fabs(torque) <= stick) {
+            a->vel = 0.0;
+            return;
+        }
     }
     {
         const double w = TWO_PI * a->vel;
         const double dir = (fabs(a->vel) >= STICK_VEL) ? ((a->vel > 0.0) ? 1.0 : -1.0)
                                                         : ((torque > 0.0) ? 1.0 : -1.0);
-        const double net = torque - p->fv * w - p->fc * dir;
+        const double fr = sim_axis_friction_level(p, a->vel);
+        const double net = torque - p->fv * w - fr * dir;
         const double v_old = a->vel;
         acc = net / (p->j * TWO_PI);
         a->vel += acc * dt;
         /* Friction cannot reverse the motion within one step. */
-        if (v_old != 0.0 && (a->vel > 0.0) != (v_old > 0.0) && fabs(torque) <= p->fc) {
+        if (v_old != 0.0 && (a->vel > 0.0) != (v_old > 0.0) && fabs(torque) <= fr) {
             a->vel = 0.0;
         }
         a->pos += a->vel * dt;
     }
+}
+
+double sim_axis_report_current(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)
+{
+    const double mean = (a->cur_n > 0U) ? a->cur_sum / (double)a->cur_n : a->cur;
+    a->cur_sum = 0.0;
+    a->cur_n = 0U;
+    /* the sensor noise touches only what is reported, never the loop */
+    a->cur_report = mean + ((p->cur_noise > 0.0) ? p->cur_noise * sim_rng_gauss(rng) : 0.0);
+    return a->cur_report;
 }
 
 double sim_trap_min_time(double d, double vmax, double amax)

@@ -25,6 +25,11 @@ typedef struct sim_axis_params {
     double kt;           /* torque constant [Nm/A] */
     double fv;           /* viscous friction [Nm/(rad/s)] */
     double fc;           /* Coulomb friction [Nm] */
+    double fs;           /* Stribeck static friction [Nm] (used when vs > 0) */
+    double vs;           /* Stribeck velocity [turns/s], 0 = no Stribeck term */
+    double load;         /* constant load torque [Nm] (a current offset load/kt) */
+    double cur_noise;    /* sigma of the noise on the reported current D5 [A] */
+    double torque_noise; /* sigma of a white disturbance torque, per DSA step [Nm] */
     double gravity;      /* gravity torque amplitude at the motor [Nm] (axes 2 and 3) */
     double kp;           /* DSA position gain [1/s] */
     double kv;           /* DSA velocity gain [A/(turn/s)] */
@@ -78,6 +83,9 @@ typedef struct sim_axis {
     double vel;          /* true velocity [turns/s] */
     double integ;        /* velocity loop integrator [A] */
     double cur;          /* current command after saturation [A] */
+    double cur_report;   /* the current the controller reports (D5) [A] */
+    double cur_sum;      /* sum of the DSA steps' currents since the last report */
+    unsigned cur_n;
     double meas_pos;     /* encoder position (quantized, noisy) [turns] */
     double meas_vel;     /* measured velocity [turns/s] */
     double prev_meas;
@@ -88,11 +96,19 @@ typedef struct sim_axis {
 /** Default parameters for logical axis @p logical (0-based) of figure 10.1 style arms. */
 void sim_axis_params_default(sim_axis_params_t *p, unsigned logical);
 void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng);
+/** Friction torque [Nm] of a motor moving at @p vel turns/s (Coulomb, Stribeck, viscous),
+ * without the sign of the motion: magnitude of the Coulomb/Stribeck part. */
+double sim_axis_friction_level(const sim_axis_params_t *p, double vel);
 /** Gravity torque at the motor [Nm] for @p pos. */
 double sim_axis_gravity(const sim_axis_params_t *p, double pos);
 /** One DSA step of @p dt seconds (loop + plant). Drive off: brakes hold the axis. */
 void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t *in,
                    double dt, sim_rng_t *rng);
+
+/** The current reported for the SMP+ period that just ended: the mean of its DSA steps'
+ * currents (the mean current is what moved the axis over the period, whatever ripple the
+ * reference steps cause inside it), plus the sensor noise cur_noise. Starts a new period. */
+double sim_axis_report_current(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng);
 
 /** Trapezoidal profile (synchronised multi-axis moves share one duration). */
 typedef struct sim_trap {

@@ -835,7 +835,7 @@ void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
         o->target_vel = (float)(((x->mode == C4G_MODE_0_DEBUG) ? x->vel_i : x->vel_ref) * s->period);
         o->actual_pos = (float)x->m.meas_pos;
         o->actual_vel = (float)x->act_vel_tick;
-        o->current_ref = (float)x->m.cur;
+        o->current_ref = (float)x->m.cur_report;
         o->ext[0] = (float)(sim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
         o->ext[1] = (float)x->p->j;                                     /* diagonal inertia */
         o->ext[2] = 0.0F;
@@ -880,6 +880,7 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     }
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
+        (void)sim_axis_report_current(&x->m, x->p, &s->rng);
         x->act_vel_tick = x->m.meas_pos - x->prev_tick_meas;
         x->prev_tick_meas = x->m.meas_pos;
         if (x->set_mode == C4G_MODE_0 || x->set_mode == C4G_MODE_FREEZING_A) {
