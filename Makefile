@@ -122,7 +122,7 @@ $(TOOLCOMMON): $(COMMON_TOOL_SRCS:%.c=$(BUILD)/tobj/%.o)
 	ar rcs $@ $^
 
 define tool_rule
-$(1)_CSRCS := $$(wildcard tools/$(1)/*.c)
+$(1)_CSRCS := $$(wildcard tools/$(1)/*.c) $$($(1)_EXTRA_CSRCS)
 $(1)_CXXSRCS := $$(wildcard tools/$(1)/*.cpp)
 $(1)_OBJS := $$($(1)_CSRCS:%.c=$$(BUILD)/tobj/%.o) $$($(1)_CXXSRCS:%.cpp=$$(BUILD)/tobj/%.o)
 $$(BUILD)/bin/$(1): $$($(1)_OBJS) $$(TOOLCOMMON) $$(STATIC)

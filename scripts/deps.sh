@@ -31,6 +31,9 @@ gnuplot:gnuplot-nox
 tcpdump:tcpdump
 editcap:wireshark-common
 /usr/bin/time:time
+/usr/include/ceres/ceres.h:libceres-dev
+/usr/include/eigen3/Eigen/Dense:libeigen3-dev
+/usr/lib/python3/dist-packages/scipy/__init__.py:python3-scipy
 '
 
 missing=''

@@ -851,6 +851,7 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     const int sub = SUBSTEPS_PER_MS * s->cfg.period_ms;
     const double dt = s->period / (double)sub;
     sim_dsa_in_t in[C4G_MAX_AXES];
+    double prev_ref[C4G_MAX_AXES];
 
     s->tick++;
     for (i = 0; i < s->n_axes; i++) {
@@ -870,12 +871,19 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     advance_trajectory(s);
     for (i = 0; i < s->n_axes; i++) {
         dsa_inputs(s, &s->ax[i], &in[i]);
+        prev_ref[i] = s->ax[i].pos_ref;
         s->ax[i].pos_ref = in[i].pos_ref;
         s->ax[i].vel_ref = in[i].vel_ff;
     }
+    /* The DSA interpolates the SMP+ position reference over its steps, as a real drive does:
+     * a reference held for the whole period would put a ripple at the SMP+ rate into the
+     * current. */
     for (k = 0; k < sub; k++) {
+        const double w = (double)(k + 1) / (double)sub;
         for (i = 0; i < s->n_axes; i++) {
-            sim_axis_step(&s->ax[i].m, s->ax[i].p, &in[i], dt, &s->rng);
+            sim_dsa_in_t step = in[i];
+            step.pos_ref = prev_ref[i] + (in[i].pos_ref - prev_ref[i]) * w;
+            sim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng);
         }
     }
     for (i = 0; i < s->n_axes; i++) {

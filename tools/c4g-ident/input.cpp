@@ -1,0 +1,356 @@
+// SPDX-License-Identifier: MIT
+#include "input.hpp"
+
+extern "C" {
+#include "analyze.h"
+#include "capture.h"
+}
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace ident {
+
+namespace {
+
+constexpr int64_t kSessionStride = 1000000000LL;  // ticks of one session never meet the next's
+
+bool is_capture(const std::string &path)
+{
+    FILE *f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) return false;
+    unsigned char m[4] = {0, 0, 0, 0};
+    const size_t n = std::fread(m, 1, 4, f);
+    std::fclose(f);
+    if (n < 4) return false;
+    const uint32_t le = m[0] | (m[1] << 8) | (m[2] << 16) | (static_cast<uint32_t>(m[3]) << 24);
+    return le == 0xa1b2c3d4U || le == 0xd4c3b2a1U || le == 0xa1b23c4dU || le == 0x4d3cb2a1U || le == 0x0a0d0d0aU;
+}
+
+// Per-axis collector shared by the readers.
+struct Collector {
+    const Selection &sel;
+    std::vector<AxisLog> *logs;
+    std::map<unsigned, std::size_t> index;  // logical axis (1-based) -> logs slot
+    double t_first = NAN;
+    explicit Collector(const Selection &s, std::vector<AxisLog> *l) : sel(s), logs(l) {}
+    AxisLog *axis(unsigned logical, unsigned open, double period, double az)
+    {
+        if (sel.axes != 0 && ((sel.axes >> (logical - 1)) & 1U) == 0U) return nullptr;
+        auto it = index.find(logical);
+        if (it == index.end()) {
+            AxisLog L;
+            L.arm = sel.arm;
+            L.axis = logical;
+            L.open = open;
+            L.period = period;
+            L.az_lim = az;
+            logs->push_back(L);
+            it = index.emplace(logical, logs->size() - 1).first;
+        }
+        return &(*logs)[it->second];
+    }
+    // 1 keep, 0 dropped (counted)
+    bool window(AxisLog *L, double t)
+    {
+        if (std::isnan(t_first)) t_first = t;
+        const double rel = t - t_first;
+        if (rel < sel.from || (sel.to >= 0.0 && rel > sel.to)) {
+            L->dropped_window++;
+            return false;
+        }
+        return true;
+    }
+    static bool add(AxisLog *L, int64_t tick, double t, int32_t mode, bool drive, const float f[7], double q)
+    {
+        L->seen++;
+        if (!drive) {
+            L->dropped_drive++;
+            return false;
+        }
+        if (mode >= 500 || mode < 0) {
+            L->dropped_mode++;
+            return false;
+        }
+        for (int k = 0; k < 7; k++) {
+            if (!std::isfinite(f[k])) {
+                L->dropped_nonfinite++;
+                return false;
+            }
+        }
+        L->tick.push_back(tick);
+        L->t.push_back(t);
+        L->d1.push_back(f[0]);
+        L->d2.push_back(f[1]);
+        L->d3.push_back(f[2]);
+        L->d4.push_back(f[3]);
+        L->d5.push_back(f[4]);
+        L->e1.push_back(f[5]);
+        L->e2.push_back(f[6]);
+        L->q.push_back(q);
+        return true;
+    }
+};
+
+struct CapCtx {
+    Collector *col;
+    InputInfo *info;
+    unsigned last_session = 0;
+    c4g_kin_t kin{};
+    bool kin_ok = false;
+};
+
+void on_exchange(void *vp, const an_exchange_t *x)
+{
+    CapCtx *c = static_cast<CapCtx *>(vp);
+    if (x->kind != CS_CYCLIC || x->rx == nullptr) return;
+    const an_session_t *s = x->s;
+    if (c->col->sel.session != 0 && s->id != c->col->sel.session) return;
+    const uint32_t arm = c->col->sel.arm - 1U;
+    if (s->id != c->last_session) {
+        c->last_session = s->id;
+        c->info->sessions++;
+        c->kin_ok = s->have_init && c4g_kin_from_init(&s->init, arm, &c->kin) == C4G_OK;
+    }
+    c->info->ticks++;
+    const double period = (s->have_init && s->init.period_ms > 0) ? s->init.period_ms * 1e-3 : 0.002;
+    const double t = static_cast<double>(x->ctrl_ns) * 1e-9;
+    const bool drive = c4g_arm_byte(x->rx->infpar, arm) == C4G_STS_MOVING;
+    // link angles of the arm's axes from D3 (the library's kinematics, coupling included)
+    double qm[C4G_AXES_PER_ARM] = {0}, ql[C4G_AXES_PER_ARM] = {0};
+    uint32_t nl = 0;
+    bool have_q = false;
+    if (c->kin_ok) {
+        for (uint32_t l = 0; l < C4G_AXES_PER_ARM; l++) {
+            const uint8_t o = s->map.open_of[arm][l];
+            if (o == 0xFF || o >= x->rx->n_axes) break;
+            qm[l] = static_cast<double>(x->rx->ax[o].actual_pos);
+            nl = l + 1;
+        }
+        have_q = nl > 0 && c4g_kin_motor_to_link(&c->kin, qm, nl, ql) == C4G_OK;
+    }
+    for (uint32_t i = 0; i < x->rx->n_axes; i++) {
+        if (s->map.arm_of[i] != arm) continue;
+        const unsigned logical = s->map.logical_of[i] + 1U;
+        const double az = s->have_init ? static_cast<double>(s->init.az_lim[arm][logical - 1]) : 0.0;
+        AxisLog *L = c->col->axis(logical, i + 1U, period, az);
+        if (L == nullptr) continue;
+        if (!c->col->window(L, t)) continue;
+        const c4g_ctrl_axis_t &a = x->rx->ax[i];
+        const float f[7] = {a.target_pos, a.target_vel, a.actual_pos, a.actual_vel, a.current_ref, a.ext[0], a.ext[1]};
+        const bool lq = have_q && (logical - 1U) < nl;
+        L->have_q = lq || (L->have_q && L->tick.empty());
+        Collector::add(L, static_cast<int64_t>(s->id) * kSessionStride + static_cast<int64_t>(x->tick), t,
+                       a.mode, drive, f, lq ? ql[logical - 1U] : NAN);
+    }
+}
+
+int read_capture(const std::string &path, Collector &col, InputInfo *info, std::string *err)
+{
+    char e[400];
+    cap_t *c = cap_open(path.c_str(), e, sizeof e);
+    if (c == nullptr) {
+        *err = e;
+        return -1;
+    }
+    an_options_t o;
+    an_options_default(&o);
+    CapCtx ctx;
+    ctx.col = &col;
+    ctx.info = info;
+    o.on_exchange = on_exchange;
+    o.ctx = &ctx;
+    an_t a;
+    if (an_init(&a, &o) != 0) {
+        cap_close(c);
+        *err = "out of memory";
+        return -1;
+    }
+    const bool show = col.sel.progress && isatty(2);
+    cap_pkt_t p;
+    uint64_t bad = 0;
+    int rc = 0;
+    for (;;) {
+        const cap_res_t r = cap_next(c, &p, e, sizeof e);
+        if (r == CAP_END) break;
+        if (r == CAP_FATAL) {
+            *err = e;
+            rc = -1;
+            break;
+        }
+        if (r == CAP_BAD) {
+            if (++bad <= 10) std::fprintf(stderr, "c4g-ident: %s\n", e);
+            continue;
+        }
+        if (r == CAP_DATAGRAM) an_datagram(&a, path.c_str(), &p);
+        if (show && (cap_counts(c)->frames & 0xFFFFU) == 0U && cap_size(c) > 0) {
+            std::fprintf(stderr, "\rc4g-ident: reading %s %3.0f %%", path.c_str(),
+                         100.0 * static_cast<double>(cap_pos(c)) / static_cast<double>(cap_size(c)));
+        }
+    }
+    if (show) std::fprintf(stderr, "\r\033[K");
+    an_file_end(&a, path.c_str());
+    an_free(&a);
+    cap_close(c);
+    info->format = "capture (" + std::string(rc == 0 ? "complete" : "cut short") + ")";
+    if (bad > 10) std::fprintf(stderr, "c4g-ident: %s: %llu damaged frames in all\n", path.c_str(), static_cast<unsigned long long>(bad));
+    for (const AxisLog &L : *col.logs) info->have_kin = info->have_kin || L.have_q;
+    return rc;
+}
+
+// Splits a CSV line (no quoting in these files).
+void split(const std::string &s, std::vector<std::string> *f)
+{
+    f->clear();
+    std::size_t b = 0;
+    for (;;) {
+        const std::size_t e = s.find(',', b);
+        f->push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+        if (e == std::string::npos) break;
+        b = e + 1;
+    }
+}
+
+bool num(const std::string &s, double *v)
+{
+    if (s.empty()) return false;
+    char *end = nullptr;
+    errno = 0;
+    *v = std::strtod(s.c_str(), &end);
+    if (end == s.c_str() || *end != '\0' || errno == ERANGE) {
+        // "nan" is a value the controller sent: accepted, then dropped as non-finite
+        return s == "nan" || s == "-nan" || s == "inf" || s == "-inf";
+    }
+    return true;
+}
+
+int read_csv(const std::string &path, Collector &col, InputInfo *info, std::string *err)
+{
+    std::ifstream in(path);
+    if (!in) {
+        *err = path + ": " + std::strerror(errno);
+        return -1;
+    }
+    std::string line;
+    std::vector<std::string> f, hdr;
+    uint64_t ln = 0;
+    bool moni = false, exp = false;
+    std::map<std::string, std::size_t> col_of;
+    double t_prev = NAN;
+    int64_t tick_moni = 0;
+    double period = 0.0;
+    auto fail = [&](const std::string &why) {
+        *err = path + ":" + std::to_string(ln) + ": " + why;
+        return -1;
+    };
+    while (std::getline(in, line)) {
+        ln++;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty() || line[0] == '#') continue;
+        split(line, &f);
+        if (!moni && !exp) {
+            hdr = f;
+            for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
+            if (hdr.size() >= 21 && hdr[0] == "t_s" && hdr[1] == "num" && hdr[2] == "axis") {
+                moni = true;
+                info->format = "moni CSV";
+            } else if (hdr.size() > 12 && hdr[0] == "session" && hdr[1] == "tick" && hdr[2] == "time") {
+                exp = true;
+                info->format = "export CSV";
+            } else {
+                return fail("not a capture, a c4g-server moni CSV (--moni-type 0) or a c4g-replay export CSV: header '" +
+                            line.substr(0, 60) + "'");
+            }
+            continue;
+        }
+        if (exp && f[0] == "session") {  // a new header (the axis count changed)
+            hdr = f;
+            col_of.clear();
+            for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
+            continue;
+        }
+        if (f.size() != hdr.size()) {
+            return fail("expected " + std::to_string(hdr.size()) + " fields, found " + std::to_string(f.size()));
+        }
+        if (moni) {
+            // t_s,num,axis,arm,logical,rx_mode,rx_d1..rx_d5,rx_e1,rx_e2,rx_e3,...
+            double v[16];
+            for (int k = 0; k < 13; k++) {
+                if (!num(f[static_cast<std::size_t>(k)], &v[k])) {
+                    return fail("field " + std::to_string(k + 1) + " (" + hdr[static_cast<std::size_t>(k)] + "): '" +
+                                f[static_cast<std::size_t>(k)].substr(0, 40) + "' is not a number");
+                }
+            }
+            if (static_cast<unsigned>(v[3]) != col.sel.arm) continue;
+            if (!(v[4] >= 1 && v[4] <= 10)) return fail("field 5 (logical): " + f[4] + " is not 1..10");
+            if (std::isnan(t_prev) || v[0] != t_prev) {
+                if (!std::isnan(t_prev) && period <= 0.0) period = v[0] - t_prev;
+                t_prev = v[0];
+                tick_moni++;
+                info->ticks++;
+            }
+            AxisLog *L = col.axis(static_cast<unsigned>(v[4]), static_cast<unsigned>(v[2]), 0.0, 0.0);
+            if (L == nullptr || !col.window(L, v[0])) continue;
+            const float d[7] = {static_cast<float>(v[6]), static_cast<float>(v[7]), static_cast<float>(v[8]),
+                                static_cast<float>(v[9]), static_cast<float>(v[10]), static_cast<float>(v[11]),
+                                static_cast<float>(v[12])};
+            Collector::add(L, tick_moni, v[0], static_cast<int32_t>(v[5]), true, d, NAN);
+        } else {
+            double s, tk, t;
+            if (!num(f[0], &s) || !num(f[1], &tk) || !num(f[2], &t)) return fail("session, tick or time is not a number");
+            if (col.sel.session != 0 && static_cast<unsigned>(s) != col.sel.session) continue;
+            if (!std::isnan(t_prev) && period <= 0.0 && t > t_prev) period = t - t_prev;
+            t_prev = t;
+            info->ticks++;
+            const auto ip = col_of.find("ctrl_infpar");
+            const unsigned long infpar = (ip != col_of.end()) ? std::strtoul(f[ip->second].c_str(), nullptr, 16) : 0;
+            const bool drive = ((infpar >> (8U * (col.sel.arm - 1U))) & 0xFFU) == C4G_STS_MOVING;
+            for (unsigned i = 1; i <= 20; i++) {
+                const std::string pre = "c" + std::to_string(i) + "_";
+                const auto m = col_of.find(pre + "mode");
+                if (m == col_of.end()) continue;
+                // export rows carry no axis map: OPEN index i is logical axis i of the selected arm
+                AxisLog *L = col.axis(i, i, 0.0, 0.0);
+                if (L == nullptr || !col.window(L, t)) continue;
+                static const char *const nm[7] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2"};
+                float d[7];
+                double mode;
+                if (!num(f[m->second], &mode)) return fail("field " + pre + "mode: '" + f[m->second] + "' is not a number");
+                for (int k = 0; k < 7; k++) {
+                    double x;
+                    const std::size_t c = col_of[pre + nm[k]];
+                    if (!num(f[c], &x)) return fail("field " + pre + nm[k] + ": '" + f[c].substr(0, 40) + "' is not a number");
+                    d[k] = static_cast<float>(x);
+                }
+                Collector::add(L, static_cast<int64_t>(s) * kSessionStride + static_cast<int64_t>(tk), t,
+                               static_cast<int32_t>(mode), drive, d, NAN);
+            }
+        }
+    }
+    if (!moni && !exp) return fail("empty file");
+    for (AxisLog &L : *col.logs) {
+        if (period > 0.0) L.period = std::round(period * 1e4) / 1e4;
+    }
+    return 0;
+}
+
+}  // namespace
+
+int read_input(const std::string &path, const Selection &sel, std::vector<AxisLog> *logs, InputInfo *info,
+               std::string *err)
+{
+    info->path = path;
+    Collector col(sel, logs);
+    if (is_capture(path)) return read_capture(path, col, info, err);
+    return read_csv(path, col, info, err);
+}
+
+}  // namespace ident

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// Reading logged runs into per-axis logs: captures (pcap/pcapng through c4g-replay's reader
+// and analysis), c4g-server's moni CSV (--moni-type 0) and c4g-replay's export CSV.
+#ifndef C4G_IDENT_INPUT_HPP
+#define C4G_IDENT_INPUT_HPP
+
+#include "ident.hpp"
+
+#include <string>
+#include <vector>
+
+namespace ident {
+
+struct Selection {
+    unsigned arm = 1;            // 1-based
+    unsigned axes = 0;           // logical axes (bit 0 = axis 1); 0 = every open axis
+    double from = 0.0, to = -1.0;// window [s] since the first tick; to < 0: open
+    unsigned session = 0;        // captures: 0 = all
+    bool progress = false;       // progress on stderr
+};
+
+struct InputInfo {
+    std::string path, format;    // "pcap capture", "moni CSV", "export CSV"
+    uint64_t ticks = 0;          // controller ticks read
+    uint64_t sessions = 0;
+    bool have_kin = false;
+};
+
+// Reads @p path into one log per selected axis. 0 ok; otherwise an error (naming the file,
+// line or offset, field and value) is in @p err.
+int read_input(const std::string &path, const Selection &sel, std::vector<AxisLog> *logs, InputInfo *info,
+               std::string *err);
+
+}  // namespace ident
+
+#endif

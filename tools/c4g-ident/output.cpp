@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: MIT
+#include "output.hpp"
+
+extern "C" {
+#include "c4g_ffmodel.h"
+}
+
+#include <jansson.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace ident {
+
+namespace {
+
+const char *loss_name(Loss l) { return l == LOSS_HUBER ? "huber" : (l == LOSS_CAUCHY ? "cauchy" : "none"); }
+
+std::string axis_name(const AxisResult &r)
+{
+    return "arm " + std::to_string(r.arm) + " axis " + std::to_string(r.axis);
+}
+
+}  // namespace
+
+void report_text(FILE *out, const Job &j)
+{
+    for (const InputInfo &in : j.inputs) {
+        std::fprintf(out, "input %s: %s, %llu controller ticks, %llu session(s)%s\n", in.path.c_str(), in.format.c_str(),
+                     static_cast<unsigned long long>(in.ticks), static_cast<unsigned long long>(in.sessions),
+                     in.have_kin ? ", kinematics from the init packet" : "");
+    }
+    std::fprintf(out, "model: i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n");
+    std::fprintf(out, "fit: %s loss (scale %.3g sigma), Savitzky-Golay %d/%d, validation: %s\n", loss_name(j.opt.loss),
+                 j.opt.loss_k, 2 * j.opt.sg_half + 1, j.opt.sg_order,
+                 j.validate_path.empty() ? (std::to_string(static_cast<int>(j.opt.holdout * 100)) + " % held out at the end").c_str()
+                                         : j.validate_path.c_str());
+    for (std::size_t k = 0; k < j.results.size(); k++) {
+        const AxisResult &r = j.results[k];
+        const AxisLog &L = j.logs[k];
+        std::fprintf(out, "\n%s (OPEN %u), period %.4g ms\n", axis_name(r).c_str(), r.open, r.period * 1e3);
+        std::fprintf(out, "  ticks: %llu seen, %llu kept", static_cast<unsigned long long>(L.seen),
+                     static_cast<unsigned long long>(r.prep.kept));
+        std::fprintf(out, "; dropped: %llu drive off, %llu special mode, %llu non-finite, %llu outside the window, "
+                          "%llu standstill/reversal, %llu saturated, %llu filter edges\n",
+                     static_cast<unsigned long long>(L.dropped_drive), static_cast<unsigned long long>(L.dropped_mode),
+                     static_cast<unsigned long long>(L.dropped_nonfinite), static_cast<unsigned long long>(L.dropped_window),
+                     static_cast<unsigned long long>(r.prep.dropped_still), static_cast<unsigned long long>(r.prep.dropped_sat),
+                     static_cast<unsigned long long>(r.prep.dropped_edge));
+        if (!r.identifiable) {
+            std::fprintf(out, "  UNIDENTIFIABLE: %s\n", r.why_not.c_str());
+            continue;
+        }
+        std::fprintf(out, "  delay of D5 after D4: %+.3f ticks; eps %.4g turn/s; range |v| <= %.4g turn/s, |a| <= %.4g turn/s^2\n",
+                     r.prep.delay, r.prep.eps, r.prep.vmax, r.prep.amax);
+        std::fprintf(out, "  variant: %s (held-out cost:", variant_name[r.fit.variant]);
+        for (int v = 0; v < NVARIANT; v++) {
+            if (r.tried[static_cast<std::size_t>(v)]) std::fprintf(out, " %s %.4g", variant_name[v], r.val_cost[static_cast<std::size_t>(v)]);
+        }
+        std::fprintf(out, ")\n");
+        std::fprintf(out, "  %-4s %14s %12s %9s  %s\n", "par", "value", "+-95 %", "sigma %", "unit");
+        for (int p = 0; p < NPARAM; p++) {
+            const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
+            if (!s.free) continue;
+            std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", param_name[p], s.value, s.ci95, s.pct, param_unit[p]);
+        }
+        std::fprintf(out, "  residual: RMS %.4g A (inliers %.4g A, %.2f %% outliers), robust sigma %.4g A, noise floor %.4g A "
+                          "(x%.3f)\n",
+                     r.fit.rms, r.fit.rms_inlier, 100.0 * r.fit.outlier_frac, r.fit.sigma, r.prep.noise_floor,
+                     r.prep.noise_floor > 0 ? r.fit.rms_inlier / r.prep.noise_floor : 0.0);
+        if (r.val.n > 0) {
+            std::fprintf(out, "  validation: %zu samples, inlier RMS %.4g A = %.3f %% of peak current = %.3f x noise\n", r.val.n,
+                         r.val.rms_inlier, r.val.pct_peak, r.val.x_noise);
+        }
+        std::fprintf(out, "  regressor condition number %.4g; %d solver iterations, %.3f s\n", r.fit.cond, r.fit.iterations,
+                     r.fit.seconds);
+        std::fprintf(out, "  controller's own model beside it: RMS(D5 - EXT1) %.4g A, mean EXT2 (inertia) %.4g\n", r.ext1_rms,
+                     r.ext2_mean);
+        for (const std::string &w : r.warnings) std::fprintf(out, "  warning: %s\n", w.c_str());
+    }
+}
+
+int report_json(FILE *out, const Job &j)
+{
+    json_t *root = json_object();
+    json_t *ins = json_array();
+    for (const InputInfo &in : j.inputs) {
+        json_array_append_new(ins, json_pack("{s:s,s:s,s:I,s:I,s:b}", "path", in.path.c_str(), "format", in.format.c_str(),
+                                             "ticks", static_cast<json_int_t>(in.ticks), "sessions",
+                                             static_cast<json_int_t>(in.sessions), "kinematics", in.have_kin));
+    }
+    json_object_set_new(root, "inputs", ins);
+    json_object_set_new(root, "loss", json_string(loss_name(j.opt.loss)));
+    json_object_set_new(root, "seconds", json_real(j.seconds));
+    json_t *axes = json_array();
+    for (std::size_t k = 0; k < j.results.size(); k++) {
+        const AxisResult &r = j.results[k];
+        const AxisLog &L = j.logs[k];
+        json_t *a = json_pack("{s:I,s:I,s:I,s:f,s:b}", "arm", static_cast<json_int_t>(r.arm), "axis",
+                              static_cast<json_int_t>(r.axis), "open", static_cast<json_int_t>(r.open), "period_s", r.period,
+                              "identifiable", r.identifiable);
+        json_object_set_new(a, "ticks", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "seen", static_cast<json_int_t>(L.seen),
+                                                  "kept", static_cast<json_int_t>(r.prep.kept), "drive_off",
+                                                  static_cast<json_int_t>(L.dropped_drive), "special_mode",
+                                                  static_cast<json_int_t>(L.dropped_mode), "nonfinite",
+                                                  static_cast<json_int_t>(L.dropped_nonfinite), "window",
+                                                  static_cast<json_int_t>(L.dropped_window), "standstill",
+                                                  static_cast<json_int_t>(r.prep.dropped_still), "saturated",
+                                                  static_cast<json_int_t>(r.prep.dropped_sat), "edges",
+                                                  static_cast<json_int_t>(r.prep.dropped_edge)));
+        if (!r.identifiable) {
+            json_object_set_new(a, "why", json_string(r.why_not.c_str()));
+            json_array_append_new(axes, a);
+            continue;
+        }
+        json_object_set_new(a, "variant", json_string(variant_name[r.fit.variant]));
+        json_object_set_new(a, "delay_ticks", json_real(r.prep.delay));
+        json_object_set_new(a, "eps", json_real(r.prep.eps));
+        json_object_set_new(a, "v_max", json_real(r.prep.vmax));
+        json_object_set_new(a, "a_max", json_real(r.prep.amax));
+        json_t *ps = json_object();
+        for (int p = 0; p < NPARAM; p++) {
+            const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
+            if (!s.free) continue;
+            json_object_set_new(ps, param_name[p], json_pack("{s:f,s:f,s:f,s:f,s:s}", "value", s.value, "sigma", s.sigma, "ci95",
+                                                           s.ci95, "sigma_pct", std::isfinite(s.pct) ? s.pct : -1.0, "unit",
+                                                           param_unit[p]));
+        }
+        json_object_set_new(a, "parameters", ps);
+        json_t *vc = json_object();
+        for (int v = 0; v < NVARIANT; v++) {
+            if (r.tried[static_cast<std::size_t>(v)]) json_object_set_new(vc, variant_name[v], json_real(r.val_cost[static_cast<std::size_t>(v)]));
+        }
+        json_object_set_new(a, "heldout_cost", vc);
+        json_object_set_new(a, "residual", json_pack("{s:f,s:f,s:f,s:f,s:f}", "rms", r.fit.rms, "rms_inlier", r.fit.rms_inlier,
+                                                     "outlier_fraction", r.fit.outlier_frac, "sigma", r.fit.sigma, "noise_floor",
+                                                     r.prep.noise_floor));
+        if (r.val.n > 0) {
+            json_object_set_new(a, "validation", json_pack("{s:I,s:f,s:f,s:f,s:f}", "samples", static_cast<json_int_t>(r.val.n),
+                                                           "rms", r.val.rms, "rms_inlier", r.val.rms_inlier, "pct_peak",
+                                                           r.val.pct_peak, "x_noise", r.val.x_noise));
+        }
+        json_object_set_new(a, "condition", json_real(r.fit.cond));
+        json_object_set_new(a, "covariance_ok", json_boolean(r.fit.cov_ok));
+        json_object_set_new(a, "controller_model", json_pack("{s:f,s:f}", "rms_d5_minus_ext1", r.ext1_rms, "ext2_mean", r.ext2_mean));
+        json_t *w = json_array();
+        for (const std::string &s : r.warnings) json_array_append_new(w, json_string(s.c_str()));
+        json_object_set_new(a, "warnings", w);
+        json_array_append_new(axes, a);
+    }
+    json_object_set_new(root, "axes", axes);
+    const int rc = json_dumpf(root, out, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+    std::fputc('\n', out);
+    json_decref(root);
+    return rc;
+}
+
+std::string params_text(const Job &j, const std::string &version)
+{
+    std::ostringstream o;
+    o.precision(10);
+    unsigned arm = j.results.empty() ? 1 : j.results.front().arm;
+    double period_ms = j.results.empty() ? 2.0 : j.results.front().period * 1e3;
+    o << "# c4g-ident parameter file: the identified motor-side model of each axis of one arm.\n"
+         "# i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n"
+         "# i [A], v [motor turn/s], a [motor turn/s^2], q link angle [rad] (library kinematics).\n"
+         "# Units: Ja A/(turn/s^2), Fv A/(turn/s), Fc Fs off ga gb A, vs eps v_max turn/s,\n"
+         "# a_max turn/s^2, delay ticks. Edit nothing: the checksum covers every other line.\n"
+         "[model]\nformat = c4g-ident 1\nmodel = motor-current-1\n";
+    o << "arm = " << arm << "\nperiod_ms = " << period_ms << "\n";
+    o << "source = ";
+    for (std::size_t k = 0; k < j.inputs.size(); k++) o << (k ? " " : "") << j.inputs[k].path;
+    o << "\ncreated_by = c4g-ident " << version << "\n";
+    std::ostringstream body;
+    body.precision(10);
+    for (const AxisResult &r : j.results) {
+        if (!r.identifiable) continue;
+        const Vec &p = r.fit.p;
+        body << "\n[axis " << r.axis << "]\nvariant = " << variant_name[r.fit.variant] << "\n";
+        body << "Ja = " << p[JA] << "\nFv = " << p[FV] << "\nFc = " << p[FC] << "\n";
+        if (variant_has(r.fit.variant, FS)) body << "Fs = " << p[FS] << "\nvs = " << p[VS] << "\n";
+        body << "off = " << p[OFF] << "\n";
+        if (variant_gravity(r.fit.variant)) body << "ga = " << p[GA] << "\ngb = " << p[GB] << "\n";
+        body << "eps = " << r.prep.eps << "\ndelay = " << r.prep.delay << "\nv_max = " << r.prep.vmax << "\na_max = "
+             << r.prep.amax << "\n";
+    }
+    // the checksum covers every byte but its own line
+    const std::string without = o.str() + body.str();
+    uint64_t sum = ffm_fnv1a64(without.data(), without.size(), FFM_FNV_BASIS);
+    char line[64];
+    std::snprintf(line, sizeof line, "checksum = fnv1a64:%016llx\n", static_cast<unsigned long long>(sum));
+    return o.str() + line + body.str();
+}
+
+int write_params(const std::string &path, const Job &j, const std::string &version, std::string *err)
+{
+    const std::string text = params_text(j, version);
+    FILE *f = std::fopen(path.c_str(), "w");
+    if (f == nullptr) {
+        *err = path + ": " + std::strerror(errno);
+        return -1;
+    }
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) {
+        *err = path + ": write error";
+        return -1;
+    }
+    return 0;
+}
+
+int write_plots(const std::string &dir, const Job &j, std::string *err)
+{
+    if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) {
+        *err = dir + ": " + std::strerror(errno);
+        return -1;
+    }
+    for (std::size_t k = 0; k < j.results.size(); k++) {
+        const AxisResult &r = j.results[k];
+        if (!r.identifiable) continue;
+        Samples s;
+        Options o = j.opt;
+        o.delay_auto = false;
+        o.delay = r.prep.delay;
+        o.eps = r.prep.eps;
+        (void)prepare(j.logs[k], o, &s);
+        const std::string base = dir + "/arm" + std::to_string(r.arm) + "_axis" + std::to_string(r.axis);
+        // data: t, i, predicted, residual, v, friction part of i (i - inertia - gravity - off)
+        {
+            std::ofstream d(base + ".dat");
+            if (!d) {
+                *err = base + ".dat: " + std::strerror(errno);
+                return -1;
+            }
+            const std::size_t step = std::max<std::size_t>(1, s.n() / 20000);
+            for (std::size_t i = 0; i < s.n(); i += step) {
+                const double pr = model_eval(r.fit.p, r.prep.eps, s.v[i], s.a[i], s.cq[i], s.sq[i], nullptr);
+                const double fr = s.i[i] - r.fit.p[JA] * s.a[i] - r.fit.p[GA] * s.cq[i] - r.fit.p[GB] * s.sq[i] - r.fit.p[OFF];
+                d << s.t[i] - s.t[0] << ' ' << s.i[i] << ' ' << pr << ' ' << s.i[i] - pr << ' ' << s.v[i] << ' ' << fr << '\n';
+            }
+        }
+        {
+            // the fitted friction curve
+            std::ofstream c(base + "_curve.dat");
+            const double vm = std::max(r.prep.vmax, 1e-9);
+            for (int i = -400; i <= 400; i++) {
+                const double v = vm * i / 400.0;
+                Vec p = r.fit.p;
+                p[JA] = p[GA] = p[GB] = p[OFF] = 0.0;
+                c << v << ' ' << model_eval(p, r.prep.eps, v, 0, 0, 0, nullptr) << '\n';
+            }
+        }
+        const std::string name = axis_name(r);
+        for (const char *term : {"pngcairo size 1000,700", "svg size 1000,700"}) {
+            const std::string ext = (term[0] == 'p') ? "png" : "svg";
+            std::ostringstream g;
+            g << "set terminal " << term << "\nset grid\n";
+            g << "set output '" << base << "_current." << ext << "'\nset title '" << name
+              << ": measured vs predicted current'\nset xlabel 't [s]'\nset ylabel 'current [A]'\n"
+              << "plot '" << base << ".dat' u 1:2 w l lw 1 t 'D5 measured', '' u 1:3 w l lw 1 t 'model'\n";
+            g << "set output '" << base << "_residual." << ext << "'\nset title '" << name
+              << ": residual histogram'\nset xlabel 'residual [A]'\nset ylabel 'samples'\nset style fill solid 0.5\n"
+              << "bw = " << std::max(r.fit.sigma / 5.0, 1e-12) << "\nbin(x) = bw*floor(x/bw + 0.5)\n"
+              << "plot '" << base << ".dat' u (bin($4)):(1.0) smooth freq w boxes t 'residual'\n";
+            g << "set output '" << base << "_friction." << ext << "'\nset title '" << name
+              << ": friction vs velocity'\nset xlabel 'v [turn/s]'\nset ylabel 'friction current [A]'\nset style fill empty\n"
+              << "plot '" << base << ".dat' u 5:6 w dots t 'data (D5 - inertia - gravity - offset)', '" << base
+              << "_curve.dat' u 1:2 w l lw 2 t 'fitted'\n";
+            FILE *p = popen("gnuplot", "w");
+            if (p == nullptr) {
+                *err = "gnuplot: " + std::string(std::strerror(errno));
+                return -1;
+            }
+            const std::string script = g.str();
+            std::fwrite(script.data(), 1, script.size(), p);
+            const int st = pclose(p);
+            if (st != 0) {
+                *err = "gnuplot failed for " + base + " (exit status " + std::to_string(WIFEXITED(st) ? WEXITSTATUS(st) : -1) + ")";
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+}  // namespace ident

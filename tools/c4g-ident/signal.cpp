@@ -1,0 +1,316 @@
+// SPDX-License-Identifier: MIT
+// From logged ticks to fit samples: Savitzky-Golay velocity and acceleration from D4 (never
+// differences of the float32 position D3), the delay of D5 against D4, the noise floor, and
+// the samples a friction model cannot explain (standstill, reversals, saturation) left out.
+#include "ident.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ident {
+
+std::vector<double> sg_weights(int half, int order, int deriv, double x)
+{
+    const int n = 2 * half + 1;
+    Eigen::MatrixXd A(n, order + 1);
+    for (int j = 0; j < n; j++) {
+        const double s = j - half;
+        double p = 1.0;
+        for (int k = 0; k <= order; k++) {
+            A(j, k) = p;
+            p *= s;
+        }
+    }
+    Eigen::VectorXd h = Eigen::VectorXd::Zero(order + 1);
+    for (int k = deriv; k <= order; k++) {
+        // d^deriv/dx^deriv of x^k at x
+        double c = 1.0;
+        for (int d = 0; d < deriv; d++) c *= (k - d);
+        h(k) = c * std::pow(x, k - deriv);
+    }
+    // w^T = h^T (A^T A)^-1 A^T
+    const Eigen::MatrixXd AtA = A.transpose() * A;
+    const Eigen::VectorXd z = AtA.ldlt().solve(h);
+    const Eigen::VectorXd w = A * z;
+    return std::vector<double>(w.data(), w.data() + n);
+}
+
+namespace {
+
+// Start of the contiguous segment each sample belongs to, and its end (exclusive).
+void segments(const AxisLog &L, std::vector<std::size_t> *lo, std::vector<std::size_t> *hi)
+{
+    const std::size_t n = L.tick.size();
+    lo->assign(n, 0);
+    hi->assign(n, n);
+    std::size_t s = 0;
+    for (std::size_t k = 0; k < n; k++) {
+        if (k > 0 && L.tick[k] != L.tick[k - 1] + 1) s = k;
+        (*lo)[k] = s;
+    }
+    std::size_t e = n;
+    for (std::size_t k = n; k-- > 0;) {
+        (*hi)[k] = e;
+        if (k > 0 && L.tick[k] != L.tick[k - 1] + 1) e = k;
+    }
+}
+
+double median_abs(std::vector<double> &x)
+{
+    if (x.empty()) return 0.0;
+    for (double &y : x) y = std::fabs(y);
+    const std::size_t m = x.size() / 2;
+    std::nth_element(x.begin(), x.begin() + static_cast<long>(m), x.end());
+    return x[m];
+}
+
+struct Filtered {
+    std::vector<double> v, a;
+    std::vector<unsigned char> ok;  // full window inside the segment
+};
+
+// v and a at D4 sample k + x (ticks), for every k with a full window.
+void filter(const AxisLog &L, const Options &o, double x, std::size_t stride, Filtered *f)
+{
+    const int m = o.sg_half;
+    const std::vector<double> w0 = sg_weights(m, o.sg_order, 0, x);
+    const std::vector<double> w1 = sg_weights(m, o.sg_order, 1, x);
+    std::vector<std::size_t> lo, hi;
+    segments(L, &lo, &hi);
+    const std::size_t n = L.tick.size();
+    const double T = L.period;
+    f->v.assign(n, 0.0);
+    f->a.assign(n, 0.0);
+    f->ok.assign(n, 0);
+    for (std::size_t k = 0; k < n; k += stride) {
+        if (k < lo[k] + static_cast<std::size_t>(m) || k + static_cast<std::size_t>(m) >= hi[k]) continue;
+        double sv = 0.0, sa = 0.0;
+        const float *d = &L.d4[k - static_cast<std::size_t>(m)];
+        for (int j = 0; j <= 2 * m; j++) {
+            sv += w0[static_cast<std::size_t>(j)] * static_cast<double>(d[j]);
+            sa += w1[static_cast<std::size_t>(j)] * static_cast<double>(d[j]);
+        }
+        f->v[k] = sv / T;
+        f->a[k] = sa / (T * T);
+        f->ok[k] = 1;
+    }
+}
+
+// Samples too close to standstill (|v| < 5 eps) or to a saturated current, widened by the
+// filter's half window: around a reversal the acceleration jumps and no smooth filter can
+// follow it.
+std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double eps, int half,
+                                  Prep *pr, bool count)
+{
+    const std::size_t n = L.tick.size();
+    std::vector<unsigned char> bad(n, 0), use(n, 0);
+    const double sat = (L.az_lim > 0.0) ? 0.98 * L.az_lim : 1e300;
+    for (std::size_t k = 0; k < n; k++) {
+        if (!f.ok[k]) continue;
+        // a reversal can pass between two ticks without any tick near zero speed
+        const bool flip = k > 0 && f.ok[k - 1] && L.tick[k - 1] + 1 == L.tick[k] && (f.v[k] > 0.0) != (f.v[k - 1] > 0.0);
+        if (std::fabs(f.v[k]) < 5.0 * eps || flip) bad[k] = 1;
+        else if (std::fabs(static_cast<double>(L.d5[k])) >= sat) bad[k] = 2;
+    }
+    // dilate the still/reversal marks by half + 2 ticks each way (same segment only)
+    // the drive's loops take a few of their time constants to settle after the friction
+    // flips at a reversal: 20 ms beyond the filter's reach
+    const int w = half + 2 + static_cast<int>(std::lround(0.02 / L.period));
+    std::vector<unsigned char> near(n, 0);
+    int64_t last = INT64_MIN / 2;
+    for (std::size_t k = 0; k < n; k++) {
+        if (bad[k] == 1) last = L.tick[k];
+        if (L.tick[k] - last <= w) near[k] = 1;
+    }
+    last = INT64_MAX / 2;
+    for (std::size_t k = n; k-- > 0;) {
+        if (bad[k] == 1) last = L.tick[k];
+        if (last - L.tick[k] <= w) near[k] = 1;
+    }
+    for (std::size_t k = 0; k < n; k++) {
+        if (!f.ok[k]) {
+            if (count) pr->dropped_edge++;
+        } else if (bad[k] == 2) {
+            if (count) pr->dropped_sat++;
+        } else if (near[k]) {
+            if (count) pr->dropped_still++;
+        } else {
+            use[k] = 1;
+        }
+    }
+    return use;
+}
+
+// Cost of the linear Coulomb(+gravity) fit with the filter evaluated at x.
+double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std::size_t stride, double vs,
+                  double *best_vs = nullptr)
+{
+    Filtered f;
+    filter(L, o, x, stride, &f);
+    Prep dummy;
+    const std::vector<unsigned char> use = usable(L, f, eps, o.sg_half, &dummy, false);
+    Samples s;
+    for (std::size_t k = 0; k < L.tick.size(); k++) {
+        if (!use[k]) continue;
+        s.v.push_back(f.v[k]);
+        s.a.push_back(f.a[k]);
+        s.i.push_back(static_cast<double>(L.d5[k]));
+        s.cq.push_back(L.have_q ? std::cos(L.q[k]) : 0.0);
+        s.sq.push_back(L.have_q ? std::sin(L.q[k]) : 0.0);
+    }
+    Vec p{};
+    double cost = 0.0;
+    if (s.n() < 50) return 1e300;
+    if (best_vs != nullptr) {
+        // the Stribeck velocity that explains this filter output best (a linear fit per vs)
+        double vmax = 0.0, bc = 1e300;
+        for (double v : s.v) vmax = std::max(vmax, std::fabs(v));
+        const double lo = 10.0 * eps, hi = std::max(2.0 * lo, 0.5 * vmax);
+        *best_vs = 0.0;
+        for (int k = 0; k < 16; k++) {
+            const double vk = lo * std::pow(hi / lo, k / 15.0);
+            Vec pk{};
+            double ck = 0.0;
+            if (fit_linear(s, L.have_q ? STRIBECK_G : STRIBECK, eps, vk, &pk, &ck) && ck < bc) {
+                bc = ck;
+                *best_vs = vk;
+            }
+        }
+        return bc;
+    }
+    const Variant var = (vs > 0.0) ? (L.have_q ? STRIBECK_G : STRIBECK) : (L.have_q ? COULOMB_G : COULOMB);
+    if (!fit_linear(s, var, eps, vs, &p, &cost)) {
+        return 1e300;
+    }
+    // mean squared residual, each clipped at 3 robust sigmas (outliers in D5 must not steer
+    // the delay, and the cost must stay smooth in x for the golden section)
+    std::vector<double> r(s.n());
+    for (std::size_t k = 0; k < s.n(); k++) {
+        r[k] = s.i[k] - model_eval(p, eps, s.v[k], s.a[k], s.cq[k], s.sq[k], nullptr);
+    }
+    std::vector<double> tmp = r;
+    const double c = 3.0 * 1.4826 * median_abs(tmp);
+    double sum = 0.0;
+    for (double e : r) sum += std::min(e * e, c * c);
+    return sum / static_cast<double>(r.size());
+}
+
+double auto_eps(const AxisLog &L, const Options &o, double *vnoise, double *vmax)
+{
+    Filtered f;
+    filter(L, o, 0.0, 1, &f);
+    std::vector<double> r;
+    double vm = 0.0;
+    for (std::size_t k = 0; k < L.tick.size(); k++) {
+        if (!f.ok[k]) continue;
+        r.push_back(static_cast<double>(L.d4[k]) / L.period - f.v[k]);
+        vm = std::max(vm, std::fabs(f.v[k]));
+    }
+    const double sd_raw = 1.4826 * median_abs(r);
+    const std::vector<double> w0 = sg_weights(o.sg_half, o.sg_order, 0, 0.0);
+    double g = 0.0;
+    for (double w : w0) g += w * w;
+    *vnoise = sd_raw * std::sqrt(g);
+    *vmax = vm;
+    return std::max({3.0 * *vnoise, 1e-3 * vm, 1e-9});
+}
+
+}  // namespace
+
+double noise_floor(const AxisLog &L)
+{
+    std::vector<double> d;
+    const std::size_t n = L.tick.size();
+    for (std::size_t k = 2; k < n; k++) {
+        if (L.tick[k] != L.tick[k - 1] + 1 || L.tick[k - 1] != L.tick[k - 2] + 1) continue;
+        d.push_back(static_cast<double>(L.d5[k]) - 2.0 * static_cast<double>(L.d5[k - 1]) +
+                    static_cast<double>(L.d5[k - 2]));
+    }
+    return 1.4826 * median_abs(d) / std::sqrt(6.0);
+}
+
+namespace {
+
+// Golden-section search of the delay over [a, b] (the cost is smooth and unimodal there).
+double golden(const AxisLog &L, const Options &o, double eps, std::size_t stride, double vs, double a, double b)
+{
+    const double g = 0.6180339887498949;
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs), f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs);
+    while (b - a > 0.005) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs);
+        }
+    }
+    return 0.5 * (a + b);
+}
+
+}  // namespace
+
+double estimate_delay(const AxisLog &L, const Options &o, double eps)
+{
+    const std::size_t stride = std::max<std::size_t>(1, L.tick.size() / 60000);
+    // x = delay + 0.5: D4(k) is the mean velocity of (k-1, k], its time k - 0.5.
+    // First with the Coulomb model: a coarse grid, then golden section.
+    double best = 0.0, bc = 1e300;
+    for (double d = -2.0; d <= 2.0001; d += 0.25) {
+        const double c = delay_cost(L, o, d + 0.5, eps, stride, 0.0);
+        if (c < bc) {
+            bc = c;
+            best = d;
+        }
+    }
+    const double d0 = golden(L, o, eps, stride, 0.0, best - 0.25, best + 0.25);
+    // A Stribeck dip the Coulomb model cannot follow pulls the delay: refine with the
+    // Stribeck velocity that fits best at d0, when it fits clearly better.
+    double vs = 0.0;
+    const double cs = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, &vs);
+    const double cc = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0);
+    if (vs > 0.0 && cs < 0.99 * cc) {
+        return golden(L, o, eps, stride, vs, d0 - 0.5, d0 + 0.5);
+    }
+    return d0;
+}
+
+Prep prepare(const AxisLog &L, const Options &o, Samples *out)
+{
+    Prep pr;
+    double vmax = 0.0;
+    const double eps_auto = auto_eps(L, o, &pr.vnoise, &vmax);
+    pr.eps = (o.eps > 0.0) ? o.eps : eps_auto;
+    pr.noise_floor = noise_floor(L);
+    pr.delay = o.delay_auto ? estimate_delay(L, o, pr.eps) : o.delay;
+    Filtered f;
+    filter(L, o, pr.delay + 0.5, 1, &f);
+    const std::vector<unsigned char> use = usable(L, f, pr.eps, o.sg_half, &pr, true);
+    *out = Samples();
+    for (std::size_t k = 0; k < L.tick.size(); k++) {
+        if (!use[k]) continue;
+        out->v.push_back(f.v[k]);
+        out->a.push_back(f.a[k]);
+        out->i.push_back(static_cast<double>(L.d5[k]));
+        out->cq.push_back(L.have_q ? std::cos(L.q[k]) : 0.0);
+        out->sq.push_back(L.have_q ? std::sin(L.q[k]) : 0.0);
+        out->tick.push_back(L.tick[k]);
+        out->t.push_back(L.t[k]);
+        pr.vmax = std::max(pr.vmax, std::fabs(f.v[k]));
+        pr.amax = std::max(pr.amax, std::fabs(f.a[k]));
+        pr.ipeak = std::max(pr.ipeak, std::fabs(static_cast<double>(L.d5[k])));
+    }
+    pr.kept = out->n();
+    return pr;
+}
+
+}  // namespace ident
