@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "../tools/common/c4g_controllers.c"
+#include "../tools/common/c4g_ffmodel.c"
 
 #define EPS 1e-9
 #define near(a, b) assert_true(fabs((double)(a) - (double)(b)) < EPS)

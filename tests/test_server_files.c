@@ -13,6 +13,8 @@
 
 #include "../tools/common/c4g_textfile.c"
 #include "../tools/common/c4g_cli.c"
+#include "../tools/common/c4g_ffmodel.c"
+#include "../tools/common/c4g_ffmodel_load.c"
 #include "../tools/common/c4g_srv_files.c"
 #include "../tools/common/c4g_srv_opts.c"
 
