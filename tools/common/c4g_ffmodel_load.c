@@ -266,9 +266,11 @@ static tf_ini_rc_t ffm_on_key(void *user, const char *section, const char *name,
     return TF_INI_BAD_SECTION;
 }
 
-/* ---- after inih accepted the syntax: the section headers, required keys, checksum */
+/* ---- the section headers (before inih: its handler never sees a section without keys,
+ * nor a section that comes back), then the required keys and the checksum */
 
-/* Section names as inih takes them: from '[' to the first ']'. */
+/* A complete header line: the name as inih takes it, from '[' to the first ']'. One
+ * without its ']' is left to inih's syntax error. */
 static int ffm_header(const char *line, size_t n, size_t *col, char *name, size_t cap)
 {
     size_t i = 0U;
@@ -284,6 +286,9 @@ static int ffm_header(const char *line, size_t n, size_t *col, char *name, size_
     while (e < n && line[e] != ']') {
         e++;
     }
+    if (e == n) {
+        return 0;
+    }
     n = e - (i + 1U);
     if (n >= cap) {
         n = cap - 1U;
@@ -293,8 +298,7 @@ static int ffm_header(const char *line, size_t n, size_t *col, char *name, size_
     return 1;
 }
 
-/* One section header at line @p ln: known (a section with no key never reached the
- * handler), once. */
+/* One section header at line @p ln: a known name, given once. */
 static int ffm_one_header(ffm_ctx_t *x, const char *name, unsigned ln, size_t col, char *err,
                           size_t errlen)
 {
@@ -442,8 +446,8 @@ int ffm_parse_text(const char *name, const char *text, size_t len, ffm_file_t *o
     tf_open_mem(&f, name, text, len);
     x.f = &f;
     x.out = out;
-    if (tf_ini_parse(&f, ffm_on_key, &x, err, errlen) != 0 ||
-        ffm_scan_sections(&x, err, errlen) != 0 || ffm_required(&x, err, errlen) != 0 ||
+    if (ffm_scan_sections(&x, err, errlen) != 0 ||
+        tf_ini_parse(&f, ffm_on_key, &x, err, errlen) != 0 || ffm_required(&x, err, errlen) != 0 ||
         ffm_verify_sum(&x, err, errlen) != 0) {
         return -1;
     }
