@@ -189,8 +189,10 @@ FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/fuzz/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD
 FUZZ_TF := tools/common/c4g_textfile.c
 FUZZ_TOOL_fuzz_scenario := tools/c4g-sim/scenario.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_sim_ini := tools/c4g-sim/config.c tools/c4g-sim/model.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_traj := tools/common/c4g_srv_files.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_ff := tools/common/c4g_srv_files.c $(FUZZ_TF)
+FUZZ_FFM := tools/common/c4g_ffmodel.c tools/common/c4g_ffmodel_load.c
+FUZZ_TOOL_fuzz_traj := tools/common/c4g_srv_files.c $(FUZZ_FFM) $(FUZZ_TF)
+FUZZ_TOOL_fuzz_ff := tools/common/c4g_srv_files.c $(FUZZ_FFM) $(FUZZ_TF)
+FUZZ_TOOL_fuzz_ffmodel := $(FUZZ_FFM) $(FUZZ_TF)
 FUZZ_TOOL_fuzz_server_ini := tools/common/c4g_srv_opts.c tools/common/c4g_cli.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \

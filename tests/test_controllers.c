@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "../tools/common/c4g_controllers.c"
+#include "../tools/common/c4g_ffmodel.c"
 
 #define EPS 1e-9
 #define near(a, b) assert_true(fabs((double)(a) - (double)(b)) < EPS)
@@ -214,6 +215,89 @@ static void test_feedforward(void **st)
     assert_true(ctlr_ff_current(&FF, 0.0, 0.0, 0.0) == -FLT_MAX);
 }
 
+/* An identified model (CTLR_FF_MODEL): per-second units, one tick ahead, range clamps. */
+static void test_feedforward_model(void **st)
+{
+    const double dt = 0.002;
+    int clamped = -1;
+    (void)st;
+    memset(&FF, 0, sizeof FF);
+    FF.set = 1;
+    FF.kind = CTLR_FF_MODEL;
+    FF.model.ja = 0.01;
+    FF.model.fv = 0.1;
+    FF.model.eps = 0.01;
+    /* d2 0.0038 -> 0.004 turns/tick: v = 2 turns/s, a = 0.0002 / dt^2 = 50 turns/s^2, and
+     * the next tick's v = 2 + 50 dt = 2.1: 0.01 * 50 + 0.1 * 2.1 */
+    nearf(ctlr_ff_model_current(&FF, 0.004, 0.0038, dt, 0.0, 0, &clamped), 0.5 + 0.21);
+    assert_int_equal(clamped, 0);
+    /* outside the fit's range: v to v_max, a to a_max, each sign kept */
+    FF.model.v_max = 1.0;
+    FF.model.a_max = 20.0;
+    nearf(ctlr_ff_model_current(&FF, 0.004, 0.0038, dt, 0.0, 0, &clamped), 0.2 + 0.1);
+    assert_int_equal(clamped, 1);
+    nearf(ctlr_ff_model_current(&FF, -0.004, -0.0038, dt, 0.0, 0, &clamped), -0.2 - 0.1);
+    assert_int_equal(clamped, 1);
+    nearf(ctlr_ff_model_current(&FF, 0.001, 0.001, dt, 0.0, 0, &clamped), 0.1 * 0.5);
+    assert_int_equal(clamped, 0);
+    /* gravity on the link angle given */
+    FF.model.gb = 2.0;
+    nearf(ctlr_ff_model_current(&FF, 0.0, 0.0, dt, CTLR_PI / 2.0, 1, &clamped), 2.0);
+    nearf(ctlr_ff_model_current(&FF, 0.0, 0.0, dt, CTLR_PI / 2.0, 0, &clamped), 0.0);
+    /* saturated to the float range like the line format */
+    FF.model.off = 1e300;
+    assert_true(ctlr_ff_model_current(&FF, 0.0, 0.0, dt, 0.0, 0, &clamped) == FLT_MAX);
+}
+
+/* Mode 9 through ctlr_step with a model: no acceleration on the mode's first packet,
+ * then D2's change per tick; the flags say what the tick did. */
+static void test_step_model(void **st)
+{
+    ctlr_axis_t X;
+    ctlr_in_t in;
+    c4g_pc_axis_t o;
+    c4g_ctrl_axis_t r = meas(5.0f, 0.0f);
+    (void)st;
+    cfg_default();
+    in = in_default();
+    memset(&FF, 0, sizeof FF);
+    FF.set = 1;
+    FF.kind = CTLR_FF_MODEL;
+    FF.model.ja = 0.01;
+    FF.model.ga = 1.0;
+    FF.model.eps = 0.01;
+    FF.model.a_max = 100.0;
+    in.q_link = 0.0;
+    in.have_q = 1;
+    r.target_vel = 0.004f;
+    ctlr_axis_reset(&X);
+    X.v_prev = 0.0; /* whatever came before the mode */
+    (void)ctlr_axis_enter(&X, C4G_MODE_9, 5.0, &r);
+    X.v_prev = 0.0;
+    memset(&o, 0, sizeof o);
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 1.0); /* a = 0: only ga cos 0 */
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL);
+    /* next tick: a = (0.0042 - 0.004) / dt^2 = 50 */
+    r.target_vel = 0.0042f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 1.0 + 0.01 * ((double)0.0042f - (double)0.004f) / (0.002 * 0.002));
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL);
+    /* a jump of 0.001 turns/tick: 250 turns/s^2, clamped to 100 */
+    r.target_vel = 0.0052f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 1.0 + 0.01 * 100.0);
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL | CTLR_FFF_CLAMPED);
+    /* other modes clear the flags */
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_8, &r, &o), 0);
+    assert_int_equal(X.ff_flags, 0U);
+    /* not driven: nothing, no flag */
+    in.driven = 0;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 0.0f);
+    assert_int_equal(X.ff_flags, 0U);
+}
+
 static void test_enter(void **st)
 {
     ctlr_axis_t X;
@@ -357,6 +441,8 @@ int main(void)
         cmocka_unit_test(test_sources),
         cmocka_unit_test(test_trajectory),
         cmocka_unit_test(test_feedforward),
+        cmocka_unit_test(test_feedforward_model),
+        cmocka_unit_test(test_step_model),
         cmocka_unit_test(test_enter),
         cmocka_unit_test(test_step_modes),
     };

@@ -13,6 +13,8 @@
 
 #include "../tools/common/c4g_textfile.c"
 #include "../tools/common/c4g_cli.c"
+#include "../tools/common/c4g_ffmodel.c"
+#include "../tools/common/c4g_ffmodel_load.c"
 #include "../tools/common/c4g_srv_files.c"
 #include "../tools/common/c4g_srv_opts.c"
 
@@ -145,6 +147,102 @@ static void test_ff_accepts(void **state)
     assert_true(g_ff[0][5].set != 0);
 }
 
+/* A temporary file holding @p text; its path in @p path (a mkstemp template). */
+static void write_tmp(char *path, const char *text)
+{
+    const int fd = mkstemp(path);
+    FILE *fp;
+    assert_true(fd >= 0);
+    fp = fdopen(fd, "w");
+    assert_non_null(fp);
+    assert_int_equal(fputs(text, fp) >= 0, 1);
+    assert_int_equal(fclose(fp), 0);
+}
+
+#define IS_INI(s) srv_ff_is_ini((s), strlen(s))
+#define FF_INI FIXTURES_DIR "/server/ff_ident_example.ini"
+#define FF_TXT FIXTURES_DIR "/server/ff_example.txt"
+
+/* --ff files of both formats: told apart by content, merged, an axis set twice refused. */
+static void test_ff_files(void **state)
+{
+    char err[800];
+    char legacy[] = "/tmp/test_ff_XXXXXX";
+    char edited[] = "/tmp/test_ff_XXXXXX";
+    int k;
+    (void)state;
+    assert_int_equal(IS_INI("[model]\n"), 1);
+    assert_int_equal(IS_INI("# c\n; c\n\n \t[model]\n"), 1);
+    assert_int_equal(IS_INI("\xef\xbb\xbf[model]"), 1);
+    assert_int_equal(IS_INI("\r\n["), 1);
+    assert_int_equal(IS_INI("# arm axis c0\n1 1 0.5\n"), 0);
+    assert_int_equal(IS_INI("# only comments\n"), 0);
+    assert_int_equal(IS_INI(""), 0);
+    /* up to 4 files, each an option of its own */
+    srv_config_default(&g_cfg);
+    for (k = 0; k < 4; k++) {
+        assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    }
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), -1);
+    assert_string_equal(err, "ff: more than 4 parameter files (want a mode-9 parameter file (at "
+                             "most 4, under 512 bytes each))");
+    assert_int_equal(g_cfg.n_ff, 4U);
+    /* the model (arm 1) beside a line file for arm 2 */
+    write_tmp(legacy, "# arm axis c0 cv\n2 1 0.5 10\n");
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", legacy, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), 0);
+    assert_int_equal(g_cfg.ff[0][1].kind, CTLR_FF_MODEL);
+    assert_int_equal(g_cfg.ff[0][1].set, 30);
+    assert_int_equal(g_cfg.ff[0][1].file, 0);
+    assert_true(g_cfg.ff[0][1].period_ms == 2.0 && g_cfg.ff[0][1].model.gb == 7.5);
+    assert_int_equal(g_cfg.ff[0][6].set, 0);
+    assert_int_equal(g_cfg.ff[1][0].kind, CTLR_FF_LEGACY);
+    assert_int_equal(g_cfg.ff[1][0].set, 2);
+    assert_int_equal(g_cfg.ff[1][0].file, 1);
+    assert_true(g_cfg.ff[1][0].c0 == 0.5 && g_cfg.ff[1][0].cv == 10.0);
+    /* both files set arm 1: named both ways round */
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_TXT, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_string_equal(err, "feedforward: " FF_TXT ":15:1: arm 1 axis 1 is already set by " FF_INI ":19");
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_TXT, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_string_equal(err, "feedforward: " FF_INI ":19:1: arm 1 axis 1 is already set by " FF_TXT ":15");
+    /* the same model twice */
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_string_equal(err, "feedforward: " FF_INI ":19:1: arm 1 axis 1 is already set by " FF_INI ":19");
+    /* an edited model: the checksum says so at start-up */
+    {
+        tf_file_t f;
+        char text[8192];
+        char *p;
+        assert_int_equal(tf_load(&f, FF_INI, sizeof text - 1U, err, sizeof err), 0);
+        memcpy(text, f.data, f.len);
+        text[f.len] = '\0';
+        tf_free(&f);
+        p = strstr(text, "gb = 7.5");
+        assert_non_null(p);
+        p[5] = '8';
+        write_tmp(edited, text);
+    }
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", edited, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_true(strncmp(err, "feedforward: ", 13U) == 0 && strncmp(err + 13, edited, strlen(edited)) == 0);
+    assert_non_null(strstr(err, ":17:12: [model] checksum: checksum mismatch: the file was edited "
+                                "after c4g-ident wrote it (expected fnv1a64:"));
+    (void)remove(legacy);
+    (void)remove(edited);
+}
+
 static void test_huge_files(void **state)
 {
     char err[400];
@@ -227,6 +325,7 @@ int main(void)
         cmocka_unit_test(test_traj_accepts),
         cmocka_unit_test(test_ff_refuses),
         cmocka_unit_test(test_ff_accepts),
+        cmocka_unit_test(test_ff_files),
         cmocka_unit_test(test_huge_files),
         cmocka_unit_test(test_ini_refuses),
         cmocka_unit_test(test_ini_accepts),

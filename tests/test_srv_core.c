@@ -10,6 +10,8 @@
 #include "../tools/common/c4g_textfile.c"
 #include "../tools/common/c4g_cli.c"
 #include "../tools/common/c4g_controllers.c"
+#include "../tools/common/c4g_ffmodel.c"
+#include "../tools/common/c4g_ffmodel_load.c"
 #include "../tools/common/c4g_srv.c"
 #include "../tools/common/c4g_srv_behave.c"
 #include "../tools/common/c4g_srv_files.c"
@@ -34,6 +36,7 @@ typedef struct run {
     reply_t r[N_PKT];
     unsigned log_lines;
     bool saw_init_line;
+    unsigned ff_warnings;
 } run_t;
 
 static srv_t g_srv; /* static: large */
@@ -49,6 +52,10 @@ static void count_log(void *ctx, uint64_t t_ns, const char *fmt, va_list ap)
     run->log_lines++;
     if (strncmp(line, "init packet: 6 open axes, period 2 ms", 37) == 0) {
         run->saw_init_line = true;
+    }
+    if (strcmp(line, "warning: feedforward m.ini: model identified at a 1 ms period, the "
+                     "controller runs at 2 ms; applied anyway") == 0) {
+        run->ff_warnings++;
     }
 }
 
@@ -240,6 +247,109 @@ static void test_skip_replies_not_sent(void **state)
     }
 }
 
+/* Mode 9 with an identified model on axis 2: the SMP+ targets give v, a and, through the
+ * init packet's kinematics, the link angle one tick ahead; the core counts the model's
+ * ticks and clamps and warns once about a model identified at another period. */
+#define N9 10U
+#define D2_0 0.001f
+#define D2_1 0.002f /* from mode-9 packet 5: a = 0.001 / dt^2 = 250 turns/s^2 */
+
+static float mode9_d1(uint32_t j)
+{
+    return 0.2f + D2_0 * (float)(j < 5U ? j : 5U) + D2_1 * (float)(j < 5U ? 0U : j - 5U);
+}
+
+static void run_mode9(const srv_config_t *cfg, run_t *run, float d5[N9][N_AX])
+{
+    c4g_endpoint_t ctl;
+    uint64_t t = 1000U * MS;
+    uint32_t k, i;
+    memset(run, 0, sizeof *run);
+    memset(&ctl, 0, sizeof ctl);
+    ctl.addr_len = 4U;
+    ctl.addr[0] = 127U;
+    ctl.addr[3] = 1U;
+    ctl.port = 3600U;
+    assert_int_equal(srv_init(&g_srv, cfg, count_log, run), C4G_OK);
+    g_srv.t0_ns = t;
+    for (k = 0U; k < FIRST_CYCLIC + 5U + N9; k++) {
+        uint8_t in[C4G_INIT_SIZE], out[C4G_INIT_SIZE];
+        size_t n, len = 0U;
+        srv_verdict_t v;
+        if (k < FIRST_CYCLIC + 5U) {
+            n = packet(k, 0.2f, in, sizeof in); /* handshake, 5 packets in mode 0 */
+        } else {
+            const uint32_t j = k - FIRST_CYCLIC - 5U;
+            c4g_ctrl_packet_t p;
+            memset(&p, 0, sizeof p);
+            p.num = (int32_t)k + 1;
+            p.n_axes = N_AX;
+            for (i = 0U; i < N_AX; i++) {
+                p.ax[i].mode = C4G_MODE_9;
+                p.ax[i].target_pos = mode9_d1(j);
+                p.ax[i].target_vel = (j < 5U) ? D2_0 : D2_1;
+                p.ax[i].actual_pos = p.ax[i].target_pos;
+            }
+            assert_int_equal(c4g_ctrl_encode(&p, in, sizeof in, &n), C4G_OK);
+        }
+        t += 2U * MS;
+        assert_int_equal(srv_process(&g_srv, in, n, &ctl, t, out, sizeof out, &len, &v), C4G_OK);
+        assert_true(v.send);
+        srv_sent(&g_srv, t + 50000U);
+        if (k >= FIRST_CYCLIC + 5U) {
+            c4g_pc_packet_t pc;
+            assert_int_equal(c4g_pc_decode(out, len, N_AX, &pc, NULL), C4G_OK);
+            for (i = 0U; i < N_AX; i++) {
+                assert_int_equal(pc.ax[i].mode, C4G_MODE_9);
+                d5[k - FIRST_CYCLIC - 5U][i] = pc.ax[i].current_add;
+            }
+        }
+    }
+}
+
+static void test_mode9_model(void **state)
+{
+    static srv_config_t cfg;
+    static float d5[N9][N_AX];
+    c4g_init_t init;
+    ctlr_ff_t *p;
+    uint32_t j;
+    (void)state;
+    assert_int_equal(c4g_init_fig10_1(&init), C4G_OK);
+    srv_config_default(&cfg);
+    strcpy(cfg.ff_path[0], "m.ini");
+    cfg.n_ff = 1U;
+    p = &cfg.ff[0][1];
+    p->set = 11;
+    p->kind = CTLR_FF_MODEL;
+    p->period_ms = 1.0; /* the controller runs at 2 ms */
+    p->model.set = 1;
+    p->model.ja = 0.01;
+    p->model.gb = 50.0;
+    p->model.eps = 0.01;
+    run_mode9(&cfg, &g_a, d5);
+    for (j = 0U; j < N9; j++) {
+        /* axis 2 has no wrist coupling: q = 2 pi (D1 + D2 - cal) / TxRate */
+        const double qm = (double)mode9_d1(j) + (double)((j < 5U) ? D2_0 : D2_1);
+        const double q = 2.0 * 3.14159265358979323846 * (qm - (double)init.cal_data[0][1]) /
+                         (double)init.tx_rate[0][1];
+        const double a = (j == 5U) ? ((double)D2_1 - (double)D2_0) / (0.002 * 0.002) : 0.0;
+        assert_float_equal(d5[j][1], 0.01 * a + 50.0 * sin(q), 1e-5);
+        assert_true(d5[j][0] == 0.0f); /* no parameters for axis 1 */
+    }
+    assert_float_equal(d5[5][1] - d5[4][1], 2.5, 0.01);
+    assert_true(g_srv.stats.ff_model_ticks == N9);
+    assert_true(g_srv.stats.ff_model_clamped == 0U);
+    assert_int_equal(g_a.ff_warnings, 1U);
+    /* the acceleration outside the fit's range: clamped to a_max, counted */
+    p->model.a_max = 100.0;
+    p->period_ms = 2.0;
+    run_mode9(&cfg, &g_a, d5);
+    assert_float_equal(d5[5][1] - d5[4][1], 1.0, 0.01);
+    assert_true(g_srv.stats.ff_model_clamped == 1U);
+    assert_int_equal(g_a.ff_warnings, 0U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -247,6 +357,7 @@ int main(void)
         cmocka_unit_test(test_same_packets_same_replies),
         cmocka_unit_test(test_amplitude_reaches_mode4_replies),
         cmocka_unit_test(test_skip_replies_not_sent),
+        cmocka_unit_test(test_mode9_model),
     };
     return cmocka_run_group_tests(tests, th_load_fig, NULL);
 }

@@ -249,6 +249,10 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
             "mode changes %llu\n", (unsigned long long)st->restarts,
             (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
             (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes);
+    if (st->ff_model_ticks > 0U) {
+        fprintf(out, "mode-9 identified model: %llu axis ticks, %llu clamped to the model's range\n",
+                (unsigned long long)st->ff_model_ticks, (unsigned long long)st->ff_model_clamped);
+    }
     fprintf(out, "EXIT_FROM_OPEN packets per arm: %llu %llu %llu %llu\n",
             (unsigned long long)st->exits_sent[0], (unsigned long long)st->exits_sent[1],
             (unsigned long long)st->exits_sent[2], (unsigned long long)st->exits_sent[3]);
@@ -319,13 +323,15 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     fprintf(fp, "\"oversize\":%llu,\"skipped\":%llu,\"send_errors\":%llu,"
             "\"encode_errors\":%llu,\"log_dropped\":%llu,\"restarts\":%llu,\"inits\":%llu,"
             "\"passive_freezings\":%llu,\"active_freezings\":%llu,\"drive_on_end\":%llu,"
-            "\"mode_changes\":%llu,\"exits_sent\":[%llu,%llu,%llu,%llu]},",
+            "\"mode_changes\":%llu,\"ff_model_ticks\":%llu,\"ff_model_clamped\":%llu,"
+            "\"exits_sent\":[%llu,%llu,%llu,%llu]},",
             (unsigned long long)st->oversize,
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
             (unsigned long long)st->encode_errors, (unsigned long long)H->log.dropped,
             (unsigned long long)st->restarts, (unsigned long long)st->inits,
             (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
             (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes,
+            (unsigned long long)st->ff_model_ticks, (unsigned long long)st->ff_model_clamped,
             (unsigned long long)st->exits_sent[0], (unsigned long long)st->exits_sent[1],
             (unsigned long long)st->exits_sent[2], (unsigned long long)st->exits_sent[3]);
     fprintf(fp, "\"safety\":{\"follow_error_508\":%llu,\"drive_off_505\":%llu,"

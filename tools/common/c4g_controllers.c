@@ -113,6 +113,34 @@ float ctlr_ff_current(const ctlr_ff_t *p, double v, double acc, double pos)
                      p->gs * sin(p->gscale * pos + p->gphase));
 }
 
+/* |x| <= lim when lim > 0; *hit when it had to be moved. */
+static double clamp_range(double x, double lim, int *hit)
+{
+    if (lim > 0.0 && x > lim) {
+        *hit = 1;
+        return lim;
+    }
+    if (lim > 0.0 && x < -lim) {
+        *hit = 1;
+        return -lim;
+    }
+    return x;
+}
+
+float ctlr_ff_model_current(const ctlr_ff_t *p, double d2, double d2_prev, double dt, double q,
+                            int have_q, int *clamped)
+{
+    const double T = (dt > 0.0) ? dt : 1e-3;
+    double a = (d2 - d2_prev) / (T * T);
+    /* the controller applies the reply on its next tick: predict that tick's velocity */
+    double v = d2 / T + a * T;
+    int hit = 0;
+    v = clamp_range(v, p->model.v_max, &hit); /* the fit holds only inside its range */
+    a = clamp_range(a, p->model.a_max, &hit);
+    *clamped = hit;
+    return sat_float(ffm_current(&p->model, v, a, q, have_q));
+}
+
 double ctlr_pd(ctlr_axis_t *X, const ctlr_in_t *in, double ref, double vref,
                const c4g_ctrl_axis_t *r, double t)
 {
@@ -207,7 +235,16 @@ static int step_ff(ctlr_axis_t *X, const ctlr_in_t *in, const c4g_ctrl_axis_t *r
     const int done = (t >= in->cfg->duration) ? 1 : 0;
     o->current_add = 0.0f;
     if (in->driven && !done && in->ff != NULL && in->ff->set) {
-        o->current_add = ctlr_ff_current(in->ff, v, v - X->v_prev, (double)r->target_pos);
+        if (in->ff->kind == CTLR_FF_MODEL) {
+            int clamped = 0;
+            /* the mode's first packet has no previous velocity: no acceleration */
+            const double prev = (X->ticks == 0U) ? v : X->v_prev;
+            o->current_add = ctlr_ff_model_current(in->ff, v, prev, in->dt, in->q_link,
+                                                   in->have_q, &clamped);
+            X->ff_flags = CTLR_FFF_MODEL | (clamped ? CTLR_FFF_CLAMPED : 0U);
+        } else {
+            o->current_add = ctlr_ff_current(in->ff, v, v - X->v_prev, (double)r->target_pos);
+        }
     }
     X->v_prev = v;
     return done;
@@ -238,6 +275,7 @@ int ctlr_step(ctlr_axis_t *X, const ctlr_in_t *in, int32_t pm, const c4g_ctrl_ax
 {
     const double t = (double)X->ticks * in->dt;
     int done = 1;
+    X->ff_flags = 0U;
     switch (pm) {
     case C4G_MODE_4:
     case C4G_MODE_5:

@@ -10,6 +10,7 @@
 #define C4G_CONTROLLERS_H
 
 #include "c4gopen.h"
+#include "c4g_ffmodel.h"
 
 #include <stdint.h>
 
@@ -18,11 +19,19 @@
 /* Trajectory source of modes 1, 4, 5. */
 enum { CTLR_SRC_NONE = 0, CTLR_SRC_SINE = 1, CTLR_SRC_FILE = 2 };
 
-/* Mode-9 feedforward parameters of one axis:
- * I = c0 + cv v + cc sign(v) + ca dv + gs sin(gscale pos + gphase). */
+/* Kinds of mode-9 feedforward (ctlr_ff_t.kind). */
+enum { CTLR_FF_LEGACY = 0, CTLR_FF_MODEL = 1 };
+
+/* Mode-9 feedforward parameters of one axis, of one of two kinds:
+ * CTLR_FF_LEGACY, the line format: I = c0 + cv v + cc sign(v) + ca dv + gs sin(gscale pos + gphase);
+ * CTLR_FF_MODEL, a model c4g-ident identified (c4g_ffmodel.h), in turns/s and turns/s^2. */
 typedef struct ctlr_ff {
     int set;                /* 0, or the line of the parameter file that set it */
+    int kind;               /* CTLR_FF_* */
+    unsigned file;          /* which parameter file (the caller's index), for messages */
     double c0, cv, cc, ca, gs, gscale, gphase;
+    double period_ms;       /* CTLR_FF_MODEL: the period the model was identified at */
+    ffm_axis_t model;       /* CTLR_FF_MODEL */
 } ctlr_ff_t;
 
 /* Per-arm configuration of the controllers (and the server's per-arm settings). */
@@ -39,7 +48,6 @@ typedef struct ctlr_arm_cfg {
     double vel_amp;         /* mode 8 velocity delta amplitude [delta turns/tick] */
     double vel_freq;        /* mode 8 [Hz] */
     double vel_cycles;      /* mode 8 full cycles (zero mean) */
-    char ff_path[512];      /* mode 9 parameter file */
     double duration;        /* modes 1 (with no trajectory), 2, 9: time before exit [s] */
     double kp, kd, ki;      /* modes 1, 2: PD(+I) gains [A/turn], [A/(turn/tick)], [A/(turn s)] */
     double i_max;           /* integrator limit [A] (anti-windup); 0 = AzLim */
@@ -67,7 +75,12 @@ typedef struct ctlr_axis {
     double integ;           /* integrator state [A] */
     double v_prev;          /* previous target velocity (mode 9 acceleration) */
     int done;               /* behaviour finished (the caller's flag) */
+    unsigned ff_flags;      /* CTLR_FFF_* of this tick (mode 9) */
 } ctlr_axis_t;
+
+/* What a mode-9 tick did (ctlr_axis_t.ff_flags), for the caller's counters. */
+#define CTLR_FFF_MODEL 1U   /* the current came from an identified model */
+#define CTLR_FFF_CLAMPED 2U /* v or a was outside the model's range: clamped to it */
 
 /* What one axis's controller sees on a tick besides its state and the packet. */
 typedef struct ctlr_in {
@@ -78,6 +91,9 @@ typedef struct ctlr_in {
     double dt;                  /* controller period [s] */
     double az_lim;              /* AzLim of the axis [A]; <= 0: none */
     int driven;                 /* the axis is in cfg->axes */
+    double q_link;              /* mode 9, CTLR_FF_MODEL: the axis's link angle one tick
+                                   ahead [rad] (kinematics of D1 + D2), when have_q */
+    int have_q;
 } ctlr_in_t;
 
 /* Raised cosine: 0 at t = 0 with zero slope, amp at half a period. */
@@ -103,6 +119,14 @@ double ctlr_vel_add(const ctlr_arm_cfg_t *A, double t, int *done);
 /* Mode 9: feedforward current for SMP+ target velocity v, acceleration acc (delta of v per
  * tick) and target position pos. Saturated to the float range (NaN stays NaN). */
 float ctlr_ff_current(const ctlr_ff_t *p, double v, double acc, double pos);
+
+/* Mode 9 with an identified model (p->kind CTLR_FF_MODEL): the current for the tick the
+ * reply is applied on, one after the packet's. From the SMP+ target velocities d2 and
+ * d2_prev [delta turns/tick] and the period dt [s]: a = (d2 - d2_prev) / dt^2,
+ * v = d2 / dt + a dt; |v| and |a| clamped to the model's v_max / a_max (when > 0; *clamped
+ * then set to 1), gravity on link angle q when have_q. Saturated to the float range. */
+float ctlr_ff_model_current(const ctlr_ff_t *p, double d2, double d2_prev, double dt, double q,
+                            int have_q, int *clamped);
 
 /* PD(+I) joint controller with anti-windup (clamped integrator plus back-calculation) and
  * the soft-control-switching limiter (the limit ramps 0 -> AzLim over cfg->scs s).

@@ -20,6 +20,7 @@
 #define SRV_MAX_TRAJ_ROWS CTLR_MAX_TRAJ_ROWS /* trajectory file rows (static storage) */
 #define SRV_MAX_TRAJ_BYTES (8U << 20) /* file size caps: a bigger file (or /dev/zero) is refused */
 #define SRV_MAX_FF_BYTES (1U << 20)
+#define SRV_MAX_FF_FILES 4U       /* --ff files: one identified model per arm */
 #define SRV_HIST_US 20000U        /* cycle-time histogram: 1 us bins up to 20 ms */
 
 /* The controllers' types (tools/common/c4g_controllers.h) under the server's names. */
@@ -58,6 +59,8 @@ typedef struct srv_stats {
     uint64_t frozen_passive;    /* 502 seen */
     uint64_t long_gaps;         /* a packet came after more than the loss timeout */
     uint64_t mode_changes;
+    uint64_t ff_model_ticks;    /* mode-9 axis ticks whose current came from an identified model */
+    uint64_t ff_model_clamped;  /* of those, ticks with v or a clamped to the model's range */
     uint32_t hist[SRV_HIST_US + 1U]; /* cycle time histogram (1 us bins, last = overflow) */
     uint64_t hist_n;
     int64_t cycle_max_ns;
@@ -96,7 +99,9 @@ typedef struct srv_config {
     uint64_t freeze_at;             /* active freezing: cyclic packet number */
     double freeze_ms;               /* pause length */
     srv_arm_cfg_t arm[C4G_ARMS];
-    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM];
+    char ff_path[SRV_MAX_FF_FILES][512]; /* mode-9 parameter files (--ff), in order */
+    unsigned n_ff;
+    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM]; /* what they set (srv_load_files) */
 } srv_config_t;
 
 /* A log line: printf format and arguments, timed with the datagram's reception time. */
@@ -211,6 +216,14 @@ int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char 
 int srv_parse_traj(struct tf_file *f, srv_traj_t *tr, char *err, size_t errlen);
 int srv_parse_ff(struct tf_file *f, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err,
                  size_t errlen);
+/* A mode-9 parameter file of either format, told apart by its first line that is not
+ * blank or a comment: '[' starts c4g-ident's INI (c4g_ffmodel.h), anything else is the
+ * line format. Sets the axes it names in ff (file index @p file); an axis another file
+ * already set is an error naming both. 0, or -1 with the error in err. */
+int srv_load_ff_any(const char *path, unsigned file, const char *const *paths,
+                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen);
+/* 1 when the text is c4g-ident's INI format (see srv_load_ff_any) */
+int srv_ff_is_ini(const char *text, size_t len);
 /* every file the configuration names: trajectories into srv_traj, feedforward into
  * cfg->ff; 0, or -1 with "trajectory: ..." / "feedforward: ..." in err */
 int srv_load_files(srv_config_t *cfg, char *err, size_t errlen);

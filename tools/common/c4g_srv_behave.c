@@ -9,6 +9,7 @@
  * the axis count. */
 #include "c4g_srv.h"
 
+#include <math.h>
 #include <string.h>
 
 void srv_behave_reset(srv_t *S)
@@ -46,6 +47,28 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
 }
 
+/* An identified model fits the period it was measured at; another one is worth a word,
+ * not a refusal (the model's units are per second). Once per file and init packet. */
+static void ff_period_check(srv_t *S, uint64_t t_ns)
+{
+    const int32_t p = S->loop.session.init.period_ms;
+    uint32_t warned = 0U;
+    uint32_t a, l;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
+            const srv_ff_t *f = &S->cfg.ff[a][l];
+            if (f->set == 0 || f->kind != CTLR_FF_MODEL || f->file >= SRV_MAX_FF_FILES ||
+                ((warned >> f->file) & 1U) != 0U || fabs(f->period_ms - (double)p) < 1e-9) {
+                continue;
+            }
+            warned |= 1U << f->file;
+            srv_log(S, t_ns, "warning: feedforward %s: model identified at a %g ms period, the "
+                    "controller runs at %d ms; applied anyway", S->cfg.ff_path[f->file],
+                    f->period_ms, (int)p);
+        }
+    }
+}
+
 /* After an accepted init packet (the loop started the control engine on it): the user
  * limits per axis. */
 void srv_behave_init(srv_t *S, uint64_t t_ns)
@@ -78,6 +101,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
                     (unsigned)lax + 1U, c4g_strerror(st));
         }
     }
+    ff_period_check(S, t_ns);
 }
 
 /* The controller's inputs for OPEN axis i. */
@@ -93,6 +117,55 @@ static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
     in->dt = period_s(S);
     in->az_lim = (double)s->init.az_lim[arm][lax];
     in->driven = ((S->cfg.arm[arm].axes >> lax) & 1U) != 0U;
+    in->q_link = 0.0;
+    in->have_q = 0;
+}
+
+/* Link angles of a tick, per arm, computed when an identified model first needs them. */
+typedef struct link_cache {
+    int state[C4G_ARMS];                       /* 0 not yet, 1 q holds them, -1 none */
+    double q[C4G_ARMS][C4G_AXES_PER_ARM];
+} link_cache_t;
+
+/* Link angles [rad] of the arm's logical axes one tick ahead (D1 + D2), through the arm's
+ * kinematics (the control engine built them with c4g_kin_from_init from the init
+ * packet). An axis that is not open stands at its calibration position with ratio 1:
+ * it moves no other axis and cannot make the transform singular. 0, or -1: none. */
+static int link_ahead(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t arm,
+                      double q[C4G_AXES_PER_ARM])
+{
+    const c4g_engine_t *E = &S->loop.engine;
+    const c4g_axis_map_t *m = &S->loop.session.map;
+    c4g_kin_t kin;
+    double qm[C4G_AXES_PER_ARM];
+    uint32_t l, n = 0U;
+    if (S->loop.engine_ready == 0U || E->kin_ok[arm] == 0U) {
+        return -1;
+    }
+    kin = E->kin[arm];
+    for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
+        const uint32_t i = m->open_of[arm][l];
+        if (i < rx->n_axes) {
+            qm[l] = (double)rx->ax[i].target_pos + (double)rx->ax[i].target_vel;
+            n = l + 1U;
+        } else {
+            kin.kr[l] = 1.0;
+            qm[l] = kin.cal[l];
+        }
+    }
+    return (n > 0U && c4g_kin_motor_to_link(&kin, qm, n, q) == C4G_OK) ? 0 : -1;
+}
+
+/* The link angle of OPEN axis i for its identified model's gravity terms. */
+static void model_angle(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t i,
+                        link_cache_t *lc, ctlr_in_t *in)
+{
+    const uint32_t arm = S->loop.session.map.arm_of[i];
+    if (lc->state[arm] == 0) {
+        lc->state[arm] = (link_ahead(S, rx, arm, lc->q[arm]) == 0) ? 1 : -1;
+    }
+    in->have_q = (lc->state[arm] > 0) ? 1 : 0;
+    in->q_link = in->have_q ? lc->q[arm][in->lax] : 0.0;
 }
 
 /* Every axis's controller; arm_done[a] stays 1 when every open axis of arm a is done, and
@@ -100,7 +173,9 @@ static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
 static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns,
                      uint32_t arm_open[C4G_ARMS], uint32_t arm_done[C4G_ARMS])
 {
+    link_cache_t lc;
     uint32_t i;
+    memset(lc.state, 0, sizeof lc.state);
     for (i = 0U; i < rx->n_axes; i++) {
         const c4g_ctrl_axis_t *r = &rx->ax[i];
         ctlr_axis_t *X = &S->ax[i];
@@ -110,7 +185,14 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
             enter_mode(S, i, r->mode, r, t_ns);
         }
         axis_in(S, i, &in);
+        if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_MODEL) {
+            model_angle(S, rx, i, &lc, &in);
+        }
         done = ctlr_step(X, &in, tx->ax[i].mode, r, &tx->ax[i]);
+        if ((X->ff_flags & CTLR_FFF_MODEL) != 0U) {
+            S->stats.ff_model_ticks++;
+            S->stats.ff_model_clamped += ((X->ff_flags & CTLR_FFF_CLAMPED) != 0U) ? 1U : 0U;
+        }
         if (!ctlr_is_open_mode(r->mode) || r->mode == C4G_MODE_2) {
             continue;
         }

@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* The server's input files: trajectory CSV (modes 1, 4, 5) and the mode-9 feedforward
- * parameter file. Loaded once at start-up into static storage; every error names the
- * file, the line, the column, the field and the value (tools/common/c4g_textfile.h). */
+ * parameter files (the line format, or c4g-ident's INI through c4g_ffmodel). Loaded once
+ * at start-up into static storage; every error names the file, the line, the column, the
+ * field and the value (tools/common/c4g_textfile.h). */
 #include "c4g_srv.h"
 
+#include "c4g_ffmodel.h"
 #include "c4g_textfile.h"
 
 #include <stdio.h>
@@ -272,8 +274,108 @@ int srv_load_ff(const char *path, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char 
     return rc;
 }
 
+int srv_ff_is_ini(const char *text, size_t len)
+{
+    size_t i = 0U;
+    if (len >= 3U && memcmp(text, "\xef\xbb\xbf", 3U) == 0) {
+        i = 3U; /* a UTF-8 byte order mark, as inih skips it */
+    }
+    while (i < len) {
+        while (i < len && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r')) {
+            i++;
+        }
+        if (i < len && text[i] != '\n' && text[i] != '#' && text[i] != ';') {
+            return text[i] == '[';
+        }
+        while (i < len && text[i] != '\n') {
+            i++;
+        }
+        i++;
+    }
+    return 0;
+}
+
+/* An axis two files set: which one applies would depend on the order of the options. */
+static int ff_taken(const srv_ff_t *p, const char *path, int line, unsigned arm, unsigned ax,
+                    const char *const *paths, char *err, size_t errlen)
+{
+    if (p->set == 0) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s:%d:1: arm %u axis %u is already set by %s:%d", path, line, arm + 1U,
+             ax + 1U, paths[p->file], p->set);
+    return 1;
+}
+
+static int ff_merge_model(const tf_file_t *f, unsigned file, const char *const *paths,
+                          srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
+{
+    ffm_file_t m;
+    unsigned l;
+    if (ffm_parse_text(f->path, f->data, f->len, &m, err, errlen) != 0) {
+        return -1;
+    }
+    for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
+        srv_ff_t *p = &ff[m.arm - 1U][l];
+        if (!m.ax[l].set) {
+            continue;
+        }
+        if (ff_taken(p, f->path, m.ax[l].line, m.arm - 1U, l, paths, err, errlen)) {
+            return -1;
+        }
+        memset(p, 0, sizeof *p);
+        p->set = m.ax[l].line;
+        p->kind = CTLR_FF_MODEL;
+        p->file = file;
+        p->period_ms = m.period_ms;
+        p->model = m.ax[l];
+    }
+    return 0;
+}
+
+static int ff_merge_legacy(tf_file_t *f, unsigned file, const char *const *paths,
+                           srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
+{
+    srv_ff_t tmp[C4G_ARMS][C4G_AXES_PER_ARM];
+    unsigned a, l;
+    memset(tmp, 0, sizeof tmp);
+    if (srv_parse_ff(f, tmp, err, errlen) != 0) {
+        return -1;
+    }
+    for (a = 0U; a < C4G_ARMS; a++) {
+        for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
+            if (tmp[a][l].set == 0) {
+                continue;
+            }
+            if (ff_taken(&ff[a][l], f->path, tmp[a][l].set, a, l, paths, err, errlen)) {
+                return -1;
+            }
+            ff[a][l] = tmp[a][l];
+            ff[a][l].file = file;
+        }
+    }
+    return 0;
+}
+
+int srv_load_ff_any(const char *path, unsigned file, const char *const *paths,
+                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
+{
+    tf_file_t f;
+    int rc;
+    if (tf_load(&f, path, SRV_MAX_FF_BYTES, err, errlen) != 0) {
+        return -1;
+    }
+    if (srv_ff_is_ini(f.data, f.len)) {
+        rc = ff_merge_model(&f, file, paths, ff, err, errlen);
+    } else {
+        rc = ff_merge_legacy(&f, file, paths, ff, err, errlen);
+    }
+    tf_free(&f);
+    return rc;
+}
+
 /* Every arm's trajectory (into srv_traj; an arm naming an earlier arm's file shares its
- * rows) and the feedforward parameters (into cfg->ff). */
+ * rows) and the feedforward parameters of every --ff file (into cfg->ff). */
 int srv_load_files(srv_config_t *cfg, char *err, size_t errlen)
 {
     char why[600];
@@ -297,10 +399,19 @@ int srv_load_files(srv_config_t *cfg, char *err, size_t errlen)
             return -1;
         }
     }
-    if (cfg->arm[0].ff_path[0] != '\0' &&
-        srv_load_ff(cfg->arm[0].ff_path, cfg->ff, why, sizeof why) != 0) {
-        snprintf(err, errlen, "feedforward: %s", why);
-        return -1;
+    {
+        const char *paths[SRV_MAX_FF_FILES];
+        unsigned k;
+        memset(cfg->ff, 0, sizeof cfg->ff);
+        for (k = 0U; k < SRV_MAX_FF_FILES; k++) {
+            paths[k] = cfg->ff_path[k];
+        }
+        for (k = 0U; k < cfg->n_ff && k < SRV_MAX_FF_FILES; k++) {
+            if (srv_load_ff_any(cfg->ff_path[k], k, paths, cfg->ff, why, sizeof why) != 0) {
+                snprintf(err, errlen, "feedforward: %s", why);
+                return -1;
+            }
+        }
     }
     return 0;
 }

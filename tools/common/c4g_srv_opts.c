@@ -259,13 +259,18 @@ static int set_freeze(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *
     return 0;
 }
 
+/* Each file names its arm(s): the files add up, up to one per arm. */
 static int set_ff(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *why, size_t whylen)
 {
-    (void)A, (void)why, (void)whylen;
-    if (strlen(val) >= sizeof c->arm[0].ff_path) {
+    (void)A;
+    if (val[0] == '\0' || strlen(val) >= sizeof c->ff_path[0]) {
         return -1;
     }
-    strcpy(c->arm[0].ff_path, val); /* one file for all arms (it names the arm) */
+    if (c->n_ff >= SRV_MAX_FF_FILES) {
+        snprintf(why, whylen, "more than %u parameter files", SRV_MAX_FF_FILES);
+        return -1;
+    }
+    strcpy(c->ff_path[c->n_ff++], val);
     return 0;
 }
 
@@ -481,8 +486,11 @@ static const srv_setting_t settings[] = {
     {"vel", 0, "A,F[,C]", SW_BOTH | SW_ARM, SK_CALL, 0, 0, NONE, set_vel,
      "AMP,FREQ[,CYCLES] (delta turns/tick, Hz > 0, whole cycles >= 1)",
      "mode 8: zero-mean velocity addition (0.0005,1,1)"},
-    {"ff", 0, "FILE", SW_BOTH, SK_CALL, 0, 0, NONE, set_ff, "a mode-9 parameter file",
-     "mode 9: current feedforward parameter file (all arms)"},
+    {"ff", 0, "FILE", SW_BOTH, SK_CALL, 0, 0, NONE, set_ff,
+     "a mode-9 parameter file (at most 4, under 512 bytes each)",
+     "mode 9: current feedforward parameters: a c4g-ident model" NL
+     "(INI, one arm per file) or the line format; repeat for" NL
+     "more arms (up to 4 files)"},
     {"duration", 0, "S", SW_BOTH | SW_ARM, SK_NUM, 0, 1e7, P(duration), NULL, "seconds >= 0",
      "modes 1 (hold), 2, 9: time before EXIT_FROM_OPEN (default 2)"},
     {"gains", 0, "KP,KD[,KI]", SW_BOTH | SW_ARM, SK_CALL, 0, 0, NONE, set_gains,
@@ -717,6 +725,7 @@ static const char *const examples[] = {
     "c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1",
     "c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv",
     "c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward",
+    "c4g-server --ff fixtures/server/ff_ident_example.ini --duration 5   # identified model",
     "c4g-server --config fixtures/server/server_example.ini",
     NULL};
 

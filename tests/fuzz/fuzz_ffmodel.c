@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT */
+/* libFuzzer: c4g-ident's mode-9 parameter file (tools/common/c4g_ffmodel_load.c through
+ * the shared INI layer and inih). Invariants: an error is one well-formed "PATH:..."
+ * message; an accepted file names an arm 1..4, a period in (0, 1000] ms, at least one
+ * axis, every number finite in its range, the checksum the text really has, and the
+ * model gives a finite current anywhere in the fit's range. */
+#include "fuzz_text.h"
+#include "c4g_ffmodel.h"
+
+#include <math.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static void check_axis(const ffm_axis_t *p)
+{
+    const double v = (p->v_max > 0.0) ? p->v_max : 1e3;
+    const double a = (p->a_max > 0.0) ? p->a_max : 1e3;
+    if (!(p->ja > 0.0) || !(p->eps > 0.0) || p->line < 1 ||
+        memchr(p->variant, '\0', sizeof p->variant) == NULL) {
+        abort();
+    }
+    FUZZ_FINITE_IN(p->ja, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->fv, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->fc, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->fs, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->vs, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->eps, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->v_max, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->a_max, 0.0, 1e6);
+    FUZZ_FINITE_IN(p->off, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->ga, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->gb, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->delay, -1e6, 1e6);
+    if (!isfinite(ffm_current(p, v, a, 1.0, 1)) || !isfinite(ffm_current(p, -v, -a, -1.0, 1)) ||
+        !isfinite(ffm_current(p, 0.0, 0.0, 0.0, 0))) {
+        abort();
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static ffm_file_t m;
+    char err[512];
+    char *buf = fuzz_copy(data, size);
+    unsigned l, n = 0U;
+    uint64_t sum = 0U;
+    if (buf == NULL) {
+        return 0;
+    }
+    memset(err, 0x55, sizeof err);
+    if (ffm_parse_text("f.ini", buf, size, &m, err, sizeof err) != 0) {
+        fuzz_check_err(err, sizeof err, "f.ini");
+        free(buf);
+        return 0;
+    }
+    if (m.arm < 1U || m.arm > 4U || !(m.period_ms > 0.0 && m.period_ms <= 1000.0) ||
+        ffm_checksum_text(buf, size, &sum) != 0 || sum != m.checksum) {
+        abort();
+    }
+    for (l = 0U; l < FFM_AXES; l++) {
+        if (m.ax[l].set) {
+            check_axis(&m.ax[l]);
+            n++;
+        }
+    }
+    if (n == 0U) {
+        abort();
+    }
+    free(buf);
+    return 0;
+}
