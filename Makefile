@@ -76,7 +76,7 @@ DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
+  e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
 all: lib tools
 
@@ -283,6 +283,21 @@ static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
 # ---- end-to-end tests (real processes, loopback) and doc examples
 e2e: all
 	@sh scripts/run-e2e.sh $(BUILD)
+
+# ---- c4g-ident's accuracy against c4g-sim's axis model, in-process (tests/ident)
+IDENT_ACC := $(BUILD)/tests/ident-accuracy
+IDENT_SEEDS ?= 6
+$(IDENT_ACC): tests/ident/accuracy.cpp tests/ident/simgen.cpp tests/ident/simgen.hpp \
+  tools/c4g-ident/signal.cpp tools/c4g-ident/fit.cpp tools/c4g-ident/excite.cpp \
+  tools/c4g-ident/ident.hpp tools/c4g-ident/excite.hpp tools/c4g-sim/model.c tools/c4g-sim/model.h | $(DEPS_STAMP)
+	@mkdir -p $(@D)/ident-obj
+	$(CC) $(TOOL_CFLAGS) -O2 -c tools/c4g-sim/model.c -o $(@D)/ident-obj/model.o
+	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Itools/c4g-sim -O2 -g -o $@ \
+	  tests/ident/accuracy.cpp tests/ident/simgen.cpp tools/c4g-ident/signal.cpp tools/c4g-ident/fit.cpp \
+	  tools/c4g-ident/excite.cpp $(@D)/ident-obj/model.o -lceres -lglog -lpthread -lm
+ident-accuracy: $(IDENT_ACC)
+	@echo "== c4g-ident accuracy ($(IDENT_SEEDS) seeds per case; make bench runs 30)"
+	@$(IDENT_ACC) --seeds $(IDENT_SEEDS) --gate
 docs-examples: $(STATIC)
 	@sh scripts/docs-examples.sh $(BUILD)
 
@@ -290,6 +305,7 @@ docs-examples: $(STATIC)
 check: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory unit
+	@$(MAKE) --no-print-directory ident-accuracy
 	@$(MAKE) --no-print-directory sanitize
 	@$(MAKE) --no-print-directory valgrind
 	@$(MAKE) --no-print-directory coverage
@@ -314,6 +330,7 @@ replay-golden: tools
 
 bench: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory ident-accuracy IDENT_SEEDS=30
 	@sh scripts/bench.sh $(BUILD)
 
 # ---- install

@@ -1,0 +1,54 @@
+#!/bin/sh
+# The identification loop on loopback, end to end, printed:
+#   1. c4g-ident excite writes an excitation trajectory for axes 1-3 of arm 1;
+#   2. c4g-server plays it in mode 4 against c4g-sim (fixtures/ident/sim-truth.ini: known
+#      inertia, Stribeck friction, load and gravity), c4g-sim captures the session;
+#   3. c4g-ident fits the capture and writes the parameter file;
+#   4. the same fast move runs in mode 0, in mode 9 with the identified file, and in mode 9
+#      with a deliberately wrong file (inertia x2.5, friction x2); each is captured.
+# Usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]
+# OUT_DIR receives the captures, fit.json, arm1.ini, wrong.ini and loop.json (the figures).
+set -u
+B=${1:?usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]}
+O=${2:?usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]}
+PORT=${3:-41610}
+SRV=$B/bin/c4g-server
+SIM=$B/bin/c4g-sim
+ID=$B/bin/c4g-ident
+RP=$B/bin/c4g-replay
+mkdir -p "$O"
+SPID=""
+cleanup() { [ -n "$SPID" ] && kill "$SPID" 2>/dev/null && wait "$SPID" 2>/dev/null; }
+trap cleanup EXIT
+trap 'exit 1' INT TERM
+
+# session NAME SCENARIO [server options]: one c4g-server + c4g-sim session, captured by c4g-sim
+session() {
+  name=$1; scn=$2; shift 2
+  "$SRV" -p "$PORT" -c 127.0.0.1 --idle-timeout 5 --max-seconds 120 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
+  SPID=$!
+  i=0
+  while ! grep -q "listening on" "$O/$name.srv.err" 2>/dev/null && [ $i -lt 60 ]; do sleep 0.05; i=$((i + 1)); done
+  timeout 120 "$SIM" -p "$PORT" -c fixtures/ident/sim-truth.ini -S "fixtures/scenarios/$scn" --pcap "$O/$name.pcap" -q
+  simrc=$?
+  i=0
+  while kill -0 "$SPID" 2>/dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+  kill "$SPID" 2>/dev/null; wait "$SPID" 2>/dev/null; SPID=""
+  [ $simrc -eq 0 ] || { echo "ident-loop: $name: c4g-sim exit $simrc"; return 1; }
+  "$RP" export "$O/$name.pcap" >"$O/$name.csv" || return 1
+}
+
+echo "== 1. c4g-ident excite --axes 1,2,3 --vmax 30 --amax 300 --duration 20"
+"$ID" excite --axes 1,2,3 --vmax 30 --amax 300 --duration 20 -o "$O/excite.csv" || exit 1
+echo "== 2. identification run: c4g-server --traj excite.csv (mode 4) against c4g-sim"
+session ident ident.scn --traj "$O/excite.csv" --moni "$O/ident.moni.csv" || exit 1
+echo "== 3. c4g-ident fit ident.pcap --axes 1,2,3 -o arm1.ini"
+"$ID" fit "$O/ident.pcap" --axes 1,2,3 -o "$O/arm1.ini" --json >"$O/fit.json"; fitrc=$?
+[ $fitrc -eq 0 ] || { echo "ident-loop: c4g-ident fit exit $fitrc"; exit 1; }
+"$ID" fit "$O/ident.pcap" --axes 1,2,3 -q --plot "$O/plots" || exit 1
+python3 scripts/ident-loop.py wrong "$O/arm1.ini" "$O/wrong.ini" || exit 1
+echo "== 4. the fast move: mode 0, mode 9 with arm1.ini, mode 9 with wrong.ini"
+session move0 ident-move0.scn || exit 1
+session move9 ident-move9.scn --ff "$O/arm1.ini" --duration 20 || exit 1
+session wrong9 ident-move9.scn --ff "$O/wrong.ini" --duration 20 || exit 1
+python3 scripts/ident-loop.py figures "$O" fixtures/ident/sim-truth.ini
