@@ -6,19 +6,21 @@
 . tests/e2e/server_helpers/lib.sh "$1"
 [ -x "$SIM" ] || { echo "server_modes: $SIM not built"; exit 1; }
 
-mode_test() {  # mode_test MODE PORT EXPECTED_POS_AX1 [server args...]
-    m=$1; port=$2; want=$3; shift 3; F0=$FAILS
-    echo "mode $m:"
+# mode_test MODE PORT EXPECTED_POS_AX1 [server args...]; the run's files are $T/mMODE.*, or
+# $T/$MT_NAME.* when MT_NAME is set (a second run of one mode)
+mode_test() {
+    m=$1; port=$2; want=$3; shift 3; F0=$FAILS; n=${MT_NAME:-m$m}; l="mode $m${MT_NAME:+ ($MT_NAME)}"
+    echo "$l:"
     SIM_ARGS=""
-    run_sim "m$m" "$port" "fixtures/server/sim_mode$m.scn" "$@"
-    ok "mode $m: c4g-sim exit 0 (scenario EXPECTs passed, no controller error)" eq "$SIMRC" 0
-    ok "mode $m: no EXPECT failed" eq "$(jv "$T/m$m.sim.json" expect_failed)" 0
-    ok "mode $m: no controller error" has "$T/m$m.sim.json" '"errors":\[\]'
-    ok "mode $m: robot axis 1 at $want" near "$(simpos "$T/m$m.sim.json" 1)" "$want" 0.05
-    ok "mode $m: server ended by 504 (exit 0)" eq "$SRC" 0
-    ok "mode $m: server answered every packet it accepted" eq "$(jv "$T/m$m.json" rx)" "$(jv "$T/m$m.json" tx)"
-    ok "mode $m: no safety event" eq "$(jv "$T/m$m.json" drive_off_505)$(jv "$T/m$m.json" follow_error_508)" 00
-    [ "$FAILS" -eq "$F0" ] || dump "m$m"
+    run_sim "$n" "$port" "fixtures/server/sim_mode$m.scn" "$@"
+    ok "$l: c4g-sim exit 0 (scenario EXPECTs passed, no controller error)" eq "$SIMRC" 0
+    ok "$l: no EXPECT failed" eq "$(jv "$T/$n.sim.json" expect_failed)" 0
+    ok "$l: no controller error" has "$T/$n.sim.json" '"errors":\[\]'
+    ok "$l: robot axis 1 at $want" near "$(simpos "$T/$n.sim.json" 1)" "$want" 0.05
+    ok "$l: server ended by 504 (exit 0)" eq "$SRC" 0
+    ok "$l: server answered every packet it accepted" eq "$(jv "$T/$n.json" rx)" "$(jv "$T/$n.json" tx)"
+    ok "$l: no safety event" eq "$(jv "$T/$n.json" drive_off_505)$(jv "$T/$n.json" follow_error_508)" 00
+    [ "$FAILS" -eq "$F0" ] || dump "$n"
 }
 
 mode_test 0 31010 0.5
@@ -32,6 +34,29 @@ mode_test 9 31016 0.5 --ff fixtures/server/ff_example.txt --duration 1 --moni "$
 # moni columns: ... 6 rx_mode ... 16 tx_mode ... 21 tx_d5
 ok "mode 9: the server sent a current feedforward (D5) in mode 9" \
     ge "$(awk -F, '$6 == 9 && $21 != 0 { n++ } END { print n + 0 }' "$T/m9.moni")" 100
+# the same with the model c4g-ident would write for c4g-sim's arm (INI, checksummed)
+MT_NAME=m9ident
+mode_test 9 31007 0.5 --ff fixtures/server/ff_ident_example.ini --duration 1 --moni "$T/m9ident.moni"
+MT_NAME=
+ok "mode 9 (m9ident): the identified model gave the current of 6 axes for the whole second" \
+    ge "$(jv "$T/m9ident.json" ff_model_ticks)" 2400
+ok "mode 9 (m9ident): D5 sent in mode 9" \
+    ge "$(awk -F, '$6 == 9 && $21 != 0 { n++ } END { print n + 0 }' "$T/m9ident.moni")" 100
+# axis 4 ([axis 4]: Ja 0.00125664, Fv 0.01256637, Fc 0.1, eps 0.01, no gravity, no range):
+# every D5 is the model one tick ahead, a = (D2 - D2 before) / T^2, v = D2 / T + a T
+ok "mode 9 (m9ident): axis 4's D5 is the model's current (moni rows in a row, +/- 1e-4 A)" \
+    eq "$(awk -F, -v ja=0.00125664 -v fv=0.01256637 -v fc=0.1 -v eps=0.01 -v T=0.002 '
+        $3 == 4 && $6 == 9 {
+            if (pn != "" && $2 == pn + 1 && $21 != 0) {
+                a = ($8 - pd) / (T * T); v = $8 / T + a * T; x = v / eps
+                th = (x > 20) ? 1 : ((x < -20) ? -1 : (exp(2 * x) - 1) / (exp(2 * x) + 1))
+                d = ja * a + fv * v + fc * th - $21; if (d < 0) d = -d
+                n++; if (d > 1e-4) bad++
+            }
+            pn = $2; pd = $8
+        }
+        END { print (n >= 20 ? "" : "few rows ") (bad + 0) " off" }' "$T/m9ident.moni")" "0 off"
+ok "mode 9 (m9ident): the text report counts the model's ticks" has "$T/m9ident.out" "mode-9 identified model:"
 mode_test 1 31017 0 --hold --duration 1 --gains 30,200,300 --moni "$T/m1.moni"
 ok "mode 1: the PC closed the loops (D1 target and D5 current in every mode-1 reply)" \
     eq "$(awk -F, '$6 == 1 && ($17 == "" || $21 == 0) { n++ } END { print n + 0 }' "$T/m1.moni")" 0

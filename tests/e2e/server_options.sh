@@ -51,6 +51,20 @@ ok "trajectory 1e39 named" has "$T/e13" "big.csv:3:3: column 2 (axis offset \[tu
 printf '1 1 1e30\n' >"$T/big.ff"
 "$SRV" --ff "$T/big.ff" >/dev/null 2>"$T/e14"; rc=$?
 ok "feedforward 1e30 named" has "$T/e14" "big.ff:1:5: field 3 (c0): '1e30' is out of range -1000000..1000000"
+# c4g-ident's parameter files: an edited copy, a bad value, two files for one arm
+sed 's/^gb = 7.5$/gb = 8.5/' fixtures/server/ff_ident_example.ini >"$T/edited.ini"
+"$SRV" --ff "$T/edited.ini" >/dev/null 2>"$T/e17"; rc=$?
+ok "edited model file: exit 1" eq "$rc" 1
+ok "edited model file: checksum mismatch named" has "$T/e17" \
+    "edited.ini:17:12: \[model\] checksum: checksum mismatch: the file was edited after c4g-ident wrote it"
+sed 's/^Ja = 0.00314159$/Ja = nan/' fixtures/server/ff_ident_example.ini >"$T/nan.ini"
+"$SRV" --ff "$T/nan.ini" >/dev/null 2>"$T/e18"; rc=$?
+ok "model file with NaN: exit 1" eq "$rc" 1
+ok "model file with NaN: file, line, section, key" has "$T/e18" "nan.ini:21:6: \[axis 1\] Ja: 'nan' is not a finite number"
+"$SRV" --ff fixtures/server/ff_ident_example.ini --ff fixtures/server/ff_example.txt >/dev/null 2>"$T/e19"; rc=$?
+ok "two files for arm 1: exit 1" eq "$rc" 1
+ok "two files for arm 1: both named" has "$T/e19" \
+    "ff_example.txt:15:1: arm 1 axis 1 is already set by fixtures/server/ff_ident_example.ini:19"
 for opt in --traj --ff --config; do
   timeout 20 "$SRV" $opt /dev/zero >/dev/null 2>"$T/e15"; rc=$?
   ok "$opt /dev/zero refused (not hung): exit 1" eq "$rc" 1
