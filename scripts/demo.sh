@@ -51,4 +51,8 @@ cat "$tmp/server.out"
 echo
 echo "== PC (c4g-server) JSON"
 cat "$tmp/server.json"
-[ "$simrc" -eq 0 ] && [ "$srvrc" -eq 0 ]
+echo
+echo "== identification: excite, record, fit (c4g-ident), then the same fast move in modes 0 and 9"
+sh scripts/ident-loop.sh "$build" "$tmp/ident" 41690
+identrc=$?
+[ "$simrc" -eq 0 ] && [ "$srvrc" -eq 0 ] && [ "$identrc" -eq 0 ]
