@@ -2,7 +2,6 @@
 #include "simgen.hpp"
 
 #include <cmath>
-#include <cstdlib>
 
 namespace simgen {
 
@@ -78,7 +77,7 @@ ident::AxisLog run(const Case &c, uint64_t seed)
         L.d1.push_back(static_cast<float>(in.pos_ref));
         L.d2.push_back(static_cast<float>(v * c.period));
         L.d3.push_back(static_cast<float>(a.meas_pos));
-        L.d4.push_back(std::getenv("SIMGEN_TRUEVEL") ? static_cast<float>(a.vel * c.period) : static_cast<float>(a.meas_pos - prev));
+        L.d4.push_back(static_cast<float>(a.meas_pos - prev));
         L.d5.push_back(static_cast<float>(d5));
         L.e1.push_back(static_cast<float>(sim_axis_gravity(&c.p, a.pos) / c.p.kt));
         L.e2.push_back(static_cast<float>(c.p.j));
