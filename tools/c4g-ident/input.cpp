@@ -13,6 +13,7 @@ extern "C" {
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -247,6 +248,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
     double t_prev = NAN;
     int64_t tick_moni = 0;
     double period = 0.0;
+    std::vector<double> dts;  // tick spacings: the period is their median (receive times jitter)
     auto fail = [&](const std::string &why) {
         *err = path + ":" + std::to_string(ln) + ": " + why;
         return -1;
@@ -292,7 +294,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             if (static_cast<unsigned>(v[3]) != col.sel.arm) continue;
             if (!(v[4] >= 1 && v[4] <= 10)) return fail("field 5 (logical): " + f[4] + " is not 1..10");
             if (std::isnan(t_prev) || v[0] != t_prev) {
-                if (!std::isnan(t_prev) && period <= 0.0) period = v[0] - t_prev;
+                if (!std::isnan(t_prev) && dts.size() < 4096) dts.push_back(v[0] - t_prev);
                 t_prev = v[0];
                 tick_moni++;
                 info->ticks++;
@@ -307,7 +309,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             double s, tk, t;
             if (!num(f[0], &s) || !num(f[1], &tk) || !num(f[2], &t)) return fail("session, tick or time is not a number");
             if (col.sel.session != 0 && static_cast<unsigned>(s) != col.sel.session) continue;
-            if (!std::isnan(t_prev) && period <= 0.0 && t > t_prev) period = t - t_prev;
+            if (!std::isnan(t_prev) && t > t_prev && dts.size() < 4096) dts.push_back(t - t_prev);
             t_prev = t;
             info->ticks++;
             const auto ip = col_of.find("ctrl_infpar");
@@ -336,6 +338,10 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
         }
     }
     if (!moni && !exp) return fail("empty file");
+    if (!dts.empty()) {
+        std::nth_element(dts.begin(), dts.begin() + static_cast<long>(dts.size() / 2), dts.end());
+        period = dts[dts.size() / 2];
+    }
     for (AxisLog &L : *col.logs) {
         if (period > 0.0) L.period = std::round(period * 1e4) / 1e4;
     }
