@@ -135,7 +135,7 @@ $(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	$(CC) $(TOOL_CFLAGS) -Itools/common $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
+$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
 

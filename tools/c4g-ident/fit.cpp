@@ -150,6 +150,97 @@ private:
 
 constexpr std::size_t kBlock = 512;
 
+// The robust cost's gradient over the active parameters, at p.
+std::vector<double> cost_gradient(const Samples &s, const Vec &p, double eps, Loss loss, double c,
+                                  const std::vector<int> &idx)
+{
+    std::vector<double> g(idx.size(), 0.0);
+    Vec d;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const double f = model_eval(p, eps, s.v[j], s.a[j], s.cq[j], s.sq[j], &d);
+        double rt, sl;
+        robust(loss, c, f - s.i[j], &rt, &sl);
+        for (std::size_t k = 0; k < idx.size(); k++) g[k] += rt * sl * d[static_cast<std::size_t>(idx[k])];
+    }
+    return g;
+}
+
+// Sum of row row^T (lower triangle) for rows of at most NPARAM: plain loops the compiler
+// keeps in registers; a dynamic-size Eigen rank update per row cost more than the model.
+struct Gram {
+    double m[NPARAM][NPARAM] = {};
+    std::size_t n;
+    explicit Gram(std::size_t size) : n(size) {}
+    void add(const double *row)
+    {
+        for (std::size_t a = 0; a < n; a++) {
+            for (std::size_t b = 0; b <= a; b++) m[a][b] += row[a] * row[b];
+        }
+    }
+    Eigen::MatrixXd matrix() const
+    {
+        Eigen::MatrixXd M(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+        for (std::size_t a = 0; a < n; a++) {
+            for (std::size_t b = 0; b <= a; b++) {
+                M(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = m[a][b];
+                M(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(a)) = m[a][b];
+            }
+        }
+        return M;
+    }
+};
+
+// J^T J of the robust problem at p, as Ceres sees it (each row scaled by the loss' slope).
+Eigen::MatrixXd robust_normal(const Samples &s, const Vec &p, double eps, Loss loss, double c,
+                              const std::vector<int> &idx)
+{
+    const std::size_t P = idx.size();
+    Gram G(P);
+    double row[NPARAM];
+    Vec d;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const double f = model_eval(p, eps, s.v[j], s.a[j], s.cq[j], s.sq[j], &d);
+        double rt, sl;
+        robust(loss, c, f - s.i[j], &rt, &sl);
+        for (std::size_t k = 0; k < P; k++) row[k] = sl * d[static_cast<std::size_t>(idx[k])];
+        G.add(row);
+    }
+    return G.matrix();
+}
+
+// The whole problem compressed into P residuals with the same normal matrix: r = U (x - x0),
+// U^T U = J^T J. Ceres' covariance of it equals that of the full problem and costs nothing
+// next to a dense factorization of 10^5..10^6 rows.
+class NormalFactor : public ceres::CostFunction {
+public:
+    NormalFactor(const Eigen::MatrixXd &U, const std::vector<double> &x0) : U_(U), x0_(x0)
+    {
+        set_num_residuals(static_cast<int>(U.rows()));
+        mutable_parameter_block_sizes()->push_back(static_cast<int>(U.cols()));
+    }
+    bool Evaluate(double const *const *x, double *res, double **jac) const override
+    {
+        const Eigen::Index P = U_.cols();
+        for (Eigen::Index i = 0; i < P; i++) {
+            double acc = 0.0;
+            for (Eigen::Index k = 0; k < P; k++) acc += U_(i, k) * (x[0][k] - x0_[static_cast<std::size_t>(k)]);
+            res[i] = acc;
+            if (jac != nullptr && jac[0] != nullptr) {
+                for (Eigen::Index k = 0; k < P; k++) jac[0][i * P + k] = U_(i, k);
+            }
+        }
+        return true;
+    }
+
+private:
+    Eigen::MatrixXd U_;
+    std::vector<double> x0_;
+};
+
+// Lower bounds: Ja > 0, friction >= 0, vs >= 2 eps.
+bool has_lower(int q) { return q == JA || q == FV || q == FC || q == FS || q == VS; }
+double lower_of(int q, double eps) { return (q == JA) ? 1e-12 : ((q == VS) ? 2.0 * eps : 0.0); }
+
 void residuals(const Samples &s, const Vec &p, double eps, std::vector<double> *r)
 {
     r->resize(s.n());
@@ -161,16 +252,15 @@ void residuals(const Samples &s, const Vec &p, double eps, std::vector<double> *
 // Information matrix J^T J over the samples (no loss), for the active parameters.
 Eigen::MatrixXd info(const Samples &s, const std::vector<int> &idx, const Vec &p, double eps)
 {
-    const Eigen::Index P = static_cast<Eigen::Index>(idx.size());
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(P, P);
+    Gram G(idx.size());
     Vec g;
-    Eigen::VectorXd row(P);
+    double row[NPARAM];
     for (std::size_t j = 0; j < s.n(); j++) {
         (void)model_eval(p, eps, s.v[j], s.a[j], s.cq[j], s.sq[j], &g);
-        for (Eigen::Index k = 0; k < P; k++) row(k) = g[static_cast<std::size_t>(idx[static_cast<std::size_t>(k)])];
-        M.selfadjointView<Eigen::Lower>().rankUpdate(row);
+        for (std::size_t k = 0; k < idx.size(); k++) row[k] = g[static_cast<std::size_t>(idx[k])];
+        G.add(row);
     }
-    return M.selfadjointView<Eigen::Lower>();
+    return G.matrix();
 }
 
 double scaled_cond(const Eigen::MatrixXd &M)
@@ -196,9 +286,9 @@ bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, doub
         col.push_back(GB);
     }
     const Eigen::Index P = static_cast<Eigen::Index>(col.size());
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(P, P);
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(P);
-    Eigen::VectorXd row(P);
+    Gram G(col.size());
+    double bb[NPARAM] = {};
+    double row[NPARAM];
     double yy = 0.0;
     for (std::size_t j = 0; j < s.n(); j++) {
         const double S = std::tanh(s.v[j] / eps);
@@ -207,21 +297,23 @@ bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, doub
             const double r = s.v[j] / vs;
             E = std::exp(-r * r);
         }
-        Eigen::Index k = 0;
-        row(k++) = s.a[j];
-        row(k++) = s.v[j];
-        row(k++) = (1.0 - E) * S;
-        row(k++) = 1.0;
-        if (str) row(k++) = E * S;
+        std::size_t k = 0;
+        row[k++] = s.a[j];
+        row[k++] = s.v[j];
+        row[k++] = (1.0 - E) * S;
+        row[k++] = 1.0;
+        if (str) row[k++] = E * S;
         if (grav) {
-            row(k++) = s.cq[j];
-            row(k++) = s.sq[j];
+            row[k++] = s.cq[j];
+            row[k++] = s.sq[j];
         }
-        M.selfadjointView<Eigen::Lower>().rankUpdate(row);
-        b += row * s.i[j];
+        G.add(row);
+        for (std::size_t c = 0; c < k; c++) bb[c] += row[c] * s.i[j];
         yy += s.i[j] * s.i[j];
     }
-    M = M.selfadjointView<Eigen::Lower>();
+    const Eigen::MatrixXd M = G.matrix();
+    Eigen::VectorXd b(P);
+    for (Eigen::Index c = 0; c < P; c++) b(c) = bb[c];
     const Eigen::VectorXd d = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
     const Eigen::MatrixXd N = d.asDiagonal() * M * d.asDiagonal();
     Eigen::LDLT<Eigen::MatrixXd> ldlt(N);
@@ -266,14 +358,14 @@ Vec linear_start(const Samples &s, Variant v, double eps, double vmax)
 
 }  // namespace
 
-Fit fit(const Samples &s, Variant v, double eps, const Options &o)
+Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *start)
 {
     const auto t0 = std::chrono::steady_clock::now();
     Fit F;
     F.variant = v;
     double vmax = 0.0;
     for (double x : s.v) vmax = std::max(vmax, std::fabs(x));
-    Vec p = linear_start(s, v, eps, vmax);
+    Vec p = (start != nullptr) ? *start : linear_start(s, v, eps, vmax);
     // keep the start inside the bounds
     p[JA] = std::max(p[JA], 1e-12);
     for (int k : {FV, FC, FS}) p[static_cast<std::size_t>(k)] = std::max(p[static_cast<std::size_t>(k)], 0.0);
@@ -287,53 +379,86 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o)
     ceres::Solver::Summary sum;
     for (int pass = 0; pass < 3; pass++) {
         for (std::size_t k = 0; k < P; k++) x[k] = p[static_cast<std::size_t>(idx[k])];
-        ceres::Problem::Options po;
-        po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-        ceres::Problem prob(po);
         const double c = o.loss_k * sigma;
-        for (std::size_t b = 0; b < s.n(); b += kBlock) {
-            const std::size_t e = std::min(s.n(), b + kBlock);
-            prob.AddResidualBlock(new BlockCost(s, b, e, idx, p, eps, o.loss, c), nullptr, x.data());
-        }
+        // Active set: a parameter the data push against its bound is held there. Ceres only
+        // projects its steps onto the bounds, which takes it a hundred or more shrinking
+        // steps to settle a misfitting variant (viscous friction pinned at 0, say).
+        std::vector<int> held;
         for (std::size_t k = 0; k < P; k++) {
             const int q = idx[k];
-            if (q == JA) prob.SetParameterLowerBound(x.data(), static_cast<int>(k), 1e-12);
-            if (q == FV || q == FC || q == FS) prob.SetParameterLowerBound(x.data(), static_cast<int>(k), 0.0);
-            if (q == VS) prob.SetParameterLowerBound(x.data(), static_cast<int>(k), 2.0 * eps);
+            if (has_lower(q) && x[k] <= lower_of(q, eps)) held.push_back(static_cast<int>(k));
         }
-        ceres::Solver::Options so;
-        so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-        so.num_threads = std::max(1, o.threads);
-        so.max_num_iterations = 100;
-        so.function_tolerance = 1e-9;
-        so.gradient_tolerance = 1e-12;
-        so.parameter_tolerance = 1e-9;
-        so.logging_type = ceres::SILENT;
-        ceres::Solve(so, &prob, &sum);
-        F.iterations += static_cast<int>(sum.iterations.size());
+        std::unique_ptr<ceres::Problem> probp;
+        for (int round = 0; round < 4; round++) {
+            ceres::Problem::Options po;
+            po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+            probp.reset(new ceres::Problem(po));
+            ceres::Problem &pr = *probp;
+            for (std::size_t b = 0; b < s.n(); b += kBlock) {
+                const std::size_t e = std::min(s.n(), b + kBlock);
+                pr.AddResidualBlock(new BlockCost(s, b, e, idx, p, eps, o.loss, c), nullptr, x.data());
+            }
+            for (std::size_t k = 0; k < P; k++) {
+                const int q = idx[k];
+                if (has_lower(q)) pr.SetParameterLowerBound(x.data(), static_cast<int>(k), lower_of(q, eps));
+            }
+            if (!held.empty() && held.size() < P) pr.SetManifold(x.data(), new ceres::SubsetManifold(static_cast<int>(P), held));
+            ceres::Solver::Options so;
+            so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+            so.num_threads = std::max(1, o.threads);
+            so.max_num_iterations = 100;
+            so.function_tolerance = 1e-9;
+            so.gradient_tolerance = 1e-12;
+            so.parameter_tolerance = 1e-9;
+            so.logging_type = ceres::SILENT;
+            ceres::Solve(so, &pr, &sum);
+            F.iterations += static_cast<int>(sum.iterations.size());
+            Vec pt = p;
+            for (std::size_t k = 0; k < P; k++) pt[static_cast<std::size_t>(idx[k])] = x[k];
+            const std::vector<double> g = cost_gradient(s, pt, eps, o.loss, c, idx);
+            std::vector<int> next;
+            for (std::size_t k = 0; k < P; k++) {
+                const int q = idx[k];
+                const bool at = has_lower(q) && x[k] <= lower_of(q, eps) * (1.0 + 1e-9) + 1e-15;
+                // the cost falls below the bound (gradient > 0 there): hold it
+                if (at && g[k] > 0.0) next.push_back(static_cast<int>(k));
+            }
+            if (next == held) break;
+            held = next;
+        }
+        F.held.clear();
+        for (int k : held) F.held.push_back(idx[static_cast<std::size_t>(k)]);
         for (std::size_t k = 0; k < P; k++) p[static_cast<std::size_t>(idx[k])] = x[k];
         if (v == COULOMB || v == COULOMB_G) p[FS] = p[FC];
         residuals(s, p, eps, &r);
         const double s2 = 1.4826 * median_abs(r);
         const bool settled = std::fabs(s2 - sigma) <= 0.02 * sigma;
         sigma = (s2 > 0.0) ? s2 : sigma;
-        if (settled || o.loss == LOSS_NONE) {
-            // covariance of this very problem, read only when Compute succeeded
-            ceres::Covariance::Options co;
-            co.algorithm_type = ceres::DENSE_SVD;
-            co.num_threads = std::max(1, o.threads);
-            co.null_space_rank = 0;
-            co.min_reciprocal_condition_number = 1e-14;
-            ceres::Covariance cov(co);
-            std::vector<std::pair<const double *, const double *>> blocks = {{x.data(), x.data()}};
-            if (cov.Compute(blocks, &prob)) {
-                std::vector<double> C(P * P);
-                if (cov.GetCovarianceBlock(x.data(), x.data(), C.data())) {
-                    F.cov_ok = true;
-                    for (std::size_t k = 0; k < P; k++) {
-                        const double var = C[k * P + k];
-                        ParamStat &st = F.st[static_cast<std::size_t>(idx[k])];
-                        st.sigma = (var > 0.0) ? sigma * std::sqrt(var) : 0.0;
+        if (settled || o.loss == LOSS_NONE || pass == 2) {
+            // covariance of this very problem (compressed to its normal matrix), read only
+            // when Compute succeeded
+            const Eigen::LLT<Eigen::MatrixXd> llt(robust_normal(s, p, eps, o.loss, c, idx));
+            if (llt.info() == Eigen::Success) {
+                std::vector<double> xc = x;
+                ceres::Problem cp;
+                cp.AddResidualBlock(new NormalFactor(llt.matrixU(), x), nullptr, xc.data());
+                if (!held.empty() && held.size() < P) cp.SetManifold(xc.data(), new ceres::SubsetManifold(static_cast<int>(P), held));
+                ceres::Covariance::Options co;
+                co.algorithm_type = ceres::DENSE_SVD;
+                co.num_threads = 1;
+                co.null_space_rank = 0;
+                co.min_reciprocal_condition_number = 1e-14;
+                ceres::Covariance cov(co);
+                std::vector<std::pair<const double *, const double *>> blocks = {{xc.data(), xc.data()}};
+                if (cov.Compute(blocks, &cp)) {
+                    std::vector<double> C(P * P);
+                    if (cov.GetCovarianceBlock(xc.data(), xc.data(), C.data())) {
+                        F.cov_ok = true;
+                        for (std::size_t k = 0; k < P; k++) {
+                            const double var = C[k * P + k];
+                            ParamStat &st = F.st[static_cast<std::size_t>(idx[k])];
+                            st.sigma = (var > 0.0) ? sigma * std::sqrt(var) : 0.0;
+                        }
                     }
                 }
             }
@@ -361,7 +486,14 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o)
         st.free = true;
         st.value = p[static_cast<std::size_t>(idx[k])];
         st.ci95 = 1.959964 * st.sigma;
-        st.pct = (st.value != 0.0) ? 100.0 * st.sigma / std::fabs(st.value) : 1e300;
+        st.at_bound = std::find(F.held.begin(), F.held.end(), idx[k]) != F.held.end();
+        st.pct = st.at_bound ? 0.0 : ((st.value != 0.0) ? 100.0 * st.sigma / std::fabs(st.value) : 1e300);
+        if (st.at_bound) {
+            char b[160];
+            std::snprintf(b, sizeof b, "%s held at its bound %.3g: the data push it below (the variant misfits)",
+                          param_name[idx[k]], st.value);
+            F.warnings.push_back(b);
+        }
     }
     if (sum.termination_type == ceres::FAILURE) F.warnings.push_back("the solver failed: " + sum.message);
     F.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -408,6 +540,24 @@ bool crlb(const Samples &s, Variant v, const Vec &p, double eps, double sigma, V
 }
 
 namespace {
+
+// Every k-th sample, so that at most @p max remain.
+Samples thin(const Samples &s, std::size_t max)
+{
+    if (max == 0 || s.n() <= max) return s;
+    const std::size_t k = (s.n() + max - 1) / max;
+    Samples d;
+    for (std::size_t j = 0; j < s.n(); j += k) {
+        d.v.push_back(s.v[j]);
+        d.a.push_back(s.a[j]);
+        d.i.push_back(s.i[j]);
+        d.cq.push_back(s.cq[j]);
+        d.sq.push_back(s.sq[j]);
+        if (j < s.tick.size()) d.tick.push_back(s.tick[j]);
+        if (j < s.t.size()) d.t.push_back(s.t[j]);
+    }
+    return d;
+}
 
 double heldout_cost(const Samples &s, const Fit &f, double eps, const Options &o)
 {
@@ -504,12 +654,18 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
         R.why_not = "the gravity variant needs the link angle (a capture with its init packet)";
         return R;
     }
+    // The variants are compared on evenly spread subsets of at most o.select_max samples of
+    // the training part (the choice and the held-out figures need no more); the chosen one is
+    // then fitted to every sample, starting from there.
+    const Samples &fit_set = (val.n() > 0) ? train : all;
+    const Samples sel_train = thin(fit_set, o.select_max);
+    const Samples sel_val = thin(val, o.select_max);
     double best = 1e300;
     std::array<Fit, NVARIANT> fits;
     for (Variant v : cand) {
-        fits[v] = fit(val.n() > 0 ? train : all, v, R.prep.eps, o);
+        fits[v] = fit(sel_train, v, R.prep.eps, o);
         R.tried[v] = true;
-        R.val_cost[v] = (val.n() > 0) ? heldout_cost(val, fits[v], R.prep.eps, o) : fits[v].rms;
+        R.val_cost[v] = (val.n() > 0) ? heldout_cost(sel_val, fits[v], R.prep.eps, o) : fits[v].rms;
         best = std::min(best, R.val_cost[v]);
     }
     // the simplest variant within 0.2 % of the best held-out cost
@@ -523,11 +679,11 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
     }
     const double noise = (R.prep.noise_floor > 0.0) ? R.prep.noise_floor : fits[chosen].sigma;
     if (val.n() > 0) R.val = validate(val, fits[chosen], R.prep.eps, noise);
-    R.fit = (val_log != nullptr) ? fits[chosen] : fit(all, chosen, R.prep.eps, o);
+    R.fit = (val_log != nullptr) ? fits[chosen] : fit(all, chosen, R.prep.eps, o, &fits[chosen].p);
     R.identifiable = true;
     for (int k = 0; k < NPARAM; k++) {
         const ParamStat &st = R.fit.st[static_cast<std::size_t>(k)];
-        if (st.free && (!R.fit.cov_ok || st.pct > 50.0)) {
+        if (st.free && !st.at_bound && (!R.fit.cov_ok || st.pct > 50.0)) {
             char b[160];
             std::snprintf(b, sizeof b, "%s is poorly identified (sigma %.3g %%): excite the axis more", param_name[k], st.pct);
             R.warnings.push_back(b);

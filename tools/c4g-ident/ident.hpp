@@ -64,6 +64,7 @@ struct Options {
     int threads = 2;
     int force_variant = -1;    // -1: chosen on held-out data
     bool want_gravity = true;  // offer the gravity variants (when q is known)
+    std::size_t select_max = 60000; // samples the variants are compared on (evenly thinned)
 };
 
 // Samples ready for the fit.
@@ -100,6 +101,7 @@ double noise_floor(const AxisLog &log);
 struct ParamStat {
     double value = 0, sigma = 0, ci95 = 0, pct = 0; // pct: 100*sigma/|value|
     bool free = false;
+    bool at_bound = false;  // held at its lower bound: the data push it below
 };
 
 struct Fit {
@@ -114,6 +116,7 @@ struct Fit {
     bool cov_ok = false;
     int iterations = 0;
     double seconds = 0.0;
+    std::vector<int> held;     // parameters the data held at their lower bound
     std::vector<std::string> warnings;
 };
 
@@ -125,7 +128,8 @@ struct Validation {
 // Linear least squares for a fixed vs (or none): the start of every non-linear fit.
 bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, double *cost);
 // The robust non-linear fit (Ceres), covariance, statistics.
-Fit fit(const Samples &s, Variant v, double eps, const Options &o);
+// @p start: where to begin (a fit of a subset); by default a linear least-squares start.
+Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *start = nullptr);
 Validation validate(const Samples &s, const Fit &f, double eps, double noise);
 // sigma^2 (J^T J)^-1 at @p p: the Cramer-Rao bound of the parameters with Gaussian noise.
 bool crlb(const Samples &s, Variant v, const Vec &p, double eps, double sigma, Vec *sd);

@@ -18,6 +18,10 @@ extern "C" {
 #include <unistd.h>
 
 #include <chrono>
+#include <algorithm>
+#include <thread>
+#include <mutex>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -135,7 +139,7 @@ int run_fit(int argc, char **argv)
         {"sg-order", 0, CLI_UINT, "N", "Savitzky-Golay polynomial order 2..6 (default 3)", &order, 0, 2, 6, nullptr, 0},
         {"delay", 0, CLI_CALL, "TICKS", "delay of D5 after D4: auto (default) or ticks", nullptr, 0, 0, 0, fit_delay, 0},
         {"eps", 0, CLI_DOUBLE, "V", "smooth-sign velocity [turn/s] (default automatic)", &eps, 0, 0, 1e4, nullptr, 0},
-        {"threads", 'j', CLI_UINT, "N", "solver threads (default 2)", &threads, 0, 1, 64, nullptr, 0},
+        {"threads", 'j', CLI_UINT, "N", "axes fitted at once, or solver threads for one axis (default 2)", &threads, 0, 1, 64, nullptr, 0},
         {"out", 'o', CLI_STRING, "FILE", "write the parameter file for c4g-server --ff", c.out, sizeof c.out, 0, 0, nullptr, 0},
         {"plot", 0, CLI_STRING, "DIR", "write PNG and SVG plots (gnuplot) into DIR", c.plot, sizeof c.plot, 0, 0, nullptr, 0},
         {"json", 0, CLI_FLAG, nullptr, "the report as JSON on stdout", &c.json, 0, 0, 0, nullptr, 0},
@@ -240,15 +244,36 @@ int run_fit(int argc, char **argv)
     }
     const bool tty = isatty(2);
     bool all_ok = true;
-    for (std::size_t k = 0; k < merged.size(); k++) {
-        if (tty) std::fprintf(stderr, "\r%s: fitting arm %u axis %u (%zu of %zu)\033[K", kTool, arm, merged[k].axis, k + 1, merged.size());
-        const AxisLog *val = nullptr;
-        for (const AxisLog &V : vlogs) {
-            if (V.axis == merged[k].axis) val = &V;
-        }
-        job.results.push_back(identify(merged[k], val, c.opt));
-        all_ok = all_ok && job.results.back().identifiable;
+    // Axes are independent: --threads workers take them in turn, each fit single-threaded
+    // (one axis per core beats one fit spread over the cores: less synchronisation).
+    job.results.assign(merged.size(), AxisResult());
+    {
+        const unsigned workers = std::max(1U, std::min(threads, static_cast<unsigned>(merged.size())));
+        Options one = c.opt;
+        one.threads = (workers > 1U) ? 1 : c.opt.threads;
+        std::atomic<std::size_t> next(0), done(0);
+        std::mutex progress;
+        auto work = [&]() {
+            for (std::size_t k = next++; k < merged.size(); k = next++) {
+                const AxisLog *val = nullptr;
+                for (const AxisLog &V : vlogs) {
+                    if (V.axis == merged[k].axis) val = &V;
+                }
+                job.results[k] = identify(merged[k], val, one);
+                const std::size_t d = ++done;
+                if (tty) {
+                    std::lock_guard<std::mutex> lk(progress);
+                    std::fprintf(stderr, "\r%s: fitted %zu of %zu axes of arm %u\033[K", kTool, d, merged.size(), arm);
+                }
+            }
+        };
+        if (tty) std::fprintf(stderr, "\r%s: fitting %zu axes of arm %u\033[K", kTool, merged.size(), arm);
+        std::vector<std::thread> pool;
+        for (unsigned w = 1; w < workers; w++) pool.emplace_back(work);
+        work();
+        for (std::thread &t : pool) t.join();
     }
+    for (const AxisResult &R : job.results) all_ok = all_ok && R.identifiable;
     if (tty) std::fprintf(stderr, "\r\033[K");
     job.logs = merged;
     job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

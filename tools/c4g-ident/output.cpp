@@ -68,7 +68,8 @@ void report_text(FILE *out, const Job &j)
         for (int p = 0; p < NPARAM; p++) {
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
-            std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", param_name[p], s.value, s.ci95, s.pct, param_unit[p]);
+            if (s.at_bound) std::fprintf(out, "  %-4s %14.7g %12s %9s  %s (held at its bound)\n", param_name[p], s.value, "-", "-", param_unit[p]);
+            else std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", param_name[p], s.value, s.ci95, s.pct, param_unit[p]);
         }
         std::fprintf(out, "  residual: RMS %.4g A (inliers %.4g A, %.2f %% outliers), robust sigma %.4g A, noise floor %.4g A "
                           "(x%.3f)\n",

@@ -311,9 +311,37 @@ double golden(const AxisLog &L, const Options &o, double eps, std::size_t stride
 
 }  // namespace
 
-double estimate_delay(const AxisLog &L, const Options &o, double eps)
+namespace {
+
+// Blocks of 2000 consecutive ticks, every k-th, so that at most about @p max ticks remain:
+// the delay search filters and fits the log some fifty times, and a long log says no more
+// about one delay than a spread-out sample of it.
+AxisLog thin_blocks(const AxisLog &L, std::size_t max)
 {
-    const std::size_t stride = std::max<std::size_t>(1, L.tick.size() / 60000);
+    const std::size_t n = L.tick.size(), blk = 2000;
+    if (n <= max) return L;
+    const std::size_t k = (n + max - 1) / max;
+    AxisLog d = L;
+    d.tick.clear(); d.t.clear(); d.d1.clear(); d.d2.clear(); d.d3.clear(); d.d4.clear();
+    d.d5.clear(); d.e1.clear(); d.e2.clear(); d.q.clear();
+    for (std::size_t b = 0; b * blk < n; b += k) {
+        for (std::size_t j = b * blk; j < std::min(n, (b + 1) * blk); j++) {
+            d.tick.push_back(L.tick[j]); d.t.push_back(L.t[j]);
+            d.d1.push_back(L.d1[j]); d.d2.push_back(L.d2[j]); d.d3.push_back(L.d3[j]);
+            d.d4.push_back(L.d4[j]); d.d5.push_back(L.d5[j]); d.e1.push_back(L.e1[j]);
+            d.e2.push_back(L.e2[j]);
+            if (j < L.q.size()) d.q.push_back(L.q[j]);
+        }
+    }
+    return d;
+}
+
+}  // namespace
+
+double estimate_delay(const AxisLog &Lfull, const Options &o, double eps)
+{
+    const AxisLog L = thin_blocks(Lfull, 60000);
+    const std::size_t stride = 1;
     // x = delay + 0.5: D4(k) is the mean velocity of (k-1, k], its time k - 0.5.
     // First with the Coulomb model: a coarse grid, then golden section.
     double best = 0.0, bc = 1e300;
