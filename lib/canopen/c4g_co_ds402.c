@@ -43,7 +43,7 @@ const char *c4g_co_ds402_name(c4g_co_ds402_t state)
     case C4G_CO_DS402_QUICK_STOP: t = "quick stop active"; break;
     case C4G_CO_DS402_FAULT_REACTION: t = "fault reaction active"; break;
     case C4G_CO_DS402_FAULT: t = "fault"; break;
-    case C4G_CO_DS402_UNKNOWN: t = "unknown"; break;
+    case C4G_CO_DS402_UNKNOWN:
     default: t = "unknown"; break;
     }
     return t;
@@ -86,14 +86,21 @@ c4g_status_t c4g_co_ds402_command(uint16_t statusword, c4g_co_goal_t goal, uint1
         st = C4G_ERR_ARG;
     } else if (s == C4G_CO_DS402_FAULT) {
         /* fault reset acts on the rising edge of bit 7 */
-        *cw = ((prev_cw & C4G_CO_CW_FAULT_RESET) != 0U) ? C4G_CO_CW_DISABLE_VOLTAGE
-                                                        : C4G_CO_CW_FAULT_RESET;
+        if ((prev_cw & C4G_CO_CW_FAULT_RESET) != 0U) {
+            *cw = C4G_CO_CW_DISABLE_VOLTAGE;
+        } else {
+            *cw = C4G_CO_CW_FAULT_RESET;
+        }
     } else if (goal == C4G_CO_GOAL_ENABLED) {
         *cw = cw_enable(s);
     } else if (goal == C4G_CO_GOAL_READY) {
         *cw = cw_ready(s);
     } else if (goal == C4G_CO_GOAL_QUICK_STOP) {
-        *cw = (s == C4G_CO_DS402_ENABLED) ? C4G_CO_CW_QUICK_STOP : C4G_CO_CW_DISABLE_VOLTAGE;
+        if (s == C4G_CO_DS402_ENABLED) {
+            *cw = C4G_CO_CW_QUICK_STOP;
+        } else {
+            *cw = C4G_CO_CW_DISABLE_VOLTAGE;
+        }
     } else {
         *cw = C4G_CO_CW_DISABLE_VOLTAGE;
     }
@@ -103,7 +110,7 @@ c4g_status_t c4g_co_ds402_command(uint16_t statusword, c4g_co_goal_t goal, uint1
 /* Drive side transitions on a controlword (CiA 402 device control commands). */
 static c4g_co_ds402_t apply_cmd(c4g_co_ds402_t s, uint16_t cw)
 {
-    c4g_co_ds402_t n = s;
+    c4g_co_ds402_t n;
     const bool disable_voltage = (cw & 0x02U) == 0U;
     const bool quick_stop = ((cw & 0x06U) == 0x02U);
     const bool shutdown = ((cw & 0x07U) == 0x06U);
@@ -168,7 +175,7 @@ c4g_status_t c4g_co_ds402_statusword(c4g_co_ds402_t state, uint16_t *sw)
     case C4G_CO_DS402_QUICK_STOP: v = 0x0017U; break;
     case C4G_CO_DS402_FAULT_REACTION: v = 0x001FU; break;
     case C4G_CO_DS402_FAULT: v = 0x0018U; break;
-    case C4G_CO_DS402_UNKNOWN: st = C4G_ERR_ARG; break;
+    case C4G_CO_DS402_UNKNOWN:
     default: st = C4G_ERR_ARG; break;
     }
     if (sw == NULL) {

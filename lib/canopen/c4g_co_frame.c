@@ -161,7 +161,7 @@ c4g_status_t c4g_co_ec_encode(c4g_co_frame_t *f, uint8_t node, uint8_t state, ui
         st = C4G_ERR_ARG;
     } else {
         c4g_co_frame_clear(f, (uint16_t)(C4G_CO_COB_NMT_EC + node), 1U);
-        f->data[0] = (uint8_t)(state | (uint8_t)(toggle << 7U));
+        f->data[0] = (uint8_t)((uint32_t)state | ((uint32_t)toggle << 7U));
     }
     return st;
 }
@@ -181,7 +181,7 @@ c4g_status_t c4g_co_ec_decode(const c4g_co_frame_t *f, uint8_t *node, uint8_t *s
     } else {
         *node = (uint8_t)(f->id - C4G_CO_COB_NMT_EC);
         *state = (uint8_t)(f->data[0] & 0x7FU);
-        *toggle = (uint8_t)(f->data[0] >> 7U);
+        *toggle = (uint8_t)((uint32_t)f->data[0] >> 7U);
     }
     return st;
 }
@@ -210,7 +210,7 @@ c4g_status_t c4g_co_emcy_encode(c4g_co_frame_t *f, uint8_t node, const c4g_co_em
         st = C4G_ERR_ARG;
     } else {
         uint32_t i;
-        c4g_co_frame_clear(f, (uint16_t)(C4G_CO_COB_EMCY + node), 8U);
+        c4g_co_frame_clear(f, (uint16_t)((uint16_t)C4G_CO_COB_EMCY + node), 8U);
         c4g_co_put_le(f->data, e->code, 2U);
         f->data[2] = e->reg;
         for (i = 0U; i < 5U; i++) {

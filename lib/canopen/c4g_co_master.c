@@ -33,7 +33,10 @@ static const c4g_co_pdo_map_t *pdo_map(const c4g_co_node_cfg_t *nc, uint32_t p)
 static uint32_t pdo_cob(const c4g_co_node_cfg_t *nc, uint32_t p)
 {
     const uint32_t k = p % C4G_CO_MAX_PDO;
-    const uint32_t base = (p < C4G_CO_MAX_PDO) ? C4G_CO_COB_TPDO1 : C4G_CO_COB_RPDO1;
+    uint32_t base = C4G_CO_COB_RPDO1;
+    if (p < C4G_CO_MAX_PDO) {
+        base = C4G_CO_COB_TPDO1;
+    }
     return base + (0x100U * k) + nc->node_id;
 }
 
@@ -205,7 +208,25 @@ static void net_started(c4g_co_master_t *m, uint64_t now_us)
     c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NET_STARTED, 0U, now_us);
 }
 
-static void issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_us);
+/* Starts operation op of node slot; false when its configuration has no more. */
+static bool issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+{
+    co_op_t op;
+    const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
+    const bool found = op_at(nc, m->node[slot].op, &op);
+    if (found) {
+        uint8_t buf[4];
+        m->cur = slot;
+        c4g_co_put_le(buf, op.value, 4U);
+        if (op.size == 0U) {
+            (void)c4g_co_sdo_upload(&m->sdo, nc->node_id, op.index, op.sub, now_us);
+        } else {
+            (void)c4g_co_sdo_download(&m->sdo, nc->node_id, op.index, op.sub, buf, op.size,
+                                      now_us);
+        }
+    }
+    return found;
+}
 
 /* Boot phase: the next node still waiting, or step 6. */
 static void next_node(c4g_co_master_t *m, uint64_t now_us)
@@ -217,7 +238,7 @@ static void next_node(c4g_co_master_t *m, uint64_t now_us)
     if (i < m->cfg.n_nodes) {
         m->node[i].boot = (uint8_t)C4G_CO_BOOT_CONFIG;
         m->node[i].op = 0U;
-        issue_op(m, (uint8_t)i, now_us);
+        (void)issue_op(m, (uint8_t)i, now_us); /* operation 0 (step 2) always exists */
     } else {
         net_started(m, now_us);
     }
@@ -237,26 +258,6 @@ static void node_done(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         n->boot = (uint8_t)C4G_CO_BOOT_READY;
         c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_READY, slot, now_us);
         next_node(m, now_us);
-    }
-}
-
-/* Starts operation n->op of node slot, or finishes its configuration. */
-static void issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
-{
-    co_op_t op;
-    const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
-    if (!op_at(nc, m->node[slot].op, &op)) {
-        node_done(m, slot, now_us);
-    } else {
-        uint8_t buf[4];
-        m->cur = slot;
-        c4g_co_put_le(buf, op.value, 4U);
-        if (op.size == 0U) {
-            (void)c4g_co_sdo_upload(&m->sdo, nc->node_id, op.index, op.sub, now_us);
-        } else {
-            (void)c4g_co_sdo_download(&m->sdo, nc->node_id, op.index, op.sub, buf, op.size,
-                                      now_us);
-        }
     }
 }
 
@@ -341,7 +342,9 @@ static void config_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
     }
     if (go_on) {
         n->op++;
-        issue_op(m, slot, now_us);
+        if (!issue_op(m, slot, now_us)) {
+            node_done(m, slot, now_us);
+        }
     } else {
         node_failed(m, slot, now_us);
     }
@@ -361,7 +364,7 @@ static void poll_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         n->recovering = 1U;
         n->boot = (uint8_t)C4G_CO_BOOT_CONFIG;
         n->op = 0U;
-        issue_op(m, slot, now_us);
+        (void)issue_op(m, slot, now_us); /* operation 0 (step 2) always exists */
     } else {
         n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
     }

@@ -102,24 +102,25 @@ static void send_request(c4g_co_sdo_client_t *c, uint64_t now_us)
     if (c->state == ST_UP_INIT) {
         f->data[0] = 0x40U;
     } else if (c->state == ST_UP_SEG) {
-        f->data[0] = (uint8_t)(0x60U | (uint8_t)(c->toggle << 4U));
+        f->data[0] = (uint8_t)(0x60U | ((uint32_t)c->toggle << 4U));
     } else if (c->state == ST_DN_INIT) {
         if (c->len <= 4U) {
-            f->data[0] = (uint8_t)(0x23U | (uint8_t)((4U - c->len) << 2U));
+            f->data[0] = (uint8_t)(0x23U | ((4U - (uint32_t)c->len) << 2U));
             c4g_co_put_le(&f->data[4], c4g_co_get_le(c->data, c->len), c->len);
         } else {
             f->data[0] = 0x21U;
             c4g_co_put_le(&f->data[4], c->len, 4U);
         }
     } else {
-        const uint16_t left = (uint16_t)(c->len - c->pos);
-        const uint16_t n = (left < 7U) ? left : 7U;
-        const uint8_t last = (n == left) ? 1U : 0U;
-        uint16_t i;
-        f->data[0] = (uint8_t)((uint8_t)(c->toggle << 4U) | (uint8_t)((7U - n) << 1U) | last);
-        for (i = 0U; i < n; i++) {
+        uint32_t i;
+        uint8_t last = 0U;
+        for (i = 0U; (i < 7U) && (((uint32_t)c->pos + i) < c->len); i++) {
             f->data[1U + i] = c->data[c->pos + i];
         }
+        if (((uint32_t)c->pos + i) >= c->len) {
+            last = 1U;
+        }
+        f->data[0] = (uint8_t)(((uint32_t)c->toggle << 4U) | ((7U - i) << 1U) | last);
     }
     if ((c->state == ST_UP_INIT) || (c->state == ST_DN_INIT)) {
         c4g_co_put_le(&f->data[1], c->index, 2U);
@@ -208,11 +209,14 @@ static bool same_object(const c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
 
 static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
 {
-    const uint8_t b = f->data[0];
-    const uint8_t n = (uint8_t)((b >> 2U) & 3U);
+    const uint32_t b = f->data[0];
+    const uint32_t n = (b >> 2U) & 3U;
     if ((b & 0x02U) != 0U) {
         /* expedited: the size is 4 - n if indicated, else 4 */
-        c->len = ((b & 0x01U) != 0U) ? (uint16_t)(4U - n) : 4U;
+        c->len = 4U;
+        if ((b & 0x01U) != 0U) {
+            c->len = (uint16_t)(4U - n);
+        }
         (void)memcpy(c->data, &f->data[4], c->len);
         finish(c, (uint8_t)C4G_CO_SDO_OK, 0U);
     } else {
@@ -230,11 +234,11 @@ static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint
 
 static void rx_upload_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
 {
-    const uint8_t b = f->data[0];
-    const uint16_t n = (uint16_t)(7U - ((b >> 1U) & 7U));
+    const uint32_t b = f->data[0];
+    const uint32_t n = 7U - ((b >> 1U) & 7U);
     if (((b >> 4U) & 1U) != c->toggle) {
         client_abort(c, (uint8_t)C4G_CO_SDO_PROTOCOL, C4G_CO_ABORT_TOGGLE);
-    } else if ((uint32_t)c->pos + n > c->len) {
+    } else if (((uint32_t)c->pos + n) > c->len) {
         client_abort(c, (uint8_t)C4G_CO_SDO_PROTOCOL, C4G_CO_ABORT_TYPE_HIGH);
     } else {
         (void)memcpy(&c->data[c->pos], &f->data[1], n);
@@ -252,7 +256,7 @@ static void rx_upload_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint6
 static void rx_download_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
 {
     const uint16_t left = (uint16_t)(c->len - c->pos);
-    if (((f->data[0] >> 4U) & 1U) != c->toggle) {
+    if ((((uint32_t)f->data[0] >> 4U) & 1U) != c->toggle) {
         client_abort(c, (uint8_t)C4G_CO_SDO_PROTOCOL, C4G_CO_ABORT_TOGGLE);
     } else if (left <= 7U) {
         c->pos = c->len;
@@ -282,7 +286,7 @@ static uint8_t expected_scs(uint8_t state)
 
 static void rx_answer(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
 {
-    const uint8_t scs = (uint8_t)(f->data[0] >> 5U);
+    const uint8_t scs = (uint8_t)((uint32_t)f->data[0] >> 5U);
     const bool init = (c->state == ST_UP_INIT) || (c->state == ST_DN_INIT);
     if (scs == SCS_ABORT) {
         if (same_object(c, f)) {
