@@ -96,7 +96,7 @@ c4g_status_t c4g_co_ds402_command(uint16_t statusword, c4g_co_goal_t goal, uint1
     } else if (goal == C4G_CO_GOAL_READY) {
         *cw = cw_ready(s);
     } else if (goal == C4G_CO_GOAL_QUICK_STOP) {
-        if (s == C4G_CO_DS402_ENABLED) {
+        if ((s == C4G_CO_DS402_ENABLED) || (s == C4G_CO_DS402_QUICK_STOP)) {
             *cw = C4G_CO_CW_QUICK_STOP;
         } else {
             *cw = C4G_CO_CW_DISABLE_VOLTAGE;
