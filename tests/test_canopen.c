@@ -610,7 +610,9 @@ static void test_ds402_transitions(void **state)
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_QUICK_STOP, 0x02, 0x02, &n), C4G_OK);
     assert_int_equal(n, C4G_CO_DS402_QUICK_STOP);
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_SWITCHED_ON, 0x07, 0x03, &n), C4G_OK);
-    assert_int_equal(n, C4G_CO_DS402_SWITCHED_ON); /* no command: stays */
+    assert_int_equal(n, C4G_CO_DS402_SWITCH_ON_DISABLED); /* quick stop outside enabled */
+    assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_READY, 0x06, 0x06, &n), C4G_OK);
+    assert_int_equal(n, C4G_CO_DS402_READY);
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_FAULT, 0x80, 0x80, &n), C4G_OK);
     assert_int_equal(n, C4G_CO_DS402_FAULT); /* no rising edge */
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_UNKNOWN, 0, 0, &n), C4G_ERR_ARG);

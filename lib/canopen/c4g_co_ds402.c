@@ -115,7 +115,6 @@ static c4g_co_ds402_t apply_cmd(c4g_co_ds402_t s, uint16_t cw)
     const bool quick_stop = ((cw & 0x06U) == 0x02U);
     const bool shutdown = ((cw & 0x07U) == 0x06U);
     const bool switch_on = ((cw & 0x0FU) == 0x07U);
-    const bool enable = ((cw & 0x0FU) == 0x0FU);
     if (disable_voltage) {
         n = C4G_CO_DS402_SWITCH_ON_DISABLED;
     } else if (quick_stop) {
@@ -127,12 +126,11 @@ static c4g_co_ds402_t apply_cmd(c4g_co_ds402_t s, uint16_t cw)
     } else if (switch_on) {
         n = ((s == C4G_CO_DS402_READY) || (s == C4G_CO_DS402_ENABLED)) ? C4G_CO_DS402_SWITCHED_ON
                                                                         : s;
-    } else if (enable) {
+    } else {
+        /* bits 0-3 all set: enable operation */
         n = ((s == C4G_CO_DS402_SWITCHED_ON) || (s == C4G_CO_DS402_QUICK_STOP))
                 ? C4G_CO_DS402_ENABLED
                 : s;
-    } else {
-        n = s;
     }
     if ((s == C4G_CO_DS402_SWITCH_ON_DISABLED) && (n != C4G_CO_DS402_READY)) {
         n = s; /* only shutdown leaves switch on disabled */
