@@ -365,9 +365,8 @@ static void poll_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         n->boot = (uint8_t)C4G_CO_BOOT_CONFIG;
         n->op = 0U;
         (void)issue_op(m, slot, now_us); /* operation 0 (step 2) always exists */
-    } else {
-        n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
     }
+    /* no or wrong answer: the next poll is due 2.5 s after this one began */
 }
 
 static void user_result(c4g_co_master_t *m, uint64_t now_us)
@@ -417,6 +416,7 @@ static void recovery_poll(c4g_co_master_t *m, uint64_t now_us)
         c4g_co_node_t *n = &m->node[i];
         if ((n->boot == (uint8_t)C4G_CO_BOOT_LOST) && (now_us >= n->next_us)) {
             m->cur = (uint8_t)i;
+            n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
             (void)c4g_co_sdo_upload(&m->sdo, m->cfg.node[i].node_id, C4G_CO_OBJ_DEVICE_TYPE,
                                     0U, now_us);
         }
