@@ -410,6 +410,19 @@ static void test_sdo_segmented(void **state)
     assert_int_equal(f.data[4], 0x00);
     assert_int_equal(f.data[7], 0x05);
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_ERR_STATE);
+    /* an answer after the transfer ended: counted, not trusted */
+    const uint32_t ign = c.ignored;
+    answer(&c, 0x583, (const uint8_t[]){0x00, 'y', 0, 0, 0, 0, 0, 0}, 21);
+    assert_int_equal(c.ignored, ign + 1);
+    /* an empty object: no data, no value */
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    (void)take(&c);
+    answer(&c, 0x583, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 0, 0, 0, 0}, 10);
+    (void)take(&c);
+    answer(&c, 0x583, (const uint8_t[]){0x0F, 0, 0, 0, 0, 0, 0, 0}, 20);
+    assert_int_equal(c.result, C4G_CO_SDO_OK);
+    assert_int_equal(c.len, 0);
+    assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_ERR_STATE);
     /* announced size too large for the client */
     assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
     (void)take(&c);
@@ -474,7 +487,8 @@ static void test_sdo_hostile_and_timeouts(void **state)
     assert_int_equal(c4g_co_sdo_rx(&c, &f), C4G_OK);
     answer(&c, 0x582, (const uint8_t[]){0x43, 0x17, 0x10, 0, 0, 0, 0, 0}, 2);
     answer(&c, 0x582, (const uint8_t[]){0x80, 0x17, 0x10, 0, 0, 0, 0x02, 0x06}, 2);
-    assert_int_equal(c.ignored, 4);
+    answer(&c, 0x582, (const uint8_t[]){0x43, 0x00, 0x10, 1, 0, 0, 0, 0}, 2); /* other sub */
+    assert_int_equal(c.ignored, 5);
     assert_true(c4g_co_sdo_busy(&c));
     /* timeout: two retries, each resends the request */
     assert_int_equal(c4g_co_sdo_poll(&c, 50999), C4G_OK);
@@ -613,6 +627,8 @@ static void test_ds402_transitions(void **state)
     assert_int_equal(n, C4G_CO_DS402_SWITCH_ON_DISABLED); /* quick stop outside enabled */
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_READY, 0x06, 0x06, &n), C4G_OK);
     assert_int_equal(n, C4G_CO_DS402_READY);
+    assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_QUICK_STOP, 0x02, 0x0F, &n), C4G_OK);
+    assert_int_equal(n, C4G_CO_DS402_ENABLED); /* back from quick stop */
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_FAULT, 0x80, 0x80, &n), C4G_OK);
     assert_int_equal(n, C4G_CO_DS402_FAULT); /* no rising edge */
     assert_int_equal(c4g_co_ds402_apply(C4G_CO_DS402_UNKNOWN, 0, 0, &n), C4G_ERR_ARG);

@@ -420,6 +420,58 @@ static void test_boot_silent_retries(void **state)
     assert_int_equal(r.tr.t[3] - r.tr.t[2], 20000);
 }
 
+/* Without a watchdog: no 0x1017 and no supervision (the master cannot see the node go). */
+static void test_boot_no_watchdog(void **state)
+{
+    (void)state;
+    static rig_t r;
+    memset(&r, 0, sizeof r);
+    net_cfg(&r.cfg, 1);
+    node_cfg(&r.cfg.node[0], 1, C4G_CO_WD_NONE, 0);
+    rig_init(&r);
+    start(&r);
+    expect_t e = {.n = 0};
+    ex(&e, "000#8000");
+    ex_up(&e, 1, 0x1000, 0, DEVTYPE);
+    ex_dl(&e, 1, 0x1006, 0, 4, 2000);
+    ex(&e, "000#0100");
+    assert_trace(&r.tr, 0, &e);
+    r.s[0].silent = 1;
+    run_until(&r, r.now + 1000000);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    /* a late poll: one SYNC, the next a full period later (no burst) */
+    const uint32_t syncs = r.m.count.syncs;
+    r.now += 55000;
+    c4g_co_vbus_step(&r.bus, r.now);
+    assert_int_equal(r.m.count.syncs, syncs + 1);
+    assert_int_equal(r.m.next_sync_us, r.now + 10000);
+}
+
+/* A wrong answer to a configuration SDO (bad command specifier): protocol failure. */
+static void test_boot_protocol_failure(void **state)
+{
+    (void)state;
+    static c4g_co_net_cfg_t c;
+    static c4g_co_master_t m;
+    net_cfg(&c, 1);
+    assert_int_equal(c4g_co_master_init(&m, &c), C4G_OK);
+    assert_int_equal(c4g_co_master_start(&m, 0), C4G_OK);
+    c4g_co_frame_t f;
+    bool have = true;
+    while (have) {
+        assert_int_equal(c4g_co_master_tx(&m, &f, &have), C4G_OK);
+    }
+    const uint8_t d[8] = {0x20, 0x00, 0x10, 0x00, 0, 0, 0, 0};
+    memset(&f, 0, sizeof f);
+    f.id = 0x581;
+    f.dlc = 8;
+    memcpy(f.data, d, 8);
+    assert_int_equal(c4g_co_master_rx(&m, &f), C4G_OK);
+    assert_int_equal(m.node[0].boot, C4G_CO_BOOT_FAILED);
+    assert_int_equal(m.node[0].fail_cause, C4G_CO_CAUSE_SDO_PROTOCOL);
+    assert_int_equal(m.node[0].fail_value, C4G_CO_ABORT_COMMAND);
+}
+
 /* ---- node loss and recovery */
 
 static void test_loss_and_recovery(void **state)
@@ -520,6 +572,19 @@ static void test_bootup_and_failed_recovery(void **state)
     r.s[0].abort_index = 0;
     run_until(&r, lost->t_us + 7600000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_non_null(find_ev(&r, C4G_CO_EV_NODE_RECOVERED, 1));
+    /* with the ignore flag, a node that comes back as another device type recovers too */
+    memset(&r, 0, sizeof r);
+    net_cfg(&r.cfg, 1);
+    r.cfg.node[0].flags = C4G_CO_F_RECOVERY | C4G_CO_F_IGNORE_DEVTYPE;
+    rig_init(&r);
+    start(&r);
+    run_until(&r, r.now + 100000);
+    c4g_co_slave_reset(&r.s[0]);
+    r.s[0].device_type = 0x1234;
+    run_until(&r, r.now + 2600000);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_int_equal(r.m.node[0].devtype_read, 0x1234);
     assert_non_null(find_ev(&r, C4G_CO_EV_NODE_RECOVERED, 1));
 }
 
@@ -693,15 +758,16 @@ static void test_hostile_frames(void **state)
     inject(&r, 0x181, 8, 0, big);          /* TPDO of the wrong length */
     inject(&r, 0x281, 2, 0, z);            /* TPDO2: not mapped */
     inject(&r, 0x581, 8, 0, big);          /* SDO answer with no transfer */
+    inject(&r, 0x585, 8, 0, big);          /* SDO answer of no configured node */
     assert_int_equal(r.m.count.bad_frame - before.bad_frame, 2);
     assert_int_equal(r.m.count.bad_dlc - before.bad_dlc, 3);
     assert_int_equal(r.m.count.bad_value - before.bad_value, 1);
     assert_int_equal(r.m.count.bad_toggle - before.bad_toggle, 2);
     assert_int_equal(r.m.count.foreign - before.foreign, 4);
-    assert_int_equal(r.m.count.unknown - before.unknown, 4);
+    assert_int_equal(r.m.count.unknown - before.unknown, 5);
     assert_int_equal(r.m.count.rtr - before.rtr, 1);
     assert_int_equal(r.m.count.sdo_ignored - before.sdo_ignored, 1);
-    assert_int_equal(r.m.count.rx - before.rx, 18);
+    assert_int_equal(r.m.count.rx - before.rx, 19);
     assert_int_equal(r.m.node[0].rx_val[0][1], pos_before);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_RUNNING);
@@ -718,6 +784,13 @@ static void test_hostile_frames(void **state)
     inject(&r, 0x582, 8, 0, other); /* node 2 answers while node 1's transfer runs */
     assert_int_equal(r.m.count.sdo_ignored - before.sdo_ignored, 3);
     assert_true(c4g_co_sdo_busy(&r.m.sdo));
+    /* a heartbeat stamped after the poll's time: no underflow, the node stays */
+    c4g_co_frame_t hb;
+    assert_int_equal(c4g_co_ec_encode(&hb, 1, C4G_CO_STATE_OPERATIONAL, 0), C4G_OK);
+    hb.t_us = r.now + 500000;
+    assert_int_equal(c4g_co_master_rx(&r.m, &hb), C4G_OK);
+    assert_int_equal(c4g_co_master_poll(&r.m, r.now + 1000), C4G_OK);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     /* node 2's boot-up in pre-operational after a reset: lost */
     inject(&r, 0x702, 1, 0, z);
     assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_FAILED);
@@ -782,6 +855,7 @@ static void test_config_check(void **state)
     NODE_BAD(0, c.node[0].tx[0].trans = 241);
     NODE_BAD(1, c.node[1].node_id = 1);
     NODE_BAD(2, c.node[2].station = 2);
+    NODE_BAD(2, c.node[2].node_id = 1);
     c = good;
     c.node[0].tx[0].trans = 254;
     assert_int_equal(c4g_co_net_check(&c, &bad), C4G_OK);
@@ -852,6 +926,8 @@ int main(void)
         cmocka_unit_test(test_boot_lifeguard_orders),
         cmocka_unit_test(test_boot_bypass_and_abort),
         cmocka_unit_test(test_boot_silent_retries),
+        cmocka_unit_test(test_boot_no_watchdog),
+        cmocka_unit_test(test_boot_protocol_failure),
         cmocka_unit_test(test_loss_and_recovery),
         cmocka_unit_test(test_bootup_and_failed_recovery),
         cmocka_unit_test(test_ds402_over_pdos),

@@ -24,6 +24,7 @@ void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t 
 void c4g_co_run_rx(c4g_co_master_t *m, const c4g_co_frame_t *f, c4g_co_kind_t kind,
                    uint8_t slot, uint8_t pdo);
 void c4g_co_run_poll(c4g_co_master_t *m, uint64_t now_us);
+void c4g_co_sdo_answer(c4g_co_master_t *m, const c4g_co_frame_t *f);
 void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us);
 
 #endif /* C4G_CO_INTERNAL_H */

@@ -408,6 +408,17 @@ static void sdo_check(c4g_co_master_t *m, uint64_t now_us)
     }
 }
 
+void c4g_co_sdo_answer(c4g_co_master_t *m, const c4g_co_frame_t *f)
+{
+    const uint32_t before = m->sdo.ignored;
+    const bool mine = c4g_co_sdo_busy(&m->sdo) && (m->sdo.node == (uint8_t)(f->id & 0x7FU));
+    (void)c4g_co_sdo_rx(&m->sdo, f);
+    if (!mine || (m->sdo.ignored != before)) {
+        m->count.sdo_ignored++;
+    }
+    sdo_check(m, f->t_us);
+}
+
 /* Run phase: the first lost node with the recovery flag whose poll is due. */
 static void recovery_poll(c4g_co_master_t *m, uint64_t now_us)
 {
@@ -486,7 +497,7 @@ c4g_status_t c4g_co_net_check(const c4g_co_net_cfg_t *cfg, uint8_t *bad_node)
             (cfg->sdo_timeout_us > 10000000U) || (cfg->sdo_retries > 5U)) {
             st = C4G_ERR_RANGE;
         }
-        for (i = 0U; (i < cfg->n_nodes) && (i < C4G_CO_MAX_NODES) && (st == C4G_OK); i++) {
+        for (i = 0U; (i < cfg->n_nodes) && (st == C4G_OK); i++) {
             if (!node_cfg_ok(&cfg->node[i]) || !unique(cfg, i)) {
                 *bad_node = (uint8_t)i;
                 st = C4G_ERR_ARG;
@@ -569,17 +580,7 @@ c4g_status_t c4g_co_master_rx(c4g_co_master_t *m, const c4g_co_frame_t *f)
         if (c4g_co_master_slot(m, node, &slot) != C4G_OK) {
             slot = C4G_CO_NO_SLOT;
         }
-        if ((kind == C4G_CO_K_SDO_TX) && (slot != C4G_CO_NO_SLOT)) {
-            const uint32_t before = m->sdo.ignored;
-            const bool mine = c4g_co_sdo_busy(&m->sdo) && (m->sdo.node == node);
-            (void)c4g_co_sdo_rx(&m->sdo, f);
-            if (!mine || (m->sdo.ignored != before)) {
-                m->count.sdo_ignored++;
-            }
-            sdo_check(m, f->t_us);
-        } else {
-            c4g_co_run_rx(m, f, kind, slot, pdo);
-        }
+        c4g_co_run_rx(m, f, kind, slot, pdo);
     }
     return st;
 }

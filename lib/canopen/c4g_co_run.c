@@ -98,19 +98,18 @@ void c4g_co_run_rx(c4g_co_master_t *m, const c4g_co_frame_t *f, c4g_co_kind_t ki
     if ((kind == C4G_CO_K_NMT) || (kind == C4G_CO_K_SYNC) || (kind == C4G_CO_K_RPDO) ||
         (kind == C4G_CO_K_SDO_RX)) {
         m->count.foreign++;
-    } else if ((slot == C4G_CO_NO_SLOT) || (kind == C4G_CO_K_TIME) ||
-               (kind == C4G_CO_K_UNKNOWN)) {
-        m->count.unknown++;
+    } else if (slot == C4G_CO_NO_SLOT) {
+        m->count.unknown++; /* TIME and unknown identifiers have no node either */
     } else if (f->rtr != 0U) {
         m->count.rtr++;
     } else if (kind == C4G_CO_K_NMT_EC) {
         rx_ec(m, f, slot);
     } else if (kind == C4G_CO_K_EMCY) {
         rx_emcy(m, f, slot);
-    } else if (kind == C4G_CO_K_TPDO) {
-        rx_pdo(m, f, slot, pdo);
+    } else if (kind == C4G_CO_K_SDO_TX) {
+        c4g_co_sdo_answer(m, f);
     } else {
-        m->count.sdo_ignored++; /* an SDO answer with no transfer */
+        rx_pdo(m, f, slot, pdo); /* the one kind left with a node: TPDO */
     }
 }
 

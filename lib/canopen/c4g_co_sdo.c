@@ -152,8 +152,6 @@ static c4g_status_t begin(c4g_co_sdo_client_t *c, uint8_t node, uint16_t index, 
     c4g_status_t st = C4G_OK;
     if (!c4g_co_node_ok(node)) {
         st = C4G_ERR_ARG;
-    } else if (c->state != ST_IDLE) {
-        st = C4G_ERR_STATE;
     } else {
         c->node = node;
         c->index = index;
