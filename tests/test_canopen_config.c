@@ -106,7 +106,7 @@ static void test_bad_files(void **state)
         {"[node 1]\ndevice_type = 0x1FFFFFFFF\n", "[node 1] device_type: "},
         {"[node 1]\naxis = 1\n[node 2]\nstation = 1\n", "coc0.ini:4: [node 2]: station id already used"},
         {"[node 1]\nheartbeat_ms = 300\n", "coc0.ini:2: [node 1]: consumer_ms must be greater"},
-        {"[node 1]\naxis = 1\n[node 2]\naxis = 2\n[node 1]\naxis=3\n", "coc0.ini:6:1: [node 1]: node 1 is configured twice"},
+        {"[node 1]\naxis = 1\n[node 2]\naxis = 2\n[node 1]\naxis=3\n", "coc0.ini:5:1: [node 1]: node 1 is configured twice"},
         {"[channel]\nbitrate = 500000\n", "no [node N] section"},
     };
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
