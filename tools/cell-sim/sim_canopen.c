@@ -141,6 +141,12 @@ static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *s
             platform->moving = 0;
             platform->servo = 0;
             platform->error = a == 0 ? C4G_CELL_E_SERVO1 : C4G_CELL_E_SERVO2;
+        } else if (a >= 0 && platform != NULL && e.kind == C4G_CO_EV_EMCY && e.value != 0) {
+            /* a drive fault: the drive stays in fault until SRVON asks for a reset */
+            s->fault_hold[a] = 1;
+            platform->moving = 0;
+            platform->servo = 0;
+            platform->error = a == 0 ? C4G_CELL_E_SERVO1 : C4G_CELL_E_SERVO2;
         } else if (a >= 0 && e.kind == C4G_CO_EV_NODE_RECOVERED) {
             s->lost[a] = 0;
         }
@@ -159,7 +165,8 @@ static void set_outputs(sim_co_t *s, const sim_device_t *platform)
         const double counts = platform->pos[a] * SIM_CO_COUNTS_PER_RAD;
         (void)c4g_co_master_set(&s->m, id, C4G_CO_OBJ_TARGET_POS, 0, (uint32_t)(int32_t)lround(counts));
         (void)c4g_co_master_set(&s->m, id, C4G_CO_OBJ_MODES, 0, C4G_CO_MODE_CSP);
-        if (c4g_co_master_get(&s->m, id, true, C4G_CO_OBJ_STATUSWORD, 0, &sw) == C4G_OK) {
+        if (!s->fault_hold[a] &&
+            c4g_co_master_get(&s->m, id, true, C4G_CO_OBJ_STATUSWORD, 0, &sw) == C4G_OK) {
             uint16_t cw = s->cw[a];
             if (c4g_co_ds402_command((uint16_t)sw, s->goal, s->cw[a], &cw) == C4G_OK) {
                 s->cw[a] = cw;
@@ -170,6 +177,7 @@ static void set_outputs(sim_co_t *s, const sim_device_t *platform)
 }
 
 static void shell_serve(sim_co_t *s, uint64_t now_ns);
+static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *sdo_done, int *got);
 
 void sim_co_step(sim_co_t *s, uint64_t now_ns, sim_device_t *platform)
 {
@@ -232,6 +240,7 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
             return lost_reply(s, platform, rep);
         }
         s->goal = C4G_CO_GOAL_ENABLED;
+        s->fault_hold[0] = s->fault_hold[1] = 0;
         if (wait_drives(s, platform, C4G_CO_DS402_ENABLED) != 0) {
             s->goal = C4G_CO_GOAL_READY;
             return lost_reply(s, platform, rep);
@@ -256,8 +265,12 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
             uint32_t v = 0;
             if (axis_running(s, a) &&
                 c4g_co_master_get(&s->m, axis_node(s, a), true, C4G_CO_OBJ_ACTUAL_POS, 0, &v) == C4G_OK) {
-                (void)c4g_cell_from_double((double)(int32_t)v / SIM_CO_COUNTS_PER_RAD,
-                                           C4G_CELL_UNIT_RAD, &rep->pose.v[a]);
+                const double act = (double)(int32_t)v / SIM_CO_COUNTS_PER_RAD;
+                (void)c4g_cell_from_double(act, C4G_CELL_UNIT_RAD, &rep->pose.v[a]);
+                /* moving until the drive has reached the last target (0.1 mrad) */
+                if (platform->servo && fabs(act - platform->pos[a]) > 1e-4) {
+                    rep->moving = 1;
+                }
             }
         }
         note = "status (positions from the drives' TxPDOs)";
@@ -532,6 +545,7 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
                 c4g_co_vbus_inject(&s->bus, &f[k], bus_us(s, cell_now_ns()));
             }
         }
+        handle_events(s, s->platform, NULL, NULL);
         snprintf(out, cap, "node %u: fault, EMCY 0x%04lX sent", sl->node_id, (unsigned long)code);
     } else {
         const long idx = nt > 0 ? strtol(tok[0], NULL, 0) : 0;

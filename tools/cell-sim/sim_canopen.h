@@ -28,6 +28,7 @@ typedef struct sim_co {
     c4g_co_goal_t goal;
     int axis_slot[2];          /* master slots of axes A and B */
     int lost[2];
+    int fault_hold[2];         /* a drive fault (EMCY): no fault reset until SRVON */
     int listen_fd, shell_fd;   /* diagnostic shell */
     char shell_in[512];
     size_t shell_len;

@@ -32,7 +32,7 @@ void c4g_co_slave_init(c4g_co_slave_t *s, uint8_t node_id, uint32_t device_type)
     memset(s, 0, sizeof *s);
     s->node_id = node_id;
     s->device_type = device_type;
-    s->max_step = 50000;
+    s->max_step = 200000;
     s->name_len = (uint8_t)strlen(default_name);
     memcpy(s->name, default_name, s->name_len);
     defaults(s);
