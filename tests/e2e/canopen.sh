@@ -27,6 +27,21 @@ for c in ("CO_WSDIAGNO 1", "CO_WSDIAGNO 2", "CO_STATE_MAC 1", "CO_STATE_MAC 2"):
 PY
 }
 [ $fail -eq 0 ] || check_state 23712
+# the same commands from cell-cli (the shell is on the platform port + 10)
+cli() { "$bin/cell-cli" -p 23701 canopen "$@"; }
+out=$(cli CO_RNMT 1); [ "$out" = "node 1: NMT stopped (0x04), running" ] || [ "$out" = "node 1: NMT operational (0x05), running" ] &&
+  echo "PASS: cell-cli canopen CO_RNMT: $out" || { echo "FAIL: cell-cli canopen CO_RNMT: $out"; fail=1; }
+out=$(cli CO_ROBJ 2 0x1000 0); [ "$out" = "node 2 0x1000:00 = 0x00020192 (131474)" ] &&
+  echo "PASS: cell-cli canopen CO_ROBJ" || { echo "FAIL: cell-cli canopen CO_ROBJ: $out"; fail=1; }
+out=$(cli CO_STATE_MAC 2); case $out in "node 2: DS402 "*) echo "PASS: cell-cli canopen CO_STATE_MAC: $out" ;; *) echo "FAIL: CO_STATE_MAC: $out"; fail=1 ;; esac
+cli CO_ROBJ 2 0x2000 0 >"$dir/o.txt" 2>"$dir/e.txt"; rc=$?
+[ $rc -eq 1 ] && [ ! -s "$dir/o.txt" ] && grep -q "0x06020000 (object does not exist" "$dir/e.txt" &&
+  echo "PASS: cell-cli canopen: an SDO abort exits 1 with the abort named on stderr" || { echo "FAIL: abort rc=$rc $(cat "$dir/e.txt")"; fail=1; }
+cli >/dev/null 2>"$dir/e.txt"; rc=$?
+[ $rc -eq 2 ] && grep -q "want a command" "$dir/e.txt" && echo "PASS: cell-cli canopen without a command exits 2" || { echo "FAIL: usage rc=$rc"; fail=1; }
+"$bin/cell-cli" -p 23801 canopen CO_RNMT 1 2>"$dir/e.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "cannot connect to the CANopen shell at 127.0.0.1:23812" "$dir/e.txt" &&
+  echo "PASS: cell-cli canopen without a shell exits 1" || { echo "FAIL: no shell rc=$rc"; fail=1; }
 kill $pids 2>/dev/null; wait 2>/dev/null; pids=''
 # pick-and-place and the other devices still run with the platform on the bus
 "$bin/cell-sim" -p 23741 -s 20 --canopen fixtures/canopen/platform.ini >"$dir/sim3.log" 2>&1 & pids="$pids $!"

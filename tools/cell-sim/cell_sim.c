@@ -537,7 +537,7 @@ static const cli_opt_t k_opts[] = {
      sizeof g_opt.can_log, 0, 0, NULL, 0},
     {"can-pcap", 0, CLI_STRING, "FILE", "pcap (SocketCAN link type) of the CANopen bus",
      g_opt.can_pcap, sizeof g_opt.can_pcap, 0, 0, NULL, 0},
-    {"canopen-port", 0, CLI_UINT, "N", "CANopen diagnostic shell port (CO_RNMT, ...; default none)",
+    {"canopen-port", 0, CLI_UINT, "N", "CANopen diagnostic shell port (default: platform port + 10)",
      &g_opt.canopen_port, 0, 1, 65535, NULL, 0},
     {"json", 'j', CLI_FLAG, NULL, "log as JSON lines", &g_json, 0, 0, 0, NULL, 0},
     {"verbose", 'v', CLI_CALL, NULL, "log every request and reply", NULL, 0, 0, 0, on_verbosity,
@@ -550,8 +550,9 @@ static const char *const k_examples[] = {
     "cell-sim -p 21001 -s 10 -v                test ports, 10x faster motion",
     "cell-sim -w robot:z:-20:80 --home robot:0,0,50,0",
     "cell-sim --servo-fault platform:2         platform SRVON replies ER+00003",
-    "cell-sim --canopen fixtures/canopen/platform.ini --canopen-port 2012 --can-pcap bus.pcap\n"
-    "                                          platform drives on a virtual CANopen bus",
+    "cell-sim --canopen fixtures/canopen/platform.ini --can-pcap bus.pcap\n"
+    "                                          platform drives on a virtual CANopen bus,\n"
+    "                                          diagnostic shell on 2012 (cell-cli canopen ...)",
     NULL};
 
 static const cli_spec_t k_spec = {
@@ -845,6 +846,9 @@ int main(int argc, char **argv)
     }
     if (g_opt.canopen[0] != '\0') {
         char err[512];
+        if (g_opt.canopen_port == 0) {
+            g_opt.canopen_port = g_opt.ports[CELL_DEV_PLATFORM] + 10U;
+        }
         if (sim_co_open(&g_co, g_opt.canopen, g_opt.can_if[0] ? g_opt.can_if : NULL,
                         g_opt.can_log[0] ? g_opt.can_log : NULL,
                         g_opt.can_pcap[0] ? g_opt.can_pcap : NULL, g_opt.bind,
@@ -855,9 +859,9 @@ int main(int argc, char **argv)
         }
         g_co.verbose = g_verbose >= 2;
         g_co_on = 1;
-        logf_(1, "platform", "-", "canopen", "CANopen channel %u: %u nodes on %s%s%s",
-              g_co.cfg.net.channel, g_co.cfg.net.n_nodes, g_opt.can_if[0] ? g_opt.can_if : "the virtual bus",
-              g_opt.canopen_port ? ", shell on port " : "", g_opt.canopen_port ? "(see --canopen-port)" : "");
+        logf_(1, "platform", "-", "canopen", "CANopen channel %u: %u nodes on %s, shell on port %u",
+              g_co.cfg.net.channel, g_co.cfg.net.n_nodes,
+              g_opt.can_if[0] ? g_opt.can_if : "the virtual bus", g_opt.canopen_port);
     }
     server_loop(&srv, devs);
     if (g_co_on) {
