@@ -119,6 +119,10 @@ check("S_NMT stop", sh.req("S_NMT 1 stop"), "NMT stop sent to node 1")
 check("CO_RNMT shows stopped", wait_for(lambda: (lambda r: r if "stopped" in r else None)(sh.req("CO_RNMT 1")), 2),
       "node 1: NMT stopped (0x04), running")
 check("S_NMT start", sh.req("S_NMT 0 start"), "NMT start sent to all nodes 0")
+check("SIM_ABORT on a chosen object", sh.req("SIM_ABORT 1 0x6060 0 0x06090030"),
+      "node 1: SDO abort 0x06090030 on 0x6060:00")
+check("CO_ROBJ: the injected abort", sh.req("CO_ROBJ 1 0x6060 0"),
+      "ERR node 1 0x6060:00: SDO abort 0x06090030 (invalid value for parameter)")
 check("unknown shell command", sh.req("CO_FOO 1"), "ERR unknown command 'CO_FOO' (HELP lists them)")
 check("bad node", sh.req("CO_RNMT 9"), "ERR node: want the id of a configured node")
 sys.exit(1 if fails else 0)

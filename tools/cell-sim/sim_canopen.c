@@ -533,6 +533,9 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
     } else if (strcasecmp(cmd, "SIM_MUTE") == 0) {
         sl->no_heartbeat = 1;
         snprintf(out, cap, "node %u: heartbeat and guarding replies stopped", sl->node_id);
+    } else if (strcasecmp(cmd, "SIM_DEVTYPE") == 0) {
+        sl->device_type = nt > 0 ? (uint32_t)strtoul(tok[0], NULL, 0) : 0;
+        snprintf(out, cap, "node %u: device type 0x%08X", sl->node_id, sl->device_type);
     } else if (strcasecmp(cmd, "SIM_FAULT") == 0) {
         c4g_co_frame_t f[C4G_CO_SLAVE_OUT];
         int n = 0;
@@ -594,7 +597,7 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
         snprintf(out, cap, "CO_RNMT N | CO_ROBJ N IDX SUB | CO_WOBJ N IDX SUB SIZE VALUE | CO_SDO N R|W ... | "
                  "CO_RRPDO N PDO EL | CO_RTPDO N PDO EL | CO_STATE_MAC N | CO_CHDIAGNO | CO_WSDIAGNO N | "
                  "CO_REMCY N | S_NMT N CMD | SIM_UNPLUG N | SIM_PLUG N | SIM_MUTE N | SIM_FAULT N CODE | "
-                 "SIM_ABORT N IDX SUB CODE");
+                 "SIM_ABORT N IDX SUB CODE | SIM_DEVTYPE N VALUE");
         return;
     }
     if (parse_node(s, nt > 1 ? tok[1] : NULL, &id, &slot, out, cap) != 0) {
@@ -626,7 +629,7 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
     } else if (strncasecmp(cmd, "SIM_", 4) == 0 &&
                (strcasecmp(cmd, "SIM_UNPLUG") == 0 || strcasecmp(cmd, "SIM_PLUG") == 0 ||
                 strcasecmp(cmd, "SIM_MUTE") == 0 || strcasecmp(cmd, "SIM_FAULT") == 0 ||
-                strcasecmp(cmd, "SIM_ABORT") == 0)) {
+                strcasecmp(cmd, "SIM_ABORT") == 0 || strcasecmp(cmd, "SIM_DEVTYPE") == 0)) {
         sh_sim(s, cmd, slot, tok + 2, nt - 2, out, cap);
     } else {
         snprintf(out, cap, "ERR unknown command '%.40s' (HELP lists them)", cmd);
