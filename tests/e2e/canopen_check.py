@@ -123,6 +123,8 @@ check("SIM_ABORT on a chosen object", sh.req("SIM_ABORT 1 0x6060 0 0x06090030"),
       "node 1: SDO abort 0x06090030 on 0x6060:00")
 check("CO_ROBJ: the injected abort", sh.req("CO_ROBJ 1 0x6060 0"),
       "ERR node 1 0x6060:00: SDO abort 0x06090030 (invalid value for parameter)")
+check("CO_EMCYINFO", sh.req("CO_EMCYINFO"), "EMCY: node 1: 1, last 0x7305; node 2: 0, last 0x0000;")
+check("D_NMT is CO_RNMT", sh.req("D_NMT 2"), lambda r: r.startswith("node 2: NMT operational"))
 check("unknown shell command", sh.req("CO_FOO 1"), "ERR unknown command 'CO_FOO' (HELP lists them)")
 check("bad node", sh.req("CO_RNMT 9"), "ERR node: want the id of a configured node")
 sys.exit(1 if fails else 0)

@@ -577,7 +577,27 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
         snprintf(out, cap, "ERR empty command");
         return;
     }
+    /* the documentation's device commands and synonyms */
+    static const char *const alias[][2] = {
+        {"CO_WNMT", "CO_RNMT"}, {"D_NMT", "CO_RNMT"}, {"D_EMCY", "CO_REMCY"},
+        {"D_RPDO", "CO_RRPDO"}, {"D_TPDO", "CO_RTPDO"}, {"D_CO_WSDIAGNO", "CO_WSDIAGNO"},
+        {"D_CO_CHINFO", "CO_CHDIAGNO"}};
     const char *cmd = tok[0];
+    for (size_t i = 0; i < sizeof alias / sizeof alias[0]; i++) {
+        if (strcasecmp(cmd, alias[i][0]) == 0) {
+            cmd = alias[i][1];
+        }
+    }
+    if (strcasecmp(cmd, "CO_EMCYINFO") == 0) {
+        int o = snprintf(out, cap, "EMCY:");
+        for (int i = 0; i < s->cfg.net.n_nodes && o > 0 && (size_t)o < cap; i++) {
+            const c4g_co_node_t *n = &s->m.node[i];
+            const c4g_co_emcy_t *last = &n->emcy[(n->emcy_head + C4G_CO_EMCY_DEPTH - 1) % C4G_CO_EMCY_DEPTH];
+            o += snprintf(out + o, cap - (size_t)o, " node %u: %u, last 0x%04X;", s->cfg.net.node[i].node_id,
+                          n->emcy_n, n->emcy_n ? last->code : 0);
+        }
+        return;
+    }
     if (strcasecmp(cmd, "CO_CHDIAGNO") == 0) {
         const c4g_co_counters_t *c = &s->m.count;
         snprintf(out, cap, "channel %u: %u nodes, %s, rx %u tx %u sync %u, bad frame %u, bad dlc %u, "
