@@ -561,6 +561,32 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
     }
 }
 
+/* The documentation's device commands and synonyms. */
+static const char *resolve_alias(const char *cmd)
+{
+    static const char *const alias[][2] = {
+        {"CO_WNMT", "CO_RNMT"}, {"D_NMT", "CO_RNMT"}, {"D_EMCY", "CO_REMCY"},
+        {"D_RPDO", "CO_RRPDO"}, {"D_TPDO", "CO_RTPDO"}, {"D_CO_WSDIAGNO", "CO_WSDIAGNO"},
+        {"D_CO_CHINFO", "CO_CHDIAGNO"}};
+    for (size_t i = 0; i < sizeof alias / sizeof alias[0]; i++) {
+        if (strcasecmp(cmd, alias[i][0]) == 0) {
+            return alias[i][1];
+        }
+    }
+    return cmd;
+}
+
+static void sh_emcyinfo(sim_co_t *s, char *out, size_t cap)
+{
+    int o = snprintf(out, cap, "EMCY:");
+    for (int i = 0; i < s->cfg.net.n_nodes && o > 0 && (size_t)o < cap; i++) {
+        const c4g_co_node_t *n = &s->m.node[i];
+        const c4g_co_emcy_t *last = &n->emcy[(n->emcy_head + C4G_CO_EMCY_DEPTH - 1) % C4G_CO_EMCY_DEPTH];
+        o += snprintf(out + o, cap - (size_t)o, " node %u: %u, last 0x%04X;", s->cfg.net.node[i].node_id,
+                      n->emcy_n, n->emcy_n ? last->code : 0);
+    }
+}
+
 void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, size_t cap)
 {
     char buf[256];
@@ -577,25 +603,9 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
         snprintf(out, cap, "ERR empty command");
         return;
     }
-    /* the documentation's device commands and synonyms */
-    static const char *const alias[][2] = {
-        {"CO_WNMT", "CO_RNMT"}, {"D_NMT", "CO_RNMT"}, {"D_EMCY", "CO_REMCY"},
-        {"D_RPDO", "CO_RRPDO"}, {"D_TPDO", "CO_RTPDO"}, {"D_CO_WSDIAGNO", "CO_WSDIAGNO"},
-        {"D_CO_CHINFO", "CO_CHDIAGNO"}};
-    const char *cmd = tok[0];
-    for (size_t i = 0; i < sizeof alias / sizeof alias[0]; i++) {
-        if (strcasecmp(cmd, alias[i][0]) == 0) {
-            cmd = alias[i][1];
-        }
-    }
+    const char *cmd = resolve_alias(tok[0]);
     if (strcasecmp(cmd, "CO_EMCYINFO") == 0) {
-        int o = snprintf(out, cap, "EMCY:");
-        for (int i = 0; i < s->cfg.net.n_nodes && o > 0 && (size_t)o < cap; i++) {
-            const c4g_co_node_t *n = &s->m.node[i];
-            const c4g_co_emcy_t *last = &n->emcy[(n->emcy_head + C4G_CO_EMCY_DEPTH - 1) % C4G_CO_EMCY_DEPTH];
-            o += snprintf(out + o, cap - (size_t)o, " node %u: %u, last 0x%04X;", s->cfg.net.node[i].node_id,
-                          n->emcy_n, n->emcy_n ? last->code : 0);
-        }
+        sh_emcyinfo(s, out, cap);
         return;
     }
     if (strcasecmp(cmd, "CO_CHDIAGNO") == 0) {
