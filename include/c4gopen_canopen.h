@@ -441,7 +441,7 @@ typedef struct c4g_co_node {
     uint8_t fail_cause;         /**< c4g_co_cause_t */
     uint8_t bypassed;           /**< steps that failed but were bypassed (bit per step) */
     uint8_t nmt;                /**< last NMT state reported, C4G_CO_STATE_UNKNOWN */
-    uint8_t toggle;             /**< next expected guard toggle */
+    uint8_t toggle;             /**< next expected guard toggle (2: the next reply sets it) */
     uint8_t recovering;         /**< 1 while a recovery runs */
     uint8_t emcy_n;             /**< entries in the history (<= depth) */
     uint8_t emcy_head;          /**< next slot */

@@ -10,7 +10,9 @@ void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
     n->boot = (uint8_t)C4G_CO_BOOT_RUNNING;
     n->last_seen_us = now_us;
     n->next_us = now_us;
-    n->toggle = 0U;
+    /* the first guard reply sets the toggle: a node the recovery did not reset goes on
+       with its own */
+    n->toggle = 2U;
 }
 
 void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_us)
@@ -36,6 +38,7 @@ static void rx_ec(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
     uint8_t toggle = 0U;
     const c4g_status_t st = c4g_co_ec_decode(f, &node, &state, &toggle);
     const bool lg = m->cfg.node[slot].watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD;
+    const uint8_t want = lg ? n->toggle : 0U;
     if (st == C4G_ERR_LENGTH) {
         m->count.bad_dlc++;
     } else if (st != C4G_OK) {
@@ -45,13 +48,13 @@ static void rx_ec(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
         if (n->boot == (uint8_t)C4G_CO_BOOT_RUNNING) {
             c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_BOOTUP, f->t_us);
         }
-    } else if (toggle != (lg ? n->toggle : 0U)) {
+    } else if ((toggle != want) && (want <= 1U)) {
         m->count.bad_toggle++;
     } else {
         n->nmt = state;
         n->last_seen_us = f->t_us;
         if (lg) {
-            n->toggle ^= 1U;
+            n->toggle = (uint8_t)(toggle ^ 1U);
         }
     }
 }
