@@ -118,7 +118,7 @@ static void test_bad_files(void **state)
             fail_msg("row %zu: '%s' does not contain '%s'", i, err, rows[i].want);
         }
     }
-    /* 17 nodes: the seed's limit is 16 per channel */
+    /* 17 nodes: the Robox master drives at most 16 per channel */
     char big[2048] = "";
     for (int i = 1; i <= 17; i++) {
         char s[64];

@@ -98,7 +98,7 @@ static uint32_t wd_ops(const c4g_co_node_cfg_t *nc)
 }
 
 /* Step 4, operation i: heartbeat 0x1017; lifeguard 0x100C, 0x100D, 0x1017 = 0, or with
-   bit 30 of the device type 0x1017 = 0 first (the seed's note on RTE 34.30.2). */
+   bit 30 of the device type 0x1017 = 0 first (the Robox documentation's note on RTE 34.30.2). */
 static void wd_op(const c4g_co_node_cfg_t *nc, uint32_t i, co_op_t *op)
 {
     const uint8_t st = (uint8_t)C4G_CO_STEP_WATCHDOG;

@@ -22,7 +22,7 @@ typedef struct c4g_co_config {
  * checked (c4g_co_net_check) and an error names the node's section line. 0 or -1. */
 int c4g_co_config_parse(c4g_co_config_t *c, tf_file_t *f, char *err, size_t errlen);
 int c4g_co_config_load(c4g_co_config_t *c, const char *path, char *err, size_t errlen);
-/* The mapping entry of a variable kind of the seed's lists (or "0xIIII:SS/BITS"). */
+/* The mapping entry of a variable kind of the Robox documentation's lists (or "0xIIII:SS/BITS"). */
 int c4g_co_config_kind(const char *name, int rx, uint32_t *entry);
 
 #endif /* C4G_CO_CONFIG_H */
