@@ -16,6 +16,7 @@
  *                      filter, kinematics, soft control switching, monitoring
  *   c4gopen_loop.h     the PC-side loop object: session + control engine in one
  *   c4gopen_cell.h     the cell line protocol (usable alone: needs only the base)
+ *   c4gopen_canopen.h  CANopen master and DS402 drives (usable alone: needs only the base)
  *
  *   A PC-side real-time loop (c4gopen_loop.h):
  *     n = recvfrom(...);
@@ -41,5 +42,6 @@
 #include "c4gopen_control.h"
 #include "c4gopen_loop.h"
 #include "c4gopen_cell.h"
+#include "c4gopen_canopen.h"
 
 #endif /* C4GOPEN_H */

@@ -26,6 +26,7 @@ python3:python3
 ss:iproute2
 /usr/include/histedit.h:libedit-dev
 /usr/include/ini.h:libinih-dev
+/usr/include/linux/can/raw.h:linux-libc-dev
 /usr/include/jansson.h:libjansson-dev
 gnuplot:gnuplot-nox
 tcpdump:tcpdump

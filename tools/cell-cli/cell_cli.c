@@ -16,6 +16,7 @@
 #include "c4g_cli.h"
 #include "c4g_textfile.h"
 #include "cell_common.h"
+#include "cli_canopen.h"
 #include "cli_cmd.h"
 #include "cli_config.h"
 
@@ -774,6 +775,9 @@ int main(int argc, char **argv)
             return EXIT_USAGE;
         }
         rc = run_script_file(g_opt.script);
+    } else if (first < argc && strcmp(argv[first], "canopen") == 0) {
+        rc = cli_canopen_run(g_conn[CELL_DEV_PLATFORM].host, g_conn[CELL_DEV_PLATFORM].port + 10U,
+                             argc - first - 1, argv + first + 1, g_reply_ms);
     } else if (first < argc) {
         rc = run_oneshot(argc - first, argv + first);
     } else if (isatty(STDIN_FILENO)) {

@@ -24,6 +24,7 @@
 #include "c4g_textfile.h"
 #include "cell_common.h"
 #include "sim_device.h"
+#include "sim_canopen.h"
 
 #define OUT_CAP 4096        /* per-client reply buffer; reading pauses when it fills */
 /* Error lines one client's input may cause per second; the rest are counted and summed
@@ -54,6 +55,8 @@ typedef struct client {
 static volatile sig_atomic_t g_stop;
 static unsigned long g_sup_clients; /* clients with suppressed lines not yet summed up */
 static int g_json;
+static sim_co_t g_co;       /* the platform's CANopen bus, when --canopen is given */
+static int g_co_on;
 static int g_verbose = 1; /* 0 quiet (errors only), 1 normal, 2 every request */
 
 static void on_signal(int sig)
@@ -228,7 +231,9 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         queue_er(c, code);
         return;
     }
-    const char *note = sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
+    const char *note = (g_co_on && c->dev == CELL_DEV_PLATFORM)
+                           ? sim_co_exec(&g_co, &devs[c->dev], &in, cell_now_ns(), &rep, &close_after)
+                           : sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
     if (c4g_cell_reply_encode(&rep, out, sizeof out, &n) != C4G_OK) {
         rep.kind = C4G_CELL_REPLY_ER;
         rep.error = C4G_CELL_E_GENERIC;
@@ -349,6 +354,11 @@ typedef struct sim_opts {
     double home[CELL_DEVICES][4];
     int home_set[CELL_DEVICES];
     int fault[CELL_DEVICES];
+    char canopen[512];      /* the platform on CANopen: channel INI (docs/canopen.md) */
+    char can_if[32];        /* SocketCAN interface; empty: in-process virtual bus */
+    char can_log[512];      /* candump log of the bus */
+    char can_pcap[512];     /* pcap (DLT_CAN_SOCKETCAN) of the bus */
+    unsigned canopen_port;  /* CANopen diagnostic shell port, 0: none */
 } sim_opts_t;
 
 static sim_opts_t g_opt = {.bind = "127.0.0.1", .speed = 1.0, .cameras = 2, .max_clients = 2048};
@@ -519,6 +529,16 @@ static const cli_opt_t k_opts[] = {
      &g_opt.max_clients, 0, 1, 100000, NULL, 0},
     {"idle-timeout", 0, CLI_UINT, "SEC", "close connections silent that long (default 0: never)",
      &g_opt.idle_s, 0, 0, 86400, NULL, 0},
+    {"canopen", 0, CLI_STRING, "FILE", "platform drives on a CANopen bus configured by FILE (INI)",
+     g_opt.canopen, sizeof g_opt.canopen, 0, 0, NULL, 0},
+    {"can-if", 0, CLI_STRING, "IF", "SocketCAN interface for --canopen (default: virtual bus)",
+     g_opt.can_if, sizeof g_opt.can_if, 0, 0, NULL, 0},
+    {"can-log", 0, CLI_STRING, "FILE", "candump log of the CANopen bus", g_opt.can_log,
+     sizeof g_opt.can_log, 0, 0, NULL, 0},
+    {"can-pcap", 0, CLI_STRING, "FILE", "pcap (SocketCAN link type) of the CANopen bus",
+     g_opt.can_pcap, sizeof g_opt.can_pcap, 0, 0, NULL, 0},
+    {"canopen-port", 0, CLI_UINT, "N", "CANopen diagnostic shell port (default: platform port + 10)",
+     &g_opt.canopen_port, 0, 1, 65535, NULL, 0},
     {"json", 'j', CLI_FLAG, NULL, "log as JSON lines", &g_json, 0, 0, 0, NULL, 0},
     {"verbose", 'v', CLI_CALL, NULL, "log every request and reply", NULL, 0, 0, 0, on_verbosity,
      2},
@@ -530,6 +550,9 @@ static const char *const k_examples[] = {
     "cell-sim -p 21001 -s 10 -v                test ports, 10x faster motion",
     "cell-sim -w robot:z:-20:80 --home robot:0,0,50,0",
     "cell-sim --servo-fault platform:2         platform SRVON replies ER+00003",
+    "cell-sim --canopen fixtures/canopen/platform.ini --can-pcap bus.pcap\n"
+    "                                          platform drives on a virtual CANopen bus,\n"
+    "                                          diagnostic shell on 2012 (cell-cli canopen ...)",
     NULL};
 
 static const cli_spec_t k_spec = {
@@ -775,7 +798,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
 {
     while (!g_stop) {
         nfds_t n = poll_set(s);
-        int rc = poll(s->pf, n, 1000);
+        int rc = poll(s->pf, n, g_co_on ? 2 : 1000);
         uint64_t now;
         if (rc < 0) {
             if (errno == EINTR) {
@@ -796,6 +819,9 @@ static void server_loop(server_t *s, sim_device_t *devs)
             }
         }
         housekeeping(s);
+        if (g_co_on) {
+            sim_co_step(&g_co, cell_now_ns(), &devs[CELL_DEV_PLATFORM]);
+        }
     }
 }
 
@@ -818,7 +844,29 @@ int main(int argc, char **argv)
     if (server_open(&srv) != 0) {
         return EXIT_SOCKET;
     }
+    if (g_opt.canopen[0] != '\0') {
+        char err[512];
+        if (g_opt.canopen_port == 0) {
+            g_opt.canopen_port = g_opt.ports[CELL_DEV_PLATFORM] + 10U;
+        }
+        if (sim_co_open(&g_co, g_opt.canopen, g_opt.can_if[0] ? g_opt.can_if : NULL,
+                        g_opt.can_log[0] ? g_opt.can_log : NULL,
+                        g_opt.can_pcap[0] ? g_opt.can_pcap : NULL, g_opt.bind,
+                        g_opt.canopen_port, err, sizeof err) != 0) {
+            fprintf(stderr, "cell-sim: %s\n", err);
+            server_close(&srv);
+            return EXIT_USAGE;
+        }
+        g_co.verbose = g_verbose >= 2;
+        g_co_on = 1;
+        logf_(1, "platform", "-", "canopen", "CANopen channel %u: %u nodes on %s, shell on port %u",
+              g_co.cfg.net.channel, g_co.cfg.net.n_nodes,
+              g_opt.can_if[0] ? g_opt.can_if : "the virtual bus", g_opt.canopen_port);
+    }
     server_loop(&srv, devs);
+    if (g_co_on) {
+        sim_co_close(&g_co);
+    }
     server_close(&srv);
     logf_(1, "-", "-", "exit", "stopped by signal");
     return EXIT_OK;

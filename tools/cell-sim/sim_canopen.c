@@ -1,0 +1,712 @@
+/* SPDX-License-Identifier: MIT */
+/* cell-sim: the orientation platform on a CANopen bus (see sim_canopen.h). */
+#include "sim_canopen.h"
+#include "cell_common.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+static uint64_t bus_us(const sim_co_t *s, uint64_t now_ns)
+{
+    return (now_ns - s->t0_ns) / 1000u;
+}
+
+static uint64_t wall_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+}
+
+static int shell_listen(const char *addr, unsigned port)
+{
+    struct sockaddr_in sa;
+    int one = 1;
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) {
+        return -1;
+    }
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)port);
+    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1 ||
+        bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 4) != 0) {
+        int e = errno;
+        close(fd);
+        errno = e;
+        return -1;
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+    return fd;
+}
+
+/* ---- the bus: virtual, or two SocketCAN sockets (master side, node side) */
+
+static void socketcan_step(sim_co_t *s, uint64_t t)
+{
+    c4g_co_frame_t f, out[C4G_CO_SLAVE_OUT];
+    bool have = true;
+    int n = 0;
+    for (int i = 0; i < s->cfg.net.n_nodes; i++) {
+        c4g_co_slave_poll(&s->slave[i], t, out, &n);
+        for (int k = 0; k < n; k++) {
+            (void)c4g_co_socketcan_send(s->fd_nodes, &out[k]);
+        }
+    }
+    (void)c4g_co_master_poll(&s->m, t);
+    for (int round = 0; round < 64; round++) {
+        int moved = 0;
+        while (c4g_co_master_tx(&s->m, &f, &have) == C4G_OK && have) {
+            f.t_us = t;
+            c4g_co_buslog_write(&s->log, &f);
+            (void)c4g_co_socketcan_send(s->fd_master, &f);
+            moved = 1;
+        }
+        while (c4g_co_socketcan_recv(s->fd_nodes, &f, t) == 1) {
+            for (int i = 0; i < s->cfg.net.n_nodes; i++) {
+                c4g_co_slave_rx(&s->slave[i], &f, out, &n);
+                for (int k = 0; k < n; k++) {
+                    (void)c4g_co_socketcan_send(s->fd_nodes, &out[k]);
+                }
+            }
+            moved = 1;
+        }
+        while (c4g_co_socketcan_recv(s->fd_master, &f, t) == 1) {
+            c4g_co_buslog_write(&s->log, &f);
+            (void)c4g_co_master_rx(&s->m, &f);
+            moved = 1;
+        }
+        if (!moved) {
+            break;
+        }
+    }
+}
+
+static void bus_step(sim_co_t *s, uint64_t now_ns)
+{
+    const uint64_t t = bus_us(s, now_ns);
+    if (s->fd_master >= 0) {
+        socketcan_step(s, t);
+    } else {
+        c4g_co_vbus_step(&s->bus, t);
+    }
+}
+
+static int axis_running(const sim_co_t *s, int a)
+{
+    return s->axis_slot[a] >= 0 && s->m.node[s->axis_slot[a]].boot == C4G_CO_BOOT_RUNNING;
+}
+
+static uint8_t axis_node(const sim_co_t *s, int a)
+{
+    return s->cfg.net.node[s->axis_slot[a]].node_id;
+}
+
+/* Master events: lost and recovered drives; a user SDO's end goes to *sdo_done. */
+static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *sdo_done, int *got)
+{
+    c4g_co_event_t e;
+    bool have = true;
+    while (c4g_co_master_event(&s->m, &e, &have) == C4G_OK && have) {
+        int a = -1;
+        if (e.kind == C4G_CO_EV_SDO_DONE && sdo_done != NULL) {
+            *sdo_done = e;
+            *got = 1;
+            continue;
+        }
+        for (int k = 0; k < 2; k++) {
+            if (s->axis_slot[k] >= 0 && e.node == axis_node(s, k)) {
+                a = k;
+            }
+        }
+        if (s->verbose) {
+            fprintf(stderr, "cell-sim: canopen: event %d node %u cause %u value 0x%08X\n", e.kind,
+                    e.node, e.cause, e.value);
+        }
+        if (a >= 0 && platform != NULL &&
+            (e.kind == C4G_CO_EV_NODE_LOST || e.kind == C4G_CO_EV_NODE_FAILED)) {
+            /* a lost drive: the motion stops and the platform reports servo motor N error */
+            s->lost[a] = 1;
+            platform->moving = 0;
+            platform->servo = 0;
+            platform->error = a == 0 ? C4G_CELL_E_SERVO1 : C4G_CELL_E_SERVO2;
+        } else if (a >= 0 && platform != NULL && e.kind == C4G_CO_EV_EMCY && e.value != 0) {
+            /* a drive fault: the drive stays in fault until SRVON asks for a reset */
+            s->fault_hold[a] = 1;
+            platform->moving = 0;
+            platform->servo = 0;
+            platform->error = a == 0 ? C4G_CELL_E_SERVO1 : C4G_CELL_E_SERVO2;
+        } else if (a >= 0 && e.kind == C4G_CO_EV_NODE_RECOVERED) {
+            s->lost[a] = 0;
+        }
+    }
+}
+
+/* Targets (ideal positions) and controlwords of both axes into the RxPDOs. */
+static void set_outputs(sim_co_t *s, const sim_device_t *platform)
+{
+    for (int a = 0; a < 2; a++) {
+        uint32_t sw = 0;
+        if (!axis_running(s, a)) {
+            continue;
+        }
+        const uint8_t id = axis_node(s, a);
+        const double counts = platform->pos[a] * SIM_CO_COUNTS_PER_RAD;
+        (void)c4g_co_master_set(&s->m, id, C4G_CO_OBJ_TARGET_POS, 0, (uint32_t)(int32_t)lround(counts));
+        (void)c4g_co_master_set(&s->m, id, C4G_CO_OBJ_MODES, 0, C4G_CO_MODE_CSP);
+        if (!s->fault_hold[a] &&
+            c4g_co_master_get(&s->m, id, true, C4G_CO_OBJ_STATUSWORD, 0, &sw) == C4G_OK) {
+            uint16_t cw = s->cw[a];
+            if (c4g_co_ds402_command((uint16_t)sw, s->goal, s->cw[a], &cw) == C4G_OK) {
+                s->cw[a] = cw;
+                (void)c4g_co_master_set(&s->m, id, C4G_CO_OBJ_CONTROLWORD, 0, cw);
+            }
+        }
+    }
+}
+
+static void shell_serve(sim_co_t *s, uint64_t now_ns);
+static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *sdo_done, int *got);
+
+void sim_co_step(sim_co_t *s, uint64_t now_ns, sim_device_t *platform)
+{
+    s->platform = platform;
+    sim_device_update(platform, now_ns);
+    set_outputs(s, platform);
+    bus_step(s, now_ns);
+    handle_events(s, platform, NULL, NULL);
+    shell_serve(s, now_ns);
+}
+
+static int axis_state(const sim_co_t *s, int a, c4g_co_ds402_t *st)
+{
+    uint32_t sw = 0;
+    if (!axis_running(s, a) ||
+        c4g_co_master_get(&s->m, axis_node(s, a), true, C4G_CO_OBJ_STATUSWORD, 0, &sw) != C4G_OK) {
+        return -1;
+    }
+    *st = c4g_co_ds402_state((uint16_t)sw);
+    return 0;
+}
+
+/* Runs the bus in real time until both drives show @p want (or 300 ms pass). */
+static int wait_drives(sim_co_t *s, sim_device_t *platform, c4g_co_ds402_t want)
+{
+    for (int i = 0; i < 150; i++) {
+        c4g_co_ds402_t a = C4G_CO_DS402_UNKNOWN, b = C4G_CO_DS402_UNKNOWN;
+        if (axis_state(s, 0, &a) != 0 || axis_state(s, 1, &b) != 0) {
+            return -1;
+        }
+        if (a == want && b == want) {
+            return 0;
+        }
+        struct timespec d = {0, 2000000};
+        nanosleep(&d, NULL);
+        sim_co_step(s, cell_now_ns(), platform);
+    }
+    return -1;
+}
+
+static const char *lost_reply(sim_co_t *s, sim_device_t *platform, c4g_cell_reply_t *rep)
+{
+    const int a = axis_running(s, 0) ? 1 : 0;
+    rep->kind = C4G_CELL_REPLY_ER;
+    rep->error = a == 0 ? C4G_CELL_E_SERVO1 : C4G_CELL_E_SERVO2;
+    platform->error = rep->error;
+    return a == 0 ? "axis A drive lost on the CANopen bus" : "axis B drive lost on the CANopen bus";
+}
+
+const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
+                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after)
+{
+    const int ok = axis_running(s, 0) && axis_running(s, 1);
+    const char *note;
+    sim_co_step(s, now_ns, platform);
+    if (in->cmd == C4G_CELL_CMD_SRVON) {
+        memset(rep, 0, sizeof *rep);
+        *close_after = 0;
+        if (!ok) {
+            return lost_reply(s, platform, rep);
+        }
+        s->goal = C4G_CO_GOAL_ENABLED;
+        s->fault_hold[0] = s->fault_hold[1] = 0;
+        if (wait_drives(s, platform, C4G_CO_DS402_ENABLED) != 0) {
+            s->goal = C4G_CO_GOAL_READY;
+            return lost_reply(s, platform, rep);
+        }
+    } else if (in->cmd == C4G_CELL_CMD_SRVOF) {
+        s->goal = C4G_CO_GOAL_READY;
+        (void)wait_drives(s, platform, C4G_CO_DS402_READY);
+    } else if ((in->cmd == C4G_CELL_CMD_MOV || in->cmd == C4G_CELL_CMD_RST) && !ok) {
+        memset(rep, 0, sizeof *rep);
+        *close_after = 0;
+        if (in->cmd == C4G_CELL_CMD_RST) {
+            platform->error = 0; /* RST clears the latched error; the drive is still away */
+        }
+        return lost_reply(s, platform, rep);
+    }
+    note = sim_device_exec(platform, in, now_ns, rep, close_after);
+    if (in->cmd == C4G_CELL_CMD_SRVON && rep->kind == C4G_CELL_REPLY_OK) {
+        note = "servo on: drives in operation enabled (DS402)";
+    }
+    if (in->cmd == C4G_CELL_CMD_STA && rep->kind == C4G_CELL_REPLY_STA) {
+        for (int a = 0; a < 2; a++) {
+            uint32_t v = 0;
+            if (axis_running(s, a) &&
+                c4g_co_master_get(&s->m, axis_node(s, a), true, C4G_CO_OBJ_ACTUAL_POS, 0, &v) == C4G_OK) {
+                const double act = (double)(int32_t)v / SIM_CO_COUNTS_PER_RAD;
+                (void)c4g_cell_from_double(act, C4G_CELL_UNIT_RAD, &rep->pose.v[a]);
+                /* moving until the drive has reached the last target (0.1 mrad) */
+                if (platform->servo && fabs(act - platform->pos[a]) > 1e-4) {
+                    rep->moving = 1;
+                }
+            }
+        }
+        note = "status (positions from the drives' TxPDOs)";
+    }
+    return note;
+}
+
+int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *candump,
+                const char *pcap, const char *shell_bind, unsigned shell_port, char *err,
+                size_t errlen)
+{
+    memset(s, 0, sizeof *s);
+    s->fd_master = s->fd_nodes = -1;
+    s->listen_fd = s->shell_fd = -1;
+    s->axis_slot[0] = s->axis_slot[1] = -1;
+    s->goal = C4G_CO_GOAL_READY;
+    if (c4g_co_config_load(&s->cfg, ini, err, errlen) != 0) {
+        return -1;
+    }
+    if (s->cfg.net.n_nodes < 2) {
+        snprintf(err, errlen, "%s: the platform needs two nodes (axes A and B), the file has %u",
+                 ini, s->cfg.net.n_nodes);
+        return -1;
+    }
+    s->axis_slot[0] = 0;
+    s->axis_slot[1] = 1;
+    if (c4g_co_master_init(&s->m, &s->cfg.net) != C4G_OK) {
+        snprintf(err, errlen, "%s: configuration refused by the master", ini);
+        return -1;
+    }
+    for (int i = 0; i < s->cfg.net.n_nodes; i++) {
+        c4g_co_slave_init(&s->slave[i], s->cfg.net.node[i].node_id,
+                          s->cfg.net.node[i].device_type & ~C4G_CO_DEVTYPE_LG_REVERSE);
+    }
+    if (ifname != NULL) {
+        s->fd_master = c4g_co_socketcan_open(ifname, err, errlen);
+        if (s->fd_master < 0) {
+            return -1;
+        }
+        s->fd_nodes = c4g_co_socketcan_open(ifname, err, errlen);
+        if (s->fd_nodes < 0) {
+            close(s->fd_master);
+            return -1;
+        }
+    }
+    if (c4g_co_buslog_open(&s->log, candump, pcap, ifname != NULL ? ifname : "vcan0", 0, err,
+                           errlen) != 0) {
+        return -1;
+    }
+    s->t0_ns = cell_now_ns();
+    s->log.epoch_us = wall_us();
+    c4g_co_vbus_init(&s->bus, &s->m);
+    for (int i = 0; i < s->cfg.net.n_nodes; i++) {
+        (void)c4g_co_vbus_add(&s->bus, &s->slave[i]);
+    }
+    s->bus.log = c4g_co_buslog_cb;
+    s->bus.log_ctx = &s->log;
+    if (shell_port != 0) {
+        s->listen_fd = shell_listen(shell_bind, shell_port);
+        if (s->listen_fd < 0) {
+            snprintf(err, errlen, "cannot listen on %s:%u for the CANopen shell: %s", shell_bind,
+                     shell_port, strerror(errno));
+            return -1;
+        }
+    }
+    /* the nodes power up (boot-up messages), then the master boots the network */
+    bus_step(s, s->t0_ns);
+    (void)c4g_co_master_start(&s->m, 0);
+    return 0;
+}
+
+void sim_co_close(sim_co_t *s)
+{
+    c4g_co_buslog_close(&s->log);
+    if (s->fd_master >= 0) {
+        close(s->fd_master);
+    }
+    if (s->fd_nodes >= 0) {
+        close(s->fd_nodes);
+    }
+    if (s->shell_fd >= 0) {
+        close(s->shell_fd);
+    }
+    if (s->listen_fd >= 0) {
+        close(s->listen_fd);
+    }
+}
+
+/* ---- diagnostic shell */
+
+static const char *boot_name(uint8_t b)
+{
+    static const char *const n[] = {"waiting", "configuring", "configured", "running", "failed", "lost"};
+    return b < 6 ? n[b] : "?";
+}
+
+static const char *nmt_name(uint8_t st)
+{
+    switch (st) {
+    case C4G_CO_STATE_BOOTUP: return "boot-up";
+    case C4G_CO_STATE_STOPPED: return "stopped";
+    case C4G_CO_STATE_OPERATIONAL: return "operational";
+    case C4G_CO_STATE_PREOP: return "pre-operational";
+    default: return "unknown";
+    }
+}
+
+static const char *cause_name(uint8_t c)
+{
+    static const char *const n[] = {"none", "SDO timeout", "SDO abort", "SDO protocol error",
+                                    "wrong device type", "heartbeat timeout", "guarding failed",
+                                    "node reset (boot-up)"};
+    return c < 8 ? n[c] : "?";
+}
+
+/* Runs the bus until the user SDO ends; its event, or -1. */
+static int user_sdo(sim_co_t *s, uint8_t node, bool upload, uint16_t idx, uint8_t sub,
+                    uint32_t value, uint8_t size, c4g_co_event_t *done, char *out, size_t cap)
+{
+    uint64_t now = cell_now_ns();
+    c4g_status_t st = c4g_co_master_sdo(&s->m, node, upload, idx, sub, value, size, bus_us(s, now));
+    if (st != C4G_OK) {
+        snprintf(out, cap, "ERR %s", st == C4G_ERR_STATE ? "busy: another SDO is running (retry)"
+                                                         : c4g_strerror(st));
+        return -1;
+    }
+    for (int i = 0; i < 2000; i++) {
+        struct timespec d = {0, 1000000};
+        int got = 0;
+        nanosleep(&d, NULL);
+        now = cell_now_ns();
+        if (s->platform != NULL) {
+            sim_device_update(s->platform, now);
+            set_outputs(s, s->platform);
+        }
+        bus_step(s, now);
+        handle_events(s, s->platform, done, &got);
+        if (got) {
+            return 0;
+        }
+    }
+    snprintf(out, cap, "ERR no end of the SDO transfer");
+    return -1;
+}
+
+static int parse_node(sim_co_t *s, const char *tok, uint8_t *id, uint8_t *slot, char *out, size_t cap)
+{
+    char *end = NULL;
+    long v = tok ? strtol(tok, &end, 0) : -1;
+    if (tok == NULL || *end != '\0' || v < 1 || v > 127 ||
+        c4g_co_master_slot(&s->m, (uint8_t)v, slot) != C4G_OK) {
+        snprintf(out, cap, "ERR node: want the id of a configured node");
+        return -1;
+    }
+    *id = (uint8_t)v;
+    return 0;
+}
+
+static void sh_sdo(sim_co_t *s, uint8_t id, bool upload, char **tok, int nt, char *out, size_t cap)
+{
+    c4g_co_event_t e;
+    const long idx = nt > 0 ? strtol(tok[0], NULL, 0) : -1;
+    const long sub = nt > 1 ? strtol(tok[1], NULL, 0) : -1;
+    const long size = (!upload && nt > 2) ? strtol(tok[2], NULL, 0) : 0;
+    const unsigned long val = (!upload && nt > 3) ? strtoul(tok[3], NULL, 0) : 0;
+    if (idx < 0 || idx > 0xFFFF || sub < 0 || sub > 255 || (!upload && (nt < 4 || size < 1 || size > 4))) {
+        snprintf(out, cap, "ERR usage: %s", upload ? "INDEX SUB" : "INDEX SUB SIZE VALUE");
+        return;
+    }
+    if (user_sdo(s, id, upload, (uint16_t)idx, (uint8_t)sub, (uint32_t)val, (uint8_t)size, &e, out, cap) != 0) {
+        return;
+    }
+    if (e.cause != C4G_CO_CAUSE_NONE) {
+        snprintf(out, cap, "ERR node %u 0x%04X:%02X: %s 0x%08X (%s)", id, (unsigned)idx, (unsigned)sub,
+                 cause_name(e.cause), e.value,
+                 e.cause == C4G_CO_CAUSE_SDO_TIMEOUT ? "no answer" : c4g_co_abort_name(e.value));
+    } else if (upload) {
+        snprintf(out, cap, "node %u 0x%04X:%02X = 0x%08X (%u)", id, (unsigned)idx, (unsigned)sub,
+                 e.value, e.value);
+    } else {
+        snprintf(out, cap, "node %u 0x%04X:%02X written", id, (unsigned)idx, (unsigned)sub);
+    }
+}
+
+static void sh_pdo(sim_co_t *s, uint8_t slot, int rx, char **tok, int nt, char *out, size_t cap)
+{
+    const long p = nt > 0 ? strtol(tok[0], NULL, 0) : 0;
+    const long e = nt > 1 ? strtol(tok[1], NULL, 0) : 0;
+    const c4g_co_node_cfg_t *nc = &s->cfg.net.node[slot];
+    const c4g_co_pdo_map_t *m;
+    if (p < 1 || p > 4 || e < 1 || e > 8) {
+        snprintf(out, cap, "ERR usage: PDO(1..4) ELEMENT(1..8)");
+        return;
+    }
+    m = rx ? &nc->rx[p - 1] : &nc->tx[p - 1];
+    if (e > m->n) {
+        snprintf(out, cap, "ERR %s PDO %ld of node %u has %u elements", rx ? "Rx" : "Tx", p,
+                 nc->node_id, m->n);
+        return;
+    }
+    const uint32_t v = rx ? s->m.node[slot].rx_val[p - 1][e - 1] : s->m.node[slot].tx_val[p - 1][e - 1];
+    const uint32_t bits = m->entry[e - 1] & 0xFFu;
+    const int32_t sv = bits == 32 ? (int32_t)v : bits == 16 ? (int32_t)(int16_t)v : (int32_t)(int8_t)v;
+    snprintf(out, cap, "node %u %sPDO%ld[%ld] %s (0x%04X:%02X) = %d (0x%0*X)", nc->node_id,
+             rx ? "Rx" : "Tx", p, e, rx ? s->cfg.rx_name[slot][p - 1][e - 1] : s->cfg.tx_name[slot][p - 1][e - 1],
+             m->entry[e - 1] >> 16, (m->entry[e - 1] >> 8) & 0xFF, sv, (int)(bits / 4), v);
+}
+
+static void sh_node_diag(sim_co_t *s, uint8_t slot, char *out, size_t cap)
+{
+    const c4g_co_node_t *n = &s->m.node[slot];
+    snprintf(out, cap, "node %u: %s, NMT %s, step %u failed: %s 0x%08X at 0x%04X:%02X, bypassed 0x%02X, "
+             "losses %u, RxPDOs %u, EMCY %u",
+             s->cfg.net.node[slot].node_id, boot_name(n->boot), nmt_name(n->nmt), n->fail_step,
+             cause_name(n->fail_cause), n->fail_value, n->fail_index, n->fail_sub, n->bypassed,
+             n->losses, n->rx_pdos, n->emcy_n);
+}
+
+static void sh_emcy(sim_co_t *s, uint8_t slot, char *out, size_t cap)
+{
+    const c4g_co_node_t *n = &s->m.node[slot];
+    int o = snprintf(out, cap, "node %u: %u EMCY", s->cfg.net.node[slot].node_id, n->emcy_n);
+    for (int i = 0; i < n->emcy_n && o > 0 && (size_t)o < cap; i++) {
+        const c4g_co_emcy_t *e = &n->emcy[(n->emcy_head + C4G_CO_EMCY_DEPTH - n->emcy_n + i) % C4G_CO_EMCY_DEPTH];
+        o += snprintf(out + o, cap - (size_t)o, "; code 0x%04X register 0x%02X mfr %02X%02X%02X%02X%02X",
+                      e->code, e->reg, e->mfr[0], e->mfr[1], e->mfr[2], e->mfr[3], e->mfr[4]);
+    }
+}
+
+static void sh_nmt(sim_co_t *s, char **tok, int nt, char *out, size_t cap)
+{
+    static const struct { const char *n; uint8_t c; } cmds[] = {
+        {"start", C4G_CO_NMT_START}, {"stop", C4G_CO_NMT_STOP}, {"preop", C4G_CO_NMT_PREOP},
+        {"reset", C4G_CO_NMT_RESET_NODE}, {"resetcomm", C4G_CO_NMT_RESET_COMM}};
+    const long node = nt > 0 ? strtol(tok[0], NULL, 0) : -1;
+    for (size_t i = 0; nt > 1 && i < sizeof cmds / sizeof cmds[0]; i++) {
+        if (strcasecmp(tok[1], cmds[i].n) == 0) {
+            if (node < 0 || node > 127 || c4g_co_master_nmt(&s->m, (uint8_t)node, cmds[i].c) != C4G_OK) {
+                snprintf(out, cap, "ERR node: want 0 (all) or a configured node");
+                return;
+            }
+            snprintf(out, cap, "NMT %s sent to %s %ld", cmds[i].n, node ? "node" : "all nodes", node);
+            return;
+        }
+    }
+    snprintf(out, cap, "ERR usage: S_NMT NODE start|stop|preop|reset|resetcomm");
+}
+
+static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int nt, char *out, size_t cap)
+{
+    c4g_co_slave_t *sl = &s->slave[slot];
+    if (strcasecmp(cmd, "SIM_UNPLUG") == 0) {
+        sl->silent = 1;
+        snprintf(out, cap, "node %u unplugged (silent)", sl->node_id);
+    } else if (strcasecmp(cmd, "SIM_PLUG") == 0) {
+        c4g_co_slave_reset(sl);
+        sl->silent = 0;
+        sl->no_heartbeat = 0;
+        snprintf(out, cap, "node %u plugged in (power-up, boot-up message)", sl->node_id);
+    } else if (strcasecmp(cmd, "SIM_MUTE") == 0) {
+        sl->no_heartbeat = 1;
+        snprintf(out, cap, "node %u: heartbeat and guarding replies stopped", sl->node_id);
+    } else if (strcasecmp(cmd, "SIM_DEVTYPE") == 0) {
+        sl->device_type = nt > 0 ? (uint32_t)strtoul(tok[0], NULL, 0) : 0;
+        snprintf(out, cap, "node %u: device type 0x%08X", sl->node_id, sl->device_type);
+    } else if (strcasecmp(cmd, "SIM_FAULT") == 0) {
+        c4g_co_frame_t f[C4G_CO_SLAVE_OUT];
+        int n = 0;
+        const long code = nt > 0 ? strtol(tok[0], NULL, 0) : 0x7300;
+        c4g_co_slave_fault(sl, (uint16_t)code, f, &n);
+        for (int k = 0; k < n; k++) {
+            if (s->fd_nodes >= 0) {
+                (void)c4g_co_socketcan_send(s->fd_nodes, &f[k]);
+            } else {
+                c4g_co_vbus_inject(&s->bus, &f[k], bus_us(s, cell_now_ns()));
+            }
+        }
+        handle_events(s, s->platform, NULL, NULL);
+        snprintf(out, cap, "node %u: fault, EMCY 0x%04lX sent", sl->node_id, (unsigned long)code);
+    } else {
+        const long idx = nt > 0 ? strtol(tok[0], NULL, 0) : 0;
+        const long sub = nt > 1 ? strtol(tok[1], NULL, 0) : 0;
+        sl->abort_index = (uint16_t)idx;
+        sl->abort_sub = (uint8_t)sub;
+        sl->abort_code = nt > 2 ? (uint32_t)strtoul(tok[2], NULL, 0) : C4G_CO_ABORT_NO_OBJECT;
+        snprintf(out, cap, "node %u: SDO abort 0x%08X on 0x%04lX:%02lX", sl->node_id, sl->abort_code,
+                 (unsigned long)idx, (unsigned long)sub);
+    }
+}
+
+/* The documentation's device commands and synonyms. */
+static const char *resolve_alias(const char *cmd)
+{
+    static const char *const alias[][2] = {
+        {"CO_WNMT", "CO_RNMT"}, {"D_NMT", "CO_RNMT"}, {"D_EMCY", "CO_REMCY"},
+        {"D_RPDO", "CO_RRPDO"}, {"D_TPDO", "CO_RTPDO"}, {"D_CO_WSDIAGNO", "CO_WSDIAGNO"},
+        {"D_CO_CHINFO", "CO_CHDIAGNO"}};
+    for (size_t i = 0; i < sizeof alias / sizeof alias[0]; i++) {
+        if (strcasecmp(cmd, alias[i][0]) == 0) {
+            return alias[i][1];
+        }
+    }
+    return cmd;
+}
+
+static void sh_emcyinfo(sim_co_t *s, char *out, size_t cap)
+{
+    int o = snprintf(out, cap, "EMCY:");
+    for (int i = 0; i < s->cfg.net.n_nodes && o > 0 && (size_t)o < cap; i++) {
+        const c4g_co_node_t *n = &s->m.node[i];
+        const c4g_co_emcy_t *last = &n->emcy[(n->emcy_head + C4G_CO_EMCY_DEPTH - 1) % C4G_CO_EMCY_DEPTH];
+        o += snprintf(out + o, cap - (size_t)o, " node %u: %u, last 0x%04X;", s->cfg.net.node[i].node_id,
+                      n->emcy_n, n->emcy_n ? last->code : 0);
+    }
+}
+
+void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, size_t cap)
+{
+    char buf[256];
+    char *tok[8];
+    int nt = 0;
+    char *save = NULL;
+    uint8_t id = 0, slot = 0;
+    (void)now_ns;
+    snprintf(buf, sizeof buf, "%s", line);
+    for (char *t = strtok_r(buf, " \t,", &save); t != NULL && nt < 8; t = strtok_r(NULL, " \t,", &save)) {
+        tok[nt++] = t;
+    }
+    if (nt == 0) {
+        snprintf(out, cap, "ERR empty command");
+        return;
+    }
+    const char *cmd = resolve_alias(tok[0]);
+    if (strcasecmp(cmd, "CO_EMCYINFO") == 0) {
+        sh_emcyinfo(s, out, cap);
+        return;
+    }
+    if (strcasecmp(cmd, "CO_CHDIAGNO") == 0) {
+        const c4g_co_counters_t *c = &s->m.count;
+        snprintf(out, cap, "channel %u: %u nodes, %s, rx %u tx %u sync %u, bad frame %u, bad dlc %u, "
+                 "bad value %u, unknown %u, foreign %u, rtr %u, sdo ignored %u, bad toggle %u, "
+                 "txq full %u, evq full %u",
+                 s->cfg.net.channel, s->cfg.net.n_nodes,
+                 s->m.phase == 2 ? "running" : s->m.phase == 1 ? "booting" : "idle", c->rx, c->tx,
+                 c->syncs, c->bad_frame, c->bad_dlc, c->bad_value, c->unknown, c->foreign, c->rtr,
+                 c->sdo_ignored, c->bad_toggle, c->txq_full, c->evq_full);
+        return;
+    }
+    if (strcasecmp(cmd, "S_NMT") == 0) {
+        sh_nmt(s, tok + 1, nt - 1, out, cap);
+        return;
+    }
+    if (strcasecmp(cmd, "HELP") == 0) {
+        snprintf(out, cap, "CO_RNMT N | CO_ROBJ N IDX SUB | CO_WOBJ N IDX SUB SIZE VALUE | CO_SDO N R|W ... | "
+                 "CO_RRPDO N PDO EL | CO_RTPDO N PDO EL | CO_STATE_MAC N | CO_CHDIAGNO | CO_WSDIAGNO N | "
+                 "CO_REMCY N | S_NMT N CMD | SIM_UNPLUG N | SIM_PLUG N | SIM_MUTE N | SIM_FAULT N CODE | "
+                 "SIM_ABORT N IDX SUB CODE | SIM_DEVTYPE N VALUE");
+        return;
+    }
+    if (parse_node(s, nt > 1 ? tok[1] : NULL, &id, &slot, out, cap) != 0) {
+        return;
+    }
+    if (strcasecmp(cmd, "CO_RNMT") == 0) {
+        snprintf(out, cap, "node %u: NMT %s (0x%02X), %s", id, nmt_name(s->m.node[slot].nmt),
+                 s->m.node[slot].nmt, boot_name(s->m.node[slot].boot));
+    } else if (strcasecmp(cmd, "CO_ROBJ") == 0) {
+        sh_sdo(s, id, true, tok + 2, nt - 2, out, cap);
+    } else if (strcasecmp(cmd, "CO_WOBJ") == 0) {
+        sh_sdo(s, id, false, tok + 2, nt - 2, out, cap);
+    } else if (strcasecmp(cmd, "CO_SDO") == 0 && nt > 2) {
+        sh_sdo(s, id, tok[2][0] == 'r' || tok[2][0] == 'R', tok + 3, nt - 3, out, cap);
+    } else if (strcasecmp(cmd, "CO_RRPDO") == 0 || strcasecmp(cmd, "CO_RTPDO") == 0) {
+        sh_pdo(s, slot, cmd[4] == 'R' || cmd[4] == 'r', tok + 2, nt - 2, out, cap);
+    } else if (strcasecmp(cmd, "CO_STATE_MAC") == 0) {
+        uint32_t sw = 0;
+        if (c4g_co_master_get(&s->m, id, true, C4G_CO_OBJ_STATUSWORD, 0, &sw) != C4G_OK) {
+            snprintf(out, cap, "ERR node %u maps no statusword in its RxPDOs", id);
+        } else {
+            snprintf(out, cap, "node %u: DS402 %s (statusword 0x%04X)", id,
+                     c4g_co_ds402_name(c4g_co_ds402_state((uint16_t)sw)), sw);
+        }
+    } else if (strcasecmp(cmd, "CO_WSDIAGNO") == 0) {
+        sh_node_diag(s, slot, out, cap);
+    } else if (strcasecmp(cmd, "CO_REMCY") == 0) {
+        sh_emcy(s, slot, out, cap);
+    } else if (strncasecmp(cmd, "SIM_", 4) == 0 &&
+               (strcasecmp(cmd, "SIM_UNPLUG") == 0 || strcasecmp(cmd, "SIM_PLUG") == 0 ||
+                strcasecmp(cmd, "SIM_MUTE") == 0 || strcasecmp(cmd, "SIM_FAULT") == 0 ||
+                strcasecmp(cmd, "SIM_ABORT") == 0 || strcasecmp(cmd, "SIM_DEVTYPE") == 0)) {
+        sh_sim(s, cmd, slot, tok + 2, nt - 2, out, cap);
+    } else {
+        snprintf(out, cap, "ERR unknown command '%.40s' (HELP lists them)", cmd);
+    }
+}
+
+static void shell_serve(sim_co_t *s, uint64_t now_ns)
+{
+    if (s->listen_fd < 0) {
+        return;
+    }
+    if (s->shell_fd < 0) {
+        s->shell_fd = accept(s->listen_fd, NULL, NULL);
+        if (s->shell_fd < 0) {
+            return;
+        }
+        fcntl(s->shell_fd, F_SETFL, fcntl(s->shell_fd, F_GETFL) | O_NONBLOCK);
+        s->shell_len = 0;
+    }
+    ssize_t n = read(s->shell_fd, s->shell_in + s->shell_len, sizeof s->shell_in - 1 - s->shell_len);
+    if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) {
+        close(s->shell_fd);
+        s->shell_fd = -1;
+        return;
+    }
+    if (n > 0) {
+        s->shell_len += (size_t)n;
+    }
+    for (;;) {
+        char *lf = memchr(s->shell_in, '\n', s->shell_len);
+        char reply[1024];
+        if (lf == NULL) {
+            if (s->shell_len >= sizeof s->shell_in - 1) {
+                s->shell_len = 0; /* overlong line: dropped */
+                (void)!write(s->shell_fd, "ERR line too long\n", 18);
+            }
+            return;
+        }
+        *lf = '\0';
+        if (lf > s->shell_in && lf[-1] == '\r') {
+            lf[-1] = '\0';
+        }
+        sim_co_shell(s, s->shell_in, now_ns, reply, sizeof reply - 1);
+        strcat(reply, "\n");
+        (void)!write(s->shell_fd, reply, strlen(reply));
+        const size_t used = (size_t)(lf + 1 - s->shell_in);
+        memmove(s->shell_in, lf + 1, s->shell_len - used);
+        s->shell_len -= used;
+    }
+}

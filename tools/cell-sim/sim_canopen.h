@@ -1,0 +1,55 @@
+/* SPDX-License-Identifier: MIT */
+/* cell-sim: the orientation platform on a CANopen bus (docs/canopen.md). The platform's
+ * axes A and B are DS402 drives (the first two nodes of the channel's configuration) in
+ * cyclic synchronous position mode, driven by libc4gopen's CANopen master; the nodes are
+ * simulated (c4g_co_slave) on the in-process virtual bus or on a SocketCAN interface.
+ * A text shell on its own TCP port answers the Robox diagnostic commands (CO_RNMT, ...)
+ * and injects faults (SIM_UNPLUG, ...). */
+#ifndef SIM_CANOPEN_H
+#define SIM_CANOPEN_H
+
+#include <stdint.h>
+#include "c4g_co_bus.h"
+#include "c4g_co_config.h"
+#include "c4g_co_io.h"
+#include "sim_device.h"
+
+#define SIM_CO_COUNTS_PER_RAD 1000000.0 /* drive position unit: 1 urad */
+
+typedef struct sim_co {
+    c4g_co_config_t cfg;
+    c4g_co_master_t m;
+    c4g_co_slave_t slave[C4G_CO_MAX_NODES];
+    c4g_co_vbus_t bus;
+    c4g_co_buslog_t log;
+    int fd_master, fd_nodes;   /* SocketCAN sockets, -1 on the virtual bus */
+    uint64_t t0_ns;            /* bus time 0 */
+    uint16_t cw[2];            /* last controlwords sent to the two axes */
+    c4g_co_goal_t goal;
+    int axis_slot[2];          /* master slots of axes A and B */
+    int lost[2];
+    int fault_hold[2];         /* a drive fault (EMCY): no fault reset until SRVON */
+    int listen_fd, shell_fd;   /* diagnostic shell */
+    char shell_in[512];
+    size_t shell_len;
+    int verbose;
+    sim_device_t *platform;    /* set by sim_co_step */
+} sim_co_t;
+
+/* Loads the configuration, sets up the bus (ifname NULL: virtual), the logs, the shell
+ * port (0: none) and boots the network. 0, or -1 with a message. */
+int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *candump,
+                const char *pcap, const char *shell_bind, unsigned shell_port, char *err,
+                size_t errlen);
+void sim_co_close(sim_co_t *s);
+/* Bus time passes: the platform's ideal positions become the drives' targets; events
+ * (lost nodes) latch the platform's error; the shell is served. */
+void sim_co_step(sim_co_t *s, uint64_t now_ns, sim_device_t *platform);
+/* The platform's instruction on the bus: SRVON/SRVOF through DS402, MOV refused while a
+ * drive is lost, STA with the drives' actual positions. */
+const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
+                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after);
+/* One shell command line (no newline): the reply text. */
+void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, size_t cap);
+
+#endif /* SIM_CANOPEN_H */
