@@ -64,7 +64,7 @@ struct Options {
     int threads = 2;
     int force_variant = -1;    // -1: chosen on held-out data
     bool want_gravity = true;  // offer the gravity variants (when q is known)
-    std::size_t select_max = 60000; // samples the variants are compared on (evenly thinned)
+    std::size_t select_max = 30000; // samples the variants are compared on (evenly thinned)
 };
 
 // Samples ready for the fit.

@@ -61,6 +61,7 @@ struct FitCli {
     Options opt;
     char out[1024] = "";
     char plot[1024] = "";
+    char samples[1024] = "";
     char validate[1024] = "";
     int json = 0, quiet = 0, no_gravity = 0;
 };
@@ -142,6 +143,7 @@ int run_fit(int argc, char **argv)
         {"threads", 'j', CLI_UINT, "N", "axes fitted at once, or solver threads for one axis (default 2)", &threads, 0, 1, 64, nullptr, 0},
         {"out", 'o', CLI_STRING, "FILE", "write the parameter file for c4g-server --ff", c.out, sizeof c.out, 0, 0, nullptr, 0},
         {"plot", 0, CLI_STRING, "DIR", "write PNG and SVG plots (gnuplot) into DIR", c.plot, sizeof c.plot, 0, 0, nullptr, 0},
+        {"samples", 0, CLI_STRING, "DIR", "write the samples each axis was fitted to (CSV) into DIR", c.samples, sizeof c.samples, 0, 0, nullptr, 0},
         {"json", 0, CLI_FLAG, nullptr, "the report as JSON on stdout", &c.json, 0, 0, 0, nullptr, 0},
         {"quiet", 'q', CLI_FLAG, nullptr, "no report", &c.quiet, 0, 0, 0, nullptr, 0},
     };
@@ -288,6 +290,10 @@ int run_fit(int argc, char **argv)
     }
     if (c.plot[0] != '\0' && write_plots(c.plot, job, &err) != 0) {
         std::fprintf(stderr, "%s: --plot: %s\n", kTool, err.c_str());
+        return CLI_EXIT_RUNTIME;
+    }
+    if (c.samples[0] != '\0' && write_samples(c.samples, job, &err) != 0) {
+        std::fprintf(stderr, "%s: --samples: %s\n", kTool, err.c_str());
         return CLI_EXIT_RUNTIME;
     }
     return all_ok ? CLI_EXIT_OK : 3;

@@ -148,6 +148,7 @@ int report_json(FILE *out, const Job &j)
                                                            r.val.pct_peak, "x_noise", r.val.x_noise));
         }
         json_object_set_new(a, "condition", json_real(r.fit.cond));
+        json_object_set_new(a, "solver", json_pack("{s:i,s:f}", "iterations", r.fit.iterations, "seconds", r.fit.seconds));
         json_object_set_new(a, "covariance_ok", json_boolean(r.fit.cov_ok));
         json_object_set_new(a, "controller_model", json_pack("{s:f,s:f}", "rms_d5_minus_ext1", r.ext1_rms, "ext2_mean", r.ext2_mean));
         json_t *w = json_array();
@@ -211,6 +212,41 @@ int write_params(const std::string &path, const Job &j, const std::string &versi
     if (std::fclose(f) != 0 || !ok) {
         *err = path + ": write error";
         return -1;
+    }
+    return 0;
+}
+
+int write_samples(const std::string &dir, const Job &j, std::string *err)
+{
+    if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) {
+        *err = dir + ": " + std::strerror(errno);
+        return -1;
+    }
+    for (std::size_t k = 0; k < j.results.size(); k++) {
+        const AxisResult &r = j.results[k];
+        if (!r.identifiable) continue;
+        Samples s;
+        Options o = j.opt;
+        o.delay_auto = false;
+        o.delay = r.prep.delay;
+        o.eps = r.prep.eps;
+        (void)prepare(j.logs[k], o, &s);
+        const std::string path = dir + "/arm" + std::to_string(r.arm) + "_axis" + std::to_string(r.axis) + ".csv";
+        FILE *f = std::fopen(path.c_str(), "w");
+        if (f == nullptr) {
+            *err = path + ": " + std::strerror(errno);
+            return -1;
+        }
+        std::fprintf(f, "# c4g-ident samples: arm %u axis %u variant %s eps %.17g delay %.6g fit_seconds %.6g\n", r.arm,
+                     r.axis, variant_name[r.fit.variant], r.prep.eps, r.prep.delay, r.fit.seconds);
+        std::fprintf(f, "v,a,i,cos_q,sin_q\n");
+        for (std::size_t i = 0; i < s.n(); i++) {
+            std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", s.v[i], s.a[i], s.i[i], s.cq[i], s.sq[i]);
+        }
+        if (std::fclose(f) != 0) {
+            *err = path + ": " + std::strerror(errno);
+            return -1;
+        }
     }
     return 0;
 }

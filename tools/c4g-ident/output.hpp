@@ -30,6 +30,8 @@ int write_params(const std::string &path, const Job &j, const std::string &versi
 std::string params_text(const Job &j, const std::string &version);
 // PNG and SVG plots into dir (created if missing): 0 ok.
 int write_plots(const std::string &dir, const Job &j, std::string *err);
+// The samples each identified axis was fitted to (v, a, i, cos q, sin q), one CSV per axis.
+int write_samples(const std::string &dir, const Job &j, std::string *err);
 
 }  // namespace ident
 

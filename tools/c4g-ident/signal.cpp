@@ -340,7 +340,7 @@ AxisLog thin_blocks(const AxisLog &L, std::size_t max)
 
 double estimate_delay(const AxisLog &Lfull, const Options &o, double eps)
 {
-    const AxisLog L = thin_blocks(Lfull, 60000);
+    const AxisLog L = thin_blocks(Lfull, 30000);
     const std::size_t stride = 1;
     // x = delay + 0.5: D4(k) is the mean velocity of (k-1, k], its time k - 0.5.
     // First with the Coulomb model: a coarse grid, then golden section.
