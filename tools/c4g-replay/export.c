@@ -293,6 +293,7 @@ int rp_cmd_export(int argc, char **argv)
     e.out = stdout;
     memset(&spec, 0, sizeof spec);
     spec.tool = RP_TOOL;
+    spec.command = "export";
     spec.usage = "Usage: " RP_TOOL " export [OPTIONS] FILE\n"
                  "One row per cyclic tick of every session: the controller's packet, the reply,\n"
                  "the reply latency and the NUMs, every field of every axis both ways.\n";

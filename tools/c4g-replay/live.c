@@ -722,6 +722,7 @@ int rp_cmd_live(int argc, char **argv)
         L->fd = -1;
         memset(&spec, 0, sizeof spec);
         spec.tool = RP_TOOL;
+        spec.command = "live";
         spec.usage = "Usage: " RP_TOOL " live FILE --to HOST:PORT [OPTIONS]\n"
                      "Play the controller's side of a recorded session to a running PC server over\n"
                      "UDP, check its replies as the controller would, compare them with the\n"

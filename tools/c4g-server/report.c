@@ -24,10 +24,14 @@ int srv_outputs_open(srv_host_t *H)
     H->log_fp = NULL;
     H->pcap = NULL;
     H->moni_fp = NULL;
+    /* the JSON summary is written at exit: its place is checked now, before the session */
+    if (S->cfg.json_path[0] != '\0' && cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
+        return -1;
+    }
     if (S->cfg.log_path[0] != '\0') {
         H->log_fp = fopen(S->cfg.log_path, "w");
         if (H->log_fp == NULL) {
-            fprintf(stderr, "c4g-server: --log %s: %s\n", S->cfg.log_path, strerror(errno));
+            cli_file_error("c4g-server", "--log", S->cfg.log_path, errno);
             return -1;
         }
     }
@@ -35,14 +39,16 @@ int srv_outputs_open(srv_host_t *H)
         char err[256];
         H->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
         if (H->pcap == NULL) {
-            fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, err);
+            char pt[600];
+            fprintf(stderr, "c4g-server: --pcap %s: %s\n",
+                    cli_path_text(S->cfg.pcap_path, pt, sizeof pt), err);
             return -1;
         }
     }
     if (S->cfg.moni_path[0] != '\0') {
         H->moni_fp = fopen(S->cfg.moni_path, "w");
         if (H->moni_fp == NULL) {
-            fprintf(stderr, "c4g-server: --moni %s: %s\n", S->cfg.moni_path, strerror(errno));
+            cli_file_error("c4g-server", "--moni", S->cfg.moni_path, errno);
             return -1;
         }
         if (S->cfg.moni_type == 0) {

@@ -6,6 +6,7 @@
 #include <sys/resource.h>
 
 #include "app.h"
+#include "c4g_cli.h"
 
 /* ---- files ---------------------------------------------------------------- */
 
@@ -26,7 +27,7 @@ int outputs_open(app_t *a)
     if (a->o.csv_path != NULL) {
         a->csv = fopen(a->o.csv_path, "w");
         if (a->csv == NULL) {
-            fprintf(stderr, "c4g-sim: --csv %s: %s\n", a->o.csv_path, strerror(errno));
+            cli_file_error("c4g-sim", "--csv", a->o.csv_path, errno);
             return EXIT_OUTPUT;
         }
         csv_header(a);
@@ -34,7 +35,9 @@ int outputs_open(app_t *a)
     if (a->o.pcap_path != NULL) {
         a->pcap = c4g_pcap_open(a->o.pcap_path, err, sizeof err);
         if (a->pcap == NULL) {
-            fprintf(stderr, "c4g-sim: --pcap: %s\n", err);
+            char pt[600];
+            fprintf(stderr, "c4g-sim: --pcap %s: %s\n", cli_path_text(a->o.pcap_path, pt, sizeof pt),
+                    err);
             return EXIT_OUTPUT;
         }
     }

@@ -628,7 +628,7 @@ static const cli_spec_t k_spec = {
     "\n"
     "Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
     "failure or reply timeout, 4 invalid reply, 5 wait timed out.\n",
-    0, -1, 0};
+    0, -1, 0, NULL};
 
 /* The config file: -c, else $CELL_CLI_CONFIG, else ~/.config/cell-cli.ini if present. */
 static const char *config_path(void)

@@ -542,7 +542,7 @@ static const cli_spec_t k_spec = {
     "Errors: at most 5 lines per second per client, then one line\n"
     "\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
     "Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n",
-    0, 0, 0};
+    0, 0, 0, NULL};
 
 /* The devices as the options configure them; -1 when a home is outside its workspace. */
 static int devices_setup(sim_device_t *devs)

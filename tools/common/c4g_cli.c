@@ -5,10 +5,13 @@
 #include "c4g_textfile.h"
 #include "c4gopen.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define CLI_MAX_OPTS 96
 #define CLI_HELP_KEY 0x10000
@@ -160,7 +163,10 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
 {
     struct option lo[CLI_MAX_OPTS];
     char so[2 * CLI_MAX_OPTS + 8];
+    char help[96]; /* "TOOL [COMMAND] --help" */
     int c, n_operands;
+    snprintf(help, sizeof help, "%s%s%s --help", spec->tool, spec->command != NULL ? " " : "",
+             spec->command != NULL ? spec->command : "");
     if (cli_tables(spec, lo, so, sizeof so) != 0) {
         cli_error(spec, "internal error: option table too large");
         return CLI_BAD;
@@ -184,13 +190,24 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
                    spec->version_extra != NULL ? spec->version_extra : "");
             return CLI_DONE;
         }
-        if (c == ':') {
-            cli_error(spec, "option '%s' needs a value (see --help)", argv[optind - 1]);
+        if (c == ':' || c == '?') {
+            char name[80];
+            /* a short option (optopt set) may sit in a group ("-qZ"): name it alone */
+            if (optopt != 0 && optopt < 0x100) {
+                snprintf(name, sizeof name, "-%c", optopt);
+            } else {
+                cli_path_text(argv[optind - 1], name, sizeof name);
+            }
+            if (c == ':') {
+                cli_error(spec, "option '%s' needs a value (see %s)", name, help);
+            } else {
+                cli_error(spec, "unrecognized option '%s' (see %s)", name, help);
+            }
             return CLI_BAD;
         }
         o = cli_row_of(spec, c);
         if (o == NULL) {
-            cli_error(spec, "unrecognized option '%s' (see --help)", argv[optind - 1]);
+            cli_error(spec, "unrecognized option '%s' (see %s)", argv[optind - 1], help);
             return CLI_BAD;
         }
         why[0] = '\0';
@@ -207,10 +224,11 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
     if (n_operands < spec->operands_min ||
         (spec->operands_max >= 0 && n_operands > spec->operands_max)) {
         if (n_operands > 0 && spec->operands_max >= 0 && n_operands > spec->operands_max) {
-            cli_error(spec, "unexpected argument '%s' (see --help)",
-                      argv[optind + spec->operands_max]);
+            char arg[80];
+            cli_error(spec, "unexpected argument '%s' (see %s)",
+                      cli_path_text(argv[optind + spec->operands_max], arg, sizeof arg), help);
         } else {
-            cli_error(spec, "missing argument (see --help)");
+            cli_error(spec, "missing argument (see %s)", help);
         }
         return CLI_BAD;
     }
@@ -218,4 +236,83 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
         *first_operand = optind;
     }
     return CLI_RUN;
+}
+
+const char *cli_path_text(const char *path, char *out, size_t cap)
+{
+    tf_escape(path, strlen(path), out, cap);
+    return out;
+}
+
+void cli_file_error(const char *tool, const char *opt, const char *path, int err)
+{
+    char p[600];
+    cli_path_text(path, p, sizeof p);
+    if (opt != NULL && opt[0] != '\0') {
+        fprintf(stderr, "%s: %s %s: %s\n", tool, opt, p, strerror(err));
+    } else {
+        fprintf(stderr, "%s: %s: %s\n", tool, p, strerror(err));
+    }
+}
+
+int cli_output_writable(const char *path)
+{
+    char dir[4096];
+    const char *slash;
+    struct stat st;
+    if (strcmp(path, "-") == 0) {
+        return 0;
+    }
+    if (path[0] == '\0') {
+        errno = ENOENT;
+        return -1;
+    }
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            errno = EISDIR;
+            return -1;
+        }
+        return access(path, W_OK) == 0 ? 0 : -1;
+    }
+    if (errno != ENOENT) {
+        return -1; /* ENOTDIR, EACCES, ELOOP: the file cannot be made either */
+    }
+    slash = strrchr(path, '/');
+    if (slash == NULL) {
+        snprintf(dir, sizeof dir, ".");
+    } else if (slash == path) {
+        snprintf(dir, sizeof dir, "/");
+    } else {
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    }
+    if (stat(dir, &st) != 0) {
+        return -1; /* errno: ENOENT, the directory is missing */
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        errno = ENOTDIR;
+        return -1;
+    }
+    return access(dir, W_OK | X_OK) == 0 ? 0 : -1;
+}
+
+int cli_check_output(const char *tool, const char *opt, const char *path)
+{
+    if (cli_output_writable(path) != 0) {
+        cli_file_error(tool, opt, path, errno);
+        return -1;
+    }
+    return 0;
+}
+
+FILE *cli_open_output(const char *tool, const char *opt, const char *path, const char *mode)
+{
+    FILE *f;
+    if (strcmp(path, "-") == 0) {
+        return stdout;
+    }
+    f = fopen(path, mode);
+    if (f == NULL) {
+        cli_file_error(tool, opt, path, errno);
+    }
+    return f;
 }
