@@ -92,6 +92,8 @@ check("robot mov abs <TAB><TAB> lists the axis keys", re.search(r"c=\s+x=\s+y=\s
 out = listing([b"conditioning hnd 1 \t\t"])
 check("conditioning hnd 1 <TAB><TAB> lists open close", re.search(r"close\s+open", out) is not None,
       repr(out[-300:]))
+out = listing([b"robot ovr \t"])
+check("TAB where nothing completes shows the argument hint", "DEV ovr PERCENT" in out, repr(out[-300:]))
 out = listing([b"ROBOT SR\t\t"])
 check("upper-case words complete too", "srvof" in out and "srvon" in out, repr(out[-300:]))
 # the prompt: "not connected" before any command, then the device and its address; upper
@@ -118,6 +120,8 @@ check("robot mov abs <TAB><TAB> lists the axis keys", re.search(r"c=\s+x=\s+y=\s
 out = listing([b"conditioning hnd 1 \t\t"])
 check("conditioning hnd 1 <TAB><TAB> lists open close", re.search(r"close\s+open", out) is not None,
       repr(out[-300:]))
+out = listing([b"robot ovr \t"])
+check("TAB where nothing completes shows the argument hint", "DEV ovr PERCENT" in out, repr(out[-300:]))
 out = listing([b"ROBOT SR\t\t"])
 check("upper-case words complete too", "srvof" in out and "srvon" in out, repr(out[-300:]))
 # the prompt: "not connected" before any command, then the device and its address; upper

@@ -570,6 +570,7 @@ static int run_script(FILE *f, const char *name, int keep_going)
  * (libedit does not update rl_point before completing, so rl_point cannot tell whether the
  * cursor follows a space, i.e. whether the word being completed is an empty one.) */
 static int g_comp_start;
+static char g_hint[512];
 
 static char *complete_gen(const char *text, int state)
 {
@@ -594,6 +595,14 @@ static char *complete_gen(const char *text, int state)
             n++;
         }
         list = cli_cmd_words(n, w[0] ? w[0] : "", n >= 2 ? w[1] : NULL);
+        /* the hint when nothing can be offered: the help of the command being typed */
+        g_hint[0] = '\0';
+        if (list == NULL && n >= 1) {
+            const char *topic = (cell_dev_parse(w[0]) >= 0 && n >= 2) ? w[1] : w[0];
+            if (cli_cmd_help(topic, g_hint, sizeof g_hint) != 0) {
+                g_hint[0] = '\0';
+            }
+        }
         idx = 0;
         tl = strlen(text);
     }
@@ -609,9 +618,19 @@ static char *complete_gen(const char *text, int state)
 static char **complete(const char *text, int start, int end)
 {
     (void)end;
+    char **m;
     g_comp_start = start;
     rl_attempted_completion_over = 1; /* no file name completion */
-    return rl_completion_matches(text, complete_gen);
+    m = rl_completion_matches(text, complete_gen);
+    if (m == NULL && g_hint[0] != '\0') {
+        /* libedit has no hook that runs as each key is typed (redis-cli's hints come from
+         * linenoise's): the argument hint is shown on TAB, below the line, which is redrawn */
+        fprintf(stdout, "\n%s", g_hint);
+        fflush(stdout);
+        rl_on_new_line();
+        rl_forced_update_display();
+    }
+    return m;
 }
 
 static int run_repl(int use_history)
