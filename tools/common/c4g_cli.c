@@ -316,3 +316,53 @@ FILE *cli_open_output(const char *tool, const char *opt, const char *path, const
     }
     return f;
 }
+
+int cli_apply(const cli_spec_t *spec, void *ctx, const char *name, const char *value, char *why,
+              size_t whylen)
+{
+    size_t i, k;
+    for (i = 0; i < spec->n_opts; i++) {
+        const cli_opt_t *o = &spec->opts[i];
+        for (k = 0; o->name[k] != '\0' && name[k] != '\0'; k++) {
+            const char a = (o->name[k] == '_') ? '-' : o->name[k];
+            const char b = (name[k] == '_') ? '-' : name[k];
+            if (a != b) {
+                break;
+            }
+        }
+        if (o->name[k] != '\0' || name[k] != '\0') {
+            continue;
+        }
+        if (o->arg != NULL) {
+            return cli_store(ctx, o, value, why, whylen) == 0 ? 0 : -1;
+        }
+        if (strcmp(value, "true") == 0 || strcmp(value, "yes") == 0 || strcmp(value, "on") == 0 ||
+            strcmp(value, "1") == 0) {
+            return cli_store(ctx, o, NULL, why, whylen) == 0 ? 0 : -1;
+        }
+        if (strcmp(value, "false") == 0 || strcmp(value, "no") == 0 || strcmp(value, "off") == 0 ||
+            strcmp(value, "0") == 0) {
+            return 0;
+        }
+        snprintf(why, whylen, "want true or false");
+        return -1;
+    }
+    return 1;
+}
+
+const char *cli_find_config(int argc, char **argv)
+{
+    int i;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if ((strcmp(argv[i], "-c") == 0 || strcmp(argv[i], "--config") == 0) && i + 1 < argc) {
+            return argv[i + 1];
+        }
+        if (strncmp(argv[i], "--config=", 9) == 0) {
+            return argv[i] + 9;
+        }
+    }
+    return NULL;
+}

@@ -76,6 +76,17 @@ void cli_error(const cli_spec_t *spec, const char *fmt, ...)
 #endif
     ;
 
+/* One setting by its long option name, as an INI file gives it ('_' and '-' alike), stored
+ * as the command line would store it; a flag takes true/false (yes/no, on/off, 1/0; false
+ * leaves it unset). 0 stored, 1 no such option, -1 a bad value (why says what is wrong). */
+int cli_apply(const cli_spec_t *spec, void *ctx, const char *name, const char *value, char *why,
+              size_t whylen);
+
+/* The value of "-c FILE" / "--config FILE" / "--config=FILE" in argv before a "--", or NULL:
+ * a tool that reads its options from a file reads it before the command line (the command
+ * line wins). */
+const char *cli_find_config(int argc, char **argv);
+
 /* ---- file names in messages and output files checked at start-up ---- */
 
 /* A path as messages show it: printable ASCII as is, any other byte as \xNN (cut with
