@@ -17,6 +17,8 @@ DESTDIR ?=
 # per-user one Wireshark always searches (`tshark -G folders`, "Personal Lua Plugins").
 WIRESHARK_PLUGIN_DIR ?= $(PREFIX)/lib/wireshark/plugins
 WIRESHARK_USER_PLUGIN_DIR ?= $(HOME)/.local/lib/wireshark/plugins
+# bash-completion loads a command's completion from this folder by the command's name
+BASH_COMPLETION_DIR ?= $(PREFIX)/share/bash-completion/completions
 FUZZ_SECONDS ?= 15
 CLANG ?= clang
 CXX ?= g++
@@ -74,11 +76,11 @@ TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
 
 DEPS_STAMP := $(BUILD)/.deps-ok
 
-.PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
+.PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
   e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
-all: lib tools
+all: lib tools man
 
 deps: $(DEPS_STAMP)
 $(DEPS_STAMP): scripts/deps.sh
@@ -103,7 +105,7 @@ $(STATIC): $(LIB_OBJS)
 
 $(SHARED): $(LIB_PICS)
 	@mkdir -p $(@D)
-	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^
+	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^ -lm
 	ln -sf libc4gopen.so.$(VERSION) $(BUILD)/lib/$(SONAME)
 	ln -sf $(SONAME) $(BUILD)/lib/libc4gopen.so
 
@@ -138,6 +140,15 @@ $(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
+
+# ---- man pages: docs/man/NAME.scd (scdoc) with each tool's option list and examples
+# taken from its own --help (scripts/man-page.py), so page and tool cannot disagree
+MAN_SRCS := $(sort $(wildcard docs/man/*.scd))
+MAN_PAGES := $(MAN_SRCS:docs/man/%.scd=$(BUILD)/man/%)
+man: $(MAN_PAGES)
+$(BUILD)/man/%: docs/man/%.scd scripts/man-page.py $(TOOL_BINS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  MAN     $@"; python3 scripts/man-page.py $< $(BUILD)/bin > $@.scd && scdoc < $@.scd > $@
 
 # ---- unit tests (CMocka)
 # Tests of tool parsers #include the tool sources they test (tools/ is not in the
@@ -334,7 +345,7 @@ bench: $(DEPS_STAMP)
 	@sh scripts/bench.sh $(BUILD)
 
 # ---- install
-install: lib tools
+install: lib tools man
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin \
 	  $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
 	install -m 644 include/*.h $(DESTDIR)$(PREFIX)/include/
@@ -346,6 +357,12 @@ install: lib tools
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
 	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
+	install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/
+	install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/
+	install -d $(DESTDIR)$(BASH_COMPLETION_DIR)
+	install -m 644 scripts/completion/c4gopen.bash $(DESTDIR)$(BASH_COMPLETION_DIR)/c4g-server
+	$(foreach t,$(filter-out c4g-server,$(TOOL_NAMES)),ln -sf c4g-server $(DESTDIR)$(BASH_COMPLETION_DIR)/$(t);)
 	install -d $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)
 	install -m 644 tools/wireshark/c4gopen.lua $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/
 uninstall:
@@ -354,6 +371,9 @@ uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
 	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(filter %.1,$(MAN_PAGES))))
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man3/,$(notdir $(filter %.3,$(MAN_PAGES))))
+	rm -f $(addprefix $(DESTDIR)$(BASH_COMPLETION_DIR)/,$(TOOL_NAMES))
 	rm -f $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/c4gopen.lua
 wireshark-install-user:
 	install -d $(WIRESHARK_USER_PLUGIN_DIR)
