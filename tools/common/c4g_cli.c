@@ -158,6 +158,23 @@ static const cli_opt_t *cli_row_of(const cli_spec_t *spec, int c)
     return NULL;
 }
 
+/* getopt's ':' (a value missing) or '?' (no such option), as one line. */
+static void cli_getopt_error(const cli_spec_t *spec, int c, char **argv, const char *help)
+{
+    char name[80];
+    /* a short option (optopt set) may sit in a group ("-qZ"): name it alone */
+    if (optopt != 0 && optopt < 0x100) {
+        snprintf(name, sizeof name, "-%c", optopt);
+    } else {
+        cli_path_text(argv[optind - 1], name, sizeof name);
+    }
+    if (c == ':') {
+        cli_error(spec, "option '%s' needs a value (see %s)", name, help);
+    } else {
+        cli_error(spec, "unrecognized option '%s' (see %s)", name, help);
+    }
+}
+
 cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
                        int *first_operand)
 {
@@ -191,18 +208,7 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
             return CLI_DONE;
         }
         if (c == ':' || c == '?') {
-            char name[80];
-            /* a short option (optopt set) may sit in a group ("-qZ"): name it alone */
-            if (optopt != 0 && optopt < 0x100) {
-                snprintf(name, sizeof name, "-%c", optopt);
-            } else {
-                cli_path_text(argv[optind - 1], name, sizeof name);
-            }
-            if (c == ':') {
-                cli_error(spec, "option '%s' needs a value (see %s)", name, help);
-            } else {
-                cli_error(spec, "unrecognized option '%s' (see %s)", name, help);
-            }
+            cli_getopt_error(spec, c, argv, help);
             return CLI_BAD;
         }
         o = cli_row_of(spec, c);
