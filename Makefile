@@ -313,21 +313,10 @@ docs-examples: $(STATIC)
 	@sh scripts/docs-examples.sh $(BUILD)
 
 # ---- the two README commands
+CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage audit static-analysis cross \
+  qemu-smoke docs-examples e2e fuzz
 check: $(DEPS_STAMP)
-	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory unit
-	@$(MAKE) --no-print-directory ident-accuracy
-	@$(MAKE) --no-print-directory sanitize
-	@$(MAKE) --no-print-directory valgrind
-	@$(MAKE) --no-print-directory coverage
-	@$(MAKE) --no-print-directory audit
-	@$(MAKE) --no-print-directory static-analysis
-	@$(MAKE) --no-print-directory cross
-	@$(MAKE) --no-print-directory qemu-smoke
-	@$(MAKE) --no-print-directory docs-examples
-	@$(MAKE) --no-print-directory e2e
-	@$(MAKE) --no-print-directory fuzz
-	@echo "check: all gates passed"
+	@sh scripts/check.sh "$(MAKE) --no-print-directory" $(CHECK_GATES)
 
 demo: all
 	@sh scripts/demo.sh $(BUILD)
