@@ -8,6 +8,8 @@
 #include "app.h"
 #include "c4g_cli.h"
 
+#include <jansson.h>
+
 /* ---- files ---------------------------------------------------------------- */
 
 static void csv_header(app_t *a)
@@ -105,93 +107,115 @@ static figures_t figures(const app_t *a, double cpu_s)
     return f;
 }
 
-static const char *jbool(int b)
+static void put_u(json_t *o, const char *key, unsigned long v)
 {
-    return b ? "true" : "false";
+    json_object_set_new(o, key, json_integer((json_int_t)v));
 }
 
-static void json_str(FILE *f, const char *s)
+static void put_f(json_t *o, const char *key, double v)
 {
-    fputc('"', f);
-    for (; *s != '\0'; s++) {
-        if (*s == '"' || *s == '\\') {
-            fputc('\\', f);
-        }
-        if ((unsigned char)*s < 0x20U) {
-            fprintf(f, "\\u%04x", (unsigned)*s);
-        } else {
-            fputc(*s, f);
-        }
-    }
-    fputc('"', f);
+    json_object_set_new(o, key, json_real(v));
 }
 
-static void json_replies(FILE *f, const app_t *a, const figures_t *g)
+static json_t *json_replies(const app_t *a, const figures_t *g)
 {
     const cs_counters_t *n = &a->cs.n;
-    fprintf(f, "\"replies\":{\"ok\":%lu,\"missing\":%lu,\"late\":%lu,\"unjudged\":%lu,\"wrong_num\":%lu,"
-               "\"malformed\":%lu,\"foreign\":%lu,\"duplicates\":%lu,\"stale\":%lu,\"unexpected\":%lu,"
-               "\"max_consecutive_missing\":%lu,\"latency_us\":{\"min\":%.1f,\"avg\":%.1f,\"p50\":%.0f,"
-               "\"p99\":%.0f,\"p999\":%.0f,\"max\":%.1f}},",
-            n->replies_ok, n->missing, n->late, n->unjudged, n->wrong_num, n->malformed, n->foreign,
-            n->duplicates, n->stale, n->unexpected, n->max_consecutive, g->lat_min, g->lat_avg, g->p50,
-            g->p99, g->p999, g->lat_max);
+    json_t *o = json_object();
+    json_t *l = json_object();
+    put_u(o, "ok", n->replies_ok);
+    put_u(o, "missing", n->missing);
+    put_u(o, "late", n->late);
+    put_u(o, "unjudged", n->unjudged);
+    put_u(o, "wrong_num", n->wrong_num);
+    put_u(o, "malformed", n->malformed);
+    put_u(o, "foreign", n->foreign);
+    put_u(o, "duplicates", n->duplicates);
+    put_u(o, "stale", n->stale);
+    put_u(o, "unexpected", n->unexpected);
+    put_u(o, "max_consecutive_missing", n->max_consecutive);
+    put_f(l, "min", g->lat_min);
+    put_f(l, "avg", g->lat_avg);
+    put_f(l, "p50", g->p50);
+    put_f(l, "p99", g->p99);
+    put_f(l, "p999", g->p999);
+    put_f(l, "max", g->lat_max);
+    json_object_set_new(o, "latency_us", l);
+    return o;
 }
 
-static void json_faults_errors(FILE *f, const app_t *a)
+static void json_faults_errors(json_t *o, const app_t *a)
 {
     const sim_t *s = &a->sim;
+    json_t *faults = json_object();
+    json_t *errors = json_array();
     int i;
-    fprintf(f, "\"num_policy\":\"%s\",\"pc_policy\":\"%s\",\"udp_debug\":%lu,\"overruns\":%lu,"
-               "\"overrun_max_us\":%.1f,\"timestamps\":\"%s\",\"paused_ticks\":%lu,"
-               "\"mode_rejected\":%lu,\"mode_mismatch\":%lu,\"faults\":{",
-            cs_policy_name((int)a->cs.cfg.policy), cs_policy_name(a->cs.detected), s->udp_debug,
-            a->st.overruns, (double)a->st.overrun_max / 1000.0, a->kstamp ? "kernel" : "user",
-            a->st.paused_ticks, s->mode_rejected, s->mode_mismatch);
+    json_object_set_new(o, "num_policy", json_string(cs_policy_name((int)a->cs.cfg.policy)));
+    json_object_set_new(o, "pc_policy", json_string(cs_policy_name(a->cs.detected)));
+    put_u(o, "udp_debug", s->udp_debug);
+    put_u(o, "overruns", a->st.overruns);
+    put_f(o, "overrun_max_us", (double)a->st.overrun_max / 1000.0);
+    json_object_set_new(o, "timestamps", json_string(a->kstamp ? "kernel" : "user"));
+    put_u(o, "paused_ticks", a->st.paused_ticks);
+    put_u(o, "mode_rejected", s->mode_rejected);
+    put_u(o, "mode_mismatch", s->mode_mismatch);
     for (i = 0; i < F_COUNT; i++) {
-        fprintf(f, "%s\"%s\":%lu", i ? "," : "", fault_names[i], a->st.fault[i]);
+        put_u(faults, fault_names[i], a->st.fault[i]);
     }
-    fprintf(f, "},\"errors\":[");
+    json_object_set_new(o, "faults", faults);
     for (i = 0; i < s->n_err; i++) {
-        fprintf(f, "%s{\"name\":\"%s\",\"message\":", i ? "," : "", c4g_ctrl_error_name(s->err[i].code));
-        json_str(f, s->err[i].text);
-        fprintf(f, ",\"tick\":%lu}", s->err[i].tick);
+        json_array_append_new(errors, json_pack("{s:s, s:s?, s:I}", "name",
+                                                c4g_ctrl_error_name(s->err[i].code), "message",
+                                                s->err[i].text, "tick", (json_int_t)s->err[i].tick));
     }
-    fprintf(f, "],");
+    json_object_set_new(o, "errors", errors);
 }
 
-static void json_scenario_robot(FILE *f, const sim_t *s)
+static void json_scenario_robot(json_t *o, const sim_t *s)
 {
+    json_t *robot = json_array();
     int i;
-    fprintf(f, "\"scenario\":{\"loaded\":%s,\"done\":%s,\"aborted\":%s,\"commands_run\":%d,"
-               "\"expect_passed\":%d,\"expect_failed\":%d,\"wait_pc_timeout\":%s},",
-            jbool(s->scn != NULL), jbool(s->scn_done), jbool(s->scn_aborted), s->pc, s->expect_passed,
-            s->expect_failed, jbool(s->scn_timeout));
-    fprintf(f, "\"robot\":[");
+    json_object_set_new(o, "scenario",
+                        json_pack("{s:b, s:b, s:b, s:i, s:i, s:i, s:b}", "loaded", s->scn != NULL,
+                                  "done", s->scn_done, "aborted", s->scn_aborted, "commands_run",
+                                  s->pc, "expect_passed", s->expect_passed, "expect_failed",
+                                  s->expect_failed, "wait_pc_timeout", s->scn_timeout));
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
-        fprintf(f, "%s{\"arm\":%d,\"axis\":%d,\"mode\":%d,\"drive_on\":%s,\"pos\":%.6f,\"target\":%.6f,"
-                   "\"current\":%.4f}", i ? "," : "", x->arm + 1, x->logical + 1, x->mode,
-                jbool(x->m.drive_on), x->m.meas_pos, x->pos_ref, x->m.cur);
+        json_array_append_new(robot, json_pack("{s:i, s:i, s:i, s:b, s:f, s:f, s:f}", "arm",
+                                               x->arm + 1, "axis", x->logical + 1, "mode", x->mode,
+                                               "drive_on", x->m.drive_on, "pos", x->m.meas_pos,
+                                               "target", x->pos_ref, "current", x->m.cur));
     }
-    fprintf(f, "],");
+    json_object_set_new(o, "robot", robot);
 }
 
+/* The JSON summary (jansson): one object on one line of stdout. */
 static void summary_json(const app_t *a, int code, const char *result, double cpu_s)
 {
-    FILE *f = stdout;
     const sim_t *s = &a->sim;
     const cs_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
-    fprintf(f, "{\"tool\":\"c4g-sim\",\"version\":\"%s\",\"result\":\"%s\",\"exit_code\":%d,",
-            C4G_VERSION_STRING, result, code);
-    fprintf(f, "\"period_ms\":%d,\"axes\":%d,\"ticks\":%lu,\"packets\":{\"sent\":%lu,\"sync\":%lu,"
-               "\"init\":%lu,\"cyclic\":%lu},", s->cfg.period_ms, s->n_axes, s->tick, a->st.sent,
-            n->sync_sent, n->init_sent, n->cyclic_sent);
-    json_replies(f, a, &g);
-    json_faults_errors(f, a);
-    json_scenario_robot(f, s);
-    fprintf(f, "\"cpu\":{\"seconds\":%.6f,\"ns_per_packet\":%.0f}}\n", cpu_s, g.per_packet_ns);
+    json_t *o = json_object();
+    json_object_set_new(o, "tool", json_string("c4g-sim"));
+    json_object_set_new(o, "version", json_string(C4G_VERSION_STRING));
+    json_object_set_new(o, "result", json_string(result));
+    json_object_set_new(o, "exit_code", json_integer(code));
+    json_object_set_new(o, "period_ms", json_integer(s->cfg.period_ms));
+    json_object_set_new(o, "axes", json_integer(s->n_axes));
+    put_u(o, "ticks", s->tick);
+    json_object_set_new(o, "packets", json_pack("{s:I, s:I, s:I, s:I}", "sent",
+                                                (json_int_t)a->st.sent, "sync",
+                                                (json_int_t)n->sync_sent, "init",
+                                                (json_int_t)n->init_sent, "cyclic",
+                                                (json_int_t)n->cyclic_sent));
+    json_object_set_new(o, "replies", json_replies(a, &g));
+    json_faults_errors(o, a);
+    json_scenario_robot(o, s);
+    json_object_set_new(o, "cpu", json_pack("{s:f, s:f}", "seconds", cpu_s, "ns_per_packet",
+                                            g.per_packet_ns));
+    json_dumpf(o, stdout, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(12));
+    fputc('\n', stdout);
+    json_decref(o);
 }
 
 static void text_errors_robot(const sim_t *s)
@@ -202,9 +226,10 @@ static void text_errors_robot(const sim_t *s)
                s->err[i].text);
     }
     if (s->scn != NULL) {
+        /* the run is over: a scenario that did not reach its end was cut short */
         printf("  scenario: %s, %d commands, expectations %d passed %d failed\n",
-               s->scn_aborted ? "aborted" : (s->scn_done ? "done" : "running"), s->pc, s->expect_passed,
-               s->expect_failed);
+               s->scn_aborted ? "aborted" : (s->scn_done ? "done" : "not finished (the run ended first)"),
+               s->pc, s->expect_passed, s->expect_failed);
     }
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
@@ -226,6 +251,10 @@ static void summary_text(const app_t *a, int code, const char *result, double cp
     printf("  replies ok %lu, missing %lu, late %lu, unjudged %lu, wrong NUM %lu, malformed %lu, "
            "foreign %lu, duplicates %lu, stale %lu\n", n->replies_ok, n->missing, n->late,
            n->unjudged, n->wrong_num, n->malformed, n->foreign, n->duplicates, n->stale);
+    if (n->missing > 0 || n->stale > 0) {
+        printf("  (missing: no reply to a packet by the next tick; stale: a reply that came "
+               "after that, to an older packet; the PC server counts the same losses as gaps)\n");
+    }
     printf("  own overruns %lu (worst %.1f us after the tick), %s timestamps\n", a->st.overruns,
            (double)a->st.overrun_max / 1000.0, a->kstamp ? "kernel" : "user-space");
     printf("  reply latency us: min %.1f avg %.1f p50 %.0f p99 %.0f p99.9 %.0f max %.1f; max consecutive missing %lu\n",
