@@ -179,6 +179,10 @@ static void json_scenario_robot(json_t *o, const sim_t *s)
                                   "done", s->scn_done, "aborted", s->scn_aborted, "commands_run",
                                   s->pc, "expect_passed", s->expect_passed, "expect_failed",
                                   s->expect_failed, "wait_pc_timeout", s->scn_timeout));
+    if (s->expect_first[0] != '\0') {
+        json_object_set_new(json_object_get(o, "scenario"), "first_failure",
+                            json_string(s->expect_first));
+    }
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
         json_array_append_new(robot, json_pack("{s:i, s:i, s:i, s:b, s:f, s:f, s:f}", "arm",
@@ -226,10 +230,19 @@ static void text_errors_robot(const sim_t *s)
                s->err[i].text);
     }
     if (s->scn != NULL) {
-        /* the run is over: a scenario that did not reach its end was cut short */
-        printf("  scenario: %s, %d commands, expectations %d passed %d failed\n",
-               s->scn_aborted ? "aborted" : (s->scn_done ? "done" : "not finished (the run ended first)"),
-               s->pc, s->expect_passed, s->expect_failed);
+        /* the run is over: a scenario that did not reach its end stopped where the run did */
+        char state[64] = "done";
+        if (s->scn_aborted) {
+            snprintf(state, sizeof state, "aborted");
+        } else if (!s->scn_done && s->pc < s->scn->n) {
+            snprintf(state, sizeof state, "ended at line %d (%s)", s->scn->cmd[s->pc].line,
+                     scn_op_name(s->scn->cmd[s->pc].op));
+        }
+        printf("  scenario: %s, %d commands, expectations %d passed %d failed\n", state, s->pc,
+               s->expect_passed, s->expect_failed);
+        if (s->expect_first[0] != '\0') {
+            printf("  first failed expectation: scenario %s\n", s->expect_first);
+        }
     }
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
