@@ -85,4 +85,11 @@ out_fail 1 --out /x/e.csv -- "$bin/c4g-ident" excite -o /x/e.csv
 [ "$rc" -eq 2 ] && grep -q "/nonexistent.ini: .*No such file or directory" "$tmp/err" \
   && [ "$(grep -o /nonexistent.ini "$tmp/err" | wc -l)" -eq 1 ] && pass "cell-cli -c missing: $(cat "$tmp/err")" \
   || bad "cell-cli -c missing: exit $rc: $(cat "$tmp/err")"
+
+# c4g-sim -n N: a progress line on stderr when it is a terminal, nothing when it is a file
+"$bin/c4g-server" -p 31406 -c 127.0.0.1 -q --persist --idle-timeout 60 >/dev/null 2>&1 &
+srv=$!
+i=0; until ss -Huln "sport = :31406" | grep -q .; do i=$((i + 1)); [ $i -gt 1500 ] && break; sleep 0.02; done
+timeout 90 python3 tests/e2e/progress_pty.py "$bin/c4g-sim" 31406 || fail=1
+kill "$srv" 2>/dev/null; wait "$srv" 2>/dev/null
 exit $fail

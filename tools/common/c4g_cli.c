@@ -372,3 +372,25 @@ const char *cli_find_config(int argc, char **argv)
     }
     return NULL;
 }
+
+int cli_progress_wanted(void)
+{
+    return isatty(STDERR_FILENO);
+}
+
+void cli_progress(const char *tool, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "\r%s: ", tool);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs("\033[K", stderr);
+    fflush(stderr);
+}
+
+void cli_progress_end(void)
+{
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+}

@@ -109,4 +109,19 @@ int cli_check_output(const char *tool, const char *opt, const char *path);
 /* fopen(path, mode) for an output file; "-" is stdout. On failure cli_file_error and NULL. */
 FILE *cli_open_output(const char *tool, const char *opt, const char *path, const char *mode);
 
+/* ---- a progress line for long runs: on stderr, and only when stderr is a terminal ---- */
+
+/* 1 when stderr is a terminal (a progress line would be seen, not logged). */
+int cli_progress_wanted(void);
+
+/* Redraw the progress line in place: "\rTOOL: TEXT" and the rest of the line erased. */
+void cli_progress(const char *tool, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Erase the progress line (before the summary or any other output). */
+void cli_progress_end(void);
+
 #endif
