@@ -346,6 +346,10 @@ install: lib tools man
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
 	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	install -d $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples
+	install -m 644 examples/mode4_loop.c examples/README.md $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/
+	sed 's|/usr/local/bin/|$(PREFIX)/bin/|' examples/c4g-server.service \
+	  > $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/c4g-server.service
 	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
 	install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/
 	install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/

@@ -455,7 +455,7 @@ static const srv_setting_t settings[] = {
     {"cpu", 0, "N", SW_BOTH, SK_INT, -1, 1023, G(cpu), NULL, "a CPU number >= 0 (-1 = off)",
      "pin the packet loop to CPU N"},
     {"rt-strict", 0, NULL, SW_BOTH, SK_FLAG, 0, 0, G(rt_strict), NULL, FLAG_WANT,
-     "a refused real-time setting is fatal (exit 2); by default" NL
+     "a refused real-time setting is fatal (exit 1); by default" NL
      "the server says what was refused and why, and continues"},
     {"spin", 0, NULL, SW_BOTH, SK_FLAG, 0, 0, G(spin), NULL, FLAG_WANT,
      "busy-poll the socket (lowest latency, burns a CPU)"},
