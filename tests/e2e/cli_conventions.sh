@@ -75,9 +75,9 @@ out_fail 1 --json "$ctl" -- $S -p 31405 --json "$ctl"
 grep -q 'no\\x01where' "$tmp/err" && pass "unprintable byte escaped" || bad "escape: $(cat "$tmp/err")"
 out_fail 4 --csv /x/y.csv -- "$bin/c4g-sim" -p 41400 -n 3000 --csv /x/y.csv
 out_fail 4 --pcap /x/y.pcap -- "$bin/c4g-sim" -p 41401 -n 3000 --pcap /x/y.pcap
-out_fail 1 --output /x/y.png -- "$bin/c4g-replay" plot --output /x/y.png fixtures/replay/mode4-sine.pcap
-out_fail 1 --out /x/arm1.ini -- "$bin/c4g-ident" fit -o /x/arm1.ini fixtures/replay/mode4-sine.pcap
-out_fail 1 --plot /x/plots -- "$bin/c4g-ident" fit --plot /x/plots fixtures/replay/mode4-sine.pcap
+out_fail 1 --output /x/y.png -- "$bin/c4g-replay" plot --output /x/y.png fixtures/replay/mode4.pcap
+out_fail 1 --out /x/arm1.ini -- "$bin/c4g-ident" fit -o /x/arm1.ini fixtures/replay/mode4.pcap
+out_fail 1 --plot /x/plots -- "$bin/c4g-ident" fit --plot /x/plots fixtures/replay/mode4.pcap
 out_fail 1 --out /x/e.csv -- "$bin/c4g-ident" excite -o /x/e.csv
 
 # an input file: the system's reason, the path once

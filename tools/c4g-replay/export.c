@@ -8,6 +8,7 @@
 #include "c4g_csv.h"
 #include "c4g_textfile.h"
 
+#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,56 +107,73 @@ static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
     fputc('\n', e->out);
 }
 
-static void json_float(FILE *out, float v)
+/* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
+ * which gives the float32 back exactly and prints as written (0.1, not 0.100000001490). */
+static json_t *json_float(float v)
 {
-    if (isfinite(v)) {
-        fprintf(out, "%.9g", (double)v);
-    } else {
-        fputs("null", out);
+    char text[32];
+    if (!isfinite(v)) {
+        return json_null();
     }
+    (void)snprintf(text, sizeof text, "%.9g", (double)v);
+    return json_real(strtod(text, NULL));
 }
 
-static void json_side(ex_ctx_t *e, const char *name, const uint8_t *d, size_t len)
+static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
 {
     const unsigned n = axes_in(len);
-    unsigned i, k, first = 1U;
+    unsigned i, k;
+    json_t *o, *axes;
     if (d == NULL || n == 0U) {
-        fprintf(e->out, ",\"%s\":null", name);
-        return;
+        return json_null();
     }
-    fprintf(e->out, ",\"%s\":{\"num\":%d,\"infpar\":%u,\"cmd\":%u,\"axes\":[", name, (int)an_le_i32(d),
-            (unsigned)an_le_u32(d + 4), (unsigned)an_le_u32(d + 8));
+    o = json_object();
+    axes = json_array();
+    json_object_set_new(o, "num", json_integer(an_le_i32(d)));
+    json_object_set_new(o, "infpar", json_integer(an_le_u32(d + 4)));
+    json_object_set_new(o, "cmd", json_integer(an_le_u32(d + 8)));
     for (i = 0U; i < n; i++) {
         const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
+        json_t *ax;
         if (!axis_on(e, i)) {
             continue;
         }
-        fprintf(e->out, "%s{\"axis\":%u,\"mode\":%d", first ? "" : ",", i + 1U, (int)an_le_i32(a));
-        first = 0U;
+        ax = json_object();
+        json_object_set_new(ax, "axis", json_integer(i + 1U));
+        json_object_set_new(ax, "mode", json_integer(an_le_i32(a)));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",\"%s\":", fnames[k]);
-            json_float(e->out, an_le_f32(a + 4U + 4U * k));
+            json_object_set_new(ax, fnames[k], json_float(an_le_f32(a + 4U + 4U * k)));
         }
-        fputc('}', e->out);
+        json_array_append_new(axes, ax);
     }
-    fputs("]}", e->out);
+    json_object_set_new(o, "axes", axes);
+    return o;
 }
 
+/* One tick as one JSON object on one line (jansson; 12 significant digits: the floats' 9-digit
+ * decimals as they are, the time to the nanosecond below 1000 s). */
 static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
 {
-    fprintf(e->out, "{\"session\":%u,\"tick\":%llu,\"time\":%.9f,\"ctrl_frame\":%llu,\"pc_frame\":", x->s->id,
-            (unsigned long long)x->tick, t, (unsigned long long)x->ctrl_frame);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_integer(x->s->id));
+    json_object_set_new(o, "tick", json_integer((json_int_t)x->tick));
+    json_object_set_new(o, "time", json_real(t));
+    json_object_set_new(o, "ctrl_frame", json_integer((json_int_t)x->ctrl_frame));
     if (x->reply != NULL) {
-        fprintf(e->out, "%llu,\"latency_us\":%.3f", (unsigned long long)x->reply_frame,
-                (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        json_object_set_new(o, "pc_frame", json_integer((json_int_t)x->reply_frame));
+        json_object_set_new(o, "latency_us", json_real((double)(x->reply_ns - x->ctrl_ns) * 1e-3));
     } else {
-        fputs("null,\"latency_us\":null", e->out);
+        json_object_set_new(o, "pc_frame", json_null());
+        json_object_set_new(o, "latency_us", json_null());
     }
-    fprintf(e->out, ",\"verdict\":\"%s\"", x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
-                                          : (x->verdict == CS_J_MISSING ? "missing" : "unjudged"));
-    json_side(e, "ctrl", x->ctrl, x->ctrl_len);
-    json_side(e, "pc", x->reply, x->reply_len);
-    fputs("}\n", e->out);
+    json_object_set_new(o, "verdict", json_string(x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
+                                                  : (x->verdict == CS_J_MISSING ? "missing"
+                                                                                : "unjudged")));
+    json_object_set_new(o, "ctrl", json_side(e, x->ctrl, x->ctrl_len));
+    json_object_set_new(o, "pc", json_side(e, x->reply, x->reply_len));
+    json_dumpf(o, e->out, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(12));
+    fputc('\n', e->out);
+    json_decref(o);
 }
 
 static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)

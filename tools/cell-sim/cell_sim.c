@@ -19,6 +19,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "c4gopen.h"
 #include "c4g_cli.h"
 #include "c4g_textfile.h"
@@ -80,23 +82,24 @@ static void logf_(int level, const char *dev, const char *peer, const char *even
     gmtime_r(&now.tv_sec, &tm);
     strftime(ts, sizeof ts, "%Y-%m-%dT%H:%M:%S", &tm);
     if (g_json) {
-        /* messages are built from fixed texts and protocol-safe bytes; escape quotes anyway */
-        char esc[1100];
-        size_t o = 0;
-        for (size_t i = 0; msg[i] != '\0' && o + 7 < sizeof esc; i++) {
-            unsigned char c = (unsigned char)msg[i];
-            if (c == '"' || c == '\\') {
-                esc[o++] = '\\';
-                esc[o++] = (char)c;
-            } else if (c < 0x20 || c >= 0x7F) {
-                o += (size_t)snprintf(esc + o, sizeof esc - o, "\\u%04x", c);
-            } else {
-                esc[o++] = (char)c;
+        /* jansson escapes; a message with bytes that are not UTF-8 keeps them as \xNN text */
+        char stamp[48];
+        json_t *o;
+        snprintf(stamp, sizeof stamp, "%.30s.%03dZ", ts, (int)(now.tv_nsec / 1000000L) % 1000);
+        o = json_pack("{s:s, s:s, s:s, s:s}", "time", stamp, "device", dev, "peer", peer, "event",
+                      event);
+        if (o != NULL) {
+            json_t *m = json_string(msg);
+            if (m == NULL) {
+                char safe[1100];
+                tf_escape(msg, strlen(msg), safe, sizeof safe);
+                m = json_string(safe);
             }
+            json_object_set_new(o, "msg", m);
+            json_dumpf(o, stderr, JSON_COMPACT | JSON_PRESERVE_ORDER);
+            fputc('\n', stderr);
+            json_decref(o);
         }
-        esc[o] = '\0';
-        fprintf(stderr, "{\"time\":\"%s.%03ldZ\",\"device\":\"%s\",\"peer\":\"%s\",\"event\":\"%s\",\"msg\":\"%s\"}\n",
-                ts, now.tv_nsec / 1000000L, dev, peer, event, esc);
     } else {
         fprintf(stderr, "%s.%03ldZ cell-sim: %s %s %s: %s\n", ts, now.tv_nsec / 1000000L, dev,
                 peer, event, msg);

@@ -1,1 +1,1 @@
-cell-sim_LDLIBS := -linih
+cell-sim_LDLIBS := -linih -ljansson
