@@ -207,7 +207,7 @@ FUZZ_TOOL_fuzz_ffmodel := $(FUZZ_FFM) $(FUZZ_TF)
 FUZZ_TOOL_fuzz_server_ini := tools/common/c4g_srv_opts.c tools/common/c4g_cli.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \
-  tools/common/c4g_ctrlside.c
+  tools/common/c4g_ctrlside.c tools/common/c4g_hist.c
 FUZZ_LIBS_fuzz_capture := -lpcap
 FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
   -Itools/cell-cli -Itools/c4g-replay

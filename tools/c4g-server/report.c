@@ -180,20 +180,7 @@ void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
 
 static double pct_us(const srv_stats_t *st, double p)
 {
-    uint64_t want, acc = 0U;
-    uint32_t i;
-    if (st->hist_n == 0U) {
-        return 0.0;
-    }
-    want = (uint64_t)(p * (double)st->hist_n + 0.999999);
-    if (want < 1U) want = 1U;
-    for (i = 0U; i <= SRV_HIST_US; i++) {
-        acc += st->hist[i];
-        if (acc >= want) {
-            return (double)i;
-        }
-    }
-    return (double)SRV_HIST_US;
+    return c4g_hist_us(&st->cycle, p);
 }
 
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
@@ -228,8 +215,8 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     fprintf(out, "Percentage jitter range = [%+.9f; %+.9f] %%\n", t.min_jitter_pct, t.max_jitter_pct);
     fprintf(out, "Cycle time (rx -> sent): samples %llu, mean %.1f us, p50 %.0f us, p99 %.0f us, "
             "p99.9 %.0f us, max %.1f us; later than %u us: %llu\n",
-            (unsigned long long)st->hist_n, st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0,
-            pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle_max_ns / 1000.0,
+            (unsigned long long)st->cycle.n, c4g_hist_mean_us(&st->cycle),
+            pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle.max_ns / 1000.0,
             S->cfg.late_us, (unsigned long long)st->late);
     fprintf(out, "== Counters\n");
     fprintf(out, "rx %llu, tx %llu, sync %llu, init %llu, cyclic %llu\n",
@@ -306,12 +293,12 @@ static json_t *json_timing(const srv_t *S)
     put_i(o, "max_jitter_ns", (long long)t.max_jitter_ns);
     put_f(o, "min_jitter_pct", t.min_jitter_pct);
     put_f(o, "max_jitter_pct", t.max_jitter_pct);
-    put_u(o, "cycle_samples", st->hist_n);
-    put_f(o, "cycle_mean_us", st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0);
+    put_u(o, "cycle_samples", st->cycle.n);
+    put_f(o, "cycle_mean_us", c4g_hist_mean_us(&st->cycle));
     put_f(o, "cycle_p50_us", pct_us(st, 0.5));
     put_f(o, "cycle_p99_us", pct_us(st, 0.99));
     put_f(o, "cycle_p999_us", pct_us(st, 0.999));
-    put_f(o, "cycle_max_us", (double)st->cycle_max_ns / 1000.0);
+    put_f(o, "cycle_max_us", (double)st->cycle.max_ns / 1000.0);
     put_u(o, "late_us", S->cfg.late_us);
     put_u(o, "late", st->late);
     return o;
