@@ -55,12 +55,12 @@ stroke_test() {  # stroke_test NAME MODE PORT MIN MAX TOL [server args...]
     ok "$n: the server stopped the arm (505 sent)" ge "$(jv "$T/$n.json" drive_off_505)" 1
     ok "$n: stroke event counted" ge "$(jv "$T/$n.json" stroke)" 1
     ok "$n: the controller took the drive off (DRIVEOFF_SERVER)" has "$T/$n.sim.json" DRIVEOFF_SERVER
-    # the reference the controller held (CSV a<k>_tpos, columns 9 + 11 k) never left the
-    # stroke by more than TOL (SMP+'s own step in mode 7); the robot stopped within its
-    # following error and one tick of braking of it (0.01 turns here)
+    # the reference the controller held (the per-tick CSV's rx_d1, column 7, on the rows of
+    # the axis, column 3) never left the stroke by more than TOL (SMP+'s own step in mode 7);
+    # the robot stopped within its following error and one tick of braking of it (0.01 turns)
     for ax in 1 2 3 4 5 6; do
-        c=$((9 + 11 * (ax - 1)))
-        r=$(awk -F, -v c=$c -v hi="$hi" -v lo="$lo" 'NR > 1 && $c != "" {
+        c=7
+        r=$(awk -F, -v c=$c -v ax=$ax -v hi="$hi" -v lo="$lo" 'NR > 1 && $3 == ax && $c != "" {
                 d = ($c > hi) ? $c - hi : (($c < lo) ? lo - $c : 0); if (d > w) w = d }
             END { print w + 0 }' "$T/$n.csv")
         p=$(simpos "$T/$n.sim.json" $ax)

@@ -5,6 +5,7 @@
 #include "srv.h"
 #include "c4g_pcap.h"
 #include "c4g_csv.h"
+#include "c4g_tickcsv.h"
 
 #include <jansson.h>
 
@@ -54,8 +55,7 @@ int srv_outputs_open(srv_host_t *H)
             return -1;
         }
         if (S->cfg.moni_type == 0) {
-            fputs("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,"
-                  "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", H->moni_fp);
+            fputs(C4G_TICK_CSV_COLUMNS "\n", H->moni_fp);
         } else {
             char hdr[256];
             size_t hl = 0U;
@@ -135,16 +135,9 @@ static void write_moni(srv_host_t *H, const c4g_rtlog_rec_t *rec)
             }
             continue;
         }
-        {
-            fprintf(H->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
-                    "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (int)rx.num, (unsigned)i + 1U,
-                    (unsigned)m->arm_of[i] + 1U, (unsigned)m->logical_of[i] + 1U, (int)r->mode,
-                    (double)r->target_pos, (double)r->target_vel, (double)r->actual_pos,
-                    (double)r->actual_vel, (double)r->current_ref, (double)r->ext[0],
-                    (double)r->ext[1], (double)r->ext[2], (unsigned)tx.infpar, (int)o->mode,
-                    (double)o->target_pos, (double)o->target_vel, (double)o->measure,
-                    (double)o->vel_add, (double)o->current_add);
-        }
+        c4g_tick_csv_row(H->moni_fp, t, rx.num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+                         (uint32_t)m->logical_of[i] + 1U, r, tx.infpar, o);
+        fputc('\n', H->moni_fp);
     }
 }
 

@@ -7,6 +7,7 @@
 
 #include "app.h"
 #include "c4g_cli.h"
+#include "c4g_tickcsv.h"
 
 #include <jansson.h>
 
@@ -14,13 +15,7 @@
 
 static void csv_header(app_t *a)
 {
-    int i;
-    fprintf(a->csv, "tick,time_s,num,sent,infpar,cmd,reply_ok");
-    for (i = 0; i < a->sim.n_axes; i++) {
-        fprintf(a->csv, ",a%d_mode,a%d_tpos,a%d_tvel,a%d_apos,a%d_avel,a%d_cur,a%d_rmode,a%d_rd1,"
-                        "a%d_rd2,a%d_rd4,a%d_rd5", i, i, i, i, i, i, i, i, i, i, i);
-    }
-    fputc('\n', a->csv);
+    fputs(C4G_TICK_CSV_COLUMNS ",tick,sent,reply_ok\n", a->csv);
 }
 
 int outputs_open(app_t *a)
@@ -58,24 +53,22 @@ void outputs_close(app_t *a)
     a->pcap = NULL;
 }
 
-void csv_row(app_t *a, const c4g_ctrl_packet_t *p, int sent, int reply_ok)
+/* The per-tick CSV (docs/csv.md): rx_* the packet sent, tx_* the PC reply applied in this
+ * tick (the last one received; tx_infpar 0 when none came this tick), then the simulator's
+ * tick, whether the packet went out and whether a reply came. */
+void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, int sent)
 {
     int i;
     if (a->csv == NULL) {
         return;
     }
-    fprintf(a->csv, "%lu,%.4f,%d,%d,0x%08x,0x%08x,%d", a->sim.tick,
-            (double)a->sim.tick * a->sim.period, p->num, sent, (unsigned)p->infpar, (unsigned)p->cmd,
-            reply_ok);
     for (i = 0; i < a->sim.n_axes; i++) {
-        const c4g_ctrl_axis_t *x = &p->ax[i];
-        const c4g_pc_axis_t *r = &a->sim.ax[i].rx;
-        fprintf(a->csv, ",%d,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g,%.9g,%.9g,%.9g", (int)x->mode,
-                (double)x->target_pos, (double)x->target_vel, (double)x->actual_pos,
-                (double)x->actual_vel, (double)x->current_ref, (int)r->mode, (double)r->target_pos,
-                (double)r->target_vel, (double)r->vel_add, (double)r->current_add);
+        const sim_ax_t *x = &a->sim.ax[i];
+        c4g_tick_csv_row(a->csv, (double)a->sim.tick * a->sim.period, p->num, (uint32_t)i + 1U,
+                         (uint32_t)x->arm + 1U, (uint32_t)x->logical + 1U, &p->ax[i],
+                         rep != NULL ? rep->infpar : 0U, &x->rx);
+        fprintf(a->csv, ",%lu,%d,%d\n", a->sim.tick, sent, rep != NULL);
     }
-    fputc('\n', a->csv);
 }
 
 double cpu_seconds(void)

@@ -187,7 +187,7 @@ static void tick_cyclic(app_t *a, loop_t *L)
     if (send) {
         send = tick_send(a, &pkt);
     }
-    csv_row(a, &pkt, send, rep != NULL);
+    csv_row(a, &pkt, rep, send);
     if (!a->sim.exit_open_req && a->sim.restart_req && send) {
         cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
         return;
