@@ -101,5 +101,10 @@ rows=$(($(wc -l <"$tmp/sim.csv") - 1))
 "$bin/c4g-ident" fit "$tmp/sim.csv" >"$tmp/fit.out" 2>&1; rc=$?
 [ "$rc" -ne 2 ] && grep -q "moni CSV, 300 controller ticks" "$tmp/fit.out" && pass "c4g-ident reads c4g-sim's per-tick CSV (exit $rc)" \
   || bad "c4g-ident on c4g-sim's CSV: exit $rc: $(head -3 "$tmp/fit.out")"
+"$bin/c4g-replay" export --ticks fixtures/replay/mode4.pcap >"$tmp/ticks.csv"; rc=$?
+[ "$rc" -eq 0 ] && [ "$(head -1 "$tmp/ticks.csv")" = "$(head -1 "$tmp/sim.csv" | sed 's/,tick,sent,reply_ok$//')" ] \
+  && pass "c4g-replay export --ticks: the same header" || bad "export --ticks: exit $rc: $(head -1 "$tmp/ticks.csv")"
+"$bin/c4g-ident" fit "$tmp/ticks.csv" >"$tmp/fit2.out" 2>&1; rc=$?
+[ "$rc" -ne 2 ] && grep -q "moni CSV" "$tmp/fit2.out" && pass "c4g-ident reads export --ticks (exit $rc)" || bad "c4g-ident on export --ticks: exit $rc"
 kill "$srv" 2>/dev/null; wait "$srv" 2>/dev/null
 exit $fail

@@ -6,6 +6,7 @@
 #include "replay.h"
 
 #include "c4g_csv.h"
+#include "c4g_tickcsv.h"
 #include "c4g_textfile.h"
 
 #include <jansson.h>
@@ -17,6 +18,7 @@ typedef struct ex_ctx {
     rp_common_t c;
     unsigned moni;            /* 19..24, 0 = all fields */
     int json_lines;
+    int ticks;                /* the per-tick CSV (docs/csv.md) */
     uint32_t axes;            /* OPEN indexes (bit 0 = 1), 0 = all */
     double from_s, to_s;      /* window since the session's first packet; to < 0: open */
     unsigned session;         /* 0 = all */
@@ -201,6 +203,30 @@ static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
     }
 }
 
+/* The per-tick CSV every tool shares (docs/csv.md): one row per axis, the columns of
+ * c4g-server --moni, for ticks whose packet and reply both decoded. */
+static void tick_rows(ex_ctx_t *e, const an_exchange_t *x, double t)
+{
+    const c4g_axis_map_t *m = &x->s->map;
+    uint32_t i;
+    if (x->rx == NULL || x->tx == NULL) {
+        return;
+    }
+    if (!e->header_done) {
+        fputs(C4G_TICK_CSV_COLUMNS "\n", e->out);
+        e->header_done = 1U;
+    }
+    for (i = 0U; i < x->rx->n_axes && i < C4G_MAX_AXES; i++) {
+        if (!axis_on(e, i)) {
+            continue;
+        }
+        c4g_tick_csv_row(e->out, t, x->rx->num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+                         (uint32_t)m->logical_of[i] + 1U, &x->rx->ax[i], x->tx->infpar,
+                         &x->tx->ax[i]);
+        fputc('\n', e->out);
+    }
+}
+
 static void on_exchange(void *ctx, const an_exchange_t *x)
 {
     ex_ctx_t *e = ctx;
@@ -214,6 +240,8 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
     e->rows++;
     if (e->moni != 0U) {
         moni_rows(e, x);
+    } else if (e->ticks) {
+        tick_rows(e, x, t);
     } else if (e->json_lines) {
         json_row(e, x, t);
     } else {
@@ -271,6 +299,7 @@ static const char *const examples[] = {
     RP_TOOL " export fixtures/replay/mode4.pcap > ticks.csv",
     RP_TOOL " export --axes 1-3 --from 0.5 --to 1.5 field.pcap",
     RP_TOOL " export --moni 20 field.pcap > moni20.csv",
+    RP_TOOL " export --ticks field.pcap > ticks.csv       # as c4g-server --moni writes",
     RP_TOOL " export --json-lines field.pcap | jq -c 'select(.verdict != \"ok\")'",
     NULL};
 
@@ -302,6 +331,8 @@ int rp_cmd_export(int argc, char **argv)
          NULL, 0},
         {"json-lines", 0, CLI_FLAG, NULL, "one JSON object per tick instead of CSV", &e.json_lines, 0, 0, 0,
          NULL, 0},
+        {"ticks", 0, CLI_FLAG, NULL, "the per-tick CSV of c4g-server --moni and c4g-sim --csv instead",
+         &e.ticks, 0, 0, 0, NULL, 0},
         {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
     };
@@ -326,8 +357,8 @@ int rp_cmd_export(int argc, char **argv)
     if (r != CLI_RUN) {
         return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     }
-    if (e.moni != 0U && e.json_lines) {
-        cli_error(&spec, "--moni and --json-lines exclude each other");
+    if ((e.moni != 0U) + e.json_lines + e.ticks > 1) {
+        cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
         return CLI_EXIT_USAGE;
     }
     e.c.an.on_exchange = on_exchange;
