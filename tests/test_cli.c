@@ -148,6 +148,27 @@ static void test_outputs(void **st)
     assert_int_equal(rmdir(dir), 0);
 }
 
+/* INI keys as long option names; the -c / --config value found before parsing. */
+static void test_apply_and_config(void **st)
+{
+    char why[128];
+    char *argv1[] = {"tool", "-v", "--config", "x.ini", "--", "-c", "y.ini"};
+    char *argv2[] = {"tool", "--config=z.ini"};
+    char *argv3[] = {"tool", "--", "--config", "q.ini"};
+    (void)st;
+    memset(&G, 0, sizeof G);
+    assert_int_equal(cli_apply(&spec, &G, "host", "h1", why, sizeof why), 0);
+    assert_string_equal(G.host, "h1");
+    assert_int_equal(cli_apply(&spec, &G, "verbose", "true", why, sizeof why), 0);
+    assert_int_equal(G.verbose, 1);
+    assert_int_equal(cli_apply(&spec, &G, "verbose", "maybe", why, sizeof why), -1);
+    assert_int_equal(cli_apply(&spec, &G, "count", "99", why, sizeof why), -1);
+    assert_int_equal(cli_apply(&spec, &G, "nope", "1", why, sizeof why), 1);
+    assert_string_equal(cli_find_config(7, argv1), "x.ini");
+    assert_string_equal(cli_find_config(2, argv2), "z.ini");
+    assert_null(cli_find_config(4, argv3));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -155,6 +176,7 @@ int main(void)
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_help_version),
         cmocka_unit_test(test_outputs),
+        cmocka_unit_test(test_apply_and_config),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -219,7 +219,9 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
         why[0] = '\0';
         if (cli_store(ctx, o, o->arg != NULL ? optarg : NULL, why, sizeof why) != 0) {
             if (o->arg != NULL) {
-                cli_error(spec, "--%s: bad value '%s' (%s)", o->name, optarg, why);
+                char shown[160];
+                cli_error(spec, "--%s: bad value '%s' (%s)", o->name,
+                          cli_path_text(optarg, shown, sizeof shown), why);
             } else {
                 cli_error(spec, "--%s: %s", o->name, why);
             }
