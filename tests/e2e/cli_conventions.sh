@@ -94,7 +94,7 @@ timeout 90 python3 tests/e2e/progress_pty.py "$bin/c4g-sim" 31406 || fail=1
 # the per-tick CSV (docs/csv.md): c4g-sim --csv has c4g-server --moni's columns first, and
 # c4g-ident reads it
 "$bin/c4g-sim" -p 31406 -n 300 --max-miss 500 --csv "$tmp/sim.csv" -q; rc=$?
-head -1 "$tmp/sim.csv" | grep -q "^t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5,tick,sent,reply_ok$" \
+head -1 "$tmp/sim.csv" | grep -q "^t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5,tick,sent,reply_ok,rx_infpar,rx_cmd$" \
   && pass "c4g-sim --csv: the per-tick header" || bad "c4g-sim --csv header: $(head -1 "$tmp/sim.csv")"
 rows=$(($(wc -l <"$tmp/sim.csv") - 1))
 [ "$rc" -eq 0 ] && [ "$rows" -eq 1800 ] && pass "c4g-sim --csv: 300 ticks x 6 axes = $rows rows" || bad "c4g-sim --csv: exit $rc, $rows rows"
@@ -102,7 +102,7 @@ rows=$(($(wc -l <"$tmp/sim.csv") - 1))
 [ "$rc" -ne 2 ] && grep -q "moni CSV, 300 controller ticks" "$tmp/fit.out" && pass "c4g-ident reads c4g-sim's per-tick CSV (exit $rc)" \
   || bad "c4g-ident on c4g-sim's CSV: exit $rc: $(head -3 "$tmp/fit.out")"
 "$bin/c4g-replay" export --ticks fixtures/replay/mode4.pcap >"$tmp/ticks.csv"; rc=$?
-[ "$rc" -eq 0 ] && [ "$(head -1 "$tmp/ticks.csv")" = "$(head -1 "$tmp/sim.csv" | sed 's/,tick,sent,reply_ok$//')" ] \
+[ "$rc" -eq 0 ] && [ "$(head -1 "$tmp/ticks.csv")" = "$(head -1 "$tmp/sim.csv" | sed 's/,tick,sent,reply_ok,rx_infpar,rx_cmd$//')" ] \
   && pass "c4g-replay export --ticks: the same header" || bad "export --ticks: exit $rc: $(head -1 "$tmp/ticks.csv")"
 "$bin/c4g-ident" fit "$tmp/ticks.csv" >"$tmp/fit2.out" 2>&1; rc=$?
 [ "$rc" -ne 2 ] && grep -q "moni CSV" "$tmp/fit2.out" && pass "c4g-ident reads export --ticks (exit $rc)" || bad "c4g-ident on export --ticks: exit $rc"

@@ -37,8 +37,8 @@ run_sim -p $PORT -S fixtures/scenarios/mode0.scn $STALL_OK --seed 43 --csv "$T/s
 # the simulator's own columns (docs/csv.md): t_s..rx_e3 (the packet sent) and tick, sent;
 # the tx_* columns and reply_ok depend on when the PC's replies came
 for s in 1 2 3; do
-  head -1 "$T/s$s.csv" | grep -q '^t_s,num,axis,arm,logical,rx_mode,.*,tx_d5,tick,sent,reply_ok$' || fail "CSV header: $(head -1 "$T/s$s.csv")"
-  awk -F, '{ o = $1; for (i = 2; i <= 14; i++) o = o "," $i; print o "," $22 "," $23 }' "$T/s$s.csv" >"$T/c$s.csv"
+  head -1 "$T/s$s.csv" | grep -q '^t_s,num,axis,arm,logical,rx_mode,.*,tx_d5,tick,sent,reply_ok,rx_infpar,rx_cmd$' || fail "CSV header: $(head -1 "$T/s$s.csv")"
+  awk -F, '{ o = $1; for (i = 2; i <= 14; i++) o = o "," $i; print o "," $22 "," $23 "," $25 "," $26 }' "$T/s$s.csv" >"$T/c$s.csv"
 done
 cmp -s "$T/c1.csv" "$T/c2.csv" || { diff "$T/c1.csv" "$T/c2.csv" | head -5; fail "--seed 42 twice: CSVs differ"; }
 ok "--seed 42 twice: identical CSV ($(wc -l <"$T/c1.csv") lines)"

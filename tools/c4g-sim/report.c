@@ -15,7 +15,7 @@
 
 static void csv_header(app_t *a)
 {
-    fputs(C4G_TICK_CSV_COLUMNS ",tick,sent,reply_ok\n", a->csv);
+    fputs(C4G_TICK_CSV_COLUMNS ",tick,sent,reply_ok,rx_infpar,rx_cmd\n", a->csv);
 }
 
 int outputs_open(app_t *a)
@@ -55,7 +55,7 @@ void outputs_close(app_t *a)
 
 /* The per-tick CSV (docs/csv.md): rx_* the packet sent, tx_* the PC reply applied in this
  * tick (the last one received; tx_infpar 0 when none came this tick), then the simulator's
- * tick, whether the packet went out and whether a reply came. */
+ * tick, whether the packet went out, whether a reply came, and the packet's INFPAR and CMD. */
 void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, int sent)
 {
     int i;
@@ -67,7 +67,8 @@ void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, i
         c4g_tick_csv_row(a->csv, (double)a->sim.tick * a->sim.period, p->num, (uint32_t)i + 1U,
                          (uint32_t)x->arm + 1U, (uint32_t)x->logical + 1U, &p->ax[i],
                          rep != NULL ? rep->infpar : 0U, &x->rx);
-        fprintf(a->csv, ",%lu,%d,%d\n", a->sim.tick, sent, rep != NULL);
+        fprintf(a->csv, ",%lu,%d,%d,0x%08x,0x%08x\n", a->sim.tick, sent, rep != NULL,
+                (unsigned)p->infpar, (unsigned)p->cmd);
     }
 }
 
