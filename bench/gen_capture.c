@@ -7,7 +7,10 @@
  * 300 us later. Every packet goes through the library's encoders, so the capture is what a
  * conforming pair would put on the wire. The same arguments give the same bytes (a fixed
  * start time and a fixed pseudo-random sequence), so runs and machines compare.
- *   gen_capture [--minutes M | --seconds S] [--axes N] [--period-ms P] FILE */
+ * With --dynamics, D5 is the current of a known axis model (inertia, viscous, Coulomb and
+ * Stribeck friction, offset, Gaussian noise) for the motion D3/D4 report, so c4g-ident
+ * has something real to fit (the c4g-ident benchmark).
+ *   gen_capture [--minutes M | --seconds S] [--axes N] [--period-ms P] [--dynamics] FILE */
 #include "c4gopen.h"
 #include "c4g_fixtures.h"
 #include "c4g_pcap.h"
@@ -34,13 +37,25 @@ typedef struct gen {
     uint32_t n_axes;
     c4g_init_t init;
     unsigned long bad;   /* encoder or writer failures */
+    int dynamics;        /* D5 from the axis model below */
 } gen_t;
+
+/* The --dynamics axis model, in c4g-ident's units: i = JA acc + FV vel + (FC + (FS - FC)
+ * exp(-(vel/VS)^2)) sign(vel) + OFF + noise [A, turns/s, turns/s^2]. */
+#define DYN_JA 0.0031
+#define DYN_FV 0.0079
+#define DYN_FC 0.19
+#define DYN_FS 0.30
+#define DYN_VS 0.6
+#define DYN_OFF 0.02
+#define DYN_NOISE 0.01
 
 /* One axis of the motion: the PC's reference q(t) = hold + amp (1 - cos w t), which
  * leaves the hold position with zero velocity, so mode 4 starts without a step. */
 typedef struct axis_motion {
     double hold, amp;
     double c, s, dc, ds; /* cos and sin of w t, advanced by a rotation each tick */
+    double w, t;         /* rad/s; time of cmd [s] */
     double cmd, cmd_prev, cmd_prev2;
 } axis_motion_t;
 
@@ -171,6 +186,8 @@ static void motion_init(axis_motion_t *m, uint32_t n, double period_s)
     uint32_t i;
     for (i = 0U; i < n; i++) {
         const double w = TWO_PI * (0.1 + 0.03 * (double)i); /* rad/s */
+        m[i].w = w;
+        m[i].t = 0.0;
         m[i].hold = 0.5 * (double)(i + 1U) - 2.0;
         m[i].amp = 2.0 + 0.5 * (double)i;
         m[i].c = 1.0;
@@ -196,7 +213,31 @@ static void motion_step(axis_motion_t *m)
 
 /* The controller's packet: in mode 0 it holds the arm still; in mode 4 its target is the
  * PC's last reference and the arm follows one tick behind. */
-static void ctrl_packet(const gen_t *g, const axis_motion_t *m, int mode4, c4g_ctrl_packet_t *p)
+static double gauss(gen_t *g)
+{
+    /* Box-Muller on two uniforms in (0, 1] */
+    const double u1 = ((double)(next_rand(g) >> 11) + 1.0) / 9007199254740992.0;
+    const double u2 = (double)(next_rand(g) >> 11) / 9007199254740992.0;
+    return sqrt(-2.0 * log(u1)) * cos(TWO_PI * u2);
+}
+
+/* The model current of the interval D4 reports (the arm is one tick behind the reference,
+ * so that interval ends one tick before m->t): the mean over it, by its midpoint. */
+static double dyn_current(gen_t *g, const axis_motion_t *m, double period)
+{
+    const double tm = m->t - 1.5 * period;
+    const double vel = m->amp * m->w * sin(m->w * tm);
+    const double acc = m->amp * m->w * m->w * cos(m->w * tm);
+    const double r = vel / DYN_VS;
+    const double fr = DYN_FC + (DYN_FS - DYN_FC) * exp(-r * r);
+    const double sgn = (vel > 0.0) ? 1.0 : ((vel < 0.0) ? -1.0 : 0.0);
+    if (m->t <= 0.0) {
+        return DYN_OFF + DYN_NOISE * gauss(g);
+    }
+    return DYN_JA * acc + DYN_FV * vel + fr * sgn + DYN_OFF + DYN_NOISE * gauss(g);
+}
+
+static void ctrl_packet(gen_t *g, const axis_motion_t *m, int mode4, c4g_ctrl_packet_t *p)
 {
     uint32_t i;
     memset(p, 0, sizeof *p);
@@ -212,7 +253,8 @@ static void ctrl_packet(const gen_t *g, const axis_motion_t *m, int mode4, c4g_c
         x->target_vel = (float)(m[i].cmd - m[i].cmd_prev);
         x->actual_pos = (float)m[i].cmd_prev;
         x->actual_vel = (float)(m[i].cmd_prev - m[i].cmd_prev2);
-        x->current_ref = (float)(az * (0.1 + 0.2 * m[i].s));
+        x->current_ref = g->dynamics ? (float)dyn_current(g, &m[i], (double)g->period_ns * 1e-9)
+                                     : (float)(az * (0.1 + 0.2 * m[i].s));
     }
 }
 
@@ -253,6 +295,7 @@ static void cyclic(gen_t *g, uint64_t ticks)
         write_at(g, t, 1, buf, len);
         for (i = 0U; mode4 && i < g->n_axes; i++) {
             motion_step(&m[i]);
+            m[i].t += (double)g->period_ns * 1e-9;
         }
         pc_reply(&rx, m, mode4, &tx);
         if (c4g_pc_encode(&tx, buf, sizeof buf, &len) != C4G_OK) {
@@ -266,7 +309,7 @@ static void cyclic(gen_t *g, uint64_t ticks)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: gen_capture [--minutes M | --seconds S] [--axes N] [--period-ms P] FILE\n"
+    fprintf(stderr, "usage: gen_capture [--minutes M | --seconds S] [--axes N] [--period-ms P] [--dynamics] FILE\n"
                     "  a deterministic C4G Open session (default 10 minutes, 6 axes, 1 ms)\n");
     return 2;
 }
@@ -275,6 +318,7 @@ int main(int argc, char **argv)
 {
     double seconds = 600.0;
     long axes = 6, period_ms = 1;
+    int dynamics = 0;
     const char *path = NULL;
     char err[256];
     gen_t g;
@@ -288,6 +332,8 @@ int main(int argc, char **argv)
             seconds = atof(argv[++i]);
         } else if (strcmp(argv[i], "--axes") == 0 && more) {
             axes = atol(argv[++i]);
+        } else if (strcmp(argv[i], "--dynamics") == 0) {
+            dynamics = 1;
         } else if (strcmp(argv[i], "--period-ms") == 0 && more) {
             period_ms = atol(argv[++i]);
         } else if (argv[i][0] != '-' && path == NULL) {
@@ -304,6 +350,7 @@ int main(int argc, char **argv)
     g.rng = 0xC46C0DE5EEDULL;
     g.period_ns = period_ms * 1000000L;
     g.n_axes = (uint32_t)axes;
+    g.dynamics = dynamics;
     g.num = 1;
     if (make_init(&g.init, g.n_axes, (int32_t)period_ms) != 0) {
         fprintf(stderr, "gen_capture: the initialization packet does not validate\n");

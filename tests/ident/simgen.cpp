@@ -53,6 +53,7 @@ ident::AxisLog run(const Case &c, uint64_t seed)
     const std::size_t n = static_cast<std::size_t>(c.seconds / c.period);
     double prev = a.meas_pos;
     double prev_ref = c.p.pos0;
+    double prev_vel = 0.0;
     for (std::size_t k = 1; k <= n; k++) {
         const double t = static_cast<double>(k) * c.period;
         double q, v, acc;
@@ -63,10 +64,12 @@ ident::AxisLog run(const Case &c, uint64_t seed)
         // as c4g-sim: the DSA interpolates the reference over its steps
         for (int j = 0; j < sub; j++) {
             sim_dsa_in_t st = in;
-            st.pos_ref = prev_ref + (in.pos_ref - prev_ref) * (j + 1) / sub;
+            sim_dsa_interp(prev_ref, prev_vel, in.pos_ref, in.vel_ff, static_cast<double>(j) / sub,
+                           c.period, &st.pos_ref, &st.vel_ff);
             sim_axis_step(&a, &c.p, &st, dt, &rng);
         }
         prev_ref = in.pos_ref;
+        prev_vel = in.vel_ff;
         double d5 = sim_axis_report_current(&a, &c.p, &rng);
         if (c.outliers > 0.0 && sim_rng_uniform(&orng) < c.outliers) {
             const double m = c.outlier_size * (0.5 + 0.5 * sim_rng_uniform(&orng));

@@ -302,12 +302,12 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o)
             if (q == VS) prob.SetParameterLowerBound(x.data(), static_cast<int>(k), 2.0 * eps);
         }
         ceres::Solver::Options so;
-        so.linear_solver_type = ceres::DENSE_QR;
+        so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
         so.num_threads = std::max(1, o.threads);
         so.max_num_iterations = 100;
-        so.function_tolerance = 1e-12;
-        so.gradient_tolerance = 1e-14;
-        so.parameter_tolerance = 1e-12;
+        so.function_tolerance = 1e-9;
+        so.gradient_tolerance = 1e-12;
+        so.parameter_tolerance = 1e-9;
         so.logging_type = ceres::SILENT;
         ceres::Solve(so, &prob, &sum);
         F.iterations += static_cast<int>(sum.iterations.size());

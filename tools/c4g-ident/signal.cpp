@@ -66,6 +66,17 @@ double median_abs(std::vector<double> &x)
     return x[m];
 }
 
+// Link angle at tick k + d (|d| <= 1): linear between neighbouring ticks of the same segment.
+// D5 is the mean current over a tick, so gravity must be read where v and a are, not at the
+// tick's end: the difference grows with the speed and would pass for viscous friction.
+double q_at(const AxisLog &L, std::size_t k, double d)
+{
+    const double q = L.q[k];
+    if (d < 0.0 && k > 0 && L.tick[k - 1] + 1 == L.tick[k]) return q + d * (q - L.q[k - 1]);
+    if (d > 0.0 && k + 1 < L.q.size() && L.tick[k + 1] == L.tick[k] + 1) return q + d * (L.q[k + 1] - q);
+    return q;
+}
+
 struct Filtered {
     std::vector<double> v, a;
     std::vector<unsigned char> ok;  // full window inside the segment
@@ -144,8 +155,9 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
 }
 
 // Cost of the linear Coulomb(+gravity) fit with the filter evaluated at x.
+// Ticks in @p skip (outliers in D5, from outlier_mask) take no part.
 double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std::size_t stride, double vs,
-                  double *best_vs = nullptr)
+                  const std::vector<unsigned char> &skip, double *best_vs = nullptr)
 {
     Filtered f;
     filter(L, o, x, stride, &f);
@@ -153,12 +165,13 @@ double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std:
     const std::vector<unsigned char> use = usable(L, f, eps, o.sg_half, &dummy, false);
     Samples s;
     for (std::size_t k = 0; k < L.tick.size(); k++) {
-        if (!use[k]) continue;
+        if (!use[k] || (!skip.empty() && skip[k])) continue;
         s.v.push_back(f.v[k]);
         s.a.push_back(f.a[k]);
         s.i.push_back(static_cast<double>(L.d5[k]));
-        s.cq.push_back(L.have_q ? std::cos(L.q[k]) : 0.0);
-        s.sq.push_back(L.have_q ? std::sin(L.q[k]) : 0.0);
+        const double q = L.have_q ? q_at(L, k, x - 0.5) : 0.0;
+        s.cq.push_back(L.have_q ? std::cos(q) : 0.0);
+        s.sq.push_back(L.have_q ? std::sin(q) : 0.0);
     }
     Vec p{};
     double cost = 0.0;
@@ -195,6 +208,44 @@ double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std:
     double sum = 0.0;
     for (double e : r) sum += std::min(e * e, c * c);
     return sum / static_cast<double>(r.size());
+}
+
+// Ticks whose D5 is off the linear Coulomb(+gravity) fit at delay x - 0.5 by more than 3
+// robust sigmas. Outliers would otherwise steer the least-squares fits of the delay search:
+// with 10 % of D5 spoilt its estimate scattered by a whole tick.
+std::vector<unsigned char> outlier_mask(const AxisLog &L, const Options &o, double x, double eps)
+{
+    Filtered f;
+    filter(L, o, x, 1, &f);
+    Prep dummy;
+    const std::vector<unsigned char> use = usable(L, f, eps, o.sg_half, &dummy, false);
+    Samples s;
+    std::vector<std::size_t> at;
+    for (std::size_t k = 0; k < L.tick.size(); k++) {
+        if (!use[k]) continue;
+        s.v.push_back(f.v[k]);
+        s.a.push_back(f.a[k]);
+        s.i.push_back(static_cast<double>(L.d5[k]));
+        const double q = L.have_q ? q_at(L, k, x - 0.5) : 0.0;
+        s.cq.push_back(L.have_q ? std::cos(q) : 0.0);
+        s.sq.push_back(L.have_q ? std::sin(q) : 0.0);
+        at.push_back(k);
+    }
+    std::vector<unsigned char> mask;
+    Vec p{};
+    double cost = 0.0;
+    if (s.n() < 50 || !fit_linear(s, L.have_q ? COULOMB_G : COULOMB, eps, 0.0, &p, &cost)) return mask;
+    std::vector<double> r(s.n());
+    for (std::size_t k = 0; k < s.n(); k++) {
+        r[k] = s.i[k] - model_eval(p, eps, s.v[k], s.a[k], s.cq[k], s.sq[k], nullptr);
+    }
+    std::vector<double> tmp = r;
+    const double c = 3.0 * 1.4826 * median_abs(tmp);
+    mask.assign(L.tick.size(), 0);
+    for (std::size_t k = 0; k < s.n(); k++) {
+        if (std::fabs(r[k]) > c) mask[at[k]] = 1;
+    }
+    return mask;
 }
 
 double auto_eps(const AxisLog &L, const Options &o, double *vnoise, double *vmax)
@@ -234,24 +285,25 @@ double noise_floor(const AxisLog &L)
 namespace {
 
 // Golden-section search of the delay over [a, b] (the cost is smooth and unimodal there).
-double golden(const AxisLog &L, const Options &o, double eps, std::size_t stride, double vs, double a, double b)
+double golden(const AxisLog &L, const Options &o, double eps, std::size_t stride, double vs,
+              const std::vector<unsigned char> &skip, double a, double b)
 {
     const double g = 0.6180339887498949;
     double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs), f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs);
+    double f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs, skip), f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs, skip);
     while (b - a > 0.005) {
         if (f1 < f2) {
             b = x2;
             x2 = x1;
             f2 = f1;
             x1 = b - g * (b - a);
-            f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs);
+            f1 = delay_cost(L, o, x1 + 0.5, eps, stride, vs, skip);
         } else {
             a = x1;
             x1 = x2;
             f1 = f2;
             x2 = a + g * (b - a);
-            f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs);
+            f2 = delay_cost(L, o, x2 + 0.5, eps, stride, vs, skip);
         }
     }
     return 0.5 * (a + b);
@@ -265,21 +317,23 @@ double estimate_delay(const AxisLog &L, const Options &o, double eps)
     // x = delay + 0.5: D4(k) is the mean velocity of (k-1, k], its time k - 0.5.
     // First with the Coulomb model: a coarse grid, then golden section.
     double best = 0.0, bc = 1e300;
+    const std::vector<unsigned char> none;
     for (double d = -2.0; d <= 2.0001; d += 0.25) {
-        const double c = delay_cost(L, o, d + 0.5, eps, stride, 0.0);
+        const double c = delay_cost(L, o, d + 0.5, eps, stride, 0.0, none);
         if (c < bc) {
             bc = c;
             best = d;
         }
     }
-    const double d0 = golden(L, o, eps, stride, 0.0, best - 0.25, best + 0.25);
+    const std::vector<unsigned char> skip = outlier_mask(L, o, best + 0.5, eps);
+    const double d0 = golden(L, o, eps, stride, 0.0, skip, best - 0.25, best + 0.25);
     // A Stribeck dip the Coulomb model cannot follow pulls the delay: refine with the
     // Stribeck velocity that fits best at d0, when it fits clearly better.
     double vs = 0.0;
-    const double cs = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, &vs);
-    const double cc = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0);
+    const double cs = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, skip, &vs);
+    const double cc = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, skip);
     if (vs > 0.0 && cs < 0.99 * cc) {
-        return golden(L, o, eps, stride, vs, d0 - 0.5, d0 + 0.5);
+        return golden(L, o, eps, stride, vs, skip, d0 - 0.5, d0 + 0.5);
     }
     return d0;
 }
@@ -301,8 +355,9 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
         out->v.push_back(f.v[k]);
         out->a.push_back(f.a[k]);
         out->i.push_back(static_cast<double>(L.d5[k]));
-        out->cq.push_back(L.have_q ? std::cos(L.q[k]) : 0.0);
-        out->sq.push_back(L.have_q ? std::sin(L.q[k]) : 0.0);
+        const double q = L.have_q ? q_at(L, k, pr.delay) : 0.0;
+        out->cq.push_back(L.have_q ? std::cos(q) : 0.0);
+        out->sq.push_back(L.have_q ? std::sin(q) : 0.0);
         out->tick.push_back(L.tick[k]);
         out->t.push_back(L.t[k]);
         pr.vmax = std::max(pr.vmax, std::fabs(f.v[k]));

@@ -102,6 +102,18 @@ static double measure(const sim_axis_params_t *p, double pos, sim_rng_t *rng)
     return quantize(pos + n, p->counts);
 }
 
+/* The encoder is read at the end of each DSA step: the next step regulates on it, and the
+ * value at the end of the SMP+ period is what D3 reports for that period's instant (the
+ * instant D1 names). */
+static void encoder(sim_axis_t *a, const sim_axis_params_t *p, double dt, sim_rng_t *rng)
+{
+    double raw_vel;
+    a->meas_pos = measure(p, a->pos, rng);
+    raw_vel = (a->meas_pos - a->prev_meas) / dt;
+    a->prev_meas = a->meas_pos;
+    a->meas_vel += p->vel_filter * (raw_vel - a->meas_vel);
+}
+
 void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)
 {
     a->pos = p->pos0;
@@ -114,6 +126,8 @@ void sim_axis_reset(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)
     a->meas_pos = measure(p, a->pos, rng);
     a->prev_meas = a->meas_pos;
     a->meas_vel = 0.0;
+    a->ff_vel = 0.0;
+    a->prev_ff = 0.0;
     a->saturated = 0;
     a->drive_on = 0;
 }
@@ -149,14 +163,12 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
     double i_tot;
     double torque;
     double acc;
-    double raw_vel;
 
-    /* Encoder. */
-    a->meas_pos = measure(p, a->pos, rng);
-    raw_vel = (a->meas_pos - a->prev_meas) / dt;
-    a->prev_meas = a->meas_pos;
-    a->meas_vel += p->vel_filter * (raw_vel - a->meas_vel);
-
+    /* The velocity feedforward goes through the same filter as the measured velocity (half a
+     * step of the encoder's difference, then the low-pass), so an axis that follows its
+     * reference exactly leaves the velocity loop nothing to correct. */
+    a->ff_vel += p->vel_filter * (0.5 * (in->vel_ff + a->prev_ff) - a->ff_vel);
+    a->prev_ff = in->vel_ff;
     if (!a->drive_on) {
         /* Brakes engaged, no current. */
         a->vel = 0.0;
@@ -164,6 +176,7 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
         a->cur = 0.0;
         a->cur_n++;
         a->saturated = 0;
+        encoder(a, p, dt, rng);
         return;
     }
     share = (share < 0.0) ? 0.0 : ((share > 1.0) ? 1.0 : share);
@@ -171,7 +184,7 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
 
     /* DSA: P position loop, PI velocity loop; the regulator is limited to rho*AzLim
      * (soft control switching, chapter 12) and its integrator cannot wind up. */
-    vel_cmd = p->kp * (in->pos_ref - a->meas_pos) + in->vel_ff + in->vel_add;
+    vel_cmd = p->kp * (in->pos_ref - a->meas_pos) + a->ff_vel + in->vel_add;
     e = vel_cmd - a->meas_vel;
     i_reg = p->kv * e + a->integ;
     if (fabs(i_reg) < rho * p->az_lim || (i_reg > 0.0) != (e > 0.0)) {
@@ -186,8 +199,10 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
     a->cur_sum += a->cur;
     a->cur_n++;
 
-    /* Plant (semi-implicit Euler), Coulomb/Stribeck friction with sticking. */
-    torque = p->kt * a->cur - sim_axis_gravity(p, a->pos) - p->load;
+    /* Plant, Coulomb/Stribeck friction with sticking. The step uses the midpoint rule
+     * (friction at the step's mid velocity, gravity at its mid position) and the trapezoidal rule for the position, so the
+     * mean current of a period and the motion over it describe the same instants. */
+    torque = p->kt * a->cur - sim_axis_gravity(p, a->pos + 0.5 * dt * a->vel) - p->load;
     if (p->torque_noise > 0.0) {
         torque += p->torque_noise * sim_rng_gauss(rng);
     }
@@ -195,24 +210,45 @@ void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t
         const double stick = (p->vs > 0.0 && p->fs > p->fc) ? p->fs : p->fc;
         if (fabs(a->vel) < STICK_VEL && fabs(torque) <= stick) {
             a->vel = 0.0;
+            encoder(a, p, dt, rng);
             return;
         }
     }
     {
-        const double w = TWO_PI * a->vel;
-        const double dir = (fabs(a->vel) >= STICK_VEL) ? ((a->vel > 0.0) ? 1.0 : -1.0)
-                                                        : ((torque > 0.0) ? 1.0 : -1.0);
-        const double fr = sim_axis_friction_level(p, a->vel);
-        const double net = torque - p->fv * w - fr * dir;
         const double v_old = a->vel;
-        acc = net / (p->j * TWO_PI);
+        const double dir = (fabs(v_old) >= STICK_VEL) ? ((v_old > 0.0) ? 1.0 : -1.0)
+                                                      : ((torque > 0.0) ? 1.0 : -1.0);
+        const double inertia = p->j * TWO_PI;
+        double fr = sim_axis_friction_level(p, v_old);
+        double net = torque - p->fv * TWO_PI * v_old - fr * dir;
+        const double v_mid = v_old + 0.5 * dt * net / inertia;
+        /* Not across a reversal or from rest: there the sticking rules decide. */
+        if (fabs(v_old) >= STICK_VEL && (v_mid > 0.0) == (v_old > 0.0)) {
+            fr = sim_axis_friction_level(p, v_mid);
+            net = torque - p->fv * TWO_PI * v_mid - fr * dir;
+        }
+        acc = net / inertia;
         a->vel += acc * dt;
         /* Friction cannot reverse the motion within one step. */
         if (v_old != 0.0 && (a->vel > 0.0) != (v_old > 0.0) && fabs(torque) <= fr) {
             a->vel = 0.0;
         }
-        a->pos += a->vel * dt;
+        a->pos += 0.5 * (v_old + a->vel) * dt;
     }
+    encoder(a, p, dt, rng);
+}
+
+void sim_dsa_interp(double p0, double v0, double p1, double v1, double w, double period,
+                    double *pos, double *vel)
+{
+    const double w2 = w * w;
+    const double w3 = w2 * w;
+    const double d0 = v0 * period;
+    const double d1 = v1 * period;
+    *pos = (2.0 * w3 - 3.0 * w2 + 1.0) * p0 + (w3 - 2.0 * w2 + w) * d0 + (3.0 * w2 - 2.0 * w3) * p1 +
+           (w3 - w2) * d1;
+    *vel = ((6.0 * w2 - 6.0 * w) * (p0 - p1) + (3.0 * w2 - 4.0 * w + 1.0) * d0 +
+            (3.0 * w2 - 2.0 * w) * d1) / period;
 }
 
 double sim_axis_report_current(sim_axis_t *a, const sim_axis_params_t *p, sim_rng_t *rng)

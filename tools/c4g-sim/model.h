@@ -89,6 +89,8 @@ typedef struct sim_axis {
     double meas_pos;     /* encoder position (quantized, noisy) [turns] */
     double meas_vel;     /* measured velocity [turns/s] */
     double prev_meas;
+    double ff_vel;       /* velocity feedforward through the measurement's filter [turns/s] */
+    double prev_ff;
     int saturated;       /* last step hit AzLim */
     int drive_on;
 } sim_axis_t;
@@ -104,6 +106,13 @@ double sim_axis_gravity(const sim_axis_params_t *p, double pos);
 /** One DSA step of @p dt seconds (loop + plant). Drive off: brakes hold the axis. */
 void sim_axis_step(sim_axis_t *a, const sim_axis_params_t *p, const sim_dsa_in_t *in,
                    double dt, sim_rng_t *rng);
+
+/** The DSA's reference at fraction @p w (0..1) of an SMP+ period of @p period seconds, from
+ * (@p p0, @p v0) at its start to (@p p1, @p v1) at its end: one cubic (Hermite) through both
+ * ends, so the velocity feedforward is the derivative of the position reference and a
+ * trajectory of constant acceleration is reproduced exactly. */
+void sim_dsa_interp(double p0, double v0, double p1, double v1, double w, double period,
+                    double *pos, double *vel);
 
 /** The current reported for the SMP+ period that just ended: the mean of its DSA steps'
  * currents (the mean current is what moved the axis over the period, whatever ripple the

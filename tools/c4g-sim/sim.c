@@ -857,6 +857,7 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     const double dt = s->period / (double)sub;
     sim_dsa_in_t in[C4G_MAX_AXES];
     double prev_ref[C4G_MAX_AXES];
+    double prev_vel[C4G_MAX_AXES];
 
     s->tick++;
     for (i = 0; i < s->n_axes; i++) {
@@ -877,17 +878,21 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     for (i = 0; i < s->n_axes; i++) {
         dsa_inputs(s, &s->ax[i], &in[i]);
         prev_ref[i] = s->ax[i].pos_ref;
+        prev_vel[i] = s->ax[i].vel_ref;
         s->ax[i].pos_ref = in[i].pos_ref;
         s->ax[i].vel_ref = in[i].vel_ff;
     }
-    /* The DSA interpolates the SMP+ position reference over its steps, as a real drive does:
-     * a reference held for the whole period would put a ripple at the SMP+ rate into the
-     * current. */
+    /* The DSA interpolates the SMP+ references over its steps, as a real drive does: a
+     * reference held for the whole period would put a ripple at the SMP+ rate into the
+     * current (sim_dsa_interp). Step k regulates at the period's instant
+     * k/sub, where its encoder reading was taken: a perfect feedforward leaves no following
+     * error. */
     for (k = 0; k < sub; k++) {
-        const double w = (double)(k + 1) / (double)sub;
+        const double w = (double)k / (double)sub;
         for (i = 0; i < s->n_axes; i++) {
             sim_dsa_in_t step = in[i];
-            step.pos_ref = prev_ref[i] + (in[i].pos_ref - prev_ref[i]) * w;
+            sim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
+                           &step.pos_ref, &step.vel_ff);
             sim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng);
         }
     }
