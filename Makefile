@@ -17,6 +17,8 @@ DESTDIR ?=
 # per-user one Wireshark always searches (`tshark -G folders`, "Personal Lua Plugins").
 WIRESHARK_PLUGIN_DIR ?= $(PREFIX)/lib/wireshark/plugins
 WIRESHARK_USER_PLUGIN_DIR ?= $(HOME)/.local/lib/wireshark/plugins
+# bash-completion loads a command's completion from this folder by the command's name
+BASH_COMPLETION_DIR ?= $(PREFIX)/share/bash-completion/completions
 FUZZ_SECONDS ?= 15
 CLANG ?= clang
 CXX ?= g++
@@ -74,11 +76,11 @@ TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
 
 DEPS_STAMP := $(BUILD)/.deps-ok
 
-.PHONY: all lib tools check demo bench coverage fuzz install uninstall clean deps \
+.PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
   e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
-all: lib tools
+all: lib tools man
 
 deps: $(DEPS_STAMP)
 $(DEPS_STAMP): scripts/deps.sh
@@ -103,7 +105,7 @@ $(STATIC): $(LIB_OBJS)
 
 $(SHARED): $(LIB_PICS)
 	@mkdir -p $(@D)
-	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^
+	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^ -lm
 	ln -sf libc4gopen.so.$(VERSION) $(BUILD)/lib/$(SONAME)
 	ln -sf $(SONAME) $(BUILD)/lib/libc4gopen.so
 
@@ -138,6 +140,15 @@ $(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
+
+# ---- man pages: docs/man/NAME.scd (scdoc) with each tool's option list and examples
+# taken from its own --help (scripts/man-page.py), so page and tool cannot disagree
+MAN_SRCS := $(sort $(wildcard docs/man/*.scd))
+MAN_PAGES := $(MAN_SRCS:docs/man/%.scd=$(BUILD)/man/%)
+man: $(MAN_PAGES)
+$(BUILD)/man/%: docs/man/%.scd scripts/man-page.py $(TOOL_BINS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  MAN     $@"; python3 scripts/man-page.py $< $(BUILD)/bin > $@.scd && scdoc < $@.scd > $@
 
 # ---- unit tests (CMocka)
 # Tests of tool parsers #include the tool sources they test (tools/ is not in the
@@ -197,7 +208,7 @@ FUZZ_TOOL_fuzz_server_ini := tools/common/c4g_srv_opts.c tools/common/c4g_cli.c 
 FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_canopen_ini := tools/common/c4g_co_config.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \
-  tools/common/c4g_ctrlside.c
+  tools/common/c4g_ctrlside.c tools/common/c4g_hist.c
 FUZZ_LIBS_fuzz_capture := -lpcap
 FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
   -Itools/cell-cli -Itools/c4g-replay
@@ -303,21 +314,10 @@ docs-examples: $(STATIC)
 	@sh scripts/docs-examples.sh $(BUILD)
 
 # ---- the two README commands
+CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage audit static-analysis cross \
+  qemu-smoke docs-examples e2e fuzz
 check: $(DEPS_STAMP)
-	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory unit
-	@$(MAKE) --no-print-directory ident-accuracy
-	@$(MAKE) --no-print-directory sanitize
-	@$(MAKE) --no-print-directory valgrind
-	@$(MAKE) --no-print-directory coverage
-	@$(MAKE) --no-print-directory audit
-	@$(MAKE) --no-print-directory static-analysis
-	@$(MAKE) --no-print-directory cross
-	@$(MAKE) --no-print-directory qemu-smoke
-	@$(MAKE) --no-print-directory docs-examples
-	@$(MAKE) --no-print-directory e2e
-	@$(MAKE) --no-print-directory fuzz
-	@echo "check: all gates passed"
+	@sh scripts/check.sh "$(MAKE) --no-print-directory" $(CHECK_GATES)
 
 demo: all
 	@sh scripts/demo.sh $(BUILD)
@@ -335,7 +335,7 @@ bench: $(DEPS_STAMP)
 	@sh scripts/bench.sh $(BUILD)
 
 # ---- install
-install: lib tools
+install: lib tools man
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin \
 	  $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
 	install -m 644 include/*.h $(DESTDIR)$(PREFIX)/include/
@@ -347,6 +347,16 @@ install: lib tools
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
 	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	install -d $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples
+	install -m 644 examples/mode4_loop.c examples/README.md $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/
+	sed 's|/usr/local/bin/|$(PREFIX)/bin/|' examples/c4g-server.service \
+	  > $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/c4g-server.service
+	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
+	install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/
+	install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/
+	install -d $(DESTDIR)$(BASH_COMPLETION_DIR)
+	install -m 644 scripts/completion/c4gopen.bash $(DESTDIR)$(BASH_COMPLETION_DIR)/c4g-server
+	$(foreach t,$(filter-out c4g-server,$(TOOL_NAMES)),ln -sf c4g-server $(DESTDIR)$(BASH_COMPLETION_DIR)/$(t);)
 	install -d $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)
 	install -m 644 tools/wireshark/c4gopen.lua $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/
 uninstall:
@@ -355,6 +365,9 @@ uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
 	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(filter %.1,$(MAN_PAGES))))
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man3/,$(notdir $(filter %.3,$(MAN_PAGES))))
+	rm -f $(addprefix $(DESTDIR)$(BASH_COMPLETION_DIR)/,$(TOOL_NAMES))
 	rm -f $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/c4gopen.lua
 wireshark-install-user:
 	install -d $(WIRESHARK_USER_PLUGIN_DIR)

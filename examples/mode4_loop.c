@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Minimal C4G Open PC program: answers the controller and, when an arm enters mode 4,
  * moves every axis of it +0.1 motor turns along a raised cosine, then exits from open.
- * Plain POSIX; build: cc -std=c99 -D_POSIX_C_SOURCE=200809L -Iinclude mode4_loop.c \
- *   build/lib/libc4gopen.a -lm        run: ./a.out [PORT]    (ends on 504) */
+ * Plain POSIX; build (after make install): cc examples/mode4_loop.c $(pkg-config --cflags
+ * --libs c4gopen) -lm     run: ./a.out [-p PORT]    (ends on 504) */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, sched_setscheduler, getopt */
 #include "c4gopen.h"
 #include <string.h>
 #include <arpa/inet.h>
@@ -13,8 +14,16 @@
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #define PI 3.14159265358979323846
+
+static int usage(FILE *f, int code)
+{
+    fputs("Usage: mode4_loop [-p PORT]\nAnswers a C4G controller on UDP PORT (default 1000); "
+          "in mode 4 each axis moves +0.1 turns, then exits from open. Ends on 504.\n", f);
+    return code;
+}
 
 static uint64_t now_ns(void)
 {
@@ -31,10 +40,22 @@ int main(int argc, char **argv)
     struct sched_param sp = {0};
     struct sockaddr_in me = {0}, peer;
     uint8_t in[1500], out[C4G_INIT_SIZE];
-    int fd = socket(AF_INET, SOCK_DGRAM, 0);
-
+    long port = 1000;
+    char *end = NULL;
+    int c, fd;
+    if (argc > 1 && strcmp(argv[1], "--help") == 0)
+        return usage(stdout, 0);
+    while ((c = getopt(argc, argv, "hp:")) != -1) {
+        if (c == 'h')
+            return usage(stdout, 0);
+        if (c != 'p' || (port = strtol(optarg, &end, 10)) < 1 || port > 65535 || *end != '\0')
+            return usage(stderr, 2);
+    }
+    if (optind < argc)
+        return usage(stderr, 2);
+    fd = socket(AF_INET, SOCK_DGRAM, 0);
     me.sin_family = AF_INET;
-    me.sin_port = htons((uint16_t)(argc > 1 ? atoi(argv[1]) : 1000));
+    me.sin_port = htons((uint16_t)port);
     if (fd < 0 || bind(fd, (struct sockaddr *)&me, sizeof me) != 0) {
         perror("bind");
         return 1;

@@ -37,20 +37,26 @@ kill "$spid" 2>/dev/null
 wait "$spid"; srvrc=$?
 spid=""
 echo
-echo "== controller (c4g-sim) events"
+echo "== controller (c4g-sim) events, the last 15 (Rx Debug lines left out)"
 grep -v "Rx Debug" "$tmp/sim.err" | tail -n 15
 echo
 echo "== controller (c4g-sim) summary, exit $simrc"
 cat "$tmp/sim.out"
 echo
-echo "== PC (c4g-server) log"
+echo "== PC (c4g-server) log, the last 15 lines (axis 1's lines only; axes 2-6 log the same)"
 grep -v "axis [2-9]:\|axis 1[0-9]:" "$tmp/server.err" | tail -n 15
 echo
 echo "== PC (c4g-server) summary, exit $srvrc"
 cat "$tmp/server.out"
 echo
-echo "== PC (c4g-server) JSON"
-cat "$tmp/server.json"
+echo "   The two sides count the same losses from each end: the simulator's 'missing' are"
+echo "   packets it got no reply to by its next tick, 'stale' replies that came after that"
+echo "   (to an older packet), 'late' replies after its t-cycle1 budget; the server's"
+echo "   'gaps (missed N)' are controller packets that never reached it, 'duplicates' and"
+echo "   'out of order' what arrived twice or behind a newer one."
+echo
+echo "== PC (c4g-server) JSON summary (--json), pretty-printed"
+python3 -m json.tool "$tmp/server.json"
 echo
 echo "== identification: excite, record, fit (c4g-ident), then the same fast move in modes 0 and 9"
 sh scripts/ident-loop.sh "$build" "$tmp/ident" 41690

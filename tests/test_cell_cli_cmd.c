@@ -111,9 +111,31 @@ static void test_help_and_words(void **st)
     (void)st;
     assert_int_equal(cli_cmd_help("", out, sizeof out), 0);
     for (size_t i = 0; i < N_ROWS; i++) {
-        assert_non_null(strstr(out, k_rows[i].help));
+        char first[128];
+        snprintf(first, sizeof first, "\n  %.*s\n", (int)strcspn(k_rows[i].help, "\n"),
+                 k_rows[i].help);
+        assert_non_null(strstr(out, first)); /* every row indented, its first line whole */
     }
-    assert_non_null(strstr(out, "wait DEV stopped"));
+    /* every line between the two-line heading and the closing line is indented */
+    {
+        const char *p = strchr(strchr(out, '\n') + 1, '\n') + 1;
+        const char *last = strstr(out, "help COMMAND shows");
+        assert_non_null(last);
+        for (; p < last; p = strchr(p, '\n') + 1) {
+            assert_true(p[0] == ' ' && p[1] == ' ');
+        }
+    }
+    assert_non_null(strstr(out, "\n  wait DEV stopped"));
+    assert_non_null(strstr(out, "\n  clear "));
+    assert_non_null(cli_cmd_words(1, "ROBOT", NULL));
+    {
+        cli_cmd_t c;
+        char e[64];
+        assert_int_equal(cli_cmd_parse("CLEAR", &c, e, sizeof e), 0);
+        assert_int_equal(c.kind, CMD_CLEAR);
+        assert_int_equal(cli_cmd_parse("ROBOT STA", &c, e, sizeof e), 0);
+        assert_string_equal(c.line, "STA\r\n");
+    }
     assert_int_equal(cli_cmd_help("servo", out, sizeof out), 0);
     assert_non_null(strstr(out, "(SRVON)"));
     assert_int_equal(cli_cmd_help("srvoff", out, sizeof out), 0);

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* The shared table-driven command line (tools/common/c4g_cli.c). */
+#include <errno.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 #include <cmocka.h>
 #include "../tools/common/c4g_textfile.c"
 #include "../tools/common/c4g_cli.c"
@@ -44,7 +46,7 @@ static const cli_opt_t rows[] = {
 };
 static const char *const ex[] = {"tool -v", NULL};
 static const cli_spec_t spec = {"tool", NULL, "Usage: tool [OPTIONS] [FILE]\n", rows,
-                                sizeof rows / sizeof rows[0], ex, NULL, 0, 1, 0};
+                                sizeof rows / sizeof rows[0], ex, NULL, 0, 1, 0, NULL};
 
 static cli_result_t run(int argc, const char *const *argv_in, int *first)
 {
@@ -114,12 +116,67 @@ static void test_help_version(void **st)
     assert_int_equal(run(2, v, NULL), CLI_DONE);
 }
 
+/* Output files checked at start-up, and paths as messages show them. */
+static void test_outputs(void **st)
+{
+    char buf[64];
+    char dir[] = "/tmp/test_cli_XXXXXX";
+    char file[128];
+    FILE *f;
+    (void)st;
+    assert_non_null(mkdtemp(dir));
+    snprintf(file, sizeof file, "%s/out.json", dir);
+    assert_int_equal(cli_output_writable("-"), 0);
+    assert_int_equal(cli_output_writable(file), 0);     /* a new file in a writable directory */
+    assert_int_equal(cli_output_writable("/nonexistent-dir/x.json"), -1);
+    assert_int_equal(errno, ENOENT);
+    assert_int_equal(cli_output_writable(dir), -1);      /* a directory */
+    assert_int_equal(errno, EISDIR);
+    f = fopen(file, "w");
+    assert_non_null(f);
+    fclose(f);
+    assert_int_equal(cli_output_writable(file), 0);     /* an existing writable file */
+    snprintf(file + strlen(file), sizeof file - strlen(file), "/below");
+    assert_int_equal(cli_output_writable(file), -1);     /* below a regular file */
+    assert_int_equal(errno, ENOTDIR);
+    assert_int_equal(cli_output_writable(""), -1);
+    assert_string_equal(cli_path_text("a\001b\nc", buf, sizeof buf), "a\\x01b\\x0ac");
+    assert_null(cli_open_output("tool", "--json", "/nonexistent-dir/x.json", "w"));
+    assert_ptr_equal(cli_open_output("tool", "--json", "-", "w"), stdout);
+    snprintf(file, sizeof file, "%s/out.json", dir);
+    assert_int_equal(remove(file), 0);
+    assert_int_equal(rmdir(dir), 0);
+}
+
+/* INI keys as long option names; the -c / --config value found before parsing. */
+static void test_apply_and_config(void **st)
+{
+    char why[128];
+    char *argv1[] = {"tool", "-v", "--config", "x.ini", "--", "-c", "y.ini"};
+    char *argv2[] = {"tool", "--config=z.ini"};
+    char *argv3[] = {"tool", "--", "--config", "q.ini"};
+    (void)st;
+    memset(&G, 0, sizeof G);
+    assert_int_equal(cli_apply(&spec, &G, "host", "h1", why, sizeof why), 0);
+    assert_string_equal(G.host, "h1");
+    assert_int_equal(cli_apply(&spec, &G, "verbose", "true", why, sizeof why), 0);
+    assert_int_equal(G.verbose, 1);
+    assert_int_equal(cli_apply(&spec, &G, "verbose", "maybe", why, sizeof why), -1);
+    assert_int_equal(cli_apply(&spec, &G, "count", "99", why, sizeof why), -1);
+    assert_int_equal(cli_apply(&spec, &G, "nope", "1", why, sizeof why), 1);
+    assert_string_equal(cli_find_config(7, argv1), "x.ini");
+    assert_string_equal(cli_find_config(2, argv2), "z.ini");
+    assert_null(cli_find_config(4, argv3));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_values),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_help_version),
+        cmocka_unit_test(test_outputs),
+        cmocka_unit_test(test_apply_and_config),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "../tools/common/c4g_hist.c"
 #include "../tools/common/c4g_ctrlside.c"
 
 #define MS 1000000ULL

@@ -16,6 +16,7 @@
 #define TH_FIG10_1
 #include "test_helpers.h"
 
+#include "../tools/common/c4g_hist.c"
 #include "../tools/common/c4g_ctrlside.c"
 #include "../tools/c4g-replay/analyze.c"
 #include "../tools/c4g-replay/capture.c"

@@ -12,6 +12,7 @@
 #include "../tools/common/c4g_controllers.c"
 #include "../tools/common/c4g_ffmodel.c"
 #include "../tools/common/c4g_ffmodel_load.c"
+#include "../tools/common/c4g_hist.c"
 #include "../tools/common/c4g_srv.c"
 #include "../tools/common/c4g_srv_behave.c"
 #include "../tools/common/c4g_srv_files.c"

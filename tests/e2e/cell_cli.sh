@@ -25,16 +25,17 @@ wait_listen() {
 }
 "$build/bin/cell-sim" -p 21011 -s 20 >"$tmp/sim.log" 2>&1 & pids="$pids $!"
 wait_listen 21013 || { echo "FAIL: cell-sim did not start"; exit 1; }
-c() { "$cli" -p 21011 "$@"; }
+# the human format: stdout is a pipe here, where replies are raw by default
+c() { "$cli" -p 21011 --no-raw "$@"; }
 
 # one-shot
 out=$(c robot sta); rc=$?
 expect_rc 0 $rc "one-shot robot sta"
 echo "$out" | grep -q "robot: stopped, servo off, override 100 %, error +00000 (no error)" && pass "STA shown readable" || bad "STA text: $out"
 echo "$out" | grep -q "50.000" && pass "STA table has z=50.000" || bad "STA table: $out"
-out=$(c --json platform sta); rc=$?
+out=$("$cli" -p 21011 --json platform sta); rc=$?
 expect_rc 0 $rc "--json platform sta"
-[ "$out" = '{"device":"platform","request":"STA","raw":"OKF+00.0000+00.0000F+00100+00000","reply":"OK","moving":false,"servo":false,"override":100,"error":0,"error_text":"no error","position":{"a":0.0000,"b":0.0000}}' ] && pass "--json STA object" || bad "--json: $out"
+[ "$out" = '{"device":"platform","request":"STA","raw":"OKF+00.0000+00.0000F+00100+00000","reply":"OK","moving":false,"servo":false,"override":100,"error":0,"error_text":"no error","position":{"a":0.0,"b":0.0}}' ] && pass "--json STA object" || bad "--json: $out"
 out=$(c robot mov abs x=10 y=-2 z=5.999 c=-1.2322); rc=$?
 expect_rc 1 $rc "MOV with servo off -> ER"
 echo "$out" | grep -q "ER +00104  servo is off (project code)" && pass "ER explained" || bad "ER text: $out"
@@ -46,6 +47,20 @@ echo "$out" | grep -q "+00107" && pass "busy explained" || bad "busy: $out"
 printf 'wait robot stopped 10\nrobot sta\n' | c >"$tmp/o" 2>&1; expect_rc 0 $? "script from stdin with wait"
 grep -q "10.000      -2.000       5.999     -1.2322" "$tmp/o" && pass "arrived at the spec's pose" || { bad "pose after wait"; cat "$tmp/o"; }
 out=$(c --json raw robot STA); [ "$(echo "$out" | sed 's/.*"raw":"\([^"]*\)".*/\1/')" = "OKF+010.000-002.000+005.999-01.2322T+00100+00104" ] && pass "raw STA = spec example reply (override 100, servo-off error latched)" || bad "raw STA: $out"
+# output for pipes: raw replies unless --no-raw; --csv with a header; -r/-i lines stamped
+out=$("$cli" -p 21011 platform sta); [ "$out" = "OKF+00.0000+00.0000F+00100+00000" ] && pass "raw reply when stdout is a pipe" || bad "raw by default: $out"
+out=$("$cli" -p 21011 --csv -r 2 platform sta)
+[ "$(echo "$out" | head -1)" = "time,device,request,reply,raw,moving,servo,override,error,p1,p2,p3,p4" ] && pass "--csv header (time first with -r)" || bad "--csv header: $out"
+echo "$out" | sed -n 2p | grep -Eq '^20[0-9-]+T[0-9:.]+Z,platform,STA,OK,OKF\+00.0000\+00.0000F\+00100\+00000,0,0,100,0,0.0000,0.0000,,$' && [ "$(echo "$out" | wc -l)" -eq 3 ] && pass "--csv rows" || bad "--csv rows: $out"
+out=$("$cli" -p 21011 --json -r 2 -i 0.05 platform sta)
+[ "$(echo "$out" | grep -c '^{"time":"20[0-9-]*T[0-9:.]*Z","device":"platform"')" -eq 2 ] && pass "-r/-i JSON lines carry the time" || bad "stamped JSON: $out"
+out=$("$cli" -p 21011 --json platform sta); echo "$out" | grep -q '"time"' && bad "one-shot JSON stamped: $out" || pass "one-shot JSON without time"
+"$cli" -p 21011 --json --csv robot sta 2>"$tmp/e"; expect_rc 2 $? "--json with --csv refused"
+out=$(c ROBOT STA); expect_rc 0 $? "upper-case device and command"
+echo "$out" | grep -q "robot: stopped" && pass "ROBOT STA shown" || bad "ROBOT STA: $out"
+out=$(printf 'clear\nrobot sta\n' | c); expect_rc 0 $? "clear in a script"
+echo "$out" | head -1 | grep -q "^robot: " && pass "clear prints nothing off a terminal" || bad "clear: $out"
+c help | grep -q "^  platform mov abs|rel a=RAD b=RAD" && pass "help: platform mov indented like the rest" || bad "help indentation: $(c help | grep 'platform mov')"
 # usage errors: exit 2, message names the problem
 c robot mov abs x=1 y=2 2>"$tmp/e"; expect_rc 2 $? "missing axis"
 grep -q "missing z=" "$tmp/e" && pass "missing axis named" || bad "msg: $(cat "$tmp/e")"

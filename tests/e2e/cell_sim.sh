@@ -46,4 +46,26 @@ if [ $rc -eq 2 ] && grep -q workspace "$log2"; then echo "PASS: bad --workspace 
 if [ $rc -eq 3 ] && grep -q "cannot listen" "$log2"; then echo "PASS: busy port exits 3"; else echo "FAIL: busy port rc=$rc"; fail=1; fi
 "$bin/cell-sim" --version | grep -q "^cell-sim [0-9]" && echo "PASS: --version" || { echo "FAIL: --version"; fail=1; }
 "$bin/cell-sim" --help | grep -q "Examples:" && echo "PASS: --help has examples" || { echo "FAIL: --help"; fail=1; }
+# the INI file (-c): [cell-sim] takes the long options, [DEVICE] port/workspace/home/servo_fault;
+# the command line wins over the file (ports 21031-21033)
+ini=$(mktemp); bad=$(mktemp)
+printf '[cell-sim]\nport_base = 21041\nspeed_factor = 20\n[robot]\nservo_fault = 1\nworkspace = z:-20:80\n' >"$ini"
+"$bin/cell-sim" -c "$ini" -p 21031 >"$log2" 2>&1 & pids="$pids $!"
+wait_port 21031; wait_port 21033
+out=$(python3 - <<'PY'
+import socket
+s = socket.create_connection(("127.0.0.1", 21031), 5); f = s.makefile("rb")
+s.sendall(b"SRVON\r\n"); print(f.readline().decode().strip())
+PY
+)
+[ "$out" = "ER+00002" ] && echo "PASS: config file read ([robot] servo_fault), -p wins over port_base" || { echo "FAIL: config: $out"; fail=1; }
+printf '[cell-sim]\nspeed_factor = 10\n[robot]\nprot = 1\n' >"$bad"
+"$bin/cell-sim" -c "$bad" 2>"$log2"; rc=$?
+if [ $rc -eq 2 ] && grep -q "$(basename "$bad"):4:1: \[robot\] unknown key 'prot'" "$log2"; then echo "PASS: config typo named with line and column"; else echo "FAIL: config typo rc=$rc: $(cat "$log2")"; fail=1; fi
+printf '[cell-sim]\nspeed_factor = -1\n' >"$bad"
+"$bin/cell-sim" -c "$bad" 2>"$log2"; rc=$?
+if [ $rc -eq 2 ] && grep -q ":2:16: \[cell-sim\] speed_factor: bad value '-1'" "$log2"; then echo "PASS: config bad value named"; else echo "FAIL: config bad value rc=$rc: $(cat "$log2")"; fail=1; fi
+"$bin/cell-sim" -c /nonexistent.ini 2>"$log2"; rc=$?
+if [ $rc -eq 2 ] && grep -q "/nonexistent.ini: .*No such file or directory" "$log2"; then echo "PASS: missing config file: $(cat "$log2")"; else echo "FAIL: missing config rc=$rc: $(cat "$log2")"; fail=1; fi
+rm -f "$ini" "$bad"
 exit $fail

@@ -55,16 +55,17 @@ stroke_test() {  # stroke_test NAME MODE PORT MIN MAX TOL [server args...]
     ok "$n: the server stopped the arm (505 sent)" ge "$(jv "$T/$n.json" drive_off_505)" 1
     ok "$n: stroke event counted" ge "$(jv "$T/$n.json" stroke)" 1
     ok "$n: the controller took the drive off (DRIVEOFF_SERVER)" has "$T/$n.sim.json" DRIVEOFF_SERVER
-    # the reference the controller held with the drives on (CSV a<k>_tpos, columns 9 + 11 k,
-    # rows with INFPAR set) never left the stroke by more than TOL (SMP+'s own step in mode
-    # 7); the robot stopped within its largest following error of the run (a<k>_apos -
-    # a<k>_tpos) plus one tick of braking (0.01 turns here)
+    # the reference the controller held with the drives on (the per-tick CSV, docs/csv.md:
+    # rx_d1, column 7, on the rows of the axis, column 3, with the packet's INFPAR, rx_infpar,
+    # column 25, set) never left the stroke by more than TOL (SMP+'s own step in mode 7); the
+    # robot stopped within its largest following error of the run (rx_d3 - rx_d1, column 9
+    # minus 7) plus one tick of braking (0.01 turns here)
     for ax in 1 2 3 4 5 6; do
-        c=$((9 + 11 * (ax - 1)))
-        r=$(awk -F, -v c=$c -v hi="$hi" -v lo="$lo" 'NR > 1 && $c != "" && $5 != "0x00000000" {
+        c=7
+        r=$(awk -F, -v c=$c -v ax=$ax -v hi="$hi" -v lo="$lo" 'NR > 1 && $3 == ax && $c != "" && $25 != "0x00000000" {
                 d = ($c > hi) ? $c - hi : (($c < lo) ? lo - $c : 0); if (d > w) w = d }
             END { print w + 0 }' "$T/$n.csv")
-        fe=$(awk -F, -v c=$c 'NR > 1 && $c != "" && $5 != "0x00000000" {
+        fe=$(awk -F, -v c=$c -v ax=$ax 'NR > 1 && $3 == ax && $c != "" && $25 != "0x00000000" {
                 d = $(c + 2) - $c; if (d < 0) d = -d; if (d > w) w = d }
             END { print w + 0 }' "$T/$n.csv")
         p=$(simpos "$T/$n.sim.json" $ax)

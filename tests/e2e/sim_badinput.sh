@@ -41,4 +41,16 @@ head -c 4000 /dev/urandom >"$T/r.scn"
 run_sim -S "$T/r.scn" -n 1 >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || [ $rc -eq 1 ] || [ $rc -eq 0 ] || fail "random scenario: exit $rc (crash?)"
 ok "random bytes as a scenario: exit $rc, no crash"
+
+# A failed EXPECT: the summary (no -v) names the line and why; a scenario cut short says
+# where it stopped, never "running"
+printf 'DRIVE ON 1\nDELAY 20\nEXPECT MODE 1 1 4\nDRIVE OFF 1\nEXIT OPEN\n' >"$T/x.scn"
+next_port; start_pc $PORT
+run_sim -p $PORT -S "$T/x.scn" $STALL_OK >"$T/x.out" 2>"$T/x.err"; rc=$?
+wait_pc
+expect_eq "failed EXPECT: exit" $rc 3
+grep -q "first failed expectation: scenario line 3: EXPECT MODE failed: mode 0, expected 4" "$T/x.out" \
+  || fail "failed EXPECT not named without -v: $(cat "$T/x.out")"
+grep -q "running" "$T/x.out" && fail "summary says running: $(grep scenario "$T/x.out")"
+ok "failed EXPECT named without -v: $(grep 'first failed' "$T/x.out")"
 exit 0

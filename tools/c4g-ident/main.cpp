@@ -15,6 +15,7 @@ extern "C" {
 
 #include <ceres/version.h>
 #include <glog/logging.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -119,6 +120,24 @@ int fit_delay(void *ctx, const cli_opt_t *, const char *v, char *why, size_t why
     return 0;
 }
 
+// --plot DIR: an existing writable directory, or one that can be made
+bool plot_dir_writable(const char *tool, const char *dir)
+{
+    struct stat st;
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) {
+            cli_file_error(tool, "--plot", dir, ENOTDIR);
+            return false;
+        }
+        if (access(dir, W_OK | X_OK) != 0) {
+            cli_file_error(tool, "--plot", dir, errno);
+            return false;
+        }
+        return true;
+    }
+    return cli_check_output(tool, "--plot", dir) == 0;
+}
+
 int run_fit(int argc, char **argv)
 {
     FitCli c;
@@ -162,7 +181,7 @@ int run_fit(int argc, char **argv)
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 every selected axis identified; 1 a file could not be written; 2 bad\n"
                        "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted).",
-                       1, -1, 1};
+                       1, -1, 1, nullptr};
     int first = 0;
     const cli_result_t r = cli_parse(&spec, &c, argc, argv, &first);
     if (r == CLI_DONE) return CLI_EXIT_OK;
@@ -183,15 +202,12 @@ int run_fit(int argc, char **argv)
         cli_error(&spec, "--to %g must be after --from %g", to, from);
         return CLI_EXIT_USAGE;
     }
-    // output paths are checked before any work
-    for (const char *p : {c.out}) {
-        if (p[0] == '\0') continue;
-        FILE *f = std::fopen(p, "a");
-        if (f == nullptr) {
-            cli_error(&spec, "--out %s: %s", p, std::strerror(errno));
-            return CLI_EXIT_USAGE;
-        }
-        std::fclose(f);
+    // output paths are checked before any work: a file that could not be written is exit 1
+    if (c.out[0] != '\0' && cli_check_output(spec.tool, "--out", c.out) != 0) {
+        return CLI_EXIT_RUNTIME;
+    }
+    if (c.plot[0] != '\0' && !plot_dir_writable(spec.tool, c.plot)) {
+        return CLI_EXIT_RUNTIME;
     }
     const auto t0 = std::chrono::steady_clock::now();
     Job job;
@@ -359,7 +375,7 @@ int run_excite(int argc, char **argv)
                        "then a multi-sine for inertia, within each axis' velocity and acceleration limits,\n"
                        "starting and ending at rest at offset 0.",
                        opts, sizeof opts / sizeof opts[0], examples,
-                       "Exit status: 0 written; 1 the file could not be written; 2 bad usage.", 0, 0, 1};
+                       "Exit status: 0 written; 1 the file could not be written; 2 bad usage.", 0, 0, 1, nullptr};
     int first = 0;
     const cli_result_t r = cli_parse(&spec, &c, argc, argv, &first);
     if (r == CLI_DONE) return CLI_EXIT_OK;
@@ -411,7 +427,7 @@ int run_excite(int argc, char **argv)
     if (c.out[0] != '\0') {
         out = std::fopen(c.out, "w");
         if (out == nullptr) {
-            cli_error(&spec, "--out %s: %s", c.out, std::strerror(errno));
+            cli_file_error(spec.tool, "--out", c.out, errno);
             return CLI_EXIT_RUNTIME;
         }
     }
@@ -481,6 +497,12 @@ int main(int argc, char **argv)
     }
     if (cmd == "fit") return run_fit(argc - 1, argv + 1);
     if (cmd == "excite") return run_excite(argc - 1, argv + 1);
-    std::fprintf(stderr, "%s: unknown command '%s' (see %s --help)\n", kTool, cmd.c_str(), kTool);
+    char shown[80];
+    cli_path_text(cmd.c_str(), shown, sizeof shown);
+    if (cmd[0] == '-') {
+        std::fprintf(stderr, "%s: unrecognized option '%s' (see %s --help)\n", kTool, shown, kTool);
+        return CLI_EXIT_USAGE;
+    }
+    std::fprintf(stderr, "%s: unknown command '%s' (see %s --help)\n", kTool, shown, kTool);
     return CLI_EXIT_USAGE;
 }

@@ -6,8 +6,10 @@
 #include "replay.h"
 
 #include "c4g_csv.h"
+#include "c4g_tickcsv.h"
 #include "c4g_textfile.h"
 
+#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +18,7 @@ typedef struct ex_ctx {
     rp_common_t c;
     unsigned moni;            /* 19..24, 0 = all fields */
     int json_lines;
+    int ticks;                /* the per-tick CSV (docs/csv.md) */
     uint32_t axes;            /* OPEN indexes (bit 0 = 1), 0 = all */
     double from_s, to_s;      /* window since the session's first packet; to < 0: open */
     unsigned session;         /* 0 = all */
@@ -106,56 +109,73 @@ static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
     fputc('\n', e->out);
 }
 
-static void json_float(FILE *out, float v)
+/* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
+ * which gives the float32 back exactly and prints as written (0.1, not 0.100000001490). */
+static json_t *json_float(float v)
 {
-    if (isfinite(v)) {
-        fprintf(out, "%.9g", (double)v);
-    } else {
-        fputs("null", out);
+    char text[32];
+    if (!isfinite(v)) {
+        return json_null();
     }
+    (void)snprintf(text, sizeof text, "%.9g", (double)v);
+    return json_real(strtod(text, NULL));
 }
 
-static void json_side(ex_ctx_t *e, const char *name, const uint8_t *d, size_t len)
+static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
 {
     const unsigned n = axes_in(len);
-    unsigned i, k, first = 1U;
+    unsigned i, k;
+    json_t *o, *axes;
     if (d == NULL || n == 0U) {
-        fprintf(e->out, ",\"%s\":null", name);
-        return;
+        return json_null();
     }
-    fprintf(e->out, ",\"%s\":{\"num\":%d,\"infpar\":%u,\"cmd\":%u,\"axes\":[", name, (int)an_le_i32(d),
-            (unsigned)an_le_u32(d + 4), (unsigned)an_le_u32(d + 8));
+    o = json_object();
+    axes = json_array();
+    json_object_set_new(o, "num", json_integer(an_le_i32(d)));
+    json_object_set_new(o, "infpar", json_integer(an_le_u32(d + 4)));
+    json_object_set_new(o, "cmd", json_integer(an_le_u32(d + 8)));
     for (i = 0U; i < n; i++) {
         const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
+        json_t *ax;
         if (!axis_on(e, i)) {
             continue;
         }
-        fprintf(e->out, "%s{\"axis\":%u,\"mode\":%d", first ? "" : ",", i + 1U, (int)an_le_i32(a));
-        first = 0U;
+        ax = json_object();
+        json_object_set_new(ax, "axis", json_integer(i + 1U));
+        json_object_set_new(ax, "mode", json_integer(an_le_i32(a)));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",\"%s\":", fnames[k]);
-            json_float(e->out, an_le_f32(a + 4U + 4U * k));
+            json_object_set_new(ax, fnames[k], json_float(an_le_f32(a + 4U + 4U * k)));
         }
-        fputc('}', e->out);
+        json_array_append_new(axes, ax);
     }
-    fputs("]}", e->out);
+    json_object_set_new(o, "axes", axes);
+    return o;
 }
 
+/* One tick as one JSON object on one line (jansson; 12 significant digits: the floats' 9-digit
+ * decimals as they are, the time to the nanosecond below 1000 s). */
 static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
 {
-    fprintf(e->out, "{\"session\":%u,\"tick\":%llu,\"time\":%.9f,\"ctrl_frame\":%llu,\"pc_frame\":", x->s->id,
-            (unsigned long long)x->tick, t, (unsigned long long)x->ctrl_frame);
+    json_t *o = json_object();
+    json_object_set_new(o, "session", json_integer(x->s->id));
+    json_object_set_new(o, "tick", json_integer((json_int_t)x->tick));
+    json_object_set_new(o, "time", json_real(t));
+    json_object_set_new(o, "ctrl_frame", json_integer((json_int_t)x->ctrl_frame));
     if (x->reply != NULL) {
-        fprintf(e->out, "%llu,\"latency_us\":%.3f", (unsigned long long)x->reply_frame,
-                (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        json_object_set_new(o, "pc_frame", json_integer((json_int_t)x->reply_frame));
+        json_object_set_new(o, "latency_us", json_real((double)(x->reply_ns - x->ctrl_ns) * 1e-3));
     } else {
-        fputs("null,\"latency_us\":null", e->out);
+        json_object_set_new(o, "pc_frame", json_null());
+        json_object_set_new(o, "latency_us", json_null());
     }
-    fprintf(e->out, ",\"verdict\":\"%s\"", x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
-                                          : (x->verdict == CS_J_MISSING ? "missing" : "unjudged"));
-    json_side(e, "ctrl", x->ctrl, x->ctrl_len);
-    json_side(e, "pc", x->reply, x->reply_len);
-    fputs("}\n", e->out);
+    json_object_set_new(o, "verdict", json_string(x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
+                                                  : (x->verdict == CS_J_MISSING ? "missing"
+                                                                                : "unjudged")));
+    json_object_set_new(o, "ctrl", json_side(e, x->ctrl, x->ctrl_len));
+    json_object_set_new(o, "pc", json_side(e, x->reply, x->reply_len));
+    json_dumpf(o, e->out, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(12));
+    fputc('\n', e->out);
+    json_decref(o);
 }
 
 static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
@@ -183,6 +203,30 @@ static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
     }
 }
 
+/* The per-tick CSV every tool shares (docs/csv.md): one row per axis, the columns of
+ * c4g-server --moni, for ticks whose packet and reply both decoded. */
+static void tick_rows(ex_ctx_t *e, const an_exchange_t *x, double t)
+{
+    const c4g_axis_map_t *m = &x->s->map;
+    uint32_t i;
+    if (x->rx == NULL || x->tx == NULL) {
+        return;
+    }
+    if (!e->header_done) {
+        fputs(C4G_TICK_CSV_COLUMNS "\n", e->out);
+        e->header_done = 1U;
+    }
+    for (i = 0U; i < x->rx->n_axes && i < C4G_MAX_AXES; i++) {
+        if (!axis_on(e, i)) {
+            continue;
+        }
+        c4g_tick_csv_row(e->out, t, x->rx->num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+                         (uint32_t)m->logical_of[i] + 1U, &x->rx->ax[i], x->tx->infpar,
+                         &x->tx->ax[i]);
+        fputc('\n', e->out);
+    }
+}
+
 static void on_exchange(void *ctx, const an_exchange_t *x)
 {
     ex_ctx_t *e = ctx;
@@ -196,6 +240,8 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
     e->rows++;
     if (e->moni != 0U) {
         moni_rows(e, x);
+    } else if (e->ticks) {
+        tick_rows(e, x, t);
     } else if (e->json_lines) {
         json_row(e, x, t);
     } else {
@@ -253,6 +299,7 @@ static const char *const examples[] = {
     RP_TOOL " export fixtures/replay/mode4.pcap > ticks.csv",
     RP_TOOL " export --axes 1-3 --from 0.5 --to 1.5 field.pcap",
     RP_TOOL " export --moni 20 field.pcap > moni20.csv",
+    RP_TOOL " export --ticks field.pcap > ticks.csv       # as c4g-server --moni writes",
     RP_TOOL " export --json-lines field.pcap | jq -c 'select(.verdict != \"ok\")'",
     NULL};
 
@@ -284,6 +331,8 @@ int rp_cmd_export(int argc, char **argv)
          NULL, 0},
         {"json-lines", 0, CLI_FLAG, NULL, "one JSON object per tick instead of CSV", &e.json_lines, 0, 0, 0,
          NULL, 0},
+        {"ticks", 0, CLI_FLAG, NULL, "the per-tick CSV of c4g-server --moni and c4g-sim --csv instead",
+         &e.ticks, 0, 0, 0, NULL, 0},
         {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
     };
@@ -293,6 +342,7 @@ int rp_cmd_export(int argc, char **argv)
     e.out = stdout;
     memset(&spec, 0, sizeof spec);
     spec.tool = RP_TOOL;
+    spec.command = "export";
     spec.usage = "Usage: " RP_TOOL " export [OPTIONS] FILE\n"
                  "One row per cyclic tick of every session: the controller's packet, the reply,\n"
                  "the reply latency and the NUMs, every field of every axis both ways.\n";
@@ -307,8 +357,8 @@ int rp_cmd_export(int argc, char **argv)
     if (r != CLI_RUN) {
         return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     }
-    if (e.moni != 0U && e.json_lines) {
-        cli_error(&spec, "--moni and --json-lines exclude each other");
+    if ((e.moni != 0U) + e.json_lines + e.ticks > 1) {
+        cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
         return CLI_EXIT_USAGE;
     }
     e.c.an.on_exchange = on_exchange;

@@ -374,7 +374,7 @@ static void judge(lv_t *L, uint64_t deadline, int own_short)
     if (!L->topspeed) {
         /* the kernel's send time when it came back, else the clock read before sendto */
         const uint64_t sent = L->cs.out.sent_ns;
-        lv_hist_add(&L->err, (int64_t)(sent - P->sched_ns));
+        c4g_hist_add(&L->err, (int64_t)(sent - P->sched_ns));
         L->drift_ns = (int64_t)(sent - P->sched_ns);
     }
     if (v == CS_J_OK) {
@@ -581,7 +581,6 @@ static int play_pass(lv_t *L)
 /* Add one pass's counters to the totals. */
 static void add_counters(cs_counters_t *t, const cs_counters_t *n)
 {
-    unsigned i;
     if (n->replies_ok > 0U && (t->replies_ok == 0U || n->lat_min < t->lat_min)) {
         t->lat_min = n->lat_min;
     }
@@ -606,9 +605,7 @@ static void add_counters(cs_counters_t *t, const cs_counters_t *n)
     t->stale += n->stale;
     t->unexpected += n->unexpected;
     t->lat_sum += n->lat_sum;
-    for (i = 0U; i < CS_LAT_BINS; i++) {
-        t->lat_hist[i] += n->lat_hist[i];
-    }
+    c4g_hist_merge(&t->lat, &n->lat);
 }
 
 static int play(lv_t *L)
@@ -722,6 +719,7 @@ int rp_cmd_live(int argc, char **argv)
         L->fd = -1;
         memset(&spec, 0, sizeof spec);
         spec.tool = RP_TOOL;
+        spec.command = "live";
         spec.usage = "Usage: " RP_TOOL " live FILE --to HOST:PORT [OPTIONS]\n"
                      "Play the controller's side of a recorded session to a running PC server over\n"
                      "UDP, check its replies as the controller would, compare them with the\n"

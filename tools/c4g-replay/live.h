@@ -10,7 +10,6 @@
 
 #include <netinet/in.h>
 
-#define LV_HIST_BINS 20001U /* 1 us bins; the last one collects everything above */
 
 /* Fields a reply is compared on: the names the report prints. */
 #define LV_FIELDS(X)                                                                        \
@@ -26,16 +25,7 @@ typedef enum lv_field { LV_FIELDS(LV_FIELD_ENUM) LV_F_COUNT } lv_field_t;
 
 const char *lv_field_name(lv_field_t f);
 
-/* A distribution in us: 1 us bins, exact minimum and maximum. */
-typedef struct lv_hist {
-    uint64_t n;
-    int64_t min_ns, max_ns;
-    uint32_t bin[LV_HIST_BINS];
-} lv_hist_t;
 
-void lv_hist_add(lv_hist_t *h, int64_t ns);
-/* Percentile q (0..1) in us: the upper edge of its bin, at most the maximum. */
-double lv_hist_us(const lv_hist_t *h, double q);
 
 /* The first reply that differed from the recorded one. */
 typedef struct lv_first {
@@ -124,7 +114,7 @@ typedef struct lv {
     int read_failed;          /* a pass could not read the file again */
     uint64_t sent, sent_kind[3], send_errors;
     char send_error[120];
-    lv_hist_t err;            /* send time minus schedule */
+    c4g_hist_t err;           /* send time minus schedule */
     int64_t drift_ns;         /* the last packet's send time minus its schedule */
     uint64_t overruns;        /* packets sent more than tol_ns late */
     uint64_t compared, differing, field[LV_F_COUNT];

@@ -11,37 +11,6 @@ static const char *const field_names[LV_F_COUNT] = {LV_FIELDS(LV_FIELD_NAME)};
 
 const char *lv_field_name(lv_field_t f) { return (f < LV_F_COUNT) ? field_names[f] : "?"; }
 
-void lv_hist_add(lv_hist_t *h, int64_t ns)
-{
-    const int64_t us = (ns > 0) ? ns / 1000 : 0; /* a kernel stamp a hair before the schedule */
-    if (h->n == 0U || ns < h->min_ns) {
-        h->min_ns = ns;
-    }
-    if (h->n == 0U || ns > h->max_ns) {
-        h->max_ns = ns;
-    }
-    h->bin[(us < (int64_t)LV_HIST_BINS - 1) ? (size_t)us : LV_HIST_BINS - 1U]++;
-    h->n++;
-}
-
-double lv_hist_us(const lv_hist_t *h, double q)
-{
-    const uint64_t need = (uint64_t)(q * (double)h->n + 0.999999);
-    const double max_us = (double)h->max_ns / 1000.0;
-    uint64_t acc = 0;
-    size_t i;
-    if (h->n == 0U) {
-        return 0.0;
-    }
-    for (i = 0U; i < LV_HIST_BINS; i++) {
-        acc += h->bin[i];
-        if (acc >= need) {
-            const double edge = (double)(i + 1U);
-            return (edge < max_us) ? edge : max_us;
-        }
-    }
-    return max_us;
-}
 
 /* Stale replies are not added: each one belongs to a packet already counted missing or
  * unjudged. */
@@ -159,7 +128,7 @@ void lv_report_text(FILE *out, const lv_t *L)
     } else {
         fprintf(out, "timing: send time - schedule p50 %.0f us, p99 %.0f us, max %.1f us; drift %.1f us "
                 "(the last packet); %llu sent over %.0f us late; %s send times\n",
-                lv_hist_us(&L->err, 0.5), lv_hist_us(&L->err, 0.99), (double)L->err.max_ns * 1e-3,
+                c4g_hist_us(&L->err, 0.5), c4g_hist_us(&L->err, 0.99), (double)L->err.max_ns * 1e-3,
                 (double)L->drift_ns * 1e-3, (unsigned long long)L->overruns, (double)L->tol_ns * 1e-3,
                 L->kstamp ? "kernel" : "user-space");
     }
@@ -193,7 +162,7 @@ void lv_report_json(FILE *out, const lv_t *L)
     if (!L->topspeed) {
         json_decref(timing);
         timing = json_pack("{s:{s:f, s:f, s:f, s:f}, s:f, s:I, s:f, s:I}", "send_error_us", "p50",
-                           lv_hist_us(&L->err, 0.5), "p99", lv_hist_us(&L->err, 0.99), "max",
+                           c4g_hist_us(&L->err, 0.5), "p99", c4g_hist_us(&L->err, 0.99), "max",
                            (double)L->err.max_ns * 1e-3, "min", (double)L->err.min_ns * 1e-3, "drift_us",
                            (double)L->drift_ns * 1e-3, "overruns", (json_int_t)L->overruns,
                            "overrun_margin_us", (double)L->tol_ns * 1e-3, "spin_us", (json_int_t)L->spin_us);

@@ -68,7 +68,15 @@ int main(int argc, char **argv)
             return commands[i].run(argc - 1, argv + 1);
         }
     }
-    fprintf(stderr, RP_TOOL ": unknown command '%s' (commands: summary, check, export, rerun, live, "
-            "plot; see --help)\n", argv[1]);
+    {
+        char shown[80];
+        cli_path_text(argv[1], shown, sizeof shown);
+        if (argv[1][0] == '-') {
+            fprintf(stderr, RP_TOOL ": unrecognized option '%s' (see " RP_TOOL " --help)\n", shown);
+        } else {
+            fprintf(stderr, RP_TOOL ": unknown command '%s' (commands: summary, check, export, rerun, "
+                    "live, plot; see " RP_TOOL " --help)\n", shown);
+        }
+    }
     return CLI_EXIT_USAGE;
 }

@@ -196,6 +196,7 @@ int rp_cmd_plot(int argc, char **argv)
     strcpy(p.side, "ctrl");
     memset(&spec, 0, sizeof spec);
     spec.tool = RP_TOOL;
+    spec.command = "plot";
     spec.usage = "Usage: " RP_TOOL " plot [OPTIONS] FILE\n"
                  "One field of one axis over time, with the arm's mode changes marked, or the\n"
                  "reply latency histogram (gnuplot).\n";
@@ -227,6 +228,9 @@ int rp_cmd_plot(int argc, char **argv)
     if (strchr(p.output, '\'') != NULL) {
         cli_error(&spec, "--output: bad value '%s' (no quotes in the name)", p.output);
         return CLI_EXIT_USAGE;
+    }
+    if (p.output[0] != '\0' && cli_check_output(spec.tool, "--output", p.output) != 0) {
+        return CLI_EXIT_RUNTIME; /* before gnuplot runs: the plot could not be written */
     }
     return run(&p, argv[first]);
 }

@@ -770,6 +770,7 @@ int rp_cmd_rerun(int argc, char **argv)
     rp_common_default(&R->c);
     memset(&spec, 0, sizeof spec);
     spec.tool = RP_TOOL;
+    spec.command = "rerun";
     spec.usage = "Usage: " RP_TOOL " rerun [OPTIONS] FILE [-- C4G-SERVER-OPTIONS]\n"
                  "Feed the recorded controller packets through c4g-server's own core at top speed,\n"
                  "with their recorded times, and compare every reply produced with the recorded one,\n"

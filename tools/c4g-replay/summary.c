@@ -151,6 +151,7 @@ static int command(int argc, char **argv, int check)
     s.lines = check;
     memset(&spec, 0, sizeof spec);
     spec.tool = RP_TOOL;
+    spec.command = check ? "check" : "summary";
     spec.usage = check ? "Usage: " RP_TOOL " check [OPTIONS] FILE...\n"
                          "Analyse each capture as summary does and print one line per finding:\n"
                          "made for CI pipelines over a fleet's captures.\n"

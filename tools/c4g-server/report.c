@@ -5,6 +5,9 @@
 #include "srv.h"
 #include "c4g_pcap.h"
 #include "c4g_csv.h"
+#include "c4g_tickcsv.h"
+
+#include <jansson.h>
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -24,10 +27,14 @@ int srv_outputs_open(srv_host_t *H)
     H->log_fp = NULL;
     H->pcap = NULL;
     H->moni_fp = NULL;
+    /* the JSON summary is written at exit: its place is checked now, before the session */
+    if (S->cfg.json_path[0] != '\0' && cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
+        return -1;
+    }
     if (S->cfg.log_path[0] != '\0') {
         H->log_fp = fopen(S->cfg.log_path, "w");
         if (H->log_fp == NULL) {
-            fprintf(stderr, "c4g-server: --log %s: %s\n", S->cfg.log_path, strerror(errno));
+            cli_file_error("c4g-server", "--log", S->cfg.log_path, errno);
             return -1;
         }
     }
@@ -35,19 +42,20 @@ int srv_outputs_open(srv_host_t *H)
         char err[256];
         H->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
         if (H->pcap == NULL) {
-            fprintf(stderr, "c4g-server: --pcap %s: %s\n", S->cfg.pcap_path, err);
+            char pt[600];
+            fprintf(stderr, "c4g-server: --pcap %s: %s\n",
+                    cli_path_text(S->cfg.pcap_path, pt, sizeof pt), err);
             return -1;
         }
     }
     if (S->cfg.moni_path[0] != '\0') {
         H->moni_fp = fopen(S->cfg.moni_path, "w");
         if (H->moni_fp == NULL) {
-            fprintf(stderr, "c4g-server: --moni %s: %s\n", S->cfg.moni_path, strerror(errno));
+            cli_file_error("c4g-server", "--moni", S->cfg.moni_path, errno);
             return -1;
         }
         if (S->cfg.moni_type == 0) {
-            fputs("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,"
-                  "rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n", H->moni_fp);
+            fputs(C4G_TICK_CSV_COLUMNS "\n", H->moni_fp);
         } else {
             char hdr[256];
             size_t hl = 0U;
@@ -127,16 +135,9 @@ static void write_moni(srv_host_t *H, const c4g_rtlog_rec_t *rec)
             }
             continue;
         }
-        {
-            fprintf(H->moni_fp, "%.6f,%d,%u,%u,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%d,"
-                    "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (int)rx.num, (unsigned)i + 1U,
-                    (unsigned)m->arm_of[i] + 1U, (unsigned)m->logical_of[i] + 1U, (int)r->mode,
-                    (double)r->target_pos, (double)r->target_vel, (double)r->actual_pos,
-                    (double)r->actual_vel, (double)r->current_ref, (double)r->ext[0],
-                    (double)r->ext[1], (double)r->ext[2], (unsigned)tx.infpar, (int)o->mode,
-                    (double)o->target_pos, (double)o->target_vel, (double)o->measure,
-                    (double)o->vel_add, (double)o->current_add);
-        }
+        c4g_tick_csv_row(H->moni_fp, t, rx.num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+                         (uint32_t)m->logical_of[i] + 1U, r, tx.infpar, o);
+        fputc('\n', H->moni_fp);
     }
 }
 
@@ -172,20 +173,7 @@ void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
 
 static double pct_us(const srv_stats_t *st, double p)
 {
-    uint64_t want, acc = 0U;
-    uint32_t i;
-    if (st->hist_n == 0U) {
-        return 0.0;
-    }
-    want = (uint64_t)(p * (double)st->hist_n + 0.999999);
-    if (want < 1U) want = 1U;
-    for (i = 0U; i <= SRV_HIST_US; i++) {
-        acc += st->hist[i];
-        if (acc >= want) {
-            return (double)i;
-        }
-    }
-    return (double)SRV_HIST_US;
+    return c4g_hist_us(&st->cycle, p);
 }
 
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
@@ -220,8 +208,8 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     fprintf(out, "Percentage jitter range = [%+.9f; %+.9f] %%\n", t.min_jitter_pct, t.max_jitter_pct);
     fprintf(out, "Cycle time (rx -> sent): samples %llu, mean %.1f us, p50 %.0f us, p99 %.0f us, "
             "p99.9 %.0f us, max %.1f us; later than %u us: %llu\n",
-            (unsigned long long)st->hist_n, st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0,
-            pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle_max_ns / 1000.0,
+            (unsigned long long)st->cycle.n, c4g_hist_mean_us(&st->cycle),
+            pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle.max_ns / 1000.0,
             S->cfg.late_us, (unsigned long long)st->late);
     fprintf(out, "== Counters\n");
     fprintf(out, "rx %llu, tx %llu, sync %llu, init %llu, cyclic %llu\n",
@@ -268,83 +256,151 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     fflush(out);
 }
 
+static void put_u(json_t *o, const char *key, uint64_t v)
+{
+    json_object_set_new(o, key, json_integer((json_int_t)v));
+}
+
+static void put_i(json_t *o, const char *key, long long v)
+{
+    json_object_set_new(o, key, json_integer((json_int_t)v));
+}
+
+static void put_f(json_t *o, const char *key, double v)
+{
+    json_object_set_new(o, key, json_real(v));
+}
+
+static json_t *json_timing(const srv_t *S)
+{
+    const srv_stats_t *st = &S->stats;
+    json_t *o = json_object();
+    c4g_timing_t t;
+    memset(&t, 0, sizeof t);
+    (void)c4g_session_timing(&S->loop.session, &t);
+    put_i(o, "nominal_period_ns", (long long)t.nominal_period_ns);
+    put_i(o, "worst_cycle_ns", (long long)t.worst_cycle_ns);
+    put_i(o, "min_inter_ns", (long long)t.min_inter_ns);
+    put_i(o, "max_inter_ns", (long long)t.max_inter_ns);
+    put_i(o, "min_jitter_ns", (long long)t.min_jitter_ns);
+    put_i(o, "max_jitter_ns", (long long)t.max_jitter_ns);
+    put_f(o, "min_jitter_pct", t.min_jitter_pct);
+    put_f(o, "max_jitter_pct", t.max_jitter_pct);
+    put_u(o, "cycle_samples", st->cycle.n);
+    put_f(o, "cycle_mean_us", c4g_hist_mean_us(&st->cycle));
+    put_f(o, "cycle_p50_us", pct_us(st, 0.5));
+    put_f(o, "cycle_p99_us", pct_us(st, 0.99));
+    put_f(o, "cycle_p999_us", pct_us(st, 0.999));
+    put_f(o, "cycle_max_us", (double)st->cycle.max_ns / 1000.0);
+    put_u(o, "late_us", S->cfg.late_us);
+    put_u(o, "late", st->late);
+    return o;
+}
+
+static json_t *json_counters(const srv_host_t *H)
+{
+    const srv_t *S = &H->s;
+    const srv_stats_t *st = &S->stats;
+    c4g_counters_t c;
+    json_t *o = json_object();
+    json_t *ex = json_array();
+    char key[40];
+    uint32_t k;
+    counters_total(S, &c);
+    put_u(o, "rx", c.rx);
+    put_u(o, "tx", c.tx);
+    put_u(o, "sync", c.sync);
+    put_u(o, "init", c.init);
+    put_u(o, "cyclic", c.cyclic);
+    put_u(o, "gaps", c.gaps);
+    put_u(o, "missed", c.missed);
+    put_u(o, "duplicates", c.duplicates);
+    put_u(o, "out_of_order", c.out_of_order);
+    put_u(o, "lost", c.lost_events);
+    put_u(o, "long_gaps", st->long_gaps);
+    put_u(o, "malformed", c.malformed_total);
+    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
+        snprintf(key, sizeof key, "malformed_%s", mal_names[k]);
+        put_u(o, key, c.malformed[k]);
+    }
+    put_u(o, "foreign", st->foreign + c.foreign_total);
+    put_u(o, "foreign_address", st->foreign);
+    put_u(o, "foreign_init", c.foreign[C4G_FOREIGN_INIT]);
+    put_u(o, "foreign_cyclic", c.foreign[C4G_FOREIGN_CYCLIC]);
+    put_u(o, "foreign_other", c.foreign[C4G_FOREIGN_OTHER]);
+    put_u(o, "silences", c.silences);
+    put_f(o, "longest_silence_ms", (double)c.longest_silence_ns * 1e-6);
+    put_u(o, "oversize", st->oversize);
+    put_u(o, "skipped", st->skipped);
+    put_u(o, "send_errors", st->send_errors);
+    put_u(o, "encode_errors", st->encode_errors);
+    put_u(o, "log_dropped", H->log.dropped);
+    put_u(o, "restarts", st->restarts);
+    put_u(o, "inits", st->inits);
+    put_u(o, "passive_freezings", st->frozen_passive);
+    put_u(o, "active_freezings", st->freezes);
+    put_u(o, "drive_on_end", st->drive_on_end);
+    put_u(o, "mode_changes", st->mode_changes);
+    put_u(o, "ff_model_ticks", st->ff_model_ticks);
+    put_u(o, "ff_model_clamped", st->ff_model_clamped);
+    for (k = 0U; k < 4U; k++) {
+        json_array_append_new(ex, json_integer((json_int_t)st->exits_sent[k]));
+    }
+    json_object_set_new(o, "exits_sent", ex);
+    return o;
+}
+
+static json_t *json_safety(const srv_safety_t *sf)
+{
+    json_t *o = json_object();
+    put_u(o, "follow_error_508", sf->follow_error);
+    put_u(o, "drive_off_505", sf->drive_off);
+    put_u(o, "current_saturations", sf->cur_saturated);
+    put_u(o, "delta_clamps", sf->delta_clamped);
+    put_u(o, "stroke", sf->stroke);
+    put_u(o, "continuity", sf->continuity);
+    put_u(o, "nonfinite", sf->nonfinite);
+    put_u(o, "injected", sf->injected);
+    json_object_set_new(o, "first", json_string(sf->first)); /* NULL (invalid UTF-8): dropped */
+    return o;
+}
+
+/* The JSON summary (jansson): one object, one line. */
 int srv_json(srv_host_t *H, const char *path, const char *why, int code)
 {
     const srv_t *S = &H->s;
-    c4g_timing_t t;
-    c4g_counters_t tot;
-    const c4g_counters_t *c = &tot;
-    const srv_stats_t *st = &S->stats;
-    const srv_safety_t *sf = &S->safety;
     FILE *fp = (strcmp(path, "-") == 0) ? stdout : fopen(path, "w");
-    uint32_t k;
+    json_t *o;
+    int rc;
     if (fp == NULL) {
-        fprintf(stderr, "c4g-server: --json %s: %s\n", path, strerror(errno));
+        cli_file_error("c4g-server", "--json", path, errno);
         return -1;
     }
-    counters_total(S, &tot);
-    (void)c4g_session_timing(&S->loop.session, &t);
-    fprintf(fp, "{\"tool\":\"c4g-server\",\"version\":\"%s\",\"exit_code\":%d,\"reason\":\"%s\",",
-            C4G_VERSION_STRING, code, why);
-    fprintf(fp, "\"num_policy\":\"%s\",\"axes\":%u,\"period_ms\":%d,",
-            S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1", (unsigned)S->loop.session.map.n_axes,
-            (int)S->loop.session.init.period_ms);
-    fprintf(fp, "\"timing\":{\"nominal_period_ns\":%lld,\"worst_cycle_ns\":%lld,"
-            "\"min_inter_ns\":%lld,\"max_inter_ns\":%lld,\"min_jitter_ns\":%lld,"
-            "\"max_jitter_ns\":%lld,\"min_jitter_pct\":%.6f,\"max_jitter_pct\":%.6f,"
-            "\"cycle_samples\":%llu,\"cycle_mean_us\":%.3f,\"cycle_p50_us\":%.0f,"
-            "\"cycle_p99_us\":%.0f,\"cycle_p999_us\":%.0f,\"cycle_max_us\":%.3f,"
-            "\"late_us\":%u,\"late\":%llu},",
-            (long long)t.nominal_period_ns, (long long)t.worst_cycle_ns, (long long)t.min_inter_ns,
-            (long long)t.max_inter_ns, (long long)t.min_jitter_ns, (long long)t.max_jitter_ns,
-            t.min_jitter_pct, t.max_jitter_pct, (unsigned long long)st->hist_n,
-            st->hist_n ? st->cycle_sum_us / (double)st->hist_n : 0.0, pct_us(st, 0.5),
-            pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle_max_ns / 1000.0, S->cfg.late_us,
-            (unsigned long long)st->late);
-    fprintf(fp, "\"counters\":{\"rx\":%llu,\"tx\":%llu,\"sync\":%llu,\"init\":%llu,\"cyclic\":%llu,"
-            "\"gaps\":%llu,\"missed\":%llu,\"duplicates\":%llu,\"out_of_order\":%llu,"
-            "\"lost\":%llu,\"long_gaps\":%llu,\"malformed\":%llu,",
-            (unsigned long long)c->rx, (unsigned long long)c->tx, (unsigned long long)c->sync,
-            (unsigned long long)c->init, (unsigned long long)c->cyclic, (unsigned long long)c->gaps,
-            (unsigned long long)c->missed, (unsigned long long)c->duplicates,
-            (unsigned long long)c->out_of_order, (unsigned long long)c->lost_events,
-            (unsigned long long)st->long_gaps, (unsigned long long)c->malformed_total);
-    for (k = 0U; k < C4G_MAL_COUNT_; k++) {
-        fprintf(fp, "\"malformed_%s\":%llu,", mal_names[k], (unsigned long long)c->malformed[k]);
-    }
-    fprintf(fp, "\"foreign\":%llu,\"foreign_address\":%llu,\"foreign_init\":%llu,"
-            "\"foreign_cyclic\":%llu,\"foreign_other\":%llu,\"silences\":%llu,"
-            "\"longest_silence_ms\":%.3f,",
-            (unsigned long long)(st->foreign + c->foreign_total), (unsigned long long)st->foreign,
-            (unsigned long long)c->foreign[C4G_FOREIGN_INIT],
-            (unsigned long long)c->foreign[C4G_FOREIGN_CYCLIC],
-            (unsigned long long)c->foreign[C4G_FOREIGN_OTHER], (unsigned long long)c->silences,
-            (double)c->longest_silence_ns * 1e-6);
-    fprintf(fp, "\"oversize\":%llu,\"skipped\":%llu,\"send_errors\":%llu,"
-            "\"encode_errors\":%llu,\"log_dropped\":%llu,\"restarts\":%llu,\"inits\":%llu,"
-            "\"passive_freezings\":%llu,\"active_freezings\":%llu,\"drive_on_end\":%llu,"
-            "\"mode_changes\":%llu,\"ff_model_ticks\":%llu,\"ff_model_clamped\":%llu,"
-            "\"exits_sent\":[%llu,%llu,%llu,%llu]},",
-            (unsigned long long)st->oversize,
-            (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
-            (unsigned long long)st->encode_errors, (unsigned long long)H->log.dropped,
-            (unsigned long long)st->restarts, (unsigned long long)st->inits,
-            (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
-            (unsigned long long)st->drive_on_end, (unsigned long long)st->mode_changes,
-            (unsigned long long)st->ff_model_ticks, (unsigned long long)st->ff_model_clamped,
-            (unsigned long long)st->exits_sent[0], (unsigned long long)st->exits_sent[1],
-            (unsigned long long)st->exits_sent[2], (unsigned long long)st->exits_sent[3]);
-    fprintf(fp, "\"safety\":{\"follow_error_508\":%llu,\"drive_off_505\":%llu,"
-            "\"current_saturations\":%llu,\"delta_clamps\":%llu,\"stroke\":%llu,"
-            "\"continuity\":%llu,\"nonfinite\":%llu,\"injected\":%llu,\"first\":\"%s\"}}\n",
-            (unsigned long long)sf->follow_error, (unsigned long long)sf->drive_off,
-            (unsigned long long)sf->cur_saturated, (unsigned long long)sf->delta_clamped,
-            (unsigned long long)sf->stroke, (unsigned long long)sf->continuity,
-            (unsigned long long)sf->nonfinite, (unsigned long long)sf->injected, sf->first);
+    o = json_object();
+    json_object_set_new(o, "tool", json_string("c4g-server"));
+    json_object_set_new(o, "version", json_string(C4G_VERSION_STRING));
+    put_i(o, "exit_code", code);
+    json_object_set_new(o, "reason", json_string(why));
+    json_object_set_new(o, "num_policy",
+                        json_string(S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1"));
+    put_u(o, "axes", S->loop.session.map.n_axes);
+    put_i(o, "period_ms", (long long)S->loop.session.init.period_ms);
+    json_object_set_new(o, "timing", json_timing(S));
+    json_object_set_new(o, "counters", json_counters(H));
+    json_object_set_new(o, "safety", json_safety(&S->safety));
+    rc = json_dumpf(o, fp, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(12));
+    json_decref(o);
+    fputc('\n', fp);
     if (fp != stdout) {
-        fclose(fp);
+        if (fclose(fp) != 0) {
+            rc = -1;
+        }
     } else {
         fflush(fp);
+    }
+    if (rc != 0) {
+        cli_file_error("c4g-server", "--json", path, errno);
+        return -1;
     }
     return 0;
 }

@@ -14,8 +14,8 @@
 /* Exit codes (documented in --help and docs/c4g-server.md). */
 enum {
     EXIT_END = 0,        /* 504: communication ended by the controller */
-    EXIT_USAGE = 1,      /* bad option, INI, trajectory or parameter file */
-    EXIT_SETUP = 2,      /* socket/bind/thread failure, or a --rt-strict RT refusal */
+    EXIT_SETUP = 1,      /* socket/bind/thread/output file failure, or a --rt-strict RT refusal */
+    EXIT_USAGE = 2,      /* bad option, INI, trajectory or parameter file */
     EXIT_LOST = 3,       /* controller silent longer than the loss timeout */
     EXIT_TIMEOUT = 4,    /* --idle-timeout or --max-seconds reached */
     EXIT_SIGNAL = 5      /* SIGINT / SIGTERM */

@@ -1,1 +1,1 @@
-c4g-server_LDLIBS := -linih -lpthread -lpcap
+c4g-server_LDLIBS := -linih -lpthread -lpcap -ljansson

@@ -112,7 +112,7 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
 /* report.c */
 int outputs_open(app_t *a);
 void outputs_close(app_t *a);
-void csv_row(app_t *a, const c4g_ctrl_packet_t *p, int sent, int reply_ok);
+void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, int sent);
 void summary(const app_t *a, int code, const char *result, double cpu_s);
 double cpu_seconds(void);
 

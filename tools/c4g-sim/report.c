@@ -6,18 +6,16 @@
 #include <sys/resource.h>
 
 #include "app.h"
+#include "c4g_cli.h"
+#include "c4g_tickcsv.h"
+
+#include <jansson.h>
 
 /* ---- files ---------------------------------------------------------------- */
 
 static void csv_header(app_t *a)
 {
-    int i;
-    fprintf(a->csv, "tick,time_s,num,sent,infpar,cmd,reply_ok");
-    for (i = 0; i < a->sim.n_axes; i++) {
-        fprintf(a->csv, ",a%d_mode,a%d_tpos,a%d_tvel,a%d_apos,a%d_avel,a%d_cur,a%d_rmode,a%d_rd1,"
-                        "a%d_rd2,a%d_rd4,a%d_rd5", i, i, i, i, i, i, i, i, i, i, i);
-    }
-    fputc('\n', a->csv);
+    fputs(C4G_TICK_CSV_COLUMNS ",tick,sent,reply_ok,rx_infpar,rx_cmd\n", a->csv);
 }
 
 int outputs_open(app_t *a)
@@ -26,7 +24,7 @@ int outputs_open(app_t *a)
     if (a->o.csv_path != NULL) {
         a->csv = fopen(a->o.csv_path, "w");
         if (a->csv == NULL) {
-            fprintf(stderr, "c4g-sim: --csv %s: %s\n", a->o.csv_path, strerror(errno));
+            cli_file_error("c4g-sim", "--csv", a->o.csv_path, errno);
             return EXIT_OUTPUT;
         }
         csv_header(a);
@@ -34,7 +32,9 @@ int outputs_open(app_t *a)
     if (a->o.pcap_path != NULL) {
         a->pcap = c4g_pcap_open(a->o.pcap_path, err, sizeof err);
         if (a->pcap == NULL) {
-            fprintf(stderr, "c4g-sim: --pcap: %s\n", err);
+            char pt[600];
+            fprintf(stderr, "c4g-sim: --pcap %s: %s\n", cli_path_text(a->o.pcap_path, pt, sizeof pt),
+                    err);
             return EXIT_OUTPUT;
         }
     }
@@ -53,24 +53,23 @@ void outputs_close(app_t *a)
     a->pcap = NULL;
 }
 
-void csv_row(app_t *a, const c4g_ctrl_packet_t *p, int sent, int reply_ok)
+/* The per-tick CSV (docs/csv.md): rx_* the packet sent, tx_* the PC reply applied in this
+ * tick (the last one received; tx_infpar 0 when none came this tick), then the simulator's
+ * tick, whether the packet went out, whether a reply came, and the packet's INFPAR and CMD. */
+void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, int sent)
 {
     int i;
     if (a->csv == NULL) {
         return;
     }
-    fprintf(a->csv, "%lu,%.4f,%d,%d,0x%08x,0x%08x,%d", a->sim.tick,
-            (double)a->sim.tick * a->sim.period, p->num, sent, (unsigned)p->infpar, (unsigned)p->cmd,
-            reply_ok);
     for (i = 0; i < a->sim.n_axes; i++) {
-        const c4g_ctrl_axis_t *x = &p->ax[i];
-        const c4g_pc_axis_t *r = &a->sim.ax[i].rx;
-        fprintf(a->csv, ",%d,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g,%.9g,%.9g,%.9g", (int)x->mode,
-                (double)x->target_pos, (double)x->target_vel, (double)x->actual_pos,
-                (double)x->actual_vel, (double)x->current_ref, (int)r->mode, (double)r->target_pos,
-                (double)r->target_vel, (double)r->vel_add, (double)r->current_add);
+        const sim_ax_t *x = &a->sim.ax[i];
+        c4g_tick_csv_row(a->csv, (double)a->sim.tick * a->sim.period, p->num, (uint32_t)i + 1U,
+                         (uint32_t)x->arm + 1U, (uint32_t)x->logical + 1U, &p->ax[i],
+                         rep != NULL ? rep->infpar : 0U, &x->rx);
+        fprintf(a->csv, ",%lu,%d,%d,0x%08x,0x%08x\n", a->sim.tick, sent, rep != NULL,
+                (unsigned)p->infpar, (unsigned)p->cmd);
     }
-    fputc('\n', a->csv);
 }
 
 double cpu_seconds(void)
@@ -102,93 +101,119 @@ static figures_t figures(const app_t *a, double cpu_s)
     return f;
 }
 
-static const char *jbool(int b)
+static void put_u(json_t *o, const char *key, unsigned long v)
 {
-    return b ? "true" : "false";
+    json_object_set_new(o, key, json_integer((json_int_t)v));
 }
 
-static void json_str(FILE *f, const char *s)
+static void put_f(json_t *o, const char *key, double v)
 {
-    fputc('"', f);
-    for (; *s != '\0'; s++) {
-        if (*s == '"' || *s == '\\') {
-            fputc('\\', f);
-        }
-        if ((unsigned char)*s < 0x20U) {
-            fprintf(f, "\\u%04x", (unsigned)*s);
-        } else {
-            fputc(*s, f);
-        }
-    }
-    fputc('"', f);
+    json_object_set_new(o, key, json_real(v));
 }
 
-static void json_replies(FILE *f, const app_t *a, const figures_t *g)
+static json_t *json_replies(const app_t *a, const figures_t *g)
 {
     const cs_counters_t *n = &a->cs.n;
-    fprintf(f, "\"replies\":{\"ok\":%lu,\"missing\":%lu,\"late\":%lu,\"unjudged\":%lu,\"wrong_num\":%lu,"
-               "\"malformed\":%lu,\"foreign\":%lu,\"duplicates\":%lu,\"stale\":%lu,\"unexpected\":%lu,"
-               "\"max_consecutive_missing\":%lu,\"latency_us\":{\"min\":%.1f,\"avg\":%.1f,\"p50\":%.0f,"
-               "\"p99\":%.0f,\"p999\":%.0f,\"max\":%.1f}},",
-            n->replies_ok, n->missing, n->late, n->unjudged, n->wrong_num, n->malformed, n->foreign,
-            n->duplicates, n->stale, n->unexpected, n->max_consecutive, g->lat_min, g->lat_avg, g->p50,
-            g->p99, g->p999, g->lat_max);
+    json_t *o = json_object();
+    json_t *l = json_object();
+    put_u(o, "ok", n->replies_ok);
+    put_u(o, "missing", n->missing);
+    put_u(o, "late", n->late);
+    put_u(o, "unjudged", n->unjudged);
+    put_u(o, "wrong_num", n->wrong_num);
+    put_u(o, "malformed", n->malformed);
+    put_u(o, "foreign", n->foreign);
+    put_u(o, "duplicates", n->duplicates);
+    put_u(o, "stale", n->stale);
+    put_u(o, "unexpected", n->unexpected);
+    put_u(o, "max_consecutive_missing", n->max_consecutive);
+    put_f(l, "min", g->lat_min);
+    put_f(l, "avg", g->lat_avg);
+    put_f(l, "p50", g->p50);
+    put_f(l, "p99", g->p99);
+    put_f(l, "p999", g->p999);
+    put_f(l, "max", g->lat_max);
+    json_object_set_new(o, "latency_us", l);
+    return o;
 }
 
-static void json_faults_errors(FILE *f, const app_t *a)
+static void json_faults_errors(json_t *o, const app_t *a)
 {
     const sim_t *s = &a->sim;
+    json_t *faults = json_object();
+    json_t *errors = json_array();
     int i;
-    fprintf(f, "\"num_policy\":\"%s\",\"pc_policy\":\"%s\",\"udp_debug\":%lu,\"overruns\":%lu,"
-               "\"overrun_max_us\":%.1f,\"timestamps\":\"%s\",\"paused_ticks\":%lu,"
-               "\"mode_rejected\":%lu,\"mode_mismatch\":%lu,\"faults\":{",
-            cs_policy_name((int)a->cs.cfg.policy), cs_policy_name(a->cs.detected), s->udp_debug,
-            a->st.overruns, (double)a->st.overrun_max / 1000.0, a->kstamp ? "kernel" : "user",
-            a->st.paused_ticks, s->mode_rejected, s->mode_mismatch);
+    json_object_set_new(o, "num_policy", json_string(cs_policy_name((int)a->cs.cfg.policy)));
+    json_object_set_new(o, "pc_policy", json_string(cs_policy_name(a->cs.detected)));
+    put_u(o, "udp_debug", s->udp_debug);
+    put_u(o, "overruns", a->st.overruns);
+    put_f(o, "overrun_max_us", (double)a->st.overrun_max / 1000.0);
+    json_object_set_new(o, "timestamps", json_string(a->kstamp ? "kernel" : "user"));
+    put_u(o, "paused_ticks", a->st.paused_ticks);
+    put_u(o, "mode_rejected", s->mode_rejected);
+    put_u(o, "mode_mismatch", s->mode_mismatch);
     for (i = 0; i < F_COUNT; i++) {
-        fprintf(f, "%s\"%s\":%lu", i ? "," : "", fault_names[i], a->st.fault[i]);
+        put_u(faults, fault_names[i], a->st.fault[i]);
     }
-    fprintf(f, "},\"errors\":[");
+    json_object_set_new(o, "faults", faults);
     for (i = 0; i < s->n_err; i++) {
-        fprintf(f, "%s{\"name\":\"%s\",\"message\":", i ? "," : "", c4g_ctrl_error_name(s->err[i].code));
-        json_str(f, s->err[i].text);
-        fprintf(f, ",\"tick\":%lu}", s->err[i].tick);
+        json_array_append_new(errors, json_pack("{s:s, s:s?, s:I}", "name",
+                                                c4g_ctrl_error_name(s->err[i].code), "message",
+                                                s->err[i].text, "tick", (json_int_t)s->err[i].tick));
     }
-    fprintf(f, "],");
+    json_object_set_new(o, "errors", errors);
 }
 
-static void json_scenario_robot(FILE *f, const sim_t *s)
+static void json_scenario_robot(json_t *o, const sim_t *s)
 {
+    json_t *robot = json_array();
     int i;
-    fprintf(f, "\"scenario\":{\"loaded\":%s,\"done\":%s,\"aborted\":%s,\"commands_run\":%d,"
-               "\"expect_passed\":%d,\"expect_failed\":%d,\"wait_pc_timeout\":%s},",
-            jbool(s->scn != NULL), jbool(s->scn_done), jbool(s->scn_aborted), s->pc, s->expect_passed,
-            s->expect_failed, jbool(s->scn_timeout));
-    fprintf(f, "\"robot\":[");
+    json_object_set_new(o, "scenario",
+                        json_pack("{s:b, s:b, s:b, s:i, s:i, s:i, s:b}", "loaded", s->scn != NULL,
+                                  "done", s->scn_done, "aborted", s->scn_aborted, "commands_run",
+                                  s->pc, "expect_passed", s->expect_passed, "expect_failed",
+                                  s->expect_failed, "wait_pc_timeout", s->scn_timeout));
+    if (s->expect_first[0] != '\0') {
+        json_object_set_new(json_object_get(o, "scenario"), "first_failure",
+                            json_string(s->expect_first));
+    }
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
-        fprintf(f, "%s{\"arm\":%d,\"axis\":%d,\"mode\":%d,\"drive_on\":%s,\"pos\":%.6f,\"target\":%.6f,"
-                   "\"current\":%.4f}", i ? "," : "", x->arm + 1, x->logical + 1, x->mode,
-                jbool(x->m.drive_on), x->m.meas_pos, x->pos_ref, x->m.cur);
+        json_array_append_new(robot, json_pack("{s:i, s:i, s:i, s:b, s:f, s:f, s:f}", "arm",
+                                               x->arm + 1, "axis", x->logical + 1, "mode", x->mode,
+                                               "drive_on", x->m.drive_on, "pos", x->m.meas_pos,
+                                               "target", x->pos_ref, "current", x->m.cur));
     }
-    fprintf(f, "],");
+    json_object_set_new(o, "robot", robot);
 }
 
+/* The JSON summary (jansson): one object on one line of stdout. */
 static void summary_json(const app_t *a, int code, const char *result, double cpu_s)
 {
-    FILE *f = stdout;
     const sim_t *s = &a->sim;
     const cs_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
-    fprintf(f, "{\"tool\":\"c4g-sim\",\"version\":\"%s\",\"result\":\"%s\",\"exit_code\":%d,",
-            C4G_VERSION_STRING, result, code);
-    fprintf(f, "\"period_ms\":%d,\"axes\":%d,\"ticks\":%lu,\"packets\":{\"sent\":%lu,\"sync\":%lu,"
-               "\"init\":%lu,\"cyclic\":%lu},", s->cfg.period_ms, s->n_axes, s->tick, a->st.sent,
-            n->sync_sent, n->init_sent, n->cyclic_sent);
-    json_replies(f, a, &g);
-    json_faults_errors(f, a);
-    json_scenario_robot(f, s);
-    fprintf(f, "\"cpu\":{\"seconds\":%.6f,\"ns_per_packet\":%.0f}}\n", cpu_s, g.per_packet_ns);
+    json_t *o = json_object();
+    json_object_set_new(o, "tool", json_string("c4g-sim"));
+    json_object_set_new(o, "version", json_string(C4G_VERSION_STRING));
+    json_object_set_new(o, "result", json_string(result));
+    json_object_set_new(o, "exit_code", json_integer(code));
+    json_object_set_new(o, "period_ms", json_integer(s->cfg.period_ms));
+    json_object_set_new(o, "axes", json_integer(s->n_axes));
+    put_u(o, "ticks", s->tick);
+    json_object_set_new(o, "packets", json_pack("{s:I, s:I, s:I, s:I}", "sent",
+                                                (json_int_t)a->st.sent, "sync",
+                                                (json_int_t)n->sync_sent, "init",
+                                                (json_int_t)n->init_sent, "cyclic",
+                                                (json_int_t)n->cyclic_sent));
+    json_object_set_new(o, "replies", json_replies(a, &g));
+    json_faults_errors(o, a);
+    json_scenario_robot(o, s);
+    json_object_set_new(o, "cpu", json_pack("{s:f, s:f}", "seconds", cpu_s, "ns_per_packet",
+                                            g.per_packet_ns));
+    json_dumpf(o, stdout, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(12));
+    fputc('\n', stdout);
+    json_decref(o);
 }
 
 static void text_errors_robot(const sim_t *s)
@@ -199,9 +224,19 @@ static void text_errors_robot(const sim_t *s)
                s->err[i].text);
     }
     if (s->scn != NULL) {
-        printf("  scenario: %s, %d commands, expectations %d passed %d failed\n",
-               s->scn_aborted ? "aborted" : (s->scn_done ? "done" : "running"), s->pc, s->expect_passed,
-               s->expect_failed);
+        /* the run is over: a scenario that did not reach its end stopped where the run did */
+        char state[64] = "done";
+        if (s->scn_aborted) {
+            snprintf(state, sizeof state, "aborted");
+        } else if (!s->scn_done && s->pc < s->scn->n) {
+            snprintf(state, sizeof state, "ended at line %d (%s)", s->scn->cmd[s->pc].line,
+                     scn_op_name(s->scn->cmd[s->pc].op));
+        }
+        printf("  scenario: %s, %d commands, expectations %d passed %d failed\n", state, s->pc,
+               s->expect_passed, s->expect_failed);
+        if (s->expect_first[0] != '\0') {
+            printf("  first failed expectation: scenario %s\n", s->expect_first);
+        }
     }
     for (i = 0; i < s->n_axes; i++) {
         const sim_ax_t *x = &s->ax[i];
@@ -223,6 +258,10 @@ static void summary_text(const app_t *a, int code, const char *result, double cp
     printf("  replies ok %lu, missing %lu, late %lu, unjudged %lu, wrong NUM %lu, malformed %lu, "
            "foreign %lu, duplicates %lu, stale %lu\n", n->replies_ok, n->missing, n->late,
            n->unjudged, n->wrong_num, n->malformed, n->foreign, n->duplicates, n->stale);
+    if (n->missing > 0 || n->stale > 0) {
+        printf("  (missing: no reply to a packet by the next tick; stale: a reply that came "
+               "after that, to an older packet; the PC server counts the same losses as gaps)\n");
+    }
     printf("  own overruns %lu (worst %.1f us after the tick), %s timestamps\n", a->st.overruns,
            (double)a->st.overrun_max / 1000.0, a->kstamp ? "kernel" : "user-space");
     printf("  reply latency us: min %.1f avg %.1f p50 %.0f p99 %.0f p99.9 %.0f max %.1f; max consecutive missing %lu\n",

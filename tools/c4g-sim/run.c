@@ -7,6 +7,7 @@
 
 #include "app.h"
 #include "c4g_udpts.h"
+#include "c4g_cli.h"
 
 volatile sig_atomic_t g_stop;
 
@@ -186,7 +187,7 @@ static void tick_cyclic(app_t *a, loop_t *L)
     if (send) {
         send = tick_send(a, &pkt);
     }
-    csv_row(a, &pkt, send, rep != NULL);
+    csv_row(a, &pkt, rep, send);
     if (!a->sim.exit_open_req && a->sim.restart_req && send) {
         cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
         return;
@@ -209,9 +210,32 @@ static void check_overrun(app_t *a, loop_t *L)
     }
 }
 
+/* Once a second on a terminal: where the run is (ticks of --ticks, replies, missing). */
+static void progress(const app_t *a, const loop_t *L, unsigned long *shown)
+{
+    const unsigned long every = 1000UL / (unsigned long)a->cfg.period_ms;
+    if (L->cyclic_ticks < *shown + every) {
+        return;
+    }
+    *shown = L->cyclic_ticks;
+    if (a->cfg.ticks != 0U) {
+        cli_progress("c4g-sim", "tick %lu of %lu (%.0f %%), replies ok %lu, missing %lu",
+                     L->cyclic_ticks, a->cfg.ticks,
+                     100.0 * (double)L->cyclic_ticks / (double)a->cfg.ticks, a->cs.n.replies_ok,
+                     a->cs.n.missing);
+    } else {
+        cli_progress("c4g-sim", "tick %lu (%.0f s), replies ok %lu, missing %lu", L->cyclic_ticks,
+                     (double)L->cyclic_ticks * a->cfg.period_ms * 1e-3, a->cs.n.replies_ok,
+                     a->cs.n.missing);
+    }
+}
+
 void app_run(app_t *a)
 {
     loop_t L;
+    /* a progress line only for a person watching: stderr a terminal, no log lines on it */
+    const int show = cli_progress_wanted() && !a->o.quiet && !a->o.verbose;
+    unsigned long shown = 0;
     memset(&L, 0, sizeof L);
     L.deadline = now_ns();
     while (!L.ended && !g_stop) {
@@ -234,10 +258,16 @@ void app_run(app_t *a)
             break;
         }
         check_overrun(a, &L);
+        if (show) {
+            progress(a, &L, &shown);
+        }
         L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
         cs_set_deadline(&a->cs, L.deadline);
         window(a, L.deadline);
         uts_sleep_until(L.deadline, &g_stop);
+    }
+    if (show && shown > 0) {
+        cli_progress_end();
     }
     if (!a->sim.fatal) {
         const uint64_t woke = now_ns();

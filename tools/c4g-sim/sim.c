@@ -269,11 +269,16 @@ static void request_mode(sim_t *s, const scn_cmd_t *c)
 
 static void expect_fail(sim_t *s, const scn_cmd_t *c, const char *fmt, double got, double want)
 {
+    char why[120];
+    snprintf(why, sizeof why, fmt, got, want);
     s->expect_failed++;
+    if (s->expect_first[0] == '\0') { /* the summary names it, with or without -v */
+        snprintf(s->expect_first, sizeof s->expect_first, "line %d: %s failed: %s", c->line,
+                 scn_op_name(c->op), why);
+    }
     if (s->log != NULL) {
-        fprintf(s->log, "c4g-sim: scenario line %d: %s failed: ", c->line, scn_op_name(c->op));
-        fprintf(s->log, fmt, got, want);
-        fputc('\n', s->log);
+        fprintf(s->log, "c4g-sim: scenario line %d: %s failed: %s\n", c->line, scn_op_name(c->op),
+                why);
     }
 }
 

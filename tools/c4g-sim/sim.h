@@ -116,6 +116,7 @@ typedef struct sim {
     int waiting;                /* current command blocks */
     unsigned long wait_pc_deadline;
     int expect_failed, expect_passed;
+    char expect_first[200];     /* the first failed EXPECT: "line N: EXPECT ...: why" */
     int scn_timeout;
     /* requests for main.c */
     long freeze_ticks;          /* >0: passive freezing requested (ticks of silence) */

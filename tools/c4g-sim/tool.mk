@@ -1,2 +1,2 @@
-# c4g-sim links inih (INI configuration) and libpcap (--pcap).
-c4g-sim_LDLIBS := -linih -lpcap
+# c4g-sim links inih (INI configuration), libpcap (--pcap) and jansson (--json).
+c4g-sim_LDLIBS := -linih -lpcap -ljansson

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 #include <editline/readline.h>
+#include <jansson.h>
 
 #include "c4gopen.h"
 #include "c4g_cli.h"
@@ -40,7 +41,14 @@ typedef struct conn {
 static conn_t g_conn[CELL_DEVICES];
 static int g_connect_ms = 2000;
 static int g_reply_ms = 2000;
-static int g_json;
+/* How replies are shown: the human text on a terminal, the reply line as the device sent
+ * it when stdout is not one (as redis-cli does), one JSON object or one CSV row each. */
+typedef enum out_fmt { OUT_AUTO = 0, OUT_TEXT, OUT_RAW, OUT_JSON, OUT_CSV } out_fmt_t;
+static out_fmt_t g_fmt;
+static int g_json, g_csv, g_raw, g_no_raw;
+static int g_stamp;     /* JSON/CSV rows carry the wall-clock time (-r / -i) */
+static int g_csv_head;  /* the CSV header was printed */
+static int g_last_dev = -1; /* the device of the last command (the prompt shows it) */
 static int g_echo;
 
 /* ------------------------------------------------------------------ transport */
@@ -146,20 +154,81 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
 
 /* ------------------------------------------------------------------ output */
 
-static void json_str(FILE *f, const char *s, size_t n)
+/* A JSON string from n bytes of the wire: bytes that are not UTF-8 become \u00NN. */
+static json_t *json_bytes(const char *s, size_t n)
 {
-    fputc('"', f);
-    for (size_t i = 0; i < n; i++) {
+    char buf[C4G_CELL_LINE_MAX * 6 + 1];
+    size_t o = 0;
+    for (size_t i = 0; i < n && o + 7 < sizeof buf; i++) {
         unsigned char c = (unsigned char)s[i];
-        if (c == '"' || c == '\\') {
-            fprintf(f, "\\%c", c);
-        } else if (c < 0x20 || c >= 0x7F) {
-            fprintf(f, "\\u%04x", c);
-        } else {
-            fputc(c, f);
+        if (c < 0x80) {
+            buf[o++] = (char)c;
+        } else { /* Latin-1 reading: always valid UTF-8, every byte kept */
+            buf[o++] = (char)(0xC0 | (c >> 6));
+            buf[o++] = (char)(0x80 | (c & 0x3F));
         }
     }
-    fputc('"', f);
+    return json_stringn(buf, o);
+}
+
+/* The wall-clock time as ISO 8601 UTC with milliseconds. */
+static void stamp_text(char *out, size_t cap)
+{
+    struct timespec ts;
+    struct tm tm;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    gmtime_r(&ts.tv_sec, &tm);
+    char day[40];
+    strftime(day, sizeof day, "%Y-%m-%dT%H:%M:%S", &tm);
+    snprintf(out, cap, "%.19s.%03dZ", day, (int)(ts.tv_nsec / 1000000L) % 1000);
+}
+
+/* One JSON object per line: {"time":...} first when stamped, then the fields. */
+static json_t *json_head(int dev)
+{
+    json_t *o = json_object();
+    if (g_stamp) {
+        char t[40];
+        stamp_text(t, sizeof t);
+        json_object_set_new(o, "time", json_string(t));
+    }
+    json_object_set_new(o, "device", json_string(cell_dev_name(dev)));
+    return o;
+}
+
+static void json_emit(json_t *o)
+{
+    json_dumpf(o, stdout, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(10));
+    fputc('\n', stdout);
+    json_decref(o);
+}
+
+/* A CSV field: quoted when it holds a comma, a quote or a byte that is not printable. */
+static void csv_field(const char *s, size_t n)
+{
+    int quote = 0;
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == ',' || c == '"' || c < 0x20 || c >= 0x7F) {
+            quote = 1;
+        }
+    }
+    if (!quote) {
+        fwrite(s, 1, n, stdout);
+        return;
+    }
+    fputc('"', stdout);
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == '"') {
+            fputs("\"\"", stdout);
+        } else if (c < 0x20 || c >= 0x7F) {
+            printf("\\x%02x", c);
+        } else {
+            fputc(c, stdout);
+        }
+    }
+    fputc('"', stdout);
 }
 
 static const char *axis_label(int dev, int a)
@@ -186,17 +255,27 @@ static double axis_value(int dev, const c4g_cell_reply_t *r, uint32_t a)
     return v;
 }
 
+static void csv_row(int dev, const char *req, size_t rl, const char *line, size_t ll,
+                    const c4g_cell_reply_t *r);
+
 /* A reply that does not decode. */
 static int show_invalid(int dev, const char *req, size_t rl, const char *line, size_t len,
                         c4g_status_t st, const c4g_cell_diag_t *d)
 {
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
-    if (g_json) {
-        printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
-        json_str(stdout, req, rl);
-        printf(",\"reply\":\"invalid\",\"raw\":");
-        json_str(stdout, line, len);
-        printf(",\"problem\":\"%s\",\"column\":%u}\n", c4g_strerror(st), (unsigned)d->column);
+    if (g_fmt == OUT_JSON) {
+        json_t *o = json_head(dev);
+        json_object_set_new(o, "request", json_bytes(req, rl));
+        json_object_set_new(o, "reply", json_string("invalid"));
+        json_object_set_new(o, "raw", json_bytes(line, len));
+        json_object_set_new(o, "problem", json_string(c4g_strerror(st)));
+        json_object_set_new(o, "column", json_integer((json_int_t)d->column));
+        json_emit(o);
+    } else if (g_fmt == OUT_CSV) {
+        csv_row(dev, req, rl, line, ll, NULL);
+    } else if (g_fmt == OUT_RAW) {
+        fwrite(line, 1, ll, stdout);
+        fputc('\n', stdout);
     } else {
         printf("%s: invalid reply \"%.*s\": %s at column %u\n", cell_dev_name(dev), (int)ll, line,
                c4g_strerror(st), (unsigned)d->column);
@@ -209,28 +288,64 @@ static void show_json(int dev, const char *req, size_t rl, const char *line, siz
 {
     int project = 0;
     const char *etext = c4g_cell_error_text(r->error, &project);
-    printf("{\"device\":\"%s\",\"request\":", cell_dev_name(dev));
-    json_str(stdout, req, rl);
-    printf(",\"raw\":");
-    json_str(stdout, line, ll);
+    json_t *o = json_head(dev);
+    json_object_set_new(o, "request", json_bytes(req, rl));
+    json_object_set_new(o, "raw", json_bytes(line, ll));
+    json_object_set_new(o, "reply", json_string(r->kind == C4G_CELL_REPLY_ER ? "ER" : "OK"));
     if (r->kind == C4G_CELL_REPLY_ER) {
-        printf(",\"reply\":\"ER\",\"error\":%d,\"error_text\":\"%s\",\"project_code\":%s}\n",
-               (int)r->error, etext, project ? "true" : "false");
-        return;
+        json_object_set_new(o, "error", json_integer(r->error));
+        json_object_set_new(o, "error_text", json_string(etext));
+        json_object_set_new(o, "project_code", json_boolean(project));
+    } else if (r->kind == C4G_CELL_REPLY_STA) {
+        json_t *pos = json_object();
+        json_object_set_new(o, "moving", json_boolean(r->moving));
+        json_object_set_new(o, "servo", json_boolean(r->servo_on));
+        json_object_set_new(o, "override", json_integer(r->override_pct));
+        json_object_set_new(o, "error", json_integer(r->error));
+        json_object_set_new(o, "error_text", json_string(etext));
+        for (uint32_t a = 0; a < r->pose.n_axes; a++) {
+            json_object_set_new(pos, axis_label(dev, (int)a), json_real(axis_value(dev, r, a)));
+        }
+        json_object_set_new(o, "position", pos);
     }
-    if (r->kind == C4G_CELL_REPLY_OK) {
-        printf(",\"reply\":\"OK\"}\n");
-        return;
+    json_emit(o);
+}
+
+/* One CSV row: time (with -r/-i), device, request, reply, then the STA fields; the header
+ * first. r NULL: a reply that does not decode. */
+static void csv_row(int dev, const char *req, size_t rl, const char *line, size_t ll,
+                    const c4g_cell_reply_t *r)
+{
+    char t[40];
+    if (!g_csv_head) {
+        printf("%sdevice,request,reply,raw,moving,servo,override,error,p1,p2,p3,p4\n",
+               g_stamp ? "time," : "");
+        g_csv_head = 1;
     }
-    printf(",\"reply\":\"OK\",\"moving\":%s,\"servo\":%s,\"override\":%d,\"error\":%d,"
-           "\"error_text\":\"%s\",\"position\":{",
-           r->moving ? "true" : "false", r->servo_on ? "true" : "false", (int)r->override_pct,
-           (int)r->error, etext);
-    for (uint32_t a = 0; a < r->pose.n_axes; a++) {
-        printf("%s\"%s\":%.*f", a ? "," : "", axis_label(dev, (int)a), axis_places(dev, (int)a),
-               axis_value(dev, r, a));
+    if (g_stamp) {
+        stamp_text(t, sizeof t);
+        printf("%s,", t);
     }
-    printf("}}\n");
+    printf("%s,", cell_dev_name(dev));
+    csv_field(req, rl);
+    printf(",%s,", r == NULL ? "invalid" : r->kind == C4G_CELL_REPLY_ER ? "ER" : "OK");
+    csv_field(line, ll);
+    if (r != NULL && r->kind == C4G_CELL_REPLY_STA) {
+        printf(",%d,%d,%d,%d", r->moving ? 1 : 0, r->servo_on ? 1 : 0, (int)r->override_pct,
+               (int)r->error);
+        for (uint32_t a = 0; a < 4U; a++) {
+            if (a < r->pose.n_axes) {
+                printf(",%.*f", axis_places(dev, (int)a), axis_value(dev, r, a));
+            } else {
+                fputc(',', stdout);
+            }
+        }
+    } else if (r != NULL && r->kind == C4G_CELL_REPLY_ER) {
+        printf(",,,,%d,,,,", (int)r->error);
+    } else {
+        fputs(",,,,,,,,", stdout);
+    }
+    fputc('\n', stdout);
 }
 
 static void show_text(int dev, const c4g_cell_reply_t *r)
@@ -273,8 +388,13 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
     if (st != C4G_OK) {
         return show_invalid(dev, req, rl, line, len, st, &d);
     }
-    if (g_json) {
+    if (g_fmt == OUT_JSON) {
         show_json(dev, req, rl, line, ll, &r);
+    } else if (g_fmt == OUT_CSV) {
+        csv_row(dev, req, rl, line, ll, &r);
+    } else if (g_fmt == OUT_RAW) {
+        fwrite(line, 1, ll, stdout);
+        fputc('\n', stdout);
     } else {
         show_text(dev, &r);
     }
@@ -310,9 +430,13 @@ static int wait_stopped(int dev, double timeout_s)
             return show_reply(dev, "STA\r\n", 5, reply, n);
         }
         if (r.kind == C4G_CELL_REPLY_STA && !r.moving) {
-            if (g_json) {
-                printf("{\"device\":\"%s\",\"wait\":\"stopped\",\"result\":\"ok\"}\n",
-                       cell_dev_name(dev));
+            if (g_fmt == OUT_JSON) {
+                json_t *o = json_head(dev);
+                json_object_set_new(o, "wait", json_string("stopped"));
+                json_object_set_new(o, "result", json_string("ok"));
+                json_emit(o);
+            } else if (g_fmt == OUT_RAW || g_fmt == OUT_CSV) {
+                (void)show_reply(dev, "STA\r\n", 5, reply, n); /* the reply that ended it */
             } else {
                 printf("%s: stopped\n", cell_dev_name(dev));
             }
@@ -339,6 +463,11 @@ static int run_cmd(const cli_cmd_t *cmd)
     case CMD_EMPTY:
     case CMD_QUIT:
         return EXIT_OK;
+    case CMD_CLEAR:
+        if (isatty(STDOUT_FILENO)) {
+            fputs("\033[H\033[2J", stdout); /* home, erase the screen */
+        }
+        return EXIT_OK;
     case CMD_HELP:
         rc = cli_cmd_help(cmd->topic, help, sizeof help);
         fputs(help, stdout);
@@ -347,9 +476,11 @@ static int run_cmd(const cli_cmd_t *cmd)
         sleep_s(cmd->seconds);
         return EXIT_OK;
     case CMD_WAIT:
+        g_last_dev = cmd->dev;
         return wait_stopped(cmd->dev, cmd->seconds);
     case CMD_SEND:
     case CMD_RAW:
+        g_last_dev = cmd->dev;
         rc = transact(cmd->dev, cmd->line, cmd->len, reply, sizeof reply, &n);
         if (rc != 0) {
             return rc;
@@ -420,7 +551,7 @@ static int run_script(FILE *f, const char *name, int keep_going)
         if (cmd.kind == CMD_QUIT) {
             break;
         }
-        if (g_echo && !g_json) {
+        if (g_echo && (g_fmt == OUT_TEXT || g_fmt == OUT_RAW)) {
             printf("> %s\n", line);
         }
         int rc = run_cmd(&cmd);
@@ -436,27 +567,43 @@ static int run_script(FILE *f, const char *name, int keep_going)
     return worst;
 }
 
+/* Where the word being completed starts in rl_line_buffer: the completion callback's start.
+ * (libedit does not update rl_point before completing, so rl_point cannot tell whether the
+ * cursor follows a space, i.e. whether the word being completed is an empty one.) */
+static int g_comp_start;
+static char g_hint[512];
+
 static char *complete_gen(const char *text, int state)
 {
     static const char *const *list;
     static int idx;
     static size_t tl;
     if (state == 0) {
-        /* which word is being completed, and the words before it */
+        /* the words before the one being completed */
         char buf[512];
         char *w[4] = {NULL, NULL, NULL, NULL};
         int n = 0;
-        size_t pl = (size_t)rl_point < sizeof buf ? (size_t)rl_point : sizeof buf - 1;
+        size_t pl = g_comp_start > 0 ? (size_t)g_comp_start : 0U;
+        if (pl >= sizeof buf) {
+            pl = sizeof buf - 1U;
+        }
         memcpy(buf, rl_line_buffer, pl);
         buf[pl] = '\0';
-        for (char *p = strtok(buf, " \t"); p != NULL && n < 4; p = strtok(NULL, " \t")) {
-            w[n++] = p;
+        for (char *p = strtok(buf, " \t"); p != NULL; p = strtok(NULL, " \t")) {
+            if (n < 4) {
+                w[n] = p;
+            }
+            n++;
         }
-        int word = n;
-        if (pl > 0 && buf[pl - 1] != ' ' && buf[pl - 1] != '\t' && n > 0) {
-            word = n - 1; /* completing the last, unfinished word */
+        list = cli_cmd_words(n, w[0] ? w[0] : "", n >= 2 ? w[1] : NULL);
+        /* the hint when nothing can be offered: the help of the command being typed */
+        g_hint[0] = '\0';
+        if (list == NULL && n >= 1) {
+            const char *topic = (cell_dev_parse(w[0]) >= 0 && n >= 2) ? w[1] : w[0];
+            if (cli_cmd_help(topic, g_hint, sizeof g_hint) != 0) {
+                g_hint[0] = '\0';
+            }
         }
-        list = cli_cmd_words(word, w[0] ? w[0] : "", word >= 2 ? w[1] : NULL);
         idx = 0;
         tl = strlen(text);
     }
@@ -471,10 +618,20 @@ static char *complete_gen(const char *text, int state)
 
 static char **complete(const char *text, int start, int end)
 {
-    (void)start;
     (void)end;
+    char **m;
+    g_comp_start = start;
     rl_attempted_completion_over = 1; /* no file name completion */
-    return rl_completion_matches(text, complete_gen);
+    m = rl_completion_matches(text, complete_gen);
+    if (m == NULL && g_hint[0] != '\0') {
+        /* libedit has no hook that runs as each key is typed (redis-cli's hints come from
+         * linenoise's): the argument hint is shown on TAB, below the line, which is redrawn */
+        fprintf(stdout, "\n%s", g_hint);
+        fflush(stdout);
+        rl_on_new_line();
+        rl_forced_update_display();
+    }
+    return m;
 }
 
 static int run_repl(int use_history)
@@ -497,7 +654,16 @@ static int run_repl(int use_history)
            C4G_VERSION_STRING, g_conn[0].host, g_conn[0].port, g_conn[1].host, g_conn[1].port,
            g_conn[2].host, g_conn[2].port);
     for (;;) {
-        char *line = readline("cell> ");
+        char prompt[sizeof g_conn[0].host + 64];
+        char *line;
+        /* the device of the last command and its address while its connection is open */
+        if (g_last_dev >= 0 && g_conn[g_last_dev].fd >= 0) {
+            snprintf(prompt, sizeof prompt, "cell %s@%s:%u> ", cell_dev_name(g_last_dev),
+                     g_conn[g_last_dev].host, g_conn[g_last_dev].port);
+        } else {
+            snprintf(prompt, sizeof prompt, "cell not connected> ");
+        }
+        line = readline(prompt);
         cli_cmd_t cmd;
         char err[256];
         if (line == NULL) {
@@ -599,6 +765,12 @@ static const cli_opt_t k_opts[] = {
     {"interval", 'i', CLI_DOUBLE, "SEC", "one-shot: pause between repeats 0..86400 (default 0)",
      &g_opt.interval, 0, 0, 86400, NULL, 0},
     {"json", 'j', CLI_FLAG, NULL, "one JSON object per reply", &g_json, 0, 0, 0, NULL, 0},
+    {"csv", 0, CLI_FLAG, NULL, "one CSV row per reply, after a header line", &g_csv, 0, 0, 0,
+     NULL, 0},
+    {"raw", 0, CLI_FLAG, NULL, "replies as the device sent them (default when stdout is not a "
+     "terminal)", &g_raw, 0, 0, 0, NULL, 0},
+    {"no-raw", 0, CLI_FLAG, NULL, "the human format even when stdout is not a terminal",
+     &g_no_raw, 0, 0, 0, NULL, 0},
     {"no-history", 0, CLI_FLAG, NULL, "REPL: do not read or write the history file",
      &g_opt.no_history, 0, 0, 0, NULL, 0},
 };
@@ -607,6 +779,7 @@ static const char *const k_examples[] = {
     "cell-cli robot sta",
     "cell-cli robot mov abs x=10 y=-2 z=5.999 c=-1.2322",
     "cell-cli --json -r 10 -i 0.5 platform sta        monitor the platform",
+    "cell-cli --csv -r -1 -i 1 robot sta > robot.csv  log the robot once a second",
     "cell-cli -p 21001 -f fixtures/cell/pick_and_place.cell",
     "cell-cli raw robot OVR+00050",
     NULL};
@@ -629,7 +802,7 @@ static const cli_spec_t k_spec = {
     "\n"
     "Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
     "failure or reply timeout, 4 invalid reply, 5 wait timed out.\n",
-    0, -1, 0};
+    0, -1, 0, NULL};
 
 /* The config file: -c, else $CELL_CLI_CONFIG, else ~/.config/cell-cli.ini if present. */
 static const char *config_path(void)
@@ -765,6 +938,14 @@ int main(int argc, char **argv)
     if (pr != CLI_RUN) {
         return pr == CLI_DONE ? EXIT_OK : EXIT_USAGE;
     }
+    if (g_json + g_csv > 1 || g_raw + g_no_raw > 1) {
+        cli_error(&k_spec, "--json and --csv, or --raw and --no-raw, exclude each other (see "
+                  "cell-cli --help)");
+        return EXIT_USAGE;
+    }
+    g_fmt = g_json ? OUT_JSON : g_csv ? OUT_CSV : g_raw ? OUT_RAW : g_no_raw ? OUT_TEXT
+            : isatty(STDOUT_FILENO) ? OUT_TEXT : OUT_RAW;
+    g_stamp = g_opt.repeat != 1 || g_opt.interval > 0;
     rc = configure();
     if (rc != EXIT_OK) {
         return rc;

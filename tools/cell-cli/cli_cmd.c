@@ -40,6 +40,7 @@ static const struct {
     {"raw", "raw DEV TEXT       send TEXT + CR LF unchanged, e.g. raw robot OVR+00050"},
     {"wait", "wait DEV stopped [TIMEOUT]  poll STA until the device has stopped (default 60 s)"},
     {"sleep", "sleep SECONDS      pause (scripts)"},
+    {"clear", "clear              clear the screen (REPL)"},
     {"quit", "quit | exit        leave the REPL"},
 };
 #define N_TOOL_HELP (sizeof k_tool_help / sizeof k_tool_help[0])
@@ -391,6 +392,10 @@ static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap
         out->kind = CMD_QUIT;
         return 0;
     }
+    if (strcasecmp(w[0], "clear") == 0) {
+        out->kind = CMD_CLEAR;
+        return n == 1 ? 0 : errf(err, cap, "usage: clear");
+    }
     if (strcasecmp(w[0], "help") == 0 || strcmp(w[0], "?") == 0) {
         out->kind = CMD_HELP;
         snprintf(out->topic, sizeof out->topic, "%s", n > 1 ? w[1] : "");
@@ -461,16 +466,31 @@ int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
 
 /* ------------------------------------------------------------------ help, completion */
 
+/* text with every line indented by two spaces (the table's help rows span lines) */
+static size_t append_indented(char *out, size_t cap, size_t o, const char *text)
+{
+    const char *p = text;
+    while (*p != '\0' && o < cap) {
+        size_t n = strcspn(p, "\n");
+        o += (size_t)snprintf(out + o, cap - o, "  %.*s\n", (int)n, p);
+        p += n;
+        if (*p == '\n') {
+            p++;
+        }
+    }
+    return o;
+}
+
 static int help_overview(char *out, size_t cap)
 {
     size_t o = (size_t)snprintf(out, cap,
                                 "Devices: robot (port 2001), platform (2002), conditioning (2003);\n"
                                 "any unique prefix works (r, p, c). Commands:\n");
     for (size_t i = 0; i < N_ROWS && o < cap; i++) {
-        o += (size_t)snprintf(out + o, cap - o, "  %s\n", k_rows[i].help);
+        o = append_indented(out, cap, o, k_rows[i].help);
     }
     for (size_t i = 0; i < N_TOOL_HELP && o < cap; i++) {
-        o += (size_t)snprintf(out + o, cap - o, "  %s\n", k_tool_help[i].text);
+        o = append_indented(out, cap, o, k_tool_help[i].text);
     }
     if (o < cap) {
         snprintf(out + o, cap - o, "help COMMAND shows one command; replies ER+nnnnn are "
@@ -557,7 +577,7 @@ static const char *const *arg_words(int word, int dev, const char *second)
 const char *const *cli_cmd_words(int word, const char *first, const char *second)
 {
     static const char *const w0[] = {"robot", "platform", "conditioning", "raw", "wait",
-                                     "sleep", "help", "quit", NULL};
+                                     "sleep", "help", "clear", "quit", NULL};
     static const char *const devs[] = {"robot", "platform", "conditioning", NULL};
     static const char *const motion_devs[] = {"robot", "platform", NULL};
     static const char *const stopped[] = {"stopped", NULL};

@@ -15,6 +15,7 @@ typedef enum cmd_kind {
     CMD_WAIT,        /* wait <dev> stopped [timeout] */
     CMD_SLEEP,       /* sleep <seconds> */
     CMD_HELP,        /* help [topic] */
+    CMD_CLEAR,       /* clear the screen */
     CMD_QUIT
 } cmd_kind_t;
 

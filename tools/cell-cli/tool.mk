@@ -1,1 +1,1 @@
-cell-cli_LDLIBS := -ledit -linih
+cell-cli_LDLIBS := -ledit -linih -ljansson

@@ -19,6 +19,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "c4gopen.h"
 #include "c4g_cli.h"
 #include "c4g_textfile.h"
@@ -83,23 +85,24 @@ static void logf_(int level, const char *dev, const char *peer, const char *even
     gmtime_r(&now.tv_sec, &tm);
     strftime(ts, sizeof ts, "%Y-%m-%dT%H:%M:%S", &tm);
     if (g_json) {
-        /* messages are built from fixed texts and protocol-safe bytes; escape quotes anyway */
-        char esc[1100];
-        size_t o = 0;
-        for (size_t i = 0; msg[i] != '\0' && o + 7 < sizeof esc; i++) {
-            unsigned char c = (unsigned char)msg[i];
-            if (c == '"' || c == '\\') {
-                esc[o++] = '\\';
-                esc[o++] = (char)c;
-            } else if (c < 0x20 || c >= 0x7F) {
-                o += (size_t)snprintf(esc + o, sizeof esc - o, "\\u%04x", c);
-            } else {
-                esc[o++] = (char)c;
+        /* jansson escapes; a message with bytes that are not UTF-8 keeps them as \xNN text */
+        char stamp[48];
+        json_t *o;
+        snprintf(stamp, sizeof stamp, "%.30s.%03dZ", ts, (int)(now.tv_nsec / 1000000L) % 1000);
+        o = json_pack("{s:s, s:s, s:s, s:s}", "time", stamp, "device", dev, "peer", peer, "event",
+                      event);
+        if (o != NULL) {
+            json_t *m = json_string(msg);
+            if (m == NULL) {
+                char safe[1100];
+                tf_escape(msg, strlen(msg), safe, sizeof safe);
+                m = json_string(safe);
             }
+            json_object_set_new(o, "msg", m);
+            json_dumpf(o, stderr, JSON_COMPACT | JSON_PRESERVE_ORDER);
+            fputc('\n', stderr);
+            json_decref(o);
         }
-        esc[o] = '\0';
-        fprintf(stderr, "{\"time\":\"%s.%03ldZ\",\"device\":\"%s\",\"peer\":\"%s\",\"event\":\"%s\",\"msg\":\"%s\"}\n",
-                ts, now.tv_nsec / 1000000L, dev, peer, event, esc);
     } else {
         fprintf(stderr, "%s.%03ldZ cell-sim: %s %s %s: %s\n", ts, now.tv_nsec / 1000000L, dev,
                 peer, event, msg);
@@ -359,6 +362,7 @@ typedef struct sim_opts {
     char can_log[512];      /* candump log of the bus */
     char can_pcap[512];     /* pcap (DLT_CAN_SOCKETCAN) of the bus */
     unsigned canopen_port;  /* CANopen diagnostic shell port, 0: none */
+    char config[1024];
 } sim_opts_t;
 
 static sim_opts_t g_opt = {.bind = "127.0.0.1", .speed = 1.0, .cameras = 2, .max_clients = 2048};
@@ -505,6 +509,8 @@ static int on_verbosity(void *ctx, const cli_opt_t *row, const char *v, char *wh
 }
 
 static const cli_opt_t k_opts[] = {
+    {"config", 'c', CLI_STRING, "FILE", "INI file read before the options (see below)",
+     g_opt.config, sizeof g_opt.config, 0, 0, NULL, 0},
     {"bind", 'b', CLI_STRING, "ADDR", "IPv4 address to listen on (default 127.0.0.1)", g_opt.bind,
      sizeof g_opt.bind, 0, 0, NULL, 0},
     {"port-base", 'p', CLI_CALL, "N", "robot on N, platform N+1, conditioning N+2", NULL, 0, 1,
@@ -553,6 +559,7 @@ static const char *const k_examples[] = {
     "cell-sim --canopen fixtures/canopen/platform.ini --can-pcap bus.pcap\n"
     "                                          platform drives on a virtual CANopen bus,\n"
     "                                          diagnostic shell on 2012 (cell-cli canopen ...)",
+    "cell-sim -c fixtures/cell/cell-sim.ini     the settings of an INI file",
     NULL};
 
 static const cli_spec_t k_spec = {
@@ -564,8 +571,79 @@ static const cli_spec_t k_spec = {
     "Logs go to stderr, one line per connection, disconnection and error, with the peer.\n"
     "Errors: at most 5 lines per second per client, then one line\n"
     "\"suppressed: N more error lines\" when the burst is over or the client leaves.\n"
-    "Exit status: 0 after SIGINT/SIGTERM, 2 usage error, 3 cannot listen.\n",
-    0, 0, 0};
+    "\n"
+    "Config file (-c FILE): [cell-sim] takes every long option but --config as a key\n"
+    "(speed_factor = 10, workspace = robot:z:-20:80, verbose = true); [robot], [platform]\n"
+    "and [conditioning] take port, workspace = AXIS:MIN:MAX, home = V1,V2[,V3,V4] and\n"
+    "servo_fault = N for that device. Options on the command line win over the file.\n"
+    "\n"
+    "Exit status: 0 after SIGINT/SIGTERM, 2 usage or config file error, 3 cannot listen.\n",
+    0, 0, 0, NULL};
+
+/* One INI line: [cell-sim] KEY = any long option; [DEVICE] port, workspace, home and
+ * servo_fault for that device (as the options DEVICE-port, workspace DEVICE:..., ...). */
+static tf_ini_rc_t on_ini(void *user, const char *section, const char *name, const char *value,
+                          char *msg, size_t msglen)
+{
+    char key[64], val[256], why[300], shown[80];
+    int dev = -1, rc;
+    (void)user;
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        if (strcmp(section, cell_dev_name(d)) == 0) {
+            dev = d;
+        }
+    }
+    if (dev < 0 && strcmp(section, "cell-sim") != 0) {
+        tf_escape(section, strlen(section), shown, sizeof shown);
+        snprintf(msg, msglen, "unknown section [%s] (want [cell-sim], [robot], [platform] or "
+                              "[conditioning])", shown);
+        return TF_INI_BAD_SECTION;
+    }
+    snprintf(key, sizeof key, "%s", name);
+    snprintf(val, sizeof val, "%s", value);
+    if (dev >= 0) {
+        if (strcmp(name, "port") == 0) {
+            snprintf(key, sizeof key, "%s-port", cell_dev_name(dev));
+        } else if (strcmp(name, "workspace") == 0 || strcmp(name, "home") == 0 ||
+                   strcmp(name, "servo_fault") == 0 || strcmp(name, "servo-fault") == 0) {
+            snprintf(val, sizeof val, "%s:%.200s", cell_dev_name(dev), value);
+        } else {
+            key[0] = '\0';
+        }
+    }
+    rc = (key[0] == '\0' || strcmp(key, "config") == 0)
+             ? 1 : cli_apply(&k_spec, &g_opt, key, val, why, sizeof why);
+    if (rc > 0) {
+        tf_escape(name, strlen(name), shown, sizeof shown);
+        snprintf(msg, msglen, "[%s] unknown key '%s'", section, shown);
+        return TF_INI_BAD_KEY;
+    }
+    if (rc < 0) {
+        tf_escape(value, strlen(value), shown, sizeof shown);
+        snprintf(msg, msglen, "[%s] %s: bad value '%s' (%s)", section, name, shown, why);
+        return TF_INI_BAD_VALUE;
+    }
+    return TF_INI_OK;
+}
+
+/* The INI file named by -c, read before the command line so that the options win. */
+static int load_config(const char *path)
+{
+    tf_file_t f;
+    char err[700];
+    int rc;
+    if (tf_load(&f, path, TF_MAX_INI, err, sizeof err) != 0) {
+        fprintf(stderr, "cell-sim: config file %s\n", err);
+        return -1;
+    }
+    rc = tf_ini_parse(&f, on_ini, &g_opt, err, sizeof err);
+    tf_free(&f);
+    if (rc != 0) {
+        fprintf(stderr, "cell-sim: config file %s\n", err);
+        return -1;
+    }
+    return 0;
+}
 
 /* The devices as the options configure them; -1 when a home is outside its workspace. */
 static int devices_setup(sim_device_t *devs)
@@ -832,6 +910,9 @@ int main(int argc, char **argv)
     cli_result_t pr;
     for (int d = 0; d < CELL_DEVICES; d++) {
         g_opt.ports[d] = cell_dev_default_port(d);
+    }
+    if (cli_find_config(argc, argv) != NULL && load_config(cli_find_config(argc, argv)) != 0) {
+        return EXIT_USAGE;
     }
     pr = cli_parse(&k_spec, &g_opt, argc, argv, NULL);
     if (pr != CLI_RUN) {

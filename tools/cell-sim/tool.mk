@@ -1,1 +1,1 @@
-cell-sim_LDLIBS := -linih -lpcap
+cell-sim_LDLIBS := -linih -lpcap -ljansson

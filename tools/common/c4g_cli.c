@@ -5,10 +5,13 @@
 #include "c4g_textfile.h"
 #include "c4gopen.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define CLI_MAX_OPTS 96
 #define CLI_HELP_KEY 0x10000
@@ -155,12 +158,32 @@ static const cli_opt_t *cli_row_of(const cli_spec_t *spec, int c)
     return NULL;
 }
 
+/* getopt's ':' (a value missing) or '?' (no such option), as one line. */
+static void cli_getopt_error(const cli_spec_t *spec, int c, char **argv, const char *help)
+{
+    char name[80];
+    /* a short option (optopt set) may sit in a group ("-qZ"): name it alone */
+    if (optopt != 0 && optopt < 0x100) {
+        snprintf(name, sizeof name, "-%c", optopt);
+    } else {
+        cli_path_text(argv[optind - 1], name, sizeof name);
+    }
+    if (c == ':') {
+        cli_error(spec, "option '%s' needs a value (see %s)", name, help);
+    } else {
+        cli_error(spec, "unrecognized option '%s' (see %s)", name, help);
+    }
+}
+
 cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
                        int *first_operand)
 {
     struct option lo[CLI_MAX_OPTS];
     char so[2 * CLI_MAX_OPTS + 8];
+    char help[96]; /* "TOOL [COMMAND] --help" */
     int c, n_operands;
+    snprintf(help, sizeof help, "%s%s%s --help", spec->tool, spec->command != NULL ? " " : "",
+             spec->command != NULL ? spec->command : "");
     if (cli_tables(spec, lo, so, sizeof so) != 0) {
         cli_error(spec, "internal error: option table too large");
         return CLI_BAD;
@@ -184,19 +207,21 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
                    spec->version_extra != NULL ? spec->version_extra : "");
             return CLI_DONE;
         }
-        if (c == ':') {
-            cli_error(spec, "option '%s' needs a value (see --help)", argv[optind - 1]);
+        if (c == ':' || c == '?') {
+            cli_getopt_error(spec, c, argv, help);
             return CLI_BAD;
         }
         o = cli_row_of(spec, c);
         if (o == NULL) {
-            cli_error(spec, "unrecognized option '%s' (see --help)", argv[optind - 1]);
+            cli_error(spec, "unrecognized option '%s' (see %s)", argv[optind - 1], help);
             return CLI_BAD;
         }
         why[0] = '\0';
         if (cli_store(ctx, o, o->arg != NULL ? optarg : NULL, why, sizeof why) != 0) {
             if (o->arg != NULL) {
-                cli_error(spec, "--%s: bad value '%s' (%s)", o->name, optarg, why);
+                char shown[160];
+                cli_error(spec, "--%s: bad value '%s' (%s)", o->name,
+                          cli_path_text(optarg, shown, sizeof shown), why);
             } else {
                 cli_error(spec, "--%s: %s", o->name, why);
             }
@@ -207,10 +232,11 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
     if (n_operands < spec->operands_min ||
         (spec->operands_max >= 0 && n_operands > spec->operands_max)) {
         if (n_operands > 0 && spec->operands_max >= 0 && n_operands > spec->operands_max) {
-            cli_error(spec, "unexpected argument '%s' (see --help)",
-                      argv[optind + spec->operands_max]);
+            char arg[80];
+            cli_error(spec, "unexpected argument '%s' (see %s)",
+                      cli_path_text(argv[optind + spec->operands_max], arg, sizeof arg), help);
         } else {
-            cli_error(spec, "missing argument (see --help)");
+            cli_error(spec, "missing argument (see %s)", help);
         }
         return CLI_BAD;
     }
@@ -218,4 +244,155 @@ cli_result_t cli_parse(const cli_spec_t *spec, void *ctx, int argc, char **argv,
         *first_operand = optind;
     }
     return CLI_RUN;
+}
+
+const char *cli_path_text(const char *path, char *out, size_t cap)
+{
+    tf_escape(path, strlen(path), out, cap);
+    return out;
+}
+
+void cli_file_error(const char *tool, const char *opt, const char *path, int err)
+{
+    char p[600];
+    cli_path_text(path, p, sizeof p);
+    if (opt != NULL && opt[0] != '\0') {
+        fprintf(stderr, "%s: %s %s: %s\n", tool, opt, p, strerror(err));
+    } else {
+        fprintf(stderr, "%s: %s: %s\n", tool, p, strerror(err));
+    }
+}
+
+int cli_output_writable(const char *path)
+{
+    char dir[4096];
+    const char *slash;
+    struct stat st;
+    if (strcmp(path, "-") == 0) {
+        return 0;
+    }
+    if (path[0] == '\0') {
+        errno = ENOENT;
+        return -1;
+    }
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            errno = EISDIR;
+            return -1;
+        }
+        return access(path, W_OK) == 0 ? 0 : -1;
+    }
+    if (errno != ENOENT) {
+        return -1; /* ENOTDIR, EACCES, ELOOP: the file cannot be made either */
+    }
+    slash = strrchr(path, '/');
+    if (slash == NULL) {
+        snprintf(dir, sizeof dir, ".");
+    } else if (slash == path) {
+        snprintf(dir, sizeof dir, "/");
+    } else {
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    }
+    if (stat(dir, &st) != 0) {
+        return -1; /* errno: ENOENT, the directory is missing */
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        errno = ENOTDIR;
+        return -1;
+    }
+    return access(dir, W_OK | X_OK) == 0 ? 0 : -1;
+}
+
+int cli_check_output(const char *tool, const char *opt, const char *path)
+{
+    if (cli_output_writable(path) != 0) {
+        cli_file_error(tool, opt, path, errno);
+        return -1;
+    }
+    return 0;
+}
+
+FILE *cli_open_output(const char *tool, const char *opt, const char *path, const char *mode)
+{
+    FILE *f;
+    if (strcmp(path, "-") == 0) {
+        return stdout;
+    }
+    f = fopen(path, mode);
+    if (f == NULL) {
+        cli_file_error(tool, opt, path, errno);
+    }
+    return f;
+}
+
+int cli_apply(const cli_spec_t *spec, void *ctx, const char *name, const char *value, char *why,
+              size_t whylen)
+{
+    size_t i, k;
+    for (i = 0; i < spec->n_opts; i++) {
+        const cli_opt_t *o = &spec->opts[i];
+        for (k = 0; o->name[k] != '\0' && name[k] != '\0'; k++) {
+            const char a = (o->name[k] == '_') ? '-' : o->name[k];
+            const char b = (name[k] == '_') ? '-' : name[k];
+            if (a != b) {
+                break;
+            }
+        }
+        if (o->name[k] != '\0' || name[k] != '\0') {
+            continue;
+        }
+        if (o->arg != NULL) {
+            return cli_store(ctx, o, value, why, whylen) == 0 ? 0 : -1;
+        }
+        if (strcmp(value, "true") == 0 || strcmp(value, "yes") == 0 || strcmp(value, "on") == 0 ||
+            strcmp(value, "1") == 0) {
+            return cli_store(ctx, o, NULL, why, whylen) == 0 ? 0 : -1;
+        }
+        if (strcmp(value, "false") == 0 || strcmp(value, "no") == 0 || strcmp(value, "off") == 0 ||
+            strcmp(value, "0") == 0) {
+            return 0;
+        }
+        snprintf(why, whylen, "want true or false");
+        return -1;
+    }
+    return 1;
+}
+
+const char *cli_find_config(int argc, char **argv)
+{
+    int i;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--") == 0) {
+            break;
+        }
+        if ((strcmp(argv[i], "-c") == 0 || strcmp(argv[i], "--config") == 0) && i + 1 < argc) {
+            return argv[i + 1];
+        }
+        if (strncmp(argv[i], "--config=", 9) == 0) {
+            return argv[i] + 9;
+        }
+    }
+    return NULL;
+}
+
+int cli_progress_wanted(void)
+{
+    return isatty(STDERR_FILENO);
+}
+
+void cli_progress(const char *tool, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "\r%s: ", tool);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs("\033[K", stderr);
+    fflush(stderr);
+}
+
+void cli_progress_end(void)
+{
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
 }

@@ -52,6 +52,7 @@ typedef struct cli_spec {
     const char *epilogue;         /* printed last (may be NULL) */
     int operands_min, operands_max; /* non-option arguments allowed; max < 0: any */
     int permute;                  /* options may follow operands (GNU order; "--" ends them) */
+    const char *command;          /* a subcommand: errors say "see TOOL COMMAND --help" */
 } cli_spec_t;
 
 /* The outcome of cli_parse: go on, stop with exit code 0 (--help/--version printed),
@@ -74,5 +75,53 @@ void cli_error(const cli_spec_t *spec, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+
+/* One setting by its long option name, as an INI file gives it ('_' and '-' alike), stored
+ * as the command line would store it; a flag takes true/false (yes/no, on/off, 1/0; false
+ * leaves it unset). 0 stored, 1 no such option, -1 a bad value (why says what is wrong). */
+int cli_apply(const cli_spec_t *spec, void *ctx, const char *name, const char *value, char *why,
+              size_t whylen);
+
+/* The value of "-c FILE" / "--config FILE" / "--config=FILE" in argv before a "--", or NULL:
+ * a tool that reads its options from a file reads it before the command line (the command
+ * line wins). */
+const char *cli_find_config(int argc, char **argv);
+
+/* ---- file names in messages and output files checked at start-up ---- */
+
+/* A path as messages show it: printable ASCII as is, any other byte as \xNN (cut with
+ * "..." to fit cap). Returns out. */
+const char *cli_path_text(const char *path, char *out, size_t cap);
+
+/* One error line about a file, naming it once with the system's reason:
+ * "TOOL: OPT PATH: strerror(err)" (OPT may be NULL or "": "TOOL: PATH: reason"). */
+void cli_file_error(const char *tool, const char *opt, const char *path, int err);
+
+/* An output file written later (at exit or by another thread): fails now when it could not
+ * be written then: its directory is missing or not writable, or the path is a directory
+ * or a file without write permission. "-" (stdout) always passes. 0, or -1 with errno set
+ * and nothing printed. */
+int cli_output_writable(const char *path);
+
+/* cli_output_writable, and cli_file_error when it fails; 0 or -1. */
+int cli_check_output(const char *tool, const char *opt, const char *path);
+
+/* fopen(path, mode) for an output file; "-" is stdout. On failure cli_file_error and NULL. */
+FILE *cli_open_output(const char *tool, const char *opt, const char *path, const char *mode);
+
+/* ---- a progress line for long runs: on stderr, and only when stderr is a terminal ---- */
+
+/* 1 when stderr is a terminal (a progress line would be seen, not logged). */
+int cli_progress_wanted(void);
+
+/* Redraw the progress line in place: "\rTOOL: TEXT" and the rest of the line erased. */
+void cli_progress(const char *tool, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Erase the progress line (before the summary or any other output). */
+void cli_progress_end(void);
 
 #endif

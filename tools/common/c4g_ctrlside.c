@@ -243,7 +243,6 @@ cs_rx_t cs_reply(cs_t *c, const uint8_t *buf, size_t len, uint64_t at_ns)
 
 static void cs_count_latency(cs_counters_t *n, uint64_t lat)
 {
-    const uint64_t bin = lat / 1000U;
     if (n->replies_ok == 0U || lat < n->lat_min) {
         n->lat_min = lat;
     }
@@ -251,7 +250,7 @@ static void cs_count_latency(cs_counters_t *n, uint64_t lat)
         n->lat_max = lat;
     }
     n->lat_sum += lat;
-    n->lat_hist[(bin < CS_LAT_BINS - 1U) ? bin : CS_LAT_BINS - 1U]++;
+    c4g_hist_add(&n->lat, (int64_t)lat);
     n->replies_ok++;
 }
 
@@ -317,23 +316,7 @@ const c4g_pc_packet_t *cs_take_reply(cs_t *c)
 
 double cs_lat_percentile(const cs_counters_t *n, double q)
 {
-    uint64_t total = 0, need, acc = 0;
-    int i;
-    for (i = 0; i < CS_LAT_BINS; i++) {
-        total += n->lat_hist[i];
-    }
-    if (total == 0U) {
-        return 0.0;
-    }
-    need = (uint64_t)(q * (double)total + 0.999999);
-    for (i = 0; i < CS_LAT_BINS; i++) {
-        acc += n->lat_hist[i];
-        if (acc >= need) {
-            const double edge = (double)(i + 1), max_us = (double)n->lat_max / 1000.0;
-            return (edge < max_us) ? edge : max_us;
-        }
-    }
-    return (double)CS_LAT_BINS;
+    return c4g_hist_us(&n->lat, q);
 }
 
 const char *cs_policy_name(int policy)

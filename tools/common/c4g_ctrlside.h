@@ -9,6 +9,7 @@
 #ifndef C4G_CTRLSIDE_H
 #define C4G_CTRLSIDE_H
 
+#include "c4g_hist.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -66,7 +67,7 @@ typedef struct cs_counters {
     unsigned long wrong_num, malformed, foreign, duplicates, stale, unexpected;
     unsigned long consecutive, max_consecutive;
     uint64_t lat_min, lat_max, lat_sum; /* ns, over the replies judged ok */
-    uint32_t lat_hist[CS_LAT_BINS];
+    c4g_hist_t lat;             /* the same latencies, for percentiles */
 } cs_counters_t;
 
 /* The packet whose reply is awaited. */

@@ -2,6 +2,7 @@
 /* c4g_pcap: UDP/IPv4/Ethernet frames into a pcap file through libpcap (see c4g_pcap.h). */
 #include "c4g_pcap.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,21 +68,34 @@ c4g_pcap_t *c4g_pcap_open(const char *path, char *err, size_t errlen)
     }
     w = calloc(1, sizeof *w);
     if (w == NULL) {
-        if (err != NULL) snprintf(err, errlen, "%s: out of memory", path);
+        if (err != NULL) snprintf(err, errlen, "out of memory");
         return NULL;
     }
     w->p = pcap_open_dead(DLT_EN10MB, 65535);
     if (w->p == NULL) {
-        if (err != NULL) snprintf(err, errlen, "%s: pcap_open_dead failed", path);
+        if (err != NULL) snprintf(err, errlen, "pcap_open_dead failed");
         free(w);
         return NULL;
     }
-    w->d = pcap_dump_open(w->p, path);
-    if (w->d == NULL) {
-        if (err != NULL) snprintf(err, errlen, "%s: %s", path, pcap_geterr(w->p));
-        pcap_close(w->p);
-        free(w);
-        return NULL;
+    {
+        /* opened here so the error is the system's reason alone: callers name the path */
+        FILE *fp = fopen(path, "wb");
+        const int e = errno;
+        if (fp == NULL) {
+            if (err != NULL) snprintf(err, errlen, "%s", strerror(e));
+            pcap_close(w->p);
+            free(w);
+            errno = e;
+            return NULL;
+        }
+        w->d = pcap_dump_fopen(w->p, fp);
+        if (w->d == NULL) {
+            if (err != NULL) snprintf(err, errlen, "%s", pcap_geterr(w->p));
+            (void)fclose(fp);
+            pcap_close(w->p);
+            free(w);
+            return NULL;
+        }
     }
     w->ip_id = 1U;
     return w;

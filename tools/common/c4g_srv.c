@@ -345,26 +345,12 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     return C4G_OK;
 }
 
-static void hist_add(srv_stats_t *st, int64_t ns)
-{
-    uint64_t us = (ns > 0) ? (uint64_t)ns / 1000U : 0U;
-    if (us > SRV_HIST_US) {
-        us = SRV_HIST_US;
-    }
-    st->hist[us]++;
-    st->hist_n++;
-    st->cycle_sum_us += (double)ns / 1000.0;
-    if (ns > st->cycle_max_ns) {
-        st->cycle_max_ns = ns;
-    }
-}
-
 void srv_sent(srv_t *S, uint64_t t_ns)
 {
     if (S->last_kind == C4G_RX_CYCLIC) {
         const int64_t cyc = (int64_t)(t_ns - S->last_rx_ns);
         (void)c4g_loop_sent(&S->loop, t_ns);
-        hist_add(&S->stats, cyc);
+        c4g_hist_add(&S->stats.cycle, cyc);
         if (cyc > (int64_t)S->cfg.late_us * 1000) {
             S->stats.late++;
         }

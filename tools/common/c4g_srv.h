@@ -10,6 +10,7 @@
 
 #include "c4gopen.h"
 #include "c4g_cli.h"
+#include "c4g_hist.h"
 #include "c4g_controllers.h"
 
 #include <stdarg.h>
@@ -21,7 +22,6 @@
 #define SRV_MAX_TRAJ_BYTES (8U << 20) /* file size caps: a bigger file (or /dev/zero) is refused */
 #define SRV_MAX_FF_BYTES (1U << 20)
 #define SRV_MAX_FF_FILES 4U       /* --ff files: one identified model per arm */
-#define SRV_HIST_US 20000U        /* cycle-time histogram: 1 us bins up to 20 ms */
 
 /* The controllers' types (tools/common/c4g_controllers.h) under the server's names. */
 #define SRC_NONE CTLR_SRC_NONE
@@ -61,10 +61,7 @@ typedef struct srv_stats {
     uint64_t mode_changes;
     uint64_t ff_model_ticks;    /* mode-9 axis ticks whose current came from an identified model */
     uint64_t ff_model_clamped;  /* of those, ticks with v or a clamped to the model's range */
-    uint32_t hist[SRV_HIST_US + 1U]; /* cycle time histogram (1 us bins, last = overflow) */
-    uint64_t hist_n;
-    int64_t cycle_max_ns;
-    double cycle_sum_us;
+    c4g_hist_t cycle;           /* cycle time: controller packet received -> reply sent */
 } srv_stats_t;
 
 typedef struct srv_config {

@@ -455,7 +455,7 @@ static const srv_setting_t settings[] = {
     {"cpu", 0, "N", SW_BOTH, SK_INT, -1, 1023, G(cpu), NULL, "a CPU number >= 0 (-1 = off)",
      "pin the packet loop to CPU N"},
     {"rt-strict", 0, NULL, SW_BOTH, SK_FLAG, 0, 0, G(rt_strict), NULL, FLAG_WANT,
-     "a refused real-time setting is fatal (exit 2); by default" NL
+     "a refused real-time setting is fatal (exit 1); by default" NL
      "the server says what was refused and why, and continues"},
     {"spin", 0, NULL, SW_BOTH, SK_FLAG, 0, 0, G(spin), NULL, FLAG_WANT,
      "busy-poll the socket (lowest latency, burns a CPU)"},
@@ -712,8 +712,9 @@ static const char usage[] =
     "the last --arm N. Every long option but --arm and --config is also an INI key.\n";
 
 static const char epilogue[] =
-    "Exit codes: 0 ended by 504, 1 bad option or input file, 2 setup failure (socket,\n"
-    "bind, thread, refused RT setting with --rt-strict), 3 controller lost, 4\n"
+    "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
+    "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
+    "2 bad option or input file, 3 controller lost, 4\n"
     "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
     "--persist). The chapter 22 timing report, the counters and the safety events are\n"
     "printed at every exit that follows a session (with --persist the counters add up\n"

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -36,7 +37,7 @@ int cell_dev_parse(const char *s)
         return -1;
     }
     for (int d = 0; d < CELL_DEVICES; d++) {
-        if (strncmp(s, dev_names[d], n) == 0) {
+        if (strncasecmp(s, dev_names[d], n) == 0) {
             if (found >= 0) {
                 return -1; /* ambiguous */
             }

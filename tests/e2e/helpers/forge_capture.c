@@ -146,7 +146,7 @@ static int open_capture(void)
     if (o.link == LINK_ETH && !o.frag_init) {
         c4g_w = c4g_pcap_open(o.out, err, sizeof err);
         if (c4g_w == NULL) {
-            fprintf(stderr, "forge_capture: %s\n", err);
+            fprintf(stderr, "forge_capture: %s: %s\n", o.out, err);
         }
         return c4g_w != NULL ? 0 : -1;
     }
