@@ -69,6 +69,7 @@ void report_text(FILE *out, const Job &j)
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
             if (s.at_bound) std::fprintf(out, "  %-4s %14.7g %12s %9s  %s (held at its bound)\n", param_name[p], s.value, "-", "-", param_unit[p]);
+            else if (!(s.pct < 1e299)) std::fprintf(out, "  %-4s %14.7g %12.4g %9s  %s\n", param_name[p], s.value, s.ci95, "-", param_unit[p]);
             else std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", param_name[p], s.value, s.ci95, s.pct, param_unit[p]);
         }
         std::fprintf(out, "  residual: RMS %.4g A (inliers %.4g A, %.2f %% outliers), robust sigma %.4g A, noise floor %.4g A "
@@ -130,7 +131,7 @@ int report_json(FILE *out, const Job &j)
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
             json_object_set_new(ps, param_name[p], json_pack("{s:f,s:f,s:f,s:f,s:s}", "value", s.value, "sigma", s.sigma, "ci95",
-                                                           s.ci95, "sigma_pct", std::isfinite(s.pct) ? s.pct : -1.0, "unit",
+                                                           s.ci95, "sigma_pct", (s.pct < 1e299) ? s.pct : -1.0, "unit",
                                                            param_unit[p]));
         }
         json_object_set_new(a, "parameters", ps);
