@@ -36,13 +36,16 @@ for ax in L['axes']:
 v = {a['axis']: a['variant'] for a in F['axes']}
 if 'gravity' not in (v.get(2) or ''): bad.append('axis 2 variant %s, want a gravity variant' % v.get(2))
 m = L['moves']
+if L['follow_ratio'] < 5.0: bad.append('following error mode 0 / mode 9 only %.2fx' % L['follow_ratio'])
 if L['dsa_ratio'] < 5.0: bad.append('DSA current mode 0 / mode 9 only %.2fx' % L['dsa_ratio'])
+if m['wrong9']['follow_rms'] < 2.0 * m['move9']['follow_rms']:
+    bad.append('the wrong file does not follow worse: %s vs %s' % (m['wrong9'], m['move9']))
 if m['wrong9']['dsa_current_rms'] < 2.0 * m['move9']['dsa_current_rms']:
     bad.append('the wrong file is not worse: %s vs %s' % (m['wrong9'], m['move9']))
 for b in bad: print('FAIL: ' + b)
 sys.exit(1 if bad else 0)
 PY
-[ $rc -eq 0 ] && ok "fit within limits of the truth, variants chosen, mode-9 feedforward takes the DSA's work"
+[ $rc -eq 0 ] && ok "fit within limits of the truth, variants chosen, mode-9 feedforward cuts the following error 5x or more"
 
 # the server applied the file: its summary counts identified-model ticks
 grep -q "mode-9 identified model: [1-9]" "$T/loop/move9.srv.out" && ok "c4g-server applied arm1.ini" || bad "no identified-model ticks in c4g-server's summary"

@@ -29,6 +29,9 @@ struct AxisLog {
     std::vector<double> t;  // s
     std::vector<float> d1, d2, d3, d4, d5, e1, e2;
     std::vector<double> q;  // rad (when have_q)
+    // ticks the controller ran without the PC's reply to the tick before (none, or too late):
+    // what it did there is not what the trajectory asked (captures only; ascending)
+    std::vector<int64_t> late_ticks;
     // why ticks were dropped by the reader (not drive-on, special mode, non-finite, window)
     uint64_t seen = 0, dropped_drive = 0, dropped_mode = 0, dropped_nonfinite = 0,
              dropped_window = 0;
@@ -82,6 +85,7 @@ struct Prep {
     double vnoise = 0.0;       // sigma of the velocity estimate [turns/s]
     double noise_floor = 0.0;  // sigma of D5's tick-to-tick roughness [A]
     uint64_t kept = 0, dropped_edge = 0, dropped_still = 0, dropped_sat = 0;
+    uint64_t dropped_late = 0;     // near a tick without the PC's reply in time
     double vmax = 0.0, amax = 0.0; // largest |v|, |a| kept
     double ipeak = 0.0;        // largest |i| kept
 };

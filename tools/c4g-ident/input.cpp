@@ -138,12 +138,15 @@ void on_exchange(void *vp, const an_exchange_t *x)
         }
         have_q = nl > 0 && c4g_kin_motor_to_link(&c->kin, qm, nl, ql) == C4G_OK;
     }
+    // no reply, or one after the controller's next tick: that tick ran without it
+    const bool missed = x->reply == nullptr || x->reply_ns - x->ctrl_ns > static_cast<int64_t>(period * 1e9);
     for (uint32_t i = 0; i < x->rx->n_axes; i++) {
         if (s->map.arm_of[i] != arm) continue;
         const unsigned logical = s->map.logical_of[i] + 1U;
         const double az = s->have_init ? static_cast<double>(s->init.az_lim[arm][logical - 1]) : 0.0;
         AxisLog *L = c->col->axis(logical, i + 1U, period, az);
         if (L == nullptr) continue;
+        if (missed) L->late_ticks.push_back(static_cast<int64_t>(s->id) * kSessionStride + static_cast<int64_t>(x->tick) + 1);
         if (!c->col->window(L, t)) continue;
         const c4g_ctrl_axis_t &a = x->rx->ax[i];
         const float f[7] = {a.target_pos, a.target_vel, a.actual_pos, a.actual_vel, a.current_ref, a.ext[0], a.ext[1]};

@@ -241,6 +241,7 @@ int run_fit(int argc, char **argv)
                 dst->d4.push_back(L.d4[k]); dst->d5.push_back(L.d5[k]); dst->e1.push_back(L.e1[k]);
                 dst->e2.push_back(L.e2[k]); dst->q.push_back(L.q[k]);
             }
+            for (int64_t lt : L.late_ticks) dst->late_ticks.push_back(lt + shift);
             dst->have_q = dst->have_q && L.have_q;
             dst->seen += L.seen; dst->dropped_drive += L.dropped_drive; dst->dropped_mode += L.dropped_mode;
             dst->dropped_nonfinite += L.dropped_nonfinite; dst->dropped_window += L.dropped_window;

@@ -48,11 +48,11 @@ void report_text(FILE *out, const Job &j)
         std::fprintf(out, "  ticks: %llu seen, %llu kept", static_cast<unsigned long long>(L.seen),
                      static_cast<unsigned long long>(r.prep.kept));
         std::fprintf(out, "; dropped: %llu drive off, %llu special mode, %llu non-finite, %llu outside the window, "
-                          "%llu standstill/reversal, %llu saturated, %llu filter edges\n",
+                          "%llu standstill/reversal, %llu near a late PC reply, %llu saturated, %llu filter edges\n",
                      static_cast<unsigned long long>(L.dropped_drive), static_cast<unsigned long long>(L.dropped_mode),
                      static_cast<unsigned long long>(L.dropped_nonfinite), static_cast<unsigned long long>(L.dropped_window),
-                     static_cast<unsigned long long>(r.prep.dropped_still), static_cast<unsigned long long>(r.prep.dropped_sat),
-                     static_cast<unsigned long long>(r.prep.dropped_edge));
+                     static_cast<unsigned long long>(r.prep.dropped_still), static_cast<unsigned long long>(r.prep.dropped_late),
+                     static_cast<unsigned long long>(r.prep.dropped_sat), static_cast<unsigned long long>(r.prep.dropped_edge));
         if (!r.identifiable) {
             std::fprintf(out, "  UNIDENTIFIABLE: %s\n", r.why_not.c_str());
             continue;
@@ -107,13 +107,14 @@ int report_json(FILE *out, const Job &j)
         json_t *a = json_pack("{s:I,s:I,s:I,s:f,s:b}", "arm", static_cast<json_int_t>(r.arm), "axis",
                               static_cast<json_int_t>(r.axis), "open", static_cast<json_int_t>(r.open), "period_s", r.period,
                               "identifiable", r.identifiable);
-        json_object_set_new(a, "ticks", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "seen", static_cast<json_int_t>(L.seen),
+        json_object_set_new(a, "ticks", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "seen", static_cast<json_int_t>(L.seen),
                                                   "kept", static_cast<json_int_t>(r.prep.kept), "drive_off",
                                                   static_cast<json_int_t>(L.dropped_drive), "special_mode",
                                                   static_cast<json_int_t>(L.dropped_mode), "nonfinite",
                                                   static_cast<json_int_t>(L.dropped_nonfinite), "window",
                                                   static_cast<json_int_t>(L.dropped_window), "standstill",
-                                                  static_cast<json_int_t>(r.prep.dropped_still), "saturated",
+                                                  static_cast<json_int_t>(r.prep.dropped_still), "late_reply",
+                                                  static_cast<json_int_t>(r.prep.dropped_late), "saturated",
                                                   static_cast<json_int_t>(r.prep.dropped_sat), "edges",
                                                   static_cast<json_int_t>(r.prep.dropped_edge)));
         if (!r.identifiable) {

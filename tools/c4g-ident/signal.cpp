@@ -118,7 +118,13 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
     const std::size_t n = L.tick.size();
     std::vector<unsigned char> bad(n, 0), use(n, 0);
     const double sat = (L.az_lim > 0.0) ? 0.98 * L.az_lim : 1e300;
+    std::size_t li = 0;  // walks L.late_ticks (ascending) beside L.tick
     for (std::size_t k = 0; k < n; k++) {
+        while (li < L.late_ticks.size() && L.late_ticks[li] < L.tick[k]) li++;
+        if (li < L.late_ticks.size() && L.late_ticks[li] == L.tick[k]) {
+            bad[k] = 3;
+            continue;
+        }
         if (!f.ok[k]) continue;
         // a reversal can pass between two ticks without any tick near zero speed
         const bool flip = k > 0 && f.ok[k - 1] && L.tick[k - 1] + 1 == L.tick[k] && (f.v[k] > 0.0) != (f.v[k - 1] > 0.0);
@@ -131,14 +137,24 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
     const int w = half + 2 + static_cast<int>(std::lround(0.02 / L.period));
     std::vector<unsigned char> near(n, 0);
     int64_t last = INT64_MIN / 2;
+    // a tick without the PC's reply (the reference held, say) spoils every filter window that
+    // holds it, and the drive's loops take a few ticks to settle: half + 2 ticks each way
+    const int wr = half + 2;
+    std::vector<unsigned char> jolt(n, 0);
+    int64_t lastr = INT64_MIN / 2;
     for (std::size_t k = 0; k < n; k++) {
         if (bad[k] == 1) last = L.tick[k];
+        if (bad[k] == 3) lastr = L.tick[k];
         if (L.tick[k] - last <= w) near[k] = 1;
+        if (L.tick[k] - lastr <= wr) jolt[k] = 1;
     }
     last = INT64_MAX / 2;
+    lastr = INT64_MAX / 2;
     for (std::size_t k = n; k-- > 0;) {
         if (bad[k] == 1) last = L.tick[k];
+        if (bad[k] == 3) lastr = L.tick[k];
         if (last - L.tick[k] <= w) near[k] = 1;
+        if (lastr - L.tick[k] <= wr) jolt[k] = 1;
     }
     for (std::size_t k = 0; k < n; k++) {
         if (!f.ok[k]) {
@@ -147,6 +163,8 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
             if (count) pr->dropped_sat++;
         } else if (near[k]) {
             if (count) pr->dropped_still++;
+        } else if (jolt[k]) {
+            if (count) pr->dropped_late++;
         } else {
             use[k] = 1;
         }
@@ -333,6 +351,7 @@ AxisLog thin_blocks(const AxisLog &L, std::size_t max)
             if (j < L.q.size()) d.q.push_back(L.q[j]);
         }
     }
+    d.late_ticks = L.late_ticks;
     return d;
 }
 
