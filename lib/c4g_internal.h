@@ -6,14 +6,6 @@
 #include "c4gopen.h"
 #include <string.h>
 
-/* Hot-path helpers that must inline for the per-tick budget (bench/bench_wire.c);
- * plain inline on compilers without the attribute. */
-#if defined(__GNUC__) || defined(__clang__)
-#define C4G_HOT_INLINE __attribute__((always_inline)) inline
-#else
-#define C4G_HOT_INLINE inline
-#endif
-
 /* A condition as a 0/1 flag word (the struct flags are uint32_t). */
 static inline uint32_t c4g_flag(bool b)
 {
@@ -103,15 +95,9 @@ static inline int c4g_f32_finite(float f)
 /* ---- bulk wire words: the per-tick codec copies and checks whole packets, not fields */
 
 /* Words of one cyclic axis on the wire and in c4g_ctrl_axis_t / c4g_pc_axis_t: SM, D1..D5,
- * EXT1..EXT3, 4 bytes each, no padding (checked below), in wire order. */
+ * EXT1..EXT3, 4 bytes each, no padding (every member is 4 bytes; tests/test_codec.c checks the
+ * sizes), in wire order. */
 #define C4G_AXIS_WORDS 9U
-
-/* Compile-time check without C11: a negative array size fails the build. */
-typedef char c4g_axis_layout_check_[((sizeof(c4g_ctrl_axis_t) == (C4G_AXIS_WORDS * 4U)) &&
-                                     (sizeof(c4g_pc_axis_t) == (C4G_AXIS_WORDS * 4U)) &&
-                                     (sizeof(float) == 4U))
-                                        ? 1
-                                        : -1];
 
 /* 1 when the host stores a uint32_t most significant byte first. Compilers fold it to a
  * constant, so the byte reversal below costs nothing on a little-endian host. */

@@ -121,12 +121,12 @@ static inline uint32_t modes_unknown(const uint8_t *ax, uint32_t n)
     uint32_t u;
     uint32_t i;
     for (i = 1U; i < n; i++) {
-        diff |= (uint32_t)c4g_host_i32_at(&ax[i * C4G_AXIS_SIZE]) ^ (uint32_t)first;
+        diff |= (uint32_t)c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]) ^ (uint32_t)first;
     }
     u = mode_unknown_fast(first);
     if (diff != 0U) {
         for (i = 1U; i < n; i++) {
-            u |= mode_unknown_fast(c4g_host_i32_at(&ax[i * C4G_AXIS_SIZE]));
+            u |= mode_unknown_fast(c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]));
         }
     }
     return u;
@@ -176,7 +176,7 @@ static c4g_status_t first_bad_axis(const uint8_t *buf, uint32_t n, c4g_diag_t *d
         uint32_t carry = 0U;
         uint32_t k;
         for (k = 1U; k <= AXIS_FLOATS; k++) {
-            carry |= c4g_exp_carry(c4g_get_u32le(&p[4U * k]));
+            carry |= c4g_exp_carry(c4g_get_u32le(&p[(size_t)k * 4U]));
         }
         if (((carry & 0x80000000U) != 0U) || (!c4g_mode_is_known(mode))) {
             st = axis_error(mode, p, i, diag);
@@ -205,7 +205,7 @@ static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, c4g
 {
     c4g_status_t st = C4G_OK;
     c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
-    (void)memset(&ax[n * C4G_AXIS_SIZE], 0, (C4G_MAX_AXES - n) * C4G_AXIS_SIZE);
+    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, (size_t)(C4G_MAX_AXES - n) * C4G_AXIS_SIZE);
     if (axes_bad(ax, n) != 0U) {
         st = first_bad_axis(buf, n, diag);
     }
@@ -282,7 +282,7 @@ static c4g_status_t encode_refusal(const uint8_t *ax, uint32_t n)
     c4g_status_t st = C4G_OK;
     uint32_t i;
     for (i = 0U; (i < n) && (st == C4G_OK); i++) {
-        const uint8_t *p = &ax[i * C4G_AXIS_SIZE];
+        const uint8_t *p = &ax[(size_t)i * C4G_AXIS_SIZE];
         if (!c4g_mode_is_known(c4g_host_i32_at(p))) {
             st = C4G_ERR_MODE;
         } else if (c4g_words_carry(&p[4], AXIS_FLOATS) != 0U) {
