@@ -205,7 +205,7 @@ static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, c4g
 {
     c4g_status_t st = C4G_OK;
     c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
-    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, (size_t)(C4G_MAX_AXES - n) * C4G_AXIS_SIZE);
+    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
     if (axes_bad(ax, n) != 0U) {
         st = first_bad_axis(buf, n, diag);
     }
