@@ -197,4 +197,10 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
     }
 }
 
+/* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
+ * decoder checked every value and mode of it, so the step does not check them again. */
+c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                     uint64_t now_ns, c4g_pc_packet_t *tx,
+                                     c4g_engine_report_t *rep);
+
 #endif /* C4G_INTERNAL_H */
