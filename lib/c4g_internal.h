@@ -6,14 +6,6 @@
 #include "c4gopen.h"
 #include <string.h>
 
-/* Hot-path helpers that must inline for the per-tick budget (bench/bench_wire.c);
- * plain inline on compilers without the attribute. */
-#if defined(__GNUC__) || defined(__clang__)
-#define C4G_HOT_INLINE __attribute__((always_inline)) inline
-#else
-#define C4G_HOT_INLINE inline
-#endif
-
 /* A condition as a 0/1 flag word (the struct flags are uint32_t). */
 static inline uint32_t c4g_flag(bool b)
 {
@@ -100,6 +92,98 @@ static inline int c4g_f32_finite(float f)
     return ((c4g_exp_carry(c4g_f32_bits(f)) & 0x80000000U) == 0U) ? 1 : 0;
 }
 
+/* ---- bulk wire words: the per-tick codec copies and checks whole packets, not fields */
+
+/* Words of one cyclic axis on the wire and in c4g_ctrl_axis_t / c4g_pc_axis_t: SM, D1..D5,
+ * EXT1..EXT3, 4 bytes each, no padding (every member is 4 bytes; tests/test_codec.c checks the
+ * sizes), in wire order. */
+#define C4G_AXIS_WORDS 9U
+
+/* 1 when the host stores a uint32_t most significant byte first. Compilers fold it to a
+ * constant, so the byte reversal below costs nothing on a little-endian host. */
+static inline uint32_t c4g_host_big_endian(void)
+{
+    const uint32_t probe = 0x01020304U;
+    uint8_t b[4];
+    /* Deviation D-02 (MISRA 21.15): the bytes of a word, bit-exact. */
+    /* cppcheck-suppress misra-c2012-21.15 */
+    (void)memcpy(b, &probe, sizeof b);
+    return (b[0] == 0x01U) ? 1U : 0U;
+}
+
+/* Copy @p nwords 4-byte words between the little-endian wire and host order (the same
+ * operation both ways): one memcpy, then, when @p swap is set (a big-endian host), every
+ * word's bytes reversed in place. */
+static inline void c4g_words_le(uint8_t *dst, const uint8_t *src, size_t nwords, uint32_t swap)
+{
+    const size_t n = nwords * 4U;
+    (void)memcpy(dst, src, n);
+    if (swap != 0U) {
+        size_t k;
+        for (k = 0U; k < n; k += 4U) {
+            const uint8_t b0 = dst[k];
+            const uint8_t b1 = dst[k + 1U];
+            dst[k] = dst[k + 3U];
+            dst[k + 1U] = dst[k + 2U];
+            dst[k + 2U] = b1;
+            dst[k + 3U] = b0;
+        }
+    }
+}
+
+/* One host-order word of a struct seen as bytes (@p p: 4 readable bytes). */
+static inline uint32_t c4g_word_at(const uint8_t *p)
+{
+    uint32_t u;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
+    (void)memcpy(&u, p, sizeof u);
+    return u;
+}
+
+/* One host-order int32_t of a struct seen as bytes. */
+static inline int32_t c4g_host_i32_at(const uint8_t *p)
+{
+    int32_t r;
+    /* Deviation D-02 (MISRA 21.15): bit-exact reinterpretation, same size. */
+    /* cppcheck-suppress misra-c2012-21.15 */
+    (void)memcpy(&r, p, sizeof r);
+    return r;
+}
+
+/* Bit 31 set iff one of @p nwords host-order words (bytes @p p) has an all-ones float
+ * exponent (NaN/infinity; see c4g_exp_carry). Eight independent lanes per step: compilers
+ * turn them into two 4-wide vector operations without intrinsics. */
+static inline uint32_t c4g_words_carry(const uint8_t *p, size_t nwords)
+{
+    uint32_t a0 = 0U;
+    uint32_t a1 = 0U;
+    uint32_t a2 = 0U;
+    uint32_t a3 = 0U;
+    uint32_t a4 = 0U;
+    uint32_t a5 = 0U;
+    uint32_t a6 = 0U;
+    uint32_t a7 = 0U;
+    const size_t groups = nwords / 8U;
+    size_t g;
+    size_t k;
+    for (g = 0U; g < groups; g++) {
+        const uint8_t *q = &p[g * 32U];
+        a0 |= c4g_exp_carry(c4g_word_at(q));
+        a1 |= c4g_exp_carry(c4g_word_at(&q[4]));
+        a2 |= c4g_exp_carry(c4g_word_at(&q[8]));
+        a3 |= c4g_exp_carry(c4g_word_at(&q[12]));
+        a4 |= c4g_exp_carry(c4g_word_at(&q[16]));
+        a5 |= c4g_exp_carry(c4g_word_at(&q[20]));
+        a6 |= c4g_exp_carry(c4g_word_at(&q[24]));
+        a7 |= c4g_exp_carry(c4g_word_at(&q[28]));
+    }
+    for (k = groups * 8U; k < nwords; k++) {
+        a0 |= c4g_exp_carry(c4g_word_at(&p[k * 4U]));
+    }
+    return (a0 | a1 | a2 | a3 | a4 | a5 | a6 | a7) & 0x80000000U;
+}
+
 static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t field,
                                 uint32_t offset, int32_t arm, int32_t axis, int64_t value)
 {
@@ -112,5 +196,11 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
         d->value = value;
     }
 }
+
+/* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
+ * decoder checked every value and mode of it, so the step does not check them again. */
+c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                     uint64_t now_ns, c4g_pc_packet_t *tx,
+                                     c4g_engine_report_t *rep);
 
 #endif /* C4G_INTERNAL_H */

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Cyclic packet codec: byte layout, round trips, hostile lengths and values. */
 #include "test_helpers.h"
+#include "../lib/c4g_internal.h" /* the bulk word helpers of the codec */
 #include <math.h>
 
 static void test_layout_little_endian(void **state)
@@ -368,10 +369,45 @@ static void test_ctrl_errors(void **state)
     assert_string_equal(c4g_ctrl_error_description(C4G_CERR_COUNT_), "?");
 }
 
+/* The codec's bulk helpers: the byte reversal a big-endian host runs (forced here, where the
+ * host is little-endian), and the NaN/inf pass in its 8-word groups and its tail. */
+static void test_bulk_words(void **state)
+{
+    static const uint8_t src[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    static const uint8_t swapped[8] = {4, 3, 2, 1, 8, 7, 6, 5};
+    const uint32_t probe = 1U;
+    uint8_t first;
+    uint8_t dst[8];
+    uint32_t w[11];
+    uint32_t k;
+    (void)state;
+    assert_int_equal(sizeof(c4g_ctrl_axis_t), C4G_AXIS_WORDS * 4U);
+    assert_int_equal(sizeof(c4g_pc_axis_t), C4G_AXIS_WORDS * 4U);
+    memcpy(&first, &probe, 1);
+    assert_int_equal(c4g_host_big_endian(), first == 0U ? 1U : 0U);
+    c4g_words_le(dst, src, 2U, 1U);
+    assert_memory_equal(dst, swapped, sizeof dst);
+    c4g_words_le(dst, src, 2U, 0U);
+    assert_memory_equal(dst, src, sizeof dst);
+    for (k = 0U; k < 11U; k++) {
+        w[k] = 0x3F800000U + k; /* finite */
+    }
+    assert_int_equal(c4g_words_carry((const uint8_t *)w, 11U), 0U);
+    w[3] = 0x7FC00000U; /* NaN in the group of eight */
+    assert_int_not_equal(c4g_words_carry((const uint8_t *)w, 11U), 0U);
+    assert_int_equal(c4g_words_carry((const uint8_t *)w, 3U), 0U); /* tail only, before it */
+    w[3] = 0x3F800000U;
+    w[10] = 0xFF800000U; /* -inf in the tail */
+    assert_int_not_equal(c4g_words_carry((const uint8_t *)w, 11U), 0U);
+    assert_int_equal(c4g_words_carry((const uint8_t *)w, 10U), 0U);
+    assert_int_equal(c4g_host_i32_at((const uint8_t *)&w[0]), 0x3F800000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_layout_little_endian),
+        cmocka_unit_test(test_bulk_words),
         cmocka_unit_test(test_roundtrip_random),
         cmocka_unit_test(test_every_length),
         cmocka_unit_test(test_axis_count_mismatch),

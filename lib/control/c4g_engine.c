@@ -202,9 +202,11 @@ static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
 
 /* Fast pass over a packet of the context's axis count: 1 if some axis carries an unknown
  * mode or a non-finite value (check_rx then names the status), else 0 with the per-arm
- * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms). */
+ * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms).
+ * @p check 0: the packet comes from the library's own decoder, which checked every value and
+ * mode of it already (the loop object's path): only the arm view is built. */
 static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
-                        arm_view_t v[C4G_ARMS])
+                        arm_view_t v[C4G_ARMS], uint32_t check)
 {
     const uint32_t n = axes_in(ctl->map.n_axes);
     uint32_t carry = 0U;
@@ -215,10 +217,12 @@ static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
         const c4g_ctrl_axis_t *a = &rx->ax[i];
         arm_view_t *w = &v[ctl->map.arm_of[i]];
         const int32_t am = a->mode;
-        carry |= rx_axis_carry(a);
-        /* the mode prepared last tick is known: skip the lookup when it repeats */
-        if ((am != ctl->prep_mode[i]) && (!c4g_mode_is_known(am))) {
-            unknown = 1U;
+        if (check != 0U) {
+            carry |= rx_axis_carry(a);
+            /* the mode prepared last tick is known: skip the lookup when it repeats */
+            if ((am != ctl->prep_mode[i]) && (!c4g_mode_is_known(am))) {
+                unknown = 1U;
+            }
         }
         if (w->seen == 0U) {
             w->first = am;
@@ -331,8 +335,8 @@ static inline void step_prepare(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
     ctl->step_num = rx->num;
 }
 
-c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
-                          c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
+static c4g_status_t engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                                c4g_pc_packet_t *tx, c4g_engine_report_t *rep, uint32_t check)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
@@ -346,7 +350,7 @@ c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uin
         st = C4G_ERR_PACKET;
         if (rx->n_axes == ctl->map.n_axes) {
             st = C4G_OK;
-            if (rx_scan(ctl, rx, v) != 0U) {
+            if (rx_scan(ctl, rx, v, check) != 0U) {
                 st = check_rx(ctl, rx);
             }
         }
@@ -359,6 +363,19 @@ c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uin
         }
     }
     return st;
+}
+
+c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+                          c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
+{
+    return engine_step(ctl, rx, now_ns, tx, rep, 1U);
+}
+
+c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                     uint64_t now_ns, c4g_pc_packet_t *tx,
+                                     c4g_engine_report_t *rep)
+{
+    return engine_step(ctl, rx, now_ns, tx, rep, 0U);
 }
 
 /* ------------------------------------------------------------------ requests */

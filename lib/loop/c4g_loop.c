@@ -29,7 +29,8 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
     lp->rx = pkt;
     lp->prepared = 0U;
     if (lp->engine_ready != 0U) {
-        st = c4g_engine_step(&lp->engine, pkt, now_ns, &lp->tx, &lp->report); /* clears report */
+        /* clears report; pkt comes from the session's decoder, which checked it */
+        st = c4g_engine_step_decoded(&lp->engine, pkt, now_ns, &lp->tx, &lp->report);
     }
     if (st == C4G_OK) {
         lp->prepared = 1U;

@@ -111,57 +111,34 @@ static inline uint32_t mode_unknown_fast(int32_t mode)
     return unknown;
 }
 
-/* Returns non-zero if a float field is NaN/inf (the slow path names it); values stored anyway. */
-static C4G_HOT_INLINE uint32_t get_axis(const uint8_t *p, int32_t *mode, float *f0, float *f1, float *f2,
-                                float *f3, float *f4, float *f5, float *f6, float *f7)
+/* 1 if some of the @p n axes (bytes @p ax, host order) carries an unknown mode. A packet
+ * usually carries one mode on every axis: one pass compares them with the first, one lookup
+ * checks it; a packet of several modes checks each. */
+static inline uint32_t modes_unknown(const uint8_t *ax, uint32_t n)
 {
-    /* Unrolled like put_axis, for the same reason. */
-    const uint32_t u0 = c4g_get_u32le(&p[4]);
-    const uint32_t u1 = c4g_get_u32le(&p[8]);
-    const uint32_t u2 = c4g_get_u32le(&p[12]);
-    const uint32_t u3 = c4g_get_u32le(&p[16]);
-    const uint32_t u4 = c4g_get_u32le(&p[20]);
-    const uint32_t u5 = c4g_get_u32le(&p[24]);
-    const uint32_t u6 = c4g_get_u32le(&p[28]);
-    const uint32_t u7 = c4g_get_u32le(&p[32]);
-    *mode = c4g_get_i32le(p);
-    *f0 = c4g_f32_from_bits(u0);
-    *f1 = c4g_f32_from_bits(u1);
-    *f2 = c4g_f32_from_bits(u2);
-    *f3 = c4g_f32_from_bits(u3);
-    *f4 = c4g_f32_from_bits(u4);
-    *f5 = c4g_f32_from_bits(u5);
-    *f6 = c4g_f32_from_bits(u6);
-    *f7 = c4g_f32_from_bits(u7);
-    return (c4g_exp_carry(u0) | c4g_exp_carry(u1) | c4g_exp_carry(u2) | c4g_exp_carry(u3) | c4g_exp_carry(u4) |
-            c4g_exp_carry(u5) | c4g_exp_carry(u6) | c4g_exp_carry(u7)) >> 31U;
+    const int32_t first = c4g_host_i32_at(ax);
+    uint32_t diff = 0U;
+    uint32_t u;
+    uint32_t i;
+    for (i = 1U; i < n; i++) {
+        diff |= (uint32_t)c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]) ^ (uint32_t)first;
+    }
+    u = mode_unknown_fast(first);
+    if (diff != 0U) {
+        for (i = 1U; i < n; i++) {
+            u |= mode_unknown_fast(c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]));
+        }
+    }
+    return u;
 }
 
-/* Writes the axis; returns non-zero on NaN/inf (the caller then voids the packet). */
-static C4G_HOT_INLINE uint32_t put_axis(uint8_t *p, int32_t mode, float f0, float f1, float f2, float f3,
-                                float f4, float f5, float f6, float f7)
+/* 1 if the @p n axes (bytes @p ax, host order) hold a NaN/inf or an unknown mode: every word
+ * in one pass (a mode word with an all-ones exponent is an unknown mode anyway), then the
+ * modes. */
+static inline uint32_t axes_bad(const uint8_t *ax, uint32_t n)
 {
-    /* Unrolled on purpose: a loop here gets vectorised into byte shuffles that cost
-     * more than the straight 32-bit stores the compiler merges this into. */
-    const uint32_t u0 = c4g_f32_bits(f0);
-    const uint32_t u1 = c4g_f32_bits(f1);
-    const uint32_t u2 = c4g_f32_bits(f2);
-    const uint32_t u3 = c4g_f32_bits(f3);
-    const uint32_t u4 = c4g_f32_bits(f4);
-    const uint32_t u5 = c4g_f32_bits(f5);
-    const uint32_t u6 = c4g_f32_bits(f6);
-    const uint32_t u7 = c4g_f32_bits(f7);
-    c4g_put_i32le(p, mode);
-    c4g_put_u32le(&p[4], u0);
-    c4g_put_u32le(&p[8], u1);
-    c4g_put_u32le(&p[12], u2);
-    c4g_put_u32le(&p[16], u3);
-    c4g_put_u32le(&p[20], u4);
-    c4g_put_u32le(&p[24], u5);
-    c4g_put_u32le(&p[28], u6);
-    c4g_put_u32le(&p[32], u7);
-    return (c4g_exp_carry(u0) | c4g_exp_carry(u1) | c4g_exp_carry(u2) | c4g_exp_carry(u3) | c4g_exp_carry(u4) |
-            c4g_exp_carry(u5) | c4g_exp_carry(u6) | c4g_exp_carry(u7)) >> 31U;
+    return c4g_flag((c4g_words_carry(ax, (size_t)n * C4G_AXIS_WORDS) != 0U) ||
+                    (modes_unknown(ax, n) != 0U));
 }
 
 /* Slow path, only on error (unknown mode or NaN/inf): name the field in the diagnostic. */
@@ -188,6 +165,26 @@ static c4g_status_t axis_error(int32_t mode, const uint8_t *p, uint32_t index, c
     return st;
 }
 
+/* The first bad axis of a datagram the bulk check refused, named from its wire bytes. */
+static c4g_status_t first_bad_axis(const uint8_t *buf, uint32_t n, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t i;
+    for (i = 0U; (i < n) && (st == C4G_OK); i++) {
+        const uint8_t *p = &buf[C4G_CYCLIC_SIZE(i)];
+        const int32_t mode = c4g_get_i32le(p);
+        uint32_t carry = 0U;
+        uint32_t k;
+        for (k = 1U; k <= AXIS_FLOATS; k++) {
+            carry |= c4g_exp_carry(c4g_get_u32le(&p[(size_t)k * 4U]));
+        }
+        if (((carry & 0x80000000U) != 0U) || (!c4g_mode_is_known(mode))) {
+            st = axis_error(mode, p, i, diag);
+        }
+    }
+    return st;
+}
+
 static c4g_status_t decode_header(const uint8_t *buf, size_t len, uint32_t n_axes, int32_t *num,
                                   uint32_t *infpar, uint32_t *cmd, uint32_t *n_out,
                                   c4g_diag_t *diag)
@@ -202,6 +199,19 @@ static c4g_status_t decode_header(const uint8_t *buf, size_t len, uint32_t n_axe
     return st;
 }
 
+/* The axes of a datagram whose header decoded: one copy into host order, one check of the
+ * copy; the axes past @p n zero (deterministic output). */
+static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
+    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
+    if (axes_bad(ax, n) != 0U) {
+        st = first_bad_axis(buf, n, diag);
+    }
+    return st;
+}
+
 c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                              c4g_ctrl_packet_t *out, c4g_diag_t *diag)
 {
@@ -209,23 +219,13 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
-        uint32_t i;
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
-        for (i = 0U; (i < n) && (st == C4G_OK); i++) {
-            const uint8_t *p = &buf[C4G_CYCLIC_SIZE(i)];
-            c4g_ctrl_axis_t *a = &out->ax[i];
-            const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
-                                          &a->actual_pos, &a->actual_vel, &a->current_ref,
-                                          &a->ext[0], &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
-                st = axis_error(a->mode, p, i, diag);
-            }
+        if (st == C4G_OK) {
+            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;
-            /* deterministic output: axes past n are zero */
-            (void)memset(&out->ax[n], 0, (C4G_MAX_AXES - n) * sizeof out->ax[0]);
         } else {
             (void)memset(out, 0, sizeof *out);
         }
@@ -242,23 +242,13 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
-        uint32_t i;
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
-        for (i = 0U; (i < n) && (st == C4G_OK); i++) {
-            const uint8_t *p = &buf[C4G_CYCLIC_SIZE(i)];
-            c4g_pc_axis_t *a = &out->ax[i];
-            const uint32_t bad = get_axis(p, &a->mode, &a->target_pos, &a->target_vel,
-                                          &a->measure, &a->vel_add, &a->current_add, &a->ext[0],
-                                          &a->ext[1], &a->ext[2]);
-            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
-                st = axis_error(a->mode, p, i, diag);
-            }
+        if (st == C4G_OK) {
+            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;
-            /* deterministic output: axes past n are zero */
-            (void)memset(&out->ax[n], 0, (C4G_MAX_AXES - n) * sizeof out->ax[0]);
         } else {
             (void)memset(out, 0, sizeof *out);
         }
@@ -286,12 +276,38 @@ static c4g_status_t encode_header(int32_t num, uint32_t infpar, uint32_t cmd, ui
     return st;
 }
 
-/* A failed encode must not leave a half-written packet that someone might send: the
- * header (cap >= 48 was checked) is zeroed, so the bytes are not a valid packet. */
-static c4g_status_t encode_error(int32_t mode, uint8_t *buf)
+/* Why the axes were refused: the first axis with an unknown mode or a NaN/inf decides. */
+static c4g_status_t encode_refusal(const uint8_t *ax, uint32_t n)
 {
-    (void)memset(buf, 0, C4G_HEADER_SIZE);
-    return (!c4g_mode_is_known(mode)) ? C4G_ERR_MODE : C4G_ERR_NONFINITE;
+    c4g_status_t st = C4G_OK;
+    uint32_t i;
+    for (i = 0U; (i < n) && (st == C4G_OK); i++) {
+        const uint8_t *p = &ax[(size_t)i * C4G_AXIS_SIZE];
+        if (!c4g_mode_is_known(c4g_host_i32_at(p))) {
+            st = C4G_ERR_MODE;
+        } else if (c4g_words_carry(&p[4], AXIS_FLOATS) != 0U) {
+            st = C4G_ERR_NONFINITE;
+        } else {
+            /* a good axis */
+        }
+    }
+    return st;
+}
+
+/* The axes after a written header: checked in one pass, then one copy to the wire. A failed
+ * encode must not leave a half-written packet that someone might send: the header (cap >= 48
+ * was checked) is zeroed, so the bytes are not a valid packet. */
+static c4g_status_t encode_axes(const uint8_t *ax, uint32_t n, uint8_t *buf)
+{
+    c4g_status_t st = C4G_OK;
+    if (axes_bad(ax, n) != 0U) {
+        st = encode_refusal(ax, n);
+        (void)memset(buf, 0, C4G_HEADER_SIZE);
+    } else {
+        c4g_words_le(&buf[C4G_HEADER_SIZE], ax, (size_t)n * C4G_AXIS_WORDS,
+                     c4g_host_big_endian());
+    }
+    return st;
 }
 
 c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t cap,
@@ -299,18 +315,10 @@ c4g_status_t c4g_ctrl_encode(const c4g_ctrl_packet_t *pkt, uint8_t *buf, size_t 
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((pkt != NULL) && (buf != NULL) && (out_len != NULL)) {
-        uint32_t i;
         *out_len = 0U;
         st = encode_header(pkt->num, pkt->infpar, pkt->cmd, pkt->n_axes, buf, cap);
-        for (i = 0U; (i < pkt->n_axes) && (st == C4G_OK); i++) {
-            const c4g_ctrl_axis_t *a = &pkt->ax[i];
-            const uint32_t bad =
-                put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
-                         a->actual_pos, a->actual_vel, a->current_ref, a->ext[0], a->ext[1],
-                         a->ext[2]);
-            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
-                st = encode_error(a->mode, buf);
-            }
+        if (st == C4G_OK) {
+            st = encode_axes((const uint8_t *)pkt->ax, pkt->n_axes, buf);
         }
         if (st == C4G_OK) {
             *out_len = C4G_CYCLIC_SIZE(pkt->n_axes);
@@ -324,17 +332,10 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((pkt != NULL) && (buf != NULL) && (out_len != NULL)) {
-        uint32_t i;
         *out_len = 0U;
         st = encode_header(pkt->num, pkt->infpar, pkt->cmd, pkt->n_axes, buf, cap);
-        for (i = 0U; (i < pkt->n_axes) && (st == C4G_OK); i++) {
-            const c4g_pc_axis_t *a = &pkt->ax[i];
-            const uint32_t bad =
-                put_axis(&buf[C4G_CYCLIC_SIZE(i)], a->mode, a->target_pos, a->target_vel,
-                         a->measure, a->vel_add, a->current_add, a->ext[0], a->ext[1], a->ext[2]);
-            if ((bad != 0U) || (mode_unknown_fast(a->mode) != 0U)) {
-                st = encode_error(a->mode, buf);
-            }
+        if (st == C4G_OK) {
+            st = encode_axes((const uint8_t *)pkt->ax, pkt->n_axes, buf);
         }
         if (st == C4G_OK) {
             *out_len = C4G_CYCLIC_SIZE(pkt->n_axes);

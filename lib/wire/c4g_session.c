@@ -208,18 +208,14 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
     }
 }
 
+/* Bit a set when arm a's INFPAR byte reports C4G_STS_MOVING (the bytes by constant shifts:
+ * this runs on every packet). */
 static uint32_t drive_mask(uint32_t infpar)
 {
-    uint32_t mask = 0U;
-    uint32_t bit = 1U;
-    uint32_t arm;
-    for (arm = 0U; arm < C4G_ARMS; arm++) {
-        if (c4g_arm_byte(infpar, arm) == C4G_STS_MOVING) {
-            mask |= bit;
-        }
-        bit *= 2U;
-    }
-    return mask;
+    return c4g_flag((infpar & 0xFFU) == C4G_STS_MOVING) |
+           (c4g_flag(((infpar >> 8U) & 0xFFU) == C4G_STS_MOVING) << 1U) |
+           (c4g_flag(((infpar >> 16U) & 0xFFU) == C4G_STS_MOVING) << 2U) |
+           (c4g_flag((infpar >> 24U) == C4G_STS_MOVING) << 3U);
 }
 
 static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
@@ -460,8 +456,8 @@ static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, u
     res->events |= check_lost(s, now_ns);
     was_silent = c4g_flag((s->silent != 0U) || (s->phase == C4G_PHASE_LOST));
     lost_ev = res->events;
-    before = s->counters;
     if (new_startup(s, buf, len, other) != 0) {
+        before = s->counters; /* restored if a stranger's datagram was no start-up */
         restart_from(s, buf, len, now_ns, other, &before, lost_ev, res);
     } else if (other != 0) {
         on_foreign(s, len, res);
@@ -502,17 +498,17 @@ c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, ui
  * enter it, which the control layer enforces), EXIT_FROM_OPEN on any arm ends it. */
 static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
 {
+    const uint32_t w = tx->infpar;
     uint32_t i;
-    uint32_t arm;
     for (i = 0U; i < tx->n_axes; i++) {
         if (tx->ax[i].mode == C4G_MODE_FREEZING_A) {
             s->frozen_active = 1U;
         }
     }
-    for (arm = 0U; arm < C4G_ARMS; arm++) {
-        if (c4g_arm_byte(tx->infpar, arm) == C4G_EXIT_FROM_OPEN) {
-            s->frozen_active = 0U;
-        }
+    /* the arms' bytes by constant shifts: this runs on every reply */
+    if (((w & 0xFFU) == C4G_EXIT_FROM_OPEN) || (((w >> 8U) & 0xFFU) == C4G_EXIT_FROM_OPEN) ||
+        (((w >> 16U) & 0xFFU) == C4G_EXIT_FROM_OPEN) || ((w >> 24U) == C4G_EXIT_FROM_OPEN)) {
+        s->frozen_active = 0U;
     }
 }
 

@@ -2,12 +2,14 @@
 /* Lock-free SPSC record ring + writer thread (see c4g_rtlog.h for the memory model). */
 #include "c4g_rtlog.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
 
 #define RING_MASK (C4G_RTLOG_SLOTS - 1U)
+#define WAKE_AT (C4G_RTLOG_SLOTS / 4U) /* queued records that wake the writer */
 
 void c4g_rtlog_init(c4g_rtlog_t *r, c4g_rtlog_sink_fn sink, void *ctx)
 {
@@ -20,7 +22,7 @@ void c4g_rtlog_init(c4g_rtlog_t *r, c4g_rtlog_sink_fn sink, void *ctx)
     r->sink = sink;
     r->ctx = ctx;
     r->running = 0;
-    r->poll_us = 1000U;
+    r->idle_ms = 100U;
 }
 
 c4g_rtlog_rec_t *c4g_rtlog_reserve(c4g_rtlog_t *r)
@@ -40,7 +42,12 @@ c4g_rtlog_rec_t *c4g_rtlog_reserve(c4g_rtlog_t *r)
 
 void c4g_rtlog_commit(c4g_rtlog_t *r)
 {
-    __atomic_store_n(&r->head, r->head + 1U, __ATOMIC_RELEASE);
+    const uint32_t h = r->head + 1U;
+    __atomic_store_n(&r->head, h, __ATOMIC_RELEASE);
+    /* the queue grows by one per commit, so it meets WAKE_AT on its way up: one post */
+    if (r->running && h - __atomic_load_n(&r->tail, __ATOMIC_ACQUIRE) == WAKE_AT) {
+        (void)sem_post(&r->wake);
+    }
 }
 
 int c4g_rtlog_put(c4g_rtlog_t *r, uint32_t kind, uint64_t t_ns, const void *data, size_t len)
@@ -104,19 +111,32 @@ static unsigned drain(c4g_rtlog_t *r)
     return n;
 }
 
+/* Sleep until the producer or stop posts, or idle_ms passed (sem_timedwait counts on the
+ * realtime clock: a clock step only moves one wake-up). */
+static void writer_wait(c4g_rtlog_t *r)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    ts.tv_sec += (time_t)(r->idle_ms / 1000U);
+    ts.tv_nsec += (long)(r->idle_ms % 1000U) * 1000000L;
+    if (ts.tv_nsec >= 1000000000L) {
+        ts.tv_nsec -= 1000000000L;
+        ts.tv_sec++;
+    }
+    while (sem_timedwait(&r->wake, &ts) != 0 && errno == EINTR) {
+    }
+}
+
 static void *writer(void *arg)
 {
     c4g_rtlog_t *r = (c4g_rtlog_t *)arg;
     for (;;) {
         const uint32_t stop = __atomic_load_n(&r->stop, __ATOMIC_ACQUIRE);
-        if (drain(r) == 0U) {
-            struct timespec ts;
-            if (stop != 0U) {
-                break;
-            }
-            ts.tv_sec = 0;
-            ts.tv_nsec = (long)r->poll_us * 1000L;
-            nanosleep(&ts, NULL);
+        if (drain(r) == 0U && stop != 0U) {
+            break;
+        }
+        if (stop == 0U) {
+            writer_wait(r);
         }
     }
     return NULL;
@@ -124,9 +144,15 @@ static void *writer(void *arg)
 
 int c4g_rtlog_start(c4g_rtlog_t *r)
 {
-    int e = pthread_create(&r->thread, NULL, writer, r);
-    if (e == 0) {
-        r->running = 1;
+    int e;
+    if (sem_init(&r->wake, 0, 0U) != 0) {
+        return errno;
+    }
+    r->running = 1; /* before the thread: commit may post from now on */
+    e = pthread_create(&r->thread, NULL, writer, r);
+    if (e != 0) {
+        r->running = 0;
+        (void)sem_destroy(&r->wake);
     }
     return e;
 }
@@ -135,8 +161,10 @@ void c4g_rtlog_stop(c4g_rtlog_t *r)
 {
     if (r->running) {
         __atomic_store_n(&r->stop, 1U, __ATOMIC_RELEASE);
+        (void)sem_post(&r->wake);
         pthread_join(r->thread, NULL);
         r->running = 0;
+        (void)sem_destroy(&r->wake);
     } else {
         (void)drain(r); /* no thread: drain synchronously */
     }

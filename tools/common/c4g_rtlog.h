@@ -10,11 +10,17 @@
  * __ATOMIC_ACQUIRE, so it sees the slot's bytes. The consumer frees the slot with a
  * RELEASE store of tail; the producer reads tail with ACQUIRE before reusing a slot.
  * Indices are free-running uint32 counters (wrap is harmless: size is a power of 2).
- * When the ring is full the record is dropped and counted, never waited for. */
+ * When the ring is full the record is dropped and counted, never waited for.
+ *
+ * The writer does not poll: it blocks on a semaphore and drains in batches, woken by the
+ * producer once a quarter of the ring is queued (one sem_post, no lock), by
+ * c4g_rtlog_stop, or after idle_ms (so a lone text line waits at most that long). At 1 kHz
+ * that is a few wake-ups a second instead of one per tick. */
 #ifndef C4G_RTLOG_H
 #define C4G_RTLOG_H
 
 #include <pthread.h>
+#include <semaphore.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -43,7 +49,8 @@ typedef struct c4g_rtlog {
     void *ctx;
     pthread_t thread;
     int running;
-    unsigned poll_us;       /* writer sleep when idle */
+    sem_t wake;             /* posted by the producer (quarter full) and by stop */
+    unsigned idle_ms;       /* longest the writer sleeps with records queued */
 } c4g_rtlog_t;
 
 /* Set up the ring (no allocation: the struct is caller storage, usually static). */

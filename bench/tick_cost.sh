@@ -1,0 +1,43 @@
+#!/bin/sh
+# Per-tick cost of the PC side against the struct-copy baseline of bench/tick.c, same run:
+# instructions per tick under callgrind, Ir(2N ticks) - Ir(N ticks) over N (the repeatable
+# figure), and ns per tick (median of interleaved batches; noisy on a shared machine).
+# Goals: 20 axes wire <= 740 Ir, full <= 3135 Ir; 6 axes wire <= 453 Ir, full <= 1177 Ir
+# (half of what a struct-cast library without any validation spends, measured on it).
+# Usage: sh bench/tick_cost.sh BUILD_DIR
+set -eu
+build=$1
+b="$build/bench/tick"
+mkdir -p "$build/bench"
+${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Itools/common -o "$b" \
+  bench/tick.c tools/common/c4g_fixtures.c "$build/lib/libc4gopen.a" -lm
+ns=$(mktemp)
+trap 'rm -f "$ns"' EXIT
+"$b" >"$ns"
+have_vg=1
+command -v valgrind >/dev/null 2>&1 || { have_vg=0; echo "tick_cost: valgrind not installed, Ir skipped"; }
+ir() {
+  out=$(mktemp)
+  valgrind --tool=callgrind --callgrind-out-file="$out" "$b" --only "$1" "$2" "$3" >/dev/null 2>&1
+  sed -n 's/^summary: *//p; s/^totals: *//p' "$out" | head -n 1
+  rm -f "$out"
+}
+per_tick() {  # per_tick PATH AXES -> Ir per tick
+  if [ "$have_vg" = 0 ]; then echo 0; return; fi
+  n=5000
+  a=$(ir "$1" "$2" $n); c=$(ir "$1" "$2" $((2 * n)))
+  awk -v a="$a" -v c="$c" -v n="$n" 'BEGIN { printf "%.0f", (c - a) / n }'
+}
+printf '%-6s %5s %9s %9s %7s %9s %9s %9s %7s\n' path axes "ours Ir" "base Ir" ratio "goal Ir" "ours ns" "base ns" ratio
+for path in wire full; do
+  for axes in 6 20; do
+    o=$(per_tick "$path" "$axes"); bb=$(per_tick "base-$path" "$axes")
+    case "$path$axes" in wire6) g=453 ;; wire20) g=740 ;; full6) g=1177 ;; *) g=3135 ;; esac
+    set -- $(awk -v p="$path" -v a="$axes" '$1 == p && $2 == a { print $3, $4, $5 }' "$ns")
+    awk -v p="$path" -v a="$axes" -v o="$o" -v b="$bb" -v g="$g" -v on="$1" -v bn="$2" -v r="$3" 'BEGIN {
+      printf "%-6s %5s %9d %9d %6.1fx %5d %-3s %9.1f %9.1f %7s\n", p, a, o, b, (b > 0 ? o / b : 0), g,
+        (o <= g ? "met" : "NOT"), on, bn, r }'
+  done
+done
+echo "(ours: wire = session rx + neutral reply + encode, mode 0; full = loop object, mode 4, setpoints,"
+echo " packet rules and safety filter. base = struct copy in/out, no validation; Ir/tick = (Ir(2N) - Ir(N))/N)"
