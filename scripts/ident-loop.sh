@@ -14,6 +14,8 @@ O=${2:?usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]}
 PORT=${3:-41610}
 SRV=$B/bin/c4g-server
 SIM=$B/bin/c4g-sim
+RTSIM=''
+chrt -f 70 true 2>/dev/null && RTSIM='chrt -f 70'
 ID=$B/bin/c4g-ident
 RP=$B/bin/c4g-replay
 mkdir -p "$O"
@@ -29,12 +31,15 @@ session() {
   name=$1; scn=$2; shift 2
   try=1
   while :; do
-    "$SRV" -p "$PORT" -c 127.0.0.1 --idle-timeout 5 --max-seconds 120 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
+    # both ends real-time where the host allows it, as on a real cell (the controller is a
+    # hard real-time system, the PC's loop runs SCHED_FIFO: docs/rt-integration.md); a busy
+    # host then delays neither, and the moves measure the feedforward, not the scheduler
+    "$SRV" -p "$PORT" -c 127.0.0.1 --idle-timeout 5 --max-seconds 120 --prio 70 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
     SPID=$!
     i=0
     while ! grep -q "listening on" "$O/$name.srv.err" 2>/dev/null && [ $i -lt 60 ]; do sleep 0.05; i=$((i + 1)); done
     # --max-miss: late replies on a loaded host must not end the recording (they are in it)
-    timeout 120 "$SIM" -p "$PORT" -c fixtures/ident/sim-truth.ini -S "fixtures/scenarios/$scn" --max-miss 100000 --pcap "$O/$name.pcap" -q
+    timeout 120 $RTSIM "$SIM" -p "$PORT" -c fixtures/ident/sim-truth.ini -S "fixtures/scenarios/$scn" --max-miss 100000 --pcap "$O/$name.pcap" -q
     simrc=$?
     i=0
     while kill -0 "$SPID" 2>/dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
