@@ -218,6 +218,19 @@ int write_params(const std::string &path, const Job &j, const std::string &versi
     return 0;
 }
 
+// The samples axis k was fitted to: its log prepared again with the delay and eps found.
+static Samples fitted_samples(const Job &j, std::size_t k)
+{
+    const AxisResult &r = j.results[k];
+    Samples s;
+    Options o = j.opt;
+    o.delay_auto = false;
+    o.delay = r.prep.delay;
+    o.eps = r.prep.eps;
+    (void)prepare(j.logs[k], o, &s);
+    return s;
+}
+
 int write_samples(const std::string &dir, const Job &j, std::string *err)
 {
     if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) {
@@ -227,12 +240,7 @@ int write_samples(const std::string &dir, const Job &j, std::string *err)
     for (std::size_t k = 0; k < j.results.size(); k++) {
         const AxisResult &r = j.results[k];
         if (!r.identifiable) continue;
-        Samples s;
-        Options o = j.opt;
-        o.delay_auto = false;
-        o.delay = r.prep.delay;
-        o.eps = r.prep.eps;
-        (void)prepare(j.logs[k], o, &s);
+        const Samples s = fitted_samples(j, k);
         const std::string path = dir + "/arm" + std::to_string(r.arm) + "_axis" + std::to_string(r.axis) + ".csv";
         FILE *f = std::fopen(path.c_str(), "w");
         if (f == nullptr) {
@@ -262,12 +270,7 @@ int write_plots(const std::string &dir, const Job &j, std::string *err)
     for (std::size_t k = 0; k < j.results.size(); k++) {
         const AxisResult &r = j.results[k];
         if (!r.identifiable) continue;
-        Samples s;
-        Options o = j.opt;
-        o.delay_auto = false;
-        o.delay = r.prep.delay;
-        o.eps = r.prep.eps;
-        (void)prepare(j.logs[k], o, &s);
+        const Samples s = fitted_samples(j, k);
         const std::string base = dir + "/arm" + std::to_string(r.arm) + "_axis" + std::to_string(r.axis);
         // data: t, i, predicted, residual, v, friction part of i (i - inertia - gravity - off)
         {
