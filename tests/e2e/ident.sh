@@ -66,6 +66,18 @@ for f in current residual friction; do
 done
 head -c 8 "$T/loop/plots/arm1_axis2_current.png" | od -An -c | grep -q "P   N   G" && ok "plots written" || bad "not a PNG"
 
+# --samples: one CSV per axis, as many rows as the report's kept ticks, refitted to the same Ja
+"$B/bin/c4g-ident" fit "$T/loop/ident.pcap" --axes 1 --json --samples "$T/smp" >"$T/smp.json" || bad "--samples run"
+python3 - "$T/smp.json" "$T/smp/arm1_axis1.csv" <<'PY' && ok "--samples: the fitted samples, one row per kept tick" || bad "--samples"
+import json, sys
+a = json.load(open(sys.argv[1]))['axes'][0]
+rows = open(sys.argv[2]).read().splitlines()
+assert rows[0].startswith('# c4g-ident samples: arm 1 axis 1 variant ' + a['variant']), rows[0]
+assert rows[1] == 'v,a,i,cos_q,sin_q', rows[1]
+assert len(rows) - 2 == a['ticks']['kept'], (len(rows) - 2, a['ticks']['kept'])
+assert all(len(r.split(',')) == 5 for r in rows[2:])
+PY
+
 # a still axis (4 never moved): reported unidentifiable, exit 3, nothing fitted
 "$ID" fit "$T/loop/ident.pcap" --axes 4 >"$T/still.out" 2>&1; r=$?
 [ $r -eq 3 ] && grep -q "UNIDENTIFIABLE: the axis hardly moved" "$T/still.out" && ok "still axis unidentifiable (exit 3)" || { cat "$T/still.out"; bad "still axis: exit $r"; }
