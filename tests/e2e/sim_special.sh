@@ -38,7 +38,9 @@ next_port; start_pc $PORT
 run_sim -p $PORT $STALL_OK -S fixtures/scenarios/freeze.scn --csv "$T/e.csv" --json >"$T/e.json"; rc=$?
 [ $rc -eq 0 ] || cat "$T/e.json"
 expect_eq "freeze: exit status" $rc 0
-silent=$(awk -F, 'NR > 1 && $4 == 0' "$T/e.csv" | wc -l)
+# one row per axis (docs/csv.md): ticks whose "sent" is 0, each counted once
+silent=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "tick") t = i; if ($i == "sent") s = i }; next }
+                  $s == 0 && !seen[$t]++' "$T/e.csv" | wc -l)
 expect_eq "freeze: ticks without a packet (200 ms at 2 ms)" "$silent" 99
 grep -q ',502,' "$T/e.csv" && grep -q ',503,' "$T/e.csv" || fail "freeze: 502/503 not sent"
 ok "freeze: 502 then silence then 503"

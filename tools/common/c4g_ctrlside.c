@@ -104,12 +104,16 @@ int cs_is_stale(const cs_t *c, int32_t cur, int32_t got)
     int p;
     for (p = 0; p < 2; p++) {
         /* p 0: got echoes packet got; p 1: got is plus-one of packet got - 1 */
-        const int32_t sent = (p == 0) ? got : got - 1;
-        int32_t d;
+        /* in 64 bits: a hostile reply's NUM may be anything an int32 holds */
+        const int64_t sent = (p == 0) ? (int64_t)got : (int64_t)got - 1;
+        int64_t d;
         if ((p == 0 && use == CS_NUM_PLUS_ONE) || (p == 1 && use == CS_NUM_ECHO)) {
             continue;
         }
-        d = (cur - sent + 0x8000) % 0x8000;
+        d = ((int64_t)cur - sent) % 0x8000;
+        if (d < 0) {
+            d += 0x8000;
+        }
         if (d >= 1 && d <= CS_STALE_WINDOW) {
             return 1;
         }
