@@ -103,10 +103,18 @@ ok "--loop 2: the server served two sessions to their 504" eq "$(grep -c '504: e
 [ "$FAILS" -eq "$F0" ] || dump loop
 
 F0=$FAILS
-next_port; start_server top "$PORT" --sine 0.25,0.5,0.5 --persist
-live top "$PORT" --topspeed --loop 2 $PLUS
-kill "$SPID" 2>/dev/null; wait "$SPID" 2>/dev/null
-J=$T/top.live.json
+# A reply that a busy host delays past the end of a pass is counted in neither pass: the
+# accounting below then misses by one. Such a run is done once more (a reply really lost
+# would be lost again).
+for try in 1 2; do
+    next_port; start_server top "$PORT" --sine 0.25,0.5,0.5 --persist
+    live top "$PORT" --topspeed --loop 2 $PLUS
+    kill "$SPID" 2>/dev/null; wait "$SPID" 2>/dev/null
+    J=$T/top.live.json
+    [ "$(jget "$J" replies.wrong_num):$(lost "$J" 2)" = 0:0 ] && break
+    [ "$(jget "$J" replies.late)" -gt 0 ] || break
+    echo "       (--topspeed: $(jget "$J" replies.late) late replies on a loaded host, once more)"
+done
 ok "--topspeed --loop 2: every packet sent" eq "$(jget "$J" packets.sent)" $((2 * SENT))
 ok "--topspeed: faster than recorded" awk -v a="$(jget "$J" elapsed_s)" -v b="$(jget "$J" recorded_s)" 'BEGIN { exit !(a < b) }'
 # the reply to the first pass's 504 comes after it: counted there, not as a wrong NUM of the next
