@@ -124,29 +124,6 @@ static void printable(const char *s, size_t n, char *out, size_t cap)
     out[o] = '\0';
 }
 
-static int listen_on(const char *addr, unsigned port)
-{
-    struct sockaddr_in sa;
-    int one = 1;
-    int fd = socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) {
-        return -1;
-    }
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    memset(&sa, 0, sizeof sa);
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)port);
-    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1 ||
-        bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 512) != 0) {
-        int e = errno;
-        close(fd);
-        errno = e;
-        return -1;
-    }
-    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
-    return fd;
-}
-
 /* May this client's input cause one more error line? */
 static int client_log_ok(client_t *c)
 {
@@ -708,7 +685,7 @@ static int server_open(server_t *s)
     s->max_clients = g_opt.max_clients;
     for (int d = 0; d < CELL_DEVICES; d++) {
         char where[96];
-        s->lfd[d] = listen_on(g_opt.bind, g_opt.ports[d]);
+        s->lfd[d] = cell_tcp_listen(g_opt.bind, g_opt.ports[d], 512);
         if (s->lfd[d] < 0) {
             fprintf(stderr, "cell-sim: cannot listen on %s:%u for the %s: %s\n", g_opt.bind,
                     g_opt.ports[d], cell_dev_name(d), strerror(errno));

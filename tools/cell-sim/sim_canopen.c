@@ -28,29 +28,6 @@ static uint64_t wall_us(void)
     return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
 }
 
-static int shell_listen(const char *addr, unsigned port)
-{
-    struct sockaddr_in sa;
-    int one = 1;
-    int fd = socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) {
-        return -1;
-    }
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    memset(&sa, 0, sizeof sa);
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)port);
-    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1 ||
-        bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 4) != 0) {
-        int e = errno;
-        close(fd);
-        errno = e;
-        return -1;
-    }
-    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
-    return fd;
-}
-
 /* ---- the bus: virtual, or two SocketCAN sockets (master side, node side) */
 
 static void socketcan_step(sim_co_t *s, uint64_t t)
@@ -329,7 +306,7 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
     s->bus.log = c4g_co_buslog_cb;
     s->bus.log_ctx = &s->log;
     if (shell_port != 0) {
-        s->listen_fd = shell_listen(shell_bind, shell_port);
+        s->listen_fd = cell_tcp_listen(shell_bind, shell_port, 4);
         if (s->listen_fd < 0) {
             snprintf(err, errlen, "cannot listen on %s:%u for the CANopen shell: %s", shell_bind,
                      shell_port, strerror(errno));

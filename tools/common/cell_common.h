@@ -31,6 +31,8 @@ int cell_parse_double(const char *s, double *out);
 /* Non-blocking TCP connect to host:port (IPv4 literal or name) with a timeout.
  * Returns a blocking fd, or -1 with *err set to a static description. */
 int cell_tcp_connect(const char *host, unsigned port, int timeout_ms, const char **err);
+/* A non-blocking TCP listener on addr:port (SO_REUSEADDR); -1 with errno set on failure. */
+int cell_tcp_listen(const char *addr, unsigned port, int backlog);
 /* "a.b.c.d:port" of a socket's peer (or "?"). */
 void cell_peer_string(int fd, char *buf, size_t cap);
 
