@@ -6,8 +6,10 @@
  * filled and copied out; nothing is validated (no length, NUM, mode or NaN check, no
  * session, no safety filter) and the byte order is the host's.
  *
- *   wire  ours: c4g_session_rx + c4g_pc_reply_neutral + c4g_session_reply + _sent, mode 0
+ *   wire  ours: c4g_session_rx + c4g_session_reply_neutral + c4g_session_sent, mode 0
  *         base: copy in, neutral reply (NUM + 1, modes echoed, data zero), copy out
+ *   wire-tx  ours: the same with the reply built as a PC packet and encoded (checked)
+ *         again: c4g_pc_reply_neutral + c4g_session_reply (what a caller's own reply costs)
  *   full  ours: the loop object, mode 4: c4g_loop_rx + per-axis setpoints + c4g_loop_reply
  *               (packet rules and the safety filter: step, velocity, stroke, following
  *               error on) + c4g_loop_sent
@@ -15,7 +17,7 @@
  *
  *   tick                         ns table (median of batches, ours and base interleaved)
  *   tick --only PATH AXES N      N ticks of one path for callgrind; PATH is wire, full,
- *                                base-wire or base-full */
+ *                                wire-tx, base-wire or base-full */
 #include "c4gopen.h"
 #include "c4g_fixtures.h"
 
@@ -99,6 +101,19 @@ static void tick_base_full(void)
 /* ---------------------------------------------------------------- ours */
 
 static void tick_wire(void)
+{
+    c4g_rx_result_t r;
+    size_t n;
+    next_num();
+    if (c4g_session_rx(&g_sess, g_pkt, g_len, g_now, &r) != C4G_OK || r.kind != C4G_RX_CYCLIC ||
+        c4g_session_reply_neutral(&g_sess, g_out, sizeof g_out, &n) != C4G_OK ||
+        c4g_session_sent(&g_sess, g_now + 1000U) != C4G_OK) {
+        abort();
+    }
+    g_sink += g_out[20];
+}
+
+static void tick_wire_tx(void)
 {
     c4g_rx_result_t r;
     c4g_pc_packet_t tx;
@@ -267,6 +282,9 @@ static tick_fn path_fn(const char *path)
     if (strcmp(path, "wire") == 0) {
         return tick_wire;
     }
+    if (strcmp(path, "wire-tx") == 0) {
+        return tick_wire_tx;
+    }
     if (strcmp(path, "full") == 0) {
         return tick_full;
     }
@@ -276,13 +294,13 @@ static tick_fn path_fn(const char *path)
     if (strcmp(path, "base-full") == 0) {
         return tick_base_full;
     }
-    fprintf(stderr, "tick: unknown path '%s' (wire, full, base-wire, base-full)\n", path);
+    fprintf(stderr, "tick: unknown path '%s' (wire, wire-tx, full, base-wire, base-full)\n", path);
     exit(2);
 }
 
 int main(int argc, char **argv)
 {
-    static const char *const paths[] = {"wire", "full"};
+    static const char *const paths[] = {"wire", "wire-tx", "full"};
     static const uint32_t sizes[] = {6, 20};
     unsigned p, s;
     if (argc == 5 && strcmp(argv[1], "--only") == 0) {
@@ -296,12 +314,12 @@ int main(int argc, char **argv)
         return 0;
     }
     printf("%-6s %5s %10s %10s %8s\n", "path", "axes", "ours ns", "base ns", "ratio");
-    for (p = 0; p < 2; p++) {
+    for (p = 0; p < 3; p++) {
         for (s = 0; s < 2; s++) {
             double o, b;
             setup(paths[p], sizes[s]);
-            measure(path_fn(paths[p]), p == 0 ? tick_base_wire : tick_base_full, &o, &b);
-            if (p == 1 && (g_loop.report.n_filtered != 0U || g_loop.finish_status != C4G_OK)) {
+            measure(path_fn(paths[p]), p < 2 ? tick_base_wire : tick_base_full, &o, &b);
+            if (p == 2 && (g_loop.report.n_filtered != 0U || g_loop.finish_status != C4G_OK)) {
                 fprintf(stderr, "tick: the filter acted on the benchmark's setpoints\n");
                 return 1;
             }

@@ -28,16 +28,20 @@ per_tick() {  # per_tick PATH AXES -> Ir per tick
   a=$(ir "$1" "$2" $n); c=$(ir "$1" "$2" $((2 * n)))
   awk -v a="$a" -v c="$c" -v n="$n" 'BEGIN { printf "%.0f", (c - a) / n }'
 }
-printf '%-6s %5s %9s %9s %7s %9s %9s %9s %7s\n' path axes "ours Ir" "base Ir" ratio "goal Ir" "ours ns" "base ns" ratio
-for path in wire full; do
+printf '%-7s %5s %9s %9s %7s %9s %9s %9s %7s\n' path axes "ours Ir" "base Ir" ratio "goal Ir" "ours ns" "base ns" ratio
+for path in wire wire-tx full; do
   for axes in 6 20; do
-    o=$(per_tick "$path" "$axes"); bb=$(per_tick "base-$path" "$axes")
-    case "$path$axes" in wire6) g=453 ;; wire20) g=740 ;; full6) g=1177 ;; *) g=3135 ;; esac
+    base=base-$path
+    [ "$path" = wire-tx ] && base=base-wire
+    o=$(per_tick "$path" "$axes"); bb=$(per_tick "$base" "$axes")
+    case "$path$axes" in wire6) g=453 ;; wire20) g=740 ;; full6) g=1177 ;; full20) g=3135 ;; *) g=0 ;; esac
     set -- $(awk -v p="$path" -v a="$axes" '$1 == p && $2 == a { print $3, $4, $5 }' "$ns")
     awk -v p="$path" -v a="$axes" -v o="$o" -v b="$bb" -v g="$g" -v on="$1" -v bn="$2" -v r="$3" 'BEGIN {
-      printf "%-6s %5s %9d %9d %6.1fx %5d %-3s %9.1f %9.1f %7s\n", p, a, o, b, (b > 0 ? o / b : 0), g,
-        (o <= g ? "met" : "NOT"), on, bn, r }'
+      printf "%-7s %5s %9d %9d %6.1fx %5s %-3s %9.1f %9.1f %7s\n", p, a, o, b, (b > 0 ? o / b : 0),
+        (g > 0 ? g : "-"), (g == 0 ? "" : (o <= g ? "met" : "NOT")), on, bn, r }'
   done
 done
-echo "(ours: wire = session rx + neutral reply + encode, mode 0; full = loop object, mode 4, setpoints,"
+echo "(ours: wire = session rx + c4g_session_reply_neutral (the neutral reply encoded from the checked"
+echo " packet), mode 0; wire-tx = the same with the reply built as a PC packet and encoded and checked"
+echo " again; full = loop object, mode 4, setpoints,"
 echo " packet rules and safety filter. base = struct copy in/out, no validation; Ir/tick = (Ir(2N) - Ir(N))/N)"

@@ -348,6 +348,7 @@ typedef struct c4g_session {
     c4g_timing_t timing;
     c4g_ctrl_packet_t rx[2];     /**< decode double buffer; rx[cur] is the last accepted */
     uint32_t cur;                /**< index of the last accepted cyclic packet in rx[] */
+    uint32_t rx_mixed_modes;     /**< rx[cur]'s axes do not all carry one mode */
     int32_t last_num;            /**< NUM of the newest accepted packet, -1 none */
     int32_t pending_num;         /**< NUM to answer (after an accepted rx), -1 none */
     c4g_rx_kind_t pending_kind;  /**< what the pending reply answers */
@@ -422,6 +423,16 @@ bool c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from);
  */
 C4G_NODISCARD c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx,
                                uint8_t *buf, size_t cap, size_t *out_len);
+
+/**
+ * c4g_session_reply with the neutral reply (c4g_pc_reply_neutral) to a pending cyclic
+ * packet, encoded straight from the decoded packet: the same bytes for less work, the
+ * values it echoes having been checked when they were received. SYNC and INIT are answered
+ * as by c4g_session_reply.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_STATE (nothing to answer) or C4G_ERR_CAPACITY.
+ */
+C4G_NODISCARD c4g_status_t c4g_session_reply_neutral(c4g_session_t *s, uint8_t *buf, size_t cap,
+                                                     size_t *out_len);
 
 /** Record the time the reply was sent (cycle time statistics). */
 C4G_NODISCARD c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns);

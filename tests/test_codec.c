@@ -403,11 +403,66 @@ static void test_bulk_words(void **state)
     assert_int_equal(c4g_host_i32_at((const uint8_t *)&w[0]), 0x3F800000);
 }
 
+/* The axis-array check: a NaN/inf at word k is seen by every count that covers k, rounded up
+ * to whole quads, and by no count before; the largest finite values and every mode pass. */
+static void test_axes_carry(void **state)
+{
+    static const uint32_t bad[] = {0x7FC00000U, 0x7F800000U, 0xFF800000U, 0xFFFFFFFFU, 0x7F800001U};
+    uint32_t w[C4G_MAX_AXES * C4G_AXIS_WORDS];
+    size_t k, m, b;
+    (void)state;
+    for (k = 0U; k < C4G_MAX_AXES * C4G_AXIS_WORDS; k++) {
+        w[k] = (k % 3U == 0U) ? 0x7F7FFFFFU : ((k % 3U == 1U) ? 0xFF7FFFFFU : 506U);
+    }
+    for (m = 0U; m <= C4G_MAX_AXES * C4G_AXIS_WORDS; m++) {
+        assert_int_equal(c4g_axes_carry((const uint8_t *)w, m), 0U);
+    }
+    for (b = 0U; b < sizeof bad / sizeof bad[0]; b++) {
+        for (k = 0U; k < C4G_MAX_AXES * C4G_AXIS_WORDS; k++) {
+            const uint32_t keep = w[k];
+            w[k] = bad[b];
+            for (m = 0U; m <= C4G_MAX_AXES * C4G_AXIS_WORDS; m++) {
+                const int seen = c4g_axes_carry((const uint8_t *)w, m) != 0U;
+                assert_int_equal(seen, (((m + 3U) / 4U) * 4U) > k);
+            }
+            w[k] = keep;
+        }
+    }
+}
+
+/* The encoder's bulk check reads up to three words past the axes, which are the caller's
+ * and unchecked: a NaN there must not refuse a good packet, one inside must. */
+static void test_encode_ignores_words_past_axes(void **state)
+{
+    c4g_pc_packet_t tx;
+    uint8_t buf[C4G_MAX_CYCLIC_SIZE];
+    size_t len = 0, n;
+    (void)state;
+    for (n = 1U; n < C4G_MAX_AXES; n++) {
+        memset(&tx, 0xFF, sizeof tx); /* garbage: NaN words and unknown modes */
+        tx.num = 5;
+        tx.infpar = 0U;
+        tx.cmd = 0U;
+        tx.n_axes = (uint32_t)n;
+        memset(tx.ax, 0, n * sizeof tx.ax[0]);
+        assert_int_equal(c4g_pc_encode(&tx, buf, sizeof buf, &len), C4G_OK);
+        assert_int_equal(len, C4G_CYCLIC_SIZE(n));
+        tx.ax[n - 1U].ext[2] = NAN;
+        assert_int_equal(c4g_pc_encode(&tx, buf, sizeof buf, &len), C4G_ERR_NONFINITE);
+        assert_int_equal(len, 0U);
+        tx.ax[n - 1U].ext[2] = 0.0f;
+        tx.ax[n - 1U].mode = 99;
+        assert_int_equal(c4g_pc_encode(&tx, buf, sizeof buf, &len), C4G_ERR_MODE);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_layout_little_endian),
         cmocka_unit_test(test_bulk_words),
+        cmocka_unit_test(test_axes_carry),
+        cmocka_unit_test(test_encode_ignores_words_past_axes),
         cmocka_unit_test(test_roundtrip_random),
         cmocka_unit_test(test_every_length),
         cmocka_unit_test(test_axis_count_mismatch),

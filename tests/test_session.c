@@ -89,6 +89,159 @@ static void cyclic(fx_t *f, int32_t num, int32_t mode)
     assert_int_equal(c4g_session_sent(&f->s, f->t + 100000), C4G_OK);
 }
 
+
+/* Feeds @p p to two sessions in the same state; one answers with c4g_session_reply_neutral,
+ * the other with c4g_pc_reply_neutral + c4g_session_reply: the same bytes and state. */
+static void neutral_both(fx_t *a, fx_t *b, const c4g_ctrl_packet_t *p)
+{
+    uint8_t buf[732];
+    size_t len = 0;
+    c4g_pc_packet_t tx;
+    assert_int_equal(c4g_ctrl_encode(p, buf, sizeof buf, &len), C4G_OK);
+    assert_int_equal(feed(a, buf, len), C4G_RX_CYCLIC);
+    assert_int_equal(feed(b, buf, len), C4G_RX_CYCLIC);
+    assert_int_equal(a->r.events, b->r.events);
+    memset(a->out, 0xA5, sizeof a->out);
+    memset(b->out, 0x5A, sizeof b->out);
+    assert_int_equal(c4g_session_reply_neutral(&a->s, a->out, sizeof a->out, &a->out_len), C4G_OK);
+    assert_int_equal(c4g_pc_reply_neutral(b->r.pkt, &tx), C4G_OK);
+    assert_int_equal(c4g_session_reply(&b->s, &tx, b->out, sizeof b->out, &b->out_len), C4G_OK);
+    assert_int_equal(a->out_len, C4G_CYCLIC_SIZE(p->n_axes));
+    assert_int_equal(a->out_len, b->out_len);
+    assert_memory_equal(a->out, b->out, a->out_len);
+    assert_int_equal(a->s.frozen_active, b->s.frozen_active);
+    assert_int_equal(a->s.counters.tx, b->s.counters.tx);
+    assert_int_equal(c4g_session_sent(&a->s, a->t + 100000), C4G_OK);
+    assert_int_equal(c4g_session_sent(&b->s, b->t + 100000), C4G_OK);
+}
+
+static void test_reply_neutral_direct(void **state)
+{
+    fx_t a, b;
+    c4g_ctrl_packet_t p;
+    uint8_t sync[732];
+    size_t n = 0;
+    (void)state;
+    /* a sync is echoed as by c4g_session_reply */
+    assert_int_equal(c4g_session_init(&a.s, NULL), C4G_OK);
+    a.t = 1000 * MS;
+    sync_packet(sync, 1);
+    assert_int_equal(feed(&a, sync, sizeof sync), C4G_RX_SYNC);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, &a.out_len), C4G_OK);
+    assert_int_equal(a.out_len, 732);
+    assert_int_equal(a.out[20], 0x5A);
+
+    cold_start(&a, C4G_NUM_PLUS_ONE);
+    cold_start(&b, C4G_NUM_PLUS_ONE);
+    th_ctrl_packet(&p, 13, 6, C4G_MODE_4);          /* one mode: data zero, mode echoed */
+    neutral_both(&a, &b, &p);
+    assert_int_equal(th_get_u32(&a.out[12]), C4G_MODE_4);
+    assert_int_equal(th_get_u32(&a.out[12 + 4]), 0);
+    th_ctrl_packet(&p, 14, 6, C4G_MODE_0_DEBUG);    /* 0': D1..D5 copied back */
+    neutral_both(&a, &b, &p);
+    assert_int_equal(th_get_u32(&a.out[12 + 5 * 36 + 4]), 0x40C00000U); /* 6.0f */
+    th_ctrl_packet(&p, 15, 6, C4G_MODE_0);           /* several modes, one of them 0' */
+    p.ax[2].mode = C4G_MODE_0_DEBUG;
+    p.ax[4].mode = C4G_MODE_4;
+    neutral_both(&a, &b, &p);
+    assert_int_equal(th_get_u32(&a.out[12 + 4 * 36]), C4G_MODE_4);
+    assert_int_equal(th_get_u32(&a.out[12 + 2 * 36 + 12]), 0x40500000U); /* D3 = 3.25f */
+    th_ctrl_packet(&p, 16, 6, C4G_MODE_0);           /* 500 on one axis: active freezing */
+    p.ax[5].mode = C4G_MODE_FREEZING_A;
+    neutral_both(&a, &b, &p);
+    assert_int_equal(a.s.frozen_active, 1);
+
+    /* refusals: nothing pending, too small, no arguments */
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, &n), C4G_ERR_STATE);
+    th_ctrl_packet(&p, 17, 6, C4G_MODE_0);
+    assert_int_equal(c4g_ctrl_encode(&p, sync, sizeof sync, &n), C4G_OK);
+    assert_int_equal(feed(&a, sync, n), C4G_RX_CYCLIC);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);
+    assert_int_equal(n, 0);
+    assert_int_equal(c4g_session_reply_neutral(NULL, a.out, sizeof a.out, &n), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, NULL, sizeof a.out, &n), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 228, &n), C4G_OK);
+    assert_int_equal(n, 228);
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 228, &n), C4G_ERR_STATE);
+}
+
+/* Session-level modes on one axis of several: the scan must not stop at the first axis. */
+static void test_special_mode_on_one_axis(void **state)
+{
+    fx_t f;
+    c4g_ctrl_packet_t p;
+    uint8_t b[732];
+    size_t len = 0;
+    (void)state;
+    cold_start(&f, C4G_NUM_PLUS_ONE);
+    th_ctrl_packet(&p, 13, 6, C4G_MODE_0);
+    p.ax[3].mode = C4G_MODE_FREEZING_P_IN;
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_true(f.r.events & C4G_EV_FREEZE_IN);
+    assert_int_equal(f.s.frozen, 1);
+    assert_int_equal(f.s.rx_mixed_modes, 1);
+    assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    th_ctrl_packet(&p, 14, 6, C4G_MODE_0);
+    p.ax[5].mode = C4G_MODE_EXIT_OPEN;
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_true(f.r.events & C4G_EV_END);
+    assert_int_equal(f.s.phase, C4G_PHASE_ENDED);
+}
+
+/* A cyclic packet decodes into the session's buffers without touching the axes past the
+ * session's count: a new start-up with fewer axes must not leave the old ones there (the
+ * bulk check reads a few words past the axes). */
+static void test_fewer_axes_after_restart(void **state)
+{
+    fx_t f;
+    c4g_init_t in;
+    c4g_ctrl_packet_t p;
+    uint8_t init[C4G_INIT_SIZE], b[C4G_MAX_CYCLIC_SIZE];
+    size_t len = 0;
+    uint32_t i, k;
+    (void)state;
+    assert_int_equal(c4g_init_decode(th_fig, sizeof th_fig, &in, NULL), C4G_OK);
+    in.n_ax_open = 20;
+    for (i = 0; i < 20; i++) {
+        in.open_ax[i / 10][i % 10] = (int32_t)i;
+        in.az_lim[i / 10][i % 10] = 10.0f;
+        in.tx_rate[i / 10][i % 10] = 50.0f;
+        in.follow_error[i / 10][i % 10] = 5.0f;
+    }
+    assert_int_equal(c4g_init_encode(&in, init, sizeof init, &len), C4G_OK);
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 1000 * MS;
+    assert_int_equal(feed(&f, init, len), C4G_RX_INIT);
+    assert_int_equal(f.s.map.n_axes, 20);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    for (k = 0; k < 2; k++) { /* both buffers of the double buffer hold 20 axes */
+        th_ctrl_packet(&p, 11 + (int32_t)k, 20, C4G_MODE_0);
+        assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+        assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+        assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
+        assert_int_equal(f.out_len, C4G_CYCLIC_SIZE(20));
+    }
+    th_ctrl_packet(&p, 13, 20, C4G_MODE_SVR_RESTART);
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+    assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT); /* 6 axes */
+    assert_int_equal(f.s.map.n_axes, 6);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    for (k = 0; k < 2; k++) {
+        static const uint8_t zero[14 * sizeof(c4g_ctrl_axis_t)];
+        th_ctrl_packet(&p, 11 + (int32_t)k, 6, C4G_MODE_0);
+        assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+        assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
+        assert_memory_equal(&f.r.pkt->ax[6], zero, sizeof zero);
+        assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
+        assert_int_equal(f.out_len, 228);
+    }
+}
+
 static void test_handshake_plus_one(void **state)
 {
     fx_t f;
@@ -810,6 +963,9 @@ int main(void)
         cmocka_unit_test(test_init_only_at_start_up),
         cmocka_unit_test(test_lost_restart_new_endpoint),
         cmocka_unit_test(test_lost_resume_same_endpoint),
+        cmocka_unit_test(test_reply_neutral_direct),
+        cmocka_unit_test(test_special_mode_on_one_axis),
+        cmocka_unit_test(test_fewer_axes_after_restart),
     };
     return cmocka_run_group_tests_name("session", tests, th_load_fig, NULL);
 }

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Cyclic packet codec (both directions), per-arm bytes, reply NUM, neutral reply. */
 #include "../c4g_internal.h"
+#include "c4g_wire_hot.h"
 
 #define AXIS_FLOATS 8U
 
@@ -88,59 +89,6 @@ static inline uint32_t nonfinite(uint32_t bits)
     return c4g_exp_carry(bits) >> 31U;
 }
 
-/* Modes 0..17 that exist, as a bit set derived from the mode table: the hot path avoids
- * the full lookup. */
-#define LOW_MODES_LIMIT 18
-#define LOW_MODE_BIT_(id, code, flags, fields, rules, op, from, name, text) \
-    | (((code) < LOW_MODES_LIMIT) ? (1U << ((uint32_t)(code) % 18U)) : 0U)
-#define LOW_MODES_MASK (0U C4G_MODE_TABLE(LOW_MODE_BIT_))
-
-static inline uint32_t mode_unknown_fast(int32_t mode)
-{
-    uint32_t unknown = 0U;
-    if ((mode >= 0) && (mode < LOW_MODES_LIMIT)) {
-        /* Deviation D-05 (MISRA 12.2): the mask's shift counts are code % 18, below 32. */
-        /* cppcheck-suppress misra-c2012-12.2 */
-        const uint32_t shifted = LOW_MODES_MASK >> (uint32_t)mode;
-        unknown = (shifted & 1U) ^ 1U;
-    } else if (!c4g_mode_is_known(mode)) {
-        unknown = 1U;
-    } else {
-        /* a known mode above 17 */
-    }
-    return unknown;
-}
-
-/* 1 if some of the @p n axes (bytes @p ax, host order) carries an unknown mode. A packet
- * usually carries one mode on every axis: one pass compares them with the first, one lookup
- * checks it; a packet of several modes checks each. */
-static inline uint32_t modes_unknown(const uint8_t *ax, uint32_t n)
-{
-    const int32_t first = c4g_host_i32_at(ax);
-    uint32_t diff = 0U;
-    uint32_t u;
-    uint32_t i;
-    for (i = 1U; i < n; i++) {
-        diff |= (uint32_t)c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]) ^ (uint32_t)first;
-    }
-    u = mode_unknown_fast(first);
-    if (diff != 0U) {
-        for (i = 1U; i < n; i++) {
-            u |= mode_unknown_fast(c4g_host_i32_at(&ax[(size_t)i * C4G_AXIS_SIZE]));
-        }
-    }
-    return u;
-}
-
-/* 1 if the @p n axes (bytes @p ax, host order) hold a NaN/inf or an unknown mode: every word
- * in one pass (a mode word with an all-ones exponent is an unknown mode anyway), then the
- * modes. */
-static inline uint32_t axes_bad(const uint8_t *ax, uint32_t n)
-{
-    return c4g_flag((c4g_words_carry(ax, (size_t)n * C4G_AXIS_WORDS) != 0U) ||
-                    (modes_unknown(ax, n) != 0U));
-}
-
 /* Slow path, only on error (unknown mode or NaN/inf): name the field in the diagnostic. */
 static c4g_status_t axis_error(int32_t mode, const uint8_t *p, uint32_t index, c4g_diag_t *diag)
 {
@@ -200,29 +148,36 @@ static c4g_status_t decode_header(const uint8_t *buf, size_t len, uint32_t n_axe
 }
 
 /* The axes of a datagram whose header decoded: one copy into host order, one check of the
- * copy; the axes past @p n zero (deterministic output). */
-static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, c4g_diag_t *diag)
+ * copy. The axes past @p n are zeroed first when @p zero_tail is set (deterministic output;
+ * the bulk check reads up to three words of them); a session's own buffers keep them zero. */
+static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, uint32_t zero_tail,
+                                uint32_t *mixed, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_OK;
+    if (zero_tail != 0U) {
+        (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0,
+                     ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
+    }
     c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
-    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
-    if (axes_bad(ax, n) != 0U) {
+    if (axes_bad(ax, n, mixed) != 0U) {
         st = first_bad_axis(buf, n, diag);
     }
     return st;
 }
 
-c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
-                             c4g_ctrl_packet_t *out, c4g_diag_t *diag)
+static c4g_status_t ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
+                                c4g_ctrl_packet_t *out, uint32_t zero_tail, uint32_t *mixed,
+                                c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_ERR_NULL;
     c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    *mixed = 0U;
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         if (st == C4G_OK) {
-            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
+            st = decode_axes(buf, n, (uint8_t *)out->ax, zero_tail, mixed, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;
@@ -235,6 +190,13 @@ c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     return st;
 }
 
+c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
+                             c4g_ctrl_packet_t *out, c4g_diag_t *diag)
+{
+    uint32_t mixed;
+    return ctrl_decode(buf, len, n_axes, out, 1U, &mixed, diag);
+}
+
 c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                            c4g_pc_packet_t *out, c4g_diag_t *diag)
 {
@@ -245,7 +207,8 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         if (st == C4G_OK) {
-            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
+            uint32_t mixed;
+            st = decode_axes(buf, n, (uint8_t *)out->ax, 1U, &mixed, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;
@@ -294,14 +257,18 @@ static c4g_status_t encode_refusal(const uint8_t *ax, uint32_t n)
     return st;
 }
 
-/* The axes after a written header: checked in one pass, then one copy to the wire. A failed
- * encode must not leave a half-written packet that someone might send: the header (cap >= 48
- * was checked) is zeroed, so the bytes are not a valid packet. */
+/* The axes after a written header: checked in one pass, then one copy to the wire. The bulk
+ * check may see words past the axes (the caller's, unchecked): on a hit the axes are checked
+ * exactly. A failed encode must not leave a half-written packet that someone might send: the
+ * header (cap >= 48 was checked) is zeroed, so the bytes are not a valid packet. */
 static c4g_status_t encode_axes(const uint8_t *ax, uint32_t n, uint8_t *buf)
 {
     c4g_status_t st = C4G_OK;
-    if (axes_bad(ax, n) != 0U) {
+    uint32_t mixed;
+    if (axes_bad(ax, n, &mixed) != 0U) {
         st = encode_refusal(ax, n);
+    }
+    if (st != C4G_OK) {
         (void)memset(buf, 0, C4G_HEADER_SIZE);
     } else {
         c4g_words_le(&buf[C4G_HEADER_SIZE], ax, (size_t)n * C4G_AXIS_WORDS,

@@ -2,6 +2,7 @@
 /* PC-side session engine: start-up handshake (field facts), NUM policy, counters and
  * the chapter 22 timing statistics. I/O-free: the caller passes datagrams and times. */
 #include "../c4g_internal.h"
+#include "c4g_wire_hot.h"
 
 #define DEFAULT_POST_INIT_SYNC 2U
 #define SILENCE_PERIODS 10U         /* the controller itself gives up after 10 missed replies */
@@ -153,6 +154,9 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
     if (st == C4G_OK) {
         s->init = init;
         s->map = map;
+        /* the cyclic decode writes map.n_axes axes only: the rest stay zero from here */
+        (void)memset(s->rx, 0, sizeof s->rx);
+        s->rx_mixed_modes = 0U;
         s->counters.init++;
         /* After a cold restart 2 syncs follow the init; after 506 none do. */
         s->post_sync_left = ((s->sync_seen > 0U) && (s->restart_pending == 0U))
@@ -218,10 +222,13 @@ static uint32_t drive_mask(uint32_t infpar)
            (c4g_flag((infpar >> 24U) == C4G_STS_MOVING) << 3U);
 }
 
+/* Session-level modes (>= 500) of an accepted packet. One mode on every axis, the usual
+ * case, is one comparison. */
 static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
 {
+    const uint32_t n = (s->rx_mixed_modes != 0U) ? p->n_axes : 1U;
     uint32_t i;
-    for (i = 0U; i < p->n_axes; i++) {
+    for (i = 0U; i < n; i++) {
         if (p->ax[i].mode < C4G_MODE_FREEZING_A) {
             continue; /* hot path: no special mode */
         }
@@ -262,7 +269,12 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
 {
     const uint32_t next = s->cur ^ 1U;
     c4g_ctrl_packet_t *p = &s->rx[next];
-    const c4g_status_t st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag);
+    uint32_t mixed = 1U;
+    c4g_status_t st = C4G_OK;
+    if (c4g_cyclic_decode_hot(buf, len, s->map.n_axes, p, &mixed) == 0U) {
+        mixed = 1U;
+        st = c4g_ctrl_decode(buf, len, s->map.n_axes, p, &res->diag); /* names the fault */
+    }
     if (st != C4G_OK) {
         count_malformed(s, st, res);
     } else if (drop_stale(s, p->num, res) != 0) {
@@ -270,6 +282,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
     } else {
         const uint32_t drives = drive_mask(p->infpar);
         s->cur = next;
+        s->rx_mixed_modes = mixed;
         s->counters.cyclic++;
         if (s->counters.cyclic == 1U) {
             res->events |= C4G_EV_CYCLIC_START;
@@ -512,14 +525,68 @@ static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
     }
 }
 
-/* The bytes of the reply to what is pending: the encoded cyclic reply, or the echo of the
- * start-up packet padded to its reply size. */
-static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
-                                size_t cap, size_t *n)
+/* The neutral reply to the pending cyclic packet rx[cur], written to the wire directly (no
+ * PC packet, no second check): the decoder checked every mode and value it echoes, the
+ * rest is zero. Same bytes and session state as c4g_pc_reply_neutral + c4g_pc_encode. */
+static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *n)
+{
+    const c4g_ctrl_packet_t *p = &s->rx[s->cur];
+    const uint32_t axes = p->n_axes;
+    const int32_t first = p->ax[0].mode;
+    c4g_status_t st = C4G_ERR_CAPACITY;
+    uint32_t i;
+    if (cap >= C4G_CYCLIC_SIZE(axes)) {
+        c4g_put_u32le(&buf[4], 0U);
+        c4g_put_u32le(&buf[8], 0U);
+        if ((s->rx_mixed_modes == 0U) && (first != C4G_MODE_0_DEBUG)) {
+            uint8_t mode_le[4];
+            uint8_t *a = &buf[C4G_HEADER_SIZE];
+            const uint8_t *const end = &a[(size_t)axes * C4G_AXIS_SIZE];
+            c4g_put_i32le(mode_le, first);
+            for (; a < end; a = &a[C4G_AXIS_SIZE]) { /* one mode everywhere, data zero */
+                (void)memcpy(a, mode_le, sizeof mode_le);
+                (void)memset(&a[4], 0, C4G_AXIS_SIZE - 4U);
+            }
+            if (first == C4G_MODE_FREEZING_A) {
+                s->frozen_active = 1U;
+            }
+        } else {
+            (void)memset(&buf[C4G_HEADER_SIZE], 0, (size_t)axes * C4G_AXIS_SIZE);
+            for (i = 0U; i < axes; i++) {
+                const c4g_ctrl_axis_t *r = &p->ax[i];
+                uint8_t *a = &buf[C4G_CYCLIC_SIZE(i)];
+                c4g_put_i32le(a, r->mode);
+                if (r->mode == C4G_MODE_0_DEBUG) {
+                    /* Mode 0': D1..D5 copied back, as c4g_pc_reply_neutral does. */
+                    c4g_put_f32le(&a[4], r->target_pos);
+                    c4g_put_f32le(&a[8], r->target_vel);
+                    c4g_put_f32le(&a[12], r->actual_pos);
+                    c4g_put_f32le(&a[16], r->actual_vel);
+                    c4g_put_f32le(&a[20], r->current_ref);
+                } else if (r->mode == C4G_MODE_FREEZING_A) {
+                    s->frozen_active = 1U;
+                } else {
+                    /* mode echoed, data zero */
+                }
+            }
+        }
+        *n = C4G_CYCLIC_SIZE(axes);
+        st = C4G_OK;
+    }
+    return st;
+}
+
+/* The bytes of the reply to what is pending: the encoded cyclic reply (neutral when
+ * @p tx is NULL and @p neutral set), or the echo of the start-up packet padded to its reply
+ * size. */
+static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uint32_t neutral,
+                                uint8_t *buf, size_t cap, size_t *n)
 {
     c4g_status_t st;
     if (s->pending_kind == C4G_RX_CYCLIC) {
-        if (tx == NULL) {
+        if (neutral != 0U) {
+            st = neutral_bytes(s, buf, cap, n);
+        } else if (tx == NULL) {
             st = C4G_ERR_NULL;
         } else if (tx->n_axes != s->map.n_axes) {
             st = C4G_ERR_AXES;
@@ -544,8 +611,8 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
     return st;
 }
 
-c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
-                               size_t cap, size_t *out_len)
+static c4g_status_t session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint32_t neutral,
+                                  uint8_t *buf, size_t cap, size_t *out_len)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((s != NULL) && (buf != NULL) && (out_len != NULL)) {
@@ -553,7 +620,7 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
         *out_len = 0U;
         st = C4G_ERR_STATE; /* nothing received to answer, or answered already */
         if ((s->pending_num >= 0) && (s->pending_kind != C4G_RX_DROPPED)) {
-            st = reply_bytes(s, tx, buf, cap, &n);
+            st = reply_bytes(s, tx, neutral, buf, cap, &n);
         }
         if (st == C4G_OK) {
             c4g_put_i32le(buf, c4g_reply_num(s->pending_num, s->cfg.num_policy));
@@ -567,6 +634,18 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
         }
     }
     return st;
+}
+
+c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint8_t *buf,
+                               size_t cap, size_t *out_len)
+{
+    return session_reply(s, tx, 0U, buf, cap, out_len);
+}
+
+c4g_status_t c4g_session_reply_neutral(c4g_session_t *s, uint8_t *buf, size_t cap,
+                                       size_t *out_len)
+{
+    return session_reply(s, NULL, 1U, buf, cap, out_len);
 }
 
 c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)
