@@ -150,10 +150,14 @@ static void test_reply_neutral_direct(void **state)
     p.ax[5].mode = C4G_MODE_FREEZING_A;
     neutral_both(&a, &b, &p);
     assert_int_equal(a.s.frozen_active, 1);
+    a.s.frozen_active = b.s.frozen_active = 0U;
+    th_ctrl_packet(&p, 17, 6, C4G_MODE_FREEZING_A);  /* 500 on every axis */
+    neutral_both(&a, &b, &p);
+    assert_int_equal(a.s.frozen_active, 1);
 
     /* refusals: nothing pending, too small, no arguments */
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, &n), C4G_ERR_STATE);
-    th_ctrl_packet(&p, 17, 6, C4G_MODE_0);
+    th_ctrl_packet(&p, 18, 6, C4G_MODE_0);
     assert_int_equal(c4g_ctrl_encode(&p, sync, sizeof sync, &n), C4G_OK);
     assert_int_equal(feed(&a, sync, n), C4G_RX_CYCLIC);
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);

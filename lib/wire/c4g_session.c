@@ -534,7 +534,6 @@ static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, si
     const uint32_t axes = p->n_axes;
     const int32_t first = p->ax[0].mode;
     c4g_status_t st = C4G_ERR_CAPACITY;
-    uint32_t i;
     if (cap >= C4G_CYCLIC_SIZE(axes)) {
         c4g_put_u32le(&buf[4], 0U);
         c4g_put_u32le(&buf[8], 0U);
@@ -551,6 +550,7 @@ static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, si
                 s->frozen_active = 1U;
             }
         } else {
+            uint32_t i;
             (void)memset(&buf[C4G_HEADER_SIZE], 0, (size_t)axes * C4G_AXIS_SIZE);
             for (i = 0U; i < axes; i++) {
                 const c4g_ctrl_axis_t *r = &p->ax[i];
@@ -570,7 +570,7 @@ static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, si
                 }
             }
         }
-        *n = C4G_CYCLIC_SIZE(axes);
+        *n = C4G_CYCLIC_SIZE((size_t)axes);
         st = C4G_OK;
     }
     return st;

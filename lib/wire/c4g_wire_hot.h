@@ -72,7 +72,7 @@ static inline uint32_t c4g_cyclic_decode_hot(const uint8_t *buf, size_t len, uin
                                              c4g_ctrl_packet_t *out, uint32_t *mixed)
 {
     uint32_t ok = 0U;
-    if (len == C4G_CYCLIC_SIZE(n)) {
+    if ((buf != NULL) && (len == C4G_CYCLIC_SIZE(n))) {
         const int32_t num = c4g_get_i32le(buf);
         if ((num >= 0) && (num <= C4G_NUM_MAX)) {
             uint8_t *ax = (uint8_t *)out->ax;

@@ -144,6 +144,13 @@ static int run(void)
     if (c4g_ctrl_encode(&pkt, out, sizeof out, &n) != C4G_ERR_NONFINITE) {
         return 8;
     }
+    memcpy(&pkt.ax[0].actual_vel, &(uint32_t){0x3F800000U}, 4U);
+    /* NaN words just past the axes (the caller's, unchecked) do not refuse the packet */
+    memcpy(&pkt.ax[AXES].mode, &(uint32_t){0x7FC00000U}, 4U);
+    memcpy(&pkt.ax[AXES].target_pos, &(uint32_t){0xFF800000U}, 4U);
+    if ((c4g_ctrl_encode(&pkt, out, sizeof out, &n) != C4G_OK) || (n != LEN)) {
+        return 9;
+    }
     return 0;
 }
 
