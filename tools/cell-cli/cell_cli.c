@@ -806,9 +806,11 @@ static void repl_keys(EditLine *el)
         {"\\e[5D", "ed-prev-word"},     {"\\e\\e[C", "em-next-word"},
         {"\\e\\e[D", "ed-prev-word"}};
     el_set(el, EL_EDITOR, "emacs");
-    el_set(el, EL_ADDFN, "cell-complete", "complete a cell-cli word", repl_complete);
+    /* the wide el_wset: the narrow el_set copies a new function's name and help, and those
+     * copies are never freed */
+    el_wset(el, EL_ADDFN, L"cell-complete", L"complete a cell-cli word", repl_complete);
     el_set(el, EL_BIND, "^I", "cell-complete", NULL);
-    el_set(el, EL_ADDFN, "cell-tstp", "suspend cell-cli", repl_tstp);
+    el_wset(el, EL_ADDFN, L"cell-tstp", L"suspend cell-cli", repl_tstp);
     el_set(el, EL_BIND, "^Z", "cell-tstp", NULL);
     for (size_t i = 0; i < sizeof bind / sizeof bind[0]; i++) {
         el_set(el, EL_BIND, bind[i][0], bind[i][1], NULL);
