@@ -91,6 +91,11 @@ check("history recalled in a new run (Up arrow)", "override 70 %" in out)
 def listing(keys):
     out, _ = session(keys + [b"\x15"])
     return out.split("Type help.", 1)[-1]
+out = listing([(b"\t", rb"\x07")])
+check("one TAB on an empty line only beeps", "conditioning" not in out and "\x07" in out, repr(out[-300:]))
+out = listing([b"\t\t"])
+check("two TABs on an empty line list the first words", all(w in out for w in ("conditioning", "platform", "quit"))
+      and re.search(r"clear\s+help\s+quit", out) is not None, repr(out[-300:]))
 out = listing([b"robot \t\t"])
 check("robot <TAB><TAB> lists robot commands", "srvon" in out and "pnp" in out and "sleep" not in out
       and "conditioning" not in out, repr(out[-300:]))

@@ -578,8 +578,8 @@ typedef struct repl {
     char prompt[sizeof g_conn[0].host + 64];
     int hints;             /* show a hint after the line as it is typed */
     int hint_shown;        /* a hint is on the screen right of the cursor */
-    unsigned long keys;    /* keys read so far */
-    unsigned long tab_key; /* the key number of the last TAB that left several choices */
+    unsigned long keys;    /* keys read so far (the first is key 1) */
+    unsigned long tab_key; /* the number of the last TAB that left several choices; 0 none */
 } repl_t;
 
 static repl_t g_repl;
@@ -775,7 +775,7 @@ static unsigned char repl_complete(EditLine *el, int ch)
         g_repl.tab_key = g_repl.keys;
         return CC_REFRESH_BEEP;
     }
-    if (g_repl.tab_key + 1 == g_repl.keys) {
+    if (g_repl.tab_key != 0 && g_repl.tab_key + 1 == g_repl.keys) {
         list_choices(el, m, nm);
         return CC_REDISPLAY;
     }
