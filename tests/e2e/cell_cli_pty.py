@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Drive cell-cli's REPL through a pseudo-terminal: commands, help, TAB completion,
 # history across runs, hints as you type (run by cell_cli.sh).
-import os, pty, re, select, sys, termios, time
+import fcntl, os, pty, re, select, struct, sys, termios, time
 
 cli, port, home = sys.argv[1], sys.argv[2], sys.argv[3]
 fails = []
@@ -14,7 +14,7 @@ def check(what, ok, detail=""):
     if not ok:
         fails.append(what)
 
-def session(keys, term="dumb", args=()):
+def session(keys, term="dumb", args=(), cols=0):
     """Types keys into the REPL; waits for conditions, not for time: the prompt, with the
     terminal in raw mode, before typing and after each Enter, then the end of output after ^D
     (a 15 s bound only stops a broken run). A key given as (bytes, pattern) waits, after it
@@ -23,6 +23,8 @@ def session(keys, term="dumb", args=()):
     if pid == 0:
         os.environ["HOME"] = home
         os.environ["TERM"] = term
+        if cols:  # the terminal's width, set before the REPL asks for it
+            fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", 24, cols, 0, 0))
         os.execv(cli, [cli, "-p", port, *args])
     out = b""
     closed = False
@@ -159,6 +161,12 @@ out, rc = session([(b"robot mov ", rb"mov "), b"\x15"], term="xterm", args=("-c"
 check("[cli] hints = no shows none", GREY.decode() not in out and "robot mov" in out, repr(out[-200:]))
 out, rc = session([(b"robot mov ", rb"mov "), b"\x15"])
 check("TERM=dumb shows no hints", GREY.decode() not in out and "robot mov" in out, repr(out[-200:]))
+out, rc = session([(b"robot mov ", hint(b"abs|rel x") + rb"\x1b\[9D"), (b"abs x=1 y=2", rb"y="),
+                   (b" z=3", rb"z=3"), b"\x15"], term="xterm", cols=40)
+check("a hint is cut at the right margin (40 columns)",
+      re.search(hint(b"abs|rel x") + rb"\x1b\[9D$", steps[0]) is not None, repr(steps[0]))
+check("no hint where the line reaches the margin", GREY not in steps[1] + steps[2],
+      repr(steps[1] + steps[2]))
 out = session([b"robot \t\t", b"\x15"], term="xterm")[0].split("Type help.", 1)[-1]
 check("TAB lists the choices with hints on", "srvon" in out and "pnp" in out, repr(out[-300:]))
 print("pty checks:", "FAILED " + ", ".join(fails) if fails else "all passed")
