@@ -206,6 +206,7 @@ FUZZ_TOOL_fuzz_ff := tools/common/c4g_srv_files.c $(FUZZ_FFM) $(FUZZ_TF)
 FUZZ_TOOL_fuzz_ffmodel := $(FUZZ_FFM) $(FUZZ_TF)
 FUZZ_TOOL_fuzz_server_ini := tools/common/c4g_srv_opts.c tools/common/c4g_cli.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
+FUZZ_TOOL_fuzz_cli_cmd := tools/cell-cli/cli_cmd.c tools/common/cell_common.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_canopen_ini := tools/common/c4g_co_config.c $(FUZZ_TF)
 FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \
   tools/common/c4g_ctrlside.c tools/common/c4g_hist.c

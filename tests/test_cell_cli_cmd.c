@@ -161,12 +161,83 @@ static void test_help_and_words(void **st)
     assert_string_equal(w[0], "sta");
 }
 
+static void expect_hint(const char *line, const char *want)
+{
+    char out[256];
+    size_t n = cli_cmd_hint(line, out, sizeof out);
+    if (strcmp(out, want) != 0 || n != strlen(want)) {
+        fail_msg("hint of '%s': '%s' (%zu), want '%s'", line, out, n, want);
+    }
+}
+
+/* The hint drops the arguments already typed: in order for choices and placeholders, by
+ * key for poses; an unknown or unfinished word, or one that fits nowhere, has none. */
+static void test_hints(void **st)
+{
+    char small[8];
+    (void)st;
+    expect_hint("", "");
+    expect_hint("   ", "");
+    expect_hint("rob", "");
+    expect_hint("robot", " sta|srvon|srvof|ovr|mov|stp|rst|clo|itr|pnp");
+    expect_hint("r ", "sta|srvon|srvof|ovr|mov|stp|rst|clo|itr|pnp");
+    expect_hint("conditioning ", "rst|clo|acq|hnd");
+    expect_hint("robot st", "");
+    expect_hint("robot sta", "");
+    expect_hint("robot ovr", " PERCENT");
+    expect_hint("ROBOT OVERRIDE ", "PERCENT");
+    expect_hint("robot ovr 5", "");
+    expect_hint("robot ovr 5 ", "");
+    expect_hint("robot servo", " on|off");
+    expect_hint("robot servo ", "on|off");
+    expect_hint("robot servo o", "");
+    expect_hint("robot servo on", "");
+    expect_hint("robot servo up ", "");
+    expect_hint("robot mov ", "abs|rel x=MM y=MM z=MM c=RAD");
+    expect_hint("robot mov abs", " x=MM y=MM z=MM c=RAD");
+    expect_hint("robot mov abs ", "x=MM y=MM z=MM c=RAD");
+    expect_hint("robot mov abs x=1 ", "y=MM z=MM c=RAD");
+    expect_hint("robot mov abs x=1", " y=MM z=MM c=RAD");
+    expect_hint("robot mov ABS Z=1 x=2 ", "y=MM c=RAD");
+    expect_hint("robot mov abs x", "");
+    expect_hint("robot mov abs x=1 x=2 ", "");
+    expect_hint("robot mov abs x=1 y=1 z=1 c=1", "");
+    expect_hint("robot mov abs q=1 ", "");
+    expect_hint("robot mov up ", "");
+    expect_hint("robot mov rel y=1 ", "[x=MM] [z=MM] [c=RAD]");
+    expect_hint("platform move abs ", "a=RAD b=RAD");
+    expect_hint("platform mov rel b=1 ", "[a=RAD]");
+    expect_hint("robot pnp x=1 ", "clear=MM y=MM z=MM c=RAD");
+    expect_hint("platform pnp ", "");
+    expect_hint("platform acq ", "");
+    expect_hint("conditioning hnd ", "GRIPPER open|close");
+    expect_hint("conditioning hnd 1 ", "open|close");
+    expect_hint("conditioning hnd 1 shut ", "");
+    expect_hint("wait ", "robot|platform stopped [TIMEOUT]");
+    expect_hint("wait r ", "stopped [TIMEOUT]");
+    expect_hint("wait conditioning ", "");
+    expect_hint("wait platform stopped ", "[TIMEOUT]");
+    expect_hint("raw ", "robot|platform|conditioning TEXT");
+    expect_hint("raw robot ", "TEXT");
+    expect_hint("raw robot OVR+00050", "");
+    expect_hint("sleep", " SECONDS");
+    expect_hint("help ", "[COMMAND]");
+    expect_hint("clear ", "");
+    expect_hint("bogus ", "");
+    expect_hint("robot mov abs # x= ", "");
+    expect_hint("robot a b c d e f g h i j k l m ", "");
+    /* a hint longer than the buffer is cut, never overrun */
+    assert_int_equal(cli_cmd_hint("robot mov ", small, sizeof small), sizeof small - 1);
+    assert_string_equal(small, "abs|rel");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_row_parses),
         cmocka_unit_test(test_messages),
         cmocka_unit_test(test_help_and_words),
+        cmocka_unit_test(test_hints),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

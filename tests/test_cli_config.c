@@ -39,8 +39,11 @@ static void test_refuses(void **state)
         {"[robot]\nhost =\n", "c.ini:2:7: [robot] host: want a host name or IPv4 address (1..255 bytes)"},
         {"[robot]\nport = 2001\x00\n", "c.ini:2:12: NUL byte \\x00 at byte offset 19 (after 'port = 2001'): "
                                        "binary content is not accepted"},
+        {"[cli]\nhints = maybe\n", "c.ini:2:9: [cli] hints: 'maybe' is not yes or no"},
+        {"[cli]\nhint = no\n",
+         "c.ini:2:1: [cli]: unknown key 'hint' (want connect_timeout_ms, reply_timeout_ms or hints)"},
     };
-    static const size_t len[] = {0, 0, 0, 0, 0, 0, 0, 21};
+    static const size_t len[] = {0, 0, 0, 0, 0, 0, 0, 21, 0, 0};
     cli_config_t c;
     char err[400];
     size_t i;
@@ -70,6 +73,13 @@ static void test_accepts(void **state)
     assert_int_equal(c.port[CELL_DEV_CONDITIONING], 2003);
     assert_int_equal(c.connect_ms, 1);
     assert_int_equal(c.reply_ms, 600000);
+    assert_int_equal(c.hints, 1);
+    t = "[cli]\nhints = No\n";
+    assert_int_equal(cfg(&c, t, strlen(t), err, sizeof err), 0);
+    assert_int_equal(c.hints, 0);
+    t = "[cli]\nhints = on\n";
+    assert_int_equal(cfg(&c, t, strlen(t), err, sizeof err), 0);
+    assert_int_equal(c.hints, 1);
 }
 
 int main(void)

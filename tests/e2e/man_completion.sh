@@ -68,7 +68,7 @@ comp "--allow" c4g-replay check --al
 comp "--plot" c4g-ident fit --pl
 comp "fit" c4g-ident f
 comp "--workspace" cell-sim --works
-comp "--no-raw --no-history" cell-cli --no-
+comp "--no-raw --no-history --no-hints" cell-cli --no-
 comp "robot" cell-cli rob
 comp "abs rel" cell-cli robot mov ""
 comp "fixtures/server/traj_example.csv" c4g-server --traj fixtures/server/traj_ex

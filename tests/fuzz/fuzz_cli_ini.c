@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer: cell-cli's INI file (tools/cell-cli/cli_config.c through the shared INI
  * layer and inih). Invariants: an error is one well-formed "PATH:..." message; an
- * accepted file leaves non-empty hosts, ports 1..65535 and timeouts 1..600000 ms. */
+ * accepted file leaves non-empty hosts, ports 1..65535, timeouts 1..600000 ms and hints
+ * 0 or 1. */
 #include "fuzz_text.h"
 #include "cli_config.h"
 
@@ -31,7 +32,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort();
         }
     }
-    if (c.connect_ms < 1 || c.connect_ms > 600000 || c.reply_ms < 1 || c.reply_ms > 600000) {
+    if (c.connect_ms < 1 || c.connect_ms > 600000 || c.reply_ms < 1 || c.reply_ms > 600000 ||
+        (c.hints != 0 && c.hints != 1)) {
         abort();
     }
     free(buf);

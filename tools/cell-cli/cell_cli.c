@@ -1,8 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* cell-cli: terminal client for the cell's robot, platform and conditioning
  * controllers (REPL with libedit, one-shot, scripts, --json). See docs/cell-cli.md. */
+#include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <poll.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,7 +13,8 @@
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
-#include <editline/readline.h>
+#include <wchar.h>
+#include <histedit.h>
 #include <jansson.h>
 
 #include "c4gopen.h"
@@ -50,6 +54,7 @@ static int g_stamp;     /* JSON/CSV rows carry the wall-clock time (-r / -i) */
 static int g_csv_head;  /* the CSV header was printed */
 static int g_last_dev = -1; /* the device of the last command (the prompt shows it) */
 static int g_echo;
+static int g_hints = 1; /* [cli] hints in the config file */
 
 /* ------------------------------------------------------------------ transport */
 
@@ -567,127 +572,358 @@ static int run_script(FILE *f, const char *name, int keep_going)
     return worst;
 }
 
-/* Where the word being completed starts in rl_line_buffer: the completion callback's start.
- * (libedit does not update rl_point before completing, so rl_point cannot tell whether the
- * cursor follows a space, i.e. whether the word being completed is an empty one.) */
-static int g_comp_start;
-static char g_hint[512];
+/* The REPL runs on libedit's own interface (histedit.h): its readline emulation has no
+ * hook that runs as each key is typed, which hints as you type need. */
+typedef struct repl {
+    char prompt[sizeof g_conn[0].host + 64];
+    int hints;             /* show a hint after the line as it is typed */
+    int hint_shown;        /* a hint is on the screen right of the cursor */
+    unsigned long keys;    /* keys read so far (the first is key 1) */
+    unsigned long tab_key; /* the number of the last TAB that left several choices; 0 none */
+} repl_t;
 
-static char *complete_gen(const char *text, int state)
+static repl_t g_repl;
+
+static char *repl_prompt(EditLine *el)
 {
-    static const char *const *list;
-    static int idx;
-    static size_t tl;
-    if (state == 0) {
-        /* the words before the one being completed */
-        char buf[512];
-        char *w[4] = {NULL, NULL, NULL, NULL};
-        int n = 0;
-        size_t pl = g_comp_start > 0 ? (size_t)g_comp_start : 0U;
-        if (pl >= sizeof buf) {
-            pl = sizeof buf - 1U;
-        }
-        memcpy(buf, rl_line_buffer, pl);
-        buf[pl] = '\0';
-        for (char *p = strtok(buf, " \t"); p != NULL; p = strtok(NULL, " \t")) {
-            if (n < 4) {
-                w[n] = p;
-            }
-            n++;
-        }
-        list = cli_cmd_words(n, w[0] ? w[0] : "", n >= 2 ? w[1] : NULL);
-        /* the hint when nothing can be offered: the help of the command being typed */
-        g_hint[0] = '\0';
-        if (list == NULL && n >= 1) {
-            const char *topic = (cell_dev_parse(w[0]) >= 0 && n >= 2) ? w[1] : w[0];
-            if (cli_cmd_help(topic, g_hint, sizeof g_hint) != 0) {
-                g_hint[0] = '\0';
-            }
-        }
-        idx = 0;
-        tl = strlen(text);
-    }
-    while (list != NULL && list[idx] != NULL) {
-        const char *c = list[idx++];
-        if (strncasecmp(c, text, tl) == 0) {
-            return strdup(c);
-        }
-    }
-    return NULL;
+    (void)el;
+    return g_repl.prompt;
 }
 
-static char **complete(const char *text, int start, int end)
+static void hint_erase(void)
 {
-    (void)end;
-    char **m;
-    g_comp_start = start;
-    rl_attempted_completion_over = 1; /* no file name completion */
-    m = rl_completion_matches(text, complete_gen);
-    if (m == NULL && g_hint[0] != '\0') {
-        /* libedit has no hook that runs as each key is typed (redis-cli's hints come from
-         * linenoise's): the argument hint is shown on TAB, below the line, which is redrawn */
-        fprintf(stdout, "\n%s", g_hint);
+    if (g_repl.hint_shown) {
+        fputs("\033[K", stdout); /* the hint is all that is right of the cursor */
         fflush(stdout);
-        rl_on_new_line();
-        rl_forced_update_display();
+        g_repl.hint_shown = 0;
     }
-    return m;
 }
 
-static int run_repl(int use_history)
+/* The hint in grey after the line, the cursor left where it was (redis-cli's look). Only
+ * when the cursor ends a one-row line of printable ASCII with room for the hint, and no key
+ * is waiting (a paste or an escape sequence is not interrupted): libedit knows nothing of
+ * the hint, which hint_erase() takes away before libedit acts on the next key. */
+static void hint_show(EditLine *el)
+{
+    const LineInfo *li = el_line(el);
+    size_t len = (size_t)(li->lastchar - li->buffer);
+    size_t col = strlen(g_repl.prompt) + len;
+    char line[512], hint[256];
+    int cols = 0;
+    size_t hl;
+    struct pollfd p = {STDIN_FILENO, POLLIN, 0};
+    if (!g_repl.hints || li->cursor != li->lastchar || len >= sizeof line || poll(&p, 1, 0) > 0) {
+        return;
+    }
+    for (size_t i = 0; i < len; i++) {
+        if (li->buffer[i] < 0x20 || li->buffer[i] > 0x7E) {
+            return;
+        }
+    }
+    memcpy(line, li->buffer, len);
+    line[len] = '\0';
+    hl = cli_cmd_hint(line, hint, sizeof hint);
+    if (hl == 0 || el_get(el, EL_GETTC, "co", &cols, NULL) != 0 || cols <= 0 ||
+        col + 2 > (size_t)cols) {
+        return;
+    }
+    if (hl > (size_t)cols - 1 - col) {
+        hl = (size_t)cols - 1 - col; /* never wrap: the cursor must come back on this row */
+    }
+    printf("\033[90m%.*s\033[0m\033[%zuD", (int)hl, hint, hl);
+    fflush(stdout);
+    g_repl.hint_shown = 1;
+}
+
+/* libedit's read of one key, with the hint shown while it waits. */
+static int repl_getc(EditLine *el, wchar_t *wc)
+{
+    char b[MB_LEN_MAX];
+    size_t n = 0;
+    hint_show(el);
+    for (;;) {
+        mbstate_t st;
+        size_t k;
+        ssize_t r = read(STDIN_FILENO, b + n, 1);
+        if (r < 0 && errno == EINTR) {
+            continue; /* a window resize: libedit's own handler has taken note */
+        }
+        if (r <= 0) {
+            hint_erase();
+            *wc = L'\0';
+            return r < 0 ? -1 : 0;
+        }
+        n++;
+        memset(&st, 0, sizeof st);
+        k = mbrtowc(wc, b, n, &st);
+        if (k == (size_t)-2 && n < sizeof b) {
+            continue; /* more bytes of one character */
+        }
+        if (k == (size_t)-1 || k == (size_t)-2) {
+            n = 0; /* not a character: dropped, as libedit's own read does */
+            continue;
+        }
+        break;
+    }
+    hint_erase();
+    g_repl.keys++;
+    return 1;
+}
+
+static int cmp_word(const void *a, const void *b)
+{
+    return strcasecmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+/* The choices as readline lists them: sorted, in columns, down then across. */
+static void list_choices(EditLine *el, const char **m, size_t n)
+{
+    size_t w = 0, ncol, nrow;
+    int cols = 80;
+    qsort(m, n, sizeof m[0], cmp_word);
+    for (size_t i = 0; i < n; i++) {
+        w = strlen(m[i]) > w ? strlen(m[i]) : w;
+    }
+    if (el_get(el, EL_GETTC, "co", &cols, NULL) != 0 || cols < 20) {
+        cols = 80;
+    }
+    ncol = (size_t)cols / (w + 2) > 0 ? (size_t)cols / (w + 2) : 1;
+    nrow = (n + ncol - 1) / ncol;
+    fputc('\n', stdout);
+    for (size_t r = 0; r < nrow; r++) {
+        for (size_t c = 0; c < ncol && c * nrow + r < n; c++) {
+            printf("%-*s", (int)(w + 2), m[c * nrow + r]);
+        }
+        fputc('\n', stdout);
+    }
+}
+
+/* Replace the word before the cursor (wl bytes) with the first tl bytes of text. */
+static void replace_word(EditLine *el, size_t wl, const char *text, size_t tl, int space)
+{
+    char ins[64];
+    snprintf(ins, sizeof ins, "%.*s%s", (int)tl, text, space ? " " : "");
+    el_deletestr(el, (int)wl);
+    (void)el_insertstr(el, ins);
+}
+
+/* The words before the one being completed (at most 2 kept), their count in *n. */
+static void words_before(const LineInfo *li, size_t start, char *buf, size_t cap, char **w,
+                         int *n)
+{
+    size_t pl = start < cap ? start : cap - 1U;
+    memcpy(buf, li->buffer, pl);
+    buf[pl] = '\0';
+    *n = 0;
+    w[0] = w[1] = NULL;
+    for (char *p = strtok(buf, " \t"); p != NULL; p = strtok(NULL, " \t")) {
+        if (*n < 2) {
+            w[*n] = p;
+        }
+        (*n)++;
+    }
+}
+
+/* TAB: one choice completes the word (a space follows unless it ends in '='); several
+ * complete their common part, and a second TAB in a row lists them; none: the usage of
+ * the command being typed (cli_cmd_help), below the line. */
+static unsigned char repl_complete(EditLine *el, int ch)
+{
+    const LineInfo *li = el_line(el);
+    size_t end = (size_t)(li->cursor - li->buffer), start = end, wl, cl;
+    char buf[512], help[512];
+    char *w[2];
+    const char *m[64];
+    size_t nm = 0;
+    int n = 0;
+    const char *const *list;
+    (void)ch;
+    while (start > 0 && li->buffer[start - 1] != ' ' && li->buffer[start - 1] != '\t') {
+        start--;
+    }
+    wl = end - start;
+    words_before(li, start, buf, sizeof buf, w, &n);
+    list = cli_cmd_words(n, w[0] ? w[0] : "", n >= 2 ? w[1] : NULL);
+    for (size_t i = 0; list != NULL && list[i] != NULL && nm < 64; i++) {
+        if (strlen(list[i]) >= wl && strncasecmp(list[i], li->buffer + start, wl) == 0) {
+            m[nm++] = list[i];
+        }
+    }
+    if (nm == 0) {
+        const char *topic = (n >= 2 && cell_dev_parse(w[0]) >= 0) ? w[1] : w[0];
+        if (list != NULL || n == 0 || cli_cmd_help(topic, help, sizeof help) != 0) {
+            return CC_ERROR;
+        }
+        printf("\n%s", help); /* nothing to complete: the usage, as a hint */
+        return CC_REDISPLAY;
+    }
+    if (nm == 1) {
+        cl = strlen(m[0]);
+        replace_word(el, wl, m[0], cl, m[0][cl - 1] != '=');
+        return CC_REFRESH;
+    }
+    cl = strlen(m[0]); /* the common part of the choices */
+    for (size_t i = 1; i < nm; i++) {
+        size_t j = 0;
+        while (j < cl && tolower((unsigned char)m[i][j]) == tolower((unsigned char)m[0][j])) {
+            j++;
+        }
+        cl = j;
+    }
+    if (cl > wl) {
+        replace_word(el, wl, m[0], cl, 0);
+        g_repl.tab_key = g_repl.keys;
+        return CC_REFRESH_BEEP;
+    }
+    if (g_repl.tab_key != 0 && g_repl.tab_key + 1 == g_repl.keys) {
+        list_choices(el, m, nm);
+        return CC_REDISPLAY;
+    }
+    g_repl.tab_key = g_repl.keys;
+    return CC_ERROR;
+}
+
+/* ^Z stops the process as in a shell (the terminal is in libedit's raw mode). */
+static unsigned char repl_tstp(EditLine *el, int ch)
+{
+    (void)el;
+    (void)ch;
+    (void)kill(0, SIGTSTP);
+    return CC_REDISPLAY;
+}
+
+/* Emacs keys, TAB completion, readline's extra keys (Home, End, Delete, ^R, Ctrl+arrows),
+ * then ~/.editrc (or $EDITRC), which may change any of them. */
+static void repl_keys(EditLine *el)
+{
+    static const char *const bind[][2] = {
+        {"^R", "em-inc-search-prev"},   {"\\e[1~", "ed-move-to-beg"},
+        {"\\e[4~", "ed-move-to-end"},   {"\\e[7~", "ed-move-to-beg"},
+        {"\\e[8~", "ed-move-to-end"},   {"\\e[H", "ed-move-to-beg"},
+        {"\\e[F", "ed-move-to-end"},    {"\\e[3~", "ed-delete-next-char"},
+        {"\\e[2~", "ed-quoted-insert"}, {"\\e[1;5C", "em-next-word"},
+        {"\\e[1;5D", "ed-prev-word"},   {"\\e[5C", "em-next-word"},
+        {"\\e[5D", "ed-prev-word"},     {"\\e\\e[C", "em-next-word"},
+        {"\\e\\e[D", "ed-prev-word"}};
+    el_set(el, EL_EDITOR, "emacs");
+    /* the wide el_wset: the narrow el_set copies a new function's name and help, and those
+     * copies are never freed */
+    el_wset(el, EL_ADDFN, L"cell-complete", L"complete a cell-cli word", repl_complete);
+    el_set(el, EL_BIND, "^I", "cell-complete", NULL);
+    el_wset(el, EL_ADDFN, L"cell-tstp", L"suspend cell-cli", repl_tstp);
+    el_set(el, EL_BIND, "^Z", "cell-tstp", NULL);
+    for (size_t i = 0; i < sizeof bind / sizeof bind[0]; i++) {
+        el_set(el, EL_BIND, bind[i][0], bind[i][1], NULL);
+    }
+    (void)el_source(el, NULL);
+}
+
+/* Hints need a terminal that takes colours and cursor moves: not TERM=dumb (nor unset), as
+ * linenoise decides for redis-cli. */
+static int hints_possible(void)
+{
+    const char *term = getenv("TERM");
+    return isatty(STDOUT_FILENO) && term != NULL && term[0] != '\0' &&
+           strcmp(term, "dumb") != 0;
+}
+
+static void repl_set_prompt(void)
+{
+    /* the device of the last command and its address while its connection is open */
+    if (g_last_dev >= 0 && g_conn[g_last_dev].fd >= 0) {
+        snprintf(g_repl.prompt, sizeof g_repl.prompt, "cell %s@%s:%u> ",
+                 cell_dev_name(g_last_dev), g_conn[g_last_dev].host, g_conn[g_last_dev].port);
+    } else {
+        snprintf(g_repl.prompt, sizeof g_repl.prompt, "cell not connected> ");
+    }
+}
+
+/* One line of the REPL; 1 to leave it. */
+static int repl_line(const char *got, int n)
+{
+    char line[1024];
+    cli_cmd_t cmd;
+    char err[256];
+    size_t len = n > 0 ? (size_t)n : 0U;
+    while (len > 0 && (got[len - 1] == '\n' || got[len - 1] == '\r')) {
+        len--;
+    }
+    if (len >= sizeof line) {
+        printf("error: command too long\n");
+        return 0;
+    }
+    memcpy(line, got, len);
+    line[len] = '\0';
+    if (cli_cmd_parse(line, &cmd, err, sizeof err) != 0) {
+        printf("error: %s\n", err);
+    } else if (cmd.kind == CMD_QUIT) {
+        return 1;
+    } else {
+        (void)run_cmd(&cmd); /* the REPL shows errors and carries on */
+    }
+    fflush(stdout);
+    return 0;
+}
+
+static int run_repl(int use_history, int hints)
 {
     char hist[1024] = "";
     const char *hf = getenv("CELL_CLI_HISTFILE");
     const char *home = getenv("HOME");
+    HistEvent ev;
+    History *h = history_init();
+    EditLine *el = el_init("cell-cli", stdin, stdout, stderr);
+    if (h == NULL || el == NULL) {
+        fprintf(stderr, "cell-cli: cannot start the line editor; reading commands as a script\n");
+        if (h != NULL) {
+            history_end(h);
+        }
+        return run_script(stdin, "stdin", 1);
+    }
     if (hf != NULL) {
         snprintf(hist, sizeof hist, "%s", hf);
     } else if (home != NULL) {
         snprintf(hist, sizeof hist, "%s/.cell_cli_history", home);
     }
-    rl_readline_name = "cell-cli";
-    rl_attempted_completion_function = complete;
-    using_history();
-    if (use_history && hist[0] != '\0') {
-        (void)read_history(hist);
+    use_history = use_history && hist[0] != '\0';
+    (void)history(h, &ev, H_SETSIZE, 1000);
+    (void)history(h, &ev, H_SETUNIQUE, 1); /* a command repeated is kept once */
+    if (use_history) {
+        (void)history(h, &ev, H_LOAD, hist); /* a missing file is an empty history */
     }
+    g_repl.hints = hints && hints_possible();
+    el_set(el, EL_HIST, history, h);
+    el_set(el, EL_PROMPT, repl_prompt);
+    el_set(el, EL_SIGNAL, 1);
+    el_set(el, EL_GETCFN, repl_getc);
+    repl_keys(el);
     printf("cell-cli %s: robot %s:%u, platform %s:%u, conditioning %s:%u. Type help.\n",
            C4G_VERSION_STRING, g_conn[0].host, g_conn[0].port, g_conn[1].host, g_conn[1].port,
            g_conn[2].host, g_conn[2].port);
+    fflush(stdout);
     for (;;) {
-        char prompt[sizeof g_conn[0].host + 64];
-        char *line;
-        /* the device of the last command and its address while its connection is open */
-        if (g_last_dev >= 0 && g_conn[g_last_dev].fd >= 0) {
-            snprintf(prompt, sizeof prompt, "cell %s@%s:%u> ", cell_dev_name(g_last_dev),
-                     g_conn[g_last_dev].host, g_conn[g_last_dev].port);
-        } else {
-            snprintf(prompt, sizeof prompt, "cell not connected> ");
-        }
-        line = readline(prompt);
-        cli_cmd_t cmd;
-        char err[256];
-        if (line == NULL) {
+        int n = 0;
+        const char *got;
+        repl_set_prompt();
+        got = el_gets(el, &n);
+        if (got == NULL || n <= 0) {
             printf("\n");
             break;
         }
-        if (line[0] != '\0') {
-            add_history(line);
-            if (use_history && hist[0] != '\0') {
-                (void)write_history(hist);
-                (void)history_truncate_file(hist, 1000);
+        if (strspn(got, " \t\r\n") < (size_t)n) {
+            char entry[1024];
+            snprintf(entry, sizeof entry, "%.*s", (int)strcspn(got, "\r\n"), got);
+            (void)history(h, &ev, H_ENTER, entry);
+            if (use_history) {
+                (void)history(h, &ev, H_SAVE, hist);
             }
         }
-        if (cli_cmd_parse(line, &cmd, err, sizeof err) != 0) {
-            printf("error: %s\n", err);
-        } else if (cmd.kind == CMD_QUIT) {
-            free(line);
+        if (repl_line(got, n)) {
             break;
-        } else {
-            (void)run_cmd(&cmd); /* the REPL shows errors and carries on */
         }
-        fflush(stdout);
-        free(line);
     }
+    el_end(el);
+    history_end(h);
     return EXIT_OK;
 }
 
@@ -705,7 +941,7 @@ typedef struct opts {
     unsigned connect_ms, reply_ms;
     long long repeat;
     double interval;
-    int keep_going, no_history;
+    int keep_going, no_history, no_hints;
 } opts_t;
 
 static opts_t g_opt = {.repeat = 1};
@@ -773,6 +1009,8 @@ static const cli_opt_t k_opts[] = {
      &g_no_raw, 0, 0, 0, NULL, 0},
     {"no-history", 0, CLI_FLAG, NULL, "REPL: do not read or write the history file",
      &g_opt.no_history, 0, 0, 0, NULL, 0},
+    {"no-hints", 0, CLI_FLAG, NULL, "REPL: no argument hints as you type", &g_opt.no_hints, 0,
+     0, 0, NULL, 0},
 };
 
 static const char *const k_examples[] = {
@@ -788,12 +1026,13 @@ static const cli_spec_t k_spec = {
     "cell-cli", NULL,
     "Usage: cell-cli [options] [DEVICE COMMAND [ARGS...]]\n"
     "Terminal client of the cell protocol (robot 2001, platform 2002, conditioning 2003).\n"
-    "No command: interactive REPL (libedit: history in ~/.cell_cli_history, TAB completion);\n"
-    "with stdin not a terminal, or -f FILE, commands are read as a script.\n",
+    "No command: interactive REPL (libedit: history in ~/.cell_cli_history, TAB completion,\n"
+    "argument hints as you type unless TERM=dumb); with stdin not a terminal, or -f FILE,\n"
+    "commands are read as a script.\n",
     k_opts, sizeof k_opts / sizeof k_opts[0], k_examples,
     "Config file (-c FILE, default: $CELL_CLI_CONFIG or ~/.config/cell-cli.ini if present):\n"
     "  [robot] host= port=, [platform], [conditioning], [cli] connect_timeout_ms=\n"
-    "  reply_timeout_ms=; options win over the file.\n"
+    "  reply_timeout_ms= hints=yes|no; options win over the file.\n"
     "\n"
     "Commands (see 'cell-cli help'): DEV sta | srvon | srvof | ovr N | stp | itr | rst | clo,\n"
     "  robot mov abs|rel x= y= z= c=, platform mov abs|rel a= b=, robot pnp clear= x= y= z= c=,\n"
@@ -836,6 +1075,7 @@ static int load_config(const char *path)
     }
     cc.connect_ms = g_connect_ms;
     cc.reply_ms = g_reply_ms;
+    cc.hints = g_hints;
     if (cli_config_load(&cc, path, err, sizeof err) != 0) {
         fprintf(stderr, "cell-cli: config file %s\n", err);
         return EXIT_USAGE;
@@ -846,6 +1086,7 @@ static int load_config(const char *path)
     }
     g_connect_ms = cc.connect_ms;
     g_reply_ms = cc.reply_ms;
+    g_hints = cc.hints;
     return EXIT_OK;
 }
 
@@ -962,7 +1203,7 @@ int main(int argc, char **argv)
     } else if (first < argc) {
         rc = run_oneshot(argc - first, argv + first);
     } else if (isatty(STDIN_FILENO)) {
-        rc = run_repl(!g_opt.no_history);
+        rc = run_repl(!g_opt.no_history, g_hints && !g_opt.no_hints);
     } else {
         rc = run_script(stdin, "stdin", g_opt.keep_going);
     }

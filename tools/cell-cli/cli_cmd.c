@@ -604,3 +604,225 @@ const char *const *cli_cmd_words(int word, const char *first, const char *second
     }
     return arg_words(word, dev, second);
 }
+
+/* ------------------------------------------------------------------ hints as you type */
+
+/* A hint template is the arguments of a command, space-separated: a word of lower-case
+ * choices ("abs|rel", "robot|platform"), a placeholder in capitals ("PERCENT", "[TIMEOUT]")
+ * or a key ("x=MM", "[a=RAD]"). Choices and placeholders come in order; keys in any order. */
+#define HINT_TOKENS 8
+#define HINT_TOKEN_MAX 128 /* a device's command list is one token */
+
+typedef struct hint_tpl {
+    char tok[HINT_TOKENS][HINT_TOKEN_MAX];
+    int n;
+} hint_tpl_t;
+
+static void tpl_set(hint_tpl_t *t, const char *text)
+{
+    char buf[256];
+    char *w[HINT_TOKENS];
+    snprintf(buf, sizeof buf, "%s", text);
+    t->n = split_words(buf, w, HINT_TOKENS);
+    if (t->n < 0) {
+        t->n = 0;
+    }
+    for (int i = 0; i < t->n; i++) {
+        snprintf(t->tok[i], sizeof t->tok[i], "%s", w[i]);
+    }
+}
+
+static void tpl_drop(hint_tpl_t *t, int i)
+{
+    for (int j = i; j + 1 < t->n; j++) {
+        memcpy(t->tok[j], t->tok[j + 1], sizeof t->tok[j]);
+    }
+    t->n--;
+}
+
+/* The key of a key token ("x" of "x=MM" and "[x=MM]"), or "" for another token. */
+static void tok_key(const char *tok, char *key, size_t cap)
+{
+    const char *p = tok[0] == '[' ? tok + 1 : tok;
+    size_t n = strcspn(p, "=");
+    key[0] = '\0';
+    if (p[n] == '=' && n > 0 && !isupper((unsigned char)p[0])) {
+        snprintf(key, cap, "%.*s", (int)n, p);
+    }
+}
+
+/* Does word fill a choice token? Device names may be shortened as everywhere else. */
+static int choice_match(const char *tok, const char *word)
+{
+    const char *p = tok;
+    int dev = cell_dev_parse(word);
+    while (*p != '\0') {
+        size_t n = strcspn(p, "|");
+        if ((strlen(word) == n && strncasecmp(p, word, n) == 0) ||
+            (dev >= 0 && strlen(cell_dev_name(dev)) == n && strncmp(p, cell_dev_name(dev), n) == 0)) {
+            return 1;
+        }
+        p += n + (p[n] == '|' ? 1 : 0);
+    }
+    return 0;
+}
+
+/* Takes away the token word fills: 0, or -1 when the word fits nowhere (no hint then).
+ * A key word still being typed without its '=' fills nothing yet. */
+static int tpl_take(hint_tpl_t *t, const char *word)
+{
+    char key[WORD_MAX];
+    const char *eq = strchr(word, '=');
+    if (t->n == 0) {
+        return -1;
+    }
+    tok_key(t->tok[0], key, sizeof key);
+    if (key[0] != '\0') {
+        if (eq == NULL) {
+            return -1;
+        }
+        for (int i = 0; i < t->n; i++) {
+            tok_key(t->tok[i], key, sizeof key);
+            if (strlen(key) == (size_t)(eq - word) && strncasecmp(key, word, strlen(key)) == 0) {
+                tpl_drop(t, i);
+                return 0;
+            }
+        }
+        return -1;
+    }
+    if (islower((unsigned char)t->tok[0][0]) && !choice_match(t->tok[0], word)) {
+        return -1;
+    }
+    tpl_drop(t, 0);
+    return 0;
+}
+
+/* The template of a device command (w[0] a device, n >= 2 words); *k: the words that name
+ * the command. -1 when w[1] names no command of the device, or only starts one. */
+static int device_tpl(int dev, char **w, int n, int typing, hint_tpl_t *t, int *k)
+{
+    int used = 1, partial = 0;
+    const cmd_row_t *r = row_find(w[1], n > 2 ? w[2] : NULL, &used, &partial);
+    char buf[96];
+    if (r == NULL && partial && (n > 3 || (n == 3 && !typing))) {
+        return -1; /* "servo up" */
+    }
+    if (r == NULL && partial) {
+        if (n == 3) {
+            return -1; /* "servo o": the second word is being typed */
+        }
+        two_word_usage(w[1], buf, sizeof buf);
+        *k = 2;
+        tpl_set(t, buf + strcspn(buf, " ")); /* "on|off" */
+        return 0;
+    }
+    if (r == NULL || (r->devices & (1U << dev)) == 0U) {
+        return -1;
+    }
+    *k = 1 + used;
+    switch (r->args) {
+    case C4G_CELL_ARGS_INT:
+        tpl_set(t, r->arg);
+        break;
+    case C4G_CELL_ARGS_INT_ACTION:
+        snprintf(buf, sizeof buf, "%s open|close", r->arg);
+        tpl_set(t, buf);
+        break;
+    case C4G_CELL_ARGS_MODE_POSE: {
+        int rel = n > *k && strcasecmp(w[*k], "rel") == 0;
+        const char *keys = dev == CELL_DEV_ROBOT
+                               ? (rel ? "[x=MM] [y=MM] [z=MM] [c=RAD]" : "x=MM y=MM z=MM c=RAD")
+                               : (rel ? "[a=RAD] [b=RAD]" : "a=RAD b=RAD");
+        snprintf(buf, sizeof buf, "abs|rel %s", keys);
+        tpl_set(t, buf);
+        break;
+    }
+    case C4G_CELL_ARGS_CLEAR_POSE:
+        tpl_set(t, "clear=MM x=MM y=MM z=MM c=RAD");
+        break;
+    case C4G_CELL_ARGS_NONE:
+    default:
+        t->n = 0;
+        break;
+    }
+    return 0;
+}
+
+/* The template of the command in w[0..n); -1 for an unknown command. */
+static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
+{
+    static const struct {
+        const char *word, *args;
+    } tool[] = {{"help", "[COMMAND]"}, {"?", "[COMMAND]"}, {"sleep", "SECONDS"},
+                {"wait", "robot|platform stopped [TIMEOUT]"},
+                {"raw", "robot|platform|conditioning TEXT"}, {"clear", ""}, {"quit", ""},
+                {"exit", ""}};
+    int dev = cell_dev_parse(w[0]);
+    *k = 1;
+    t->n = 0;
+    for (size_t i = 0; i < sizeof tool / sizeof tool[0]; i++) {
+        if (strcasecmp(w[0], tool[i].word) == 0) {
+            tpl_set(t, tool[i].args);
+            return 0;
+        }
+    }
+    if (dev < 0) {
+        return -1;
+    }
+    if (n >= 2) {
+        return device_tpl(dev, w, n, typing, t, k);
+    }
+    /* a device alone: its commands, once the word is the device's whole name (or ended) */
+    if (typing && strcasecmp(w[0], cell_dev_name(dev)) != 0) {
+        return -1;
+    }
+    {
+        char *list = t->tok[0];
+        size_t o = 0;
+        const char *const *c = cli_cmd_words(1, cell_dev_name(dev), NULL);
+        list[0] = '\0';
+        for (; c != NULL && *c != NULL && o < sizeof t->tok[0]; c++) {
+            o += (size_t)snprintf(list + o, sizeof t->tok[0] - o, "%s%s", o > 0 ? "|" : "", *c);
+        }
+        if (o >= sizeof t->tok[0]) {
+            strcpy(list, "COMMAND");
+        }
+        t->n = 1;
+    }
+    return 0;
+}
+
+size_t cli_cmd_hint(const char *line, char *out, size_t cap)
+{
+    char buf[512];
+    char *w[MAX_WORDS];
+    hint_tpl_t t;
+    size_t len = strlen(line);
+    size_t o = 0;
+    int n, k = 1;
+    int typing = len > 0 && !isspace((unsigned char)line[len - 1]); /* the last word goes on */
+    if (cap == 0) {
+        return 0;
+    }
+    out[0] = '\0';
+    if (len >= sizeof buf || strchr(line, '#') != NULL) {
+        return 0;
+    }
+    strcpy(buf, line);
+    n = split_words(buf, w, MAX_WORDS);
+    if (n <= 0 || command_tpl(w, n, typing, &t, &k) != 0 || n < k) {
+        return 0;
+    }
+    for (int i = k; i < n; i++) {
+        if (tpl_take(&t, w[i]) != 0) {
+            return 0;
+        }
+    }
+    for (int i = 0; i < t.n && o < cap; i++) {
+        o += (size_t)snprintf(out + o, cap - o, "%s%s", (i > 0 || typing) ? " " : "", t.tok[i]);
+    }
+    if (o >= cap) {
+        o = cap - 1;
+    }
+    return t.n > 0 ? o : 0;
+}

@@ -38,4 +38,11 @@ int cli_cmd_help(const char *topic, char *out, size_t cap);
 /* Words completion can offer at word index @p word given the first word. */
 const char *const *cli_cmd_words(int word, const char *first, const char *second);
 
+/* The hint shown after the line being typed, as redis-cli shows one: the arguments of the
+ * command still to come ("robot mov abs x=1 " -> "y=MM z=MM c=RAD"), with a leading space
+ * while the last word is still being typed. Its length; 0 (out "") when there is nothing
+ * to show: an unknown or unfinished command word, a word that fits nowhere, every argument
+ * given. */
+size_t cli_cmd_hint(const char *line, char *out, size_t cap);
+
 #endif /* CLI_CMD_H */

@@ -18,6 +18,23 @@ void cli_config_default(cli_config_t *c)
     }
     c->connect_ms = 2000;
     c->reply_ms = 2000;
+    c->hints = 1;
+}
+
+/* yes/true/on/1 or no/false/off/0, any case; -1 for anything else. */
+static int yes_no(const char *v)
+{
+    static const char *const yes[] = {"yes", "true", "on", "1"};
+    static const char *const no[] = {"no", "false", "off", "0"};
+    for (size_t i = 0; i < sizeof yes / sizeof yes[0]; i++) {
+        if (strcasecmp(v, yes[i]) == 0) {
+            return 1;
+        }
+        if (strcasecmp(v, no[i]) == 0) {
+            return 0;
+        }
+    }
+    return -1;
 }
 
 static tf_ini_rc_t bad_int(const char *section, const char *name, const char *value, tf_num_t st,
@@ -69,6 +86,16 @@ static tf_ini_rc_t on_ini(void *user, const char *section, const char *name, con
             *((name[0] == 'c' || name[0] == 'C') ? &c->connect_ms : &c->reply_ms) = (int)v;
             return TF_INI_OK;
         }
+        if (strcasecmp(name, "hints") == 0) {
+            char v_esc[80];
+            c->hints = yes_no(value);
+            if (c->hints < 0) {
+                tf_escape(value, strlen(value), v_esc, sizeof v_esc);
+                snprintf(msg, msglen, "[%s] hints: '%s' is not yes or no", section, v_esc);
+                return TF_INI_BAD_VALUE;
+            }
+            return TF_INI_OK;
+        }
     } else {
         char s[80];
         tf_escape(section, strlen(section), s, sizeof s);
@@ -80,7 +107,7 @@ static tf_ini_rc_t on_ini(void *user, const char *section, const char *name, con
         char n[80];
         tf_escape(name, strlen(name), n, sizeof n);
         snprintf(msg, msglen, "[%s]: unknown key '%s' (want %s)", section, n,
-                 dev >= 0 ? "host or port" : "connect_timeout_ms or reply_timeout_ms");
+                 dev >= 0 ? "host or port" : "connect_timeout_ms, reply_timeout_ms or hints");
         return TF_INI_BAD_KEY;
     }
 }

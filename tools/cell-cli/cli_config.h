@@ -12,12 +12,13 @@ typedef struct cli_config {
     unsigned port[CELL_DEVICES];
     int connect_ms;
     int reply_ms;
+    int hints; /* REPL hints as you type (1 unless [cli] hints = no) */
 } cli_config_t;
 
-/* 127.0.0.1, the spec's ports, 2000 ms timeouts. */
+/* 127.0.0.1, the spec's ports, 2000 ms timeouts, hints on. */
 void cli_config_default(cli_config_t *c);
 /* Apply an INI file (at most 1 MiB) over c: sections [robot] [platform] [conditioning]
- * (host, port) and [cli] (connect_timeout_ms, reply_timeout_ms); anything else is an
+ * (host, port) and [cli] (connect_timeout_ms, reply_timeout_ms, hints); anything else is an
  * error. 0, or -1 with "PATH:LINE:COL: ..." in err. */
 int cli_config_load(cli_config_t *c, const char *path, char *err, size_t errlen);
 struct tf_file;
