@@ -369,6 +369,9 @@ typedef struct c4g_session {
     uint32_t silent;             /**< a silence is under way (C4G_EV_SILENCE reported) */
     uint32_t peer_locked;        /**< peer holds the controller's endpoint */
     c4g_endpoint_t peer;         /**< the controller's endpoint (address and port) */
+    uint32_t neutral_n;          /**< axes in neutral_axes, 0 none */
+    int32_t neutral_mode;        /**< the mode of every axis in neutral_axes */
+    uint8_t neutral_axes[C4G_MAX_AXES * C4G_AXIS_SIZE]; /**< the axes of a neutral reply */
 } c4g_session_t;
 
 /** Result of one c4g_session_rx call. */

@@ -179,32 +179,45 @@ static inline uint64_t c4g_lane_at(const uint8_t *p)
     return u;
 }
 
+/* The exponent carries of the two words of the 8-byte lane at @p p (see C4G_EXP_MASK2). */
+static inline uint64_t c4g_lane_carry(const uint8_t *p)
+{
+    return (c4g_lane_at(p) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
+}
+
 /* Nonzero if a word of the axis array @p ax (host order, C4G_MAX_AXES axes) among the first
  * @p nwords, rounded up to a multiple of 4, has an all-ones exponent. The check reads whole
  * 16-byte quads (never past the array: it holds 180 words, a multiple of 4), so up to three
  * words past @p nwords take part: callers keep them zero or re-check exactly on a hit.
- * Four independent 64-bit lanes per 32 bytes: compilers turn them into two vector
+ * 64 bytes per step into four independent 64-bit lanes: compilers turn them into vector
  * operations without intrinsics, and the final reduction is two lanes, not eight. */
 static inline uint64_t c4g_axes_carry(const uint8_t *ax, size_t nwords)
 {
     const size_t quads = (nwords + 3U) / 4U;
-    const size_t pairs = quads / 2U;
+    const size_t steps = quads / 4U;
+    const uint8_t *q = ax;
     uint64_t a0 = 0U;
     uint64_t a1 = 0U;
     uint64_t a2 = 0U;
     uint64_t a3 = 0U;
     size_t g;
-    for (g = 0U; g < pairs; g++) {
-        const uint8_t *q = &ax[g * 32U];
-        a0 |= (c4g_lane_at(q) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
-        a1 |= (c4g_lane_at(&q[8]) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
-        a2 |= (c4g_lane_at(&q[16]) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
-        a3 |= (c4g_lane_at(&q[24]) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
+    for (g = 0U; g < steps; g++) {
+        a0 |= c4g_lane_carry(q) | c4g_lane_carry(&q[32]);
+        a1 |= c4g_lane_carry(&q[8]) | c4g_lane_carry(&q[40]);
+        a2 |= c4g_lane_carry(&q[16]) | c4g_lane_carry(&q[48]);
+        a3 |= c4g_lane_carry(&q[24]) | c4g_lane_carry(&q[56]);
+        q = &q[64];
     }
-    if ((quads % 2U) != 0U) {
-        const uint8_t *q = &ax[pairs * 32U];
-        a0 |= (c4g_lane_at(q) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
-        a1 |= (c4g_lane_at(&q[8]) & C4G_EXP_MASK2) + C4G_EXP_LSB2;
+    if ((quads & 2U) != 0U) {
+        a0 |= c4g_lane_carry(q);
+        a1 |= c4g_lane_carry(&q[8]);
+        a2 |= c4g_lane_carry(&q[16]);
+        a3 |= c4g_lane_carry(&q[24]);
+        q = &q[32];
+    }
+    if ((quads & 1U) != 0U) {
+        a0 |= c4g_lane_carry(q);
+        a1 |= c4g_lane_carry(&q[8]);
     }
     return (a0 | a1 | a2 | a3) & C4G_SIGN_BITS2;
 }

@@ -525,6 +525,18 @@ static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
     }
 }
 
+/* The wire bytes of @p axes axes carrying @p mode and zero data. */
+static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
+{
+    uint32_t i;
+    (void)memset(s->neutral_axes, 0, sizeof s->neutral_axes);
+    for (i = 0U; i < axes; i++) {
+        c4g_put_i32le(&s->neutral_axes[(size_t)i * C4G_AXIS_SIZE], mode);
+    }
+    s->neutral_n = axes;
+    s->neutral_mode = mode;
+}
+
 /* The neutral reply to the pending cyclic packet rx[cur], written to the wire directly (no
  * PC packet, no second check): the decoder checked every mode and value it echoes, the
  * rest is zero. Same bytes and session state as c4g_pc_reply_neutral + c4g_pc_encode. */
@@ -538,14 +550,11 @@ static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, si
         c4g_put_u32le(&buf[4], 0U);
         c4g_put_u32le(&buf[8], 0U);
         if ((s->rx_mixed_modes == 0U) && (first != C4G_MODE_0_DEBUG)) {
-            uint8_t mode_le[4];
-            uint8_t *a = &buf[C4G_HEADER_SIZE];
-            const uint8_t *const end = &a[(size_t)axes * C4G_AXIS_SIZE];
-            c4g_put_i32le(mode_le, first);
-            for (; a < end; a = &a[C4G_AXIS_SIZE]) { /* one mode everywhere, data zero */
-                (void)memcpy(a, mode_le, sizeof mode_le);
-                (void)memset(&a[4], 0, C4G_AXIS_SIZE - 4U);
+            /* one mode everywhere, data zero: the axes' bytes change only with the mode */
+            if ((s->neutral_n != axes) || (s->neutral_mode != first)) {
+                neutral_template(s, axes, first);
             }
+            (void)memcpy(&buf[C4G_HEADER_SIZE], s->neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
             if (first == C4G_MODE_FREEZING_A) {
                 s->frozen_active = 1U;
             }
