@@ -186,14 +186,16 @@ static inline uint64_t c4g_lane_carry(const uint8_t *p)
 }
 
 /* Nonzero if a word of the axis array @p ax (host order, C4G_MAX_AXES axes) among the first
- * @p nwords, rounded up to a multiple of 4, has an all-ones exponent. The check reads whole
- * 16-byte quads (never past the array: it holds 180 words, a multiple of 4), so up to three
- * words past @p nwords take part: callers keep them zero or re-check exactly on a hit.
+ * @p nwords has an all-ones exponent. With @p round_up set the check reads whole 16-byte
+ * quads (never past the array: it holds 180 words, a multiple of 4), so up to three words
+ * past @p nwords take part: for arrays whose words past the axes are zero (a session's own
+ * buffers, a decoder's output). Without it the last words are read one by one and nothing
+ * past @p nwords is read (a caller's struct, whose other words may be uninitialised).
  * 64 bytes per step into four independent 64-bit lanes: compilers turn them into vector
  * operations without intrinsics, and the final reduction is two lanes, not eight. */
-static inline uint64_t c4g_axes_carry(const uint8_t *ax, size_t nwords)
+static inline uint64_t c4g_axes_carry(const uint8_t *ax, size_t nwords, uint32_t round_up)
 {
-    const size_t quads = (nwords + 3U) / 4U;
+    const size_t quads = (round_up != 0U) ? ((nwords + 3U) / 4U) : (nwords / 4U);
     const size_t steps = quads / 4U;
     const uint8_t *q = ax;
     uint64_t a0 = 0U;
@@ -218,6 +220,12 @@ static inline uint64_t c4g_axes_carry(const uint8_t *ax, size_t nwords)
     if ((quads & 1U) != 0U) {
         a0 |= c4g_lane_carry(q);
         a1 |= c4g_lane_carry(&q[8]);
+    }
+    if (round_up == 0U) {
+        size_t k;
+        for (k = quads * 4U; k < nwords; k++) {
+            a2 |= (uint64_t)c4g_exp_carry(c4g_word_at(&ax[k * 4U]));
+        }
     }
     return (a0 | a1 | a2 | a3) & C4G_SIGN_BITS2;
 }

@@ -415,23 +415,26 @@ static void test_axes_carry(void **state)
         w[k] = (k % 3U == 0U) ? 0x7F7FFFFFU : ((k % 3U == 1U) ? 0xFF7FFFFFU : 506U);
     }
     for (m = 0U; m <= C4G_MAX_AXES * C4G_AXIS_WORDS; m++) {
-        assert_int_equal(c4g_axes_carry((const uint8_t *)w, m), 0U);
+        assert_int_equal(c4g_axes_carry((const uint8_t *)w, m, 1U), 0U);
+        assert_int_equal(c4g_axes_carry((const uint8_t *)w, m, 0U), 0U);
     }
     for (b = 0U; b < sizeof bad / sizeof bad[0]; b++) {
         for (k = 0U; k < C4G_MAX_AXES * C4G_AXIS_WORDS; k++) {
             const uint32_t keep = w[k];
             w[k] = bad[b];
             for (m = 0U; m <= C4G_MAX_AXES * C4G_AXIS_WORDS; m++) {
-                const int seen = c4g_axes_carry((const uint8_t *)w, m) != 0U;
+                const int seen = c4g_axes_carry((const uint8_t *)w, m, 1U) != 0U;
+                const int exact = c4g_axes_carry((const uint8_t *)w, m, 0U) != 0U;
                 assert_int_equal(seen, (((m + 3U) / 4U) * 4U) > k);
+                assert_int_equal(exact, m > k);
             }
             w[k] = keep;
         }
     }
 }
 
-/* The encoder's bulk check reads up to three words past the axes, which are the caller's
- * and unchecked: a NaN there must not refuse a good packet, one inside must. */
+/* The encoder reads nothing past the axes (the caller's, maybe uninitialised): a NaN or an
+ * unknown mode there must not refuse a good packet, one inside must. */
 static void test_encode_ignores_words_past_axes(void **state)
 {
     c4g_pc_packet_t tx;

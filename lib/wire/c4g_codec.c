@@ -159,7 +159,7 @@ static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, uin
                      ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
     }
     c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
-    if (axes_bad(ax, n, mixed) != 0U) {
+    if (axes_bad(ax, n, 1U, mixed) != 0U) {
         st = first_bad_axis(buf, n, diag);
     }
     return st;
@@ -257,15 +257,15 @@ static c4g_status_t encode_refusal(const uint8_t *ax, uint32_t n)
     return st;
 }
 
-/* The axes after a written header: checked in one pass, then one copy to the wire. The bulk
- * check may see words past the axes (the caller's, unchecked): on a hit the axes are checked
- * exactly. A failed encode must not leave a half-written packet that someone might send: the
- * header (cap >= 48 was checked) is zeroed, so the bytes are not a valid packet. */
+/* The axes after a written header: checked in one pass (nothing past the axes is read: the
+ * rest of the caller's struct may be uninitialised), then one copy to the wire. A failed
+ * encode must not leave a half-written packet that someone might send: the header
+ * (cap >= 48 was checked) is zeroed, so the bytes are not a valid packet. */
 static c4g_status_t encode_axes(const uint8_t *ax, uint32_t n, uint8_t *buf)
 {
     c4g_status_t st = C4G_OK;
     uint32_t mixed;
-    if (axes_bad(ax, n, &mixed) != 0U) {
+    if (axes_bad(ax, n, 0U, &mixed) != 0U) {
         st = encode_refusal(ax, n);
     }
     if (st != C4G_OK) {

@@ -58,14 +58,16 @@ static inline uint32_t modes_unknown(const uint8_t *ax, uint32_t n, uint32_t *mi
     return u;
 }
 
-/* 1 if the @p n axes (bytes @p ax, host order, a whole axis array) may hold a NaN/inf or an
+/* 1 if the @p n axes (bytes @p ax, host order, a whole axis array) hold a NaN/inf or an
  * unknown mode: every word in one pass (a mode word with an all-ones exponent is an unknown
- * mode anyway; up to three words past the axes take part, see c4g_axes_carry), then the
- * modes. */
-static inline uint32_t axes_bad(const uint8_t *ax, uint32_t n, uint32_t *mixed)
+ * mode anyway), then the modes. @p zero_past: the words past the axes are zero, so the pass
+ * may read whole quads (see c4g_axes_carry). */
+static inline uint32_t axes_bad(const uint8_t *ax, uint32_t n, uint32_t zero_past,
+                                uint32_t *mixed)
 {
     const uint32_t modes = modes_unknown(ax, n, mixed);
-    return c4g_flag((c4g_axes_carry(ax, (size_t)n * C4G_AXIS_WORDS) != 0U) || (modes != 0U));
+    return c4g_flag((c4g_axes_carry(ax, (size_t)n * C4G_AXIS_WORDS, zero_past) != 0U) ||
+                    (modes != 0U));
 }
 
 /* The hot decode of a cyclic packet of @p n axes (1..20) into a session's own buffer @p out,
@@ -83,7 +85,7 @@ static inline uint32_t c4g_cyclic_decode_hot(const uint8_t *buf, size_t len, uin
             uint8_t *ax = (uint8_t *)out->ax;
             c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS,
                          c4g_host_big_endian());
-            if (axes_bad(ax, n, mixed) == 0U) {
+            if (axes_bad(ax, n, 1U, mixed) == 0U) {
                 out->num = num;
                 out->infpar = c4g_get_u32le(&buf[4]);
                 out->cmd = c4g_get_u32le(&buf[8]);
