@@ -5,7 +5,9 @@
  * controller, another port, another address). Invariants: phase always valid, replies only
  * when armed, reply lengths 732/1200/12+36N, a 732-byte sync reply only to a datagram of a
  * cyclic packet's shape and never with a non-finite value, a foreign datagram never changes
- * the phase or the newest packet, never a crash. */
+ * the phase or the newest packet, never a crash. Differential: the session's inline decode
+ * equals the public decoder's output, and a twin session answering every cyclic packet with
+ * c4g_session_reply_neutral sends the bytes c4g_pc_reply_neutral + c4g_session_reply send. */
 #include "c4gopen.h"
 #include "c4g_fixtures.h"
 #include <stdlib.h>
@@ -16,7 +18,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static c4g_session_t s;   /* big: keep off the fuzzer's stack */
-    c4g_rx_result_t r;
+    static c4g_session_t twin;
+    static c4g_ctrl_packet_t pub;
+    c4g_rx_result_t r, r2;
+    uint8_t out2[C4G_INIT_SIZE];
+    size_t n2;
     c4g_init_t in;
     uint8_t init[C4G_INIT_SIZE];
     uint8_t out[C4G_INIT_SIZE];
@@ -33,7 +39,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     eps[2].port = 3600;
     (void)c4g_init_fig10_1(&in);
     (void)c4g_init_encode(&in, init, sizeof init, &len);
-    if (c4g_session_init(&s, NULL) != C4G_OK) {
+    if ((c4g_session_init(&s, NULL) != C4G_OK) || (c4g_session_init(&twin, NULL) != C4G_OK)) {
         abort();
     }
     while (pos + 2U <= size) {
@@ -55,12 +61,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             pos += dl;
         }
         t += (dl & 1U) ? 2000000U : 25000000U;
+        if (c4g_session_rx_from(&twin, dg, dl, t, from, &r2) == C4G_ERR_ENDED) {
+            (void)c4g_session_init(&twin, NULL);
+        }
         if (c4g_session_rx_from(&s, dg, dl, t, from, &r) == C4G_ERR_ENDED) {
             if (s.phase != C4G_PHASE_ENDED) {
                 abort();
             }
             (void)c4g_session_init(&s, NULL);
             continue;
+        }
+        if ((r.kind != r2.kind) || (r.events != r2.events) || (s.phase != twin.phase) ||
+            (memcmp(&r.diag, &r2.diag, sizeof r.diag) != 0)) {
+            abort();
         }
         if (s.phase > C4G_PHASE_LOST) {
             abort();
@@ -78,10 +91,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 (n != C4G_CYCLIC_SIZE(s.map.n_axes)) || (c4g_session_sent(&s, t + 1000U) != C4G_OK)) {
                 abort();
             }
+            /* the inline decode is the public decoder's, axes past the count zero included */
+            if ((c4g_ctrl_decode(dg, dl, s.map.n_axes, &pub, NULL) != C4G_OK) ||
+                (memcmp(&pub, r.pkt, sizeof pub) != 0)) {
+                abort();
+            }
+            if ((c4g_session_reply_neutral(&twin, out2, sizeof out2, &n2) != C4G_OK) || (n2 != n) ||
+                (memcmp(out, out2, n) != 0) || (twin.frozen_active != s.frozen_active) ||
+                (c4g_session_sent(&twin, t + 1000U) != C4G_OK)) {
+                abort();
+            }
         } else if (r.kind != C4G_RX_DROPPED) {
             c4g_ctrl_packet_t echo;
             if ((c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_OK) ||
-                (n != ((r.kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE))) {
+                (n != ((r.kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE)) ||
+                (c4g_session_reply_neutral(&twin, out2, sizeof out2, &n2) != C4G_OK) ||
+                (n2 != n) || (memcmp(out, out2, n) != 0)) {
                 abort();
             }
             if ((r.kind == C4G_RX_SYNC) &&
@@ -89,7 +114,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                  (c4g_ctrl_decode(out, n, 0U, &echo, NULL) != C4G_OK))) {
                 abort(); /* amplified, or a NaN / unknown mode echoed */
             }
-        } else if (c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_ERR_STATE) {
+        } else if ((c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_ERR_STATE) ||
+                   (c4g_session_reply_neutral(&twin, out2, sizeof out2, &n2) != C4G_ERR_STATE)) {
             abort();
         }
     }
