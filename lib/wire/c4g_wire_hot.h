@@ -40,7 +40,7 @@ static inline uint32_t modes_unknown(const uint8_t *ax, uint32_t n, uint32_t *mi
     uint32_t diff = 0U;
     uint32_t u;
     /* two axes a step: the loads are independent, the loop overhead halves */
-    for (m = &ax[C4G_AXIS_SIZE]; &m[C4G_AXIS_SIZE] < end; m = &m[2U * C4G_AXIS_SIZE]) {
+    for (m = &ax[C4G_AXIS_SIZE]; &m[C4G_AXIS_SIZE] < end; m = &m[(size_t)2U * C4G_AXIS_SIZE]) {
         diff |= ((uint32_t)c4g_host_i32_at(m) ^ (uint32_t)first) |
                 ((uint32_t)c4g_host_i32_at(&m[C4G_AXIS_SIZE]) ^ (uint32_t)first);
     }
