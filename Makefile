@@ -179,11 +179,14 @@ sanitize: $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
 	@sh scripts/run-tests.sh sanitize $^
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
-valgrind: $(UNIT_BINS)
-	@set -e; for t in $(UNIT_BINS); do \
-	  valgrind -q --error-exitcode=1 --leak-check=full $$t >/dev/null 2>$(BUILD)/valgrind.log || \
-	    { cat $(BUILD)/valgrind.log; echo "valgrind: $$t FAILED"; exit 1; }; done
+# (one target per binary, so `make -jN valgrind` runs N at a time: their temporary files are
+# mkstemp's, and no unit test binds a port)
+valgrind: $(UNIT_BINS:$(BUILD)/tests/%=valgrind-run-%)
 	@echo "valgrind: $(words $(UNIT_BINS)) test binaries clean"
+valgrind-run-%: $(BUILD)/tests/%
+	@mkdir -p $(BUILD)/valgrind
+	@valgrind -q --error-exitcode=1 --leak-check=full $< >/dev/null 2>$(BUILD)/valgrind/$*.log || \
+	  { cat $(BUILD)/valgrind/$*.log; echo "valgrind: $< FAILED"; exit 1; }
 
 # ---- coverage of lib/ (gcov + lcov): 100% lines, >= 95% branches
 COV_LINES ?= 100
