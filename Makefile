@@ -6,7 +6,7 @@
 #   make replay-golden    rewrite their expected summaries (fixtures/replay/golden; review the diff)
 #   make bench      benchmarks with an in-run baseline
 #   make coverage   line/branch coverage of lib/ (gated)
-#   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15)
+#   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15; make check: 5)
 #   make install    PREFIX=/usr/local DESTDIR=
 #   make wireshark-install-user   the Wireshark dissector into ~/.local/lib/wireshark/plugins
 
@@ -165,29 +165,43 @@ unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
 
 # ---- ASan + UBSan build of the unit tests (library compiled in)
+# The library and helpers are compiled once per flavour (not once per test), and every
+# step is a make target, so `make -jN` builds them in parallel.
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-sanitize: | $(DEPS_STAMP)
-	@mkdir -p $(BUILD)/san
-	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
-	  $(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/san/$$n $$t $(LIB_SRCS) $(HELPER_SRCS) $(TEST_LIBS); done
-	@sh scripts/run-tests.sh sanitize $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
+SAN_OBJS := $(LIB_SRCS:%.c=$(BUILD)/san/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/san/obj/%.o)
+$(BUILD)/san/obj/%.o: %.c $(LIB_HDRS) $(wildcard tools/common/*.h) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -c $< -o $@
+$(BUILD)/san/test_%: tests/test_%.c $(SAN_OBJS) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
+	@mkdir -p $(@D)
+	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $< $(SAN_OBJS) $(TEST_LIBS)
+sanitize: $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
+	@sh scripts/run-tests.sh sanitize $^
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
-valgrind: $(UNIT_BINS)
-	@set -e; for t in $(UNIT_BINS); do \
-	  valgrind -q --error-exitcode=1 --leak-check=full $$t >/dev/null 2>$(BUILD)/valgrind.log || \
-	    { cat $(BUILD)/valgrind.log; echo "valgrind: $$t FAILED"; exit 1; }; done
+# (one target per binary, so `make -jN valgrind` runs N at a time: their temporary files are
+# mkstemp's, and no unit test binds a port)
+valgrind: $(UNIT_BINS:$(BUILD)/tests/%=valgrind-run-%)
 	@echo "valgrind: $(words $(UNIT_BINS)) test binaries clean"
+valgrind-run-%: $(BUILD)/tests/%
+	@mkdir -p $(BUILD)/valgrind
+	@valgrind -q --error-exitcode=1 --leak-check=full $< >/dev/null 2>$(BUILD)/valgrind/$*.log || \
+	  { cat $(BUILD)/valgrind/$*.log; echo "valgrind: $< FAILED"; exit 1; }
 
 # ---- coverage of lib/ (gcov + lcov): 100% lines, >= 95% branches
 COV_LINES ?= 100
 COV_BRANCHES ?= 95
-coverage: | $(DEPS_STAMP)
-	@rm -rf $(BUILD)/cov && mkdir -p $(BUILD)/cov
-	@set -e; for t in $(UNIT_SRCS); do n=$$(basename $$t .c); \
-	  gcc $(TEST_CFLAGS) -O0 --coverage -DNDEBUG -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	    -o $(BUILD)/cov/$$n $$t $(LIB_SRCS) $(HELPER_SRCS) $(TEST_LIBS); done
+COV_FLAGS := $(TEST_CFLAGS) -O0 --coverage -DNDEBUG
+COV_OBJS := $(LIB_SRCS:%.c=$(BUILD)/cov/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/cov/obj/%.o)
+$(BUILD)/cov/obj/%.o: %.c $(LIB_HDRS) $(wildcard tools/common/*.h) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	gcc $(COV_FLAGS) -c $< -o $@
+$(BUILD)/cov/test_%: tests/test_%.c $(COV_OBJS) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
+	@mkdir -p $(@D)
+	gcc $(COV_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $< $(COV_OBJS) $(TEST_LIBS)
+# the counts of every test binary add up in the shared objects' .gcda files: start from zero
+coverage: $(UNIT_SRCS:tests/%.c=$(BUILD)/cov/%)
+	@find $(BUILD)/cov -name '*.gcda' -delete; rm -f $(BUILD)/cov/*.info
 	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
 	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
 
@@ -214,7 +228,7 @@ FUZZ_LIBS_fuzz_capture := -lpcap
 FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
   -Itools/cell-cli -Itools/c4g-replay
 
-.SECONDARY: $(FUZZ_LIB_OBJS)
+.SECONDARY: $(FUZZ_LIB_OBJS) $(SAN_OBJS) $(COV_OBJS)
 $(BUILD)/fuzz/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  FUZZCC  $@"; $(CLANG) -std=c99 -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c $< -o $@
@@ -227,8 +241,10 @@ $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_OBJS) $(wildcard tests/fuzz
 	  $(if $(FUZZ_TOOL_$(@F)),-linih) $(FUZZ_LIBS_$(@F)) -lm
 
 fuzz-build: $(FUZZ_NAMES:%=$(BUILD)/fuzz/%)
-fuzz: fuzz-build
-	@sh scripts/run-fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_NAMES)
+# one target per run, so `make -jN fuzz` runs N fuzzers at a time
+fuzz: $(FUZZ_NAMES:%=fuzz-run-%)
+fuzz-run-%: $(BUILD)/fuzz/%
+	@sh scripts/run-fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $*
 
 # ---- symbol audit, cross builds, qemu smoke test
 audit: $(STATIC)
@@ -304,14 +320,19 @@ e2e: all
 # ---- c4g-ident's accuracy against c4g-sim's axis model, in-process (tests/ident)
 IDENT_ACC := $(BUILD)/tests/ident-accuracy
 IDENT_SEEDS ?= 6
-$(IDENT_ACC): tests/ident/accuracy.cpp tests/ident/simgen.cpp tests/ident/simgen.hpp \
-  tools/c4g-ident/signal.cpp tools/c4g-ident/fit.cpp tools/c4g-ident/excite.cpp \
-  tools/c4g-ident/ident.hpp tools/c4g-ident/excite.hpp tools/c4g-sim/model.c tools/c4g-sim/model.h | $(DEPS_STAMP)
-	@mkdir -p $(@D)/ident-obj
-	$(CC) $(TOOL_CFLAGS) -O2 -c tools/c4g-sim/model.c -o $(@D)/ident-obj/model.o
-	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Itools/c4g-sim -O2 -g -o $@ \
-	  tests/ident/accuracy.cpp tests/ident/simgen.cpp tools/c4g-ident/signal.cpp tools/c4g-ident/fit.cpp \
-	  tools/c4g-ident/excite.cpp $(@D)/ident-obj/model.o -lceres -lglog -lpthread -lm
+# c4g-ident's own objects (built for the tool), the harness compiled beside them
+IDENT_TOOL_OBJS := $(addprefix $(BUILD)/tobj/tools/c4g-ident/,signal.o fit.o excite.o)
+IDENT_OBJS := $(BUILD)/tests/ident-obj/accuracy.o $(BUILD)/tests/ident-obj/simgen.o \
+  $(BUILD)/tests/ident-obj/model.o
+$(BUILD)/tests/ident-obj/%.o: tests/ident/%.cpp tests/ident/simgen.hpp tools/c4g-ident/ident.hpp \
+  tools/c4g-ident/excite.hpp tools/c4g-sim/model.h | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Itools/c4g-sim -O2 -g -c $< -o $@
+$(BUILD)/tests/ident-obj/model.o: tools/c4g-sim/model.c tools/c4g-sim/model.h | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	$(CC) $(TOOL_CFLAGS) -O2 -c $< -o $@
+$(IDENT_ACC): $(IDENT_OBJS) $(IDENT_TOOL_OBJS)
+	$(CXX) -o $@ $^ -lceres -lglog -lpthread -lm
 ident-accuracy: $(IDENT_ACC)
 	@echo "== c4g-ident accuracy ($(IDENT_SEEDS) seeds per case; make bench runs 30)"
 	@$(IDENT_ACC) --seeds $(IDENT_SEEDS) --gate
@@ -321,8 +342,12 @@ docs-examples: $(STATIC)
 # ---- the two README commands
 CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage audit static-analysis cross \
   qemu-smoke docs-examples e2e fuzz
+# Each gate builds with one job per core unless the caller chose -j; the fuzz gate replays
+# every seed and fuzzes CHECK_FUZZ_SECONDS per target (make bench: FUZZ_SECONDS each).
+CHECK_JOBS ?= $(if $(filter -j%,$(MAKEFLAGS)),,-j$(shell nproc 2>/dev/null || echo 1))
+CHECK_FUZZ_SECONDS ?= 5
 check: $(DEPS_STAMP)
-	@sh scripts/check.sh "$(MAKE) --no-print-directory" $(CHECK_GATES)
+	@sh scripts/check.sh "$(MAKE) --no-print-directory $(CHECK_JOBS) FUZZ_SECONDS=$(CHECK_FUZZ_SECONDS)" $(CHECK_GATES)
 
 demo: all
 	@sh scripts/demo.sh $(BUILD)
@@ -338,6 +363,7 @@ bench: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory ident-accuracy IDENT_SEEDS=30
 	@sh scripts/bench.sh $(BUILD)
+	@$(MAKE) --no-print-directory fuzz
 
 # ---- install
 install: lib tools man

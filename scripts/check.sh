@@ -8,11 +8,13 @@ shift
 pass=0; fail=0; failed=''
 for gate in "$@"; do
   echo "== check: $gate"
+  t0=$(date +%s)
   if $make_cmd "$gate"; then
     pass=$((pass + 1))
+    echo "== check: $gate passed in $(( $(date +%s) - t0 )) s"
   else
     fail=$((fail + 1)); failed="$failed $gate"
-    echo "check: gate $gate FAILED"
+    echo "check: gate $gate FAILED (after $(( $(date +%s) - t0 )) s)"
     if [ "$gate" = all ]; then
       break # nothing else can run without the build
     fi
