@@ -73,6 +73,14 @@ ctl=$(printf '/no\001where/x.json')
 # shellcheck disable=SC2086
 out_fail 1 --json "$ctl" -- $S -p 31405 --json "$ctl"
 grep -q 'no\\x01where' "$tmp/err" && pass "unprintable byte escaped" || bad "escape: $(cat "$tmp/err")"
+# bytes of a bad input file are escaped too
+printf 'garb\001age\n' >"$tmp/ctl.csv"
+"$bin/c4g-ident" fit "$tmp/ctl.csv" >/dev/null 2>"$tmp/err"; rc=$?
+if [ "$rc" -eq 2 ] && grep -q "ctl.csv:1: .*header 'garb\\\\x01age'" "$tmp/err"; then
+  pass "c4g-ident: a bad file's bytes escaped, exit 2"
+else
+  bad "c4g-ident bad file: exit $rc: $(cat -v "$tmp/err")"
+fi
 out_fail 4 --csv /x/y.csv -- "$bin/c4g-sim" -p 41400 -n 3000 --csv /x/y.csv
 out_fail 4 --pcap /x/y.pcap -- "$bin/c4g-sim" -p 41401 -n 3000 --pcap /x/y.pcap
 out_fail 1 --output /x/y.png -- "$bin/c4g-replay" plot --output /x/y.png fixtures/replay/mode4.pcap

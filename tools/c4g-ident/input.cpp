@@ -3,6 +3,7 @@
 
 extern "C" {
 #include "analyze.h"
+#include "c4g_textfile.h"
 #include "capture.h"
 }
 
@@ -23,6 +24,14 @@ namespace ident {
 namespace {
 
 constexpr int64_t kSessionStride = 1000000000LL;  // ticks of one session never meet the next's
+
+// Bytes of a file shown in an error: at most @p max of them, the unprintable ones as \xNN.
+std::string shown(const std::string &s, std::size_t max)
+{
+    char buf[512];
+    tf_escape(s.data(), std::min(s.size(), max), buf, sizeof buf);
+    return std::string(buf);
+}
 
 bool is_capture(const std::string &path)
 {
@@ -272,7 +281,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
                 info->format = "export CSV";
             } else {
                 return fail("not a capture, a c4g-server moni CSV (--moni-type 0) or a c4g-replay export CSV: header '" +
-                            line.substr(0, 60) + "'");
+                            shown(line, 60) + "'");
             }
             continue;
         }
@@ -290,12 +299,12 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             double v[16];
             for (int k = 0; k < 13; k++) {
                 if (!num(f[static_cast<std::size_t>(k)], &v[k])) {
-                    return fail("field " + std::to_string(k + 1) + " (" + hdr[static_cast<std::size_t>(k)] + "): '" +
-                                f[static_cast<std::size_t>(k)].substr(0, 40) + "' is not a number");
+                    return fail("field " + std::to_string(k + 1) + " (" + shown(hdr[static_cast<std::size_t>(k)], 40) + "): '" +
+                                shown(f[static_cast<std::size_t>(k)], 40) + "' is not a number");
                 }
             }
             if (static_cast<unsigned>(v[3]) != col.sel.arm) continue;
-            if (!(v[4] >= 1 && v[4] <= 10)) return fail("field 5 (logical): " + f[4] + " is not 1..10");
+            if (!(v[4] >= 1 && v[4] <= 10)) return fail("field 5 (logical): " + shown(f[4], 40) + " is not 1..10");
             if (std::isnan(t_prev) || v[0] != t_prev) {
                 if (!std::isnan(t_prev) && dts.size() < 4096) dts.push_back(v[0] - t_prev);
                 t_prev = v[0];
@@ -328,11 +337,11 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
                 static const char *const nm[7] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2"};
                 float d[7];
                 double mode;
-                if (!num(f[m->second], &mode)) return fail("field " + pre + "mode: '" + f[m->second] + "' is not a number");
+                if (!num(f[m->second], &mode)) return fail("field " + pre + "mode: '" + shown(f[m->second], 40) + "' is not a number");
                 for (int k = 0; k < 7; k++) {
                     double x;
                     const std::size_t c = col_of[pre + nm[k]];
-                    if (!num(f[c], &x)) return fail("field " + pre + nm[k] + ": '" + f[c].substr(0, 40) + "' is not a number");
+                    if (!num(f[c], &x)) return fail("field " + pre + nm[k] + ": '" + shown(f[c], 40) + "' is not a number");
                     d[k] = static_cast<float>(x);
                 }
                 Collector::add(L, static_cast<int64_t>(s) * kSessionStride + static_cast<int64_t>(tk), t,
