@@ -14,23 +14,10 @@ build=${1:-build}
 secs=${BENCH_SECONDS:-10}
 runs=${BENCH_RUNS:-3}
 port=${BENCH_PORT:-31090}
-srv=$build/bin/c4g-server
-stub=$build/e2e-server/ctrl_stub
-echo_bin=$build/e2e-server/udp_echo
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/c4g-srvcpu.XXXXXX")
-bpid=""
-cleanup() { [ -n "$bpid" ] && kill "$bpid" 2>/dev/null; rm -rf "$tmp"; }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-mkdir -p "$build/e2e-server"
-cc=${CC:-cc}
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Iinclude -Itools/common -o "$stub" \
-    tests/e2e/server_helpers/ctrl_stub.c tools/common/c4g_fixtures.c "$build/lib/libc4gopen.a" -lm || exit 1
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -o "$echo_bin" \
-    tests/e2e/server_helpers/udp_echo.c || exit 1
+tmpname=c4g-srvcpu
+. bench/lib/server_common.sh
 tck=$(getconf CLK_TCK)
 ticks=$((secs * 1000))
-kv() { sed -n "s/^$2=//p" "$1" | head -n 1; }
 # CPU time of a process in ns: the sum of its threads' on-CPU time, else utime + stime
 # (fields 14 and 15, after the command name) in clock ticks
 cpu_ns() {

@@ -14,23 +14,10 @@ build=${1:-build}
 secs=${BENCH_SECONDS:-10}
 [ "${C4G_BENCH_LONG:-0}" = 1 ] && secs=60
 port=${BENCH_PORT:-31080}
-srv=$build/bin/c4g-server
 sim=$build/bin/c4g-sim
-stub=$build/e2e-server/ctrl_stub
-echo_bin=$build/e2e-server/udp_echo
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/c4g-bench.XXXXXX")
-bpid=""
-cleanup() { [ -n "$bpid" ] && kill "$bpid" 2>/dev/null; rm -rf "$tmp"; }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-mkdir -p "$build/e2e-server"
-cc=${CC:-cc}
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Iinclude -Itools/common -o "$stub" \
-    tests/e2e/server_helpers/ctrl_stub.c tools/common/c4g_fixtures.c "$build/lib/libc4gopen.a" -lm || exit 1
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -o "$echo_bin" \
-    tests/e2e/server_helpers/udp_echo.c || exit 1
+tmpname=c4g-bench
+. bench/lib/server_common.sh
 ticks=$((secs * 1000))
-kv() { sed -n "s/^$2=//p" "$1" | head -n 1; }
 jv() { grep -o "\"$2\":[^,}]*" "$1" | head -n 1 | cut -d: -f2-; }
 
 row() {  # row LABEL STUBFILE [SERVERJSON]

@@ -162,6 +162,10 @@ static void test_reply_neutral_direct(void **state)
     assert_int_equal(feed(&a, sync, n), C4G_RX_CYCLIC);
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);
     assert_int_equal(n, 0);
+    a.s.rx_mixed_modes = 1U; /* the path of several modes refuses a short buffer too */
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);
+    assert_int_equal(n, 0);
+    a.s.rx_mixed_modes = 0U;
     assert_int_equal(c4g_session_reply_neutral(NULL, a.out, sizeof a.out, &n), C4G_ERR_NULL);
     assert_int_equal(c4g_session_reply_neutral(&a.s, NULL, sizeof a.out, &n), C4G_ERR_NULL);
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, NULL), C4G_ERR_NULL);

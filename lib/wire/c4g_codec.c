@@ -148,36 +148,31 @@ static c4g_status_t decode_header(const uint8_t *buf, size_t len, uint32_t n_axe
 }
 
 /* The axes of a datagram whose header decoded: one copy into host order, one check of the
- * copy. The axes past @p n are zeroed first when @p zero_tail is set (deterministic output;
- * the bulk check reads up to three words of them); a session's own buffers keep them zero. */
-static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, uint32_t zero_tail,
-                                uint32_t *mixed, c4g_diag_t *diag)
+ * copy; the axes past @p n zero (deterministic output, and the bulk check reads up to three
+ * words of them). */
+static c4g_status_t decode_axes(const uint8_t *buf, uint32_t n, uint8_t *ax, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_OK;
-    if (zero_tail != 0U) {
-        (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0,
-                     ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
-    }
+    uint32_t mixed;
+    (void)memset(&ax[(size_t)n * C4G_AXIS_SIZE], 0, ((size_t)C4G_MAX_AXES - (size_t)n) * C4G_AXIS_SIZE);
     c4g_words_le(ax, &buf[C4G_HEADER_SIZE], (size_t)n * C4G_AXIS_WORDS, c4g_host_big_endian());
-    if (axes_bad(ax, n, 1U, mixed) != 0U) {
+    if (axes_bad(ax, n, 1U, &mixed) != 0U) {
         st = first_bad_axis(buf, n, diag);
     }
     return st;
 }
 
-static c4g_status_t ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
-                                c4g_ctrl_packet_t *out, uint32_t zero_tail, uint32_t *mixed,
-                                c4g_diag_t *diag)
+c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
+                             c4g_ctrl_packet_t *out, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_ERR_NULL;
     c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
-    *mixed = 0U;
     if ((buf != NULL) && (out != NULL)) {
         uint32_t n = 0U;
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         if (st == C4G_OK) {
-            st = decode_axes(buf, n, (uint8_t *)out->ax, zero_tail, mixed, diag);
+            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;
@@ -190,13 +185,6 @@ static c4g_status_t ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
     return st;
 }
 
-c4g_status_t c4g_ctrl_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
-                             c4g_ctrl_packet_t *out, c4g_diag_t *diag)
-{
-    uint32_t mixed;
-    return ctrl_decode(buf, len, n_axes, out, 1U, &mixed, diag);
-}
-
 c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
                            c4g_pc_packet_t *out, c4g_diag_t *diag)
 {
@@ -207,8 +195,7 @@ c4g_status_t c4g_pc_decode(const uint8_t *buf, size_t len, uint32_t n_axes,
         out->n_axes = 0U;
         st = decode_header(buf, len, n_axes, &out->num, &out->infpar, &out->cmd, &n, diag);
         if (st == C4G_OK) {
-            uint32_t mixed;
-            st = decode_axes(buf, n, (uint8_t *)out->ax, 1U, &mixed, diag);
+            st = decode_axes(buf, n, (uint8_t *)out->ax, diag);
         }
         if (st == C4G_OK) {
             out->n_axes = n;

@@ -537,50 +537,49 @@ static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
     s->neutral_mode = mode;
 }
 
-/* The neutral reply to the pending cyclic packet rx[cur], written to the wire directly (no
- * PC packet, no second check): the decoder checked every mode and value it echoes, the
- * rest is zero. Same bytes and session state as c4g_pc_reply_neutral + c4g_pc_encode. */
+/* The neutral reply to @p p built as a PC packet and encoded (the packet of several modes,
+ * or of mode 0': off the common path, and its 740-byte packet off the common stack frame). */
+static c4g_status_t neutral_encoded(c4g_session_t *s, const c4g_ctrl_packet_t *p, uint8_t *buf,
+                                    size_t cap, size_t *n)
+{
+    c4g_pc_packet_t tx;
+    c4g_status_t st = c4g_pc_reply_neutral(p, &tx);
+    if (st == C4G_OK) {
+        st = c4g_pc_encode(&tx, buf, cap, n);
+    }
+    if (st == C4G_OK) {
+        track_active_freezing(s, &tx);
+    }
+    return st;
+}
+
+/* The neutral reply to the pending cyclic packet rx[cur]. One mode on every axis (the usual
+ * case): written to the wire directly from the session's template, no PC packet and no
+ * second check (the decoder checked the modes it echoes, the data is zero). Several modes,
+ * or mode 0' echoing D1..D5: built and encoded as c4g_pc_reply_neutral + c4g_pc_encode. */
 static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *n)
 {
     const c4g_ctrl_packet_t *p = &s->rx[s->cur];
     const uint32_t axes = p->n_axes;
     const int32_t first = p->ax[0].mode;
-    c4g_status_t st = C4G_ERR_CAPACITY;
-    if (cap >= C4G_CYCLIC_SIZE(axes)) {
-        c4g_put_u32le(&buf[4], 0U);
-        c4g_put_u32le(&buf[8], 0U);
-        if ((s->rx_mixed_modes == 0U) && (first != C4G_MODE_0_DEBUG)) {
-            /* one mode everywhere, data zero: the axes' bytes change only with the mode */
+    c4g_status_t st;
+    if ((s->rx_mixed_modes == 0U) && (first != C4G_MODE_0_DEBUG)) {
+        st = C4G_ERR_CAPACITY;
+        if (cap >= C4G_CYCLIC_SIZE(axes)) {
             if ((s->neutral_n != axes) || (s->neutral_mode != first)) {
                 neutral_template(s, axes, first);
             }
+            c4g_put_u32le(&buf[4], 0U);
+            c4g_put_u32le(&buf[8], 0U);
             (void)memcpy(&buf[C4G_HEADER_SIZE], s->neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
             if (first == C4G_MODE_FREEZING_A) {
                 s->frozen_active = 1U;
             }
-        } else {
-            uint32_t i;
-            (void)memset(&buf[C4G_HEADER_SIZE], 0, (size_t)axes * C4G_AXIS_SIZE);
-            for (i = 0U; i < axes; i++) {
-                const c4g_ctrl_axis_t *r = &p->ax[i];
-                uint8_t *a = &buf[C4G_CYCLIC_SIZE(i)];
-                c4g_put_i32le(a, r->mode);
-                if (r->mode == C4G_MODE_0_DEBUG) {
-                    /* Mode 0': D1..D5 copied back, as c4g_pc_reply_neutral does. */
-                    c4g_put_f32le(&a[4], r->target_pos);
-                    c4g_put_f32le(&a[8], r->target_vel);
-                    c4g_put_f32le(&a[12], r->actual_pos);
-                    c4g_put_f32le(&a[16], r->actual_vel);
-                    c4g_put_f32le(&a[20], r->current_ref);
-                } else if (r->mode == C4G_MODE_FREEZING_A) {
-                    s->frozen_active = 1U;
-                } else {
-                    /* mode echoed, data zero */
-                }
-            }
+            *n = C4G_CYCLIC_SIZE((size_t)axes);
+            st = C4G_OK;
         }
-        *n = C4G_CYCLIC_SIZE((size_t)axes);
-        st = C4G_OK;
+    } else {
+        st = neutral_encoded(s, p, buf, cap, n);
     }
     return st;
 }
