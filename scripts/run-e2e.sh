@@ -41,7 +41,9 @@ for t in tests/e2e/*.sh; do
   if timeout 600 sh "$t" "$build" >"$log" 2>&1; then
     pass=$((pass + 1)); echo "e2e: PASS $name ($(( $(date +%s) - t0 )) s)"
   else
-    fail=$((fail + 1)); failed="$failed $name"; echo "e2e: FAIL $name ($(( $(date +%s) - t0 )) s, log: $log)"; tail -n 30 "$log" | sed 's/^/    /'
+    fail=$((fail + 1)); failed="$failed $name"; echo "e2e: FAIL $name ($(( $(date +%s) - t0 )) s, log: $log)"
+    # the failed checks first (a long dump would push them out of the tail), then the tail
+    grep -n -A2 'FAIL' "$log" | head -n 20 | sed 's/^/    /'; echo "    ..."; tail -n 30 "$log" | sed 's/^/    /'
   fi
 done
 echo "e2e: $pass passed, $fail failed${failed:+ (failed:$failed)}"

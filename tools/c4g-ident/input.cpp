@@ -16,6 +16,7 @@ extern "C" {
 #include <cstring>
 #include <algorithm>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -216,6 +217,7 @@ int read_capture(const std::string &path, Collector &col, InputInfo *info, std::
     info->format = "capture (" + std::string(rc == 0 ? "complete" : "cut short") + ")";
     if (bad > 10) std::fprintf(stderr, "c4g-ident: %s: %llu damaged frames in all\n", path.c_str(), static_cast<unsigned long long>(bad));
     for (const AxisLog &L : *col.logs) info->have_kin = info->have_kin || L.have_q;
+    info->reply_times = true;
     return rc;
 }
 
@@ -261,6 +263,11 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
     int64_t tick_moni = 0;
     double period = 0.0;
     std::vector<double> dts;  // tick spacings: the period is their median (receive times jitter)
+    // export CSV: (tick, reply latency [us]) of every row, +inf without a reply; judged late
+    // against the period once it is known, by the capture's rule
+    std::vector<std::pair<int64_t, double>> lat;
+    std::size_t pf_col = 0, lu_col = 0;
+    bool have_lat = false;
     auto fail = [&](const std::string &why) {
         *err = path + ":" + std::to_string(ln) + ": " + why;
         return -1;
@@ -279,6 +286,12 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             } else if (hdr.size() > 12 && hdr[0] == "session" && hdr[1] == "tick" && hdr[2] == "time") {
                 exp = true;
                 info->format = "export CSV";
+                have_lat = col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
+                if (have_lat) {
+                    pf_col = col_of["pc_frame"];
+                    lu_col = col_of["latency_us"];
+                }
+                info->reply_times = have_lat;
             } else {
                 return fail("not a capture, a c4g-server moni CSV (--moni-type 0) or a c4g-replay export CSV: header '" +
                             shown(line, 60) + "'");
@@ -289,6 +302,12 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             hdr = f;
             col_of.clear();
             for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
+            have_lat = have_lat && col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
+            if (have_lat) {
+                pf_col = col_of["pc_frame"];
+                lu_col = col_of["latency_us"];
+            }
+            info->reply_times = have_lat;
             continue;
         }
         if (f.size() != hdr.size()) {
@@ -324,6 +343,13 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             if (!std::isnan(t_prev) && t > t_prev && dts.size() < 4096) dts.push_back(t - t_prev);
             t_prev = t;
             info->ticks++;
+            if (have_lat) {
+                double us = std::numeric_limits<double>::infinity();
+                if (!f[pf_col].empty() && !num(f[lu_col], &us)) {
+                    return fail("field latency_us: '" + shown(f[lu_col], 40) + "' is not a number");
+                }
+                lat.emplace_back(static_cast<int64_t>(s) * kSessionStride + static_cast<int64_t>(tk) + 1, us);
+            }
             const auto ip = col_of.find("ctrl_infpar");
             const unsigned long infpar = (ip != col_of.end()) ? std::strtoul(f[ip->second].c_str(), nullptr, 16) : 0;
             const bool drive = ((infpar >> (8U * (col.sel.arm - 1U))) & 0xFFU) == C4G_STS_MOVING;
@@ -356,6 +382,11 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
     }
     for (AxisLog &L : *col.logs) {
         if (period > 0.0) L.period = std::round(period * 1e4) / 1e4;
+        // no reply, or one after the controller's next tick: that tick ran without it
+        for (const auto &x : lat) {
+            if (!(x.second <= L.period * 1e6)) L.late_ticks.push_back(x.first);
+        }
+        std::sort(L.late_ticks.begin(), L.late_ticks.end());
     }
     return 0;
 }
@@ -367,8 +398,11 @@ int read_input(const std::string &path, const Selection &sel, std::vector<AxisLo
 {
     info->path = path;
     Collector col(sel, logs);
-    if (is_capture(path)) return read_capture(path, col, info, err);
-    return read_csv(path, col, info, err);
+    const int rc = is_capture(path) ? read_capture(path, col, info, err) : read_csv(path, col, info, err);
+    if (rc == 0 && sel.keep_late) {
+        for (AxisLog &L : *logs) L.late_ticks.clear();
+    }
+    return rc;
 }
 
 }  // namespace ident

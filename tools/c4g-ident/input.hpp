@@ -17,6 +17,7 @@ struct Selection {
     double from = 0.0, to = -1.0;// window [s] since the first tick; to < 0: open
     unsigned session = 0;        // captures: 0 = all
     bool progress = false;       // progress on stderr
+    bool keep_late = false;      // keep the ticks after a late or missing PC reply
 };
 
 struct InputInfo {
@@ -24,6 +25,7 @@ struct InputInfo {
     uint64_t ticks = 0;          // controller ticks read
     uint64_t sessions = 0;
     bool have_kin = false;
+    bool reply_times = false;    // the input says when each PC reply came (capture, export CSV)
 };
 
 // Reads @p path into one log per selected axis. 0 ok; otherwise an error (naming the file,

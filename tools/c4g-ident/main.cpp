@@ -64,7 +64,7 @@ struct FitCli {
     char plot[1024] = "";
     char samples[1024] = "";
     char validate[1024] = "";
-    int json = 0, quiet = 0, no_gravity = 0;
+    int json = 0, quiet = 0, no_gravity = 0, keep_late = 0;
 };
 
 int fit_axes(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
@@ -152,6 +152,7 @@ int run_fit(int argc, char **argv)
         {"validate", 0, CLI_STRING, "LOG", "validate on a second log instead of the last 20 %", c.validate, sizeof c.validate, 0, 0, nullptr, 0},
         {"holdout", 0, CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
         {"variant", 0, CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity", nullptr, 0, 0, 0, fit_variant, 0},
+        {"keep-late", 0, CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
         {"no-gravity", 0, CLI_FLAG, nullptr, "never offer the gravity variants", &c.no_gravity, 0, 0, 0, nullptr, 0},
         {"loss", 0, CLI_CALL, "NAME", "robust loss: huber (default), cauchy or none", nullptr, 0, 0, 0, fit_loss, 0},
         {"loss-scale", 0, CLI_DOUBLE, "K", "robust scale in noise sigmas (default 1.345)", &loss_k, 0, 0.1, 100, nullptr, 0},
@@ -191,6 +192,7 @@ int run_fit(int argc, char **argv)
     c.sel.to = to;
     c.sel.session = session;
     c.sel.progress = true;
+    c.sel.keep_late = c.keep_late != 0;
     c.opt.holdout = holdout;
     c.opt.loss_k = loss_k;
     c.opt.eps = eps;

@@ -32,9 +32,10 @@ std::string axis_name(const AxisResult &r)
 void report_text(FILE *out, const Job &j)
 {
     for (const InputInfo &in : j.inputs) {
-        std::fprintf(out, "input %s: %s, %llu controller ticks, %llu session(s)%s\n", in.path.c_str(), in.format.c_str(),
+        std::fprintf(out, "input %s: %s, %llu controller ticks, %llu session(s)%s%s\n", in.path.c_str(), in.format.c_str(),
                      static_cast<unsigned long long>(in.ticks), static_cast<unsigned long long>(in.sessions),
-                     in.have_kin ? ", kinematics from the init packet" : "");
+                     in.have_kin ? ", kinematics from the init packet" : "",
+                     in.reply_times ? "" : ", no reply times (ticks after a late reply are kept)");
     }
     std::fprintf(out, "model: i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n");
     std::fprintf(out, "fit: %s loss (scale %.3g sigma), Savitzky-Golay %d/%d, validation: %s\n", loss_name(j.opt.loss),
@@ -93,9 +94,10 @@ int report_json(FILE *out, const Job &j)
     json_t *root = json_object();
     json_t *ins = json_array();
     for (const InputInfo &in : j.inputs) {
-        json_array_append_new(ins, json_pack("{s:s,s:s,s:I,s:I,s:b}", "path", in.path.c_str(), "format", in.format.c_str(),
+        json_array_append_new(ins, json_pack("{s:s,s:s,s:I,s:I,s:b,s:b}", "path", in.path.c_str(), "format", in.format.c_str(),
                                              "ticks", static_cast<json_int_t>(in.ticks), "sessions",
-                                             static_cast<json_int_t>(in.sessions), "kinematics", in.have_kin));
+                                             static_cast<json_int_t>(in.sessions), "kinematics", in.have_kin,
+                                             "reply_times", in.reply_times));
     }
     json_object_set_new(root, "inputs", ins);
     json_object_set_new(root, "loss", json_string(loss_name(j.opt.loss)));
