@@ -111,6 +111,9 @@ PY
 printf 't_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,rx_e3,tx_infpar,tx_mode,tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n0.002,1,1,1,1,0,1,2,3,4,zz,0,0,0,0,0,0,0,0,0,0\n' >"$T/bad.csv"
 "$ID" fit "$T/bad.csv" 2>"$T/err"; r=$?
 [ $r -eq 2 ] && grep -q "bad.csv:2: field 11 (rx_d5): 'zz' is not a number" "$T/err" && ok "bad CSV value named" || { cat "$T/err"; bad "bad CSV: exit $r"; }
+awk -F, -v OFS=, 'NR == 3 { $8 = "1e" } { print }' "$T/loop/ident.csv" >"$T/badlat.csv"
+"$ID" fit "$T/badlat.csv" 2>"$T/err"; r=$?
+[ $r -eq 2 ] && grep -q "badlat.csv:3: field latency_us: '1e' is not a number" "$T/err" && ok "bad latency in an export named" || { cat "$T/err"; bad "bad latency: exit $r"; }
 printf 'hello\n' >"$T/junk.txt"
 "$ID" fit "$T/junk.txt" 2>"$T/err"; r=$?
 [ $r -eq 2 ] && grep -q "junk.txt:1: not a capture" "$T/err" && ok "junk refused" || { cat "$T/err"; bad "junk: exit $r"; }
