@@ -66,10 +66,20 @@ run_sim cap "$PORT" fixtures/server/sim_mode4.scn --sine 0.25,0.5,0.5 --pcap "$T
 ok "capture: c4g-sim scenario passed" eq "$SIMRC" 0
 CAP=$T/m4.pcap
 SENT=$(jget "$T/cap.sim.json" packets.sent)
-next_port; start_server same "$PORT" --sine 0.25,0.5,0.5
-live same "$PORT" $PLUS
-wait_server
+# A replay the host stalled (its own overruns: packets sent late, two at once) can leave a
+# reply unaccounted for; such an attempt is made again, 5 at most. Lost replies without an
+# overrun of the replay fail at once.
 J=$T/same.live.json
+try=1
+while :; do
+    next_port; start_server same "$PORT" --sine 0.25,0.5,0.5
+    live same "$PORT" $PLUS
+    wait_server
+    rm -f "$J.kv"
+    [ "$(lost "$J" 1)" -eq 0 ] || [ "$(jget "$J" timing.overruns)" -eq 0 ] || [ $try -ge 5 ] && break
+    echo "       (same, attempt $try: the host stalled the replay, $(jget "$J" timing.overruns) overruns, $(lost "$J" 1) replies unaccounted for: again)"
+    try=$((try + 1))
+done
 ok "same: every controller packet of the capture sent" eq "$(jget "$J" packets.sent)" "$SENT"
 ok "same: 0 wrong NUM" eq "$(jget "$J" replies.wrong_num)" 0
 ok "same: no reply lost" eq "$(lost "$J" 1)" 0
