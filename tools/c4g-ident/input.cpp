@@ -268,6 +268,15 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
     std::vector<std::pair<int64_t, double>> lat;
     std::size_t pf_col = 0, lu_col = 0;
     bool have_lat = false;
+    // an export header's reply columns (every header of the file must have them)
+    auto reply_cols = [&]() {
+        have_lat = have_lat && col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
+        if (have_lat) {
+            pf_col = col_of["pc_frame"];
+            lu_col = col_of["latency_us"];
+        }
+        info->reply_times = have_lat;
+    };
     auto fail = [&](const std::string &why) {
         *err = path + ":" + std::to_string(ln) + ": " + why;
         return -1;
@@ -286,12 +295,8 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             } else if (hdr.size() > 12 && hdr[0] == "session" && hdr[1] == "tick" && hdr[2] == "time") {
                 exp = true;
                 info->format = "export CSV";
-                have_lat = col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
-                if (have_lat) {
-                    pf_col = col_of["pc_frame"];
-                    lu_col = col_of["latency_us"];
-                }
-                info->reply_times = have_lat;
+                have_lat = true;
+                reply_cols();
             } else {
                 return fail("not a capture, a c4g-server moni CSV (--moni-type 0) or a c4g-replay export CSV: header '" +
                             shown(line, 60) + "'");
@@ -302,12 +307,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
             hdr = f;
             col_of.clear();
             for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
-            have_lat = have_lat && col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
-            if (have_lat) {
-                pf_col = col_of["pc_frame"];
-                lu_col = col_of["latency_us"];
-            }
-            info->reply_times = have_lat;
+            reply_cols();
             continue;
         }
         if (f.size() != hdr.size()) {
