@@ -8,7 +8,8 @@ build_stub
 SIM_ARGS=""
 
 echo "one dropped reply:"; F0=$FAILS
-calm sim run_sim drop1 31030 fixtures/server/sim_idle.scn --skip-replies 300
+# (not run again when held up: its counts allow for it, and in 2 s a late reply is common)
+run_sim drop1 31030 fixtures/server/sim_idle.scn --skip-replies 300
 # missing, or unjudged if the simulator overran that deadline itself
 ok "controller counted the missing reply" ge "$(( $(jv "$T/drop1.sim.json" missing) + $(jv "$T/drop1.sim.json" unjudged) ))" 1
 ok "controller raised no error" has "$T/drop1.sim.json" '"errors":\[\]'
