@@ -3,7 +3,8 @@
 # instructions per tick under callgrind, Ir(2N ticks) - Ir(N ticks) over N (the repeatable
 # figure), and ns per tick (median of interleaved batches; noisy on a shared machine).
 # Goals: 20 axes wire <= 740 Ir, full <= 3135 Ir; 6 axes wire <= 453 Ir, full <= 1177 Ir
-# (half of what a struct-cast library without any validation spends, measured on it).
+# (half of what a struct-cast library without any validation spends, measured on it), and
+# the floor of a mode-4 filter loop over arrays (bench/filter_floor.c) beside them.
 # Usage: sh bench/tick_cost.sh BUILD_DIR
 set -eu
 build=$1
@@ -45,3 +46,23 @@ echo "(ours: wire = session rx + c4g_session_reply_neutral (the neutral reply en
 echo " packet), mode 0; wire-tx = the same with the reply built as a PC packet and encoded and checked"
 echo " again; full = loop object, mode 4, setpoints,"
 echo " packet rules and safety filter. base = struct copy in/out, no validation; Ir/tick = (Ir(2N) - Ir(N))/N)"
+# The floor of the full path's goal (bench/filter_floor.c): the mode-4 filter alone as one
+# loop over arrays, fewer checks than the library's. Wire + this is what a full tick could
+# at best cost with every check kept.
+if [ "$have_vg" = 1 ]; then
+  f="$build/bench/filter_floor"
+  ${CC:-cc} -std=c99 -O2 -Wall -Wextra -o "$f" bench/filter_floor.c
+  fir() {
+    out=$(mktemp)
+    valgrind --tool=callgrind --callgrind-out-file="$out" "$f" "$1" "$2" >/dev/null 2>&1
+    sed -n 's/^summary: *//p; s/^totals: *//p' "$out" | head -n 1
+    rm -f "$out"
+  }
+  for axes in 6 20; do
+    a=$(fir "$axes" 5000); c=$(fir "$axes" 10000)
+    w=$(per_tick wire "$axes")
+    case $axes in 6) g=1177 ;; *) g=3135 ;; esac
+    awk -v a="$a" -v c="$c" -v w="$w" -v g="$g" -v n="$axes" 'BEGIN { f = (c - a) / 5000;
+      printf "floor: %2d axes, mode-4 filter loop over arrays %5.0f Ir (setpoints included) + wire %4d = %5.0f Ir against the full goal %d\n", n, f, w, f + w, g }'
+  done
+fi
