@@ -10,9 +10,17 @@
 entry_test() {  # entry_test MODE PORT FAULT EXPECTED_POS_AX1 [server args...]
     m=$1; port=$2; fault=$3; want=$4; shift 4; F0=$FAILS
     SIM_ARGS="--entry-fault $fault"
-    run_sim "e$m$fault" "$port" "fixtures/server/sim_mode$m.scn" "$@"
     S="$T/e$m$fault.sim.json"
-    late=$(( $(jv "$S" missing) + $(jv "$S" stale) + $(jv "$S" unjudged) ))
+    # a scenario that failed while replies came late (the host stalled the server: an
+    # integrating mode then misses some of the PC's additions) is run again, 3 runs at most
+    try=1
+    while :; do
+        run_sim "e$m$fault" "$port" "fixtures/server/sim_mode$m.scn" "$@"
+        late=$(( $(jv "$S" missing) + $(jv "$S" stale) + $(jv "$S" unjudged) ))
+        [ "$SIMRC" -eq 3 ] && [ "$late" -gt 0 ] && [ "$try" -lt 3 ] || break
+        echo "       (mode $m, entry packet $fault, run $try: scenario failed with $late replies late on a loaded host: again)"
+        try=$((try + 1))
+    done
     if [ "$m" -eq 7 ] && [ "$late" -gt 0 ] && [ "$SIMRC" -eq 3 ]; then
         # mode 7 integrates the additions of the replies that arrived in time: a host that
         # stalled the server loses some (the controller's rule) and the arm ends short of the
