@@ -27,9 +27,11 @@ typedef struct floor_state {
     uint8_t same_mode[MAX_AXES];
 } floor_state_t;
 
+/* written so that GCC makes both bounds branch-free (minss, then maxss) */
 static float clampf(float x, float lo, float hi)
 {
-    return (x < lo) ? lo : ((x > hi) ? hi : x);
+    const float t = (hi < x) ? hi : x;
+    return (t < lo) ? lo : t;
 }
 
 /* 0xFFFFFFFF: a non-finite value somewhere (the slow path would name it) */

@@ -35,6 +35,7 @@ for path in wire wire-tx full; do
     base=base-$path
     [ "$path" = wire-tx ] && base=base-wire
     o=$(per_tick "$path" "$axes"); bb=$(per_tick "$base" "$axes")
+    [ "$path" = wire ] && eval "wire_ir_$axes=$o"   # the floor below adds it
     case "$path$axes" in wire6) g=453 ;; wire20) g=740 ;; full6) g=1177 ;; full20) g=3135 ;; *) g=0 ;; esac
     set -- $(awk -v p="$path" -v a="$axes" '$1 == p && $2 == a { print $3, $4, $5 }' "$ns")
     awk -v p="$path" -v a="$axes" -v o="$o" -v b="$bb" -v g="$g" -v on="$1" -v bn="$2" -v r="$3" 'BEGIN {
@@ -60,7 +61,7 @@ if [ "$have_vg" = 1 ]; then
   }
   for axes in 6 20; do
     a=$(fir "$axes" 5000); c=$(fir "$axes" 10000)
-    w=$(per_tick wire "$axes")
+    eval "w=\$wire_ir_$axes"
     case $axes in 6) g=1177 ;; *) g=3135 ;; esac
     awk -v a="$a" -v c="$c" -v w="$w" -v g="$g" -v n="$axes" 'BEGIN { f = (c - a) / 5000;
       printf "floor: %2d axes, mode-4 filter loop over arrays %5.0f Ir (setpoints included) + wire %4d = %5.0f Ir against the full goal %d\n", n, f, w, f + w, g }'

@@ -58,8 +58,19 @@ grep -q "mode-9 identified model: [1-9]" "$T/loop/move9.srv.out" && ok "c4g-serv
 "$ID" fit "$T/loop/ident.csv" --axes 1 --json >"$T/export.json" || bad "fit of the export CSV"
 "$ID" fit "$T/loop/ident.moni.csv" --axes 1 --json >"$T/moni.json" || bad "fit of the moni CSV"
 "$ID" fit "$T/loop/ident.pcap" --axes 1 --keep-late --json >"$T/keep.json" || bad "fit of the capture, --keep-late"
-# one reply taken out of the export: that tick and its neighbours leave the fit
-awk -F, -v OFS=, 'NR > 1 && $1 == 1 && $2 == 5000 { $5 = ""; $8 = "" } { print }' "$T/loop/ident.csv" >"$T/lost1.csv"
+# one reply taken out of the export, in the middle of 61 ticks of axis 1 in motion whose
+# replies all came in time (else its neighbours may be dropped already): that tick and its
+# neighbours leave the fit
+python3 - "$T/loop/ident.csv" "$T/lost1.csv" <<'PY' || bad "no stretch of replies in time to take one out of"
+import sys
+rows = open(sys.argv[1]).read().split('\n')
+hdr = rows[0].split(','); pf, lu, v = hdr.index('pc_frame'), hdr.index('latency_us'), hdr.index('c1_d4')
+f = [r.split(',') for r in rows[1:] if r]
+ok = [x[pf] != '' and float(x[lu]) <= 2000.0 and abs(float(x[v])) > 0.002 for x in f]
+k = next(k for k in range(len(f) // 2, len(f) - 30) if all(ok[k - 30:k + 31]))
+f[k][pf] = f[k][lu] = ''
+open(sys.argv[2], 'w').write('\n'.join([rows[0]] + [','.join(x) for x in f]) + '\n')
+PY
 "$ID" fit "$T/lost1.csv" --axes 1 --json >"$T/lost1.json" || bad "fit of the export without one reply"
 python3 - "$T/loop/fit.json" "$T/export.json" "$T/keep.json" "$T/moni.json" "$T/lost1.json" <<'PY' || rc=1
 import json, sys

@@ -21,20 +21,20 @@ ok "server ended by 504" eq "$SRC" 0
 echo "10 consecutive dropped replies:"; F0=$FAILS
 # early (cyclic packet 20), so a host stall of the server before it cannot raise the error first
 SIM_ARGS="--max-miss 10"
-calm sim run_sim drop10 31031 fixtures/server/sim_idle.scn --skip-replies 20,10
+again_while sim_stalled run_sim drop10 31031 fixtures/server/sim_idle.scn --skip-replies 20,10
 SIM_ARGS=""
 ok "controller raised ERR_C4GOPEN_UDP" has "$T/drop10.sim.json" ERR_C4GOPEN_UDP
 ok "controller exit 1 (table 17.1 error)" eq "$SIMRC" 1
 ok "server skipped exactly 10" eq "$(jv "$T/drop10.json" skipped)" 10
-calm stub run_stub drop10s 31032 --script 0:400,504:1 -- --skip-replies 100,10 --lost-timeout-ms 2000
+again_while stub_stalled run_stub drop10s 31032 --script 0:400,504:1 -- --skip-replies 100,10 --lost-timeout-ms 2000
 ok "stub controller raised ERR_C4GOPEN_UDP" eq "$(kv "$T/drop10s.stub" err)" ERR_C4GOPEN_UDP
 ok "stub saw 10 in a row" eq "$(kv "$T/drop10s.stub" max_consec_missed)" 10
-calm stub run_stub drop9s 31033 --script 0:400,504:1 -- --skip-replies 100,9 --lost-timeout-ms 2000
+again_while stub_stalled run_stub drop9s 31033 --script 0:400,504:1 -- --skip-replies 100,9 --lost-timeout-ms 2000
 ok "9 in a row survive" eq "$(kv "$T/drop9s.stub" err)" NONE
 [ "$FAILS" -eq "$F0" ] || { dump drop10; dump drop10s; dump drop9s; }
 
 echo "foreign source (127.0.0.2):"; F0=$FAILS
-calm stub run_stub foreign 31034 --foreign 127.0.0.2,5 --script 0:300,504:1 --
+again_while stub_stalled run_stub foreign 31034 --foreign 127.0.0.2,5 --script 0:300,504:1 --
 ok "server dropped and counted the foreign datagrams" ge "$(jv "$T/foreign.json" foreign)" 50
 ok "nothing was sent to the foreign source" eq "$(kv "$T/foreign.stub" foreign_replies)" 0
 ok "the controller's replies were all right" eq "$(kv "$T/foreign.stub" bad)" 0
@@ -42,7 +42,7 @@ ok "server ended by 504" eq "$SRC" 0
 [ "$FAILS" -eq "$F0" ] || dump foreign
 
 echo "truncated and corrupted datagrams:"; F0=$FAILS
-calm stub run_stub garbage 31035 --garbage-every 3 --script 0:20,4:exit,0:300,504:1 -- --sine 0.1,1,1
+again_while stub_stalled run_stub garbage 31035 --garbage-every 3 --script 0:20,4:exit,0:300,504:1 -- --sine 0.1,1,1
 g=$(kv "$T/garbage.stub" garbage)
 ok "stub sent garbage" ge "$g" 100
 ok "server counted every bad datagram as malformed" eq "$(jv "$T/garbage.json" malformed)" "$g"

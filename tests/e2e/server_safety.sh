@@ -7,20 +7,16 @@
 
 # Mode entry with the opening packet lost or cut: every mode ends where it ends without the
 # fault (the scenario's EXPECT POS lines), with no safety event and no controller error.
+late_replies() { echo $(( $(jv "$T/$1.sim.json" missing) + $(jv "$T/$1.sim.json" stale) + $(jv "$T/$1.sim.json" unjudged) )); }
+failed_late() { [ "$SIMRC" -eq 3 ] && [ "$(late_replies "$1")" -gt 0 ]; }
 entry_test() {  # entry_test MODE PORT FAULT EXPECTED_POS_AX1 [server args...]
     m=$1; port=$2; fault=$3; want=$4; shift 4; F0=$FAILS
     SIM_ARGS="--entry-fault $fault"
     S="$T/e$m$fault.sim.json"
     # a scenario that failed while replies came late (the host stalled the server: an
-    # integrating mode then misses some of the PC's additions) is run again, 3 runs at most
-    try=1
-    while :; do
-        run_sim "e$m$fault" "$port" "fixtures/server/sim_mode$m.scn" "$@"
-        late=$(( $(jv "$S" missing) + $(jv "$S" stale) + $(jv "$S" unjudged) ))
-        [ "$SIMRC" -eq 3 ] && [ "$late" -gt 0 ] && [ "$try" -lt 3 ] || break
-        echo "       (mode $m, entry packet $fault, run $try: scenario failed with $late replies late on a loaded host: again)"
-        try=$((try + 1))
-    done
+    # integrating mode then misses some of the PC's additions) is run again
+    again_while failed_late run_sim "e$m$fault" "$port" "fixtures/server/sim_mode$m.scn" "$@"
+    late=$(late_replies "e$m$fault")
     if [ "$m" -eq 7 ] && [ "$late" -gt 0 ] && [ "$SIMRC" -eq 3 ]; then
         # mode 7 integrates the additions of the replies that arrived in time: a host that
         # stalled the server loses some (the controller's rule) and the arm ends short of the

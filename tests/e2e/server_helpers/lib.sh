@@ -118,14 +118,15 @@ run_stub() {
 stub_stalled() { [ "$(kv "$T/$1.stub" stale)" -gt 0 ] 2>/dev/null; }
 sim_stalled() { [ $(( $(jv "$T/$1.sim.json" late) + $(jv "$T/$1.sim.json" stale) )) -gt 0 ] 2>/dev/null; }
 
-# calm KIND RUNNER NAME ARGS...: runs RUNNER NAME ARGS (run_stub or run_sim), and again, 3
-# runs at most, while KIND_stalled NAME says the host held it up
-calm() {
-    ckind=$1; shift; ctry=1
+# again_while PRED RUNNER NAME ARGS...: runs RUNNER NAME ARGS (run_stub, run_sim or a test's
+# own runner), and again, 3 runs at most, while PRED NAME says the host disturbed the run.
+# PRED must need evidence of the disturbance, so that a real fault fails every run.
+again_while() {
+    apred=$1; shift; atry=1
     "$@"
-    while [ "$ctry" -lt 3 ] && "${ckind}_stalled" "$2"; do
-        echo "  (run $2: the host held up a reply, run again)"
-        ctry=$((ctry + 1))
+    while [ "$atry" -lt 3 ] && "$apred" "$2"; do
+        echo "       (run $2, attempt $atry: the host held it up ($apred): again)"
+        atry=$((atry + 1))
         "$@"
     done
 }
