@@ -399,14 +399,16 @@ def expected_response_to(pkts):
 
 
 def late_replies(pkts):
-    """PC frames whose NUM answers not the newest controller packet but one of the 64
+    """PC frames whose NUM answers not the newest controller packet but one of the 4096
     before it (policy as in expected_response_to): replies late past the next packet, which
-    a live capture on a busy host may have; c4g.reply_num flags them."""
+    a live capture on a busy host may have (a stall of 100 ms is 100 packets at 1 ms);
+    c4g.reply_num flags them."""
     out, recent, policy = set(), [], None
     for fr in sorted(pkts):
         p = pkts[fr]
         if p.dir == "ctrl":
-            recent = (recent + [p])[-65:]
+            recent.append(p)
+            del recent[:-4097]
             if p.type == "init":
                 policy = None
         elif recent and p.type == "init-echo" and recent[-1].type == "init":
