@@ -24,6 +24,7 @@ struct AxisLog {
     unsigned open = 0;      // OPEN index, 1-based (0 unknown)
     double period = 0.002;  // s
     double az_lim = 0.0;    // A, 0 unknown
+    const char *az_from = "none";  // where az_lim came from: "init packet", "--az-lim", "none"
     bool have_q = false;    // q is the link angle
     std::vector<int64_t> tick;
     std::vector<double> t;  // s

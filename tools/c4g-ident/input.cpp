@@ -64,6 +64,13 @@ struct Collector {
             L.open = open;
             L.period = period;
             L.az_lim = az;
+            if (az > 0.0) {
+                L.az_from = "init packet";
+            } else if (logical >= 1U && logical <= 10U && sel.az_lim[logical - 1U] > 0.0) {
+                // a CSV does not carry the limit: without it saturated ticks would stay in
+                L.az_lim = sel.az_lim[logical - 1U];
+                L.az_from = "--az-lim";
+            }
             logs->push_back(L);
             it = index.emplace(logical, logs->size() - 1).first;
         }

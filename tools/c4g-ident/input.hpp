@@ -18,6 +18,9 @@ struct Selection {
     unsigned session = 0;        // captures: 0 = all
     bool progress = false;       // progress on stderr
     bool keep_late = false;      // keep the ticks after a late or missing PC reply
+    // --az-lim: the DSA current limit [A] of logical axis k+1 for logs that do not carry it
+    // (CSV); 0 = not given. Captures read it from their init packet.
+    double az_lim[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 };
 
 struct InputInfo {

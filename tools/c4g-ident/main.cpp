@@ -72,6 +72,47 @@ int fit_axes(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whyl
     return parse_axes(v, &static_cast<FitCli *>(ctx)->sel.axes, why, whylen);
 }
 
+// --az-lim A or AXIS:A[,AXIS:A...]: one limit for every axis, or one per logical axis
+int fit_az_lim(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+{
+    double *lim = static_cast<FitCli *>(ctx)->sel.az_lim;
+    std::string s(v);
+    std::size_t b = 0;
+    for (int k = 0; k < 10; k++) lim[k] = 0.0;
+    while (b <= s.size()) {
+        const std::size_t e = s.find(',', b);
+        const std::string t = s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+        const std::size_t colon = t.find(':');
+        long axis = 0;
+        char *end = nullptr;
+        if (colon != std::string::npos) {
+            const std::string a = t.substr(0, colon);
+            axis = std::strtol(a.c_str(), &end, 10);
+            if (a.empty() || *end != '\0' || axis < 1 || axis > 10) {
+                std::snprintf(why, whylen, "'%s': '%s' is not a logical axis 1..10", t.c_str(), a.c_str());
+                return -1;
+            }
+        } else if (s.find(',') != std::string::npos) {
+            std::snprintf(why, whylen, "'%s': want A for every axis, or AXIS:A pairs", t.c_str());
+            return -1;
+        }
+        const std::string num = (colon == std::string::npos) ? t : t.substr(colon + 1);
+        const double a = std::strtod(num.c_str(), &end);
+        if (num.empty() || *end != '\0' || !std::isfinite(a) || a <= 0.0 || a > 1000.0) {
+            std::snprintf(why, whylen, "'%s' is not a current limit in A (0..1000)", num.c_str());
+            return -1;
+        }
+        if (axis == 0) {
+            for (int k = 0; k < 10; k++) lim[k] = a;
+        } else {
+            lim[axis - 1] = a;
+        }
+        if (e == std::string::npos) break;
+        b = e + 1;
+    }
+    return 0;
+}
+
 int fit_loss(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     Options &o = static_cast<FitCli *>(ctx)->opt;
@@ -153,6 +194,7 @@ int run_fit(int argc, char **argv)
         {"holdout", 0, CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
         {"variant", 0, CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity", nullptr, 0, 0, 0, fit_variant, 0},
         {"keep-late", 0, CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
+        {"az-lim", 0, CLI_CALL, "A|AXIS:A,...", "CSV logs: the DSA current limit (AzLim) of every axis or of each; ticks at 98 % of it are dropped", nullptr, 0, 0, 0, fit_az_lim, 0},
         {"no-gravity", 0, CLI_FLAG, nullptr, "never offer the gravity variants", &c.no_gravity, 0, 0, 0, nullptr, 0},
         {"loss", 0, CLI_CALL, "NAME", "robust loss: huber (default), cauchy or none", nullptr, 0, 0, 0, fit_loss, 0},
         {"loss-scale", 0, CLI_DOUBLE, "K", "robust scale in noise sigmas (default 1.345)", &loss_k, 0, 0.1, 100, nullptr, 0},
@@ -172,6 +214,7 @@ int run_fit(int argc, char **argv)
         "c4g-ident fit --axes 1,2 --json run.pcap > fit.json",
         "c4g-ident fit --validate run2.pcap --plot plots run1.pcap",
         "c4g-ident fit --arm 1 moni.csv          # c4g-server --moni-type 0 CSV",
+        "c4g-ident fit --az-lim 1:24.5,4:9.5 moni.csv   # AzLim as c4g-replay summary shows it",
         nullptr};
     cli_spec_t spec = {"c4g-ident fit", C4G_VERSION_STRING,
                        "Usage: c4g-ident fit [OPTIONS] LOG...\n"

@@ -45,7 +45,9 @@ void report_text(FILE *out, const Job &j)
     for (std::size_t k = 0; k < j.results.size(); k++) {
         const AxisResult &r = j.results[k];
         const AxisLog &L = j.logs[k];
-        std::fprintf(out, "\n%s (OPEN %u), period %.4g ms\n", axis_name(r).c_str(), r.open, r.period * 1e3);
+        std::fprintf(out, "\n%s (OPEN %u), period %.4g ms", axis_name(r).c_str(), r.open, r.period * 1e3);
+        if (L.az_lim > 0.0) std::fprintf(out, ", current limit %.4g A (%s)\n", L.az_lim, L.az_from);
+        else std::fprintf(out, ", current limit unknown: saturation not checked (--az-lim)\n");
         std::fprintf(out, "  ticks: %llu seen, %llu kept", static_cast<unsigned long long>(L.seen),
                      static_cast<unsigned long long>(r.prep.kept));
         std::fprintf(out, "; dropped: %llu drive off, %llu special mode, %llu non-finite, %llu outside the window, "
@@ -109,6 +111,8 @@ int report_json(FILE *out, const Job &j)
         json_t *a = json_pack("{s:I,s:I,s:I,s:f,s:b}", "arm", static_cast<json_int_t>(r.arm), "axis",
                               static_cast<json_int_t>(r.axis), "open", static_cast<json_int_t>(r.open), "period_s", r.period,
                               "identifiable", r.identifiable);
+        json_object_set_new(a, "az_lim", L.az_lim > 0.0 ? json_real(L.az_lim) : json_null());
+        json_object_set_new(a, "az_lim_from", json_string(L.az_from));
         json_object_set_new(a, "ticks", json_pack("{s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I,s:I}", "seen", static_cast<json_int_t>(L.seen),
                                                   "kept", static_cast<json_int_t>(r.prep.kept), "drive_off",
                                                   static_cast<json_int_t>(L.dropped_drive), "special_mode",
