@@ -63,9 +63,14 @@ grep -q "mode-9 identified model: [1-9]" "$T/loop/move9.srv.out" && ok "c4g-serv
 # --az-lim gives it; the moni fit then drops what the capture's fit drops.
 AZ=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["axes"][0]["az_lim"])' "$T/keep.json")
 "$ID" fit "$T/loop/ident.moni.csv" --axes 1 --az-lim "1:$AZ" --json >"$T/moni_az.json" || bad "fit of the moni CSV, --az-lim"
-"$ID" fit "$T/loop/ident.moni.csv" --az-lim 1:0 >/dev/null 2>"$T/az.err"; azrc=$?
-[ "$azrc" = 2 ] && grep -q "^c4g-ident fit: --az-lim: bad value '1:0' ('0' is not a current limit in A (0..1000))" "$T/az.err" &&
-    ok "--az-lim 1:0: exit 2, the value named" || bad "--az-lim 1:0: exit $azrc, $(cat "$T/az.err")"
+for v in "1:0|'0' is not a current limit in A (0..1000)" "x|'x' is not a current limit" \
+         "nan|'nan' is not a current limit" "11:3|'11:3': '11' is not a logical axis 1..10" \
+         "1:2,3|'3': want A for every axis, or AXIS:A pairs"; do
+    arg=${v%%|*}; why=${v#*|}
+    "$ID" fit "$T/loop/ident.moni.csv" --az-lim "$arg" >/dev/null 2>"$T/az.err"; azrc=$?
+    [ "$azrc" = 2 ] && grep -qF "c4g-ident fit: --az-lim: bad value '$arg' ($why" "$T/az.err" &&
+        ok "--az-lim $arg: exit 2, named" || bad "--az-lim $arg: exit $azrc, $(cat "$T/az.err")"
+done
 # one reply taken out of the export, in the middle of 61 ticks of axis 1 in motion whose
 # replies all came in time (else its neighbours may be dropped already): that tick and its
 # neighbours leave the fit
