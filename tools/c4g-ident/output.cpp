@@ -32,8 +32,10 @@ std::string axis_name(const AxisResult &r)
 void report_text(FILE *out, const Job &j)
 {
     for (const InputInfo &in : j.inputs) {
-        std::fprintf(out, "input %s: %s, %llu controller ticks, %llu session(s)%s%s\n", in.path.c_str(), in.format.c_str(),
-                     static_cast<unsigned long long>(in.ticks), static_cast<unsigned long long>(in.sessions),
+        // a CSV has no sessions to count (an export's are numbered in its rows)
+        const std::string sessions = in.sessions > 0 ? ", " + std::to_string(in.sessions) + " session(s)" : "";
+        std::fprintf(out, "input %s: %s, %llu controller ticks%s%s%s\n", in.path.c_str(), in.format.c_str(),
+                     static_cast<unsigned long long>(in.ticks), sessions.c_str(),
                      in.have_kin ? ", kinematics from the init packet" : "",
                      in.reply_times ? "" : ", no reply times (ticks after a late reply are kept)");
     }
