@@ -64,7 +64,7 @@ grep -q "mode-9 identified model: [1-9]" "$T/loop/move9.srv.out" && ok "c4g-serv
 AZ=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["axes"][0]["az_lim"])' "$T/keep.json")
 "$ID" fit "$T/loop/ident.moni.csv" --axes 1 --az-lim "1:$AZ" --json >"$T/moni_az.json" || bad "fit of the moni CSV, --az-lim"
 for v in "1:0|'0' is not a current limit in A (0..1000)" "x|'x' is not a current limit" \
-         "nan|'nan' is not a current limit" "11:3|'11:3': '11' is not a logical axis 1..10" \
+         "nan|'nan' is not a current limit" "11:3|'11' is not a logical axis 1..10" \
          "1:2,3|'3': want A for every axis, or AXIS:A pairs"; do
     arg=${v%%|*}; why=${v#*|}
     "$ID" fit "$T/loop/ident.moni.csv" --az-lim "$arg" >/dev/null 2>"$T/az.err"; azrc=$?

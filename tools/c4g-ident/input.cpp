@@ -66,7 +66,7 @@ struct Collector {
             L.az_lim = az;
             if (az > 0.0) {
                 L.az_from = "init packet";
-            } else if (logical >= 1U && logical <= 10U && sel.az_lim[logical - 1U] > 0.0) {
+            } else if (logical >= 1U && logical <= kMaxAxes && sel.az_lim[logical - 1U] > 0.0) {
                 // a CSV does not carry the limit: without it saturated ticks would stay in
                 L.az_lim = sel.az_lim[logical - 1U];
                 L.az_from = "--az-lim";

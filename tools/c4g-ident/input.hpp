@@ -4,12 +4,15 @@
 #ifndef C4G_IDENT_INPUT_HPP
 #define C4G_IDENT_INPUT_HPP
 
+#include "c4gopen_wire.h"
 #include "ident.hpp"
 
 #include <string>
 #include <vector>
 
 namespace ident {
+
+constexpr unsigned kMaxAxes = C4G_AXES_PER_ARM;  // logical axes of an arm
 
 struct Selection {
     unsigned arm = 1;            // 1-based
@@ -20,7 +23,7 @@ struct Selection {
     bool keep_late = false;      // keep the ticks after a late or missing PC reply
     // --az-lim: the DSA current limit [A] of logical axis k+1 for logs that do not carry it
     // (CSV); 0 = not given. Captures read it from their init packet.
-    double az_lim[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double az_lim[kMaxAxes] = {};
 };
 
 struct InputInfo {

@@ -35,23 +35,39 @@ namespace {
 
 const char *const kTool = "c4g-ident";
 
+// The items of a comma-separated option value, empty ones included (so they can be named).
+std::vector<std::string> split_commas(const char *v)
+{
+    std::vector<std::string> out;
+    const std::string s(v);
+    std::size_t b = 0;
+    for (;;) {
+        const std::size_t e = s.find(',', b);
+        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+        if (e == std::string::npos) return out;
+        b = e + 1;
+    }
+}
+
+// A logical axis 1..kMaxAxes; false (and why) otherwise.
+bool parse_axis(const std::string &t, long *axis, char *why, size_t whylen)
+{
+    char *end = nullptr;
+    *axis = std::strtol(t.c_str(), &end, 10);
+    if (t.empty() || *end != '\0' || *axis < 1 || *axis > static_cast<long>(kMaxAxes)) {
+        std::snprintf(why, whylen, "'%s' is not a logical axis 1..%u", t.c_str(), kMaxAxes);
+        return false;
+    }
+    return true;
+}
+
 int parse_axes(const char *v, unsigned *mask, char *why, size_t whylen)
 {
     *mask = 0;
-    std::string s(v);
-    std::size_t b = 0;
-    while (b <= s.size()) {
-        const std::size_t e = s.find(',', b);
-        const std::string t = s.substr(b, e == std::string::npos ? std::string::npos : e - b);
-        char *end = nullptr;
-        const long n = std::strtol(t.c_str(), &end, 10);
-        if (t.empty() || *end != '\0' || n < 1 || n > 10) {
-            std::snprintf(why, whylen, "'%s' is not a logical axis 1..10", t.c_str());
-            return -1;
-        }
+    for (const std::string &t : split_commas(v)) {
+        long n = 0;
+        if (!parse_axis(t, &n, why, whylen)) return -1;
         *mask |= 1U << (n - 1);
-        if (e == std::string::npos) break;
-        b = e + 1;
     }
     return 0;
 }
@@ -76,39 +92,25 @@ int fit_axes(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whyl
 int fit_az_lim(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     double *lim = static_cast<FitCli *>(ctx)->sel.az_lim;
-    std::string s(v);
-    std::size_t b = 0;
-    for (int k = 0; k < 10; k++) lim[k] = 0.0;
-    while (b <= s.size()) {
-        const std::size_t e = s.find(',', b);
-        const std::string t = s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+    const std::vector<std::string> items = split_commas(v);
+    std::fill(lim, lim + kMaxAxes, 0.0);
+    for (const std::string &t : items) {
         const std::size_t colon = t.find(':');
         long axis = 0;
-        char *end = nullptr;
-        if (colon != std::string::npos) {
-            const std::string a = t.substr(0, colon);
-            axis = std::strtol(a.c_str(), &end, 10);
-            if (a.empty() || *end != '\0' || axis < 1 || axis > 10) {
-                std::snprintf(why, whylen, "'%s': '%s' is not a logical axis 1..10", t.c_str(), a.c_str());
-                return -1;
-            }
-        } else if (s.find(',') != std::string::npos) {
+        if (colon == std::string::npos && items.size() > 1) {
             std::snprintf(why, whylen, "'%s': want A for every axis, or AXIS:A pairs", t.c_str());
             return -1;
         }
+        if (colon != std::string::npos && !parse_axis(t.substr(0, colon), &axis, why, whylen)) return -1;
         const std::string num = (colon == std::string::npos) ? t : t.substr(colon + 1);
+        char *end = nullptr;
         const double a = std::strtod(num.c_str(), &end);
         if (num.empty() || *end != '\0' || !std::isfinite(a) || a <= 0.0 || a > 1000.0) {
             std::snprintf(why, whylen, "'%s' is not a current limit in A (0..1000)", num.c_str());
             return -1;
         }
-        if (axis == 0) {
-            for (int k = 0; k < 10; k++) lim[k] = a;
-        } else {
-            lim[axis - 1] = a;
-        }
-        if (e == std::string::npos) break;
-        b = e + 1;
+        if (axis == 0) std::fill(lim, lim + kMaxAxes, a);
+        else lim[axis - 1] = a;
     }
     return 0;
 }

@@ -109,9 +109,9 @@ void filter(const AxisLog &L, const Options &o, double x, std::size_t stride, Fi
     }
 }
 
-// Samples too close to standstill (|v| < 5 eps) or to a saturated current, widened by the
-// filter's half window: around a reversal the acceleration jumps and no smooth filter can
-// follow it.
+// Samples near standstill (|v| < 5 eps), a reversal or a tick without the PC's reply (each
+// widened, see below: around them the acceleration jumps and no smooth filter follows it),
+// and samples at a saturated current (that tick only).
 std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double eps, int half,
                                   Prep *pr, bool count)
 {
@@ -131,33 +131,27 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
         if (std::fabs(f.v[k]) < 5.0 * eps || flip) bad[k] = 1;
         else if (std::fabs(static_cast<double>(L.d5[k])) >= sat) bad[k] = 2;
     }
-    // dilate the still/reversal marks by half + 2 ticks each way (same segment only)
-    // the drive's loops take a few of their time constants to settle after the friction
-    // flips at a reversal: 20 ms beyond the filter's reach
-    const int w = half + 2 + static_cast<int>(std::lround(0.02 / L.period));
-    std::vector<unsigned char> near(n, 0);
-    int64_t last = INT64_MIN / 2;
-    // a tick without the PC's reply (the reference held, then a step to catch up) spoils
-    // every filter window that holds it, and the drive's loops settle from that step as from
-    // a reversal: the same reach (the filter's reach alone left the inertia of loaded
-    // captures up to 1.7 % low)
-    const int wr = w;
-    std::vector<unsigned char> jolt(n, 0);
-    int64_t lastr = INT64_MIN / 2;
-    for (std::size_t k = 0; k < n; k++) {
-        if (bad[k] == 1) last = L.tick[k];
-        if (bad[k] == 3) lastr = L.tick[k];
-        if (L.tick[k] - last <= w) near[k] = 1;
-        if (L.tick[k] - lastr <= wr) jolt[k] = 1;
-    }
-    last = INT64_MAX / 2;
-    lastr = INT64_MAX / 2;
-    for (std::size_t k = n; k-- > 0;) {
-        if (bad[k] == 1) last = L.tick[k];
-        if (bad[k] == 3) lastr = L.tick[k];
-        if (last - L.tick[k] <= w) near[k] = 1;
-        if (lastr - L.tick[k] <= wr) jolt[k] = 1;
-    }
+    // Dilate the still/reversal marks (1) and the ticks without the PC's reply (3) by the
+    // filter's half window + 2 ticks and 20 ms each way, by tick number. The drive's loops
+    // take a few of their time constants to settle after the friction flips at a reversal,
+    // and as long after a missing reply (the reference held, then a step to catch up): with
+    // the filter's reach alone there, the inertia of loaded captures came out up to 1.7 % low.
+    const int64_t w = half + 2 + static_cast<int64_t>(std::lround(0.02 / L.period));
+    auto dilate = [&](unsigned char mark) {
+        std::vector<unsigned char> out(n, 0);
+        int64_t last = INT64_MIN / 2;
+        for (std::size_t k = 0; k < n; k++) {
+            if (bad[k] == mark) last = L.tick[k];
+            if (L.tick[k] - last <= w) out[k] = 1;
+        }
+        last = INT64_MAX / 2;
+        for (std::size_t k = n; k-- > 0;) {
+            if (bad[k] == mark) last = L.tick[k];
+            if (last - L.tick[k] <= w) out[k] = 1;
+        }
+        return out;
+    };
+    const std::vector<unsigned char> near = dilate(1), jolt = dilate(3);
     for (std::size_t k = 0; k < n; k++) {
         if (!f.ok[k]) {
             if (count) pr->dropped_edge++;

@@ -119,12 +119,13 @@ stub_stalled() { [ "$(kv "$T/$1.stub" stale)" -gt 0 ] 2>/dev/null; }
 sim_stalled() { [ $(( $(jv "$T/$1.sim.json" late) + $(jv "$T/$1.sim.json" stale) )) -gt 0 ] 2>/dev/null; }
 
 # again_while PRED RUNNER NAME ARGS...: runs RUNNER NAME ARGS (run_stub, run_sim or a test's
-# own runner), and again, 3 runs at most, while PRED NAME says the host disturbed the run.
-# PRED must need evidence of the disturbance, so that a real fault fails every run.
+# own runner), and again, $AGAIN_MAX runs at most (default 3), while PRED NAME says the host
+# disturbed the run. PRED must need evidence of the disturbance, so that a real fault fails
+# every run.
 again_while() {
     apred=$1; shift; atry=1
     "$@"
-    while [ "$atry" -lt 3 ] && "$apred" "$2"; do
+    while [ "$atry" -lt "${AGAIN_MAX:-3}" ] && "$apred" "$2"; do
         echo "       (run $2, attempt $atry: the host held it up ($apred): again)"
         atry=$((atry + 1))
         "$@"
