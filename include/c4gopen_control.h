@@ -128,6 +128,8 @@ typedef struct c4g_arm_sm {
 
 /** Fill @p cfg with the defaults. @return C4G_OK, C4G_ERR_NULL. */
 C4G_NODISCARD c4g_status_t c4g_engine_config_default(c4g_engine_config_t *cfg);
+/** Whether c4g_engine_init would take @p cfg. @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG. */
+C4G_NODISCARD c4g_status_t c4g_engine_config_check(const c4g_engine_config_t *cfg);
 
 /** Start an arm state machine with @p n_axes open axes (0..10). @return OK, NULL, ARG. */
 C4G_NODISCARD c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes);
@@ -234,17 +236,19 @@ C4G_NODISCARD c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const
 #define C4G_SF_MODE_RESTORED 0x1000U/**< the caller wrote a forbidden mode: restored */
 #define C4G_SF_COPY_BACK 0x2000U    /**< mode 10: D1..D5 copied back by the library */
 #define C4G_SF_BAD_LIMIT 0x4000U    /**< a check got a non-finite / negative limit: off */
+#define C4G_SF_NO_RULE 0x8000U      /**< a mode the C4G does not have: no data, the arm gets 505 */
 /**@}*/
 
-/** User limits of one logical axis. 0 (or min >= max) leaves a check off. */
+/** User limits of one logical axis. 0 leaves a check off (a stroke: both ends 0); a stroke
+ *  that is not an interval (min >= max) is refused, never taken as "off". */
 typedef struct c4g_axis_limits {
     float follow_error; /**< [motor turns] > 0: tighter than (or instead of) FollowError */
     float current_max;  /**< [A] > 0: tighter than AzLim */
     float max_step;     /**< [motor turns / tick] position step (modes 1, 4, 5, 7) */
     float max_vel;      /**< [motor turns / tick] |D2| (modes 1, 4, 5) */
-    float motor_min;    /**< stroke ends [motor turns], on when motor_min < motor_max */
+    float motor_min;    /**< stroke ends [motor turns]; both 0: off */
     float motor_max;
-    float joint_min;    /**< stroke ends [rad or mm], through the kinematics */
+    float joint_min;    /**< stroke ends [rad or mm], through the kinematics; both 0: off */
     float joint_max;
 } c4g_axis_limits_t;
 
@@ -262,7 +266,8 @@ uint32_t c4g_sf_delta_current(float smp_cur, float delta, float lim, float *out)
 uint32_t c4g_sf_step(float prev, float target, float max_step, float *out);
 /** Limit a velocity to [-max_vel, max_vel] (0: off). @return 0, C4G_SF_VELOCITY, ... */
 uint32_t c4g_sf_velocity(float vel, float max_vel, float *out);
-/** Clamp @p pos into [min, max] (off when min >= max). @return 0, C4G_SF_STROKE, ... */
+/** Clamp @p pos into [min, max] (off when both are 0; BAD_LIMIT when min >= max otherwise).
+ *  @return 0, C4G_SF_STROKE, C4G_SF_NONFINITE, C4G_SF_BAD_LIMIT */
 uint32_t c4g_sf_stroke(float pos, float min, float max, float *out);
 
 /* ====================================================================== control context */
@@ -312,8 +317,12 @@ C4G_NODISCARD c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *
 /**
  * Set user limits for logical axis @p axis of @p arm (see c4g_axis_limits_t). Limits can only
  * tighten the controller's: follow_error and current_max take the smaller positive value.
+ * Set them again after every accepted init packet (c4g_engine_init starts from the
+ * controller's own). A stroke converted from joint ends through a negative transmission
+ * ratio has its ends swapped: order them (the call refuses a reversed stroke).
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_NOT_OPEN, C4G_ERR_NONFINITE,
- *         C4G_ERR_LIMITS (negative values), C4G_ERR_SINGULAR (joint limits without
+ *         C4G_ERR_LIMITS (negative values; a stroke with min >= max that is not 0, 0),
+ *         C4G_ERR_SINGULAR (joint limits without
  *         usable kinematics), C4G_ERR_NOT_OPEN also when joint limits need an axis 0..axis of
  *         the arm that is not open.
  */
@@ -348,11 +357,12 @@ C4G_NODISCARD c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_p
  */
 C4G_NODISCARD c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode);
 /**
- * Where OPEN axis @p axis stood before its current mode: the SMP+ target of the last packet
- * in mode 0 or 0' (the first packet's, if none came). An open mode starts with the robot
- * still (24.1), so this is the anchor of a position trajectory, and it does not depend on
- * the one packet that opens the mode arriving: the filter measures the first step of an
- * absolute target (modes 1, 4) from it.
+ * Where OPEN axis @p axis stood when its current mode began: the controller's reference D1
+ * on the first packet seen in that mode (in mode 0 or 0': on the latest packet). A mode
+ * that begins again after a passive freezing (502, 503) or a stand-by begins where the axis
+ * stands then, not where it stood in mode 0: start a position trajectory here. The filter
+ * itself measures every step of an absolute target (modes 1, 11, 4) from the reference the
+ * controller reports on the packet being answered.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis), C4G_ERR_STATE (no packet yet). O(1).
  */
 C4G_NODISCARD c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos);

@@ -35,8 +35,10 @@ typedef struct c4g_loop_config {
 
 /** Loop counters (the session's and the control engine's own stay in their structs). */
 typedef struct c4g_loop_counters {
-    uint64_t neutral_replies;   /**< cyclic replies answered neutral (encoder refused, or the
-                                     control engine refused the packet) */
+    uint64_t neutral_replies;   /**< cyclic replies the safety filter could not run on,
+                                     answered by the fallback: every axis holds (neutral) */
+    uint64_t fallback_drive_off; /**< of those, replies that sent 505 to an arm where the PC
+                                      moved some axis */
     uint64_t engine_init_refused;  /**< accepted init packets the control engine refused */
     uint64_t encode_refused;    /**< cyclic replies the encoder refused (NaN, unknown mode) */
 } c4g_loop_counters_t;
@@ -89,9 +91,12 @@ C4G_NODISCARD c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_
 
 /**
  * Encode the reply due: the sync/init echo, or the cyclic reply after the packet rules and
- * the safety filter (c4g_engine_finish). A cyclic reply that cannot be encoded, or whose
- * packet the control engine refused, is replaced by the neutral reply (counted in
- * counters.neutral_replies).
+ * the safety filter (c4g_engine_finish). A cyclic reply the filter cannot run on (the
+ * control engine refused the init packet or the packet, the caller changed the reply's axis
+ * count, the encoder refused it) is replaced by the fallback: every axis holds
+ * (c4g_session_neutral: the applied reference, the controller's current within AzLim,
+ * nothing added) and every arm with an axis in a mode where the PC moves it gets 505
+ * (counted in counters.neutral_replies and counters.fallback_drive_off).
  * @param[out] rep  the filter's report (flags per axis, events), may be NULL
  * @return C4G_OK (send @p out_len bytes of @p buf); C4G_ERR_STATE nothing is due;
  *         C4G_ERR_NULL; C4G_ERR_CAPACITY when @p cap is too small.

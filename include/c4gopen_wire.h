@@ -140,9 +140,13 @@ C4G_NODISCARD c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *bu
                            size_t *out_len);
 
 /**
- * The neutral reply to @p rx (field facts): same NUM (the session applies the NUM
- * policy), INFPAR = CMD = 0, each axis's mode echoed, data zero; in mode 10 (debug
- * echo) D1..D5 are copied back.
+ * The neutral reply to @p rx: it holds, every field means "nothing new". Same NUM (the
+ * session applies the NUM policy), INFPAR = CMD = 0, each axis's mode echoed; in an
+ * absolute mode (1, 11, 4) D1 is the controller's reported reference and in a mode where
+ * the PC closes the loops (1, 11, 2, 12) D5 is the controller's own current (zero there
+ * would mean "go to 0" and "no current"); every other field is zero (no addition, no
+ * delta, no velocity); in mode 10 (debug echo) D1..D5 are copied back. The current is not
+ * bounded here: c4g_session_neutral bounds it by AzLim.
  */
 C4G_NODISCARD c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx);
 
@@ -428,7 +432,15 @@ C4G_NODISCARD c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_pack
                                uint8_t *buf, size_t cap, size_t *out_len);
 
 /**
- * c4g_session_reply with the neutral reply (c4g_pc_reply_neutral) to a pending cyclic
+ * The neutral reply to @p rx (c4g_pc_reply_neutral) with the session's bounds: the current
+ * it holds in modes 1, 11, 2, 12 within +-AzLim of the accepted init packet.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_STATE (no init packet yet), C4G_ERR_AXES.
+ */
+C4G_NODISCARD c4g_status_t c4g_session_neutral(const c4g_session_t *s, const c4g_ctrl_packet_t *rx,
+                                               c4g_pc_packet_t *tx);
+
+/**
+ * c4g_session_reply with the neutral reply (c4g_session_neutral) to a pending cyclic
  * packet, encoded straight from the decoded packet: the same bytes for less work, the
  * values it echoes having been checked when they were received. SYNC and INIT are answered
  * as by c4g_session_reply.

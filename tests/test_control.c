@@ -745,23 +745,28 @@ static void test_more_paths(void **state)
     assert_int_equal(c4g_engine_config_default(&c), C4G_OK);
     c.moving_eps = 0.0f / 0.0f;
     assert_int_equal(c4g_engine_init(&ctl, &in, &c), C4G_ERR_ARG);
-    /* a drive off before anything was sent: zeros go out with 505 */
+    /* a drive off before anything was sent: 505 goes out holding the reported reference
+     * (zero would mean "go to 0" in mode 4) */
     assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     assert_int_equal(c4g_engine_request_drive_off(&ctl, 0), C4G_OK);
     mk_rx(&rx, 1, 6, 4, 5);
+    rx.ax[0].target_pos = 2.5f;
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
-    assert_true(tx.ax[0].target_pos == 0.0f);
+    assert_true(tx.ax[0].target_pos == 2.5f);
     /* finish with a packet of another size than the context's */
     rx.n_axes = 5;
     assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
-    /* an echoed mode whose data is a measure (1xx): D3 required */
+    /* a mode the C4G does not have (1xx): nothing required, nothing sent, 505 */
     assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 2, 6, C4G_MODE_101, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
-    assert_true(c4g_is_unset(tx.ax[0].measure));
+    assert_false(c4g_is_unset(tx.ax[0].measure));
     fill(&rx, &tx);
     assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_true(tx.ax[0].measure == 0.0f);
+    assert_int_equal(tx.ax[0].mode, 505);
+    assert_true(rep.axis_flags[0] & C4G_SF_NO_RULE);
     /* two bad axes: NONFINITE reported once */
     mk_rx(&rx, 3, 6, 4, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);

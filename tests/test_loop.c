@@ -129,20 +129,50 @@ static void test_reply_is_filtered(void **state)
     assert_int_equal(pc.ax[0].mode, C4G_MODE_DRIVE_OFF); /* and the arm stopped */
 }
 
-/* No engine for a packet (its init refused by the control layer): neutral reply. */
+/* No engine for a packet (its init refused by the control layer): the fallback holds the
+ * reference the controller reports (never 0) and stops the arm the PC moves. */
 static void test_neutral_without_engine(void **state)
 {
     fx_t f;
     c4g_pc_packet_t pc;
+    uint32_t i;
     (void)state;
     cold_start(&f);
     f.lp.engine_ready = 0U;
-    cyclic(&f, 13, C4G_MODE_4, 1.0f);
+    cyclic(&f, 13, C4G_MODE_4, 2.5f);
     assert_null(f.ev.cmd);
     answer(&f, C4G_CYCLIC_SIZE(6U));
     decode_reply(&f, &pc);
     assert_int_equal(f.lp.counters.neutral_replies, 1U);
-    assert_int_equal(pc.ax[0].mode, C4G_MODE_4);
+    assert_int_equal(f.lp.counters.fallback_drive_off, 1U);
+    for (i = 0; i < 6U; i++) {
+        assert_int_equal(pc.ax[i].mode, C4G_MODE_DRIVE_OFF);
+        assert_true(pc.ax[i].target_pos == 2.5f); /* was 0.000: "go to 0" */
+        assert_true(pc.ax[i].target_vel == 0.0f);
+    }
+    /* in mode 0 the PC moves nothing: the echo alone, no 505 */
+    cyclic(&f, 14, C4G_MODE_0, 2.5f);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(f.lp.counters.neutral_replies, 2U);
+    assert_int_equal(f.lp.counters.fallback_drive_off, 1U);
+    assert_int_equal(pc.ax[0].mode, C4G_MODE_0);
+    assert_true(pc.ax[0].target_pos == 0.0f);
+}
+
+/* An engine configuration the engine would refuse at every init is refused at once. */
+static void test_loop_refuses_bad_engine_config(void **state)
+{
+    c4g_loop_t lp;
+    c4g_loop_config_t cfg;
+    (void)state;
+    assert_int_equal(c4g_session_config_default(&cfg.session), C4G_OK);
+    assert_int_equal(c4g_engine_config_default(&cfg.engine), C4G_OK);
+    cfg.engine.moving_eps = -1.0f;
+    assert_int_equal(c4g_loop_init(&lp, &cfg), C4G_ERR_ARG);
+    assert_int_equal(c4g_engine_config_check(NULL), C4G_ERR_NULL);
+    cfg.engine.moving_eps = 0.5f;
+    assert_int_equal(c4g_loop_init(&lp, &cfg), C4G_OK);
 }
 
 /* The encoder refuses what reached it (here: finish skipped, a NaN left): neutral. */
@@ -161,13 +191,22 @@ static void test_neutral_when_encoder_refuses(void **state)
     answer(&f, C4G_CYCLIC_SIZE(6U));
     decode_reply(&f, &pc);
     assert_int_equal(f.lp.counters.encode_refused, 1U);
-    assert_int_equal(f.lp.counters.neutral_replies, 2U);
-    /* a finish refused (no matching step): neutral too */
+    assert_int_equal(f.lp.counters.neutral_replies, 1U);
+    /* a finish refused (no matching step): the fallback too */
     cyclic(&f, 14, C4G_MODE_0, 1.0f);
     f.lp.engine.stepped = 0U;
     answer(&f, C4G_CYCLIC_SIZE(6U));
     assert_int_equal(f.lp.finish_status, C4G_ERR_STATE);
-    assert_int_equal(f.lp.counters.neutral_replies, 3U);
+    assert_int_equal(f.lp.counters.neutral_replies, 2U);
+    /* mode 4, the caller changed the axis count: the arm holds at 1.0 and gets 505 */
+    cyclic(&f, 15, C4G_MODE_4, 1.0f);
+    assert_non_null(f.ev.cmd);
+    f.ev.cmd->n_axes = 5U;
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(f.lp.finish_status, C4G_ERR_STATE);
+    assert_int_equal(pc.ax[5].mode, C4G_MODE_DRIVE_OFF);
+    assert_true(pc.ax[5].target_pos == 1.0f);
 }
 
 static void test_foreign_and_misuse(void **state)
@@ -295,6 +334,7 @@ int main(void)
         cmocka_unit_test(test_handshake_and_mode0),
         cmocka_unit_test(test_reply_is_filtered),
         cmocka_unit_test(test_neutral_without_engine),
+        cmocka_unit_test(test_loop_refuses_bad_engine_config),
         cmocka_unit_test(test_neutral_when_encoder_refuses),
         cmocka_unit_test(test_foreign_and_misuse),
         cmocka_unit_test(test_engine_refused),

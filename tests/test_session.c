@@ -115,6 +115,54 @@ static void neutral_both(fx_t *a, fx_t *b, const c4g_ctrl_packet_t *p)
     assert_int_equal(c4g_session_sent(&b->s, b->t + 100000), C4G_OK);
 }
 
+/* The neutral reply holds: the reported reference in an absolute mode, the controller's own
+ * current within AzLim where the PC closes the loops, zero additions (was: D1 = 0, "go to 0",
+ * and D5 = 0 in modes 1 and 2). */
+static void test_session_neutral_holds(void **state)
+{
+    fx_t a;
+    c4g_ctrl_packet_t p;
+    c4g_pc_packet_t tx;
+    uint8_t buf[732];
+    size_t len = 0;
+    uint32_t i;
+    (void)state;
+    assert_int_equal(c4g_session_init(&a.s, NULL), C4G_OK);
+    th_ctrl_packet(&p, 13, 6, C4G_MODE_1);
+    assert_int_equal(c4g_session_neutral(&a.s, &p, &tx), C4G_ERR_STATE); /* no init yet */
+    assert_int_equal(c4g_session_neutral(NULL, &p, &tx), C4G_ERR_NULL);
+    cold_start(&a, C4G_NUM_PLUS_ONE);
+    for (i = 0; i < 6; i++) {
+        p.ax[i].current_ref = (i % 2U == 0U) ? 100.0f : -100.0f; /* beyond AzLim */
+    }
+    assert_int_equal(c4g_ctrl_encode(&p, buf, sizeof buf, &len), C4G_OK);
+    assert_int_equal(feed(&a, buf, len), C4G_RX_CYCLIC);
+    assert_int_equal(c4g_session_neutral(&a.s, a.r.pkt, &tx), C4G_OK);
+    for (i = 0; i < 6; i++) {
+        const float az = a.s.init.az_lim[0][i];
+        assert_int_equal(tx.ax[i].mode, C4G_MODE_1);
+        assert_true(tx.ax[i].target_pos == 1.0f + (float)i);
+        assert_true(tx.ax[i].target_vel == 0.0f);
+        assert_true(tx.ax[i].vel_add == 0.0f);
+        assert_true(tx.ax[i].current_add == ((i % 2U == 0U) ? az : -az));
+    }
+    /* the wire bytes of c4g_session_reply_neutral say the same */
+    assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, &a.out_len), C4G_OK);
+    assert_int_equal(th_get_u32(&a.out[12 + 4]), 0x3F800000U);
+    {
+        c4g_pc_packet_t w;
+        assert_int_equal(c4g_pc_decode(a.out, a.out_len, 6U, &w, NULL), C4G_OK);
+        assert_true(w.ax[0].current_add == a.s.init.az_lim[0][0]);
+    }
+    p.n_axes = 5;
+    assert_int_equal(c4g_session_neutral(&a.s, &p, &tx), C4G_ERR_AXES);
+    /* mode 9: the delta is zero */
+    th_ctrl_packet(&p, 14, 6, C4G_MODE_9);
+    assert_int_equal(c4g_session_neutral(&a.s, &p, &tx), C4G_OK);
+    assert_true(tx.ax[3].current_add == 0.0f);
+    assert_true(tx.ax[3].target_pos == 0.0f);
+}
+
 static void test_reply_neutral_direct(void **state)
 {
     fx_t a, b;
@@ -133,10 +181,11 @@ static void test_reply_neutral_direct(void **state)
 
     cold_start(&a, C4G_NUM_PLUS_ONE);
     cold_start(&b, C4G_NUM_PLUS_ONE);
-    th_ctrl_packet(&p, 13, 6, C4G_MODE_4);          /* one mode: data zero, mode echoed */
+    th_ctrl_packet(&p, 13, 6, C4G_MODE_4);          /* mode 4: D1 holds the reference */
     neutral_both(&a, &b, &p);
     assert_int_equal(th_get_u32(&a.out[12]), C4G_MODE_4);
-    assert_int_equal(th_get_u32(&a.out[12 + 4]), 0);
+    assert_int_equal(th_get_u32(&a.out[12 + 4]), 0x3F800000U);          /* 1.0f, not 0 */
+    assert_int_equal(th_get_u32(&a.out[12 + 8]), 0);                     /* D2: none */
     th_ctrl_packet(&p, 14, 6, C4G_MODE_0_DEBUG);    /* 0': D1..D5 copied back */
     neutral_both(&a, &b, &p);
     assert_int_equal(th_get_u32(&a.out[12 + 5 * 36 + 4]), 0x40C00000U); /* 6.0f */
@@ -972,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_lost_restart_new_endpoint),
         cmocka_unit_test(test_lost_resume_same_endpoint),
         cmocka_unit_test(test_reply_neutral_direct),
+        cmocka_unit_test(test_session_neutral_holds),
         cmocka_unit_test(test_special_mode_on_one_axis),
         cmocka_unit_test(test_fewer_axes_after_restart),
     };

@@ -63,7 +63,7 @@ static void count_log(void *ctx, uint64_t t_ns, const char *fmt, va_list ap)
 /* Packet k of the sequence: 9 sync (NUM 1..9), the figure-10.1 init packet (NUM 10), 2
  * sync (NUM 11, 12), N_MODE0 cyclic packets in mode 0 then N_MODE4 in mode 4, the arm
  * standing at 0.2 turns (the SMP+ target follows the PC's mode-4 target one tick late). */
-static size_t packet(uint32_t k, float last_target, uint8_t *buf, size_t cap)
+static size_t packet(uint32_t k, const float *last_target, uint8_t *buf, size_t cap)
 {
     const int32_t num = (int32_t)k + 1;
     c4g_ctrl_packet_t p;
@@ -82,7 +82,8 @@ static size_t packet(uint32_t k, float last_target, uint8_t *buf, size_t cap)
     p.n_axes = N_AX;
     for (i = 0U; i < N_AX; i++) {
         p.ax[i].mode = (k >= FIRST_CYCLIC + N_MODE0) ? C4G_MODE_4 : 0;
-        p.ax[i].target_pos = (p.ax[i].mode == C4G_MODE_4) ? last_target : 0.2f;
+        /* the reference it applied: where it stood in mode 0, then the PC's last target */
+        p.ax[i].target_pos = (p.ax[i].mode == C4G_MODE_4) ? last_target[i] : 0.2f;
         p.ax[i].actual_pos = p.ax[i].target_pos;
     }
     assert_int_equal(c4g_ctrl_encode(&p, buf, cap, &len), C4G_OK);
@@ -94,8 +95,11 @@ static void run_sequence(const srv_config_t *cfg, run_t *run, bool logged)
 {
     c4g_endpoint_t ctl;
     uint64_t t = 1000U * MS;
-    float last_target = 0.2f;
+    float last_target[N_AX];
     uint32_t k;
+    for (k = 0U; k < N_AX; k++) {
+        last_target[k] = 0.2f;
+    }
     memset(run, 0, sizeof *run);
     memset(&ctl, 0, sizeof ctl);
     ctl.addr_len = 4U;
@@ -122,8 +126,13 @@ static void run_sequence(const srv_config_t *cfg, run_t *run, bool logged)
         }
         if (v.send && v.kind == C4G_RX_CYCLIC) {
             c4g_pc_packet_t pc;
+            uint32_t i;
             assert_int_equal(c4g_pc_decode(r->bytes, r->len, N_AX, &pc, NULL), C4G_OK);
-            last_target = pc.ax[0].target_pos;
+            for (i = 0U; i < N_AX; i++) {
+                if (pc.ax[i].mode == C4G_MODE_4) {
+                    last_target[i] = pc.ax[i].target_pos;
+                }
+            }
         }
     }
 }
@@ -278,7 +287,8 @@ static void run_mode9(const srv_config_t *cfg, run_t *run, float d5[N9][N_AX])
         size_t n, len = 0U;
         srv_verdict_t v;
         if (k < FIRST_CYCLIC + 5U) {
-            n = packet(k, 0.2f, in, sizeof in); /* handshake, 5 packets in mode 0 */
+            static const float at[N_AX] = {0.2f, 0.2f, 0.2f, 0.2f, 0.2f, 0.2f};
+            n = packet(k, at, in, sizeof in); /* handshake, 5 packets in mode 0 */
         } else {
             const uint32_t j = k - FIRST_CYCLIC - 5U;
             c4g_ctrl_packet_t p;

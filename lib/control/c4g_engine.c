@@ -25,10 +25,7 @@ c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4
         if (cfg != NULL) {
             c = *cfg;
         }
-        st = C4G_OK;
-        if ((c4g_f32_finite(c.moving_eps) == 0) || (c.moving_eps < 0.0F)) {
-            st = C4G_ERR_ARG;
-        }
+        st = c4g_engine_config_check(&c);
         if (st == C4G_OK) {
             st = c4g_init_validate(init, NULL);
         }
@@ -60,6 +57,32 @@ c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4
     return st;
 }
 
+c4g_status_t c4g_engine_config_check(const c4g_engine_config_t *cfg)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (cfg != NULL) {
+        st = C4G_OK;
+        if ((c4g_f32_finite(cfg->moving_eps) == 0) || (cfg->moving_eps < 0.0F)) {
+            st = C4G_ERR_ARG;
+        }
+    }
+    return st;
+}
+
+/* A stroke [lo, hi] is off when both ends are 0, else it must be a real interval: an empty
+ * or reversed one (a negative transmission ratio swaps the ends of a converted stroke) would
+ * switch the check off silently. */
+static c4g_status_t check_stroke(float lo, float hi)
+{
+    c4g_status_t st = C4G_OK;
+    const uint32_t off = c4g_flag((c4g_f32_bits(lo) | c4g_f32_bits(hi) | 0x80000000U) ==
+                                  0x80000000U); /* +0 or -0 at both ends */
+    if ((off == 0U) && (!(lo < hi))) {
+        st = C4G_ERR_LIMITS;
+    }
+    return st;
+}
+
 static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
 {
     c4g_status_t st = C4G_OK;
@@ -74,6 +97,12 @@ static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
     if ((st == C4G_OK) && ((lim->follow_error < 0.0F) || (lim->current_max < 0.0F) ||
                            (lim->max_step < 0.0F) || (lim->max_vel < 0.0F))) {
         st = C4G_ERR_LIMITS;
+    }
+    if (st == C4G_OK) {
+        st = check_stroke(lim->motor_min, lim->motor_max);
+    }
+    if (st == C4G_OK) {
+        st = check_stroke(lim->joint_min, lim->joint_max);
     }
     return st;
 }
@@ -262,10 +291,11 @@ static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS],
 {
     const int32_t mode = rx->mode; /* the PC echoes the mode (manual figure 24.3) */
     int32_t shown;
-    /* Where the axis stands while the controller alone moves it (an open mode starts only
-     * with the robot still, 24.1): the anchor of the next position mode, from many packets
-     * rather than the one that opens the mode, which may be lost. */
-    if ((mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) || (ctl->anchor_set[i] == 0U)) {
+    /* The anchor: the controller's reference where the axis's current mode began (every
+     * packet of mode 0 or 0'), whichever packet of the mode arrives first. After a passive
+     * freezing or a stand-by the mode begins again where the axis stands, not in mode 0. */
+    if ((mode != ctl->prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
+        (ctl->anchor_set[i] == 0U)) {
         ctl->anchor[i] = rx->target_pos;
         ctl->anchor_set[i] = 1U;
     }
@@ -278,11 +308,8 @@ static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS],
     }
     shown = (some != 0U) ? overlay_mode(ctl, over, i, mode) : mode;
     if (shown != mode) {
-        if (ctl->have_last != 0U) {
-            *tx = ctl->last_safe[i]; /* hold while a safety request goes out */
-        } else {
-            (void)memset(tx, 0, sizeof *tx);
-        }
+        /* hold while a safety request goes out: what the controller applied, nothing new */
+        hold_axis(ctl->prep_rules[i], rx, ctl->lim[i].current_max, tx);
     } else if ((ctl->prep_rules[i] & C4G_MR_COPY) != 0U) {
         (void)memset(tx, 0, sizeof *tx);
         copy_back(rx, tx);

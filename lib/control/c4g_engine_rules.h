@@ -21,11 +21,21 @@ static inline uint32_t axes_in(uint32_t n)
 #define R_FIELDS 0x001FU
 #define R_SHOWN 0x40000U /* (axis_data_check only) the axis carries its prepared mode */
 #define R_INT (C4G_MR_INT_D1 | C4G_MR_INT_D2 | C4G_MR_INT_D4)
+/* A mode the C4G does not have (3, 6, 1xx, 201, 202): no rule can bound its fields, so the
+ * reply carries none and the arm is sent 505. */
+#define R_NORULE 0x80000U
+/* The rules that give some PC field a meaning the filter bounds. */
+#define R_FIELD_RULES (C4G_MR_ABS | R_INT | C4G_MR_VEL | C4G_MR_VADD | C4G_MR_CUR | \
+                       C4G_MR_DCUR | C4G_MR_COPY)
 
 static inline uint32_t mode_rules(int32_t m)
 {
     const c4g_mode_info_t *row = c4g_mode_find(m);
-    return (row != NULL) ? (row->rules | row->pc_fields) : 0U;
+    uint32_t r = 0U;
+    if (row != NULL) {
+        r = ((row->flags & C4G_MF_AVAILABLE) != 0U) ? (row->rules | row->pc_fields) : R_NORULE;
+    }
+    return r;
 }
 
 static inline float tighter(float ctl_value, float user)
@@ -44,6 +54,26 @@ static inline void copy_back(const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
     tx->measure = rx->actual_pos;
     tx->vel_add = rx->actual_vel;
     tx->current_add = rx->current_ref;
+}
+
+/* What holding an axis means in a mode: the reference the controller applied last (D1 of
+ * an absolute mode: its reported reference; the current of a mode where the PC closes the
+ * loops: the controller's own, within @p cur_max), no addition, no velocity, no delta; mode
+ * 0' copies back. The caller sets the mode. */
+static inline void hold_axis(uint32_t rules, const c4g_ctrl_axis_t *rx, float cur_max,
+                             c4g_pc_axis_t *tx)
+{
+    (void)memset(tx, 0, sizeof *tx);
+    if ((rules & C4G_MR_COPY) != 0U) {
+        copy_back(rx, tx);
+    } else {
+        if ((rules & C4G_MR_ABS) != 0U) {
+            tx->target_pos = rx->target_pos;
+        }
+        if ((rules & C4G_MR_CUR) != 0U) {
+            (void)sfc_sym(rx->current_ref, cur_max, 0U, &tx->current_add);
+        }
+    }
 }
 
 /* Mode every axis of an arm carries because of a latch or an active freezing, 0 if none. */

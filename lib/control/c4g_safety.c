@@ -70,32 +70,24 @@ static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
     return f;
 }
 
-/* The controller's position reference that an absolute target of axis @p i moves from: the
- * last value sent in the same mode, else where the axis stood when the mode began. */
-static inline float abs_base(const c4g_engine_t *ctl, uint32_t i)
-{
-    return ((ctl->have_last != 0U) && (ctl->last_mode[i] == ctl->prep_mode[i]))
-               ? ctl->last_safe[i].target_pos
-               : ctl->anchor[i];
-}
-
 /* Continuity and stroke ends on the position the controller will hold next tick: base + d,
- * d the per-tick motion the PC asks for (the integrated field, or target - base), base the
- * reference before it (for an integrating mode the SMP+ target D1 advanced by its target
- * velocity D2: the worst case, which may count the PC's last step once more). Both only
- * shrink d towards 0: the filter never creates a motion, even back into the stroke. */
+ * d the per-tick motion the PC asks for (the integrated field, or target - base). The base
+ * is what the controller applied last, as it reports it: for an absolute mode its reference
+ * D1 (whatever came before: another mode, a freezing, an overlay, a lost reply), for an
+ * integrating mode D1 advanced by its own target velocity D2 (the worst case, which may
+ * count the PC's last step once more). Both checks only shrink d towards 0: the filter
+ * never creates a motion, even back into the stroke. */
 static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &ctl->lim[i];
-    /* integrating modes: the reference moves by the controller's own target velocity too */
-    const float base = ((rules & C4G_MR_ABS) != 0U) ? abs_base(ctl, i)
+    const float base = ((rules & C4G_MR_ABS) != 0U) ? rx->target_pos
                                                : (rx->target_pos + rx->target_vel);
     float *field = int_field(rules, tx);
     const float req = ((rules & C4G_MR_ABS) != 0U) ? (tx->target_pos - base) : *field;
     uint32_t f = 0U;
     float d = req;
-    if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base + req)) != 0U) {
+    if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base) | ctl_nonfinite_bit(base + req)) != 0U) {
         f = C4G_SF_NONFINITE; /* target - base or base + delta overflows: never sent */
     } else {
         f = sfc_step(0.0F, req, l->max_step, &d);
@@ -111,6 +103,20 @@ static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint3
         }
     }
     return f;
+}
+
+/* The value of that field. */
+static inline float int_value(uint32_t rules, const c4g_pc_axis_t *tx)
+{
+    float v = tx->target_pos;
+    if ((rules & C4G_MR_INT_D2) != 0U) {
+        v = tx->target_vel;
+    } else if ((rules & C4G_MR_INT_D4) != 0U) {
+        v = tx->vel_add;
+    } else {
+        /* D1 */
+    }
+    return v;
 }
 
 static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
@@ -159,71 +165,104 @@ static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
     return f;
 }
 
-/* The motor reference each axis of @p arm is driven to: the PC's absolute target, the
- * reference an integrating mode integrates to, or the SMP+ target. */
-static void joint_motor_refs(const c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
-                             c4g_pc_packet_t *tx, double qm[C4G_AXES_PER_ARM])
+/* Where each logical axis of @p arm starts this tick (@p base: the reference the controller
+ * holds, as filter_targets measures it) and how far the PC moves it (@p d, 0 where SMP+
+ * drives the axis), in motor turns. */
+static void joint_motion(const c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+                         const c4g_pc_packet_t *tx, double base[C4G_AXES_PER_ARM],
+                         double d[C4G_AXES_PER_ARM])
 {
     uint32_t j;
     for (j = 0U; j < ctl->n_joint[arm]; j++) {
         const uint32_t i = ctl->map.open_of[arm][j];
         const uint32_t rules = ctl->prep_rules[i];
-        double v = (double)rx->ax[i].target_pos;
+        const c4g_ctrl_axis_t *r = &rx->ax[i];
         if ((rules & C4G_MR_ABS) != 0U) {
-            v = (double)tx->ax[i].target_pos;
-        } else if ((rules & R_INT) != 0U) {
-            v += (double)*int_field(rules, &tx->ax[i]);
+            base[j] = (double)r->target_pos;
+            d[j] = (double)tx->ax[i].target_pos - base[j];
         } else {
-            /* SMP+ target */
+            base[j] = (double)r->target_pos + (double)r->target_vel;
+            d[j] = ((rules & R_INT) != 0U) ? (double)int_value(rules, &tx->ax[i]) : 0.0;
         }
-        qm[j] = v;
     }
 }
 
-/* Clamp the joint positions to their strokes; returns 1 if one was clamped. */
-static uint32_t joint_clamp(const c4g_engine_t *ctl, uint32_t arm, double q[C4G_AXES_PER_ARM],
-                            c4g_engine_report_t *r)
+/* The largest share a in [0, 1] of the motion q0 -> q1 of every joint that keeps each one
+ * inside its stroke, or moving back towards it (a joint already beyond an end may not go
+ * further). */
+static double joint_share(const c4g_engine_t *ctl, uint32_t arm, const double q0[C4G_AXES_PER_ARM],
+                          const double q1[C4G_AXES_PER_ARM])
 {
-    uint32_t changed = 0U;
+    double a = 1.0;
     uint32_t j;
     for (j = 0U; j < ctl->n_joint[arm]; j++) {
-        const uint32_t i = ctl->map.open_of[arm][j];
-        const c4g_axis_limits_t *l = &ctl->lim[i];
-        if ((l->joint_min < l->joint_max) &&
-            ((q[j] > (double)l->joint_max) || (q[j] < (double)l->joint_min))) {
-            q[j] = (q[j] > (double)l->joint_max) ? (double)l->joint_max : (double)l->joint_min;
-            /* reported (and stopped) where the PC moves the axis, not where SMP+ does */
-            if ((ctl->prep_rules[i] & (C4G_MR_ABS | R_INT)) != 0U) {
-                r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
-            }
-            changed = 1U;
+        const c4g_axis_limits_t *l = &ctl->lim[ctl->map.open_of[arm][j]];
+        const double lo = (double)l->joint_min;
+        const double hi = (double)l->joint_max;
+        const double dq = q1[j] - q0[j];
+        double s = 1.0;
+        if ((l->joint_min < l->joint_max) && (q1[j] > hi) && (dq > 0.0)) {
+            s = (q0[j] < hi) ? ((hi - q0[j]) / dq) : 0.0;
+        } else if ((l->joint_min < l->joint_max) && (q1[j] < lo) && (dq < 0.0)) {
+            s = (q0[j] > lo) ? ((lo - q0[j]) / dq) : 0.0;
+        } else {
+            /* inside, or on its way back */
         }
+        a = (s < a) ? s : a;
     }
-    return changed;
+    return (a > 0.0) ? a : 0.0;
 }
 
-/* Joint stroke ends through the kinematics (chapter 19): clamp in joint space and write
- * the motor targets back for the axes the PC drives. */
+/* Joint stroke ends through the kinematics (chapter 19). The joints are affine in the motor
+ * positions, so the PC's motion of the whole arm is shrunk by one share: every PC-driven
+ * axis moves by the same fraction of what it asked (never more, never elsewhere), the
+ * binding joint stops at its end, SMP+-driven axes are untouched. If rounding leaves a joint
+ * beyond its end the arm holds. Every axis whose motion shrank is flagged (the arm stops). */
 static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     const uint32_t n = ctl->n_joint[arm];
-    double qm[C4G_AXES_PER_ARM];
-    double q[C4G_AXES_PER_ARM];
-    joint_motor_refs(ctl, arm, rx, tx, qm);
-    if ((c4g_kin_motor_to_link(&ctl->kin[arm], qm, n, q) == C4G_OK) &&
-        (joint_clamp(ctl, arm, q, r) != 0U) &&
-        (c4g_kin_link_to_motor(&ctl->kin[arm], q, n, qm) == C4G_OK)) {
-        uint32_t j;
+    double base[C4G_AXES_PER_ARM];
+    double d[C4G_AXES_PER_ARM];
+    double m1[C4G_AXES_PER_ARM];
+    double q0[C4G_AXES_PER_ARM];
+    double q1[C4G_AXES_PER_ARM];
+    double a = 0.0;
+    uint32_t j;
+    joint_motion(ctl, arm, rx, tx, base, d);
+    for (j = 0U; j < n; j++) {
+        m1[j] = base[j] + d[j];
+    }
+    if ((c4g_kin_motor_to_link(&ctl->kin[arm], base, n, q0) == C4G_OK) &&
+        (c4g_kin_motor_to_link(&ctl->kin[arm], m1, n, q1) == C4G_OK)) {
+        a = joint_share(ctl, arm, q0, q1);
+        if (a < 1.0) {
+            for (j = 0U; j < n; j++) { /* as the floats on the wire will say it */
+                m1[j] = base[j] + (double)(float)(a * d[j]);
+                if ((ctl->prep_rules[ctl->map.open_of[arm][j]] & C4G_MR_ABS) != 0U) {
+                    m1[j] = (double)(float)(base[j] + (a * d[j]));
+                }
+            }
+            /* the rounded targets checked again: a hair beyond the end means hold */
+            if ((c4g_kin_motor_to_link(&ctl->kin[arm], m1, n, q1) != C4G_OK) ||
+                (joint_share(ctl, arm, q0, q1) < 1.0)) {
+                a = 0.0;
+            }
+        }
+    }
+    if (a < 1.0) {
         for (j = 0U; j < n; j++) {
             const uint32_t i = ctl->map.open_of[arm][j];
             const uint32_t rules = ctl->prep_rules[i];
-            if ((rules & C4G_MR_ABS) != 0U) {
-                tx->ax[i].target_pos = (float)qm[j];
-            } else if ((rules & R_INT) != 0U) {
-                *int_field(rules, &tx->ax[i]) = (float)(qm[j] - (double)rx->ax[i].target_pos);
-            } else {
-                /* the PC does not drive this axis */
+            c4g_pc_axis_t *o = &tx->ax[i];
+            if ((d[j] > 0.0) || (d[j] < 0.0)) {
+                if ((rules & C4G_MR_ABS) != 0U) {
+                    o->target_pos = (float)(base[j] + (a * d[j]));
+                    o->target_vel = (float)(a * (double)o->target_vel);
+                } else {
+                    *int_field(rules, o) = (float)(a * d[j]);
+                }
+                r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
             }
         }
     }
@@ -255,7 +294,8 @@ static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
 }
 
 /* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
-static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx, c4g_engine_report_t *r)
+static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                        c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     c4g_status_t st = C4G_OK;
     uint32_t bad_arm[C4G_ARMS] = {0U, 0U, 0U, 0U};
@@ -271,12 +311,11 @@ static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx, 
             } else {
                 /* keep the missing-data status */
             }
-            if (ctl->have_last != 0U) {
-                tx->ax[i] = ctl->last_safe[i];
-            } else {
-                (void)memset(&tx->ax[i], 0, sizeof tx->ax[i]);
-            }
+            hold_axis(ctl->prep_rules[i], &rx->ax[i], ctl->lim[i].current_max, &tx->ax[i]);
             r->axis_flags[i] |= C4G_SF_HELD;
+        }
+        if ((f & C4G_SF_NO_RULE) != 0U) {
+            bad_arm[ctl->map.arm_of[i]] = 1U;
         }
     }
     for (i = 0U; i < C4G_ARMS; i++) {
@@ -298,6 +337,18 @@ static uint32_t finish_fe(c4g_engine_t *ctl, uint32_t i, const c4g_ctrl_axis_t *
     return f;
 }
 
+/* The data fields of a mode without field rules, zeroed; a mode the C4G does not have is
+ * flagged whatever the PC wrote (its arm is sent 505). */
+static inline uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
+{
+    tx->target_pos = 0.0F;
+    tx->target_vel = 0.0F;
+    tx->measure = 0.0F;
+    tx->vel_add = 0.0F;
+    tx->current_add = 0.0F;
+    return ((rules & R_NORULE) != 0U) ? C4G_SF_NO_RULE : 0U;
+}
+
 /* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
  * of the reply data, written back by the caller). */
 static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
@@ -310,9 +361,14 @@ static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
     }
     tx->mode = m;
-    if ((rules & C4G_MR_COPY) != 0U) {
+    if ((rules & R_FIELD_RULES) == 0U) {
+        /* no field of this mode means anything the filter bounds: none is sent */
+        f |= no_rule_fields(rules, tx);
+    } else if ((rules & C4G_MR_COPY) != 0U) {
         copy_back(rx, tx);
         f |= C4G_SF_COPY_BACK;
+    } else {
+        /* the filter's rules below */
     }
     f |= axis_data_check(tx, (shown == m) ? (rules | R_SHOWN) : rules);
     if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
@@ -385,7 +441,7 @@ static CTL_COLD void finish_record(c4g_engine_t *ctl, const int32_t over[C4G_ARM
 
 /* Filter flags after which the overlays of axes already recorded may change. */
 #define REDO_FLAGS (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_FOLLOW_ERROR | C4G_SF_STROKE | \
-                    C4G_SF_STROKE_JOINT)
+                    C4G_SF_STROKE_JOINT | C4G_SF_NO_RULE)
 
 /* A stroke end stops the arm: every axis carries 505 from this reply on (the reference sent
  * with it stays inside the stroke: the motion stops before the limit, not after). */
@@ -453,12 +509,13 @@ static CTL_COLD uint32_t finish_joints(c4g_engine_t *ctl, const c4g_ctrl_packet_
 }
 
 /* The faults of this reply: 505 on faulty arms (with their status), stroke stops. */
-static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *ctl, c4g_pc_packet_t *tx,
-                                           c4g_engine_report_t *r, uint32_t n, uint32_t any)
+static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+                                           c4g_pc_packet_t *tx, c4g_engine_report_t *r,
+                                           uint32_t n, uint32_t any)
 {
     c4g_status_t st = C4G_OK;
-    if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
-        st = arm_faults(ctl, tx, r);
+    if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_NO_RULE)) != 0U) {
+        st = arm_faults(ctl, rx, tx, r);
     }
     if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
         stroke_stops(ctl, n, r);
@@ -494,7 +551,7 @@ static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx
     if (rec == 0U) {
         int32_t over[C4G_ARMS];
         any |= finish_joints(ctl, rx, tx, r);
-        st = finish_faults(ctl, tx, r, n, any);
+        st = finish_faults(ctl, rx, tx, r, n, any);
         (void)arm_overlays(ctl, over); /* the filter may have latched an arm or an axis */
         r->n_filtered = n_filtered;
         finish_record(ctl, over, tx, r);

@@ -214,7 +214,10 @@ static inline uint32_t sf_stroke(float pos, float min, float max, float *out)
         *out = pos;
         if ((c4g_f32_finite(pos) != 0) && (c4g_f32_finite(min) != 0) &&
             (c4g_f32_finite(max) != 0)) {
-            r = sfc_stroke(pos, min, max, out);
+            /* off only as 0, 0: an empty or reversed stroke is a bad limit, never "off" */
+            const uint32_t off = c4g_flag(((c4g_f32_bits(min) | c4g_f32_bits(max)) &
+                                           0x7FFFFFFFU) == 0U);
+            r = ((off != 0U) || (min < max)) ? sfc_stroke(pos, min, max, out) : C4G_SF_BAD_LIMIT;
         }
     }
     return r;

@@ -12,7 +12,12 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
         (void)memset(lp, 0, sizeof *lp);
         if (cfg != NULL) {
             lp->engine_cfg = cfg->engine;
-            st = c4g_session_init(&lp->session, &cfg->session);
+            /* an engine configuration refused now, not at every init packet (which would
+             * leave every reply to the fallback) */
+            st = c4g_engine_config_check(&cfg->engine);
+            if (st == C4G_OK) {
+                st = c4g_session_init(&lp->session, &cfg->session);
+            }
         } else {
             (void)c4g_engine_config_default(&lp->engine_cfg);
             st = c4g_session_init(&lp->session, NULL);
@@ -21,7 +26,35 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
     return st;
 }
 
-/* A cyclic packet through the control engine: its reply prepared, or neutral. */
+/* The reply when the safety filter cannot be run on one (no engine for the packet, a reply
+ * the caller broke, an encoder refusal): every axis holds (c4g_session_neutral), and every
+ * arm with an axis in a mode where the PC moves it gets 505, the PC's right at any time. */
+static void loop_fallback(c4g_loop_t *lp)
+{
+    const uint32_t pc_moves = C4G_MR_ABS | C4G_MR_INT_D1 | C4G_MR_INT_D2 | C4G_MR_INT_D4 |
+                              C4G_MR_VADD | C4G_MR_CUR | C4G_MR_DCUR;
+    uint32_t stop = 0U;
+    uint32_t i;
+    lp->counters.neutral_replies++;
+    if (c4g_session_neutral(&lp->session, lp->rx, &lp->tx) != C4G_OK) {
+        (void)c4g_pc_reply_neutral(lp->rx, &lp->tx); /* not reached: the session decoded rx */
+    }
+    for (i = 0U; (i < lp->tx.n_axes) && (i < C4G_MAX_AXES); i++) {
+        if ((c4g_mode_rules(lp->tx.ax[i].mode) & pc_moves) != 0U) {
+            stop |= 1U << (lp->session.map.arm_of[i] & 3U);
+        }
+    }
+    if (stop != 0U) {
+        lp->counters.fallback_drive_off++;
+        for (i = 0U; (i < lp->tx.n_axes) && (i < C4G_MAX_AXES); i++) {
+            if (((stop >> (lp->session.map.arm_of[i] & 3U)) & 1U) != 0U) {
+                lp->tx.ax[i].mode = C4G_MODE_DRIVE_OFF;
+            }
+        }
+    }
+}
+
+/* A cyclic packet through the control engine: its reply prepared, or the fallback. */
 static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now_ns,
                       c4g_loop_event_t *ev)
 {
@@ -37,9 +70,9 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
         ev->cmd = &lp->tx;
         ev->engine_events = lp->report.events;
     } else {
-        /* no engine for this packet: the neutral reply is the only safe one */
+        /* no engine for this packet: only the fallback is safe */
         (void)memset(&lp->report, 0, sizeof lp->report);
-        (void)c4g_pc_reply_neutral(pkt, &lp->tx);
+        loop_fallback(lp);
     }
 }
 
@@ -84,24 +117,21 @@ static c4g_status_t loop_cyclic_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, 
 {
     c4g_status_t st;
     lp->finish_status = C4G_OK;
-    if (lp->prepared == 0U) {
-        lp->counters.neutral_replies++;
-    } else {
+    if (lp->prepared != 0U) {
         /* after any other status the filtered reply is safe and must be sent (an arm may
-         * carry 505): only a refused call falls back to neutral */
+         * carry 505): only a refused call (the caller changed the reply's axis count or
+         * header) falls back */
         lp->finish_status = c4g_engine_finish(&lp->engine, lp->rx, &lp->tx, &lp->report);
         if (lp->finish_status == C4G_ERR_STATE) {
-            lp->counters.neutral_replies++;
-            (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+            loop_fallback(lp);
         }
         lp->prepared = 0U;
-    }
+    } /* else the fallback was prepared with the packet */
     st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
     if ((st != C4G_OK) && (st != C4G_ERR_CAPACITY)) {
-        /* the encoder refused what the caller wrote (NaN, unknown mode) */
-        lp->counters.neutral_replies++;
+        /* the encoder refused the reply: not reached after the filter, kept as a guard */
         lp->counters.encode_refused++;
-        (void)c4g_pc_reply_neutral(lp->rx, &lp->tx);
+        loop_fallback(lp);
         st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
     }
     return st;

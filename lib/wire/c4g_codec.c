@@ -313,6 +313,7 @@ c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *
             for (i = 0U; i < rx->n_axes; i++) {
                 const c4g_ctrl_axis_t *r = &rx->ax[i];
                 c4g_pc_axis_t *a = &tx->ax[i];
+                const uint32_t rules = c4g_mode_rules(r->mode);
                 a->mode = r->mode;
                 if (r->mode == C4G_MODE_0_DEBUG) {
                     /* Mode 0': the field library copies D1..D5 back unchanged. */
@@ -321,6 +322,15 @@ c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *
                     a->measure = r->actual_pos;
                     a->vel_add = r->actual_vel;
                     a->current_add = r->current_ref;
+                } else {
+                    /* hold: the reference and the current the controller applied (a zero
+                     * there would mean "go to 0", "no current"), nothing added */
+                    if ((rules & C4G_MR_ABS) != 0U) {
+                        a->target_pos = r->target_pos;
+                    }
+                    if ((rules & C4G_MR_CUR) != 0U) {
+                        a->current_add = r->current_ref;
+                    }
                 }
             }
             st = C4G_OK;

@@ -537,13 +537,45 @@ static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
     s->neutral_mode = mode;
 }
 
+c4g_status_t c4g_session_neutral(const c4g_session_t *s, const c4g_ctrl_packet_t *rx,
+                                 c4g_pc_packet_t *tx)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((s != NULL) && (rx != NULL) && (tx != NULL)) {
+        st = C4G_ERR_STATE;
+        if (s->map.n_axes > 0U) {
+            st = (rx->n_axes == s->map.n_axes) ? c4g_pc_reply_neutral(rx, tx) : C4G_ERR_AXES;
+        }
+        if (st == C4G_OK) {
+            uint32_t i;
+            for (i = 0U; (i < tx->n_axes) && (i < C4G_MAX_AXES); i++) {
+                const float lim = s->init.az_lim[s->map.arm_of[i] & 3U][s->map.logical_of[i] % C4G_AXES_PER_ARM];
+                float *c = &tx->ax[i].current_add;
+                if ((c4g_mode_rules(tx->ax[i].mode) & C4G_MR_CUR) != 0U) {
+                    /* AzLim is validated finite and >= 0 with the init packet */
+                    *c = (*c > lim) ? lim : ((*c < -lim) ? -lim : *c);
+                }
+            }
+        }
+    }
+    return st;
+}
+
+/* Whether the neutral reply of @p mode carries data (held reference or current, copy back):
+ * then it cannot come from the zero-data template. */
+static uint32_t neutral_has_data(int32_t mode)
+{
+    return c4g_flag((c4g_mode_rules(mode) & (C4G_MR_ABS | C4G_MR_CUR | C4G_MR_COPY)) != 0U);
+}
+
 /* The neutral reply to @p p built as a PC packet and encoded (the packet of several modes,
- * or of mode 0': off the common path, and its 740-byte packet off the common stack frame). */
+ * or of a mode whose hold carries data: off the common path, and its 740-byte packet off
+ * the common stack frame). */
 static c4g_status_t neutral_encoded(c4g_session_t *s, const c4g_ctrl_packet_t *p, uint8_t *buf,
                                     size_t cap, size_t *n)
 {
     c4g_pc_packet_t tx;
-    c4g_status_t st = c4g_pc_reply_neutral(p, &tx);
+    c4g_status_t st = c4g_session_neutral(s, p, &tx);
     if (st == C4G_OK) {
         st = c4g_pc_encode(&tx, buf, cap, n);
     }
@@ -553,17 +585,18 @@ static c4g_status_t neutral_encoded(c4g_session_t *s, const c4g_ctrl_packet_t *p
     return st;
 }
 
-/* The neutral reply to the pending cyclic packet rx[cur]. One mode on every axis (the usual
- * case): written to the wire directly from the session's template, no PC packet and no
- * second check (the decoder checked the modes it echoes, the data is zero). Several modes,
- * or mode 0' echoing D1..D5: built and encoded as c4g_pc_reply_neutral + c4g_pc_encode. */
+/* The neutral reply to the pending cyclic packet rx[cur]. One mode whose hold is zero data
+ * on every axis (the usual case): written to the wire directly from the session's template,
+ * no PC packet and no second check (the decoder checked the modes it echoes). Several modes,
+ * or a mode whose hold carries data: built and encoded as c4g_session_neutral +
+ * c4g_pc_encode. */
 static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *n)
 {
     const c4g_ctrl_packet_t *p = &s->rx[s->cur];
     const uint32_t axes = p->n_axes;
     const int32_t first = p->ax[0].mode;
     c4g_status_t st;
-    if ((s->rx_mixed_modes == 0U) && (first != C4G_MODE_0_DEBUG)) {
+    if ((s->rx_mixed_modes == 0U) && (neutral_has_data(first) == 0U)) {
         st = C4G_ERR_CAPACITY;
         if (cap >= C4G_CYCLIC_SIZE(axes)) {
             if ((s->neutral_n != axes) || (s->neutral_mode != first)) {
