@@ -102,4 +102,35 @@ else
 fi
 ok "step8: the robot ended near its start (zero-mean addition, bounded)" \
     near "$(simpos "$T/step8.sim.json" 1)" -1 0.2
+# The step base is the reference the controller applied: a mode that begins again without
+# passing through mode 0 (the stand-by of mode 1, a passive freezing in mode 4) neither jumps
+# back to where the arm stood in mode 0 nor is rate-limited towards it. c4g-sim's CSV has the
+# PC's reply per tick: the largest change of axis 1's absolute target between replies in
+# modes 1, 11 and 4 (across 500/502/503/14) stays within the 0.005 turns of --max-step.
+max_abs_step() {
+    awk -F, 'NR > 1 && $3 == 1 { m = $16 + 0
+        if (m == 1 || m == 11 || m == 4) {
+            if (have) { d = $17 - prev; if (d < 0) d = -d; if (d > max) max = d }
+            prev = $17; have = 1
+        } else if (m != 500 && m != 502 && m != 503 && m != 14) { have = 0 } }
+        END { printf "%.6f\n", max }' "$1"
+}
+echo "steps measured from the applied reference (mode 1 exit, passive freezing in mode 4):"
+SIM_ARGS="--csv $T/exit1.csv"
+run_sim exit1 31324 fixtures/server/sim_mode1_exit.scn \
+    --traj fixtures/server/traj_ramp.csv --max-step 0.005 --gains 30,200,300
+ok "exit1: c4g-sim ran the scenario" has "$T/exit1.sim.json" '"loaded":true'
+ok "exit1: 1 -> 11 seen" has "$T/exit1.err" "mode 1 -> 11"
+ok "exit1: no continuity event (was 40)" eq "$(jv "$T/exit1.json" continuity)" 0
+ok "exit1: largest step of D1 within 0.005 (was 0.195)" le "$(max_abs_step "$T/exit1.csv")" 0.005
+ok "exit1: the arm held where the ramp ended" near "$(simpos "$T/exit1.sim.json" 1)" 0.2 0.02
+SIM_ARGS="--csv $T/freeze4.csv"
+run_sim freeze4 31325 fixtures/server/sim_mode4_freeze.scn \
+    --sine 0.2,0.5,1 --max-step 0.005
+ok "freeze4: c4g-sim ran the scenario" has "$T/freeze4.sim.json" '"loaded":true'
+ok "freeze4: 503 -> 4 seen" has "$T/freeze4.err" "mode 503 -> 4"
+ok "freeze4: no continuity event" eq "$(jv "$T/freeze4.json" continuity)" 0
+ok "freeze4: largest step of D1 within 0.005 (was 0.0685 at 503 -> 4)" \
+    le "$(max_abs_step "$T/freeze4.csv")" 0.005
+SIM_ARGS=""
 finish
