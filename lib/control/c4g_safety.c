@@ -216,8 +216,9 @@ static double joint_share(const c4g_engine_t *ctl, uint32_t arm, const double q0
 /* Joint stroke ends through the kinematics (chapter 19). The joints are affine in the motor
  * positions, so the PC's motion of the whole arm is shrunk by one share: every PC-driven
  * axis moves by the same fraction of what it asked (never more, never elsewhere), the
- * binding joint stops at its end, SMP+-driven axes are untouched. If rounding leaves a joint
- * beyond its end the arm holds. Every axis whose motion shrank is flagged (the arm stops). */
+ * binding joint stops at its end (to the float resolution of the motor reference), SMP+-driven
+ * axes are untouched; where the kinematics cannot convert, the arm holds. Every axis whose
+ * motion shrank is flagged (the arm stops). */
 static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
@@ -236,19 +237,6 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
     if ((c4g_kin_motor_to_link(&ctl->kin[arm], base, n, q0) == C4G_OK) &&
         (c4g_kin_motor_to_link(&ctl->kin[arm], m1, n, q1) == C4G_OK)) {
         a = joint_share(ctl, arm, q0, q1);
-        if (a < 1.0) {
-            for (j = 0U; j < n; j++) { /* as the floats on the wire will say it */
-                m1[j] = base[j] + (double)(float)(a * d[j]);
-                if ((ctl->prep_rules[ctl->map.open_of[arm][j]] & C4G_MR_ABS) != 0U) {
-                    m1[j] = (double)(float)(base[j] + (a * d[j]));
-                }
-            }
-            /* the rounded targets checked again: a hair beyond the end means hold */
-            if ((c4g_kin_motor_to_link(&ctl->kin[arm], m1, n, q1) != C4G_OK) ||
-                (joint_share(ctl, arm, q0, q1) < 1.0)) {
-                a = 0.0;
-            }
-        }
     }
     if (a < 1.0) {
         for (j = 0U; j < n; j++) {

@@ -36,9 +36,8 @@ static void loop_fallback(c4g_loop_t *lp)
     uint32_t stop = 0U;
     uint32_t i;
     lp->counters.neutral_replies++;
-    if (c4g_session_neutral(&lp->session, lp->rx, &lp->tx) != C4G_OK) {
-        (void)c4g_pc_reply_neutral(lp->rx, &lp->tx); /* not reached: the session decoded rx */
-    }
+    /* cannot fail: the session decoded rx for its own axis map */
+    (void)c4g_session_neutral(&lp->session, lp->rx, &lp->tx);
     for (i = 0U; (i < lp->tx.n_axes) && (i < C4G_MAX_AXES); i++) {
         if ((c4g_mode_rules(lp->tx.ax[i].mode) & pc_moves) != 0U) {
             stop |= 1U << (lp->session.map.arm_of[i] & 3U);
