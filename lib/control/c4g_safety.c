@@ -244,11 +244,14 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
             const uint32_t rules = ctl->prep_rules[i];
             c4g_pc_axis_t *o = &tx->ax[i];
             if ((d[j] > 0.0) || (d[j] < 0.0)) {
+                const double moved = a * d[j];
+                const double vel = a * (double)o->target_vel;
+                const double to = base[j] + moved;
                 if ((rules & C4G_MR_ABS) != 0U) {
-                    o->target_pos = (float)(base[j] + (a * d[j]));
-                    o->target_vel = (float)(a * (double)o->target_vel);
+                    o->target_pos = (float)to;
+                    o->target_vel = (float)vel;
                 } else {
-                    *int_field(rules, o) = (float)(a * d[j]);
+                    *int_field(rules, o) = (float)moved;
                 }
                 r->axis_flags[i] |= C4G_SF_STROKE_JOINT;
             }

@@ -537,6 +537,22 @@ static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
     s->neutral_mode = mode;
 }
 
+/* The current a hold keeps in a mode where the PC closes the loops, within +-AzLim of the
+ * axis (AzLim is validated finite and >= 0 with the init packet). */
+static void neutral_current(const c4g_session_t *s, uint32_t i, c4g_pc_axis_t *a)
+{
+    const float lim = s->init.az_lim[s->map.arm_of[i] & 3U][s->map.logical_of[i] % C4G_AXES_PER_ARM];
+    if ((c4g_mode_rules(a->mode) & C4G_MR_CUR) != 0U) {
+        if (a->current_add > lim) {
+            a->current_add = lim;
+        } else if (a->current_add < -lim) {
+            a->current_add = -lim;
+        } else {
+            /* within the limit */
+        }
+    }
+}
+
 c4g_status_t c4g_session_neutral(const c4g_session_t *s, const c4g_ctrl_packet_t *rx,
                                  c4g_pc_packet_t *tx)
 {
@@ -549,12 +565,7 @@ c4g_status_t c4g_session_neutral(const c4g_session_t *s, const c4g_ctrl_packet_t
         if (st == C4G_OK) {
             uint32_t i;
             for (i = 0U; (i < tx->n_axes) && (i < C4G_MAX_AXES); i++) {
-                const float lim = s->init.az_lim[s->map.arm_of[i] & 3U][s->map.logical_of[i] % C4G_AXES_PER_ARM];
-                float *c = &tx->ax[i].current_add;
-                if ((c4g_mode_rules(tx->ax[i].mode) & C4G_MR_CUR) != 0U) {
-                    /* AzLim is validated finite and >= 0 with the init packet */
-                    *c = (*c > lim) ? lim : ((*c < -lim) ? -lim : *c);
-                }
+                neutral_current(s, i, &tx->ax[i]);
             }
         }
     }
