@@ -83,9 +83,9 @@ int main(int argc, char **argv)
                 continue;
             }
             if (ticks[i]++ == 0) {
-                float at = ev.pkt->ax[i].target_pos;      /* where the axis stood in mode 0 */
+                float at = ev.pkt->ax[i].target_pos; /* where the axis stands as mode 4 begins */
                 if (c4g_engine_anchor(&lp.engine, i, &at) != C4G_OK)
-                    fprintf(stderr, "axis %u: no mode-0 anchor, starting from D1\n", i);
+                    fprintf(stderr, "axis %u: no anchor, starting from D1\n", i);
                 start[i] = at;
             }
             const double x = fmin(ticks[i] * dt / 2.0, 1.0); /* 2 s raised cosine */

@@ -41,8 +41,8 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     if (old >= 0 && (S->cfg.verbose || S->loop.session.map.logical_of[i] == 0U)) {
         srv_log(S, t_ns, "axis %u: mode %d -> %d", (unsigned)i + 1U, (int)old, (int)mode);
     }
-    /* where the axis stood in mode 0, not this one packet's target: the packet that
-     * opens the mode may be the second one the controller sent in it */
+    /* where the axis stood when this mode began (after a passive freezing or a stand-by:
+     * where it stands now, not where it stood in mode 0) */
     (void)c4g_engine_anchor(&S->loop.engine, i, &anchor);
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
 }
