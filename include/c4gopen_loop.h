@@ -41,6 +41,8 @@ typedef struct c4g_loop_counters {
                                       moved some axis */
     uint64_t engine_init_refused;  /**< accepted init packets the control engine refused */
     uint64_t encode_refused;    /**< cyclic replies the encoder refused (NaN, unknown mode) */
+    uint64_t limits_refused;    /**< init packets on which the control engine refused the
+                                     user limits of an open axis (the engine stays off) */
 } c4g_loop_counters_t;
 
 /** The PC-side loop. Members are read-only for the caller except through the API; the
@@ -59,6 +61,8 @@ typedef struct c4g_loop {
     uint32_t prepared;             /**< tx was prepared by c4g_engine_step for rx */
     uint32_t timed;                /**< a cyclic reply was encoded, its send time is due */
     uint32_t due;                  /**< a reply is due (C4G_RX_SYNC, _INIT or _CYCLIC) */
+    c4g_axis_limits_t user_lim[C4G_ARMS][C4G_AXES_PER_ARM]; /**< c4g_loop_set_limits */
+    uint32_t user_set[C4G_ARMS];   /**< bit j: user_lim[arm][j] is set */
 } c4g_loop_t;
 
 /** What one received datagram meant. */
@@ -119,6 +123,20 @@ C4G_NODISCARD c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32
  *         engine holds no init packet). O(1).
  */
 C4G_NODISCARD c4g_status_t c4g_loop_exit_pending(const c4g_loop_t *lp, uint32_t arm, bool *out);
+
+/**
+ * User limits of logical axis @p axis of @p arm (c4g_axis_limits_t), kept by the loop and
+ * applied to the control engine now and after every accepted init packet, so that no
+ * restart (506 and a new init packet) lifts them. On an init packet where an open axis's
+ * limits are refused (joint limits without the kinematics they need, for example) the
+ * control engine stays off: every reply is the fallback (hold, 505 where the PC moves an
+ * axis) and counters.limits_refused counts it. Limits of an axis the init packet does not
+ * open wait for one that does.
+ * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_ARG (arm, axis); with the engine running, the
+ *         status of c4g_engine_set_limits (the limits are then not kept).
+ */
+C4G_NODISCARD c4g_status_t c4g_loop_set_limits(c4g_loop_t *lp, uint32_t arm, uint32_t axis,
+                                               const c4g_axis_limits_t *lim);
 
 /**
  * The limits the safety filter applies to OPEN axis @p axis: the user limits

@@ -286,6 +286,65 @@ static void test_engine_refused(void **state)
     assert_true(f.lp.counters.neutral_replies >= 2U);
 }
 
+/* A 506 restart with a new init packet: the user limits kept by the loop hold again at once;
+ * an init on which an open axis's limits cannot be applied leaves the engine off. */
+static void restart_with(fx_t *f, const uint8_t *init)
+{
+    uint8_t b[732];
+    c4g_ctrl_packet_t p;
+    size_t len = 0;
+    th_ctrl_packet(&p, 13, 6U, C4G_MODE_SVR_RESTART);
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed_from(f, b, len, &f->ctl), C4G_RX_CYCLIC);
+    answer(f, C4G_CYCLIC_SIZE(6U));
+    assert_int_equal(feed_from(f, init, C4G_INIT_SIZE, &f->ctl), C4G_RX_INIT);
+    answer(f, 1200U);
+}
+
+static void test_user_limits_survive_restart(void **state)
+{
+    fx_t f;
+    c4g_axis_limits_t lim, got;
+    c4g_init_t in;
+    uint8_t other[C4G_INIT_SIZE];
+    size_t len = 0;
+    c4g_pc_packet_t pc;
+    (void)state;
+    memset(&lim, 0, sizeof lim);
+    lim.max_step = 0.01f;
+    lim.joint_min = -1.0f;
+    lim.joint_max = 1.0f;
+    cold_start(&f);
+    assert_int_equal(c4g_loop_set_limits(NULL, 0, 0, &lim), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_set_limits(&f.lp, 4, 0, &lim), C4G_ERR_ARG);
+    assert_int_equal(c4g_loop_set_limits(&f.lp, 0, 10, &lim), C4G_ERR_ARG);
+    assert_int_equal(c4g_loop_set_limits(&f.lp, 0, 0, &lim), C4G_OK);
+    assert_int_equal(c4g_loop_set_limits(&f.lp, 0, 8, &lim), C4G_OK); /* not open: kept */
+    lim.max_step = -1.0f;
+    assert_int_equal(c4g_loop_set_limits(&f.lp, 0, 1, &lim), C4G_ERR_LIMITS); /* not kept */
+    assert_int_equal(c4g_loop_limits(&f.lp, 0, &got), C4G_OK);
+    assert_true(got.max_step == 0.01f);
+    th_put_u32(th_fig, 10U);
+    restart_with(&f, th_fig);
+    assert_int_equal(f.lp.engine_ready, 1U);
+    assert_int_equal(c4g_loop_limits(&f.lp, 0, &got), C4G_OK);
+    assert_true(got.max_step == 0.01f); /* was: 0, off, after every restart */
+    assert_int_equal(c4g_loop_limits(&f.lp, 1, &got), C4G_OK);
+    assert_true(got.max_step == 0.0f);
+    /* an init whose axis 1 has no transmission ratio: its joint limits cannot be kept */
+    assert_int_equal(c4g_init_decode(th_fig, sizeof th_fig, &in, NULL), C4G_OK);
+    in.tx_rate[0][0] = 0.0f;
+    assert_int_equal(c4g_init_encode(&in, other, sizeof other, &len), C4G_OK);
+    restart_with(&f, other);
+    assert_int_equal(f.lp.counters.limits_refused, 1U);
+    assert_int_equal(f.lp.engine_ready, 0U);
+    cyclic(&f, 11, C4G_MODE_4, 0.5f);
+    answer(&f, C4G_CYCLIC_SIZE(6U));
+    decode_reply(&f, &pc);
+    assert_int_equal(pc.ax[0].mode, C4G_MODE_DRIVE_OFF); /* the fallback: hold, 505 */
+    assert_true(pc.ax[0].target_pos == 0.5f);
+}
+
 /* The queries: an exit under way (requested, or accepted and leaving), effective limits. */
 static void test_queries(void **state)
 {
@@ -335,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_reply_is_filtered),
         cmocka_unit_test(test_neutral_without_engine),
         cmocka_unit_test(test_loop_refuses_bad_engine_config),
+        cmocka_unit_test(test_user_limits_survive_restart),
         cmocka_unit_test(test_neutral_when_encoder_refuses),
         cmocka_unit_test(test_foreign_and_misuse),
         cmocka_unit_test(test_engine_refused),

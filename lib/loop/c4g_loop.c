@@ -75,6 +75,58 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
     }
 }
 
+/* The user limits kept by the loop, on a freshly started engine: 0 if one of an open
+ * axis was refused. */
+static uint32_t apply_user_limits(c4g_loop_t *lp)
+{
+    uint32_t ok = 1U;
+    uint32_t a;
+    uint32_t j;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        for (j = 0U; j < C4G_AXES_PER_ARM; j++) {
+            if ((((lp->user_set[a] >> j) & 1U) != 0U) &&
+                (lp->engine.map.open_of[a][j] != 0xFFU) &&
+                (c4g_engine_set_limits(&lp->engine, a, j, &lp->user_lim[a][j]) != C4G_OK)) {
+                ok = 0U;
+            }
+        }
+    }
+    return ok;
+}
+
+/* An accepted init packet (re)starts the control engine with the user's limits. */
+static void loop_engine_init(c4g_loop_t *lp)
+{
+    lp->engine_ready = 0U;
+    if (c4g_engine_init(&lp->engine, &lp->session.init, &lp->engine_cfg) != C4G_OK) {
+        lp->counters.engine_init_refused++;
+    } else if (apply_user_limits(lp) == 0U) {
+        lp->counters.limits_refused++;
+    } else {
+        lp->engine_ready = 1U;
+    }
+}
+
+c4g_status_t c4g_loop_set_limits(c4g_loop_t *lp, uint32_t arm, uint32_t axis,
+                                 const c4g_axis_limits_t *lim)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (lim != NULL)) {
+        st = C4G_ERR_ARG;
+        if ((arm < C4G_ARMS) && (axis < C4G_AXES_PER_ARM)) {
+            st = C4G_OK;
+            if ((lp->engine_ready != 0U) && (lp->engine.map.open_of[arm][axis] != 0xFFU)) {
+                st = c4g_engine_set_limits(&lp->engine, arm, axis, lim);
+            }
+        }
+        if (st == C4G_OK) {
+            lp->user_lim[arm][axis] = *lim;
+            lp->user_set[arm] |= (uint32_t)1U << axis;
+        }
+    }
+    return st;
+}
+
 c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_t now_ns,
                          const c4g_endpoint_t *from, c4g_loop_event_t *ev)
 {
@@ -92,12 +144,7 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
             ev->diag = res.diag;
             ev->silence_ns = res.silence_ns;
             if (res.kind == C4G_RX_INIT) {
-                lp->engine_ready = 0U;
-                if (c4g_engine_init(&lp->engine, &lp->session.init, &lp->engine_cfg) == C4G_OK) {
-                    lp->engine_ready = 1U;
-                } else {
-                    lp->counters.engine_init_refused++;
-                }
+                loop_engine_init(lp);
             }
             if (res.kind == C4G_RX_CYCLIC) {
                 loop_step(lp, res.pkt, now_ns, ev);

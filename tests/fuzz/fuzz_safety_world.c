@@ -21,7 +21,7 @@
  * transitions only (chapter 24), D1 is the reference it applied. Then illegal transitions,
  * modes the C4G does not have, mixed modes on an arm, and reports of arbitrary finite values
  * (the invariants then hold against what the controller reports, all the PC can know). User
- * limits are set again after every accepted init packet, as the library asks.
+ * limits are kept by the loop (c4g_loop_set_limits) across restarts.
  * Written from the manual: modes 1/11/4 follow D1 (tables 14.3, 14.6), mode 5 integrates D2
  * on its own trajectory (fig. 14.1), mode 7 adds D1, mode 8 integrates D4, modes 1/2 take D5
  * as the current, mode 9 adds D5 (14.12); a reply that did not arrive changes nothing. */
@@ -417,6 +417,16 @@ static void user_limits(cur_t *c, c4g_axis_limits_t *l)
     }
 }
 
+/* The user's limits on every axis, kept by the loop across restarts (a refused set keeps
+ * the previous ones, which the checks read back from the loop). */
+static void set_user_limits(c4g_loop_t *lp, const c4g_axis_limits_t *l)
+{
+    uint32_t i;
+    for (i = 0; i < N_AX; i++) {
+        (void)c4g_loop_set_limits(lp, 0, i, l);
+    }
+}
+
 static int send_ctrl(c4g_loop_t *lp, const uint8_t *b, size_t n, uint64_t t, c4g_loop_event_t *ev)
 {
     static const c4g_endpoint_t ctl = {{127, 0, 0, 1}, 4, 3600};
@@ -444,12 +454,7 @@ static void handshake(c4g_loop_t *lp, world_t *w, int restart, uint64_t *t)
     *t += 2000000U;
     (void)send_ctrl(lp, b, len, *t, &ev);
     (void)c4g_loop_reply(lp, out, sizeof out, &len, NULL);
-    if (ev.kind == C4G_RX_INIT && lp->engine_ready) {
-        uint32_t i;
-        for (i = 0; i < N_AX; i++) { /* the user's limits, again after every init */
-            (void)c4g_engine_set_limits(&lp->engine, 0, i, &w->user);
-        }
-    }
+    (void)ev; /* the loop applies the user's limits kept by c4g_loop_set_limits */
     for (k = 0; k < (restart ? 0 : 2); k++) { /* 2 more syncs */
         memset(b, 0, 48);
         b[0] = (uint8_t)(11 + k);
@@ -474,6 +479,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     user_limits(&c, &w.user);
+    set_user_limits(&lp, &w.user);
     make_init(&c, &w.init, (u8(&c) & 1U) != 0U);
     for (i = 0; i < N_AX; i++) {
         w.ax[i].ref = ((double)(int8_t)u8(&c)) / 64.0;
@@ -495,6 +501,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if ((op & 0x3FU) == 3U) {                 /* 506: restart with a new init packet */
             make_init(&c, &w.init, 1);
             user_limits(&c, &w.user);
+            set_user_limits(&lp, &w.user);
             for (i = 0; i < N_AX; i++) {
                 w.ax[i].mode = 506;
             }
