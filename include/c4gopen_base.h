@@ -26,10 +26,10 @@ extern "C" {
 
 /** @name Version (SemVer; any layout change of a public struct bumps MAJOR) */
 /**@{*/
-#define C4G_VERSION_MAJOR 1
+#define C4G_VERSION_MAJOR 2
 #define C4G_VERSION_MINOR 0
 #define C4G_VERSION_PATCH 0
-#define C4G_VERSION_STRING "1.0.0"
+#define C4G_VERSION_STRING "2.0.0"
 /**@}*/
 
 /**

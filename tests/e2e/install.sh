@@ -10,7 +10,7 @@ test -f "$root/opt/c4g/include/c4gopen.h"
 test -f "$root/opt/c4g/lib/libc4gopen.a"
 soname=$(readelf -d "$root/opt/c4g/lib/libc4gopen.so" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
 echo "SONAME: $soname"
-test "$soname" = "libc4gopen.so.1"
+test "$soname" = "libc4gopen.so.2"
 export PKG_CONFIG_PATH="$root/opt/c4g/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$root"
 flags=$(pkg-config --cflags --libs c4gopen)
 echo "pkg-config: $flags"
