@@ -375,6 +375,7 @@ typedef struct c4g_session {
     c4g_endpoint_t peer;         /**< the controller's endpoint (address and port) */
     uint32_t neutral_n;          /**< axes in neutral_axes, 0 none */
     int32_t neutral_mode;        /**< the mode of every axis in neutral_axes */
+    uint32_t neutral_data;       /**< that mode's hold carries data (not the template's) */
     uint8_t neutral_axes[C4G_MAX_AXES * C4G_AXIS_SIZE]; /**< the axes of a neutral reply */
 } c4g_session_t;
 

@@ -310,10 +310,15 @@ c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *
             tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
             (void)memset(tx->ax, 0, sizeof tx->ax);
+            int32_t looked_up = C4G_MODE_0;
+            uint32_t rules = 0U; /* of mode 0 */
             for (i = 0U; i < rx->n_axes; i++) {
                 const c4g_ctrl_axis_t *r = &rx->ax[i];
                 c4g_pc_axis_t *a = &tx->ax[i];
-                const uint32_t rules = c4g_mode_rules(r->mode);
+                if (r->mode != looked_up) { /* the axes of an arm mostly share one mode */
+                    looked_up = r->mode;
+                    rules = c4g_mode_rules(looked_up);
+                }
                 a->mode = r->mode;
                 if (r->mode == C4G_MODE_0_DEBUG) {
                     /* Mode 0': the field library copies D1..D5 back unchanged. */

@@ -525,6 +525,13 @@ static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
     }
 }
 
+/* Whether the neutral reply of @p mode carries data (held reference or current, copy back):
+ * then it cannot come from the zero-data template. */
+static uint32_t neutral_has_data(int32_t mode)
+{
+    return c4g_flag((c4g_mode_rules(mode) & (C4G_MR_ABS | C4G_MR_CUR | C4G_MR_COPY)) != 0U);
+}
+
 /* The wire bytes of @p axes axes carrying @p mode and zero data. */
 static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
 {
@@ -535,6 +542,7 @@ static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
     }
     s->neutral_n = axes;
     s->neutral_mode = mode;
+    s->neutral_data = neutral_has_data(mode);
 }
 
 /* The current a hold keeps in a mode where the PC closes the loops, within +-AzLim of the
@@ -572,12 +580,6 @@ c4g_status_t c4g_session_neutral(const c4g_session_t *s, const c4g_ctrl_packet_t
     return st;
 }
 
-/* Whether the neutral reply of @p mode carries data (held reference or current, copy back):
- * then it cannot come from the zero-data template. */
-static uint32_t neutral_has_data(int32_t mode)
-{
-    return c4g_flag((c4g_mode_rules(mode) & (C4G_MR_ABS | C4G_MR_CUR | C4G_MR_COPY)) != 0U);
-}
 
 /* The neutral reply to @p p built as a PC packet and encoded (the packet of several modes,
  * or of a mode whose hold carries data: off the common path, and its 740-byte packet off
@@ -607,12 +609,13 @@ static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, si
     const uint32_t axes = p->n_axes;
     const int32_t first = p->ax[0].mode;
     c4g_status_t st;
-    if ((s->rx_mixed_modes == 0U) && (neutral_has_data(first) == 0U)) {
+    if ((s->rx_mixed_modes == 0U) &&
+        ((s->neutral_n != axes) || (s->neutral_mode != first))) {
+        neutral_template(s, axes, first);
+    }
+    if ((s->rx_mixed_modes == 0U) && (s->neutral_data == 0U)) {
         st = C4G_ERR_CAPACITY;
         if (cap >= C4G_CYCLIC_SIZE(axes)) {
-            if ((s->neutral_n != axes) || (s->neutral_mode != first)) {
-                neutral_template(s, axes, first);
-            }
             c4g_put_u32le(&buf[4], 0U);
             c4g_put_u32le(&buf[8], 0U);
             (void)memcpy(&buf[C4G_HEADER_SIZE], s->neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
