@@ -133,4 +133,8 @@ c help mov | grep -q "absolute needs every axis" && pass "help mov" || bad "help
 # REPL through a pty
 mkdir -p "$tmp/home"
 timeout 60 python3 tests/e2e/cell_cli_pty.py "$cli" 21011 "$tmp/home" || fail=1
+# ^C and ^D in the REPL, against a cell-sim at real speed (a motion long enough to cut)
+"$build/bin/cell-sim" -p 21051 >"$tmp/sim2.log" 2>&1 & pids="$pids $!"
+wait_listen 21053 || bad "cell-sim on 21051 did not start"
+timeout 90 python3 tests/e2e/cell_cli_intr.py "$cli" 21051 "$tmp/home" || fail=1
 exit $fail
