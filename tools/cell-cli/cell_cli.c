@@ -1384,8 +1384,12 @@ static const cli_spec_t k_spec = {
     "  conditioning acq N, conditioning hnd N open|close, raw DEV TEXT,\n"
     "  wait DEV stopped [TIMEOUT], sleep SEC.\n"
     "\n"
+    "Ctrl-C during a command: STP to each device whose motion this run started, then back\n"
+    "to the prompt (scripts and one-shot: exit 130); at the prompt it drops the line.\n"
+    "\n"
     "Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
-    "failure or reply timeout, 4 invalid reply, 5 wait timed out.\n",
+    "failure or reply timeout, 4 invalid reply (or not the reply its request wants),\n"
+    "5 wait timed out, 130 interrupted.\n",
     0, -1, 0, NULL};
 
 /* The config file: -c, else $CELL_CLI_CONFIG, else ~/.config/cell-cli.ini if present. */
