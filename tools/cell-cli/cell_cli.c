@@ -787,8 +787,10 @@ static int run_cmd(const cli_cmd_t *cmd)
         rc = EXIT_USAGE;
         break;
     }
-    if (rc == EXIT_INTR) {
+    /* ^C during a part that does not wait for it (a connect): the same as during a wait */
+    if (rc == EXIT_INTR || interrupted()) {
         stop_after_interrupt();
+        rc = EXIT_INTR;
     }
     return rc;
 }
