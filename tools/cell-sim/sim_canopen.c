@@ -180,22 +180,14 @@ static int axis_state(const sim_co_t *s, int a, c4g_co_ds402_t *st)
     return 0;
 }
 
-/* Runs the bus in real time until both drives show @p want (or 300 ms pass). */
-static int wait_drives(sim_co_t *s, sim_device_t *platform, c4g_co_ds402_t want)
+/* Both drives show @p want: 1; 0 not yet; -1 a drive is not running. */
+static int drives_in(const sim_co_t *s, c4g_co_ds402_t want)
 {
-    for (int i = 0; i < 150; i++) {
-        c4g_co_ds402_t a = C4G_CO_DS402_UNKNOWN, b = C4G_CO_DS402_UNKNOWN;
-        if (axis_state(s, 0, &a) != 0 || axis_state(s, 1, &b) != 0) {
-            return -1;
-        }
-        if (a == want && b == want) {
-            return 0;
-        }
-        struct timespec d = {0, 2000000};
-        nanosleep(&d, NULL);
-        sim_co_step(s, cell_now_ns(), platform);
+    c4g_co_ds402_t a = C4G_CO_DS402_UNKNOWN, b = C4G_CO_DS402_UNKNOWN;
+    if (axis_state(s, 0, &a) != 0 || axis_state(s, 1, &b) != 0) {
+        return -1;
     }
-    return -1;
+    return (a == want && b == want) ? 1 : 0;
 }
 
 static const char *lost_reply(sim_co_t *s, sim_device_t *platform, c4g_cell_reply_t *rep)
@@ -207,28 +199,56 @@ static const char *lost_reply(sim_co_t *s, sim_device_t *platform, c4g_cell_repl
     return a == 0 ? "axis A drive lost on the CANopen bus" : "axis B drive lost on the CANopen bus";
 }
 
+/* SRVON / SRVOF once the drives are where they were sent (or are not): the reply. */
+static const char *servo_finish(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
+                                int there, uint64_t now_ns, c4g_cell_reply_t *rep,
+                                int *close_after)
+{
+    const char *note;
+    if (in->cmd == C4G_CELL_CMD_SRVON && there != 1) {
+        memset(rep, 0, sizeof *rep);
+        *close_after = 0;
+        s->goal = C4G_CO_GOAL_READY;
+        return lost_reply(s, platform, rep);
+    }
+    note = sim_device_exec(platform, in, now_ns, rep, close_after);
+    if (in->cmd == C4G_CELL_CMD_SRVON && rep->kind == C4G_CELL_REPLY_OK) {
+        note = "servo on: drives in operation enabled (DS402)";
+    }
+    return note;
+}
+
 const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
-                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after)
+                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after, int *deferred)
 {
     const int ok = axis_running(s, 0) && axis_running(s, 1);
     const char *note;
+    *deferred = 0;
     sim_co_step(s, now_ns, platform);
-    if (in->cmd == C4G_CELL_CMD_SRVON) {
-        memset(rep, 0, sizeof *rep);
-        *close_after = 0;
-        if (!ok) {
+    if (in->cmd == C4G_CELL_CMD_SRVON || in->cmd == C4G_CELL_CMD_SRVOF) {
+        const c4g_co_ds402_t want = in->cmd == C4G_CELL_CMD_SRVON ? C4G_CO_DS402_ENABLED
+                                                                  : C4G_CO_DS402_READY;
+        if (in->cmd == C4G_CELL_CMD_SRVON && !ok) {
+            memset(rep, 0, sizeof *rep);
+            *close_after = 0;
             return lost_reply(s, platform, rep);
         }
-        s->goal = C4G_CO_GOAL_ENABLED;
-        s->fault_hold[0] = s->fault_hold[1] = 0;
-        if (wait_drives(s, platform, C4G_CO_DS402_ENABLED) != 0) {
-            s->goal = C4G_CO_GOAL_READY;
-            return lost_reply(s, platform, rep);
+        s->goal = in->cmd == C4G_CELL_CMD_SRVON ? C4G_CO_GOAL_ENABLED : C4G_CO_GOAL_READY;
+        if (in->cmd == C4G_CELL_CMD_SRVON) {
+            s->fault_hold[0] = s->fault_hold[1] = 0;
         }
-    } else if (in->cmd == C4G_CELL_CMD_SRVOF) {
-        s->goal = C4G_CO_GOAL_READY;
-        (void)wait_drives(s, platform, C4G_CO_DS402_READY);
-    } else if ((in->cmd == C4G_CELL_CMD_MOV || in->cmd == C4G_CELL_CMD_RST) && !ok) {
+        if (drives_in(s, want) != 0) {
+            return servo_finish(s, platform, in, drives_in(s, want), now_ns, rep, close_after);
+        }
+        /* the drives take a few SYNC periods: the reply waits, the event loop goes on */
+        s->servo.active = 1;
+        s->servo.in = *in;
+        s->servo.want = want;
+        s->servo.deadline_ns = now_ns + SIM_CO_SERVO_NS;
+        *deferred = 1;
+        return NULL;
+    }
+    if ((in->cmd == C4G_CELL_CMD_MOV || in->cmd == C4G_CELL_CMD_RST) && !ok) {
         memset(rep, 0, sizeof *rep);
         *close_after = 0;
         if (in->cmd == C4G_CELL_CMD_RST) {
@@ -237,9 +257,6 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
         return lost_reply(s, platform, rep);
     }
     note = sim_device_exec(platform, in, now_ns, rep, close_after);
-    if (in->cmd == C4G_CELL_CMD_SRVON && rep->kind == C4G_CELL_REPLY_OK) {
-        note = "servo on: drives in operation enabled (DS402)";
-    }
     if (in->cmd == C4G_CELL_CMD_STA && rep->kind == C4G_CELL_REPLY_STA) {
         for (int a = 0; a < 2; a++) {
             uint32_t v = 0;
@@ -256,6 +273,27 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
         note = "status (positions from the drives' TxPDOs)";
     }
     return note;
+}
+
+int sim_co_servo_busy(const sim_co_t *s)
+{
+    return s->servo.active;
+}
+
+int sim_co_servo_poll(sim_co_t *s, sim_device_t *platform, uint64_t now_ns,
+                      c4g_cell_reply_t *rep, const char **note, int *close_after)
+{
+    int there;
+    if (!s->servo.active) {
+        return 0;
+    }
+    there = drives_in(s, s->servo.want);
+    if (there == 0 && now_ns < s->servo.deadline_ns) {
+        return 0;
+    }
+    s->servo.active = 0;
+    *note = servo_finish(s, platform, &s->servo.in, there, now_ns, rep, close_after);
+    return 1;
 }
 
 int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *candump,
