@@ -260,7 +260,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         int deferred = 0;
         if (sim_co_servo_busy(&g_co)) {
             c->waiting = 1; /* run when the one waiting for the drives is answered */
-            memcpy(c->held, line, len);
+            memmove(c->held, line, len); /* line may be c->held itself */
             c->held_len = len;
             c->lines--;     /* counted when it runs */
             return;
@@ -269,7 +269,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
                            &deferred);
         if (deferred) {
             c->waiting = 2;
-            memcpy(c->held, line, len);
+            memmove(c->held, line, len); /* line may be c->held itself */
             c->held_len = len;
             g_servo_client = c;
             return;
