@@ -381,7 +381,8 @@ typedef enum c4g_co_cause {
     C4G_CO_CAUSE_DEVTYPE,       /**< wrong DeviceType (read value in value) */
     C4G_CO_CAUSE_HEARTBEAT,     /**< heartbeat consumer timeout */
     C4G_CO_CAUSE_GUARD,         /**< no valid guard reply within the life time */
-    C4G_CO_CAUSE_BOOTUP         /**< the node sent boot-up while running (it was reset) */
+    C4G_CO_CAUSE_BOOTUP,        /**< the node sent boot-up while running (it was reset) */
+    C4G_CO_CAUSE_NMT_STATE      /**< the node reported it left operational (state in value) */
 } c4g_co_cause_t;
 
 typedef enum c4g_co_event_kind {
@@ -391,7 +392,11 @@ typedef enum c4g_co_event_kind {
     C4G_CO_EV_NODE_LOST,       /**< cause: heartbeat, guard, boot-up */
     C4G_CO_EV_NODE_RECOVERED,  /**< a lost node is operational again */
     C4G_CO_EV_EMCY,            /**< value: error code */
-    C4G_CO_EV_SDO_DONE         /**< a user transfer ended: cause 0 ok, value */
+    C4G_CO_EV_SDO_DONE,        /**< a user transfer ended: cause 0 ok, value */
+    C4G_CO_EV_NODE_STATE       /**< a running node reported STOPPED or PRE-OPERATIONAL in its
+                                    heartbeat or guard reply (value: that state); it no longer
+                                    runs: its PDOs are neither sent nor taken, and it is lost
+                                    (polled for recovery with C4G_CO_F_RECOVERY) */
 } c4g_co_event_kind_t;
 
 typedef struct c4g_co_event {
@@ -427,6 +432,7 @@ typedef struct c4g_co_counters {
 typedef struct c4g_co_node {
     uint64_t last_seen_us;      /**< last heartbeat / guard reply */
     uint64_t next_us;           /**< next guard request or recovery poll */
+    uint64_t started_us;        /**< when it was last started (NMT Start) */
     uint32_t devtype_read;      /**< last DeviceType read */
     uint32_t fail_value;        /**< abort code or wrong DeviceType */
     uint32_t rx_val[C4G_CO_MAX_PDO][C4G_CO_MAX_ENTRIES]; /**< from the node's TPDOs */
@@ -445,7 +451,8 @@ typedef struct c4g_co_node {
     uint8_t recovering;         /**< 1 while a recovery runs */
     uint8_t emcy_n;             /**< entries in the history (<= depth) */
     uint8_t emcy_head;          /**< next slot */
-    uint8_t pad[2];
+    uint8_t op_seen;            /**< 1: reported OPERATIONAL since it was last started */
+    uint8_t pad;
     c4g_co_emcy_t emcy[C4G_CO_EMCY_DEPTH];
 } c4g_co_node_t;
 

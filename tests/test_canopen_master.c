@@ -688,12 +688,13 @@ static void test_user_sdo_and_nmt(void **state)
     assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 5, r.now), C4G_ERR_LENGTH);
     assert_int_equal(c4g_co_master_sdo(&r.m, 9, true, 0x6060, 0, 0, 0, r.now), C4G_ERR_ARG);
     assert_int_equal(c4g_co_master_sdo(NULL, 1, true, 0x6060, 0, 0, 0, r.now), C4G_ERR_NULL);
-    /* S_NMT: stop one node, then start all; supervision keeps the stopped node */
+    /* S_NMT: stop one node, then start all; the stopped node no longer runs (without the
+       recovery flag it stays failed) */
     assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_STOP), C4G_OK);
     run_until(&r, r.now + 300000);
     assert_int_equal(r.s[0].nmt, C4G_CO_STATE_STOPPED);
     assert_int_equal(r.m.node[0].nmt, C4G_CO_STATE_STOPPED);
-    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_FAILED);
     /* a user SDO to a stopped node times out */
     r.nev = 0;
     assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1000, 0, 0, 0, r.now), C4G_OK);
@@ -707,6 +708,95 @@ static void test_user_sdo_and_nmt(void **state)
     assert_int_equal(c4g_co_master_nmt(&r.m, 9, C4G_CO_NMT_START), C4G_ERR_ARG);
     assert_int_equal(c4g_co_master_nmt(&r.m, 1, 0x33), C4G_ERR_ARG);
     assert_int_equal(c4g_co_master_nmt(NULL, 1, 1), C4G_ERR_NULL);
+}
+
+/* A running node that reports STOPPED or PRE-OPERATIONAL (heartbeat or guard reply) no longer
+   runs: an event of its own (not NODE_LOST), no RPDO sent to it, its TPDOs not taken; with
+   the recovery flag the DeviceType poll boots it again once it answers. A report within the
+   start grace, before the node was seen operational, may predate NMT Start: ignored. */
+static void inject(rig_t *r, uint16_t id, uint8_t dlc, int rtr, const uint8_t *d);
+
+static void test_nmt_state_not_running(void **state)
+{
+    (void)state;
+    static rig_t r;
+    memset(&r, 0, sizeof r);
+    net_cfg(&r.cfg, 2);
+    r.cfg.node[0].flags = C4G_CO_F_RECOVERY;
+    node_cfg(&r.cfg.node[1], 2, C4G_CO_WD_LIFEGUARD, 1);
+    rig_init(&r);
+    start(&r);
+    run_until(&r, r.now + 300000);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_RUNNING);
+    /* heartbeat node 1 stopped by another master's NMT */
+    r.nev = 0;
+    assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_STOP), C4G_OK);
+    run_until(&r, r.now + 200000);
+    const c4g_co_event_t *e = find_ev(&r, C4G_CO_EV_NODE_STATE, 1);
+    assert_non_null(e);
+    assert_int_equal(e->cause, C4G_CO_CAUSE_NMT_STATE);
+    assert_int_equal(e->value, C4G_CO_STATE_STOPPED);
+    assert_int_equal(count_ev(&r, C4G_CO_EV_NODE_LOST), 0);
+    assert_int_equal(count_ev(&r, C4G_CO_EV_NODE_STATE), 1);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_LOST);
+    assert_int_equal(r.m.node[0].fail_cause, C4G_CO_CAUSE_NMT_STATE);
+    assert_int_equal(r.m.node[0].losses, 1);
+    /* no RPDO goes to it any more; node 2 keeps its PDOs */
+    int from = r.tr.n;
+    run_until(&r, r.now + 100000);
+    int to1 = 0, to2 = 0;
+    for (int i = from; i < r.tr.n; i++) {
+        to1 += strncmp(r.tr.line[i], "201#", 4) == 0;
+        to2 += strncmp(r.tr.line[i], "202#", 4) == 0;
+    }
+    assert_int_equal(to1, 0);
+    assert_true(to2 >= 9);
+    /* a TPDO it would still send is not taken */
+    const uint32_t pdos = r.m.node[0].rx_pdos;
+    const uint8_t tpdo[8] = {0x37, 0x02, 0x10, 0x27, 0, 0, 0, 0};
+    inject(&r, 0x181, 6, 0, tpdo);
+    assert_int_equal(r.m.node[0].rx_pdos, pdos);
+    /* started again by NMT: the next DeviceType poll finds it, steps 1-6 run again */
+    assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_START), C4G_OK);
+    run_until(&r, e->t_us + 2600000);
+    assert_non_null(find_ev(&r, C4G_CO_EV_NODE_RECOVERED, 1));
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    /* lifeguarded node 2 sent to pre-operational: the guard reply says so */
+    r.nev = 0;
+    assert_int_equal(c4g_co_master_nmt(&r.m, 2, C4G_CO_NMT_PREOP), C4G_OK);
+    run_until(&r, r.now + 300000);
+    e = find_ev(&r, C4G_CO_EV_NODE_STATE, 2);
+    assert_non_null(e);
+    assert_int_equal(e->value, C4G_CO_STATE_PREOP);
+    assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_FAILED); /* no recovery flag */
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    /* the grace: a PRE-OPERATIONAL heartbeat right after NMT Start, before the node was
+       seen operational, may have been queued before the Start: not an event */
+    memset(&r, 0, sizeof r);
+    net_cfg(&r.cfg, 1);
+    rig_init(&r);
+    r.s[0].no_heartbeat = 1;
+    start(&r);
+    while (find_ev(&r, C4G_CO_EV_NET_STARTED, 0) == NULL) {
+        run_until(&r, r.now + 1000);
+    }
+    const uint8_t preop[8] = {C4G_CO_STATE_PREOP, 0, 0, 0, 0, 0, 0, 0};
+    inject(&r, 0x701, 1, 0, preop);
+    drain_events(&r);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_null(find_ev(&r, C4G_CO_EV_NODE_STATE, 1));
+    r.s[0].no_heartbeat = 0;
+    run_until(&r, r.now + 200000);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_int_equal(r.m.node[0].op_seen, 1);
+    /* once the node was seen operational, the same report is an event at once */
+    r.s[0].no_heartbeat = 1;
+    r.now += 10000;
+    inject(&r, 0x701, 1, 0, preop);
+    drain_events(&r);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_FAILED);
+    assert_non_null(find_ev(&r, C4G_CO_EV_NODE_STATE, 1));
 }
 
 /* ---- hostile frames: counted, never trusted */
@@ -934,6 +1024,7 @@ int main(void)
         cmocka_unit_test(test_bootup_and_failed_recovery),
         cmocka_unit_test(test_ds402_over_pdos),
         cmocka_unit_test(test_user_sdo_and_nmt),
+        cmocka_unit_test(test_nmt_state_not_running),
         cmocka_unit_test(test_hostile_frames),
         cmocka_unit_test(test_config_check),
         cmocka_unit_test(test_master_misuse_and_queues),

@@ -10,24 +10,74 @@ void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
     n->boot = (uint8_t)C4G_CO_BOOT_RUNNING;
     n->last_seen_us = now_us;
     n->next_us = now_us;
+    n->started_us = now_us;
+    n->op_seen = 0U;
     /* the first guard reply sets the toggle: a node the recovery did not reset goes on
        with its own */
     n->toggle = 2U;
 }
 
-void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_us)
+/* A running node is no longer there, or no longer operational (cause NMT_STATE, the
+   state it reported in value): it stops running, and is polled for recovery if its flag
+   says so. */
+static void node_gone(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint32_t value,
+                      uint64_t now_us)
 {
     c4g_co_node_t *n = &m->node[slot];
     const bool recovery = (m->cfg.node[slot].flags & C4G_CO_F_RECOVERY) != 0U;
+    uint8_t kind = (uint8_t)C4G_CO_EV_NODE_LOST;
+    if (cause == (uint8_t)C4G_CO_CAUSE_NMT_STATE) {
+        kind = (uint8_t)C4G_CO_EV_NODE_STATE;
+    }
     n->boot = recovery ? (uint8_t)C4G_CO_BOOT_LOST : (uint8_t)C4G_CO_BOOT_FAILED;
     n->fail_step = (uint8_t)C4G_CO_STEP_NONE;
     n->fail_cause = cause;
-    n->fail_value = 0U;
+    n->fail_value = value;
     n->fail_index = 0U;
     n->fail_sub = 0U;
     n->losses++;
     n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
-    c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_LOST, slot, now_us);
+    c4g_co_push_event(m, kind, slot, now_us);
+}
+
+void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_us)
+{
+    node_gone(m, slot, cause, 0U, now_us);
+}
+
+/* How long after NMT Start a STOPPED or PRE-OPERATIONAL report may still be one the node
+   sent before it took the Start (a frame already queued): one consumer time for a
+   heartbeat, one guard period for lifeguarding, none without a watchdog. A report after
+   the node was seen OPERATIONAL is never such a frame. */
+static uint64_t start_grace_us(const c4g_co_node_cfg_t *nc)
+{
+    uint64_t g = 0U;
+    if (nc->watchdog == (uint8_t)C4G_CO_WD_HEARTBEAT) {
+        g = 1000U * (uint64_t)nc->consumer_ms;
+    } else if (nc->watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD) {
+        g = 1000U * (uint64_t)nc->guard_ms;
+    } else {
+        g = 0U;
+    }
+    return g;
+}
+
+/* The NMT state of a running node: OPERATIONAL, or it left (the PDOs would go to a node
+   that ignores them, and its TPDOs no longer come). */
+static void running_state(c4g_co_master_t *m, uint8_t slot, uint8_t state, uint64_t t_us)
+{
+    c4g_co_node_t *n = &m->node[slot];
+    if (state == C4G_CO_STATE_OPERATIONAL) {
+        n->op_seen = 1U;
+    } else if ((state == C4G_CO_STATE_STOPPED) || (state == C4G_CO_STATE_PREOP)) {
+        const bool late = (t_us >= n->started_us) &&
+                          ((t_us - n->started_us) >= start_grace_us(&m->cfg.node[slot]));
+        if ((n->op_seen != 0U) || late) {
+            node_gone(m, slot, (uint8_t)C4G_CO_CAUSE_NMT_STATE, state, t_us);
+        }
+    } else {
+        /* c4g_co_ec_decode accepts no other state */
+    }
 }
 
 static void rx_ec(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
@@ -55,6 +105,9 @@ static void rx_ec(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
         n->last_seen_us = f->t_us;
         if (lg) {
             n->toggle = (uint8_t)(toggle ^ 1U);
+        }
+        if (n->boot == (uint8_t)C4G_CO_BOOT_RUNNING) {
+            running_state(m, slot, state, f->t_us);
         }
     }
 }

@@ -115,10 +115,19 @@ check("SRVON after the recovery", plat.req("SRVON"), "OK")
 check("MOV after the recovery", plat.req("MOVA+00.1000+00.1000"), "OK")
 done = wait_for(lambda: (lambda p: p if p[0] == "F" else None)(sta_pose(plat.req("STA"))), 10)
 check("position reached after the recovery", done[1:5], (0.1, 0.1, "T", 0))
+# a drive stopped by NMT no longer runs: its targets would be ignored
 check("S_NMT stop", sh.req("S_NMT 1 stop"), "NMT stop sent to node 1")
-check("CO_RNMT shows stopped", wait_for(lambda: (lambda r: r if "stopped" in r else None)(sh.req("CO_RNMT 1")), 2),
-      "node 1: NMT stopped (0x04), running")
+check("CO_RNMT: stopped, and no longer running",
+      wait_for(lambda: (lambda r: r if "stopped" in r else None)(sh.req("CO_RNMT 1")), 2),
+      "node 1: NMT stopped (0x04), lost")
+check("CO_WSDIAGNO names the cause", sh.req("CO_WSDIAGNO 1"),
+      lambda r: r.startswith("node 1: lost, NMT stopped") and "left operational (NMT state) 0x00000004" in r)
+check("STA: the stopped drive is servo motor 1 error", sta_pose(plat.req("STA"))[3:5], ("F", 2))
+check("MOV refused while node 1 is stopped", plat.req("MOVA+00.0000+00.0000"), "ER+00002")
 check("S_NMT start", sh.req("S_NMT 0 start"), "NMT start sent to all nodes 0")
+back = wait_for(lambda: (lambda r: r if r.startswith("node 1: running") else None)(sh.req("CO_WSDIAGNO 1")), 6)
+check("node 1 started again: recovered by the DeviceType poll", back,
+      lambda r: r is not None and r.startswith("node 1: running, NMT operational"))
 check("SIM_ABORT on a chosen object", sh.req("SIM_ABORT 1 0x6060 0 0x06090030"),
       "node 1: SDO abort 0x06090030 on 0x6060:00")
 check("CO_ROBJ: the injected abort", sh.req("CO_ROBJ 1 0x6060 0"),

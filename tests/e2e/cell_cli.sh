@@ -133,4 +133,24 @@ c help mov | grep -q "absolute needs every axis" && pass "help mov" || bad "help
 # REPL through a pty
 mkdir -p "$tmp/home"
 timeout 60 python3 tests/e2e/cell_cli_pty.py "$cli" 21011 "$tmp/home" || fail=1
+# ^C and ^D in the REPL, against a cell-sim at real speed (a motion long enough to cut)
+"$build/bin/cell-sim" -p 21051 >"$tmp/sim2.log" 2>&1 & pids="$pids $!"
+wait_listen 21053 || bad "cell-sim on 21051 did not start"
+timeout 90 python3 tests/e2e/cell_cli_intr.py "$cli" 21051 "$tmp/home" || fail=1
+# SIGINT in a script: STP to the motion the script started, exit 130
+printf 'robot srvof\nrobot rst\nrobot srvon\nrobot ovr 1\nrobot mov abs x=-100 y=-100 z=100 c=0\nwait robot stopped 60\n' >"$tmp/s3"
+"$cli" -p 21051 -f "$tmp/s3" >"$tmp/o3" 2>"$tmp/e3" & cp=$!
+i=0
+until [ "$(grep -c '^OK$' "$tmp/o3")" -ge 5 ]; do i=$((i + 1)); [ $i -gt 500 ] && break; sleep 0.02; done
+sleep 0.3
+kill -INT "$cp"; wait "$cp"; expect_rc 130 $? "SIGINT during a script's wait"
+grep -q "robot: interrupted: sending STP" "$tmp/e3" && pass "SIGINT: STP sent to the robot the script moved" || bad "SIGINT: $(cat "$tmp/e3")"
+out=$("$cli" -p 21051 --no-raw robot sta 2>&1)
+echo "$out" | grep -q "robot: stopped" && pass "SIGINT: the robot is stopped afterwards" || bad "after SIGINT: $out"
+# a monitor does not stop a robot it did not move
+"$cli" -p 21051 robot mov rel x=5 >/dev/null 2>&1
+"$cli" -p 21051 -r -1 -i 0.05 robot sta >"$tmp/o4" 2>"$tmp/e4" & cp=$!
+sleep 0.5; kill -INT "$cp"; wait "$cp"; expect_rc 130 $? "SIGINT ends -r -1"
+grep -q "STP" "$tmp/e4" && bad "a monitor sent STP: $(cat "$tmp/e4")" || pass "SIGINT: a monitor sends no STP"
+tail -1 "$tmp/o4" | grep -q "^OKT" && pass "SIGINT: the motion the monitor watched goes on" || bad "monitor: $(tail -2 "$tmp/o4")"
 exit $fail

@@ -2,7 +2,8 @@
 # Hostile clients against cell-sim (64 KiB line, 1000 connections dropped, garbage,
 # 1 byte/s sender, non-reading and silent clients, 200 kB of newlines) while a
 # well-behaved client keeps getting correct replies, and the log stays small (also with
-# -q). Ports 21021-21026 on 127.0.0.1.
+# -q). Ports 21021-21026 on 127.0.0.1. Then cell-cli against a hostile device (escape
+# sequences, unsolicited lines, replies of the wrong shape) on 21061 and 21072.
 set -u
 build=$1
 log=$(mktemp)
@@ -30,4 +31,5 @@ done
 timeout 60 python3 tests/e2e/cell_hostile_check.py 21024 "$log2" --flood-only || { rc=1; tail -20 "$log2"; }
 kill "$pid2" 2>/dev/null; wait "$pid2" 2>/dev/null
 rm -f "$log2"
+timeout 300 python3 tests/e2e/cell_cli_device_check.py "$build/bin/cell-cli" 21061 || rc=1
 exit $rc

@@ -3,6 +3,7 @@
  * controllers (REPL with libedit, one-shot, scripts, --json). See docs/cell-cli.md. */
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <poll.h>
 #include <signal.h>
@@ -11,6 +12,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
+#include <termios.h>
 #include <time.h>
 #include <unistd.h>
 #include <wchar.h>
@@ -31,13 +33,16 @@ enum {
     EXIT_USAGE = 2,       /* bad option, bad command, script syntax */
     EXIT_CONNECT = 3,     /* connection refused / lost / reply timeout */
     EXIT_PROTOCOL = 4,    /* a reply that does not parse */
-    EXIT_WAIT = 5         /* wait ... stopped timed out */
+    EXIT_WAIT = 5,        /* wait ... stopped timed out */
+    EXIT_INTR = 130       /* interrupted by ^C (SIGINT), as a shell reports it */
 };
 
 typedef struct conn {
     char host[256];
     unsigned port;
     int fd;
+    int mid_line;   /* the last byte received ended no line: a line is partly in */
+    int stale;      /* that part came before the request: its line is not the reply */
     char buf[C4G_CELL_LINE_MAX];
     c4g_cell_splitter_t sp;
 } conn_t;
@@ -55,6 +60,90 @@ static int g_csv_head;  /* the CSV header was printed */
 static int g_last_dev = -1; /* the device of the last command (the prompt shows it) */
 static int g_echo;
 static int g_hints = 1; /* [cli] hints in the config file */
+/* A motion this process started (MOV, PNP sent) that no STA has shown finished and no
+ * STP stopped: what ^C stops. A monitor (-r robot sta) never stops a robot others move. */
+static int g_moved[CELL_DEVICES];
+
+/* ^C: the handler only notes it and wakes poll() through a pipe (a flag alone could be set
+ * just before a poll that then sleeps its whole timeout). */
+static volatile sig_atomic_t g_sigint;
+static volatile sig_atomic_t g_winch;
+static int g_wake[2] = {-1, -1};
+static int g_no_intr; /* set while the STP of an interrupt is sent: a second ^C waits */
+
+static void on_signal(int sig)
+{
+    const int e = errno;
+    if (sig == SIGINT) {
+        g_sigint = 1;
+    } else {
+        g_winch = 1;
+    }
+    if (g_wake[1] >= 0) {
+        (void)!write(g_wake[1], "x", 1);
+    }
+    errno = e;
+}
+
+static void wake_drain(void)
+{
+    char b[64];
+    while (g_wake[0] >= 0 && read(g_wake[0], b, sizeof b) > 0) {
+    }
+}
+
+static int interrupted(void)
+{
+    return g_sigint && !g_no_intr;
+}
+
+/* SIGINT (and SIGWINCH for the REPL) without SA_RESTART: a blocked read() returns. */
+static void signals_setup(int repl)
+{
+    struct sigaction sa;
+    if (pipe(g_wake) == 0) {
+        for (int i = 0; i < 2; i++) {
+            (void)fcntl(g_wake[i], F_SETFL, fcntl(g_wake[i], F_GETFL) | O_NONBLOCK);
+            (void)fcntl(g_wake[i], F_SETFD, FD_CLOEXEC);
+        }
+    } else {
+        g_wake[0] = g_wake[1] = -1;
+    }
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    if (repl) {
+        (void)sigaction(SIGWINCH, &sa, NULL);
+    }
+}
+
+/* Waits up to ms (-1: no limit) for fd (-1: none) to be readable or for ^C: 1 readable,
+ * 0 time out, EXIT_INTR interrupted. */
+static int wait_readable(int fd, int ms)
+{
+    for (;;) {
+        struct pollfd p[2] = {{g_wake[0], POLLIN, 0}, {fd, POLLIN, 0}};
+        int pr;
+        if (interrupted()) {
+            return EXIT_INTR;
+        }
+        pr = poll(p, 2, ms); /* a negative fd is not polled */
+        if (pr < 0 && errno == EINTR) {
+            continue;
+        }
+        if (pr > 0 && p[0].revents != 0) {
+            wake_drain();
+            if (!interrupted() && p[1].revents == 0) {
+                continue;
+            }
+        }
+        if (interrupted()) {
+            return EXIT_INTR;
+        }
+        return pr > 0 ? 1 : 0;
+    }
+}
 
 /* ------------------------------------------------------------------ transport */
 
@@ -79,7 +168,61 @@ static int conn_get(int dev)
         return EXIT_CONNECT;
     }
     (void)c4g_cell_split_init(&c->sp, c->buf, sizeof c->buf);
+    c->mid_line = 0;
+    c->stale = 0;
     return 0;
+}
+
+/* Bytes received into the line splitter. */
+static void conn_push(conn_t *c, const char *b, size_t n)
+{
+    size_t used = 0;
+    /* one read never exceeds the splitter capacity; consume what it takes */
+    for (size_t o = 0; o < n; o += used) {
+        (void)c4g_cell_split_push(&c->sp, b + o, n - o, &used);
+        if (used == 0) {
+            break;
+        }
+    }
+    if (n > 0) {
+        c->mid_line = b[n - 1] != '\n';
+    }
+}
+
+/* A line nobody asked for, shown escaped and dropped. */
+static void unsolicited(int dev, const char *l, size_t n)
+{
+    char shown[C4G_CELL_LINE_MAX * 4 + 4];
+    size_t ll = (n >= 2 && l[n - 2] == '\r') ? n - 2 : (n >= 1 && l[n - 1] == '\n') ? n - 1 : n;
+    tf_escape(l, ll, shown, sizeof shown);
+    fprintf(stderr, "cell-cli: %s: unsolicited line dropped: \"%s\"\n", cell_dev_name(dev), shown);
+}
+
+/* Before a request: what the device sent unasked (an alarm, a late or extra reply) is
+ * read and dropped, so that it cannot pass for the reply. A line partly in is stale too. */
+static void conn_drain(int dev)
+{
+    conn_t *c = &g_conn[dev];
+    char tmp[C4G_CELL_LINE_MAX];
+    ssize_t r;
+    while ((r = recv(c->fd, tmp, sizeof tmp, MSG_DONTWAIT)) > 0) {
+        conn_push(c, tmp, (size_t)r);
+    }
+    for (;;) {
+        c4g_cell_split_event_t ev;
+        const char *l = NULL;
+        size_t n = 0;
+        (void)c4g_cell_split_next(&c->sp, &ev, &l, &n);
+        if (ev == C4G_CELL_SPLIT_LINE) {
+            unsolicited(dev, l, n);
+        } else if (ev == C4G_CELL_SPLIT_OVERLONG) {
+            fprintf(stderr, "cell-cli: %s: unsolicited line longer than %u bytes dropped\n",
+                    cell_dev_name(dev), (unsigned)C4G_CELL_LINE_MAX);
+        } else {
+            break;
+        }
+    }
+    c->stale = c->mid_line;
 }
 
 /* Send one line, read one reply line (CR LF included) into reply. */
@@ -87,12 +230,17 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
                     size_t *rlen)
 {
     conn_t *c = &g_conn[dev];
-    int rc = conn_get(dev);
+    int rc;
     size_t off = 0;
     uint64_t deadline;
+    if (interrupted()) {
+        return EXIT_INTR;
+    }
+    rc = conn_get(dev);
     if (rc != 0) {
         return rc;
     }
+    conn_drain(dev);
     while (off < len) {
         ssize_t w = send(c->fd, line + off, len - off, MSG_NOSIGNAL);
         if (w < 0) {
@@ -111,6 +259,11 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
         const char *l = NULL;
         size_t n = 0;
         (void)c4g_cell_split_next(&c->sp, &ev, &l, &n);
+        if (ev == C4G_CELL_SPLIT_LINE && c->stale) {
+            c->stale = 0; /* it began before the request */
+            unsolicited(dev, l, n);
+            continue;
+        }
         if (ev == C4G_CELL_SPLIT_LINE) {
             if (n > cap) {
                 n = cap;
@@ -131,29 +284,25 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
             conn_drop(dev); /* a late reply would desynchronise the next request */
             return EXIT_CONNECT;
         }
-        struct pollfd p = {c->fd, POLLIN, 0};
-        int pr = poll(&p, 1, (int)((deadline - now) / 1000000ULL) + 1);
-        if (pr < 0 && errno == EINTR) {
-            continue;
+        rc = wait_readable(c->fd, (int)((deadline - now) / 1000000ULL) + 1);
+        if (rc == EXIT_INTR) {
+            conn_drop(dev); /* the reply still due would desynchronise the next request */
+            return EXIT_INTR;
         }
-        if (pr <= 0) {
+        if (rc == 0) {
             continue; /* the deadline check above reports the timeout */
         }
         char tmp[C4G_CELL_LINE_MAX];
-        size_t used = 0;
         ssize_t r = recv(c->fd, tmp, sizeof tmp, 0);
+        if (r < 0 && errno == EINTR) {
+            continue;
+        }
         if (r <= 0) {
             fprintf(stderr, "cell-cli: %s: connection closed by the device\n", cell_dev_name(dev));
             conn_drop(dev);
             return EXIT_CONNECT;
         }
-        /* one read never exceeds the splitter capacity; consume what it takes */
-        for (size_t o = 0; o < (size_t)r; o += used) {
-            (void)c4g_cell_split_push(&c->sp, tmp + o, (size_t)r - o, &used);
-            if (used == 0) {
-                break;
-            }
-        }
+        conn_push(c, tmp, (size_t)r);
     }
 }
 
@@ -201,11 +350,31 @@ static json_t *json_head(int dev)
     return o;
 }
 
+/* Non-ASCII as \uNNNN (a device's 0x9B must not reach a terminal as the C1 CSI it is in
+ * UTF-8), and DEL, which jansson leaves as it is, as \u007f. */
 static void json_emit(json_t *o)
 {
-    json_dumpf(o, stdout, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(10));
+    char *t = json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER | JSON_ENSURE_ASCII |
+                                JSON_REAL_PRECISION(10));
+    for (const char *p = t; p != NULL && *p != '\0'; p++) {
+        if (*p == 0x7F) {
+            fputs("\\u007f", stdout);
+        } else {
+            fputc(*p, stdout);
+        }
+    }
     fputc('\n', stdout);
+    free(t);
     json_decref(o);
+}
+
+/* A device's line for a terminal or a pipe: printable ASCII as it is, every other byte
+ * (and the backslash) as \xNN, so that no escape sequence of a device reaches the screen. */
+static void put_escaped(const char *s, size_t n)
+{
+    char shown[C4G_CELL_LINE_MAX * 4 + 4];
+    tf_escape(s, n, shown, sizeof shown);
+    fputs(shown, stdout);
 }
 
 /* A CSV field: quoted when it holds a comma, a quote or a byte that is not printable. */
@@ -263,9 +432,9 @@ static double axis_value(int dev, const c4g_cell_reply_t *r, uint32_t a)
 static void csv_row(int dev, const char *req, size_t rl, const char *line, size_t ll,
                     const c4g_cell_reply_t *r);
 
-/* A reply that does not decode. */
+/* A reply that does not decode, or does not fit the request (problem; column 0: none). */
 static int show_invalid(int dev, const char *req, size_t rl, const char *line, size_t len,
-                        c4g_status_t st, const c4g_cell_diag_t *d)
+                        const char *problem, size_t column)
 {
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
     if (g_fmt == OUT_JSON) {
@@ -273,18 +442,26 @@ static int show_invalid(int dev, const char *req, size_t rl, const char *line, s
         json_object_set_new(o, "request", json_bytes(req, rl));
         json_object_set_new(o, "reply", json_string("invalid"));
         json_object_set_new(o, "raw", json_bytes(line, len));
-        json_object_set_new(o, "problem", json_string(c4g_strerror(st)));
-        json_object_set_new(o, "column", json_integer((json_int_t)d->column));
+        json_object_set_new(o, "problem", json_string(problem));
+        json_object_set_new(o, "column", json_integer((json_int_t)column));
         json_emit(o);
     } else if (g_fmt == OUT_CSV) {
         csv_row(dev, req, rl, line, ll, NULL);
     } else if (g_fmt == OUT_RAW) {
-        fwrite(line, 1, ll, stdout);
+        put_escaped(line, ll);
         fputc('\n', stdout);
     } else {
-        printf("%s: invalid reply \"%.*s\": %s at column %u\n", cell_dev_name(dev), (int)ll, line,
-               c4g_strerror(st), (unsigned)d->column);
+        printf("%s: invalid reply \"", cell_dev_name(dev));
+        put_escaped(line, ll);
+        printf("\" to ");
+        put_escaped(req, rl);
+        printf(": %s", problem);
+        if (column > 0) {
+            printf(" at column %zu", column);
+        }
+        printf("\n");
     }
+    fflush(stdout);
     return EXIT_PROTOCOL;
 }
 
@@ -382,23 +559,85 @@ static void show_text(int dev, const c4g_cell_reply_t *r)
     printf("\n");
 }
 
+/* The kind of reply a request line asks for; -1 for a line that is no instruction (raw
+ * text), which any reply fits. */
+static int reply_wanted(const char *req, size_t len)
+{
+    c4g_cell_instr_t in;
+    c4g_cell_cmd_info_t info;
+    if (c4g_cell_instr_decode(req, len, &in, NULL) != C4G_OK ||
+        c4g_cell_cmd_info(in.cmd, &info) != C4G_OK) {
+        return -1;
+    }
+    return (int)info.reply;
+}
+
+/* Why a reply that decodes does not answer the request (NULL: it does). ER answers any. */
+static const char *reply_misfit(int dev, int want, const c4g_cell_reply_t *r)
+{
+    if (r->kind == C4G_CELL_REPLY_ER || want < 0) {
+        return NULL;
+    }
+    if (want == C4G_CELL_REPLY_STA && r->kind != C4G_CELL_REPLY_STA) {
+        return "a bare OK where a status reply (OK and the status fields) was expected";
+    }
+    if (want != C4G_CELL_REPLY_STA && r->kind == C4G_CELL_REPLY_STA) {
+        return "a status reply where a bare OK was expected";
+    }
+    if (r->kind == C4G_CELL_REPLY_STA && dev == CELL_DEV_ROBOT && r->pose.n_axes != 4U) {
+        return "a status of 2 axes (a platform's) where the robot's 4 were expected";
+    }
+    if (r->kind == C4G_CELL_REPLY_STA && dev == CELL_DEV_PLATFORM && r->pose.n_axes != 2U) {
+        return "a status of 4 axes (a robot's) where the platform's 2 were expected";
+    }
+    return NULL;
+}
+
+/* Decodes a reply to req and checks its shape: 0 and *r, or the invalid reply shown. */
+static int decode_reply(int dev, const char *req, size_t req_len, const char *line, size_t len,
+                        c4g_cell_reply_t *r)
+{
+    c4g_cell_diag_t d;
+    const char *misfit;
+    size_t rl = (req_len >= 2) ? req_len - 2 : req_len;
+    c4g_status_t st = c4g_cell_reply_decode(line, len, r, &d);
+    if (st != C4G_OK) {
+        return show_invalid(dev, req, rl, line, len, c4g_strerror(st), d.column);
+    }
+    misfit = reply_misfit(dev, reply_wanted(req, req_len), r);
+    if (misfit != NULL) {
+        return show_invalid(dev, req, rl, line, len, misfit, 0);
+    }
+    /* what ^C stops: a motion shown finished, or stopped, needs no STP */
+    if (r->kind == C4G_CELL_REPLY_STA && !r->moving) {
+        g_moved[dev] = 0;
+    } else if (r->kind == C4G_CELL_REPLY_OK && reply_wanted(req, req_len) >= 0) {
+        c4g_cell_instr_t in;
+        (void)c4g_cell_instr_decode(req, req_len, &in, NULL);
+        if (in.cmd == C4G_CELL_CMD_STP || in.cmd == C4G_CELL_CMD_ITR ||
+            in.cmd == C4G_CELL_CMD_RST) {
+            g_moved[dev] = 0;
+        }
+    }
+    return 0;
+}
+
 /* Show a reply; returns the exit class it implies. */
 static int show_reply(int dev, const char *req, size_t req_len, const char *line, size_t len)
 {
     c4g_cell_reply_t r;
-    c4g_cell_diag_t d;
-    c4g_status_t st = c4g_cell_reply_decode(line, len, &r, &d);
     size_t rl = (req_len >= 2) ? req_len - 2 : req_len;
     size_t ll = (len >= 2 && line[len - 1] == '\n') ? len - 2 : len;
-    if (st != C4G_OK) {
-        return show_invalid(dev, req, rl, line, len, st, &d);
+    int rc = decode_reply(dev, req, req_len, line, len, &r);
+    if (rc != 0) {
+        return rc;
     }
     if (g_fmt == OUT_JSON) {
         show_json(dev, req, rl, line, ll, &r);
     } else if (g_fmt == OUT_CSV) {
         csv_row(dev, req, rl, line, ll, &r);
     } else if (g_fmt == OUT_RAW) {
-        fwrite(line, 1, ll, stdout);
+        put_escaped(line, ll);
         fputc('\n', stdout);
     } else {
         show_text(dev, &r);
@@ -407,12 +646,18 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
     return r.kind == C4G_CELL_REPLY_ER ? EXIT_DEVICE_ER : EXIT_OK;
 }
 
-static void sleep_s(double s)
+/* A pause that ^C ends: EXIT_OK, or EXIT_INTR. */
+static int sleep_s(double s)
 {
-    struct timespec ts;
-    ts.tv_sec = (time_t)s;
-    ts.tv_nsec = (long)((s - (double)ts.tv_sec) * 1e9);
-    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    const uint64_t end = cell_now_ns() + (uint64_t)(s * 1e9);
+    for (;;) {
+        const uint64_t now = cell_now_ns();
+        if (now >= end) {
+            return interrupted() ? EXIT_INTR : EXIT_OK;
+        }
+        if (wait_readable(-1, (int)((end - now + 999999ULL) / 1000000ULL)) == EXIT_INTR) {
+            return EXIT_INTR;
+        }
     }
 }
 
@@ -428,8 +673,9 @@ static int wait_stopped(int dev, double timeout_s)
         if (rc != 0) {
             return rc;
         }
-        if (c4g_cell_reply_decode(reply, n, &r, NULL) != C4G_OK) {
-            return show_reply(dev, "STA\r\n", 5, reply, n);
+        rc = decode_reply(dev, "STA\r\n", 5, reply, n, &r); /* a bare OK is no status */
+        if (rc != 0) {
+            return rc;
         }
         if (r.kind == C4G_CELL_REPLY_ER) {
             return show_reply(dev, "STA\r\n", 5, reply, n);
@@ -453,7 +699,47 @@ static int wait_stopped(int dev, double timeout_s)
                     cell_dev_name(dev), timeout_s);
             return EXIT_WAIT;
         }
-        sleep_s(0.05);
+        if (sleep_s(0.05) != EXIT_OK) {
+            return EXIT_INTR;
+        }
+    }
+}
+
+/* After ^C: STP to each device whose motion this process started (and that no reply has
+ * shown finished), its reply shown. A second ^C meanwhile does not cut the STP short. */
+static void stop_after_interrupt(void)
+{
+    g_no_intr = 1;
+    wake_drain();
+    if (isatty(STDERR_FILENO)) {
+        fputc('\n', stderr); /* after the "^C" the terminal echoed */
+    }
+    for (int d = 0; d < CELL_DEVICES; d++) {
+        char reply[C4G_CELL_LINE_MAX];
+        size_t n = 0;
+        if (!g_moved[d]) {
+            continue;
+        }
+        fprintf(stderr, "cell-cli: %s: interrupted: sending STP to stop the motion started here\n",
+                cell_dev_name(d));
+        if (transact(d, "STP\r\n", 5, reply, sizeof reply, &n) == 0) {
+            (void)show_reply(d, "STP\r\n", 5, reply, n);
+        }
+    }
+    fprintf(stderr, "cell-cli: interrupted\n");
+    fflush(stdout);
+    g_sigint = 0;
+    g_no_intr = 0;
+    wake_drain();
+}
+
+/* A motion is about to start: ^C will stop it. */
+static void note_motion(int dev, const char *line, size_t len)
+{
+    c4g_cell_instr_t in;
+    if (c4g_cell_instr_decode(line, len, &in, NULL) == C4G_OK &&
+        (in.cmd == C4G_CELL_CMD_MOV || in.cmd == C4G_CELL_CMD_PNP)) {
+        g_moved[dev] = 1;
     }
 }
 
@@ -478,25 +764,35 @@ static int run_cmd(const cli_cmd_t *cmd)
         fputs(help, stdout);
         return rc == 0 ? EXIT_OK : EXIT_USAGE;
     case CMD_SLEEP:
-        sleep_s(cmd->seconds);
-        return EXIT_OK;
+        rc = sleep_s(cmd->seconds);
+        break;
     case CMD_WAIT:
         g_last_dev = cmd->dev;
-        return wait_stopped(cmd->dev, cmd->seconds);
+        rc = wait_stopped(cmd->dev, cmd->seconds);
+        break;
     case CMD_SEND:
     case CMD_RAW:
         g_last_dev = cmd->dev;
+        note_motion(cmd->dev, cmd->line, cmd->len);
         rc = transact(cmd->dev, cmd->line, cmd->len, reply, sizeof reply, &n);
         if (rc != 0) {
-            return rc;
+            break;
         }
         rc = show_reply(cmd->dev, cmd->line, cmd->len, reply, n);
         if (cmd->kind == CMD_SEND && cmd->instr.cmd == C4G_CELL_CMD_CLO && rc == EXIT_OK) {
             conn_drop(cmd->dev); /* the device closes after OK */
         }
-        return rc;
+        break;
+    default:
+        rc = EXIT_USAGE;
+        break;
     }
-    return EXIT_USAGE;
+    /* ^C during a part that does not wait for it (a connect): the same as during a wait */
+    if (rc == EXIT_INTR || interrupted()) {
+        stop_after_interrupt();
+        rc = EXIT_INTR;
+    }
+    return rc;
 }
 
 /* ------------------------------------------------------------------ modes */
@@ -542,6 +838,9 @@ static int run_script(FILE *f, const char *name, int keep_going)
         cli_cmd_t cmd;
         char err[256];
         lineno++;
+        if (interrupted()) {
+            break; /* ^C while a line was read: it may be cut short, it does not run */
+        }
         if (r < 0) {
             fprintf(stderr, "cell-cli: %s:%d: %s\n", name, lineno, lerr);
             return EXIT_USAGE;
@@ -568,6 +867,10 @@ static int run_script(FILE *f, const char *name, int keep_going)
             fprintf(stderr, "cell-cli: %s:%d: stopped at '%s'\n", name, lineno, line);
             return rc;
         }
+    }
+    if (interrupted()) {
+        stop_after_interrupt();
+        return EXIT_INTR;
     }
     return worst;
 }
@@ -644,9 +947,28 @@ static int repl_getc(EditLine *el, wchar_t *wc)
     for (;;) {
         mbstate_t st;
         size_t k;
-        ssize_t r = read(STDIN_FILENO, b + n, 1);
+        ssize_t r;
+        int w;
+        if (g_winch) {
+            g_winch = 0;
+            el_resize(el);
+        }
+        w = wait_readable(STDIN_FILENO, -1);
+        if (w == EXIT_INTR) {
+            /* ^C: the key bound to repl_intr (the terminal turns a typed ^C into SIGINT,
+             * so this key never comes from the keyboard) */
+            g_sigint = 0;
+            hint_erase();
+            *wc = (wchar_t)3;
+            g_repl.keys++;
+            return 1;
+        }
+        if (w == 0) {
+            continue; /* a window resize */
+        }
+        r = read(STDIN_FILENO, b + n, 1);
         if (r < 0 && errno == EINTR) {
-            continue; /* a window resize: libedit's own handler has taken note */
+            continue;
         }
         if (r <= 0) {
             hint_erase();
@@ -783,13 +1105,34 @@ static unsigned char repl_complete(EditLine *el, int ch)
     return CC_ERROR;
 }
 
-/* ^Z stops the process as in a shell (the terminal is in libedit's raw mode). */
+/* ^Z stops the process as in a shell (the terminal is in libedit's raw mode, which is
+ * set again when the shell brings the REPL back). */
 static unsigned char repl_tstp(EditLine *el, int ch)
 {
+    struct termios t;
+    const int have = tcgetattr(STDIN_FILENO, &t) == 0;
     (void)el;
     (void)ch;
     (void)kill(0, SIGTSTP);
+    if (have) {
+        (void)tcsetattr(STDIN_FILENO, TCSADRAIN, &t);
+    }
     return CC_REDISPLAY;
+}
+
+/* ^C at the prompt: the line is dropped as a shell drops it ("^C", a fresh prompt); the
+ * REPL stays. An empty command ends el_gets (an empty line would read as end of input). */
+static unsigned char repl_intr(EditLine *el, int ch)
+{
+    const LineInfo *li = el_line(el);
+    (void)ch;
+    el_cursor(el, (int)(li->lastchar - li->cursor));
+    li = el_line(el);
+    el_deletestr(el, (int)(li->cursor - li->buffer));
+    fputs("^C\n", stdout);
+    fflush(stdout);
+    (void)el_insertstr(el, "\n");
+    return CC_NEWLINE;
 }
 
 /* Emacs keys, TAB completion, readline's extra keys (Home, End, Delete, ^R, Ctrl+arrows),
@@ -812,6 +1155,8 @@ static void repl_keys(EditLine *el)
     el_set(el, EL_BIND, "^I", "cell-complete", NULL);
     el_wset(el, EL_ADDFN, L"cell-tstp", L"suspend cell-cli", repl_tstp);
     el_set(el, EL_BIND, "^Z", "cell-tstp", NULL);
+    el_wset(el, EL_ADDFN, L"cell-intr", L"drop the line (^C)", repl_intr);
+    el_set(el, EL_BIND, "^C", "cell-intr", NULL);
     for (size_t i = 0; i < sizeof bind / sizeof bind[0]; i++) {
         el_set(el, EL_BIND, bind[i][0], bind[i][1], NULL);
     }
@@ -894,7 +1239,9 @@ static int run_repl(int use_history, int hints)
     g_repl.hints = hints && hints_possible();
     el_set(el, EL_HIST, history, h);
     el_set(el, EL_PROMPT, repl_prompt);
-    el_set(el, EL_SIGNAL, 1);
+    /* no libedit signal handling: it would end the REPL on ^C; SIGINT is ours (on_signal),
+     * and SIGWINCH too (repl_getc tells libedit) */
+    el_set(el, EL_SIGNAL, 0);
     el_set(el, EL_GETCFN, repl_getc);
     repl_keys(el);
     printf("cell-cli %s: robot %s:%u, platform %s:%u, conditioning %s:%u. Type help.\n",
@@ -1039,8 +1386,12 @@ static const cli_spec_t k_spec = {
     "  conditioning acq N, conditioning hnd N open|close, raw DEV TEXT,\n"
     "  wait DEV stopped [TIMEOUT], sleep SEC.\n"
     "\n"
+    "Ctrl-C during a command: STP to each device whose motion this run started, then back\n"
+    "to the prompt (scripts and one-shot: exit 130); at the prompt it drops the line.\n"
+    "\n"
     "Exit status: 0 ok, 1 a device replied ER, 2 usage or script error, 3 connection\n"
-    "failure or reply timeout, 4 invalid reply, 5 wait timed out.\n",
+    "failure or reply timeout, 4 invalid reply (or not the reply its request wants),\n"
+    "5 wait timed out, 130 interrupted.\n",
     0, -1, 0, NULL};
 
 /* The config file: -c, else $CELL_CLI_CONFIG, else ~/.config/cell-cli.ini if present. */
@@ -1160,12 +1511,17 @@ static int run_oneshot(int n, char **words)
         return EXIT_USAGE;
     }
     for (long long k = 0; g_opt.repeat < 0 || k < g_opt.repeat; k++) {
-        if (k > 0 && g_opt.interval > 0) {
-            sleep_s(g_opt.interval);
+        int one;
+        if (k > 0 && g_opt.interval > 0 && sleep_s(g_opt.interval) == EXIT_INTR) {
+            stop_after_interrupt();
+            return EXIT_INTR;
         }
-        rc = run_cmd(&cmd);
-        if (rc != EXIT_OK && rc != EXIT_DEVICE_ER) {
-            break;
+        one = run_cmd(&cmd);
+        if (one != EXIT_OK && one != EXIT_DEVICE_ER) {
+            return one;
+        }
+        if (one == EXIT_DEVICE_ER) {
+            rc = one; /* an ER among the repeats is not hidden by a later OK */
         }
     }
     return rc;
@@ -1190,6 +1546,9 @@ int main(int argc, char **argv)
     rc = configure();
     if (rc != EXIT_OK) {
         return rc;
+    }
+    if (!(first < argc && strcmp(argv[first], "canopen") == 0)) {
+        signals_setup(g_opt.script[0] == '\0' && first >= argc && isatty(STDIN_FILENO));
     }
     if (g_opt.script[0] != '\0') {
         if (first < argc) {

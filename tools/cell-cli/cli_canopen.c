@@ -10,6 +10,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "c4g_textfile.h"
+
 static int connect_to(const char *host, unsigned port)
 {
     struct addrinfo hints, *res = NULL;
@@ -35,6 +37,7 @@ int cli_canopen_run(const char *host, unsigned port, int n, char **words, int ti
 {
     char line[512] = "";
     char reply[1024];
+    char shown[sizeof reply * 4];
     size_t len = 0;
     int fd;
     if (n < 1) {
@@ -84,10 +87,12 @@ int cli_canopen_run(const char *host, unsigned port, int n, char **words, int ti
         fprintf(stderr, "cell-cli: canopen: no reply from %s:%u\n", host, port);
         return 1;
     }
+    /* the shell's bytes escaped: none of its escape sequences reaches a terminal */
+    tf_escape(reply, len - 1, shown, sizeof shown);
     if (strncmp(reply, "ERR", 3) == 0) {
-        fprintf(stderr, "cell-cli: canopen: %s", reply + 4);
+        fprintf(stderr, "cell-cli: canopen: %s\n", len > 4 ? shown + 4 : "");
         return 1;
     }
-    fputs(reply, stdout);
+    printf("%s\n", shown);
     return 0;
 }

@@ -52,6 +52,14 @@ typedef struct client {
     unsigned log_in_win;    /* lines logged in it */
     uint64_t log_last_ns;   /* last error line this client caused, logged or not */
     uint64_t sup_err;       /* error lines suppressed since the last summary */
+    /* A platform instruction on the CANopen bus whose reply waits (SRVON / SRVOF for the
+     * drives, or any while another one waits): the client's next lines wait too, so that
+     * its replies keep their order; the event loop goes on for everyone else. */
+    int waiting;            /* 0 none, 1 held (not started), 2 started, reply to come */
+    char held[C4G_CELL_LINE_MAX];
+    size_t held_len;
+    char stash[4096];       /* bytes read after the waiting line, fed once it is answered */
+    size_t stash_len;
 } client_t;
 
 static volatile sig_atomic_t g_stop;
@@ -60,6 +68,7 @@ static int g_json;
 static sim_co_t g_co;       /* the platform's CANopen bus, when --canopen is given */
 static int g_co_on;
 static int g_verbose = 1; /* 0 quiet (errors only), 1 normal, 2 every request */
+static client_t *g_servo_client; /* the client whose SRVON / SRVOF waits for the drives */
 
 static void on_signal(int sig)
 {
@@ -163,6 +172,10 @@ static void client_close(client_t *c, const char *why)
           (unsigned long long)c->lines);
     close(c->fd);
     c->fd = -1;
+    c->waiting = 0;
+    if (g_servo_client == c) {
+        g_servo_client = NULL; /* the drives go on; the reply has nobody to go to */
+    }
 }
 
 static void queue(client_t *c, const char *s, size_t n)
@@ -187,15 +200,47 @@ static void queue_er(client_t *c, int32_t code)
     }
 }
 
+/* The reply to a line: queued and logged. */
+static void reply_line(client_t *c, const char *line, size_t len, c4g_cell_cmd_t cmd,
+                       c4g_cell_reply_t *rep, const char *note, int close_after)
+{
+    char pr[160];
+    char out[C4G_CELL_LINE_MAX];
+    size_t n = 0;
+    const char *dev = cell_dev_name(c->dev);
+    if (c4g_cell_reply_encode(rep, out, sizeof out, &n) != C4G_OK) {
+        rep->kind = C4G_CELL_REPLY_ER;
+        rep->error = C4G_CELL_E_GENERIC;
+        (void)c4g_cell_reply_encode(rep, out, sizeof out, &n);
+    }
+    queue(c, out, n);
+    if (rep->kind == C4G_CELL_REPLY_ER) {
+        if (client_log_ok(c)) {
+            printable(line, len - 2, pr, sizeof pr);
+            logf_(0, dev, c->peer, "error", "ER+%05d for %s: %s", (int)rep->error, pr, note);
+        }
+    } else if (g_verbose >= 2) {
+        char po[80];
+        printable(line, len - 2, pr, sizeof pr);
+        printable(out, n - 2, po, sizeof po);
+        logf_(2, dev, c->peer, "request", "%s -> %s (%s)", pr, po, note);
+    } else if (cmd != C4G_CELL_CMD_STA) {
+        printable(line, len - 2, pr, sizeof pr);
+        logf_(1, dev, c->peer, "command", "%s: %s", pr, note);
+    }
+    if (close_after) {
+        c->closing = 1;
+    }
+}
+
 static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_t len)
 {
     c4g_cell_instr_t in;
     c4g_cell_diag_t d;
     c4g_cell_reply_t rep;
     char pr[160];
-    char out[C4G_CELL_LINE_MAX];
-    size_t n = 0;
     int close_after = 0;
+    const char *note;
     const char *dev = cell_dev_name(c->dev);
     c4g_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
     c->lines++;
@@ -211,32 +256,28 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         queue_er(c, code);
         return;
     }
-    const char *note = (g_co_on && c->dev == CELL_DEV_PLATFORM)
-                           ? sim_co_exec(&g_co, &devs[c->dev], &in, cell_now_ns(), &rep, &close_after)
-                           : sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
-    if (c4g_cell_reply_encode(&rep, out, sizeof out, &n) != C4G_OK) {
-        rep.kind = C4G_CELL_REPLY_ER;
-        rep.error = C4G_CELL_E_GENERIC;
-        (void)c4g_cell_reply_encode(&rep, out, sizeof out, &n);
-    }
-    queue(c, out, n);
-    if (rep.kind == C4G_CELL_REPLY_ER) {
-        if (client_log_ok(c)) {
-            printable(line, len - 2, pr, sizeof pr);
-            logf_(0, dev, c->peer, "error", "ER+%05d for %s: %s", (int)rep.error, pr, note);
+    if (g_co_on && c->dev == CELL_DEV_PLATFORM) {
+        int deferred = 0;
+        if (sim_co_servo_busy(&g_co)) {
+            c->waiting = 1; /* run when the one waiting for the drives is answered */
+            memmove(c->held, line, len); /* line may be c->held itself */
+            c->held_len = len;
+            c->lines--;     /* counted when it runs */
+            return;
         }
-    } else if (g_verbose >= 2) {
-        char po[80];
-        printable(line, len - 2, pr, sizeof pr);
-        printable(out, n - 2, po, sizeof po);
-        logf_(2, dev, c->peer, "request", "%s -> %s (%s)", pr, po, note);
-    } else if (in.cmd != C4G_CELL_CMD_STA) {
-        printable(line, len - 2, pr, sizeof pr);
-        logf_(1, dev, c->peer, "command", "%s: %s", pr, note);
+        note = sim_co_exec(&g_co, &devs[c->dev], &in, cell_now_ns(), &rep, &close_after,
+                           &deferred);
+        if (deferred) {
+            c->waiting = 2;
+            memmove(c->held, line, len); /* line may be c->held itself */
+            c->held_len = len;
+            g_servo_client = c;
+            return;
+        }
+    } else {
+        note = sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
     }
-    if (close_after) {
-        c->closing = 1;
-    }
+    reply_line(c, line, len, in.cmd, &rep, note, close_after);
 }
 
 /* Replies are at most 10 bytes per byte read ("\n" -> "ER+00102\r\n", "STA\r\n" -> 50
@@ -247,12 +288,80 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
 #define REPLY_RATIO 10U
 #define READ_MIN_ROOM (REPLY_MAX + 16U * REPLY_RATIO)
 
+/* The lines complete in the splitter, until one has to wait. */
+static void client_lines(client_t *c, sim_device_t *devs)
+{
+    for (;;) {
+        c4g_cell_split_event_t ev;
+        const char *line = NULL;
+        size_t len = 0;
+        if (c->closing || c->waiting) {
+            break;
+        }
+        (void)c4g_cell_split_next(&c->sp, &ev, &line, &len);
+        if (ev == C4G_CELL_SPLIT_NONE) {
+            break;
+        }
+        if (ev == C4G_CELL_SPLIT_OVERLONG) {
+            c->lines++;
+            if (client_log_ok(c)) {
+                logf_(0, cell_dev_name(c->dev), c->peer, "error",
+                      "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
+                      (unsigned)C4G_CELL_LINE_MAX);
+            }
+            queue_er(c, C4G_CELL_E_MALFORMED);
+        } else {
+            handle_line(c, devs, line, len);
+        }
+    }
+}
+
+/* Bytes of a client through the splitter and its lines; returns how many were taken (all,
+ * unless a line has to wait). */
+static size_t client_feed(client_t *c, sim_device_t *devs, const char *b, size_t n)
+{
+    size_t off = 0;
+    client_lines(c, devs);
+    while (off < n && !c->closing && !c->waiting) {
+        size_t used = 0;
+        (void)c4g_cell_split_push(&c->sp, b + off, n - off, &used);
+        off += used;
+        client_lines(c, devs);
+        if (used == 0) {
+            break;
+        }
+    }
+    return off;
+}
+
+/* What a waiting client read meanwhile keeps for later. */
+static void client_stash(client_t *c, const char *b, size_t n)
+{
+    if (c->waiting && c->stash_len + n <= sizeof c->stash) {
+        memmove(c->stash + c->stash_len, b, n);
+        c->stash_len += n;
+    }
+}
+
+/* Its waiting line answered: the lines after it. */
+static void client_resume(client_t *c, sim_device_t *devs)
+{
+    char tmp[sizeof c->stash];
+    const size_t n = c->stash_len;
+    size_t off;
+    memcpy(tmp, c->stash, n);
+    c->stash_len = 0;
+    off = client_feed(c, devs, tmp, n);
+    client_stash(c, tmp + off, n - off);
+}
+
 static void client_read(client_t *c, sim_device_t *devs)
 {
     char buf[4096];
     size_t room = OUT_CAP - c->out_len;
     size_t want = (room > REPLY_MAX) ? (room - REPLY_MAX) / REPLY_RATIO : 0;
-    if (want == 0) {
+    size_t off;
+    if (want == 0 || c->waiting) {
         return;
     }
     if (want > sizeof buf) {
@@ -270,32 +379,8 @@ static void client_read(client_t *c, sim_device_t *devs)
         return;
     }
     c->last_ns = cell_now_ns();
-    size_t off = 0;
-    while (off < (size_t)r && !c->closing) {
-        size_t used = 0;
-        (void)c4g_cell_split_push(&c->sp, buf + off, (size_t)r - off, &used);
-        off += used;
-        for (;;) {
-            c4g_cell_split_event_t ev;
-            const char *line = NULL;
-            size_t len = 0;
-            (void)c4g_cell_split_next(&c->sp, &ev, &line, &len);
-            if (ev == C4G_CELL_SPLIT_NONE || c->closing) {
-                break;
-            }
-            if (ev == C4G_CELL_SPLIT_OVERLONG) {
-                c->lines++;
-                if (client_log_ok(c)) {
-                    logf_(0, cell_dev_name(c->dev), c->peer, "error",
-                          "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
-                          (unsigned)C4G_CELL_LINE_MAX);
-                }
-                queue_er(c, C4G_CELL_E_MALFORMED);
-            } else {
-                handle_line(c, devs, line, len);
-            }
-        }
-    }
+    off = client_feed(c, devs, buf, (size_t)r);
+    client_stash(c, buf + off, (size_t)r - off);
 }
 
 static void client_write(client_t *c)
@@ -740,8 +825,11 @@ static nfds_t poll_set(server_t *s)
         s->pf[n].fd = c->fd;
         s->pf[n].events = 0;
         /* Backpressure: stop reading from a client whose replies pile up. */
-        if (!c->closing && OUT_CAP - c->out_len >= READ_MIN_ROOM) {
+        if (!c->closing && !c->waiting && OUT_CAP - c->out_len >= READ_MIN_ROOM) {
             s->pf[n].events |= POLLIN;
+        }
+        if (c->waiting && c->out_len == 0) {
+            s->pf[n].fd = -1; /* a hang-up is seen once it is answered (no busy poll) */
         }
         if (c->out_len > 0) {
             s->pf[n].events |= POLLOUT;
@@ -778,6 +866,8 @@ static void client_start(client_t *c, int fd, int dev, const char *peer, uint64_
     c->log_in_win = 0;
     c->log_last_ns = now;
     c->sup_err = 0;
+    c->waiting = 0;
+    c->stash_len = 0;
     snprintf(c->peer, sizeof c->peer, "%s", peer);
     (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
     logf_(1, cell_dev_name(dev), c->peer, "connect", "connection accepted");
@@ -849,6 +939,39 @@ static void housekeeping(server_t *s)
     }
 }
 
+/* The platform's SRVON / SRVOF that waited for the drives: its reply once they are there,
+ * then the lines its client sent meanwhile; then the instructions held while it waited. */
+static void servo_replies(server_t *s, sim_device_t *devs)
+{
+    c4g_cell_reply_t rep;
+    const char *note = NULL;
+    int close_after = 0;
+    if (sim_co_servo_poll(&g_co, &devs[CELL_DEV_PLATFORM], cell_now_ns(), &rep, &note,
+                          &close_after)) {
+        client_t *c = g_servo_client;
+        g_servo_client = NULL;
+        if (c != NULL && c->fd >= 0 && c->waiting == 2) {
+            c->waiting = 0;
+            reply_line(c, c->held, c->held_len, g_co.servo.in.cmd, &rep, note, close_after);
+            client_resume(c, devs);
+            client_write(c);
+        }
+    }
+    for (unsigned long i = 0; i < s->max_clients && !sim_co_servo_busy(&g_co); i++) {
+        client_t *c = &s->cl[i];
+        if (c->fd >= 0 && c->waiting == 1) {
+            c->waiting = 0;
+            handle_line(c, devs, c->held, c->held_len);
+            if (c->waiting == 0) {
+                client_resume(c, devs);
+            }
+            if (c->fd >= 0) {
+                client_write(c);
+            }
+        }
+    }
+}
+
 static void server_loop(server_t *s, sim_device_t *devs)
 {
     while (!g_stop) {
@@ -876,6 +999,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
         housekeeping(s);
         if (g_co_on) {
             sim_co_step(&g_co, cell_now_ns(), &devs[CELL_DEV_PLATFORM]);
+            servo_replies(s, devs);
         }
     }
 }

@@ -90,16 +90,18 @@ static uint8_t axis_node(const sim_co_t *s, int a)
     return s->cfg.net.node[s->axis_slot[a]].node_id;
 }
 
-/* Master events: lost and recovered drives; a user SDO's end goes to *sdo_done. */
-static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *sdo_done, int *got)
+static void sdo_finished(sim_co_t *s, const c4g_co_event_t *e);
+
+/* Master events: lost, stopped and recovered drives; a user SDO's end goes to the shell
+ * connection that asked for it. */
+static void handle_events(sim_co_t *s, sim_device_t *platform)
 {
     c4g_co_event_t e;
     bool have = true;
     while (c4g_co_master_event(&s->m, &e, &have) == C4G_OK && have) {
         int a = -1;
-        if (e.kind == C4G_CO_EV_SDO_DONE && sdo_done != NULL) {
-            *sdo_done = e;
-            *got = 1;
+        if (e.kind == C4G_CO_EV_SDO_DONE) {
+            sdo_finished(s, &e);
             continue;
         }
         for (int k = 0; k < 2; k++) {
@@ -112,8 +114,10 @@ static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *s
                     e.node, e.cause, e.value);
         }
         if (a >= 0 && platform != NULL &&
-            (e.kind == C4G_CO_EV_NODE_LOST || e.kind == C4G_CO_EV_NODE_FAILED)) {
-            /* a lost drive: the motion stops and the platform reports servo motor N error */
+            (e.kind == C4G_CO_EV_NODE_LOST || e.kind == C4G_CO_EV_NODE_FAILED ||
+             e.kind == C4G_CO_EV_NODE_STATE)) {
+            /* a lost drive, or one no longer operational (its targets would be ignored):
+             * the motion stops and the platform reports servo motor N error */
             s->lost[a] = 1;
             platform->moving = 0;
             platform->servo = 0;
@@ -154,7 +158,6 @@ static void set_outputs(sim_co_t *s, const sim_device_t *platform)
 }
 
 static void shell_serve(sim_co_t *s, uint64_t now_ns);
-static void handle_events(sim_co_t *s, sim_device_t *platform, c4g_co_event_t *sdo_done, int *got);
 
 void sim_co_step(sim_co_t *s, uint64_t now_ns, sim_device_t *platform)
 {
@@ -162,7 +165,7 @@ void sim_co_step(sim_co_t *s, uint64_t now_ns, sim_device_t *platform)
     sim_device_update(platform, now_ns);
     set_outputs(s, platform);
     bus_step(s, now_ns);
-    handle_events(s, platform, NULL, NULL);
+    handle_events(s, platform);
     shell_serve(s, now_ns);
 }
 
@@ -177,22 +180,14 @@ static int axis_state(const sim_co_t *s, int a, c4g_co_ds402_t *st)
     return 0;
 }
 
-/* Runs the bus in real time until both drives show @p want (or 300 ms pass). */
-static int wait_drives(sim_co_t *s, sim_device_t *platform, c4g_co_ds402_t want)
+/* Both drives show @p want: 1; 0 not yet; -1 a drive is not running. */
+static int drives_in(const sim_co_t *s, c4g_co_ds402_t want)
 {
-    for (int i = 0; i < 150; i++) {
-        c4g_co_ds402_t a = C4G_CO_DS402_UNKNOWN, b = C4G_CO_DS402_UNKNOWN;
-        if (axis_state(s, 0, &a) != 0 || axis_state(s, 1, &b) != 0) {
-            return -1;
-        }
-        if (a == want && b == want) {
-            return 0;
-        }
-        struct timespec d = {0, 2000000};
-        nanosleep(&d, NULL);
-        sim_co_step(s, cell_now_ns(), platform);
+    c4g_co_ds402_t a = C4G_CO_DS402_UNKNOWN, b = C4G_CO_DS402_UNKNOWN;
+    if (axis_state(s, 0, &a) != 0 || axis_state(s, 1, &b) != 0) {
+        return -1;
     }
-    return -1;
+    return (a == want && b == want) ? 1 : 0;
 }
 
 static const char *lost_reply(sim_co_t *s, sim_device_t *platform, c4g_cell_reply_t *rep)
@@ -204,28 +199,56 @@ static const char *lost_reply(sim_co_t *s, sim_device_t *platform, c4g_cell_repl
     return a == 0 ? "axis A drive lost on the CANopen bus" : "axis B drive lost on the CANopen bus";
 }
 
+/* SRVON / SRVOF once the drives are where they were sent (or are not): the reply. */
+static const char *servo_finish(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
+                                int there, uint64_t now_ns, c4g_cell_reply_t *rep,
+                                int *close_after)
+{
+    const char *note;
+    if (in->cmd == C4G_CELL_CMD_SRVON && there != 1) {
+        memset(rep, 0, sizeof *rep);
+        *close_after = 0;
+        s->goal = C4G_CO_GOAL_READY;
+        return lost_reply(s, platform, rep);
+    }
+    note = sim_device_exec(platform, in, now_ns, rep, close_after);
+    if (in->cmd == C4G_CELL_CMD_SRVON && rep->kind == C4G_CELL_REPLY_OK) {
+        note = "servo on: drives in operation enabled (DS402)";
+    }
+    return note;
+}
+
 const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_instr_t *in,
-                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after)
+                        uint64_t now_ns, c4g_cell_reply_t *rep, int *close_after, int *deferred)
 {
     const int ok = axis_running(s, 0) && axis_running(s, 1);
     const char *note;
+    *deferred = 0;
     sim_co_step(s, now_ns, platform);
-    if (in->cmd == C4G_CELL_CMD_SRVON) {
-        memset(rep, 0, sizeof *rep);
-        *close_after = 0;
-        if (!ok) {
+    if (in->cmd == C4G_CELL_CMD_SRVON || in->cmd == C4G_CELL_CMD_SRVOF) {
+        const c4g_co_ds402_t want = in->cmd == C4G_CELL_CMD_SRVON ? C4G_CO_DS402_ENABLED
+                                                                  : C4G_CO_DS402_READY;
+        if (in->cmd == C4G_CELL_CMD_SRVON && !ok) {
+            memset(rep, 0, sizeof *rep);
+            *close_after = 0;
             return lost_reply(s, platform, rep);
         }
-        s->goal = C4G_CO_GOAL_ENABLED;
-        s->fault_hold[0] = s->fault_hold[1] = 0;
-        if (wait_drives(s, platform, C4G_CO_DS402_ENABLED) != 0) {
-            s->goal = C4G_CO_GOAL_READY;
-            return lost_reply(s, platform, rep);
+        s->goal = in->cmd == C4G_CELL_CMD_SRVON ? C4G_CO_GOAL_ENABLED : C4G_CO_GOAL_READY;
+        if (in->cmd == C4G_CELL_CMD_SRVON) {
+            s->fault_hold[0] = s->fault_hold[1] = 0;
         }
-    } else if (in->cmd == C4G_CELL_CMD_SRVOF) {
-        s->goal = C4G_CO_GOAL_READY;
-        (void)wait_drives(s, platform, C4G_CO_DS402_READY);
-    } else if ((in->cmd == C4G_CELL_CMD_MOV || in->cmd == C4G_CELL_CMD_RST) && !ok) {
+        if (drives_in(s, want) != 0) {
+            return servo_finish(s, platform, in, drives_in(s, want), now_ns, rep, close_after);
+        }
+        /* the drives take a few SYNC periods: the reply waits, the event loop goes on */
+        s->servo.active = 1;
+        s->servo.in = *in;
+        s->servo.want = want;
+        s->servo.deadline_ns = now_ns + SIM_CO_SERVO_NS;
+        *deferred = 1;
+        return NULL;
+    }
+    if ((in->cmd == C4G_CELL_CMD_MOV || in->cmd == C4G_CELL_CMD_RST) && !ok) {
         memset(rep, 0, sizeof *rep);
         *close_after = 0;
         if (in->cmd == C4G_CELL_CMD_RST) {
@@ -234,9 +257,6 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
         return lost_reply(s, platform, rep);
     }
     note = sim_device_exec(platform, in, now_ns, rep, close_after);
-    if (in->cmd == C4G_CELL_CMD_SRVON && rep->kind == C4G_CELL_REPLY_OK) {
-        note = "servo on: drives in operation enabled (DS402)";
-    }
     if (in->cmd == C4G_CELL_CMD_STA && rep->kind == C4G_CELL_REPLY_STA) {
         for (int a = 0; a < 2; a++) {
             uint32_t v = 0;
@@ -255,13 +275,38 @@ const char *sim_co_exec(sim_co_t *s, sim_device_t *platform, const c4g_cell_inst
     return note;
 }
 
+int sim_co_servo_busy(const sim_co_t *s)
+{
+    return s->servo.active;
+}
+
+int sim_co_servo_poll(sim_co_t *s, sim_device_t *platform, uint64_t now_ns,
+                      c4g_cell_reply_t *rep, const char **note, int *close_after)
+{
+    int there;
+    if (!s->servo.active) {
+        return 0;
+    }
+    there = drives_in(s, s->servo.want);
+    if (there == 0 && now_ns < s->servo.deadline_ns) {
+        return 0;
+    }
+    s->servo.active = 0;
+    *note = servo_finish(s, platform, &s->servo.in, there, now_ns, rep, close_after);
+    return 1;
+}
+
 int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *candump,
                 const char *pcap, const char *shell_bind, unsigned shell_port, char *err,
                 size_t errlen)
 {
     memset(s, 0, sizeof *s);
     s->fd_master = s->fd_nodes = -1;
-    s->listen_fd = s->shell_fd = -1;
+    s->listen_fd = -1;
+    s->sdo_owner = -1;
+    for (int k = 0; k < SIM_CO_SHELLS; k++) {
+        s->sh[k].fd = -1;
+    }
     s->axis_slot[0] = s->axis_slot[1] = -1;
     s->goal = C4G_CO_GOAL_READY;
     if (c4g_co_config_load(&s->cfg, ini, err, errlen) != 0) {
@@ -328,8 +373,10 @@ void sim_co_close(sim_co_t *s)
     if (s->fd_nodes >= 0) {
         close(s->fd_nodes);
     }
-    if (s->shell_fd >= 0) {
-        close(s->shell_fd);
+    for (int k = 0; k < SIM_CO_SHELLS; k++) {
+        if (s->sh[k].fd >= 0) {
+            close(s->sh[k].fd);
+        }
     }
     if (s->listen_fd >= 0) {
         close(s->listen_fd);
@@ -359,38 +406,8 @@ static const char *cause_name(uint8_t c)
 {
     static const char *const n[] = {"none", "SDO timeout", "SDO abort", "SDO protocol error",
                                     "wrong device type", "heartbeat timeout", "guarding failed",
-                                    "node reset (boot-up)"};
-    return c < 8 ? n[c] : "?";
-}
-
-/* Runs the bus until the user SDO ends; its event, or -1. */
-static int user_sdo(sim_co_t *s, uint8_t node, bool upload, uint16_t idx, uint8_t sub,
-                    uint32_t value, uint8_t size, c4g_co_event_t *done, char *out, size_t cap)
-{
-    uint64_t now = cell_now_ns();
-    c4g_status_t st = c4g_co_master_sdo(&s->m, node, upload, idx, sub, value, size, bus_us(s, now));
-    if (st != C4G_OK) {
-        snprintf(out, cap, "ERR %s", st == C4G_ERR_STATE ? "busy: another SDO is running (retry)"
-                                                         : c4g_strerror(st));
-        return -1;
-    }
-    for (int i = 0; i < 2000; i++) {
-        struct timespec d = {0, 1000000};
-        int got = 0;
-        nanosleep(&d, NULL);
-        now = cell_now_ns();
-        if (s->platform != NULL) {
-            sim_device_update(s->platform, now);
-            set_outputs(s, s->platform);
-        }
-        bus_step(s, now);
-        handle_events(s, s->platform, done, &got);
-        if (got) {
-            return 0;
-        }
-    }
-    snprintf(out, cap, "ERR no end of the SDO transfer");
-    return -1;
+                                    "node reset (boot-up)", "left operational (NMT state)"};
+    return c < 9 ? n[c] : "?";
 }
 
 static int parse_node(sim_co_t *s, const char *tok, uint8_t *id, uint8_t *slot, char *out, size_t cap)
@@ -406,29 +423,100 @@ static int parse_node(sim_co_t *s, const char *tok, uint8_t *id, uint8_t *slot, 
     return 0;
 }
 
-static void sh_sdo(sim_co_t *s, uint8_t id, bool upload, char **tok, int nt, char *out, size_t cap)
+/* CO_ROBJ / CO_WOBJ / CO_SDO: queued on connection k (1), or a usage error now (0). */
+static int sh_sdo(sim_co_t *s, int k, uint8_t id, bool upload, char **tok, int nt,
+                  uint64_t now_ns, char *out, size_t cap)
 {
-    c4g_co_event_t e;
+    sim_co_shell_t *c = &s->sh[k];
     const long idx = nt > 0 ? strtol(tok[0], NULL, 0) : -1;
     const long sub = nt > 1 ? strtol(tok[1], NULL, 0) : -1;
     const long size = (!upload && nt > 2) ? strtol(tok[2], NULL, 0) : 0;
     const unsigned long val = (!upload && nt > 3) ? strtoul(tok[3], NULL, 0) : 0;
     if (idx < 0 || idx > 0xFFFF || sub < 0 || sub > 255 || (!upload && (nt < 4 || size < 1 || size > 4))) {
         snprintf(out, cap, "ERR usage: %s", upload ? "INDEX SUB" : "INDEX SUB SIZE VALUE");
+        return 0;
+    }
+    c->sdo = 1;
+    c->sdo_since_ns = now_ns;
+    c->node = id;
+    c->upload = upload ? 1 : 0;
+    c->index = (uint16_t)idx;
+    c->sub = (uint8_t)sub;
+    c->size = (uint8_t)size;
+    c->value = (uint32_t)val;
+    return 1;
+}
+
+static void shell_queue(sim_co_shell_t *c, const char *text)
+{
+    const size_t n = strlen(text);
+    if (c->fd < 0) {
         return;
     }
-    if (user_sdo(s, id, upload, (uint16_t)idx, (uint8_t)sub, (uint32_t)val, (uint8_t)size, &e, out, cap) != 0) {
+    if (c->out_len + n + 1 > sizeof c->out) {
+        close(c->fd); /* it does not read its replies: it loses its connection, not others */
+        c->fd = -1;
         return;
     }
-    if (e.cause != C4G_CO_CAUSE_NONE) {
-        snprintf(out, cap, "ERR node %u 0x%04X:%02X: %s 0x%08X (%s)", id, (unsigned)idx, (unsigned)sub,
-                 cause_name(e.cause), e.value,
-                 e.cause == C4G_CO_CAUSE_SDO_TIMEOUT ? "no answer" : c4g_co_abort_name(e.value));
-    } else if (upload) {
-        snprintf(out, cap, "node %u 0x%04X:%02X = 0x%08X (%u)", id, (unsigned)idx, (unsigned)sub,
-                 e.value, e.value);
+    memcpy(c->out + c->out_len, text, n);
+    c->out[c->out_len + n] = '\n';
+    c->out_len += n + 1;
+}
+
+/* The user SDO of a shell connection ended: its reply. */
+static void sdo_finished(sim_co_t *s, const c4g_co_event_t *e)
+{
+    char out[256];
+    sim_co_shell_t *c;
+    if (s->sdo_owner < 0) {
+        return;
+    }
+    c = &s->sh[s->sdo_owner];
+    s->sdo_owner = -1;
+    if (c->sdo != 2) {
+        return; /* the connection closed meanwhile */
+    }
+    c->sdo = 0;
+    if (e->cause != C4G_CO_CAUSE_NONE) {
+        snprintf(out, sizeof out, "ERR node %u 0x%04X:%02X: %s 0x%08X (%s)", c->node, c->index,
+                 c->sub, cause_name(e->cause), e->value,
+                 e->cause == C4G_CO_CAUSE_SDO_TIMEOUT ? "no answer" : c4g_co_abort_name(e->value));
+    } else if (c->upload) {
+        snprintf(out, sizeof out, "node %u 0x%04X:%02X = 0x%08X (%u)", c->node, c->index, c->sub,
+                 e->value, e->value);
     } else {
-        snprintf(out, cap, "node %u 0x%04X:%02X written", id, (unsigned)idx, (unsigned)sub);
+        snprintf(out, sizeof out, "node %u 0x%04X:%02X written", c->node, c->index, c->sub);
+    }
+    shell_queue(c, out);
+}
+
+/* Queued SDOs start when the master's SDO client is free (one transfer at a time: a
+ * recovery poll or another connection's transfer may hold it), in connection order from
+ * the one after the last served; one that waited too long is refused. */
+static void sdo_start_queued(sim_co_t *s, uint64_t now_ns)
+{
+    static int next;
+    for (int j = 0; j < SIM_CO_SHELLS && s->sdo_owner < 0; j++) {
+        const int k = (next + j) % SIM_CO_SHELLS;
+        sim_co_shell_t *c = &s->sh[k];
+        c4g_status_t st;
+        char out[160];
+        if (c->fd < 0 || c->sdo != 1) {
+            continue;
+        }
+        st = c4g_co_master_sdo(&s->m, c->node, c->upload != 0, c->index, c->sub, c->value,
+                               c->size, bus_us(s, now_ns));
+        if (st == C4G_OK) {
+            c->sdo = 2;
+            s->sdo_owner = k;
+            next = k + 1;
+        } else if (st != C4G_ERR_STATE || now_ns - c->sdo_since_ns > SIM_CO_SDO_QUEUE_NS) {
+            c->sdo = 0;
+            snprintf(out, sizeof out, "ERR %s", st == C4G_ERR_STATE
+                     ? "busy: the SDO client stayed busy (recovery polls, other transfers); retry"
+                     : c4g_strerror(st));
+            shell_queue(c, out);
+        }
     }
 }
 
@@ -525,7 +613,7 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
                 c4g_co_vbus_inject(&s->bus, &f[k], bus_us(s, cell_now_ns()));
             }
         }
-        handle_events(s, s->platform, NULL, NULL);
+        handle_events(s, s->platform);
         snprintf(out, cap, "node %u: fault, EMCY 0x%04lX sent", sl->node_id, (unsigned long)code);
     } else {
         const long idx = nt > 0 ? strtol(tok[0], NULL, 0) : 0;
@@ -564,26 +652,25 @@ static void sh_emcyinfo(sim_co_t *s, char *out, size_t cap)
     }
 }
 
-void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, size_t cap)
+int sim_co_shell(sim_co_t *s, int k, const char *line, uint64_t now_ns, char *out, size_t cap)
 {
     char buf[256];
     char *tok[8];
     int nt = 0;
     char *save = NULL;
     uint8_t id = 0, slot = 0;
-    (void)now_ns;
     snprintf(buf, sizeof buf, "%s", line);
     for (char *t = strtok_r(buf, " \t,", &save); t != NULL && nt < 8; t = strtok_r(NULL, " \t,", &save)) {
         tok[nt++] = t;
     }
     if (nt == 0) {
         snprintf(out, cap, "ERR empty command");
-        return;
+        return 0;
     }
     const char *cmd = resolve_alias(tok[0]);
     if (strcasecmp(cmd, "CO_EMCYINFO") == 0) {
         sh_emcyinfo(s, out, cap);
-        return;
+        return 0;
     }
     if (strcasecmp(cmd, "CO_CHDIAGNO") == 0) {
         const c4g_co_counters_t *c = &s->m.count;
@@ -594,31 +681,32 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
                  s->m.phase == 2 ? "running" : s->m.phase == 1 ? "booting" : "idle", c->rx, c->tx,
                  c->syncs, c->bad_frame, c->bad_dlc, c->bad_value, c->unknown, c->foreign, c->rtr,
                  c->sdo_ignored, c->bad_toggle, c->txq_full, c->evq_full);
-        return;
+        return 0;
     }
     if (strcasecmp(cmd, "S_NMT") == 0) {
         sh_nmt(s, tok + 1, nt - 1, out, cap);
-        return;
+        return 0;
     }
     if (strcasecmp(cmd, "HELP") == 0) {
         snprintf(out, cap, "CO_RNMT N | CO_ROBJ N IDX SUB | CO_WOBJ N IDX SUB SIZE VALUE | CO_SDO N R|W ... | "
                  "CO_RRPDO N PDO EL | CO_RTPDO N PDO EL | CO_STATE_MAC N | CO_CHDIAGNO | CO_WSDIAGNO N | "
                  "CO_REMCY N | S_NMT N CMD | SIM_UNPLUG N | SIM_PLUG N | SIM_MUTE N | SIM_FAULT N CODE | "
                  "SIM_ABORT N IDX SUB CODE | SIM_DEVTYPE N VALUE");
-        return;
+        return 0;
     }
     if (parse_node(s, nt > 1 ? tok[1] : NULL, &id, &slot, out, cap) != 0) {
-        return;
+        return 0;
     }
     if (strcasecmp(cmd, "CO_RNMT") == 0) {
         snprintf(out, cap, "node %u: NMT %s (0x%02X), %s", id, nmt_name(s->m.node[slot].nmt),
                  s->m.node[slot].nmt, boot_name(s->m.node[slot].boot));
     } else if (strcasecmp(cmd, "CO_ROBJ") == 0) {
-        sh_sdo(s, id, true, tok + 2, nt - 2, out, cap);
+        return sh_sdo(s, k, id, true, tok + 2, nt - 2, now_ns, out, cap);
     } else if (strcasecmp(cmd, "CO_WOBJ") == 0) {
-        sh_sdo(s, id, false, tok + 2, nt - 2, out, cap);
+        return sh_sdo(s, k, id, false, tok + 2, nt - 2, now_ns, out, cap);
     } else if (strcasecmp(cmd, "CO_SDO") == 0 && nt > 2) {
-        sh_sdo(s, id, tok[2][0] == 'r' || tok[2][0] == 'R', tok + 3, nt - 3, out, cap);
+        return sh_sdo(s, k, id, tok[2][0] == 'r' || tok[2][0] == 'R', tok + 3, nt - 3, now_ns,
+                      out, cap);
     } else if (strcasecmp(cmd, "CO_RRPDO") == 0 || strcasecmp(cmd, "CO_RTPDO") == 0) {
         sh_pdo(s, slot, cmd[4] == 'R' || cmd[4] == 'r', tok + 2, nt - 2, out, cap);
     } else if (strcasecmp(cmd, "CO_STATE_MAC") == 0) {
@@ -641,49 +729,108 @@ void sim_co_shell(sim_co_t *s, const char *line, uint64_t now_ns, char *out, siz
     } else {
         snprintf(out, cap, "ERR unknown command '%.40s' (HELP lists them)", cmd);
     }
+    return 0;
 }
 
+/* New shell connections: up to SIM_CO_SHELLS at once (an idle one keeps its place and
+ * locks nobody out); one more is told so and closed. */
+static void shell_accept(sim_co_t *s)
+{
+    for (;;) {
+        int k = 0;
+        const int fd = accept(s->listen_fd, NULL, NULL);
+        if (fd < 0) {
+            return;
+        }
+        while (k < SIM_CO_SHELLS && s->sh[k].fd >= 0) {
+            k++;
+        }
+        if (k == SIM_CO_SHELLS) {
+            static const char full[] = "ERR too many shell connections (8): retry later\n";
+            (void)!write(fd, full, sizeof full - 1);
+            close(fd);
+            continue;
+        }
+        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+        memset(&s->sh[k], 0, sizeof s->sh[k]);
+        s->sh[k].fd = fd;
+    }
+}
+
+static void shell_close(sim_co_t *s, int k)
+{
+    close(s->sh[k].fd);
+    s->sh[k].fd = -1;
+    s->sh[k].sdo = 0; /* a transfer still running ends unanswered (sdo_finished) */
+}
+
+/* Connection k: its complete lines, one at a time; none while its SDO is queued or runs
+ * (the replies keep the order of the commands). */
+static void shell_lines(sim_co_t *s, int k, uint64_t now_ns)
+{
+    sim_co_shell_t *c = &s->sh[k];
+    while (c->fd >= 0 && c->sdo == 0) {
+        char *lf = memchr(c->in, '\n', c->in_len);
+        char reply[1024];
+        size_t used;
+        if (lf == NULL) {
+            if (c->in_len >= sizeof c->in - 1) {
+                c->in_len = 0; /* overlong line: dropped */
+                shell_queue(c, "ERR line too long");
+            }
+            return;
+        }
+        *lf = '\0';
+        if (lf > c->in && lf[-1] == '\r') {
+            lf[-1] = '\0';
+        }
+        if (sim_co_shell(s, k, c->in, now_ns, reply, sizeof reply) == 0) {
+            shell_queue(c, reply);
+        }
+        used = (size_t)(lf + 1 - c->in);
+        memmove(c->in, lf + 1, c->in_len - used);
+        c->in_len -= used;
+    }
+}
+
+/* Every shell connection, without blocking: reads, the commands they complete, SDOs that
+ * can start, the replies (an SDO's reply comes with the event of its end). */
 static void shell_serve(sim_co_t *s, uint64_t now_ns)
 {
     if (s->listen_fd < 0) {
         return;
     }
-    if (s->shell_fd < 0) {
-        s->shell_fd = accept(s->listen_fd, NULL, NULL);
-        if (s->shell_fd < 0) {
-            return;
+    shell_accept(s);
+    for (int k = 0; k < SIM_CO_SHELLS; k++) {
+        sim_co_shell_t *c = &s->sh[k];
+        ssize_t n;
+        if (c->fd < 0) {
+            continue;
         }
-        fcntl(s->shell_fd, F_SETFL, fcntl(s->shell_fd, F_GETFL) | O_NONBLOCK);
-        s->shell_len = 0;
+        n = read(c->fd, c->in + c->in_len, sizeof c->in - 1 - c->in_len);
+        if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+            shell_close(s, k);
+            continue;
+        }
+        if (n > 0) {
+            c->in_len += (size_t)n;
+        }
+        shell_lines(s, k, now_ns);
     }
-    ssize_t n = read(s->shell_fd, s->shell_in + s->shell_len, sizeof s->shell_in - 1 - s->shell_len);
-    if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) {
-        close(s->shell_fd);
-        s->shell_fd = -1;
-        return;
-    }
-    if (n > 0) {
-        s->shell_len += (size_t)n;
-    }
-    for (;;) {
-        char *lf = memchr(s->shell_in, '\n', s->shell_len);
-        char reply[1024];
-        if (lf == NULL) {
-            if (s->shell_len >= sizeof s->shell_in - 1) {
-                s->shell_len = 0; /* overlong line: dropped */
-                (void)!write(s->shell_fd, "ERR line too long\n", 18);
+    sdo_start_queued(s, now_ns);
+    for (int k = 0; k < SIM_CO_SHELLS; k++) {
+        sim_co_shell_t *c = &s->sh[k];
+        if (c->fd >= 0 && c->sdo == 0) {
+            shell_lines(s, k, now_ns); /* lines that waited for an SDO's end */
+        }
+        if (c->fd >= 0 && c->out_len > 0) {
+            const ssize_t w = send(c->fd, c->out, c->out_len, MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (w > 0) {
+                memmove(c->out, c->out + w, c->out_len - (size_t)w);
+                c->out_len -= (size_t)w;
+            } else if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+                shell_close(s, k);
             }
-            return;
         }
-        *lf = '\0';
-        if (lf > s->shell_in && lf[-1] == '\r') {
-            lf[-1] = '\0';
-        }
-        sim_co_shell(s, s->shell_in, now_ns, reply, sizeof reply - 1);
-        strcat(reply, "\n");
-        (void)!write(s->shell_fd, reply, strlen(reply));
-        const size_t used = (size_t)(lf + 1 - s->shell_in);
-        memmove(s->shell_in, lf + 1, s->shell_len - used);
-        s->shell_len -= used;
     }
 }
