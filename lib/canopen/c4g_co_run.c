@@ -57,7 +57,7 @@ static uint64_t start_grace_us(const c4g_co_node_cfg_t *nc)
     } else if (nc->watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD) {
         g = 1000U * (uint64_t)nc->guard_ms;
     } else {
-        g = 0U;
+        /* no watchdog: no grace */
     }
     return g;
 }
