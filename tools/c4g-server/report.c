@@ -177,7 +177,7 @@ static double pct_us(const srv_stats_t *st, double p)
 }
 
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
-                                                      "init", "phase"};
+                                                      "init", "phase", "ceiling"};
 
 /* Every session since the start (--persist starts a new one after each 504). */
 static void counters_total(const srv_t *S, c4g_counters_t *tot)

@@ -68,6 +68,12 @@ void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
         sum->foreign[k] += c->foreign[k];
     }
     sum->silences += c->silences;
+    sum->init_conflicts += c->init_conflicts;
+    sum->contended += c->contended;
+    sum->new_peers += c->new_peers;
+    sum->end_unexpected += c->end_unexpected;
+    sum->refused += c->refused;
+    sum->sync_unpadded += c->sync_unpadded;
     if (c->longest_silence_ns > sum->longest_silence_ns) {
         sum->longest_silence_ns = c->longest_silence_ns;
     }
