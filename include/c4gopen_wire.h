@@ -435,10 +435,17 @@ C4G_NODISCARD c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_
  *   other endpoint is foreign (C4G_EV_FOREIGN, counted by shape, never decoded into the
  *   session, never answered) until the controller is lost, when a new start-up
  *   (synchronization packets) from any endpoint is served and locks the session anew;
- * - an initialization packet is accepted in the start-up phase, or after 506, only;
+ * - an initialization packet is accepted once per start-up, within the configured ceilings
+ *   (above: C4G_MAL_CEILING); a different one in the same start-up, or after 506 one that
+ *   differs from the session's, refuses the session (C4G_EV_INIT_CONFLICT, phase REFUSED:
+ *   nothing accepted or answered until the controller is silent for the loss timeout);
+ * - during the start-up, a start-up packet from another endpoint refuses the session too
+ *   (C4G_EV_CONTENDED); after a loss, a start-up from another endpoint is served and
+ *   reported (C4G_EV_NEW_PEER);
  * - a synchronization packet must decode as a cyclic packet of 1..20 axes (finite values,
- *   known modes): its 732-byte reply never echoes a non-finite value or answers a datagram
- *   smaller than a cyclic packet;
+ *   known modes): its reply never echoes a non-finite value or answers a datagram smaller
+ *   than a cyclic packet, and is padded to 732 bytes for the handshake's 9 syncs (and the
+ *   post-init ones) only: later ones are answered with their own size;
  * - a duplicate or an older NUM is dropped (counted, not answered, not delivered).
  * A datagram refused for any of these is not a failure of the call: it returns C4G_OK with
  * kind DROPPED (nothing to answer) and EV_MALFORMED or EV_FOREIGN.

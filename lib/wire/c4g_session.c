@@ -11,6 +11,7 @@
 #define NUM_MODULO 0x8000
 #define NUM_HALF 0x4000
 #define MAX_POST_INIT_SYNC 100U
+#define INIT_BLOCKS 14U /* the init packet's fields and blocks of 40, in their order */
 
 c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg)
 {
@@ -153,21 +154,21 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
  * blocks the arm and logical axis (-1 otherwise). */
 static c4g_field_t init_field_at(uint32_t off, int32_t *arm, int32_t *axis)
 {
-    static const uint32_t base[] = {0U, 4U, 8U, 12U, C4G_INIT_OFF_OPENMASK, C4G_INIT_OFF_TYPES,
+    static const uint32_t base[INIT_BLOCKS] = {0U, 4U, 8U, 12U, C4G_INIT_OFF_OPENMASK, C4G_INIT_OFF_TYPES,
                                     C4G_INIT_OFF_PERIOD, C4G_INIT_OFF_OPENAX,
                                     C4G_INIT_OFF_CALDATA, C4G_INIT_OFF_AZLIM,
                                     C4G_INIT_OFF_VERSION, C4G_INIT_OFF_AXINFO,
                                     C4G_INIT_OFF_TXRATE, C4G_INIT_OFF_FOLLOWERROR};
-    static const c4g_field_t field[] = {C4G_FIELD_NUM, C4G_FIELD_NFIELDPCK, C4G_FIELD_NFIELDAX,
+    static const c4g_field_t field[INIT_BLOCKS] = {C4G_FIELD_NUM, C4G_FIELD_NFIELDPCK, C4G_FIELD_NFIELDAX,
                                         C4G_FIELD_NAXOPEN, C4G_FIELD_OPENMASK, C4G_FIELD_TYPES,
                                         C4G_FIELD_PERIOD, C4G_FIELD_OPENAX, C4G_FIELD_CALDATA,
                                         C4G_FIELD_AZLIM, C4G_FIELD_VERSION, C4G_FIELD_AXINFO,
                                         C4G_FIELD_TXRATE, C4G_FIELD_FOLLOWERROR};
     /* the blocks of 40 values, one per arm and logical axis */
-    static const uint8_t per_axis[] = {0U, 0U, 0U, 0U, 1U, 0U, 0U, 1U, 1U, 1U, 0U, 1U, 1U, 1U};
+    static const uint8_t per_axis[INIT_BLOCKS] = {0U, 0U, 0U, 0U, 1U, 0U, 0U, 1U, 1U, 1U, 0U, 1U, 1U, 1U};
     uint32_t k = 0U;
     uint32_t i;
-    for (i = 1U; i < (uint32_t)(sizeof base / sizeof base[0]); i++) {
+    for (i = 1U; i < INIT_BLOCKS; i++) {
         if (off >= base[i]) {
             k = i;
         }
@@ -176,8 +177,10 @@ static c4g_field_t init_field_at(uint32_t off, int32_t *arm, int32_t *axis)
     *axis = -1;
     if (per_axis[k] != 0U) {
         const uint32_t v = (off - base[k]) / 4U;
-        *arm = (int32_t)(v / C4G_AXES_PER_ARM);
-        *axis = (int32_t)(v % C4G_AXES_PER_ARM);
+        const uint32_t a = v / C4G_AXES_PER_ARM;
+        const uint32_t x = v % C4G_AXES_PER_ARM;
+        *arm = (int32_t)a;
+        *axis = (int32_t)x;
     }
     return field[k];
 }
@@ -523,6 +526,8 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
         } else {
             /* in time */
         }
+    } else {
+        /* no silence check in this phase */
     }
     return ev;
 }
