@@ -110,18 +110,18 @@ for stream in "127.0.0.1 tiny" "127.0.0.1 zeros" "127.0.0.2 zeros --spin 1"; do
     F0=$FAILS; P=$((P + 1)); n=lostf$P
     echo "   ... while $src keeps sending ($kind, a datagram every 100 us or so${1:+, busy-waiting}):"
     start_server "$n" "$P" --lost-timeout-ms 300
-    start_sim "$n.sim" "$P" fixtures/server/sim_idle.scn
     # at most 30000 datagrams (3 s or more): the stream outlives the loss timeout. It starts
     # once the server's socket is connected to the controller (the kernel then drops it);
-    # python starts meanwhile, so the stream runs when the controller is killed
+    # python starts up meanwhile (a second on a loaded host), so the stream runs when the
+    # controller is killed
     python3 "$ATK" "$P" "$kind" --src "$src" --count 30000 --gap-us 100 "$@" \
         --wait "$T/$n.err" "socket.connected.to.the.controller" \
         --listen-s 0.1 >"$T/$n.atk" 2>"$T/$n.atk.err" &
     APID=$!
     PIDS="$PIDS $APID"
-    wait_log "$T/$n.err" 'drive-on finished'
     wait_log "$T/$n.atk" "lport="
-    sleep 0.05
+    start_sim "$n.sim" "$P" fixtures/server/sim_idle.scn
+    wait_log "$T/$n.err" 'drive-on finished'
     kill -KILL "$SIMPID" 2>/dev/null
     wait "$SIMPID" 2>/dev/null
     T_KILL=$(now_ms)
