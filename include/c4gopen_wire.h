@@ -396,6 +396,7 @@ typedef struct c4g_session {
     uint32_t pending_reply_len;  /**< size of the pending sync/init reply */
     uint8_t init_raw[C4G_INIT_SIZE]; /**< the accepted initialization packet's bytes */
     uint32_t startup_init;       /**< an init was accepted and no cyclic packet came since */
+    uint32_t startup_only;       /**< lost after a refusal: only a new start-up may follow */
     uint32_t sync_seen;          /**< sync packets since the last init */
     uint32_t post_sync_left;     /**< post-init sync packets still expected */
     uint32_t restart_pending;    /**< 506 seen, init packet expected without sync */

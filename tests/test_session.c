@@ -1119,6 +1119,12 @@ static void test_second_init_conflict(void **state)
         assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
         assert_int_equal(ev, C4G_EV_LOST);
         f.t += 1001 * MS;
+        /* a cyclic packet continuing the NUM does not resume the refused session's init:
+         * it can only open a new start-up (a sync, answered as such) */
+        cyclic_from_kind(&f, 14, &ctl, C4G_RX_SYNC);
+        assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+        assert_int_equal(f.s.counters.cyclic, 0);
+        assert_int_equal(f.s.startup_only, 0);
         sync_packet(b, 1);
         assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_SYNC);
         assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);

@@ -507,8 +507,10 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
     uint32_t ev = 0U;
     if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->last_rx_ns) &&
         ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
-        /* the refused controller gave up: a new start-up may be served */
+        /* the refused controller gave up: a new start-up may be served, and nothing resumes
+         * the refused session's init packet */
         s->phase = C4G_PHASE_LOST;
+        s->startup_only = 1U;
         s->counters.lost_events++;
         ev = C4G_EV_LOST;
     } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
@@ -585,7 +587,7 @@ static int new_startup(const c4g_session_t *s, const uint8_t *buf, size_t len, i
     int r = 0;
     if ((s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
         const int32_t d = (len >= 4U) ? num_delta(s, c4g_get_i32le(buf)) : 0;
-        if ((other != 0) || (d == 0) || (d >= NUM_HALF)) {
+        if ((other != 0) || (d == 0) || (d >= NUM_HALF) || (s->startup_only != 0U)) {
             r = 1;
         }
     }
@@ -644,6 +646,7 @@ static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint6
     s->frozen_active = 0U;
     on_sync(s, buf, len, now_ns, res);
     if (res->kind != C4G_RX_DROPPED) {
+        s->startup_only = 0U;
         s->peer_locked = 0U; /* accepted() locks to its sender */
         if (other != 0) {
             /* served (a cold restart may come from a new port), but never silently */
