@@ -45,8 +45,11 @@ flood_stalled() {
 }
 
 echo "a) 30 syncs of 48 bytes: replies bounded:"; F0=$FAILS
-start_server amp 31171 --max-seconds 2
+# (python can take seconds to start on the loaded host: the server waits for it, and is
+# stopped once the attacker is done)
+start_server amp 31171
 python3 "$ATK" 31171 sync48 --count 30 --gap-us 1000 --listen-s 0.5 >"$T/amp.atk" 2>"$T/amp.atk.err"
+kill "$SPID" 2>/dev/null
 wait_server
 ok "amp: 30 sent, 30 answered" eq "$(kv "$T/amp.atk" sent)/$(kv "$T/amp.atk" replies)" 30/30
 ok "amp: 9 x 732 + 21 x 48 bytes back (for 30 x 48 = 1440 sent)" eq "$(kv "$T/amp.atk" reply_bytes)" 7596

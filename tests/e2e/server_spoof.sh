@@ -15,7 +15,7 @@
 #      "504 out of procedure"
 #   d) -c any: a sync from 127.0.0.2 before the controller's first: the session's start-up is
 #      contended, both refused and logged; the controller gets no reply
-#   e) the controller stalls 1.5 s (its loss timeout 1 s), then another endpoint's sync
+#   e) the controller stalls 3 s (its loss timeout 1 s), then another endpoint's sync
 #      (127.0.0.1, another port) starts a new session: served, logged as a new peer; the
 #      controller's packets after its stall are not answered (it gives up)
 # a) to c) spoof the controller's address and port with a raw socket: they run in a network
@@ -136,12 +136,14 @@ ok "cont: no init accepted, no cyclic packet answered" \
 ok "cont: the controller got no reply and gave up (exit 1)" eq "$SIMRC/$(jv "$T/cont.sim.json" result)" 1/error
 [ "$FAILS" -eq "$F0" ] || dump cont
 
-echo "e) a sync from another endpoint after the controller stalled 1.5 s:"; F0=$FAILS
+echo "e) a sync from another endpoint after the controller stalled 3 s:"; F0=$FAILS
 start_server peer 31164 --persist --lost-timeout-ms 1000
 python3 "$ATK" 31164 sync --wait "$T/peer.err" "controller.lost" --listen-s 0.3 >"$T/peer.atk" 2>"$T/peer.atk.err" &
 APID=$!
 PIDS="$PIDS $APID"
-timeout 50 "$SIM" -p 31164 -n 1500 --pause 200:750 --json >"$T/peer.sim.json" 2>"$T/peer.sim.err"
+# a 3 s stall: the attacker (a python that can take a second or two to start on the loaded
+# host, started before the controller) has 2 s after the loss to send its sync
+timeout 50 "$SIM" -p 31164 -n 2000 --pause 200:1500 --json >"$T/peer.sim.json" 2>"$T/peer.sim.err"
 SIMRC=$?
 wait "$APID"
 kill "$SPID" 2>/dev/null
