@@ -230,7 +230,11 @@ typedef enum c4g_phase {
     C4G_PHASE_POST_SYNC = 1,  /**< init received; answering the 2 post-init sync packets */
     C4G_PHASE_CYCLIC = 2,     /**< regular communication */
     C4G_PHASE_ENDED = 3,      /**< 504 received: end of communication */
-    C4G_PHASE_LOST = 4        /**< no packet for longer than the loss timeout */
+    C4G_PHASE_LOST = 4,       /**< no packet for longer than the loss timeout */
+    C4G_PHASE_REFUSED = 5     /**< refused (C4G_EV_INIT_CONFLICT, C4G_EV_CONTENDED): nothing is
+                                   accepted or answered; once the controller has been silent
+                                   for the loss timeout the phase is LOST, and a new start-up
+                                   is served */
 } c4g_phase_t;
 
 /** What a received datagram was. */
@@ -264,6 +268,27 @@ typedef enum c4g_rx_kind {
                                           silence threshold: reported, the session goes on */
 #define C4G_EV_RESUMED 0x4000U       /**< (rx) packets again after a silence or a lost
                                           controller; c4g_rx_result_t.silence_ns is its length */
+#define C4G_EV_INIT_CONFLICT 0x8000U /**< a second initialization packet that differs from the
+                                          one accepted in the same start-up (or, after 506, from
+                                          the session's): both refused, phase REFUSED; diag
+                                          names the first field that differs */
+#define C4G_EV_CONTENDED 0x10000U    /**< a start-up packet (sync or init) from another endpoint
+                                          while the session's start-up runs: two endpoints claim
+                                          the session, both refused, phase REFUSED */
+#define C4G_EV_NEW_PEER 0x20000U     /**< a new start-up after a loss came from another endpoint
+                                          than the lost controller's: served, the session locks
+                                          to it (a cold restart may change the port) */
+#define C4G_EV_END_UNEXPECTED 0x40000U /**< with C4G_EV_END: the 504 came while an axis of the
+                                          previous packet was in an operating mode (manual
+                                          15.4 presets mode 0): forged or out of procedure */
+#define C4G_EV_REFUSED 0x80000U      /**< datagram dropped because the session is REFUSED */
+/**@}*/
+
+/** @name Default ceilings of c4g_session_config_t */
+/**@{*/
+#define C4G_AZLIM_MAX_DEFAULT 200.0F       /**< largest AzLim accepted [A] */
+#define C4G_FOLLOW_ERROR_MAX_DEFAULT 50.0F /**< largest FollowError accepted [motor turns] */
+#define C4G_HANDSHAKE_SYNCS 9U             /**< syncs before the init packet (field) */
 /**@}*/
 
 /**
@@ -285,6 +310,12 @@ typedef struct c4g_session_config {
     uint64_t silence_ns;         /**< silence reported as C4G_EV_SILENCE (the session goes on);
                                       0 = 10 periods, after which the controller itself gives up */
     uint32_t post_init_sync;     /**< sync packets after a cold-start init (field: 2) */
+    float az_lim_max;            /**< the largest AzLim of an open axis this cell accepts [A]:
+                                      an initialization packet above it is refused (finite,
+                                      > 0; default C4G_AZLIM_MAX_DEFAULT) */
+    float follow_error_max;      /**< the largest FollowError window accepted [motor turns]
+                                      (finite, > 0; default C4G_FOLLOW_ERROR_MAX_DEFAULT). 0 in
+                                      the packet stays "no threshold" (field fact) */
 } c4g_session_config_t;
 
 /** Fill @p cfg with the field defaults. */
@@ -296,6 +327,8 @@ typedef enum c4g_malformed {
     C4G_MAL_INIT,
     C4G_MAL_PHASE, /**< valid datagram refused in this phase: an initialization packet
                         outside the start-up or after 506 */
+    C4G_MAL_CEILING, /**< an initialization packet above the PC's ceilings (az_lim_max,
+                          follow_error_max): diag names the field, arm, axis, value */
     C4G_MAL_COUNT_
 } c4g_malformed_t;
 
@@ -325,6 +358,12 @@ typedef struct c4g_counters {
     uint64_t foreign[C4G_FOREIGN_COUNT_]; /**< by what they looked like */
     uint64_t silences;           /**< C4G_EV_SILENCE events */
     uint64_t longest_silence_ns; /**< longest silence the session rode out or ended on */
+    uint64_t init_conflicts;     /**< C4G_EV_INIT_CONFLICT events */
+    uint64_t contended;          /**< C4G_EV_CONTENDED events */
+    uint64_t new_peers;          /**< C4G_EV_NEW_PEER events */
+    uint64_t end_unexpected;     /**< C4G_EV_END_UNEXPECTED events */
+    uint64_t refused;            /**< datagrams dropped in the REFUSED phase */
+    uint64_t sync_unpadded;      /**< syncs beyond the handshake's answered with their own size */
 } c4g_counters_t;
 
 /** Chapter 22 timing statistics, all in ns, from caller timestamps. */
@@ -358,6 +397,10 @@ typedef struct c4g_session {
     c4g_rx_kind_t pending_kind;  /**< what the pending reply answers */
     uint32_t pending_len;        /**< bytes of the pending sync/init packet to echo */
     uint8_t pending_raw[C4G_INIT_SIZE]; /**< received bytes echoed in sync/init replies */
+    uint32_t pending_reply_len;  /**< size of the pending sync/init reply */
+    uint8_t init_raw[C4G_INIT_SIZE]; /**< the accepted initialization packet's bytes */
+    uint32_t startup_init;       /**< an init was accepted and no cyclic packet came since */
+    uint32_t startup_only;       /**< lost after a refusal: only a new start-up may follow */
     uint32_t sync_seen;          /**< sync packets since the last init */
     uint32_t post_sync_left;     /**< post-init sync packets still expected */
     uint32_t restart_pending;    /**< 506 seen, init packet expected without sync */
@@ -398,10 +441,17 @@ C4G_NODISCARD c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_
  *   other endpoint is foreign (C4G_EV_FOREIGN, counted by shape, never decoded into the
  *   session, never answered) until the controller is lost, when a new start-up
  *   (synchronization packets) from any endpoint is served and locks the session anew;
- * - an initialization packet is accepted in the start-up phase, or after 506, only;
+ * - an initialization packet is accepted once per start-up, within the configured ceilings
+ *   (above: C4G_MAL_CEILING); a different one in the same start-up, or after 506 one that
+ *   differs from the session's, refuses the session (C4G_EV_INIT_CONFLICT, phase REFUSED:
+ *   nothing accepted or answered until the controller is silent for the loss timeout);
+ * - during the start-up, a start-up packet from another endpoint refuses the session too
+ *   (C4G_EV_CONTENDED); after a loss, a start-up from another endpoint is served and
+ *   reported (C4G_EV_NEW_PEER);
  * - a synchronization packet must decode as a cyclic packet of 1..20 axes (finite values,
- *   known modes): its 732-byte reply never echoes a non-finite value or answers a datagram
- *   smaller than a cyclic packet;
+ *   known modes): its reply never echoes a non-finite value or answers a datagram smaller
+ *   than a cyclic packet, and is padded to 732 bytes for the handshake's 9 syncs (and the
+ *   post-init ones) only: later ones are answered with their own size;
  * - a duplicate or an older NUM is dropped (counted, not answered, not delivered).
  * A datagram refused for any of these is not a failure of the call: it returns C4G_OK with
  * kind DROPPED (nothing to answer) and EV_MALFORMED or EV_FOREIGN.

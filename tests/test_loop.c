@@ -387,6 +387,54 @@ static void test_queries(void **state)
     assert_int_equal(c4g_loop_exit_pending(&f.lp, 0U, &pend), C4G_ERR_STATE);
 }
 
+
+/* An init packet injected from the controller's own endpoint between its last sync and its
+ * own init: the loop takes neither. The controller's init conflicts, nothing is answered any
+ * more (no reply, no control step), and the loop's limits never come from the forged one
+ * into a reply. */
+static void test_injected_init_refused(void **state)
+{
+    fx_t f;
+    uint8_t b[732], forged[C4G_INIT_SIZE];
+    size_t len;
+    int32_t num;
+    uint32_t k;
+    (void)state;
+    memset(&f, 0, sizeof f);
+    f.ctl.addr_len = 4U;
+    f.ctl.addr[0] = 127U;
+    f.ctl.addr[3] = 1U;
+    f.ctl.port = 3600U;
+    assert_int_equal(c4g_loop_init(&f.lp, NULL), C4G_OK);
+    f.t = 1000 * MS;
+    for (num = 1; num <= 9; num++) {
+        memset(b, 0, sizeof b);
+        th_put_u32(b, (uint32_t)num);
+        assert_int_equal(feed_from(&f, b, sizeof b, &f.ctl), C4G_RX_SYNC);
+        answer(&f, 732U);
+    }
+    memcpy(forged, th_fig, sizeof forged);
+    for (k = 0; k < 6U; k++) {
+        th_put_f32(&forged[C4G_INIT_OFF_AZLIM + 4U * k], 150.0f); /* under the ceiling */
+    }
+    assert_int_equal(feed_from(&f, forged, sizeof forged, &f.ctl), C4G_RX_INIT);
+    answer(&f, 1200U);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &f.ctl), C4G_RX_DROPPED);
+    assert_true(f.ev.events & C4G_EV_INIT_CONFLICT);
+    assert_int_equal(f.ev.diag.field, C4G_FIELD_AZLIM);
+    assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, &f.out_len, NULL), C4G_ERR_STATE);
+    for (num = 11; num <= 20; num++) {
+        len = th_ctrl_bytes(b, sizeof b, num, 6, C4G_MODE_0);
+        assert_int_equal(feed_from(&f, b, len, &f.ctl), C4G_RX_DROPPED);
+        assert_true(f.ev.events & C4G_EV_REFUSED);
+        assert_null(f.ev.cmd);
+        assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, &f.out_len, NULL),
+                         C4G_ERR_STATE);
+    }
+    assert_int_equal(f.lp.session.phase, C4G_PHASE_REFUSED);
+    assert_int_equal(f.lp.session.counters.tx, 10U); /* 9 syncs and the forged echo only */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -399,6 +447,7 @@ int main(void)
         cmocka_unit_test(test_foreign_and_misuse),
         cmocka_unit_test(test_engine_refused),
         cmocka_unit_test(test_queries),
+        cmocka_unit_test(test_injected_init_refused),
     };
     return cmocka_run_group_tests_name("loop", tests, th_load_fig, NULL);
 }

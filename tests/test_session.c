@@ -285,10 +285,32 @@ static void test_fewer_axes_after_restart(void **state)
     assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
     assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
     assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    /* after 506 only the session's own init is taken: a 6-axis one refuses the session */
+    assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_INIT_CONFLICT);
+    assert_int_equal(f.s.phase, C4G_PHASE_REFUSED);
+    assert_int_equal(f.s.map.n_axes, 20);
+    /* the controller gives up; its cold restart with 6 axes is a new start-up */
+    {
+        uint32_t ev = 0U;
+        assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
+        assert_int_equal(ev, C4G_EV_LOST);
+    }
+    f.t += 1001 * MS;
+    th_ctrl_packet(&p, 1, 6, C4G_MODE_0);
+    assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(feed(&f, b, len), C4G_RX_SYNC);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
     assert_int_equal(feed(&f, th_fig, sizeof th_fig), C4G_RX_INIT); /* 6 axes */
     assert_int_equal(f.s.map.n_axes, 6);
     assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
-    for (k = 0; k < 2; k++) {
+    for (k = 0; k < 2; k++) { /* the post-init syncs */
+        th_ctrl_packet(&p, 11 + (int32_t)k, 6, C4G_MODE_0);
+        assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
+        assert_int_equal(feed(&f, b, len), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    }
+    for (k = 2; k < 4; k++) {
         static const uint8_t zero[14 * sizeof(c4g_ctrl_axis_t)];
         th_ctrl_packet(&p, 11 + (int32_t)k, 6, C4G_MODE_0);
         assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
@@ -928,8 +950,12 @@ static void test_init_only_at_start_up(void **state)
             assert_int_equal(feed_from(&g, s1, sizeof s1, &ctl), C4G_RX_SYNC);
         }
         assert_int_equal(feed_from(&g, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+        /* the same bytes again: a duplicate, not answered (a different one: see
+         * test_second_init_conflict) */
         assert_int_equal(feed_from(&g, th_fig, sizeof th_fig, &ctl), C4G_RX_DROPPED);
-        assert_int_equal(g.s.counters.malformed[C4G_MAL_PHASE], 1);
+        assert_true(g.r.events & C4G_EV_DUPLICATE);
+        assert_int_equal(g.s.counters.duplicates, 1);
+        assert_int_equal(g.s.phase, C4G_PHASE_POST_SYNC);
     }
     /* after 506 the new init is taken */
     cyclic_from(&f, 14, C4G_MODE_SVR_RESTART, &ctl);
@@ -996,6 +1022,318 @@ static void test_lost_resume_same_endpoint(void **state)
     assert_int_equal(f.s.counters.longest_silence_ns, 2002 * MS);
 }
 
+
+static void cyclic_from_kind(fx_t *f, int32_t num, const c4g_endpoint_t *e, c4g_rx_kind_t want)
+{
+    uint8_t b[732];
+    size_t len = th_ctrl_bytes(b, sizeof b, num, 6, C4G_MODE_0);
+    assert_int_equal(feed_from(f, b, len, e), want);
+}
+
+/* Bits of a float as the diagnostics carry them. */
+static int64_t f_bits(float f)
+{
+    uint8_t b[4];
+    th_put_f32(b, f);
+    return (int64_t)th_get_u32(b);
+}
+
+/* The figure 10.1 init with one float of a per-axis block (arm 1) replaced. */
+static void init_with(uint8_t *b, uint32_t block, uint32_t axis, float v)
+{
+    memcpy(b, th_fig, C4G_INIT_SIZE);
+    th_put_f32(&b[block + 4U * axis], v);
+}
+
+/* 9 syncs from @p e into a fresh session (answered). */
+static void nine_syncs(fx_t *f, const c4g_endpoint_t *e)
+{
+    uint8_t b[732];
+    int32_t num;
+    assert_int_equal(c4g_session_init(&f->s, NULL), C4G_OK);
+    f->t = 1000 * MS;
+    for (num = 1; num <= 9; num++) {
+        sync_packet(b, num);
+        assert_int_equal(feed_from(f, b, sizeof b, e), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f->s, NULL, f->out, sizeof f->out, &f->out_len), C4G_OK);
+    }
+}
+
+/* The PC's ceilings: an init packet above them is refused, naming the field, the axis and
+ * the value; the configuration itself is checked. */
+static void test_init_ceilings(void **state)
+{
+    fx_t f;
+    c4g_session_config_t cfg;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint8_t b[C4G_INIT_SIZE];
+    static const float bad[] = {0.0f, -1.0f};
+    uint32_t k;
+    (void)state;
+    assert_int_equal(c4g_session_config_default(&cfg), C4G_OK);
+    assert_true(cfg.az_lim_max == C4G_AZLIM_MAX_DEFAULT);
+    assert_true(cfg.follow_error_max == C4G_FOLLOW_ERROR_MAX_DEFAULT);
+    for (k = 0; k < 2U; k++) {
+        cfg.az_lim_max = bad[k];
+        assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_ERR_ARG);
+        cfg.az_lim_max = C4G_AZLIM_MAX_DEFAULT;
+        cfg.follow_error_max = bad[k];
+        assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_ERR_ARG);
+        cfg.follow_error_max = C4G_FOLLOW_ERROR_MAX_DEFAULT;
+    }
+    th_put_u32((uint8_t *)&cfg.az_lim_max, 0x7FC00000u); /* NaN */
+    assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_ERR_ARG);
+    th_put_u32((uint8_t *)&cfg.az_lim_max, 0x7F800000u); /* inf */
+    assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_ERR_ARG);
+    /* AzLim 1e6 on axis 3 (the attack's value): refused, the session still waits */
+    nine_syncs(&f, &ctl);
+    init_with(b, C4G_INIT_OFF_AZLIM, 2, 1e6f);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_MALFORMED);
+    assert_int_equal(f.r.diag.status, C4G_ERR_RANGE);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_AZLIM);
+    assert_int_equal(f.r.diag.arm, 0);
+    assert_int_equal(f.r.diag.axis, 2);
+    assert_int_equal(f.r.diag.offset, C4G_INIT_OFF_AZLIM + 8U);
+    assert_int_equal(f.r.diag.value, f_bits(1e6f));
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_CEILING], 1);
+    assert_int_equal(f.s.counters.init, 0);
+    assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_ERR_STATE);
+    /* FollowError 60 turns on axis 5 */
+    init_with(b, C4G_INIT_OFF_FOLLOWERROR, 4, 60.0f);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_FOLLOWERROR);
+    assert_int_equal(f.r.diag.axis, 4);
+    assert_int_equal(f.r.diag.value, f_bits(60.0f));
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_CEILING], 2);
+    /* a value on an axis that is not open is not the controller's limit: accepted */
+    init_with(b, C4G_INIT_OFF_AZLIM, 8, 1e6f);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_INIT);
+    /* a cell whose ceiling is under figure 10.1's 24.5 A refuses that packet */
+    assert_int_equal(c4g_session_config_default(&cfg), C4G_OK);
+    cfg.az_lim_max = 20.0f;
+    assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_OK);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_AZLIM);
+    assert_int_equal(f.r.diag.axis, 0);
+    assert_int_equal(f.r.diag.value, f_bits(24.5f));
+    /* FollowError 0 (figure 10.1's axis 6) stays "no threshold": accepted under any ceiling */
+    cfg.az_lim_max = 24.5f;
+    cfg.follow_error_max = 7.5f;
+    assert_int_equal(c4g_session_init(&f.s, &cfg), C4G_OK);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+}
+
+/* An init packet injected between the controller's last sync and its own init (a sender
+ * that spoofs the controller's address and port): the real one differs, and both are
+ * refused. Either order. Then nothing is answered until the controller gives up. */
+static void test_second_init_conflict(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint8_t forged[C4G_INIT_SIZE], b[732];
+    uint32_t order, ev = 0;
+    (void)state;
+    init_with(forged, C4G_INIT_OFF_AZLIM, 1, 150.0f); /* under the default ceiling */
+    for (order = 0; order < 2U; order++) {
+        const uint8_t *first = (order == 0U) ? forged : th_fig;
+        const uint8_t *second = (order == 0U) ? th_fig : forged;
+        nine_syncs(&f, &ctl);
+        assert_int_equal(feed_from(&f, first, C4G_INIT_SIZE, &ctl), C4G_RX_INIT);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+        assert_int_equal(feed_from(&f, second, C4G_INIT_SIZE, &ctl), C4G_RX_DROPPED);
+        assert_true(f.r.events & C4G_EV_INIT_CONFLICT);
+        assert_int_equal(f.r.diag.field, C4G_FIELD_AZLIM);
+        assert_int_equal(f.r.diag.arm, 0);
+        assert_int_equal(f.r.diag.axis, 1);
+        assert_int_equal(f.r.diag.offset, C4G_INIT_OFF_AZLIM + 4U);
+        assert_int_equal(f.r.diag.value, f_bits(order == 0U ? 24.5f : 150.0f));
+        assert_int_equal(f.s.counters.init_conflicts, 1);
+        assert_int_equal(f.s.phase, C4G_PHASE_REFUSED);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len),
+                         C4G_ERR_STATE);
+        /* the controller's post-init syncs and cyclic packets: dropped, never answered */
+        sync_packet(b, 11);
+        assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+        assert_true(f.r.events & C4G_EV_REFUSED);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len),
+                         C4G_ERR_STATE);
+        cyclic_from_kind(&f, 13, &ctl, C4G_RX_DROPPED);
+        assert_int_equal(f.s.counters.refused, 2);
+        assert_int_equal(f.s.counters.cyclic, 0);
+        /* silent for the loss timeout: the phase is LOST, a new start-up is served */
+        assert_int_equal(c4g_session_poll(&f.s, f.t + 500 * MS, &ev), C4G_OK);
+        assert_int_equal(ev, 0U);
+        assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
+        assert_int_equal(ev, C4G_EV_LOST);
+        f.t += 1001 * MS;
+        /* a cyclic packet continuing the NUM does not resume the refused session's init:
+         * it can only open a new start-up (a sync, answered as such) */
+        cyclic_from_kind(&f, 14, &ctl, C4G_RX_SYNC);
+        assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+        assert_int_equal(f.s.counters.cyclic, 0);
+        assert_int_equal(f.s.startup_only, 0);
+        sync_packet(b, 1);
+        assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_SYNC);
+        assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
+    }
+}
+
+/* After 506 only the session's own init packet is taken; a different one (a spoofed 506
+ * and init) refuses the session and leaves its limits as they were. */
+static void test_restart_init_must_match(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint8_t b[C4G_INIT_SIZE];
+    (void)state;
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    cyclic_from(&f, 14, C4G_MODE_SVR_RESTART, &ctl);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+    assert_int_equal(f.s.counters.init, 2);
+    cyclic_from(&f, 11, 0, &ctl);
+    cyclic_from(&f, 12, C4G_MODE_SVR_RESTART, &ctl);
+    init_with(b, C4G_INIT_OFF_FOLLOWERROR, 0, 0.0f); /* the following-error check off */
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_INIT_CONFLICT);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_FOLLOWERROR);
+    assert_int_equal(f.r.diag.axis, 0);
+    assert_int_equal(f.r.diag.value, 0);
+    assert_int_equal(f.s.phase, C4G_PHASE_REFUSED);
+    assert_true(f.s.init.follow_error[0][0] == 7.5f);
+    assert_int_equal(f.s.counters.init, 2);
+    /* nor is the genuine one taken afterwards: the session stays refused */
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_REFUSED);
+}
+
+/* Sync replies: the field's 732 bytes for the handshake's syncs, the datagram's own size
+ * beyond them (no amplification of a stream of small datagrams). */
+static void test_sync_reply_bounded(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    uint8_t b[732];
+    int32_t num;
+    (void)state;
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 1000 * MS;
+    for (num = 1; num <= 30; num++) {
+        const size_t len = th_ctrl_bytes(b, sizeof b, num, 1, C4G_MODE_0); /* 48 bytes */
+        assert_int_equal(len, 48U);
+        assert_int_equal(feed_from(&f, b, len, &ctl), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+        assert_int_equal(f.out_len, num <= 9 ? 732U : 48U);
+        assert_int_equal((int32_t)th_get_u32(f.out), num + 1);
+        assert_memory_equal(&f.out[4], &b[4], 44U);
+    }
+    assert_int_equal(f.s.counters.sync_unpadded, 21);
+    /* the init and the post-init syncs of the field handshake are as before */
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(f.out_len, 1200U);
+    for (num = 11; num <= 12; num++) {
+        const size_t len = th_ctrl_bytes(b, sizeof b, num, 6, C4G_MODE_0);
+        assert_int_equal(feed_from(&f, b, len, &ctl), C4G_RX_SYNC);
+        assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+        assert_int_equal(f.out_len, 732U);
+    }
+}
+
+/* With no address filter, a forged sync before the controller's first locks the session;
+ * the controller's start-up from another endpoint then contends for it: both refused. */
+static void test_contended_startup(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t forger = ep(9, 3600), ctl = ep(1, 3600);
+    uint8_t b[732];
+    (void)state;
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 1000 * MS;
+    sync_packet(b, 1);
+    assert_int_equal(feed_from(&f, b, sizeof b, &forger), C4G_RX_SYNC);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_OK);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_CONTENDED);
+    assert_true(f.r.events & C4G_EV_FOREIGN);
+    assert_int_equal(f.s.counters.contended, 1);
+    assert_int_equal(f.s.phase, C4G_PHASE_REFUSED);
+    sync_packet(b, 2);
+    assert_int_equal(feed_from(&f, b, sizeof b, &forger), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_REFUSED);
+    assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len), C4G_ERR_STATE);
+    /* an init from the other endpoint during the post-init syncs contends too */
+    nine_syncs(&f, &ctl);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
+    assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &forger), C4G_RX_DROPPED);
+    assert_true(f.r.events & C4G_EV_CONTENDED);
+    /* a 4-byte datagram is no start-up packet: foreign, nothing more */
+    nine_syncs(&f, &ctl);
+    expect_foreign(&f, b, 4, &forger, C4G_FOREIGN_OTHER);
+    assert_int_equal(f.s.counters.contended, 0);
+    /* once cyclic, another endpoint's sync is foreign only */
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    sync_packet(b, 1);
+    expect_foreign(&f, b, sizeof b, &forger, C4G_FOREIGN_CYCLIC);
+    assert_int_equal(f.s.counters.contended, 0);
+}
+
+/* A valid start-up from another endpoint after the controller's stall: served, reported. */
+static void test_new_peer_after_stall(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600), other = ep(1, 3700);
+    uint8_t b[732];
+    uint32_t ev = 0;
+    (void)state;
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    f.t += 1001 * MS;
+    sync_packet(b, 1);
+    assert_int_equal(feed_from(&f, b, sizeof b, &other), C4G_RX_SYNC);
+    assert_true(f.r.events & C4G_EV_NEW_PEER);
+    assert_int_equal(f.s.counters.new_peers, 1);
+    assert_int_equal(f.s.peer.port, 3700);
+    /* the same endpoint restarting cold is no new peer */
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, 0, &ctl);
+    assert_int_equal(c4g_session_poll(&f.s, f.t + 1001 * MS, &ev), C4G_OK);
+    f.t += 1001 * MS;
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_SYNC);
+    assert_false(f.r.events & C4G_EV_NEW_PEER);
+    assert_int_equal(f.s.counters.new_peers, 0);
+}
+
+/* 504 ends the session either way; in the middle of an operating mode it is reported. */
+static void test_end_unexpected(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    (void)state;
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, C4G_MODE_0, &ctl);
+    cyclic_from(&f, 14, C4G_MODE_EXIT_OPEN, &ctl);
+    assert_true(f.r.events & C4G_EV_END);
+    assert_false(f.r.events & C4G_EV_END_UNEXPECTED);
+    assert_int_equal(f.s.phase, C4G_PHASE_ENDED);
+    cold_start_from(&f, &ctl);
+    cyclic_from(&f, 13, C4G_MODE_0, &ctl);
+    cyclic_from(&f, 14, C4G_MODE_9, &ctl);
+    cyclic_from(&f, 15, C4G_MODE_EXIT_OPEN, &ctl);
+    assert_true(f.r.events & C4G_EV_END);
+    assert_true(f.r.events & C4G_EV_END_UNEXPECTED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_SM);
+    assert_int_equal(f.r.diag.axis, 0);
+    assert_int_equal(f.r.diag.value, C4G_MODE_9);
+    assert_int_equal(f.s.counters.end_unexpected, 1);
+    assert_int_equal(f.s.phase, C4G_PHASE_ENDED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1024,6 +1362,13 @@ int main(void)
         cmocka_unit_test(test_session_neutral_holds),
         cmocka_unit_test(test_special_mode_on_one_axis),
         cmocka_unit_test(test_fewer_axes_after_restart),
+        cmocka_unit_test(test_init_ceilings),
+        cmocka_unit_test(test_second_init_conflict),
+        cmocka_unit_test(test_restart_init_must_match),
+        cmocka_unit_test(test_sync_reply_bounded),
+        cmocka_unit_test(test_contended_startup),
+        cmocka_unit_test(test_new_peer_after_stall),
+        cmocka_unit_test(test_end_unexpected),
     };
     return cmocka_run_group_tests_name("session", tests, th_load_fig, NULL);
 }

@@ -11,6 +11,7 @@
 #define NUM_MODULO 0x8000
 #define NUM_HALF 0x4000
 #define MAX_POST_INIT_SYNC 100U
+#define INIT_BLOCKS 14U /* the init packet's fields and blocks of 40, in their order */
 
 c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg)
 {
@@ -20,9 +21,17 @@ c4g_status_t c4g_session_config_default(c4g_session_config_t *cfg)
         cfg->lost_timeout_ns = 0U;
         cfg->silence_ns = 0U;
         cfg->post_init_sync = DEFAULT_POST_INIT_SYNC;
+        cfg->az_lim_max = C4G_AZLIM_MAX_DEFAULT;
+        cfg->follow_error_max = C4G_FOLLOW_ERROR_MAX_DEFAULT;
         st = C4G_OK;
     }
     return st;
+}
+
+/* A ceiling is a finite positive number. */
+static int ceiling_ok(float v)
+{
+    return ((c4g_f32_finite(v) != 0) && (v > 0.0F)) ? 1 : 0;
 }
 
 c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
@@ -37,7 +46,8 @@ c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
             (void)c4g_session_config_default(&c);
         }
         if (((c.num_policy != C4G_NUM_PLUS_ONE) && (c.num_policy != C4G_NUM_ECHO)) ||
-            (c.post_init_sync > MAX_POST_INIT_SYNC)) {
+            (c.post_init_sync > MAX_POST_INIT_SYNC) || (ceiling_ok(c.az_lim_max) == 0) ||
+            (ceiling_ok(c.follow_error_max) == 0)) {
             st = C4G_ERR_ARG;
         } else {
             (void)memset(s, 0, sizeof *s);
@@ -46,6 +56,9 @@ c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
             s->last_num = -1;
             s->pending_num = -1;
             s->pending_kind = C4G_RX_DROPPED;
+            /* effective from the start: a REFUSED start-up ends on it too */
+            s->lost_timeout_ns =
+                (c.lost_timeout_ns != 0U) ? c.lost_timeout_ns : (uint64_t)LOST_DEFAULT_NS;
         }
     }
     return st;
@@ -123,7 +136,136 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
         (void)memcpy(s->pending_raw, buf, keep);
         s->pending_len = (uint32_t)keep;
+        s->pending_reply_len = (uint32_t)C4G_SYNC_REPLY_SIZE;
+        if (kind == C4G_RX_INIT) {
+            s->pending_reply_len = (uint32_t)C4G_INIT_SIZE;
+        } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > C4G_HANDSHAKE_SYNCS)) {
+            /* The field pads the 9 handshake syncs (and the post-init ones) to 732 bytes;
+             * beyond them a sync is answered with its own size: no amplification. */
+            s->pending_reply_len = (uint32_t)keep;
+            s->counters.sync_unpadded++;
+        } else {
+            /* field behaviour */
+        }
     }
+}
+
+/* Where byte @p off of an initialization packet lies: the field, and for the per-axis
+ * blocks the arm and logical axis (-1 otherwise). */
+static c4g_field_t init_field_at(uint32_t off, int32_t *arm, int32_t *axis)
+{
+    static const uint32_t base[INIT_BLOCKS] = {0U, 4U, 8U, 12U, C4G_INIT_OFF_OPENMASK, C4G_INIT_OFF_TYPES,
+                                    C4G_INIT_OFF_PERIOD, C4G_INIT_OFF_OPENAX,
+                                    C4G_INIT_OFF_CALDATA, C4G_INIT_OFF_AZLIM,
+                                    C4G_INIT_OFF_VERSION, C4G_INIT_OFF_AXINFO,
+                                    C4G_INIT_OFF_TXRATE, C4G_INIT_OFF_FOLLOWERROR};
+    static const c4g_field_t field[INIT_BLOCKS] = {C4G_FIELD_NUM, C4G_FIELD_NFIELDPCK, C4G_FIELD_NFIELDAX,
+                                        C4G_FIELD_NAXOPEN, C4G_FIELD_OPENMASK, C4G_FIELD_TYPES,
+                                        C4G_FIELD_PERIOD, C4G_FIELD_OPENAX, C4G_FIELD_CALDATA,
+                                        C4G_FIELD_AZLIM, C4G_FIELD_VERSION, C4G_FIELD_AXINFO,
+                                        C4G_FIELD_TXRATE, C4G_FIELD_FOLLOWERROR};
+    /* the blocks of 40 values, one per arm and logical axis */
+    static const uint8_t per_axis[INIT_BLOCKS] = {0U, 0U, 0U, 0U, 1U, 0U, 0U, 1U, 1U, 1U, 0U, 1U, 1U, 1U};
+    uint32_t k = 0U;
+    uint32_t i;
+    for (i = 1U; i < INIT_BLOCKS; i++) {
+        if (off >= base[i]) {
+            k = i;
+        }
+    }
+    *arm = -1;
+    *axis = -1;
+    if (per_axis[k] != 0U) {
+        const uint32_t v = (off - base[k]) / 4U;
+        const uint32_t a = v / C4G_AXES_PER_ARM;
+        const uint32_t x = v % C4G_AXES_PER_ARM;
+        *arm = (int32_t)a;
+        *axis = (int32_t)x;
+    }
+    return field[k];
+}
+
+/* The PC's ceilings on the limits an initialization packet may set (open axes only; a
+ * FollowError of 0 is the controller's "no threshold" and stays accepted). */
+static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_OK;
+    uint32_t arm;
+    uint32_t ax;
+    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+        for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
+            const uint32_t at = (arm * C4G_AXES_PER_ARM * 4U) + (ax * 4U);
+            const float a = in->az_lim[arm][ax];
+            const float f = in->follow_error[arm][ax];
+            if (in->open_ax[arm][ax] == C4G_OPEN_AX_NONE) {
+                continue;
+            }
+            if (a > s->cfg.az_lim_max) {
+                st = C4G_ERR_RANGE;
+                c4g_diag_set(diag, st, C4G_FIELD_AZLIM, C4G_INIT_OFF_AZLIM + at, (int32_t)arm,
+                             (int32_t)ax, (int64_t)c4g_f32_bits(a));
+            } else if (f > s->cfg.follow_error_max) {
+                st = C4G_ERR_RANGE;
+                c4g_diag_set(diag, st, C4G_FIELD_FOLLOWERROR, C4G_INIT_OFF_FOLLOWERROR + at,
+                             (int32_t)arm, (int32_t)ax, (int64_t)c4g_f32_bits(f));
+            } else {
+                /* within the ceilings */
+            }
+        }
+    }
+    return st;
+}
+
+/* Nothing is accepted or answered any more until the controller falls silent for the loss
+ * timeout (check_lost): the fail-safe when the session cannot tell the controller's
+ * packets from another sender's. */
+static void refuse(c4g_session_t *s, uint64_t now_ns, c4g_rx_result_t *res)
+{
+    s->phase = C4G_PHASE_REFUSED;
+    s->pending_num = -1;
+    s->startup_init = 0U;
+    s->restart_pending = 0U;
+    s->frozen = 0U;
+    s->frozen_active = 0U;
+    s->last_rx_ns = now_ns;
+    res->kind = C4G_RX_DROPPED;
+}
+
+/* A second initialization packet while one is held for this start-up (or after 506):
+ * the same bytes are a duplicate (after 506: the restart); different bytes are refused
+ * with the first one. Returns 1 when @p buf was handled here. */
+static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
+                       c4g_rx_result_t *res)
+{
+    uint32_t off = C4G_INIT_SIZE;
+    uint32_t i;
+    int r = 0;
+    /* from NUM on: the decoder has checked NUM (10) already */
+    for (i = C4G_INIT_SIZE; i > 4U; i--) {
+        if (buf[i - 1U] != s->init_raw[i - 1U]) {
+            off = i - 1U;
+        }
+    }
+    if (off < C4G_INIT_SIZE) {
+        int32_t arm;
+        int32_t axis;
+        const uint32_t at = off & ~3U;
+        const c4g_field_t fld = init_field_at(at, &arm, &axis);
+        c4g_diag_set(&res->diag, C4G_ERR_STATE, fld, at, arm, axis,
+                     (int64_t)c4g_get_u32le(&buf[at]));
+        s->counters.init_conflicts++;
+        res->events |= C4G_EV_INIT_CONFLICT;
+        refuse(s, now_ns, res);
+        r = 1;
+    } else if (s->startup_init != 0U) {
+        s->counters.duplicates++;
+        res->events |= C4G_EV_DUPLICATE;
+        res->kind = C4G_RX_DROPPED;
+        r = 1;
+    } else {
+        /* after 506: the session's own init again, the restart goes on */
+    }
+    return r;
 }
 
 static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
@@ -132,7 +274,8 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
     c4g_init_t init;
     c4g_axis_map_t map;
     c4g_status_t st = C4G_OK;
-    if ((s->phase != C4G_PHASE_WAIT_INIT) && (s->restart_pending == 0U)) {
+    if ((s->phase != C4G_PHASE_WAIT_INIT) && (s->restart_pending == 0U) &&
+        (s->startup_init == 0U)) {
         /* mid-session: new limits and thresholds are never taken from a datagram */
         c4g_diag_set(&res->diag, C4G_ERR_STATE, C4G_FIELD_NUM, 0U, -1, -1,
                      (int64_t)c4g_get_i32le(buf));
@@ -152,8 +295,23 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         }
     }
     if (st == C4G_OK) {
+        st = check_ceilings(s, &init, &res->diag);
+        if (st != C4G_OK) {
+            s->counters.malformed[C4G_MAL_CEILING]++;
+            s->counters.malformed_total++;
+            res->kind = C4G_RX_DROPPED;
+            res->events |= C4G_EV_MALFORMED;
+        }
+    }
+    if ((st == C4G_OK) && ((s->startup_init != 0U) || (s->restart_pending != 0U)) &&
+        (second_init(s, buf, now_ns, res) != 0)) {
+        st = C4G_ERR_STATE;
+    }
+    if (st == C4G_OK) {
         s->init = init;
         s->map = map;
+        (void)memcpy(s->init_raw, buf, C4G_INIT_SIZE);
+        s->startup_init = 1U;
         /* the cyclic decode writes map.n_axes axes only: the rest stay zero from here */
         (void)memset(s->rx, 0, sizeof s->rx);
         s->rx_mixed_modes = 0U;
@@ -171,8 +329,6 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         s->silence_ns = (s->cfg.silence_ns != 0U)
                             ? s->cfg.silence_ns
                             : ((uint64_t)SILENCE_PERIODS * (uint64_t)init.period_ms * NS_PER_MS);
-        s->lost_timeout_ns = (s->cfg.lost_timeout_ns != 0U) ? s->cfg.lost_timeout_ns
-                                                            : (uint64_t)LOST_DEFAULT_NS;
         s->silent = 0U;
         s->timing.nominal_period_ns = (int64_t)init.period_ms * (int64_t)NS_PER_MS;
         res->kind = C4G_RX_INIT;
@@ -264,6 +420,29 @@ static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g
     }
 }
 
+/* Manual 15.4: 504 is sent with the system preset to mode 0. A 504 whose previous packet
+ * had an axis in an operating mode is reported (the session ends all the same: the PC
+ * stops answering, and a controller that did not send it turns its drives off after 10
+ * missing replies). diag names the axis and its mode. */
+static void end_in_procedure(c4g_session_t *s, const c4g_ctrl_packet_t *prev,
+                             c4g_rx_result_t *res)
+{
+    uint32_t i;
+    uint32_t found = 0U;
+    for (i = 0U; (i < prev->n_axes) && (i < C4G_MAX_AXES) && (found == 0U); i++) {
+        const int32_t m = prev->ax[i].mode;
+        if ((m != C4G_MODE_0) && (m != C4G_MODE_0_DEBUG) && (m < C4G_MODE_FREEZING_A)) {
+            found = 1U;
+            c4g_diag_set(&res->diag, C4G_ERR_STATE, C4G_FIELD_SM,
+                         C4G_HEADER_SIZE + (i * C4G_AXIS_SIZE), -1, (int32_t)i, (int64_t)m);
+        }
+    }
+    if (found != 0U) {
+        s->counters.end_unexpected++;
+        res->events |= C4G_EV_END_UNEXPECTED;
+    }
+}
+
 static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
                       c4g_rx_result_t *res)
 {
@@ -281,6 +460,8 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         /* counted */
     } else {
         const uint32_t drives = drive_mask(p->infpar);
+        const uint32_t prev = s->cur;
+        s->startup_init = 0U; /* the start-up is over */
         s->cur = next;
         s->rx_mixed_modes = mixed;
         s->counters.cyclic++;
@@ -310,6 +491,9 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         s->last_cyclic_ns = now_ns;
         s->have_cyclic_time = 1U;
         scan_special_modes(s, p, res);
+        if (((res->events & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
+            end_in_procedure(s, &s->rx[prev], res);
+        }
         res->kind = C4G_RX_CYCLIC;
         res->pkt = p;
         arm_reply(s, C4G_RX_CYCLIC, p->num, buf, len, now_ns);
@@ -321,7 +505,15 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
 static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
-    if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
+    if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->last_rx_ns) &&
+        ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
+        /* the refused controller gave up: a new start-up may be served, and nothing resumes
+         * the refused session's init packet */
+        s->phase = C4G_PHASE_LOST;
+        s->startup_only = 1U;
+        s->counters.lost_events++;
+        ev = C4G_EV_LOST;
+    } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
         (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns)) {
         const uint64_t gap = now_ns - s->last_rx_ns;
         if (gap > s->lost_timeout_ns) {
@@ -336,6 +528,8 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
         } else {
             /* in time */
         }
+    } else {
+        /* no silence check in this phase */
     }
     return ev;
 }
@@ -358,7 +552,7 @@ bool c4g_session_is_peer(const c4g_session_t *s, const c4g_endpoint_t *from)
 }
 
 /* Another endpoint than the controller's: counted by shape, nothing else. */
-static void on_foreign(c4g_session_t *s, size_t len, c4g_rx_result_t *res)
+static c4g_foreign_t on_foreign(c4g_session_t *s, size_t len, c4g_rx_result_t *res)
 {
     c4g_foreign_t shape = C4G_FOREIGN_OTHER;
     if (len == C4G_INIT_SIZE) {
@@ -373,6 +567,17 @@ static void on_foreign(c4g_session_t *s, size_t len, c4g_rx_result_t *res)
     s->counters.foreign_total++;
     res->kind = C4G_RX_DROPPED;
     res->events |= C4G_EV_FOREIGN;
+    return shape;
+}
+
+/* The session's start-up runs: the synchronization packets before and after the init
+ * packet, and from a 506 to the new init packet. */
+static int in_startup(const c4g_session_t *s)
+{
+    return ((s->phase == C4G_PHASE_WAIT_INIT) || (s->phase == C4G_PHASE_POST_SYNC) ||
+            (s->restart_pending != 0U))
+               ? 1
+               : 0;
 }
 
 /* After a lost controller, a datagram that does not continue its NUM sequence, or that comes
@@ -382,7 +587,7 @@ static int new_startup(const c4g_session_t *s, const uint8_t *buf, size_t len, i
     int r = 0;
     if ((s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
         const int32_t d = (len >= 4U) ? num_delta(s, c4g_get_i32le(buf)) : 0;
-        if ((other != 0) || (d == 0) || (d >= NUM_HALF)) {
+        if ((other != 0) || (d == 0) || (d >= NUM_HALF) || (s->startup_only != 0U)) {
             r = 1;
         }
     }
@@ -436,11 +641,18 @@ static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint6
     s->phase = C4G_PHASE_WAIT_INIT;
     s->sync_seen = 0U;
     s->restart_pending = 0U;
+    s->startup_init = 0U;
     s->frozen = 0U;
     s->frozen_active = 0U;
     on_sync(s, buf, len, now_ns, res);
     if (res->kind != C4G_RX_DROPPED) {
+        s->startup_only = 0U;
         s->peer_locked = 0U; /* accepted() locks to its sender */
+        if (other != 0) {
+            /* served (a cold restart may come from a new port), but never silently */
+            s->counters.new_peers++;
+            res->events |= C4G_EV_NEW_PEER;
+        }
     } else {
         s->phase = C4G_PHASE_LOST; /* not a start-up after all */
         if (other != 0) {
@@ -448,7 +660,7 @@ static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint6
             s->counters = *before;
             result_reset(res);
             res->events |= lost_ev;
-            on_foreign(s, len, res);
+            (void)on_foreign(s, len, res);
         }
     }
 }
@@ -473,7 +685,17 @@ static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, u
         before = s->counters; /* restored if a stranger's datagram was no start-up */
         restart_from(s, buf, len, now_ns, other, &before, lost_ev, res);
     } else if (other != 0) {
-        on_foreign(s, len, res);
+        if ((on_foreign(s, len, res) != C4G_FOREIGN_OTHER) && (in_startup(s) != 0)) {
+            /* two endpoints start one session: neither can be told to be the controller */
+            s->counters.contended++;
+            res->events |= C4G_EV_CONTENDED;
+            refuse(s, s->last_rx_ns, res);
+        }
+    } else if (s->phase == C4G_PHASE_REFUSED) {
+        s->counters.refused++;
+        s->last_rx_ns = now_ns; /* the refused controller is still sending */
+        res->kind = C4G_RX_DROPPED;
+        res->events |= C4G_EV_REFUSED;
     } else {
         dispatch(s, buf, len, now_ns, res);
     }
@@ -652,10 +874,7 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
             }
         }
     } else {
-        *n = C4G_SYNC_REPLY_SIZE;
-        if (s->pending_kind == C4G_RX_INIT) {
-            *n = C4G_INIT_SIZE;
-        }
+        *n = s->pending_reply_len;
         st = C4G_ERR_CAPACITY;
         if (cap >= *n) {
             (void)memcpy(buf, s->pending_raw, s->pending_len);

@@ -54,4 +54,17 @@ theirs = [l.rstrip('\n').split('\t')[2] for l in open(sys.argv[2])]
 assert mine == theirs, (len(mine), len(theirs))
 print('ok: %d payloads identical (pcap reader vs tshark), IPv4 checksums valid' % len(mine))
 PY
+# A PC whose init echo differs from the init packet (one byte of AzLim, axis 1) holds other
+# limits than the controller's: the session fails at once (ERR_C4GOPEN, exit 1, drives off),
+# with the byte offset and the field named.
+next_port; start_pc $PORT --alter-init
+run_sim -p $PORT -n 200 --json >"$T/a.json" 2>"$T/a.err"; rc=$?
+expect_eq "altered init echo: exit status" $rc 1
+grep -q '"name":"ERR_C4GOPEN"' "$T/a.json" || fail "altered init echo: no ERR_C4GOPEN in $(cat "$T/a.json")"
+ok "altered init echo: ERR_C4GOPEN raised"
+grep -q "init echo differs from the init packet sent at byte offset 549 (field AzLim" "$T/a.err" ||
+  fail "altered init echo: message: $(cat "$T/a.err")"
+ok "altered init echo: offset 549 and field AzLim named"
+expect_eq "altered init echo: no cyclic packet sent" "$(jget "$T/a.json" cyclic)" 0
+expect_eq "altered init echo: drives off" "$(jget "$T/a.json" drive_on)" false
 exit 0

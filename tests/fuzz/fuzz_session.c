@@ -3,9 +3,10 @@
  * into datagrams by a 2-byte length prefix; 0xFFFF inserts the figure 10.1 init packet
  * so that the cyclic phase is reached; the prefix's top two bits pick the sender (none, the
  * controller, another port, another address). Invariants: phase always valid, replies only
- * when armed, reply lengths 732/1200/12+36N, a 732-byte sync reply only to a datagram of a
- * cyclic packet's shape and never with a non-finite value, a foreign datagram never changes
- * the phase or the newest packet, never a crash. Differential: the session's inline decode
+ * when armed, reply lengths 732 (or the sync's own size past the handshake)/1200/12+36N, a
+ * sync reply only to a datagram of a cyclic packet's shape and never with a non-finite
+ * value, a foreign datagram never changes the phase (but to REFUSED when it contends a
+ * start-up) or the newest packet, a refused session accepts nothing, never a crash. Differential: the session's inline decode
  * equals the public decoder's output, and a twin session answering every cyclic packet with
  * c4g_session_reply_neutral sends the bytes c4g_pc_reply_neutral + c4g_session_reply send. */
 #include "c4gopen.h"
@@ -75,14 +76,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             (memcmp(&r.diag, &r2.diag, sizeof r.diag) != 0)) {
             abort();
         }
-        if (s.phase > C4G_PHASE_LOST) {
+        if (s.phase > C4G_PHASE_REFUSED) {
             abort();
         }
         if (((r.events & C4G_EV_FOREIGN) != 0U) &&
             ((r.kind != C4G_RX_DROPPED) || (s.last_num != newest_before) ||
              ((s.phase != phase_before) && (phase_before != C4G_PHASE_CYCLIC) &&
-              (phase_before != C4G_PHASE_POST_SYNC)))) {
-            abort(); /* (the silence check may move CYCLIC to LOST on any datagram) */
+              (phase_before != C4G_PHASE_POST_SYNC) && (phase_before != C4G_PHASE_REFUSED) &&
+              ((r.events & C4G_EV_CONTENDED) == 0U)))) {
+            abort(); /* (the silence check may move CYCLIC or REFUSED to LOST on any datagram;
+                        another endpoint's start-up packet refuses a start-up) */
+        }
+        if ((s.phase == C4G_PHASE_REFUSED) && (r.kind != C4G_RX_DROPPED)) {
+            abort(); /* a refused session accepts nothing */
         }
         if (r.kind == C4G_RX_CYCLIC) {
             c4g_pc_packet_t tx;
@@ -104,7 +110,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         } else if (r.kind != C4G_RX_DROPPED) {
             c4g_ctrl_packet_t echo;
             if ((c4g_session_reply(&s, NULL, out, sizeof out, &n) != C4G_OK) ||
-                (n != ((r.kind == C4G_RX_INIT) ? C4G_INIT_SIZE : C4G_SYNC_REPLY_SIZE)) ||
+                ((r.kind == C4G_RX_INIT) && (n != C4G_INIT_SIZE)) ||
+                ((r.kind == C4G_RX_SYNC) && (n != C4G_SYNC_REPLY_SIZE) && (n != dl)) ||
                 (c4g_session_reply_neutral(&twin, out2, sizeof out2, &n2) != C4G_OK) ||
                 (n2 != n) || (memcmp(out, out2, n) != 0)) {
                 abort();

@@ -398,6 +398,47 @@ static int handle(srv_host_t *H, int fd, const dgram_t *d)
     return (v.stop != SRV_STOP_NONE) ? stop_code(v.stop) : SRV_NEXT;
 }
 
+/* The kernel's address filter, and the only place that connects or disconnects the socket.
+ * Once the session is in its cyclic phase the socket is connect()ed to the controller's
+ * endpoint: datagrams of any other source no longer reach this loop (a flood from another
+ * address costs the kernel, not the replies). During a start-up it stays open to every
+ * source, because the session must see a second endpoint's start-up packets to refuse the
+ * session (C4G_EV_CONTENDED); after a loss, a refusal or a new session it is open again, so
+ * that the controller's next start-up is served from whatever port it uses. */
+static void peer_filter(srv_host_t *H, int fd)
+{
+    const c4g_session_t *s = &H->s.loop.session;
+    const int want = s->peer_locked != 0U && s->phase == C4G_PHASE_CYCLIC && s->peer.addr_len == 4U;
+    char a[INET_ADDRSTRLEN];
+    if (want && (!H->connected || memcmp(&H->conn_peer, &s->peer, sizeof s->peer) != 0)) {
+        struct sockaddr_in to;
+        memset(&to, 0, sizeof to);
+        to.sin_family = AF_INET;
+        memcpy(&to.sin_addr.s_addr, s->peer.addr, 4U);
+        to.sin_port = htons(s->peer.port);
+        inet_ntop(AF_INET, &to.sin_addr, a, sizeof a);
+        if (connect(fd, (const struct sockaddr *)&to, sizeof to) == 0) {
+            H->connected = 1;
+            H->conn_peer = s->peer;
+            srv_log(&H->s, now_ns(), "socket connected to the controller %s:%u: the kernel drops "
+                    "every other source", a, (unsigned)s->peer.port);
+        } else if (!H->connected) {
+            H->connected = -1; /* said once; the user-space checks still hold */
+            srv_log(&H->s, now_ns(), "connect to %s:%u: %s (other sources filtered in user space)",
+                    a, (unsigned)s->peer.port, strerror(errno));
+        }
+    } else if (!want && H->connected > 0) {
+        struct sockaddr none;
+        memset(&none, 0, sizeof none);
+        none.sa_family = AF_UNSPEC;
+        (void)connect(fd, &none, sizeof none);
+        H->connected = 0;
+        srv_log(&H->s, now_ns(), "socket open to every source again (waiting for a start-up)");
+    } else if (!want && H->connected < 0) {
+        H->connected = 0;
+    }
+}
+
 /* The per-packet loop. Returns the exit code. */
 static int serve(srv_host_t *H, int fd)
 {
@@ -408,6 +449,7 @@ static int serve(srv_host_t *H, int fd)
         if (code == SRV_HAVE) {
             code = handle(H, fd, &d);
         }
+        peer_filter(H, fd);
         if (code >= 0) {
             return code;
         }

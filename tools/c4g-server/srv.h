@@ -32,6 +32,8 @@ typedef struct srv_host {
     struct c4g_pcap *pcap;        /* tools/common/c4g_pcap writer (log thread only) */
     uint64_t pcap_errors;
     struct sockaddr_in ctrl;      /* controller filter (sin_addr.s_addr 0 = any) */
+    int connected;                /* the socket is connect()ed to conn_peer (kernel filter) */
+    c4g_endpoint_t conn_peer;
     uint16_t local_port;
 } srv_host_t;
 

@@ -26,6 +26,60 @@ static void log_refused(const app_t *a, cs_rx_t r, size_t len)
     }
 }
 
+/* The init packet's field at byte offset @p off (its first 4-byte word), for the message. */
+static const char *init_field_name(uint32_t off)
+{
+    static const struct {
+        uint32_t at;
+        c4g_field_t f;
+    } map[] = {{0U, C4G_FIELD_NUM},
+               {4U, C4G_FIELD_NFIELDPCK},
+               {8U, C4G_FIELD_NFIELDAX},
+               {12U, C4G_FIELD_NAXOPEN},
+               {C4G_INIT_OFF_OPENMASK, C4G_FIELD_OPENMASK},
+               {C4G_INIT_OFF_TYPES, C4G_FIELD_TYPES},
+               {C4G_INIT_OFF_PERIOD, C4G_FIELD_PERIOD},
+               {C4G_INIT_OFF_OPENAX, C4G_FIELD_OPENAX},
+               {C4G_INIT_OFF_CALDATA, C4G_FIELD_CALDATA},
+               {C4G_INIT_OFF_AZLIM, C4G_FIELD_AZLIM},
+               {C4G_INIT_OFF_VERSION, C4G_FIELD_VERSION},
+               {C4G_INIT_OFF_AXINFO, C4G_FIELD_AXINFO},
+               {C4G_INIT_OFF_TXRATE, C4G_FIELD_TXRATE},
+               {C4G_INIT_OFF_FOLLOWERROR, C4G_FIELD_FOLLOWERROR}};
+    size_t k, best = 0;
+    for (k = 0; k < sizeof map / sizeof map[0]; k++) {
+        if (off >= map[k].at) {
+            best = k;
+        }
+    }
+    return c4g_field_name(map[best].f);
+}
+
+/* The PC echoed 1200 other bytes than the init packet sent: the limits the PC works with are
+ * not the controller's (an injected or altered init packet). The session fails: nothing
+ * the PC sends from here can be trusted to respect this controller's limits. */
+static void bad_init_echo(app_t *a, const uint8_t *buf)
+{
+    const cs_outstanding_t *o = &a->cs.out;
+    uint32_t off = 4U;
+    while (off < C4G_INIT_SIZE && buf[off] == o->raw[off]) {
+        off++;
+    }
+    {
+        /* (off < 1200: cs_reply found a difference) */
+        const uint32_t w = ((off < C4G_INIT_SIZE) ? off : C4G_INIT_SIZE - 1U) & ~3U;
+        fprintf(stderr, "c4g-sim: the PC's init echo differs from the init packet sent at byte "
+                "offset %u (field %s: sent 0x%02x%02x%02x%02x, echoed 0x%02x%02x%02x%02x, "
+                "little-endian word): the PC holds other limits than this controller's; "
+                "session failed\n", (unsigned)off, init_field_name(w), o->raw[w + 3U],
+                o->raw[w + 2U], o->raw[w + 1U], o->raw[w], buf[w + 3U], buf[w + 2U],
+                buf[w + 1U], buf[w]);
+    }
+    sim_raise(&a->sim, C4G_CERR_CONFIG, 0, 0);
+    sim_all_drive_off(&a->sim);
+    a->sim.fatal = 1;
+}
+
 void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
                uint64_t t)
 {
@@ -40,6 +94,11 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
         return;
     }
     r = cs_reply(&a->cs, buf, len, t);
+    /* another length is a late or stray reply (a late sync reply passes the NUM check of
+     * "either"): counted as malformed, as before; 1200 other bytes are the PC's limits */
+    if (r == CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal) {
+        bad_init_echo(a, buf);
+    }
     if (a->o.verbose) {
         log_refused(a, r, len);
     }

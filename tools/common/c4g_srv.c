@@ -38,6 +38,8 @@ c4g_status_t srv_init(srv_t *S, const srv_config_t *cfg, srv_log_fn log_fn, void
     (void)c4g_engine_config_default(&S->loop_cfg.engine);
     S->loop_cfg.session.num_policy = S->cfg.num_policy;
     S->loop_cfg.session.lost_timeout_ns = S->cfg.lost_timeout_ns;
+    S->loop_cfg.session.az_lim_max = (float)S->cfg.az_lim_max;
+    S->loop_cfg.session.follow_error_max = (float)S->cfg.fe_max;
     S->loop_cfg.engine.start_ns = (uint64_t)(S->cfg.arm[0].scs * 1e9);
     st = c4g_loop_init(&S->loop, &S->loop_cfg);
     if (st == C4G_OK) {
@@ -68,6 +70,12 @@ void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
         sum->foreign[k] += c->foreign[k];
     }
     sum->silences += c->silences;
+    sum->init_conflicts += c->init_conflicts;
+    sum->contended += c->contended;
+    sum->new_peers += c->new_peers;
+    sum->end_unexpected += c->end_unexpected;
+    sum->refused += c->refused;
+    sum->sync_unpadded += c->sync_unpadded;
     if (c->longest_silence_ns > sum->longest_silence_ns) {
         sum->longest_silence_ns = c->longest_silence_ns;
     }
@@ -151,11 +159,87 @@ srv_stop_t srv_idle(srv_t *S, uint64_t t_ns)
     return time_events(S, ev, t_ns);
 }
 
+/* A diagnostic's raw value as text: the float of a float field, else the integer. */
+static void diag_value(const c4g_diag_t *d, char *buf, size_t cap)
+{
+    switch (d->field) {
+    case C4G_FIELD_CALDATA:
+    case C4G_FIELD_AZLIM:
+    case C4G_FIELD_AXINFO:
+    case C4G_FIELD_TXRATE:
+    case C4G_FIELD_FOLLOWERROR: {
+        const uint32_t u = (uint32_t)d->value;
+        float f;
+        memcpy(&f, &u, sizeof f);
+        (void)snprintf(buf, cap, "%g", (double)f);
+        break;
+    }
+    default:
+        (void)snprintf(buf, cap, "%lld", (long long)d->value);
+        break;
+    }
+}
+
+/* "arm A axis L" of an init diagnostic (1-based), or "" for a field of the header. */
+static void diag_axis(const c4g_diag_t *d, char *buf, size_t cap)
+{
+    if (d->arm >= 0 && d->axis >= 0) {
+        (void)snprintf(buf, cap, " of arm %d axis %d", (int)d->arm + 1, (int)d->axis + 1);
+    } else {
+        buf[0] = '\0';
+    }
+}
+
+/* The events that refuse the session, or an init packet above the ceilings: logged. 1 when
+ * the datagram was one of them. */
+static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t,
+                    const c4g_loop_event_t *ev, bool ceiling)
+{
+    const c4g_session_t *s = &S->loop.session;
+    const uint32_t e = ev->events;
+    char v[48], ax[40], a[64], p[64];
+    diag_value(&ev->diag, v, sizeof v);
+    diag_axis(&ev->diag, ax, sizeof ax);
+    if (ceiling) {
+        const bool az = ev->diag.field == C4G_FIELD_AZLIM;
+        srv_log(S, t, "refused the initialization packet: %s%s is %s %s, above this cell's "
+                "ceiling %g %s (--%s)", c4g_field_name(ev->diag.field), ax, v, az ? "A" : "turns",
+                az ? S->cfg.az_lim_max : S->cfg.fe_max, az ? "A" : "turns",
+                az ? "az-lim-max" : "fe-max");
+        return 1;
+    }
+    if ((e & C4G_EV_INIT_CONFLICT) != 0U) {
+        srv_log(S, t, "ATTACK? init conflict: a second initialization packet differs from the "
+                "one accepted (%s%s: %s, offset %u): both refused; no reply until the "
+                "controller is silent for %.0f ms", c4g_field_name(ev->diag.field), ax, v,
+                (unsigned)ev->diag.offset, (double)s->lost_timeout_ns * 1e-6);
+        return 1;
+    }
+    if ((e & C4G_EV_CONTENDED) != 0U) {
+        endpoint_text(from, a, sizeof a);
+        endpoint_text(&s->peer, p, sizeof p);
+        srv_log(S, t, "ATTACK? start-up contended: a %zu-byte start-up packet from %s while "
+                "%s's start-up runs: both refused; no reply until the controller is silent "
+                "for %.0f ms", len, a, p, (double)s->lost_timeout_ns * 1e-6);
+        return 1;
+    }
+    if ((e & C4G_EV_REFUSED) != 0U) {
+        if (s->counters.refused <= 10U || S->cfg.verbose) {
+            srv_log(S, t, "dropped a %zu-byte datagram: the session is refused", len);
+        }
+        return 1;
+    }
+    return 0;
+}
+
 /* Datagrams the session refused or that need no answer: logged. 1 when nothing is due. */
 static int refused(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t *from,
-                   uint64_t t, const c4g_loop_event_t *ev)
+                   uint64_t t, const c4g_loop_event_t *ev, bool ceiling)
 {
     const uint32_t e = ev->events;
+    if (refusals(S, len, from, t, ev, ceiling)) {
+        return 1;
+    }
     if ((e & C4G_EV_FOREIGN) != 0U) {
         log_foreign(S, from, len, t);
         return 1;
@@ -276,7 +360,8 @@ static void answer(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, uint8_t 
 /* The session's clock events on the datagram. SRV_STOP_LOST ends the run before any
  * answer. */
 static srv_stop_t rx_time_events(srv_t *S, const c4g_loop_event_t *ev, int was_lost,
-                                 const c4g_endpoint_t *from, uint64_t t)
+                                 const c4g_endpoint_t *from, const c4g_endpoint_t *old_peer,
+                                 uint64_t t)
 {
     if (ev->kind != C4G_RX_CYCLIC) {
         /* the session checks the clock before it classifies a datagram: a loss it found
@@ -291,6 +376,13 @@ static srv_stop_t rx_time_events(srv_t *S, const c4g_loop_event_t *ev, int was_l
             endpoint_text(from, a, sizeof a);
             srv_log(S, t, "new start-up from %s: a new session", a);
         }
+        if ((ev->events & C4G_EV_NEW_PEER) != 0U) {
+            char a[64], o[64];
+            endpoint_text(from, a, sizeof a);
+            endpoint_text(old_peer, o, sizeof o);
+            srv_log(S, t, "new peer: the session is now locked to %s, not to the lost "
+                    "controller %s (a cold restart from a new port, or another sender)", a, o);
+        }
     } else if ((ev->events & C4G_EV_SILENCE) != 0U) {
         (void)time_events(S, C4G_EV_SILENCE, t);
     }
@@ -303,6 +395,8 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
 {
     c4g_loop_event_t ev;
     c4g_status_t st;
+    c4g_endpoint_t old_peer;
+    uint64_t ceil0;
     int was_lost;
     if (S == NULL || out_len == NULL || v == NULL) {
         return C4G_ERR_NULL;
@@ -312,14 +406,18 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     settle(S);
     S->last_kind = C4G_RX_DROPPED;
     was_lost = (S->loop.session.phase == C4G_PHASE_LOST);
+    old_peer = S->loop.session.peer;
+    ceil0 = S->loop.session.counters.malformed[C4G_MAL_CEILING];
     st = c4g_loop_rx(&S->loop, in, len, t_rx_ns, from, &ev);
     if (st != C4G_OK) {
         return st;
     }
     v->kind = ev.kind;
     v->events = ev.events;
-    v->stop = rx_time_events(S, &ev, was_lost, from, t_rx_ns);
-    if (v->stop != SRV_STOP_NONE || refused(S, in, len, from, t_rx_ns, &ev)) {
+    v->stop = rx_time_events(S, &ev, was_lost, from, &old_peer, t_rx_ns);
+    if (v->stop != SRV_STOP_NONE ||
+        refused(S, in, len, from, t_rx_ns, &ev,
+                S->loop.session.counters.malformed[C4G_MAL_CEILING] != ceil0)) {
         return C4G_OK;
     }
     session_events(S, &ev, t_rx_ns);
@@ -329,6 +427,13 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     }
     if ((ev.events & C4G_EV_END) != 0U) {
         v->ended = true;
+        if ((ev.events & C4G_EV_END_UNEXPECTED) != 0U) {
+            srv_log(S, t_rx_ns, "ATTACK? 504 out of procedure: OPEN axis %d was in mode %lld "
+                    "(the manual presets mode 0 before 504): forged, or the controller left "
+                    "abruptly; the session ends and the PC stops answering (a controller that "
+                    "did not send it turns its drives off after 10 missing replies)",
+                    (int)ev.diag.axis + 1, (long long)ev.diag.value);
+        }
         srv_log(S, t_rx_ns, "504: end of communication");
         if (!S->cfg.persist) {
             v->stop = SRV_STOP_END;

@@ -69,6 +69,8 @@ typedef struct srv_config {
     unsigned port;
     char ctrl_addr[64];         /* "any" or an IPv4 address */
     c4g_num_policy_t num_policy;
+    double az_lim_max;          /* the largest AzLim accepted from an init packet [A] */
+    double fe_max;              /* the largest FollowError accepted [motor turns] */
     uint64_t lost_timeout_ns;   /* 0: 10 periods */
     double idle_timeout;        /* s without any packet before the first one; 0 = forever */
     double max_seconds;         /* total run bound; 0 = none */

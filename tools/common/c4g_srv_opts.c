@@ -79,6 +79,8 @@ void srv_config_default(srv_config_t *c)
     c->port = C4G_DEFAULT_PORT;
     strcpy(c->ctrl_addr, "10.2.12.150"); /* manual 7.1: SMP+ = IPADDRESS_DSA - 4 */
     c->num_policy = C4G_NUM_PLUS_ONE;
+    c->az_lim_max = (double)C4G_AZLIM_MAX_DEFAULT;
+    c->fe_max = (double)C4G_FOLLOW_ERROR_MAX_DEFAULT;
     c->cpu = -1;
     c->late_us = 500U;
     c->inject_axis = 0;
@@ -436,6 +438,15 @@ static const srv_setting_t settings[] = {
      "milliseconds 1..600000",
      "silence that ends the session (default 1000 ms; shorter" NL
      "silences are reported and ridden out)"},
+    {"az-lim-max", 0, "A", SW_BOTH, SK_NUM, 0.001, 1e5, G(az_lim_max), NULL,
+     "amperes 0.001..100000",
+     "the largest AzLim (axis current limit) an init packet may" NL
+     "carry on an open axis; above it the packet is refused" NL
+     "(default 200 A: set this cell's largest)"},
+    {"fe-max", 0, "T", SW_BOTH, SK_NUM, 0.001, 1e6, G(fe_max), NULL,
+     "motor turns 0.001..1000000",
+     "the largest FollowError window an init packet may carry" NL
+     "(default 50 turns; 0 in the packet stays \"no threshold\")"},
     {"idle-timeout", 0, "S", SW_BOTH, SK_NUM, 0, 1e7, G(idle_timeout), NULL, "seconds >= 0",
      "give up if no packet at all arrives within S s (default: wait)"},
     {"max-seconds", 0, "S", SW_BOTH, SK_NUM, 0, 1e7, G(max_seconds), NULL, "seconds >= 0",

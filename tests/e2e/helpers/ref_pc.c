@@ -40,7 +40,7 @@ static uint64_t now_ns(void)
 static void usage(void)
 {
     fprintf(stderr,
-            "usage: ref_pc -p PORT [--echo] [--no-reply] [--wrong-num] [--stop-after N]\n"
+            "usage: ref_pc -p PORT [--echo] [--no-reply] [--wrong-num] [--alter-init] [--stop-after N]\n"
             "              [--drop-nth N] [--exit-after K] [--request MODE@N] [--idle-ms MS]\n"
             "              [--max-s S] [--bind ADDR] [--slow-us US] [--late-us US[@N[,COUNT]]]\n"
             "              [--wrong-num-at N[,COUNT]]\n");
@@ -108,6 +108,7 @@ int main(int argc, char **argv)
     c4g_session_t s;
     int no_reply = 0;
     int wrong_num = 0;
+    int alter_init = 0;
     long stop_after = -1;
     long drop_nth = -1;
     long exit_after = 600;
@@ -148,6 +149,7 @@ int main(int argc, char **argv)
         else if (strcmp(o, "--echo") == 0) { cfg.num_policy = C4G_NUM_ECHO; }
         else if (strcmp(o, "--no-reply") == 0) { no_reply = 1; }
         else if (strcmp(o, "--wrong-num") == 0) { wrong_num = 1; }
+        else if (strcmp(o, "--alter-init") == 0) { alter_init = 1; }
         else if (strcmp(o, "--stop-after") == 0 && v) { stop_after = atol(v); i++; }
         else if (strcmp(o, "--drop-nth") == 0 && v) { drop_nth = atol(v); i++; }
         else if (strcmp(o, "--exit-after") == 0 && v) { exit_after = atol(v); i++; }
@@ -321,6 +323,9 @@ int main(int argc, char **argv)
         } else {
             if (no_reply || (stop_after >= 0 && (long)rx_total > stop_after)) { continue; }
             if (c4g_session_reply(&s, NULL, out, sizeof out, &olen) != C4G_OK) { continue; }
+        }
+        if (alter_init && res.kind == C4G_RX_INIT) {
+            out[C4G_INIT_OFF_AZLIM + 1U] ^= 0x01U; /* a PC holding other limits: AzLim axis 1 */
         }
         if (wrong_num || (res.kind == C4G_RX_CYCLIC && in_range(cyclic, wrong_from, wrong_count))) {
             const int32_t w = (int32_t)(out[0] | (out[1] << 8)) + 5;

@@ -19,6 +19,8 @@ KIND:
   mode3   a 6-axis cyclic packet with mode 3 (defined, not available on the controller)
   zeros   COUNT zero-filled 228-byte datagrams (a 6-axis cyclic packet's size)
   tiny    a 4-byte datagram
+  sync    a 228-byte synchronization packet (6 axes, NUM 1, mode 0)
+  sync48  COUNT 48-byte synchronization packets (1 axis, NUM 1, mode 0)
 --gap-us paces the datagrams with time.sleep (the host adds its timer slack); with --spin 1
 it busy-waits instead (a dense stream, one CPU busy). SIGTERM ends the sending early; the
 listening and the report follow as usual.
@@ -85,6 +87,10 @@ def main(argv):
         pkts = [cyclic(num, 3)]
     elif kind == "zeros":
         pkts = [bytes(228)]
+    elif kind == "sync":
+        pkts = [cyclic(1, 0, infpar=0)]
+    elif kind == "sync48":
+        pkts = [cyclic(1, 0, infpar=0, n_axes=1)]
     elif kind == "tiny":
         pkts = [b"\x0d\x00\x00\x00"]
     else:
