@@ -590,7 +590,11 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
     const int init = (p->len == C4G_INIT_SIZE);
     const int cyc = is_cyclic_size(p->len);
     const int sync = cyc && zero_body(p->payload, p->len);
-    if (s != NULL) {
+    const int32_t num = (p->len >= 4U) ? an_le_i32(p->payload) : -1;
+    /* the controller counts NUM 0..0x7FFF: anything else is not a packet of the session
+     * (no tick, no restart, no NUM arithmetic on it) */
+    const int num_bad = (init || cyc) && (num < 0 || num > 0x7FFF);
+    if (s != NULL && !num_bad) {
         /* a new start: an init packet after the session had one (506 restart) or cyclic
          * packets, or a synchronization packet after cyclic ones (cold restart) */
         if (init && (s->have_init || s->cyclic_started)) {
@@ -611,7 +615,11 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
     }
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
-    if (init) {
+    if (num_bad) {
+        s->ctrl_other++;
+        finding(s, AN_K_MALFORMED, p, num, (double)p->len,
+                "controller datagram of %u bytes: NUM %d outside 0..32767", (unsigned)p->len, (int)num);
+    } else if (init) {
         ctrl_init(a, s, p);
     } else if (sync && (!s->cyclic_started || s->post_sync > 0U)) {
         ctrl_sync(a, s, p);
@@ -851,6 +859,18 @@ static void dispatch(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *
     } else {
         from_pc(a, fl, file, p);
     }
+    if (a->step_pending && fl->sess >= 0) {
+        an_session_t *s = &a->sess[fl->sess];
+        cap_pkt_t q = *p;
+        a->step_pending = 0;
+        q.frame = a->step_frame;
+        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? an_le_i32(p->payload) : -1,
+                (double)a->step_ns * 1e-9,
+                "frame %llu is stamped %.6f s before the frame ahead of it (the capture's clock "
+                "went back): analysed in capture order, its time and every later one moved %.6f s "
+                "on", (unsigned long long)a->step_frame, (double)a->step_ns * 1e-9,
+                (double)a->step_ns * 1e-9);
+    }
 }
 
 /* Median (lower) of up to AN_PENDING values. */
@@ -961,7 +981,7 @@ static void take_recent(an_t *a, an_flow_t *fl, const char *file)
     }
 }
 
-void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
+static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
 {
     int from_a = 1, d;
     an_flow_t *fl;
@@ -1012,6 +1032,51 @@ void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
     }
 }
 
+/* An identical datagram (endpoints, bytes) at the same time as the one before: the same
+ * frame captured twice (two interfaces merged, a file merged with itself). */
+static int doubled(an_t *a, const cap_pkt_t *p)
+{
+    const int same = a->have_prev && a->prev.ts_ns == p->ts_ns && a->prev.src_ip == p->src_ip &&
+                     a->prev.dst_ip == p->dst_ip && a->prev.src_port == p->src_port &&
+                     a->prev.dst_port == p->dst_port && a->prev.len == p->len &&
+                     p->len <= sizeof a->prev_data && memcmp(a->prev_data, p->payload, p->len) == 0;
+    if (same) {
+        a->doubled++;
+        a->have_prev = 0; /* a third copy is a datagram again */
+        return 1;
+    }
+    a->prev = *p;
+    a->have_prev = p->len <= sizeof a->prev_data;
+    if (a->have_prev) {
+        memcpy(a->prev_data, p->payload, p->len);
+    }
+    return 0;
+}
+
+void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
+{
+    cap_pkt_t q = *p;
+    if (doubled(a, p)) {
+        return;
+    }
+    /* a clock step back (NTP, a merged file): capture order is the order of events, so the
+     * later times move by the step and nothing is taken out of order */
+    q.ts_ns = p->ts_ns + a->clock_shift;
+    if (a->have_ts && q.ts_ns < a->last_ts) {
+        const int64_t step = a->last_ts - q.ts_ns;
+        if (!a->step_pending) {
+            a->step_ns = step;
+            a->step_frame = p->frame;
+            a->step_pending = 1;
+        }
+        a->clock_shift += step;
+        q.ts_ns = a->last_ts;
+    }
+    a->have_ts = 1;
+    a->last_ts = q.ts_ns;
+    datagram(a, file, &q);
+}
+
 void an_file_end(an_t *a, const char *file)
 {
     unsigned i;
@@ -1032,6 +1097,10 @@ void an_file_end(an_t *a, const char *file)
     a->n_flows = 0U;
     a->n_recent = 0U;
     a->recent_head = 0U;
+    a->have_ts = 0;
+    a->clock_shift = 0;
+    a->step_pending = 0;
+    a->have_prev = 0;
 }
 
 double an_latency_us(const an_session_t *s, double q)

@@ -56,7 +56,8 @@ static inline float an_le_f32(const uint8_t *p) { return an_f32_bits(an_le_u32(p
     X(TRANSITION, "transition", "a mode change the protocol does not allow")                 \
     X(FOLLOW_ERROR, "follow-error", "|target - actual| over the init packet's FollowError")  \
     X(CURRENT, "current-limit", "a current the controller would apply over AzLim")           \
-    X(POS_STEP, "position-step", "a position reference the controller would reject")
+    X(POS_STEP, "position-step", "a position reference the controller would reject")        \
+    X(CLOCK_STEP, "clock-step", "the capture's clock went back (frames kept in capture order)")
 
 #define AN_KIND_ENUM(id, name, text) AN_K_##id,
 typedef enum an_kind { AN_KINDS(AN_KIND_ENUM) AN_K_COUNT } an_kind_t;
@@ -216,6 +217,19 @@ typedef struct an {
     uint64_t flows_dropped;
     uint64_t datagrams, c4g_datagrams, other_udp;
     const char *file;
+    /* the file's clock: times are made monotonic in capture order (a step back shifts
+     * every later time by its size), the step reported in the next session datagram */
+    int have_ts;
+    int64_t last_ts, clock_shift;
+    int step_pending;
+    int64_t step_ns;
+    uint64_t step_frame;
+    /* frames captured twice (an identical datagram at the same time right after itself):
+     * analysed once, counted per file */
+    uint64_t doubled;
+    cap_pkt_t prev;
+    uint8_t prev_data[C4G_INIT_SIZE + 4U];
+    int have_prev;
 } an_t;
 
 void an_options_default(an_options_t *o);

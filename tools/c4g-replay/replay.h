@@ -25,6 +25,7 @@ typedef struct rp_file {
     char link[16];
     int nano;
     cap_counts_t n;
+    uint64_t doubled;         /* frames captured twice (analysed once) */
     char first_bad[400];      /* the first damaged frame, in words */
     char fatal[400];           /* why reading stopped early, or why it could not start */
 } rp_file_t;

@@ -52,12 +52,23 @@ unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_fil
             if (files[i].opened && (files[i].n.bad > 0U || !files[i].complete)) {
                 n++;
             }
+            if (files[i].opened && files[i].doubled > 0U) {
+                n++;
+            }
         }
     }
     return n;
 }
 
 /* ---- text ------------------------------------------------------------------ */
+
+static const char *doubled_text(const rp_file_t *f, char *buf, size_t cap)
+{
+    (void)snprintf(buf, cap, "%llu frames captured twice (an identical datagram at the same time "
+                   "right after itself, e.g. a file merged with itself): each analysed once",
+                   (unsigned long long)f->doubled);
+    return buf;
+}
 
 static void text_init(FILE *out, const an_session_t *s)
 {
@@ -168,6 +179,7 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
 void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
 {
     unsigned i, nf;
+    char buf[160];
     for (i = 0U; i < n_files; i++) {
         const rp_file_t *f = &files[i];
         if (!f->opened) {
@@ -179,6 +191,9 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
                 (unsigned long long)f->n.udp, (unsigned long long)f->n.ignored,
                 (unsigned long long)f->n.bad, f->complete ? "" : "; stopped early: ",
                 f->complete ? "" : f->fatal);
+        if (f->doubled > 0U) {
+            fprintf(out, "%s: capture: %s\n", f->path, doubled_text(f, buf, sizeof buf));
+        }
     }
     for (i = 0U; i < a->n_sess; i++) {
         text_session(out, &a->sess[i], allow);
@@ -220,6 +235,11 @@ unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, un
             n++;
         } else if (!f->complete) {
             fprintf(out, "%s: capture: %s\n", f->path, f->fatal);
+            n++;
+        }
+        if (f->doubled > 0U) {
+            char buf[160];
+            fprintf(out, "%s: capture: %s\n", f->path, doubled_text(f, buf, sizeof buf));
             n++;
         }
     }
@@ -394,6 +414,9 @@ int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_
             (void)json_object_set_new(o, "other", json_integer((json_int_t)f->n.ignored));
             (void)json_object_set_new(o, "damaged", json_integer((json_int_t)f->n.bad));
             (void)json_object_set_new(o, "complete", json_boolean(f->complete));
+            if (f->doubled > 0U) {
+                (void)json_object_set_new(o, "doubled", json_integer((json_int_t)f->doubled));
+            }
         }
         if (f->first_bad[0] != '\0') {
             (void)json_object_set_new(o, "first_damage", json_string(f->first_bad));
