@@ -198,6 +198,7 @@ static void arms_setup(an_session_t *s)
 static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s;
+    unsigned i;
     if (a->n_sess >= AN_MAX_SESSIONS) {
         a->sess_dropped++;
         fl->sess = -1;
@@ -205,7 +206,11 @@ static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const
     }
     s = &a->sess[a->n_sess];
     memset(s, 0, sizeof *s);
-    s->id = a->n_sess + 1U;
+    /* numbered per file: the numbers summary, export and rerun give the file alone */
+    s->id = 1U;
+    for (i = 0U; i < a->n_sess; i++) {
+        s->id += (a->sess[i].file == file) ? 1U : 0U;
+    }
     s->file = file;
     s->ctrl = (fl->ctrl_is_a == 1) ? fl->a : fl->b;
     s->pc = (fl->ctrl_is_a == 1) ? fl->b : fl->a;
@@ -960,6 +965,26 @@ static void remember(an_t *a, const cap_pkt_t *p)
     h->used = 0;
 }
 
+/* One datagram of a known flow: analysed, or held while the flow's direction is undecided. */
+static void feed_flow(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p, int from_a)
+{
+    an_held_t *h;
+    int d;
+    if (fl->ctrl_is_a >= 0) {
+        dispatch(a, fl, file, p, from_a);
+        return;
+    }
+    h = &fl->held[fl->n_held++];
+    h->p = *p;
+    h->p.len = (p->len <= sizeof h->data) ? p->len : sizeof h->data;
+    memcpy(h->data, p->payload, h->p.len);
+    h->p.payload = h->data;
+    d = decide(a, fl, fl->n_held == AN_PENDING);
+    if (d >= 0) {
+        release(a, fl, file, d);
+    }
+}
+
 /* A flow found by its init packet: the datagrams of its endpoints seen just before (the
  * synchronization packets and their replies) go first, in order. */
 static void take_recent(an_t *a, an_flow_t *fl, const char *file)
@@ -977,15 +1002,60 @@ static void take_recent(an_t *a, an_flow_t *fl, const char *file)
         h->used = 1;
         a->other_udp--;
         a->c4g_datagrams++;
-        dispatch(a, fl, file, &h->p, fwd);
+        feed_flow(a, fl, file, &h->p, fwd);
     }
+}
+
+/* A capture that starts mid-session on ports not listed: the datagrams of one UDP
+ * conversation have the C4G Open shape when the last AN_SHAPE_MIN of them (in the ring of
+ * recent datagrams) go both ways, each 12 + 36 n bytes (n the same both ways; 732 for a
+ * synchronization reply), with NUMs 0..0x7FFF, and one side counts its NUM up by one from
+ * datagram to datagram. */
+#define AN_SHAPE_MIN 8U
+static int c4g_shaped(const an_t *a, const cap_pkt_t *p)
+{
+    unsigned k, n = 0U, steps = 0U, dirs = 0U;
+    int32_t last_num[2] = {-1, -1};
+    size_t len[2] = {0U, 0U};
+    for (k = 0U; k < a->n_recent && n < AN_SHAPE_MIN; k++) {
+        const an_held_t *h = &a->recent[(a->recent_head + AN_RECENT - 1U - k) % AN_RECENT];
+        const int fwd = h->p.src_ip == p->src_ip && h->p.src_port == p->src_port &&
+                        h->p.dst_ip == p->dst_ip && h->p.dst_port == p->dst_port;
+        const int back = h->p.src_ip == p->dst_ip && h->p.src_port == p->dst_port &&
+                         h->p.dst_ip == p->src_ip && h->p.dst_port == p->src_port;
+        const int side = fwd ? 0 : 1;
+        int32_t num;
+        if (h->used || (!fwd && !back)) {
+            continue;
+        }
+        if (!is_cyclic_size(h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
+            return 0;
+        }
+        num = an_le_i32(h->data);
+        if (num < 0 || num > 0x7FFF) {
+            return 0;
+        }
+        if (h->p.len != C4G_SYNC_REPLY_SIZE) {
+            if (len[side] != 0U && len[side] != h->p.len) {
+                return 0;
+            }
+            len[side] = h->p.len;
+        }
+        /* newest first: the side's previous datagram carries NUM - 1 */
+        if (last_num[side] >= 0 && cs_num_after(num) == last_num[side]) {
+            steps++;
+        }
+        last_num[side] = num;
+        dirs |= 1U << (unsigned)side;
+        n++;
+    }
+    return n >= AN_SHAPE_MIN && dirs == 3U && len[0] == len[1] && steps >= AN_SHAPE_MIN / 2U - 1U;
 }
 
 static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
 {
-    int from_a = 1, d;
+    int from_a = 1;
     an_flow_t *fl;
-    an_held_t *h;
     a->datagrams++;
     a->file = file;
     fl = flow_find(a, p, &from_a);
@@ -994,6 +1064,19 @@ static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
         if (!port_listed(a, p->src_port) && !port_listed(a, p->dst_port) && !init) {
             a->other_udp++;
             remember(a, p);
+            if (!is_cyclic_size(p->len) || !c4g_shaped(a, p) || a->n_flows >= AN_MAX_FLOWS) {
+                return;
+            }
+            /* found by its shape: the datagrams in the ring (this one the last) are its start */
+            fl = &a->flows[a->n_flows++];
+            memset(fl, 0, sizeof *fl);
+            fl->a.ip = p->src_ip;
+            fl->a.port = p->src_port;
+            fl->b.ip = p->dst_ip;
+            fl->b.port = p->dst_port;
+            fl->ctrl_is_a = -1;
+            fl->sess = -1;
+            take_recent(a, fl, file);
             return;
         }
         if (a->n_flows >= AN_MAX_FLOWS) {
@@ -1017,19 +1100,7 @@ static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
         }
     }
     a->c4g_datagrams++;
-    if (fl->ctrl_is_a >= 0) {
-        dispatch(a, fl, file, p, from_a);
-        return;
-    }
-    h = &fl->held[fl->n_held++];
-    h->p = *p;
-    h->p.len = (p->len <= sizeof h->data) ? p->len : sizeof h->data;
-    memcpy(h->data, p->payload, h->p.len);
-    h->p.payload = h->data;
-    d = decide(a, fl, fl->n_held == AN_PENDING);
-    if (d >= 0) {
-        release(a, fl, file, d);
-    }
+    feed_flow(a, fl, file, p, from_a);
 }
 
 /* An identical datagram (endpoints, bytes) at the same time as the one before: the same

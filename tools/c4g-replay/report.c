@@ -60,6 +60,32 @@ unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_fil
     return n;
 }
 
+unsigned rp_file_sessions(const an_t *a, const char *path)
+{
+    unsigned i, n = 0U;
+    for (i = 0U; i < a->n_sess; i++) {
+        n += (a->sess[i].file == path) ? 1U : 0U;
+    }
+    return n;
+}
+
+const char *rp_no_session_text(const an_t *a, const rp_file_t *f, char *buf, size_t cap)
+{
+    size_t used;
+    unsigned i;
+    used = (size_t)snprintf(buf, cap, "no C4G Open session found in %llu frames (%llu UDP, %llu not "
+                            "IPv4/UDP; looked for: PC ports", (unsigned long long)f->n.frames,
+                            (unsigned long long)f->n.udp, (unsigned long long)f->n.ignored);
+    for (i = 0U; i < a->opt.n_ports && used < cap; i++) {
+        used += (size_t)snprintf(buf + used, cap - used, " %u", (unsigned)a->opt.ports[i]);
+    }
+    if (used < cap) {
+        (void)snprintf(buf + used, cap - used, ", a 1200-byte initialization packet, or %u datagrams "
+                       "of the C4G Open shape in a row; IPv4 only)", 8U);
+    }
+    return buf;
+}
+
 /* ---- text ------------------------------------------------------------------ */
 
 static const char *doubled_text(const rp_file_t *f, char *buf, size_t cap)
@@ -210,11 +236,21 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
             fprintf(out, " %u", (unsigned)a->opt.ports[i]);
         }
         fprintf(out, ", or a 1200-byte initialization packet)%s\n", nf > 0U ? "; damaged capture" : "");
-    } else if (nf == 0U) {
-        fprintf(out, "verdict: clean: %u session%s, no findings\n", a->n_sess, a->n_sess == 1U ? "" : "s");
     } else {
-        fprintf(out, "verdict: %u finding%s in %u session%s\n", nf, nf == 1U ? "" : "s", a->n_sess,
-                a->n_sess == 1U ? "" : "s");
+        unsigned empty = 0U;
+        for (i = 0U; i < n_files; i++) {
+            empty += (files[i].opened && rp_file_sessions(a, files[i].path) == 0U) ? 1U : 0U;
+        }
+        if (nf == 0U) {
+            fprintf(out, "verdict: clean: %u session%s, no findings", a->n_sess, a->n_sess == 1U ? "" : "s");
+        } else {
+            fprintf(out, "verdict: %u finding%s in %u session%s", nf, nf == 1U ? "" : "s", a->n_sess,
+                    a->n_sess == 1U ? "" : "s");
+        }
+        if (empty > 0U) {
+            fprintf(out, "; no C4G Open session in %u of the files (not checked)", empty);
+        }
+        fputc('\n', out);
     }
 }
 
