@@ -384,19 +384,20 @@ out = open(sys.argv[2], "w")
 for n, line in enumerate(open(sys.argv[1])):
     port, hexs = line.split()
     data = bytes.fromhex(hexs.replace(":", ""))
-    out.write("%s\n" % ("I" if port == "46800" else "O"))
+    out.write("%s 1700000000.000000\n" % ("I" if port == "46800" else "O"))  # a fixed time
     for i in range(0, len(data), 16):
         out.write("%06x %s\n" % (i, " ".join("%02x" % b for b in data[i:i + 16])))
 PY
-    text2pcap -q -D -6 ::1,::1 -u 46800,46300 -t "%s." "$T/v6.hex" "$F/ipv6.pcap" >/dev/null 2>&1 || return 1
+    text2pcap -q -F pcap -D -6 ::1,::1 -u 46800,46300 -t "%s." "$T/v6.hex" "$F/ipv6.pcap" >/dev/null 2>&1 || return 1
     # replies held after the controller's next packet (moved 2.2 ms later): the replies to
     # ticks 60, 150 and 300 of mode4 (frames 146, 326, 626)
     editcap -F pcap -r "$M4" "$T/late.pcap" 146 326 626 && editcap -F pcap -t 0.0022 "$T/late.pcap" "$T/late2.pcap" &&
         editcap -F pcap "$M4" "$T/rest.pcap" 146 326 626 &&
         mergecap -F pcap -w "$F/late-replies.pcap" "$T/rest.pcap" "$T/late2.pcap" || return 1
-    # the initialization echo held after the next synchronization packet (frame 20 moved 2.5 ms)
-    editcap -F pcap -r "$M4" "$T/echo.pcap" 20 && editcap -F pcap -t 0.0025 "$T/echo.pcap" "$T/echo2.pcap" &&
-        editcap -F pcap "$M4" "$T/rest2.pcap" 20 &&
+    # late-replies with its initialization echo held after the next synchronization packet
+    # (frame 20 moved 2.5 ms): no policy from the echo, and late plus-one replies
+    editcap -F pcap -r "$F/late-replies.pcap" "$T/echo.pcap" 20 && editcap -F pcap -t 0.0025 "$T/echo.pcap" "$T/echo2.pcap" &&
+        editcap -F pcap "$F/late-replies.pcap" "$T/rest2.pcap" 20 &&
         mergecap -F pcap -w "$F/late-init-echo.pcap" "$T/rest2.pcap" "$T/echo2.pcap" || return 1
     # a capture of fault-late started mid-session: its stale plus-one reply (to NUM 192)
     editcap -F pcap -r "$OUT/fault-late.pcap" "$F/midsession-late.pcap" 101-526 || return 1

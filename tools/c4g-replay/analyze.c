@@ -282,6 +282,7 @@ static void judge(an_t *a, an_session_t *s, int64_t t_next, const cap_pkt_t *p, 
     }
     cs_set_deadline(&s->cs, deadline);
     v = cs_judge(&s->cs, deadline, s->frozen);
+    s->prev_in_time = (v == CS_J_OK && o->kind == CS_CYCLIC);
     if (v == CS_J_OK) {
         s->run = 0U;
         if (s->cs.last_late) {
@@ -739,6 +740,28 @@ static void keep_unchecked_reply(an_session_t *s, const cap_pkt_t *p, int32_t nu
     }
 }
 
+/* Policy "either" without an init echo in time (a late echo, a capture started mid-session):
+ * learnt from the cyclic replies, so that a late plus-one reply is not taken for the echo of
+ * the next packet. NUM + 1 can only be plus-one; NUM itself is an echo only when the packet
+ * before had its reply in time (else it may be that packet's late plus-one reply). */
+static void learn_policy(const an_t *a, an_session_t *s, int32_t num)
+{
+    const cs_outstanding_t *o = &s->cs.out;
+    if (a->opt.num_policy != CS_NUM_EITHER || s->cs.detected >= 0 || !o->active || !o->check ||
+        o->kind != CS_CYCLIC || o->got) {
+        return;
+    }
+    if (num == c4g_reply_num(o->num, C4G_NUM_PLUS_ONE) && num != o->num) {
+        s->cs.detected = CS_NUM_PLUS_ONE;
+    } else if (num == o->num && s->prev_in_time) {
+        s->cs.detected = CS_NUM_ECHO;
+    } else {
+        return;
+    }
+    s->policy = s->cs.detected;
+    s->policy_from_cyclic = 1;
+}
+
 static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
@@ -752,6 +775,7 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     }
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
+    learn_policy(a, s, num);
     r = cs_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns);
     if (r != CS_RX_ACCEPTED && r != CS_RX_STALE && r != CS_RX_DUPLICATE && s->reply_len == 0U &&
         s->other_len == 0U && p->len > 0U) {

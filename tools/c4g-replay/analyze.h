@@ -136,6 +136,8 @@ typedef struct an_session {
     int frozen;                 /* 502 .. 503, or 500: replies are not checked */
     uint8_t req[C4G_ARMS];      /* PC requests in force per arm (bit per kind), for events */
     uint64_t policy_plus, policy_echo; /* cyclic replies under each NUM policy */
+    int policy_from_cyclic;     /* no init echo in time: the policy learnt from cyclic replies */
+    int prev_in_time;           /* the last packet judged was cyclic and answered in time */
     /* data */
     an_finding_t f[AN_K_COUNT];
     /* internal */

@@ -174,7 +174,8 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
             (unsigned long long)s->ctrl_cyclic, (unsigned long long)s->ctrl_other,
             (unsigned long long)s->pc_sync, (unsigned long long)s->pc_init,
             (unsigned long long)s->pc_cyclic, (unsigned long long)s->pc_other);
-    fprintf(out, "  NUM policy: %s\n", policy_name(s));
+    fprintf(out, "  NUM policy: %s%s\n", policy_name(s),
+            s->policy_from_cyclic ? " (from the cyclic replies: no init echo in time)" : "");
     fprintf(out, "  replies: %lu in time, latency p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us; "
             "%lu late (> %.0f us)\n", n->replies_ok, an_latency_us(s, 0.5), an_latency_us(s, 0.99),
             an_latency_us(s, 0.999), (double)n->lat_max * 1e-3, n->late,
