@@ -226,7 +226,7 @@ static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const
     return s;
 }
 
-static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
+static void deliver(an_t *a, an_session_t *s, cs_verdict_t v, int64_t next_ns)
 {
     an_exchange_t x;
     if (a->opt.on_exchange == NULL) {
@@ -256,6 +256,7 @@ static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
     }
     x.verdict = v;
     x.late = s->cs.last_late;
+    x.next_ns = next_ns;
     a->opt.on_exchange(a->opt.ctx, &x);
 }
 
@@ -277,7 +278,7 @@ static void judge(an_t *a, an_session_t *s, int64_t t_next, const cap_pkt_t *p, 
     }
     if (at_end && !o->got) {
         o->active = 0; /* the capture ended before its deadline was seen */
-        deliver(a, s, CS_J_NONE);
+        deliver(a, s, CS_J_NONE, 0);
         return;
     }
     cs_set_deadline(&s->cs, deadline);
@@ -317,7 +318,7 @@ static void judge(an_t *a, an_session_t *s, int64_t t_next, const cap_pkt_t *p, 
     } else {
         /* not judged (frozen, or a packet whose reply is not checked) */
     }
-    deliver(a, s, v);
+    deliver(a, s, v, t_next);
 }
 
 /* ---- controller packets ------------------------------------------------- */
@@ -830,6 +831,9 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
         break;
     case CS_RX_STALE:
         s->pc_other++; /* counted at the judgement of its packet (missing, it came later) */
+        if (a->opt.on_late != NULL) {
+            a->opt.on_late(a->opt.ctx, s, p->payload, p->len, p->ts_ns, p->frame);
+        }
         break;
     case CS_RX_BAD_DECODE:
         s->pc_other++;

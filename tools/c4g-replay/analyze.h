@@ -189,9 +189,13 @@ typedef struct an_exchange {
     int64_t other_ns;
     cs_verdict_t verdict;
     int late;                   /* verdict OK but later than T_CYCLE1 */
+    int64_t next_ns;            /* the session's next controller packet, 0 at the end */
 } an_exchange_t;
 
 typedef void (*an_exchange_fn)(void *ctx, const an_exchange_t *x);
+/* A reply that came after its packet's deadline (stale): its bytes, time and frame. */
+typedef void (*an_late_fn)(void *ctx, const an_session_t *s, const uint8_t *d, size_t len,
+                           int64_t ns, uint64_t frame);
 
 typedef struct an_options {
     uint16_t ports[AN_MAX_PORTS]; /* PC ports of C4G Open flows (1000, 1001) */
@@ -201,6 +205,7 @@ typedef struct an_options {
     int num_policy;               /* the controller's: CS_NUM_EITHER (learnt from the
                                    * init echo, default), CS_NUM_PLUS_ONE or CS_NUM_ECHO */
     an_exchange_fn on_exchange;   /* may be NULL */
+    an_late_fn on_late;           /* may be NULL */
     void *ctx;
 } an_options_t;
 
