@@ -33,6 +33,11 @@ typedef struct srv_host {
     uint64_t pcap_errors;
     struct sockaddr_in ctrl;      /* controller filter (sin_addr.s_addr 0 = any) */
     uint16_t local_port;
+    /* --pcap: the kernel's receive and send times of each datagram (SO_TIMESTAMPING), so
+     * the capture shows when a datagram was on the wire, not when the server got to it */
+    int kstamp;
+    uint64_t kstamp_off;          /* CLOCK_REALTIME - CLOCK_MONOTONIC */
+    uint32_t tx_key;              /* the kernel's id of the next send stamp */
 } srv_host_t;
 
 /* report.c */
