@@ -335,6 +335,7 @@ int rp_cmd_export(int argc, char **argv)
          &e.ticks, 0, 0, 0, NULL, 0},
         {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
+        {"no-progress", 0, CLI_FLAG, NULL, "no progress bar on a terminal", &e.c.no_progress, 0, 0, 0, NULL, 0},
     };
     memset(&e, 0, sizeof e);
     rp_common_default(&e.c);
@@ -367,7 +368,7 @@ int rp_cmd_export(int argc, char **argv)
         fprintf(stderr, RP_TOOL ": out of memory\n");
         return CLI_EXIT_RUNTIME;
     }
-    rc = rp_read(&a, argv[first], &file, 1);
+    rc = rp_read(&a, argv[first], &file, !e.c.no_progress);
     an_free(&a);
     if (fflush(stdout) != 0) {
         fprintf(stderr, RP_TOOL ": writing the export failed\n");
