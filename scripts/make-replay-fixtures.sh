@@ -415,6 +415,18 @@ while off < len(b):
     off += 16 + incl
 open(sys.argv[2], "wb").write(b)
 PY
+    # controller frame 251 (tick 114, NUM 126) lost by the capture, not the wire: its reply is there
+    editcap -F pcap "$M4" "$F/lost-frame.pcap" 251 || return 1
+    # the reply to tick 114 (frame 252) stamped 300 us earlier: before its packet, in capture order after it
+    editcap -F pcap -r "$M4" "$T/b1.pcap" 1-251 && editcap -F pcap -r "$M4" "$T/b2.pcap" 252 &&
+        editcap -F pcap -t -0.0003 "$T/b2.pcap" "$T/b2s.pcap" && editcap -F pcap -r "$M4" "$T/b3.pcap" 253-806 &&
+        mergecap -F pcap -a -w "$F/reply-before.pcap" "$T/b1.pcap" "$T/b2s.pcap" "$T/b3.pcap" || return 1
+    # 10 s without a packet after frame 500 (the rest of the file 10 s later)
+    editcap -F pcap -r "$M4" "$T/h1.pcap" 1-500 && editcap -F pcap -r "$M4" "$T/h2.pcap" 501-806 &&
+        editcap -F pcap -t 10 "$T/h2.pcap" "$T/h2s.pcap" &&
+        mergecap -F pcap -a -w "$F/hole-10s.pcap" "$T/h1.pcap" "$T/h2s.pcap" || return 1
+    # a compressed capture
+    gzip -n -c "$OUT/mode0.pcap" >"$F/mode0.pcap.gz" || return 1
     say "field/*.pcap"
 }
 field || FAILED="$FAILED field"

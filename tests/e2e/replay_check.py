@@ -308,11 +308,48 @@ def field_num_range(replay, fd):
         expect(f, "controller NUM gaps (NUM 27 -> 29 around the bad one)", s["controller_num"]["skipped"], 1)
 
 
+def field_small(replay, fd):
+    f = fd + "lost-frame.pcap"
+    d = summary(replay, f)
+    if d:
+        s = d["sessions"][0]
+        expect(f, "findings (the ctrl-gap alone)", sorted(findings(s)), ["ctrl-gap"])
+        expect(f, "NUM mismatches", s["replies"]["num_mismatch"], 0)
+        expect(f, "replies to lost packets", s["controller_num"].get("replies_to_lost"), 1)
+    f = fd + "reply-before.pcap"
+    d = summary(replay, f)
+    if d:
+        fs = findings(d["sessions"][0])
+        expect(f, "a clock-step finding at the reply (frame 252)", fs.get("clock-step", {}).get("frame"), 252)
+    f = fd + "hole-10s.pcap"
+    d = summary(replay, f)
+    if d:
+        fs = findings(d["sessions"][0])
+        expect(f, "a silence finding at frame 501", fs.get("silence", {}).get("frame"), 501)
+        expect(f, "silence over 10 s", fs.get("silence", {}).get("worst", 0) > 10.0, True)
+    f = fd + "mode0.pcap.gz"
+    rc, out, err = run(replay, "summary", "--no-progress", f)
+    expect(f, "summary exit status", rc, 2)
+    expect(f, "named as gzip", "a gzip-compressed file" in err, True)
+    res = subprocess.run([replay, "check", "-"], stdin=open("fixtures/replay/mode0.pcap", "rb"),
+                         capture_output=True, text=True)
+    expect("mode0 on stdin", "check - exit status", res.returncode, 0)
+    expect("mode0 on stdin", "check - closing line", res.stdout.strip(), "CLEAN: 1 file, 1 session, 0 findings")
+    res = subprocess.run("cat fixtures/replay/mode0.pcap | %s export --no-progress - | wc -l" % replay, shell=True,
+                         capture_output=True, text=True)
+    expect("mode0 through a pipe", "export rows + header", res.stdout.strip(), "160")
+    rc, out, err = run(replay, "export", "--from", "5", "--to", "2", "fixtures/replay/mode0.pcap")
+    expect("export --from 5 --to 2", "exit status", rc, 2)
+    rc, out, _ = run(replay, "check", "--no-progress", "fixtures/replay/fault-late.pcap", "fixtures/replay/fault-skip-3.pcap")
+    expect("check of two files", "the second file's session numbered 1",
+           "fixtures/replay/fault-skip-3.pcap: session 1: missing" in out, True)
+
+
 def cmd_field(args):
     replay, item = args[0], args[1]
     {"clock-step": field_clock_step, "no-session": field_no_session, "rerun-midsession": field_rerun_midsession,
      "rerun-late": field_rerun_late, "policy": field_policy, "doubled": field_doubled,
-     "num-range": field_num_range}[item](replay, "fixtures/replay/field/")
+     "num-range": field_num_range, "small": field_small}[item](replay, "fixtures/replay/field/")
 
 
 def cmd_docs(args):

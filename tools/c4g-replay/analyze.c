@@ -517,6 +517,14 @@ static void ctrl_cyclic(an_t *a, an_session_t *s, const cap_pkt_t *p)
     if (repeat) {
         return; /* not a new tick: the outstanding packet stays */
     }
+    /* over c4g-server's default loss timeout without a packet, not frozen: a pause of the
+     * controller, or the capture's clock stepped forward (the NUMs tell if packets were lost) */
+    if (s->ctrl_len > 0U && !s->frozen && p->ts_ns - s->ctrl_ns > 1000000000LL) {
+        finding(s, AN_K_SILENCE, p, num, (double)(p->ts_ns - s->ctrl_ns) * 1e-9,
+                "no controller packet for %.3f s before NUM %d (after NUM %d, frame %llu)",
+                (double)(p->ts_ns - s->ctrl_ns) * 1e-9, (int)num,
+                (s->ctrl_len >= 4U) ? (int)an_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
+    }
     judge(a, s, p->ts_ns, p, 0);
     s->ctrl_cyclic++;
     s->cyclic_started = 1;
@@ -741,6 +749,23 @@ static void keep_unchecked_reply(an_session_t *s, const cap_pkt_t *p, int32_t nu
     }
 }
 
+/* A cyclic reply whose NUM answers the packet after the outstanding one under the policy in
+ * force (either one while it is unknown). */
+static int answers_unseen(const an_t *a, const an_session_t *s, int32_t num)
+{
+    const int32_t next = cs_num_after(s->cs.out.num);
+    const int pol = (a->opt.num_policy != CS_NUM_EITHER) ? a->opt.num_policy : s->cs.detected;
+    if (s->cs.out.kind != CS_CYCLIC || !s->cs.out.active) {
+        return 0;
+    }
+    if (pol == CS_NUM_PLUS_ONE || pol < 0) {
+        if (num == c4g_reply_num(next, C4G_NUM_PLUS_ONE)) {
+            return 1;
+        }
+    }
+    return (pol == CS_NUM_ECHO || pol < 0) && num == next;
+}
+
 /* Policy "either" without an init echo in time (a late echo, a capture started mid-session):
  * learnt from the cyclic replies, so that a late plus-one reply is not taken for the echo of
  * the next packet. NUM + 1 can only be plus-one; NUM itself is an echo only when the packet
@@ -819,6 +844,15 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
             finding(s, AN_K_CTRL_GAP, p, num, 1.0,
                     "an initialization echo (NUM %d) with no initialization packet before it: the "
                     "controller's packet is missing from the capture", (int)num);
+            break;
+        }
+        if (answers_unseen(a, s, num)) {
+            /* the reply to the controller's next packet, which the capture lost (not the
+             * wire: the PC answered it): the ctrl-gap at the next packet explains it */
+            s->pc_unseen++;
+            if (s->cs.n.wrong_num > 0U) {
+                s->cs.n.wrong_num--; /* a right reply, to a packet the capture does not show */
+            }
             break;
         }
         finding(s, AN_K_NUM, p, num, 1.0, "reply NUM %d to controller NUM %d breaks the NUM policy",

@@ -57,7 +57,8 @@ static inline float an_le_f32(const uint8_t *p) { return an_f32_bits(an_le_u32(p
     X(FOLLOW_ERROR, "follow-error", "|target - actual| over the init packet's FollowError")  \
     X(CURRENT, "current-limit", "a current the controller would apply over AzLim")           \
     X(POS_STEP, "position-step", "a position reference the controller would reject")        \
-    X(CLOCK_STEP, "clock-step", "the capture's clock went back (frames kept in capture order)")
+    X(CLOCK_STEP, "clock-step", "the capture's clock went back (frames kept in capture order)") \
+    X(SILENCE, "silence", "no controller packet for over 1 s outside a freezing")
 
 #define AN_KIND_ENUM(id, name, text) AN_K_##id,
 typedef enum an_kind { AN_KINDS(AN_KIND_ENUM) AN_K_COUNT } an_kind_t;
@@ -138,6 +139,7 @@ typedef struct an_session {
     uint64_t policy_plus, policy_echo; /* cyclic replies under each NUM policy */
     int policy_from_cyclic;     /* no init echo in time: the policy learnt from cyclic replies */
     int prev_in_time;           /* the last packet judged was cyclic and answered in time */
+    uint64_t pc_unseen;         /* replies to controller packets missing from the capture */
     /* data */
     an_finding_t f[AN_K_COUNT];
     /* internal */

@@ -358,6 +358,10 @@ int rp_cmd_export(int argc, char **argv)
     if (r != CLI_RUN) {
         return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     }
+    if (e.to_s >= 0.0 && e.to_s < e.from_s) {
+        cli_error(&spec, "--to %g is before --from %g: no tick would be exported", e.to_s, e.from_s);
+        return CLI_EXIT_USAGE;
+    }
     if ((e.moni != 0U) + e.json_lines + e.ticks > 1) {
         cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
         return CLI_EXIT_USAGE;

@@ -752,6 +752,11 @@ int rp_cmd_live(int argc, char **argv)
     }
     L->spin_ns = (uint64_t)L->spin_us * 1000U;
     L->path = argv[first];
+    if (strcmp(L->path, "-") == 0) {
+        fprintf(stderr, RP_TOOL ": live: reads the file once per pass: give a file, not - (standard input)\n");
+        free(L);
+        return CLI_EXIT_USAGE;
+    }
     o = L->c.an;
     o.on_exchange = on_scan;
     o.ctx = L;

@@ -186,9 +186,14 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
     }
     fprintf(out, "); NUM mismatches %lu; duplicate replies %lu; stale replies %lu\n", n->wrong_num,
             n->duplicates, n->stale);
-    fprintf(out, "  controller NUM: %llu gaps (%llu packets skipped), %llu repeated, %llu out of order\n",
+    fprintf(out, "  controller NUM: %llu gaps (%llu packets skipped), %llu repeated, %llu out of order",
             (unsigned long long)s->ctrl_gaps, (unsigned long long)s->ctrl_skipped,
             (unsigned long long)s->ctrl_dups, (unsigned long long)s->ctrl_older);
+    if (s->pc_unseen > 0U) {
+        fprintf(out, "; %llu replies to packets the capture lost (the PC answered them)",
+                (unsigned long long)s->pc_unseen);
+    }
+    fputc('\n', out);
     text_modes(out, s);
     nf = an_findings(s, allow);
     fprintf(out, "  findings: %s\n", nf == 0U ? "none" : "");
@@ -426,6 +431,10 @@ static json_t *j_session(const an_session_t *s, uint32_t allow)
     (void)json_object_set_new(o, "controller_num", json_pack("{s:I, s:I, s:I, s:I}", "gaps",
         (json_int_t)s->ctrl_gaps, "skipped", (json_int_t)s->ctrl_skipped, "repeated",
         (json_int_t)s->ctrl_dups, "out_of_order", (json_int_t)s->ctrl_older));
+    if (s->pc_unseen > 0U) {
+        (void)json_object_set_new(json_object_get(o, "controller_num"), "replies_to_lost",
+                                  json_integer((json_int_t)s->pc_unseen));
+    }
     (void)json_object_set_new(o, "modes", j_modes(s));
     (void)json_object_set_new(o, "events", j_events(s));
     (void)json_object_set_new(o, "special_modes", special);

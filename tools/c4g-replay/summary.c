@@ -76,7 +76,8 @@ static const char *const check_examples[] = {
 
 static const char check_epilogue[] =
     "Kinds (--allow): capture missing missing-run late num duplicate ctrl-gap reorder malformed\n"
-    "nonfinite unknown-mode transition follow-error current-limit position-step (or all).\n"
+    "nonfinite unknown-mode transition follow-error current-limit position-step clock-step\n"
+    "silence (or all).\n"
     "Exit status: 0 no findings, 1 findings, 2 bad usage or an unreadable file, 3 no finding\n"
     "but a file without any C4G Open session (nothing was checked in it).\n";
 
