@@ -246,6 +246,23 @@ ok "rerun: a recorded reply after the next packet is a timing difference; the fi
 ok "NUM policy without an init echo in time: plus-one, no false duplicate" $CHECK field "$RP" policy
 ok "every frame captured twice: said once, analysed once" $CHECK field "$RP" doubled
 ok "a controller NUM near INT32_MAX: malformed, no arithmetic on it" $CHECK field "$RP" num-range
+live_late() {  # live of late-replies to c4g-server with the capture's options: 3 timing differences
+    lp=$(next_free2 $((P3 + 2)))
+    "$SRV" -p "$lp" -b 127.0.0.1 -c 127.0.0.1 --sine 0.25,1,0.5 --persist --max-seconds 30 \
+        >"$T/ll.srv.out" 2>"$T/ll.srv.err" &
+    LS=$!
+    PIDS="$PIDS $LS"
+    ll_up() { grep -q "listening on" "$T/ll.srv.err" 2>/dev/null || ! kill -0 "$LS" 2>/dev/null; }
+    wait_until 20 ll_up
+    "$RP" live $FD/late-replies.pcap --to "127.0.0.1:$lp" --num-policy plus-one --topspeed --json \
+        >"$T/ll.json" 2>/dev/null
+    kill "$LS" 2>/dev/null; wait "$LS" 2>/dev/null
+    python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))["divergences"]
+sys.exit(not (d["differing"] == 0 and d["timing_only"] == 3))' "$T/ll.json" ||
+        { echo "       $(grep -o '"divergences": {[^}]*' "$T/ll.json" | head -c 300)"; return 1; }
+}
+FD=$FX/field
+ok "live: the recording's late replies are timing differences, not divergences" live_late
 ok "smaller: a frame lost by the capture, a reply stamped before its packet, a 10 s hole, gzip, stdin, --from > --to" \
     $CHECK field "$RP" small
 ok "docs/c4g-replay.md: every example prints what the page shows" $CHECK docs "$BUILD/bin" docs/c4g-replay.md
