@@ -401,7 +401,7 @@ PY
         mergecap -F pcap -w "$F/late-init-echo.pcap" "$T/rest2.pcap" "$T/echo2.pcap" || return 1
     # a capture of fault-late started mid-session: its stale plus-one reply (to NUM 192)
     editcap -F pcap -r "$OUT/fault-late.pcap" "$F/midsession-late.pcap" 101-526 || return 1
-    # a controller NUM near INT32_MAX (0x7FFFFFF0) in tick 30 of fmt-eth (frame 55)
+    # a controller NUM near INT32_MAX (0x7FFFF000: not a stale NUM, so NUM arithmetic would see it) in tick 30 of fmt-eth (frame 55)
     python3 - "$OUT/fmt-eth.pcap" "$F/num-huge.pcap" 55 <<'PY' || return 1
 import struct, sys
 b = bytearray(open(sys.argv[1], "rb").read())
@@ -410,7 +410,7 @@ while off < len(b):
     n += 1
     incl = struct.unpack_from("<I", b, off + 8)[0]
     if n == int(sys.argv[3]):
-        struct.pack_into("<i", b, off + 16 + 42, 0x7FFFFFF0)  # Ethernet + IPv4 + UDP headers
+        struct.pack_into("<i", b, off + 16 + 42, 0x7FFFF000)  # Ethernet + IPv4 + UDP headers
         struct.pack_into(">H", b, off + 16 + 40, 0)            # no UDP checksum
     off += 16 + incl
 open(sys.argv[2], "wb").write(b)

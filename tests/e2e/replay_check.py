@@ -303,7 +303,7 @@ def field_num_range(replay, fd):
     if d:
         s = d["sessions"][0]
         fs = findings(s)
-        expect(f, "malformed finding", "NUM 2147483632 outside 0..32767" in fs.get("malformed", {}).get("first", ""), True)
+        expect(f, "malformed finding", "NUM 2147479552 outside 0..32767" in fs.get("malformed", {}).get("first", ""), True)
         expect(f, "no reorder finding", "reorder" in fs, False)
         expect(f, "controller NUM gaps (NUM 27 -> 29 around the bad one)", s["controller_num"]["skipped"], 1)
 
