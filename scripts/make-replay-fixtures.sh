@@ -354,6 +354,83 @@ if wanted fmt-nsec; then
     editcap -F nsecpcap "$OUT/fmt-eth.pcap" "$OUT/fmt-nsec.pcap" && say fmt-nsec.pcap || FAILED="$FAILED fmt-nsec"
 fi
 
+# ---------------------------------------------------------------- field-made captures
+# fixtures/replay/field/: what field engineers make of good captures with the usual tools
+# (editcap, mergecap, text2pcap), each from a fixture above; byte for byte the same every time.
+# The e2e test holds c4g-replay's verdict on each one (README.md, "Field-made captures").
+field() {
+    wanted field || return 0
+    F=$OUT/field
+    M4=$OUT/mode4.pcap
+    mkdir -p "$F"
+    # the capture's clock steps back 1 s after frame 400 (an NTP step during tcpdump)
+    editcap -F pcap -r "$M4" "$T/s1.pcap" 1-400 && editcap -F pcap -r "$M4" "$T/s2.pcap" 401-806 &&
+        editcap -F pcap -t -1 "$T/s2.pcap" "$T/s2b.pcap" &&
+        mergecap -F pcap -a -w "$F/clock-step.pcap" "$T/s1.pcap" "$T/s2b.pcap" || return 1
+    # a capture started after the initialization packet (tick 38 on), on a port not 1000/1001
+    editcap -F pcap -r "$M4" "$F/midsession-mode4.pcap" 101-806 || return 1
+    # the second file of a capture rotated every 300 packets (tcpdump -C, editcap -c)
+    editcap -F pcap -c 300 "$M4" "$T/rot.pcap" || return 1
+    cp "$(ls "$T"/rot_00001_* | head -n 1)" "$F/rotated-2.pcap" || return 1
+    # every frame twice (mergecap of a file with itself)
+    mergecap -F pcap -w "$F/doubled.pcap" "$OUT/special-exit-504.pcap" "$OUT/special-exit-504.pcap" || return 1
+    # the same datagrams as IPv6 (::1), from their bytes (text2pcap)
+    tshark -r "$OUT/fmt-eth.pcap" -T fields -e udp.srcport -e udp.payload 2>/dev/null |
+        awk '{ printf "%s %s\n", $1, $2 }' >"$T/pl.txt" || return 1
+    : >"$T/v6.pcap"
+    python3 - "$T/pl.txt" "$T/v6.hex" <<'PY' || return 1
+import sys
+out = open(sys.argv[2], "w")
+for n, line in enumerate(open(sys.argv[1])):
+    port, hexs = line.split()
+    data = bytes.fromhex(hexs.replace(":", ""))
+    out.write("%s 1700000000.000000\n" % ("I" if port == "46800" else "O"))  # a fixed time
+    for i in range(0, len(data), 16):
+        out.write("%06x %s\n" % (i, " ".join("%02x" % b for b in data[i:i + 16])))
+PY
+    text2pcap -q -F pcap -D -6 ::1,::1 -u 46800,46300 -t "%s." "$T/v6.hex" "$F/ipv6.pcap" >/dev/null 2>&1 || return 1
+    # replies held after the controller's next packet (moved 2.2 ms later): the replies to
+    # ticks 60, 150 and 300 of mode4 (frames 146, 326, 626)
+    editcap -F pcap -r "$M4" "$T/late.pcap" 146 326 626 && editcap -F pcap -t 0.0022 "$T/late.pcap" "$T/late2.pcap" &&
+        editcap -F pcap "$M4" "$T/rest.pcap" 146 326 626 &&
+        mergecap -F pcap -w "$F/late-replies.pcap" "$T/rest.pcap" "$T/late2.pcap" || return 1
+    # late-replies with its initialization echo held after the next synchronization packet
+    # (frame 20 moved 2.5 ms): no policy from the echo, and late plus-one replies
+    editcap -F pcap -r "$F/late-replies.pcap" "$T/echo.pcap" 20 && editcap -F pcap -t 0.0025 "$T/echo.pcap" "$T/echo2.pcap" &&
+        editcap -F pcap "$F/late-replies.pcap" "$T/rest2.pcap" 20 &&
+        mergecap -F pcap -w "$F/late-init-echo.pcap" "$T/rest2.pcap" "$T/echo2.pcap" || return 1
+    # a capture of fault-late started mid-session: its stale plus-one reply (to NUM 192)
+    editcap -F pcap -r "$OUT/fault-late.pcap" "$F/midsession-late.pcap" 101-526 || return 1
+    # a controller NUM near INT32_MAX (0x7FFFF000: not a stale NUM, so NUM arithmetic would see it) in tick 30 of fmt-eth (frame 55)
+    python3 - "$OUT/fmt-eth.pcap" "$F/num-huge.pcap" 55 <<'PY' || return 1
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+off, n = 24, 0
+while off < len(b):
+    n += 1
+    incl = struct.unpack_from("<I", b, off + 8)[0]
+    if n == int(sys.argv[3]):
+        struct.pack_into("<i", b, off + 16 + 42, 0x7FFFF000)  # Ethernet + IPv4 + UDP headers
+        struct.pack_into(">H", b, off + 16 + 40, 0)            # no UDP checksum
+    off += 16 + incl
+open(sys.argv[2], "wb").write(b)
+PY
+    # controller frame 251 (tick 114, NUM 126) lost by the capture, not the wire: its reply is there
+    editcap -F pcap "$M4" "$F/lost-frame.pcap" 251 || return 1
+    # the reply to tick 114 (frame 252) stamped 300 us earlier: before its packet, in capture order after it
+    editcap -F pcap -r "$M4" "$T/b1.pcap" 1-251 && editcap -F pcap -r "$M4" "$T/b2.pcap" 252 &&
+        editcap -F pcap -t -0.0003 "$T/b2.pcap" "$T/b2s.pcap" && editcap -F pcap -r "$M4" "$T/b3.pcap" 253-806 &&
+        mergecap -F pcap -a -w "$F/reply-before.pcap" "$T/b1.pcap" "$T/b2s.pcap" "$T/b3.pcap" || return 1
+    # 10 s without a packet after frame 500 (the rest of the file 10 s later)
+    editcap -F pcap -r "$M4" "$T/h1.pcap" 1-500 && editcap -F pcap -r "$M4" "$T/h2.pcap" 501-806 &&
+        editcap -F pcap -t 10 "$T/h2.pcap" "$T/h2s.pcap" &&
+        mergecap -F pcap -a -w "$F/hole-10s.pcap" "$T/h1.pcap" "$T/h2s.pcap" || return 1
+    # a compressed capture
+    gzip -n -c "$OUT/mode0.pcap" >"$F/mode0.pcap.gz" || return 1
+    say "field/*.pcap"
+}
+field || FAILED="$FAILED field"
+
 # ---------------------------------------------------------------- hostile files
 oct() { printf '\\%d%d%d' $(($1 / 64)) $(($1 / 8 % 8)) $(($1 % 8)); }   # printf's escape of byte $1
 # the 4 bytes of a little-endian 32-bit value

@@ -3,6 +3,7 @@
  * included: tools are not in the library). Captures are written with libpcap itself
  * (pcap_open_dead + pcap_dump) for every link type, and sessions are built with the
  * library's encoders. */
+#define _GNU_SOURCE /* capture.c, included below, reads pipes through fopencookie */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -563,6 +564,99 @@ static void test_restart_two_sessions(void **state)
     unlink(w.path);
 }
 
+/* One datagram straight into the analysis (no file). */
+static void feed_dgram(an_t *a, uint64_t frame, int64_t ts, int from_ctrl, const uint8_t *d, size_t n)
+{
+    cap_pkt_t p;
+    memset(&p, 0, sizeof p);
+    p.frame = frame;
+    p.ts_ns = ts;
+    p.src_ip = from_ctrl ? IP_CTRL : IP_PC;
+    p.dst_ip = from_ctrl ? IP_PC : IP_CTRL;
+    p.src_port = from_ctrl ? 3600 : 1000;
+    p.dst_port = from_ctrl ? 1000 : 3600;
+    p.payload = d;
+    p.len = n;
+    an_datagram(a, "mem", &p);
+}
+
+typedef struct times {
+    int64_t last;
+    int back;
+    unsigned n;
+} times_t;
+
+static void on_time(void *ctx, const an_exchange_t *x)
+{
+    times_t *t = ctx;
+    if (x->kind == CS_CYCLIC) {
+        t->back |= (t->n > 0U && x->ctrl_ns < t->last);
+        t->last = x->ctrl_ns;
+        t->n++;
+    }
+}
+
+/* What a capture made outside the project does: the clock steps back 1 s at tick 10, tick 5
+ * is captured twice, a datagram with NUM 0x7FFFF000 comes after tick 15. Each is reported
+ * once; no tick is lost or taken out of order. */
+static void test_capture_artefacts(void **state)
+{
+    sess_plan_t pl;
+    an_options_t o;
+    an_t a;
+    times_t tm;
+    uint8_t b[C4G_INIT_SIZE], r[C4G_INIT_SIZE];
+    const an_session_t *s;
+    int64_t t = 1700000000000000000LL;
+    uint64_t frame = 0U;
+    unsigned k;
+    (void)state;
+    memset(&pl, 0, sizeof pl);
+    memset(&tm, 0, sizeof tm);
+    an_options_default(&o);
+    o.on_exchange = on_time;
+    o.ctx = &tm;
+    assert_int_equal(an_init(&a, &o), 0);
+    for (k = 0U; k < 20U; k++) {
+        const int32_t num = (int32_t)(100U + k);
+        const size_t n = ctrl_packet(num, k, &pl, b, 0);
+        const size_t rl = pc_packet(b, n, num + 1, k, &pl, r);
+        if (k == 10U) {
+            t -= 1000000000LL; /* the clock steps back */
+        }
+        feed_dgram(&a, ++frame, t, 1, b, n);
+        if (k == 5U) {
+            feed_dgram(&a, ++frame, t, 1, b, n); /* the same frame again */
+        }
+        feed_dgram(&a, ++frame, t + 200000, 0, r, rl);
+        if (k == 15U) {
+            b[0] = 0x00U; /* 0x7FFFF000: not a stale NUM */
+            b[1] = 0xF0U;
+            b[2] = 0xFFU;
+            b[3] = 0x7FU;
+            feed_dgram(&a, ++frame, t + 300000, 1, b, n);
+        }
+        t += 2000000;
+    }
+    an_file_end(&a, "mem");
+    assert_int_equal(a.n_sess, 1);
+    s = &a.sess[0];
+    assert_int_equal(a.doubled, 1);
+    assert_int_equal(s->ctrl_cyclic, 20);
+    assert_int_equal(tm.n, 20);
+    assert_false(tm.back);
+    assert_int_equal(s->cs.n.missing, 0);
+    assert_int_equal(s->f[AN_K_CLOCK_STEP].count, 1);
+    assert_int_equal(s->f[AN_K_CLOCK_STEP].frame, 22); /* tick 10's packet */
+    assert_true(fabs(s->f[AN_K_CLOCK_STEP].worst - 0.9982) < 1e-6);
+    assert_int_equal(s->f[AN_K_MALFORMED].count, 1);
+    assert_non_null(strstr(s->f[AN_K_MALFORMED].first, "NUM 2147479552 outside 0..32767"));
+    assert_int_equal(s->f[AN_K_REORDER].count, 0);
+    assert_int_equal(s->f[AN_K_CTRL_GAP].count, 0);
+    assert_true(s->last_ns - s->first_ns > 0);
+    an_free(&a);
+}
+
 static void test_kind_names(void **state)
 {
     (void)state;
@@ -581,6 +675,7 @@ int main(void)
         cmocka_unit_test(test_session_findings),
         cmocka_unit_test(test_direction_midsession),
         cmocka_unit_test(test_restart_two_sessions),
+        cmocka_unit_test(test_capture_artefacts),
         cmocka_unit_test(test_kind_names),
     };
     return cmocka_run_group_tests(tests, th_load_fig, NULL);

@@ -138,6 +138,48 @@ else
     echo "  skip tcpdump captures: tcpdump missing or not allowed to capture (needs root)"
 fi
 
+echo "4b. c4g-server --pcap against the wire: the server stopped 60 ms mid-run"
+# the datagrams that wait in the server's socket meanwhile must show their wire times in the
+# server's own capture (kernel stamps): its missing replies are those c4g-sim counts and those
+# of a tcpdump of the same run, not 0
+srv_stop_run() {  # srv_stop_run PORT: $T/ss.srv.pcap, $T/ss.sim.json (and $T/ss.td.pcap)
+    sp=$1
+    TD=""
+    if [ -x "$TCPDUMP" ] && "$TCPDUMP" -D >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+        "$TCPDUMP" -i lo -U -n -w "$T/ss.td.pcap" "udp and port $sp" >/dev/null 2>"$T/ss.td.err" &
+        TD=$!
+        PIDS="$PIDS $TD"
+        td_up2() { grep -q "listening on" "$T/ss.td.err" 2>/dev/null || ! kill -0 "$TD" 2>/dev/null; }
+        wait_until 20 td_up2
+    fi
+    "$SRV" -p "$sp" -b 127.0.0.1 -c 127.0.0.1 --idle-timeout 10 --max-seconds 30 --lost-timeout-ms 2000 \
+        --pcap "$T/ss.srv.pcap" >"$T/ss.srv.out" 2>"$T/ss.srv.err" &
+    SS=$!
+    PIDS="$PIDS $SS"
+    ss_up() { grep -q "listening on" "$T/ss.srv.err" 2>/dev/null || ! kill -0 "$SS" 2>/dev/null; }
+    wait_until 20 ss_up
+    "$SIM" --bind 127.0.0.1 --local-port $((sp + 500)) -p "$sp" -c $FX/inputs/fast.ini -S $FX/inputs/idle.scn \
+        --axes 2 --max-miss 500 --json >"$T/ss.sim.json" 2>"$T/ss.sim.err" &
+    SM=$!
+    sleep 0.4; kill -STOP "$SS"; sleep 0.06; kill -CONT "$SS"
+    wait "$SM"; wait "$SS"
+    [ -z "$TD" ] || { sleep 0.5; kill -INT "$TD"; wait "$TD"; }
+    return 0
+}
+missing_of() { "$RP" summary --json --no-progress --port "$2" "$1" 2>/dev/null |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["sessions"][0]["replies"]["missing"])' 2>/dev/null || echo none; }
+next_free2() { p=$1; while udp_bound "$p" || udp_bound $((p + 500)); do p=$((p + 1)); done; echo "$p"; }
+P3=$(next_free2 $((35000 + ($$ % 300) * 3)))
+srv_stop_run "$P3"
+m_srv=$(missing_of "$T/ss.srv.pcap" "$P3")
+m_sim=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["replies"]["missing"])' "$T/ss.sim.json" 2>/dev/null || echo none)
+ok "the stop made c4g-sim count missing replies (>= 10): $m_sim" ge "$m_sim" 10
+ok "  ... the server's own capture shows them too ($m_srv, c4g-sim $m_sim, +/- 3)" near "$m_srv" "$m_sim" 3
+if [ -f "$T/ss.td.pcap" ]; then
+    m_td=$(missing_of "$T/ss.td.pcap" "$P3")
+    ok "  ... and so does tcpdump -i lo of the same run ($m_td, +/- 5: tcpdump stamps a little later)" near "$m_srv" "$m_td" 5
+fi
+
 echo "5. rerun through c4g-server's core"
 rerun_zero() {  # every c4g-server capture of the fixtures with its options: 0 divergences
     st=0
@@ -192,5 +234,36 @@ if command -v gnuplot >/dev/null 2>&1; then
 else
     ok "gnuplot installed (scripts/deps.sh)" false
 fi
+echo "7. field-made captures (fixtures/replay/field): every verdict true"
+ok "a clock step back: a clock-step finding at its frame, no tick dropped, no false missing reply" \
+    $CHECK field "$RP" clock-step
+ok "no session found (header only, IPv6) is exit 3, not CLEAN; mid-session captures found on any port" \
+    $CHECK field "$RP" no-session
+ok "rerun of a capture that starts after the init packet: a synthetic start-up, 0 divergences" \
+    $CHECK field "$RP" rerun-midsession
+ok "rerun: a recorded reply after the next packet is a timing difference; the first divergence is content" \
+    $CHECK field "$RP" rerun-late
+ok "NUM policy without an init echo in time: plus-one, no false duplicate" $CHECK field "$RP" policy
+ok "every frame captured twice: said once, analysed once" $CHECK field "$RP" doubled
+ok "a controller NUM near INT32_MAX: malformed, no arithmetic on it" $CHECK field "$RP" num-range
+live_late() {  # live of late-replies to c4g-server with the capture's options: 3 timing differences
+    lp=$(next_free2 $((P3 + 2)))
+    "$SRV" -p "$lp" -b 127.0.0.1 -c 127.0.0.1 --sine 0.25,1,0.5 --persist --max-seconds 30 \
+        >"$T/ll.srv.out" 2>"$T/ll.srv.err" &
+    LS=$!
+    PIDS="$PIDS $LS"
+    ll_up() { grep -q "listening on" "$T/ll.srv.err" 2>/dev/null || ! kill -0 "$LS" 2>/dev/null; }
+    wait_until 20 ll_up
+    "$RP" live $FD/late-replies.pcap --to "127.0.0.1:$lp" --num-policy plus-one --topspeed --json \
+        >"$T/ll.json" 2>/dev/null
+    kill "$LS" 2>/dev/null; wait "$LS" 2>/dev/null
+    python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))["divergences"]
+sys.exit(not (d["differing"] == 0 and d["timing_only"] == 3))' "$T/ll.json" ||
+        { echo "       $(grep -o '"divergences": {[^}]*' "$T/ll.json" | head -c 300)"; return 1; }
+}
+FD=$FX/field
+ok "live: the recording's late replies are timing differences, not divergences" live_late
+ok "smaller: a frame lost by the capture, a reply stamped before its packet, a 10 s hole, gzip, stdin, --from > --to" \
+    $CHECK field "$RP" small
 ok "docs/c4g-replay.md: every example prints what the page shows" $CHECK docs "$BUILD/bin" docs/c4g-replay.md
 finish

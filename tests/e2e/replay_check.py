@@ -7,6 +7,10 @@
   live-capture REPLAY FILE LINK CYCLIC [PORT]
                              a capture made by tcpdump during a sim + server run: one session
                              ended by 504, LINK link type, CYCLIC cyclic ticks, each answered
+  field REPLAY ITEM          c4g-replay's verdicts on the field-made captures of
+                             fixtures/replay/field (README.md there): ITEM clock-step,
+                             no-session, rerun-midsession, rerun-late, policy, doubled,
+                             num-range, small
   docs BINDIR FILE.md        every ```console block: each "$ COMMAND" run (BINDIR first in
                              PATH) prints exactly the lines that follow it
 Every failure prints "FAIL: ..." and the exit status is 1.
@@ -189,6 +193,165 @@ def cmd_live_capture(args):
     print("live capture %s: %s, %d cyclic packets, one session ended by 504" % (path, link, cyclic))
 
 
+def run(replay, *args):
+    res = subprocess.run([replay, *args], capture_output=True, text=True)
+    return res.returncode, res.stdout, res.stderr
+
+
+def field_clock_step(replay, fd):
+    f = fd + "clock-step.pcap"
+    rc, out, _ = run(replay, "export", "--no-progress", f)
+    rows = out.strip().split("\n")[1:]
+    expect(f, "export exit status", rc, 0)
+    expect(f, "export rows (every cyclic tick)", len(rows), 391)
+    expect(f, "export times never go back", all(float(b.split(",")[2]) >= float(a.split(",")[2])
+                                               for a, b in zip(rows, rows[1:])), True)
+    d = summary(replay, f)
+    if d:
+        s = d["sessions"][0]
+        fs = findings(s)
+        expect(f, "findings", sorted(fs), ["clock-step"])
+        expect(f, "clock-step frame", fs.get("clock-step", {}).get("frame"), 401)
+        expect(f, "clock-step size (s)", round(fs.get("clock-step", {}).get("worst", 0), 6), 0.998024)
+        expect(f, "missing replies", s["replies"]["missing"], 0)
+        expect(f, "duration > 0.8 s", s["duration_s"] > 0.8, True)
+
+
+def field_no_session(replay, fd):
+    for f in ["fixtures/replay/bad/header-only.pcap", fd + "ipv6.pcap"]:
+        rc, out, _ = run(replay, "check", "--no-progress", f)
+        expect(f, "check exit status", rc, 3)
+        expect(f, "check's no-session line", (f + ": no-session: no C4G Open session found") in out, True)
+        expect(f, "check's closing line", out.strip().split("\n")[-1].startswith("NO SESSION: 1 file, 0 sessions"), True)
+    rc, out, _ = run(replay, "check", "--no-progress", "fixtures/replay/mode0.pcap", "fixtures/replay/bad/header-only.pcap")
+    expect("mode0 + header-only", "check exit status", rc, 3)
+    # found by the shape of their datagrams, without --port
+    for f, ticks in [(fd + "rotated-2.pcap", 150), (fd + "midsession-mode4.pcap", 353),
+                     ("fixtures/replay/data-midsession-wrap.pcap", 120)]:
+        rc, out, _ = run(replay, "check", "--no-progress", f)
+        expect(f, "check exit status", rc, 0)
+        expect(f, "check's closing line", out.strip(), "CLEAN: 1 file, 1 session, 0 findings")
+        d = summary(replay, f)
+        if d and d["sessions"]:
+            expect(f, "cyclic packets", d["sessions"][0]["packets"]["controller"]["cyclic"], ticks)
+
+
+def field_rerun_midsession(replay, fd):
+    f = fd + "midsession-mode4.pcap"
+    for opts in [["--port", "46104"], []]:
+        rc, out, err = run(replay, "rerun", "--json", "--no-progress", *opts, f, "--", "--sine", "0.25,1,0.5")
+        expect(f, "rerun %s exit status" % opts, rc, 0)
+        if rc in (0, 1):
+            d = json.loads(out)
+            expect(f, "divergent", d["divergent"], 0)
+            expect(f, "compared", d["compared"], 353)
+            expect(f, "synthetic start-up", d["sessions"][0].get("synthetic_startup"), True)
+
+
+def field_rerun_late(replay, fd):
+    f = fd + "late-replies.pcap"
+    rc, out, _ = run(replay, "rerun", "--json", "--no-progress", f, "--", "--sine", "0.25,1,0.5")
+    expect(f, "rerun exit status (the capture's options)", rc, 0)
+    if rc in (0, 1):
+        d = json.loads(out)
+        expect(f, "divergent", d["divergent"], 0)
+        expect(f, "timing only", d.get("timing_only"), 3)
+    rc, out, _ = run(replay, "rerun", "--json", "--no-progress", f, "--", "--sine", "0.3,1,0.5")
+    expect(f, "rerun exit status (another amplitude)", rc, 1)
+    if rc in (0, 1):
+        d = json.loads(out)
+        fi = d["first"] or {}
+        expect(f, "first divergence (field, tick)", (fi.get("field"), fi.get("tick")), ("d1", 114))
+        expect(f, "no 'reply' divergence", "reply" in d["fields"], False)
+    d = summary(replay, f)
+    if d:
+        expect(f, "the recording's late replies: missing", d["sessions"][0]["replies"]["missing"], 3)
+
+
+def field_policy(replay, fd):
+    for f, opts, missing in [(fd + "midsession-late.pcap", ["--port", "46123"], 1), (fd + "late-init-echo.pcap", [], 4)]:
+        d = summary(replay, f, *opts)
+        if not d or not d["sessions"]:
+            fail("%s: no session" % f)
+            continue
+        s = d["sessions"][0]
+        expect(f, "NUM policy", s["num_policy"], "plus-one")
+        expect(f, "duplicate replies", s["replies"]["duplicates"], 0)
+        expect(f, "findings without duplicate or num", sorted(k for k in findings(s) if k in ("duplicate", "num")), [])
+        expect(f, "missing", s["replies"]["missing"], missing)
+
+
+def field_doubled(replay, fd):
+    f = fd + "doubled.pcap"
+    d = summary(replay, f)
+    if d:
+        expect(f, "sessions", len(d["sessions"]), 1)
+        expect(f, "frames captured twice", d["files"][0].get("doubled"), 166)
+        if d["sessions"]:
+            s = d["sessions"][0]
+            expect(f, "missing", s["replies"]["missing"], 0)
+            expect(f, "session findings", [x["kind"] for x in s["findings"]], [])
+            expect(f, "cyclic replies", s["replies"]["in_time"], 82)
+    rc, out, _ = run(replay, "check", "--no-progress", f)
+    expect(f, "check exit status", rc, 1)
+    expect(f, "check: one capture line", sum(1 for l in out.split("\n") if ": capture: 166 frames captured twice" in l), 1)
+
+
+def field_num_range(replay, fd):
+    f = fd + "num-huge.pcap"
+    d = summary(replay, f, "--port", "46300")
+    if d:
+        s = d["sessions"][0]
+        fs = findings(s)
+        expect(f, "malformed finding", "NUM 2147479552 outside 0..32767" in fs.get("malformed", {}).get("first", ""), True)
+        expect(f, "no reorder finding", "reorder" in fs, False)
+        expect(f, "controller NUM gaps (NUM 27 -> 29 around the bad one)", s["controller_num"]["skipped"], 1)
+
+
+def field_small(replay, fd):
+    f = fd + "lost-frame.pcap"
+    d = summary(replay, f)
+    if d:
+        s = d["sessions"][0]
+        expect(f, "findings (the ctrl-gap alone)", sorted(findings(s)), ["ctrl-gap"])
+        expect(f, "NUM mismatches", s["replies"]["num_mismatch"], 0)
+        expect(f, "replies to lost packets", s["controller_num"].get("replies_to_lost"), 1)
+    f = fd + "reply-before.pcap"
+    d = summary(replay, f)
+    if d:
+        fs = findings(d["sessions"][0])
+        expect(f, "a clock-step finding at the reply (frame 252)", fs.get("clock-step", {}).get("frame"), 252)
+    f = fd + "hole-10s.pcap"
+    d = summary(replay, f)
+    if d:
+        fs = findings(d["sessions"][0])
+        expect(f, "a silence finding at frame 501", fs.get("silence", {}).get("frame"), 501)
+        expect(f, "silence over 10 s", fs.get("silence", {}).get("worst", 0) > 10.0, True)
+    f = fd + "mode0.pcap.gz"
+    rc, out, err = run(replay, "summary", "--no-progress", f)
+    expect(f, "summary exit status", rc, 2)
+    expect(f, "named as gzip", "a gzip-compressed file" in err, True)
+    res = subprocess.run([replay, "check", "-"], stdin=open("fixtures/replay/mode0.pcap", "rb"),
+                         capture_output=True, text=True)
+    expect("mode0 on stdin", "check - exit status", res.returncode, 0)
+    expect("mode0 on stdin", "check - closing line", res.stdout.strip(), "CLEAN: 1 file, 1 session, 0 findings")
+    res = subprocess.run("cat fixtures/replay/mode0.pcap | %s export --no-progress - | wc -l" % replay, shell=True,
+                         capture_output=True, text=True)
+    expect("mode0 through a pipe", "export rows + header", res.stdout.strip(), "160")
+    rc, out, err = run(replay, "export", "--from", "5", "--to", "2", "fixtures/replay/mode0.pcap")
+    expect("export --from 5 --to 2", "exit status", rc, 2)
+    rc, out, _ = run(replay, "check", "--no-progress", "fixtures/replay/fault-late.pcap", "fixtures/replay/fault-skip-3.pcap")
+    expect("check of two files", "the second file's session numbered 1",
+           "fixtures/replay/fault-skip-3.pcap: session 1: missing" in out, True)
+
+
+def cmd_field(args):
+    replay, item = args[0], args[1]
+    {"clock-step": field_clock_step, "no-session": field_no_session, "rerun-midsession": field_rerun_midsession,
+     "rerun-late": field_rerun_late, "policy": field_policy, "doubled": field_doubled,
+     "num-range": field_num_range, "small": field_small}[item](replay, "fixtures/replay/field/")
+
+
 def cmd_docs(args):
     import os
     bindir, path = args[0], args[1]
@@ -222,7 +385,8 @@ def main():
         print(__doc__)
         return 2
     cmd, args = sys.argv[1], sys.argv[2:]
-    {"oracle": cmd_oracle, "facts": cmd_facts, "live-capture": cmd_live_capture, "docs": cmd_docs}[cmd](args)
+    {"oracle": cmd_oracle, "facts": cmd_facts, "live-capture": cmd_live_capture, "docs": cmd_docs,
+     "field": cmd_field}[cmd](args)
     return 1 if FAILS else 0
 
 

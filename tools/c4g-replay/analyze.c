@@ -198,6 +198,7 @@ static void arms_setup(an_session_t *s)
 static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s;
+    unsigned i;
     if (a->n_sess >= AN_MAX_SESSIONS) {
         a->sess_dropped++;
         fl->sess = -1;
@@ -205,7 +206,11 @@ static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const
     }
     s = &a->sess[a->n_sess];
     memset(s, 0, sizeof *s);
-    s->id = a->n_sess + 1U;
+    /* numbered per file: the numbers summary, export and rerun give the file alone */
+    s->id = 1U;
+    for (i = 0U; i < a->n_sess; i++) {
+        s->id += (a->sess[i].file == file) ? 1U : 0U;
+    }
     s->file = file;
     s->ctrl = (fl->ctrl_is_a == 1) ? fl->a : fl->b;
     s->pc = (fl->ctrl_is_a == 1) ? fl->b : fl->a;
@@ -221,7 +226,7 @@ static an_session_t *session_new(an_t *a, an_flow_t *fl, const char *file, const
     return s;
 }
 
-static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
+static void deliver(an_t *a, an_session_t *s, cs_verdict_t v, int64_t next_ns)
 {
     an_exchange_t x;
     if (a->opt.on_exchange == NULL) {
@@ -251,6 +256,7 @@ static void deliver(an_t *a, an_session_t *s, cs_verdict_t v)
     }
     x.verdict = v;
     x.late = s->cs.last_late;
+    x.next_ns = next_ns;
     a->opt.on_exchange(a->opt.ctx, &x);
 }
 
@@ -272,11 +278,12 @@ static void judge(an_t *a, an_session_t *s, int64_t t_next, const cap_pkt_t *p, 
     }
     if (at_end && !o->got) {
         o->active = 0; /* the capture ended before its deadline was seen */
-        deliver(a, s, CS_J_NONE);
+        deliver(a, s, CS_J_NONE, 0);
         return;
     }
     cs_set_deadline(&s->cs, deadline);
     v = cs_judge(&s->cs, deadline, s->frozen);
+    s->prev_in_time = (v == CS_J_OK && o->kind == CS_CYCLIC);
     if (v == CS_J_OK) {
         s->run = 0U;
         if (s->cs.last_late) {
@@ -311,7 +318,7 @@ static void judge(an_t *a, an_session_t *s, int64_t t_next, const cap_pkt_t *p, 
     } else {
         /* not judged (frozen, or a packet whose reply is not checked) */
     }
-    deliver(a, s, v);
+    deliver(a, s, v, t_next);
 }
 
 /* ---- controller packets ------------------------------------------------- */
@@ -510,6 +517,14 @@ static void ctrl_cyclic(an_t *a, an_session_t *s, const cap_pkt_t *p)
     if (repeat) {
         return; /* not a new tick: the outstanding packet stays */
     }
+    /* over c4g-server's default loss timeout without a packet, not frozen: a pause of the
+     * controller, or the capture's clock stepped forward (the NUMs tell if packets were lost) */
+    if (s->ctrl_len > 0U && !s->frozen && p->ts_ns - s->ctrl_ns > 1000000000LL) {
+        finding(s, AN_K_SILENCE, p, num, (double)(p->ts_ns - s->ctrl_ns) * 1e-9,
+                "no controller packet for %.3f s before NUM %d (after NUM %d, frame %llu)",
+                (double)(p->ts_ns - s->ctrl_ns) * 1e-9, (int)num,
+                (s->ctrl_len >= 4U) ? (int)an_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
+    }
     judge(a, s, p->ts_ns, p, 0);
     s->ctrl_cyclic++;
     s->cyclic_started = 1;
@@ -590,7 +605,11 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
     const int init = (p->len == C4G_INIT_SIZE);
     const int cyc = is_cyclic_size(p->len);
     const int sync = cyc && zero_body(p->payload, p->len);
-    if (s != NULL) {
+    const int32_t num = (p->len >= 4U) ? an_le_i32(p->payload) : -1;
+    /* the controller counts NUM 0..0x7FFF: anything else is not a packet of the session
+     * (no tick, no restart, no NUM arithmetic on it) */
+    const int num_bad = (init || cyc) && (num < 0 || num > 0x7FFF);
+    if (s != NULL && !num_bad) {
         /* a new start: an init packet after the session had one (506 restart) or cyclic
          * packets, or a synchronization packet after cyclic ones (cold restart) */
         if (init && (s->have_init || s->cyclic_started)) {
@@ -611,7 +630,11 @@ static void from_controller(an_t *a, an_flow_t *fl, const char *file, const cap_
     }
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
-    if (init) {
+    if (num_bad) {
+        s->ctrl_other++;
+        finding(s, AN_K_MALFORMED, p, num, (double)p->len,
+                "controller datagram of %u bytes: NUM %d outside 0..32767", (unsigned)p->len, (int)num);
+    } else if (init) {
         ctrl_init(a, s, p);
     } else if (sync && (!s->cyclic_started || s->post_sync > 0U)) {
         ctrl_sync(a, s, p);
@@ -726,6 +749,45 @@ static void keep_unchecked_reply(an_session_t *s, const cap_pkt_t *p, int32_t nu
     }
 }
 
+/* A cyclic reply whose NUM answers the packet after the outstanding one under the policy in
+ * force (either one while it is unknown). */
+static int answers_unseen(const an_t *a, const an_session_t *s, int32_t num)
+{
+    const int32_t next = cs_num_after(s->cs.out.num);
+    const int pol = (a->opt.num_policy != CS_NUM_EITHER) ? a->opt.num_policy : s->cs.detected;
+    if (s->cs.out.kind != CS_CYCLIC || !s->cs.out.active) {
+        return 0;
+    }
+    if (pol == CS_NUM_PLUS_ONE || pol < 0) {
+        if (num == c4g_reply_num(next, C4G_NUM_PLUS_ONE)) {
+            return 1;
+        }
+    }
+    return (pol == CS_NUM_ECHO || pol < 0) && num == next;
+}
+
+/* Policy "either" without an init echo in time (a late echo, a capture started mid-session):
+ * learnt from the cyclic replies, so that a late plus-one reply is not taken for the echo of
+ * the next packet. NUM + 1 can only be plus-one; NUM itself is an echo only when the packet
+ * before had its reply in time (else it may be that packet's late plus-one reply). */
+static void learn_policy(const an_t *a, an_session_t *s, int32_t num)
+{
+    const cs_outstanding_t *o = &s->cs.out;
+    if (a->opt.num_policy != CS_NUM_EITHER || s->cs.detected >= 0 || !o->active || !o->check ||
+        o->kind != CS_CYCLIC || o->got) {
+        return;
+    }
+    if (num == c4g_reply_num(o->num, C4G_NUM_PLUS_ONE) && num != o->num) {
+        s->cs.detected = CS_NUM_PLUS_ONE;
+    } else if (num == o->num && s->prev_in_time) {
+        s->cs.detected = CS_NUM_ECHO;
+    } else {
+        return;
+    }
+    s->policy = s->cs.detected;
+    s->policy_from_cyclic = 1;
+}
+
 static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
@@ -739,6 +801,7 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
     }
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
+    learn_policy(a, s, num);
     r = cs_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns);
     if (r != CS_RX_ACCEPTED && r != CS_RX_STALE && r != CS_RX_DUPLICATE && s->reply_len == 0U &&
         s->other_len == 0U && p->len > 0U) {
@@ -783,6 +846,15 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
                     "controller's packet is missing from the capture", (int)num);
             break;
         }
+        if (answers_unseen(a, s, num)) {
+            /* the reply to the controller's next packet, which the capture lost (not the
+             * wire: the PC answered it): the ctrl-gap at the next packet explains it */
+            s->pc_unseen++;
+            if (s->cs.n.wrong_num > 0U) {
+                s->cs.n.wrong_num--; /* a right reply, to a packet the capture does not show */
+            }
+            break;
+        }
         finding(s, AN_K_NUM, p, num, 1.0, "reply NUM %d to controller NUM %d breaks the NUM policy",
                 (int)num, (int)s->cs.out.num);
         break;
@@ -793,6 +865,9 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
         break;
     case CS_RX_STALE:
         s->pc_other++; /* counted at the judgement of its packet (missing, it came later) */
+        if (a->opt.on_late != NULL) {
+            a->opt.on_late(a->opt.ctx, s, p->payload, p->len, p->ts_ns, p->frame);
+        }
         break;
     case CS_RX_BAD_DECODE:
         s->pc_other++;
@@ -850,6 +925,18 @@ static void dispatch(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *
         from_controller(a, fl, file, p);
     } else {
         from_pc(a, fl, file, p);
+    }
+    if (a->step_pending && fl->sess >= 0) {
+        an_session_t *s = &a->sess[fl->sess];
+        cap_pkt_t q = *p;
+        a->step_pending = 0;
+        q.frame = a->step_frame;
+        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? an_le_i32(p->payload) : -1,
+                (double)a->step_ns * 1e-9,
+                "frame %llu is stamped %.6f s before the frame ahead of it (the capture's clock "
+                "went back): analysed in capture order, its time and every later one moved %.6f s "
+                "on", (unsigned long long)a->step_frame, (double)a->step_ns * 1e-9,
+                (double)a->step_ns * 1e-9);
     }
 }
 
@@ -940,6 +1027,26 @@ static void remember(an_t *a, const cap_pkt_t *p)
     h->used = 0;
 }
 
+/* One datagram of a known flow: analysed, or held while the flow's direction is undecided. */
+static void feed_flow(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p, int from_a)
+{
+    an_held_t *h;
+    int d;
+    if (fl->ctrl_is_a >= 0) {
+        dispatch(a, fl, file, p, from_a);
+        return;
+    }
+    h = &fl->held[fl->n_held++];
+    h->p = *p;
+    h->p.len = (p->len <= sizeof h->data) ? p->len : sizeof h->data;
+    memcpy(h->data, p->payload, h->p.len);
+    h->p.payload = h->data;
+    d = decide(a, fl, fl->n_held == AN_PENDING);
+    if (d >= 0) {
+        release(a, fl, file, d);
+    }
+}
+
 /* A flow found by its init packet: the datagrams of its endpoints seen just before (the
  * synchronization packets and their replies) go first, in order. */
 static void take_recent(an_t *a, an_flow_t *fl, const char *file)
@@ -957,15 +1064,60 @@ static void take_recent(an_t *a, an_flow_t *fl, const char *file)
         h->used = 1;
         a->other_udp--;
         a->c4g_datagrams++;
-        dispatch(a, fl, file, &h->p, fwd);
+        feed_flow(a, fl, file, &h->p, fwd);
     }
 }
 
-void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
+/* A capture that starts mid-session on ports not listed: the datagrams of one UDP
+ * conversation have the C4G Open shape when the last AN_SHAPE_MIN of them (in the ring of
+ * recent datagrams) go both ways, each 12 + 36 n bytes (n the same both ways; 732 for a
+ * synchronization reply), with NUMs 0..0x7FFF, and one side counts its NUM up by one from
+ * datagram to datagram. */
+#define AN_SHAPE_MIN 8U
+static int c4g_shaped(const an_t *a, const cap_pkt_t *p)
 {
-    int from_a = 1, d;
+    unsigned k, n = 0U, steps = 0U, dirs = 0U;
+    int32_t last_num[2] = {-1, -1};
+    size_t len[2] = {0U, 0U};
+    for (k = 0U; k < a->n_recent && n < AN_SHAPE_MIN; k++) {
+        const an_held_t *h = &a->recent[(a->recent_head + AN_RECENT - 1U - k) % AN_RECENT];
+        const int fwd = h->p.src_ip == p->src_ip && h->p.src_port == p->src_port &&
+                        h->p.dst_ip == p->dst_ip && h->p.dst_port == p->dst_port;
+        const int back = h->p.src_ip == p->dst_ip && h->p.src_port == p->dst_port &&
+                         h->p.dst_ip == p->src_ip && h->p.dst_port == p->src_port;
+        const int side = fwd ? 0 : 1;
+        int32_t num;
+        if (h->used || (!fwd && !back)) {
+            continue;
+        }
+        if (!is_cyclic_size(h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
+            return 0;
+        }
+        num = an_le_i32(h->data);
+        if (num < 0 || num > 0x7FFF) {
+            return 0;
+        }
+        if (h->p.len != C4G_SYNC_REPLY_SIZE) {
+            if (len[side] != 0U && len[side] != h->p.len) {
+                return 0;
+            }
+            len[side] = h->p.len;
+        }
+        /* newest first: the side's previous datagram carries NUM - 1 */
+        if (last_num[side] >= 0 && cs_num_after(num) == last_num[side]) {
+            steps++;
+        }
+        last_num[side] = num;
+        dirs |= 1U << (unsigned)side;
+        n++;
+    }
+    return n >= AN_SHAPE_MIN && dirs == 3U && len[0] == len[1] && steps >= AN_SHAPE_MIN / 2U - 1U;
+}
+
+static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
+{
+    int from_a = 1;
     an_flow_t *fl;
-    an_held_t *h;
     a->datagrams++;
     a->file = file;
     fl = flow_find(a, p, &from_a);
@@ -974,6 +1126,19 @@ void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
         if (!port_listed(a, p->src_port) && !port_listed(a, p->dst_port) && !init) {
             a->other_udp++;
             remember(a, p);
+            if (!is_cyclic_size(p->len) || !c4g_shaped(a, p) || a->n_flows >= AN_MAX_FLOWS) {
+                return;
+            }
+            /* found by its shape: the datagrams in the ring (this one the last) are its start */
+            fl = &a->flows[a->n_flows++];
+            memset(fl, 0, sizeof *fl);
+            fl->a.ip = p->src_ip;
+            fl->a.port = p->src_port;
+            fl->b.ip = p->dst_ip;
+            fl->b.port = p->dst_port;
+            fl->ctrl_is_a = -1;
+            fl->sess = -1;
+            take_recent(a, fl, file);
             return;
         }
         if (a->n_flows >= AN_MAX_FLOWS) {
@@ -997,19 +1162,52 @@ void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
         }
     }
     a->c4g_datagrams++;
-    if (fl->ctrl_is_a >= 0) {
-        dispatch(a, fl, file, p, from_a);
+    feed_flow(a, fl, file, p, from_a);
+}
+
+/* An identical datagram (endpoints, bytes) at the same time as the one before: the same
+ * frame captured twice (two interfaces merged, a file merged with itself). */
+static int doubled(an_t *a, const cap_pkt_t *p)
+{
+    const int same = a->have_prev && a->prev.ts_ns == p->ts_ns && a->prev.src_ip == p->src_ip &&
+                     a->prev.dst_ip == p->dst_ip && a->prev.src_port == p->src_port &&
+                     a->prev.dst_port == p->dst_port && a->prev.len == p->len &&
+                     p->len <= sizeof a->prev_data && memcmp(a->prev_data, p->payload, p->len) == 0;
+    if (same) {
+        a->doubled++;
+        a->have_prev = 0; /* a third copy is a datagram again */
+        return 1;
+    }
+    a->prev = *p;
+    a->have_prev = p->len <= sizeof a->prev_data;
+    if (a->have_prev) {
+        memcpy(a->prev_data, p->payload, p->len);
+    }
+    return 0;
+}
+
+void an_datagram(an_t *a, const char *file, const cap_pkt_t *p)
+{
+    cap_pkt_t q = *p;
+    if (doubled(a, p)) {
         return;
     }
-    h = &fl->held[fl->n_held++];
-    h->p = *p;
-    h->p.len = (p->len <= sizeof h->data) ? p->len : sizeof h->data;
-    memcpy(h->data, p->payload, h->p.len);
-    h->p.payload = h->data;
-    d = decide(a, fl, fl->n_held == AN_PENDING);
-    if (d >= 0) {
-        release(a, fl, file, d);
+    /* a clock step back (NTP, a merged file): capture order is the order of events, so the
+     * later times move by the step and nothing is taken out of order */
+    q.ts_ns = p->ts_ns + a->clock_shift;
+    if (a->have_ts && q.ts_ns < a->last_ts) {
+        const int64_t step = a->last_ts - q.ts_ns;
+        if (!a->step_pending) {
+            a->step_ns = step;
+            a->step_frame = p->frame;
+            a->step_pending = 1;
+        }
+        a->clock_shift += step;
+        q.ts_ns = a->last_ts;
     }
+    a->have_ts = 1;
+    a->last_ts = q.ts_ns;
+    datagram(a, file, &q);
 }
 
 void an_file_end(an_t *a, const char *file)
@@ -1032,6 +1230,10 @@ void an_file_end(an_t *a, const char *file)
     a->n_flows = 0U;
     a->n_recent = 0U;
     a->recent_head = 0U;
+    a->have_ts = 0;
+    a->clock_shift = 0;
+    a->step_pending = 0;
+    a->have_prev = 0;
 }
 
 double an_latency_us(const an_session_t *s, double q)

@@ -56,7 +56,9 @@ static inline float an_le_f32(const uint8_t *p) { return an_f32_bits(an_le_u32(p
     X(TRANSITION, "transition", "a mode change the protocol does not allow")                 \
     X(FOLLOW_ERROR, "follow-error", "|target - actual| over the init packet's FollowError")  \
     X(CURRENT, "current-limit", "a current the controller would apply over AzLim")           \
-    X(POS_STEP, "position-step", "a position reference the controller would reject")
+    X(POS_STEP, "position-step", "a position reference the controller would reject")        \
+    X(CLOCK_STEP, "clock-step", "the capture's clock went back (frames kept in capture order)") \
+    X(SILENCE, "silence", "no controller packet for over 1 s outside a freezing")
 
 #define AN_KIND_ENUM(id, name, text) AN_K_##id,
 typedef enum an_kind { AN_KINDS(AN_KIND_ENUM) AN_K_COUNT } an_kind_t;
@@ -135,6 +137,9 @@ typedef struct an_session {
     int frozen;                 /* 502 .. 503, or 500: replies are not checked */
     uint8_t req[C4G_ARMS];      /* PC requests in force per arm (bit per kind), for events */
     uint64_t policy_plus, policy_echo; /* cyclic replies under each NUM policy */
+    int policy_from_cyclic;     /* no init echo in time: the policy learnt from cyclic replies */
+    int prev_in_time;           /* the last packet judged was cyclic and answered in time */
+    uint64_t pc_unseen;         /* replies to controller packets missing from the capture */
     /* data */
     an_finding_t f[AN_K_COUNT];
     /* internal */
@@ -186,9 +191,13 @@ typedef struct an_exchange {
     int64_t other_ns;
     cs_verdict_t verdict;
     int late;                   /* verdict OK but later than T_CYCLE1 */
+    int64_t next_ns;            /* the session's next controller packet, 0 at the end */
 } an_exchange_t;
 
 typedef void (*an_exchange_fn)(void *ctx, const an_exchange_t *x);
+/* A reply that came after its packet's deadline (stale): its bytes, time and frame. */
+typedef void (*an_late_fn)(void *ctx, const an_session_t *s, const uint8_t *d, size_t len,
+                           int64_t ns, uint64_t frame);
 
 typedef struct an_options {
     uint16_t ports[AN_MAX_PORTS]; /* PC ports of C4G Open flows (1000, 1001) */
@@ -198,6 +207,7 @@ typedef struct an_options {
     int num_policy;               /* the controller's: CS_NUM_EITHER (learnt from the
                                    * init echo, default), CS_NUM_PLUS_ONE or CS_NUM_ECHO */
     an_exchange_fn on_exchange;   /* may be NULL */
+    an_late_fn on_late;           /* may be NULL */
     void *ctx;
 } an_options_t;
 
@@ -216,6 +226,19 @@ typedef struct an {
     uint64_t flows_dropped;
     uint64_t datagrams, c4g_datagrams, other_udp;
     const char *file;
+    /* the file's clock: times are made monotonic in capture order (a step back shifts
+     * every later time by its size), the step reported in the next session datagram */
+    int have_ts;
+    int64_t last_ts, clock_shift;
+    int step_pending;
+    int64_t step_ns;
+    uint64_t step_frame;
+    /* frames captured twice (an identical datagram at the same time right after itself):
+     * analysed once, counted per file */
+    uint64_t doubled;
+    cap_pkt_t prev;
+    uint8_t prev_data[C4G_INIT_SIZE + 4U];
+    int have_prev;
 } an_t;
 
 void an_options_default(an_options_t *o);

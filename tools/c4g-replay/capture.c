@@ -2,6 +2,7 @@
 /* Capture reader: libpcap for the file formats, our own checks for the link, IPv4 and UDP
  * headers (a capture from the shop floor is evidence: every length is checked against the
  * bytes actually captured before a byte is read). */
+#define _GNU_SOURCE /* fopencookie: a pipe read after its first bytes were looked at */
 #include "capture.h"
 
 #include <errno.h>
@@ -79,9 +80,12 @@ static int sniff(const char *path, uint64_t *size, char *err, size_t errlen)
         say(err, errlen, "%s: is a directory, not a capture file", path);
         return -1;
     }
-    if (!S_ISREG(st.st_mode)) {
-        say(err, errlen, "%s: not a regular file (captures are read from files)", path);
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode) && !S_ISCHR(st.st_mode)) {
+        say(err, errlen, "%s: not a regular file, pipe or terminal", path);
         return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        st.st_size = 0; /* a pipe: size unknown */
     }
     *size = (uint64_t)st.st_size;
     return 0;
@@ -147,6 +151,65 @@ static cap_t *open_stream(FILE *fp, const char *name, uint64_t size, char *err, 
     return c;
 }
 
+/* A stream that cannot seek (a pipe, stdin): its first bytes, read to look at the magic,
+ * are given again before the rest, and ftell counts the bytes read. */
+typedef struct replay_in {
+    FILE *src;
+    uint8_t head[4];
+    size_t n, pos;
+    uint64_t off;
+} replay_in_t;
+
+static ssize_t rin_read(void *ck, char *buf, size_t size)
+{
+    replay_in_t *r = ck;
+    size_t k = 0U;
+    while (r->pos < r->n && k < size) {
+        buf[k++] = (char)r->head[r->pos++];
+    }
+    if (k < size) {
+        k += fread(buf + k, 1U, size - k, r->src);
+    }
+    r->off += k;
+    return (ssize_t)k;
+}
+
+static int rin_seek(void *ck, off64_t *offset, int whence)
+{
+    const replay_in_t *r = ck;
+    if (whence != SEEK_CUR || *offset != 0) {
+        return -1;
+    }
+    *offset = (off64_t)r->off;
+    return 0;
+}
+
+static int rin_close(void *ck)
+{
+    replay_in_t *r = ck;
+    const int rc = fclose(r->src);
+    free(r);
+    return rc;
+}
+
+static FILE *replay_head(FILE *fp, const uint8_t magic[4])
+{
+    static const cookie_io_functions_t io = {rin_read, NULL, rin_seek, rin_close};
+    replay_in_t *r = calloc(1U, sizeof *r);
+    FILE *out;
+    if (r == NULL) {
+        return NULL;
+    }
+    r->src = fp;
+    memcpy(r->head, magic, 4U);
+    r->n = 4U;
+    out = fopencookie(r, "rb", io);
+    if (out == NULL) {
+        free(r);
+    }
+    return out;
+}
+
 cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen)
 {
     uint8_t magic[4] = {0, 0, 0, 0};
@@ -159,6 +222,12 @@ cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen)
         (void)fclose(fp);
         return NULL;
     }
+    if (magic[0] == 0x1FU && magic[1] == 0x8BU) {
+        say(err, errlen, "%s: a gzip-compressed file: decompress it first (zcat FILE | " "c4g-replay COMMAND -)",
+            name);
+        (void)fclose(fp);
+        return NULL;
+    }
     if (!known_magic(magic, &ng, &nano)) {
         say(err, errlen, "%s: not a pcap or pcapng file (starts with %02x %02x %02x %02x)", name, magic[0],
             magic[1], magic[2], magic[3]);
@@ -166,9 +235,13 @@ cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen)
         return NULL;
     }
     if (fseek(fp, 0L, SEEK_SET) != 0) {
-        say(err, errlen, "%s: cannot rewind: %s", name, strerror(errno));
-        (void)fclose(fp);
-        return NULL;
+        FILE *again = replay_head(fp, magic); /* a pipe */
+        if (again == NULL) {
+            say(err, errlen, "%s: cannot read on: %s", name, strerror(errno));
+            (void)fclose(fp);
+            return NULL;
+        }
+        fp = again;
     }
     c = open_stream(fp, name, 0U, err, errlen);
     if (c != NULL) {
@@ -183,6 +256,9 @@ cap_t *cap_open(const char *path, char *err, size_t errlen)
     uint64_t size = 0U;
     FILE *fp;
     cap_t *c;
+    if (strcmp(path, "-") == 0) {
+        return cap_open_stream(stdin, path, err, errlen); /* tcpdump -w - | c4g-replay ... - */
+    }
     if (sniff(path, &size, err, errlen) != 0) {
         return NULL;
     }

@@ -335,6 +335,7 @@ int rp_cmd_export(int argc, char **argv)
          &e.ticks, 0, 0, 0, NULL, 0},
         {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
+        {"no-progress", 0, CLI_FLAG, NULL, "no progress bar on a terminal", &e.c.no_progress, 0, 0, 0, NULL, 0},
     };
     memset(&e, 0, sizeof e);
     rp_common_default(&e.c);
@@ -357,6 +358,10 @@ int rp_cmd_export(int argc, char **argv)
     if (r != CLI_RUN) {
         return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     }
+    if (e.to_s >= 0.0 && e.to_s < e.from_s) {
+        cli_error(&spec, "--to %g is before --from %g: no tick would be exported", e.to_s, e.from_s);
+        return CLI_EXIT_USAGE;
+    }
     if ((e.moni != 0U) + e.json_lines + e.ticks > 1) {
         cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
         return CLI_EXIT_USAGE;
@@ -367,7 +372,7 @@ int rp_cmd_export(int argc, char **argv)
         fprintf(stderr, RP_TOOL ": out of memory\n");
         return CLI_EXIT_RUNTIME;
     }
-    rc = rp_read(&a, argv[first], &file, 1);
+    rc = rp_read(&a, argv[first], &file, !e.c.no_progress);
     an_free(&a);
     if (fflush(stdout) != 0) {
         fprintf(stderr, RP_TOOL ": writing the export failed\n");

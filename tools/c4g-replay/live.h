@@ -66,6 +66,7 @@ typedef struct lv_pending {
     uint8_t rec_raw[C4G_INIT_SIZE];
     c4g_pc_packet_t rec;      /* cyclic: the recorded reply decoded */
     int rec_decoded;
+    int rec_late;             /* the recorded reply came after the next packet (stale) */
     uint32_t n_modes;
     int32_t modes[C4G_MAX_AXES]; /* the controller packet's modes */
 } lv_pending_t;
@@ -118,6 +119,7 @@ typedef struct lv {
     int64_t drift_ns;         /* the last packet's send time minus its schedule */
     uint64_t overruns;        /* packets sent more than tol_ns late */
     uint64_t compared, differing, field[LV_F_COUNT];
+    uint64_t timing_only;     /* recorded late, answered in time now, same content */
     lv_first_t first;
     uint64_t elapsed_ns;
 } lv_t;

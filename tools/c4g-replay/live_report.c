@@ -103,6 +103,10 @@ void lv_report_text(FILE *out, const lv_t *L)
     fprintf(out, "divergences: %llu of %llu replies compared differ from the recorded ones (floats %s)\n",
             (unsigned long long)L->differing, (unsigned long long)L->compared,
             L->tolerance > 0.0 ? "within the tolerance" : "exact, by bits");
+    if (L->timing_only > 0U) {
+        fprintf(out, "  timing: %llu recorded replies came after the controller's next packet, these in time "
+                "with the same content (not divergences)\n", (unsigned long long)L->timing_only);
+    }
     if (L->differing > 0U) {
         fprintf(out, "  per field:");
         for (f = 0U; f < LV_F_COUNT; f++) {
@@ -197,6 +201,8 @@ void lv_report_json(FILE *out, const lv_t *L)
                               json_pack("{s:I, s:I, s:f, s:o, s:o}", "compared", (json_int_t)L->compared,
                                         "differing", (json_int_t)L->differing, "tolerance", L->tolerance,
                                         "fields", fields, "first", first));
+    (void)json_object_set_new(json_object_get(o, "divergences"), "timing_only",
+                              json_integer((json_int_t)L->timing_only));
     (void)json_object_set_new(o, "timing", timing);
     (void)json_object_set_new(o, "timestamps", json_string(L->kstamp ? "kernel" : "user"));
     (void)json_object_set_new(o, "result", json_string(lv_findings(L) ? "findings" : "ok"));

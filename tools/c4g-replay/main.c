@@ -44,7 +44,8 @@ static void usage(FILE *out)
             "  " RP_TOOL " rerun field.pcap --behaviour server -- --sine 0.25,0.5,0.5\n"
             "  " RP_TOOL " live field.pcap --to 127.0.0.1:1000\n\n"
             "Exit status: 0 success (check: clean), 1 findings or a failed job, 2 bad usage or an\n"
-            "unreadable input. See docs/c4g-replay.md and c4g-replay(1).\n");
+            "unreadable input, 3 (check) a file without any C4G Open session. See docs/c4g-replay.md\n"
+            "and c4g-replay(1).\n");
 }
 
 int main(int argc, char **argv)

@@ -12,12 +12,13 @@
 typedef struct pl_ctx {
     rp_common_t c;
     unsigned axis;          /* OPEN index, 1-based */
-    char field[16];
+    char field[40];
     char side[8];           /* "ctrl" or "pc" */
     char output[512];
     unsigned session;       /* 0: the first with cyclic packets */
     int latency;
-    unsigned field_k;       /* 0 mode, 1..5 D1..D5, 6..8 EXT1..3 */
+    unsigned field_k[4];    /* 0 mode, 1..5 D1..D5, 6..8 EXT1..3 */
+    unsigned n_fields;
     FILE *data;
     unsigned chosen;        /* session plotted */
     uint64_t points;
@@ -31,6 +32,7 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
     const uint8_t *d;
     size_t len, off;
     double v;
+    unsigned k;
     if (x->kind != CS_CYCLIC) {
         return;
     }
@@ -41,7 +43,8 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
         return;
     }
     if (p->latency) {
-        if (x->reply != NULL) {
+        /* the replies the controller used (judged in time): a stale one is no latency */
+        if (x->reply != NULL && x->verdict == CS_J_OK) {
             fprintf(p->data, "%.3f\n", (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
             p->points++;
         }
@@ -49,20 +52,38 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
     }
     d = (strcmp(p->side, "pc") == 0) ? x->reply : x->ctrl;
     len = (strcmp(p->side, "pc") == 0) ? x->reply_len : x->ctrl_len;
-    off = C4G_HEADER_SIZE + (size_t)(p->axis - 1U) * C4G_AXIS_SIZE + 4U * p->field_k;
-    if (d == NULL || len < off + 4U) {
+    if (d == NULL) {
         return;
     }
-    if (p->field_k == 0U) {
-        v = (double)(int32_t)((uint32_t)d[off] | ((uint32_t)d[off + 1] << 8) | ((uint32_t)d[off + 2] << 16) |
-                              ((uint32_t)d[off + 3] << 24));
-    } else {
-        v = (double)an_le_f32(d + off);
+    fprintf(p->data, "%.9f", (double)(x->ctrl_ns - x->s->first_ns) * 1e-9);
+    for (k = 0U; k < p->n_fields; k++) {
+        off = C4G_HEADER_SIZE + (size_t)(p->axis - 1U) * C4G_AXIS_SIZE + 4U * p->field_k[k];
+        if (len < off + 4U) {
+            fprintf(p->data, " NaN");
+            continue;
+        }
+        v = (p->field_k[k] == 0U) ? (double)an_le_i32(d + off) : (double)an_le_f32(d + off);
+        if (isfinite(v)) {
+            fprintf(p->data, " %.9g", v);
+        } else {
+            fprintf(p->data, " NaN");
+        }
     }
-    if (isfinite(v)) {
-        fprintf(p->data, "%.9f %.9g\n", (double)(x->ctrl_ns - x->s->first_ns) * 1e-9, v);
-        p->points++;
-    }
+    fputc('\n', p->data);
+    p->points++;
+}
+
+/* What a field means, with its unit: the controller's packet (docs/protocol.md); the PC's
+ * reply fields mean what its mode says (docs/modes.md). */
+static const char *field_label(const pl_ctx_t *p, unsigned k)
+{
+    static const char *const ctrl[9] = {"mode", "D1 target position (turns)", "D2 target velocity",
+                                        "D3 actual position (turns)", "D4 actual velocity",
+                                        "D5 reference current (A)", "EXT1", "EXT2", "EXT3"};
+    static const char *const pc[9] = {"mode", "D1 (by mode: docs/modes.md)", "D2 (by mode)", "D3 (by mode)",
+                                      "D4 velocity contribution", "D5 current contribution (A)", "EXT1",
+                                      "EXT2", "EXT3"};
+    return (strcmp(p->side, "pc") == 0) ? pc[k] : ctrl[k];
 }
 
 static const char *terminal_for(const char *out)
@@ -89,7 +110,9 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
             s = &a->sess[i];
         }
     }
-    gp = popen("gnuplot", "w");
+    /* into a file: gnuplot's standard output is not the terminal (a failed 'set output'
+     * would write the image there) */
+    gp = popen(p->output[0] != '\0' ? "gnuplot >/dev/null" : "gnuplot", "w");
     if (gp == NULL) {
         fprintf(stderr, RP_TOOL ": plot: cannot run gnuplot (install gnuplot-nox)\n");
         return CLI_EXIT_RUNTIME;
@@ -100,24 +123,42 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
         fprintf(gp, "set terminal dumb size 100,30\n");
     }
     if (p->latency) {
-        fprintf(gp, "set title 'session %u: reply latency'\nset xlabel 'us'\nset ylabel 'replies'\n"
-                "binwidth = 5\nbin(x) = binwidth * floor(x / binwidth)\nset style fill solid 0.5\n"
-                "plot '%s' using (bin($1)):(1.0) smooth freq with boxes title 'latency'\n", p->chosen,
-                data_path);
+        /* log-spaced bins (20 a decade) on a log axis, drawn as impulses (no box widens a
+         * sparse bin), and the T_CYCLE1 deadline */
+        const double tc = (double)a->opt.t_cycle1_ns * 1e-3;
+        fprintf(gp, "set title 'session %u: reply latency of the replies the controller used (stale ones left out)'\nset xlabel 'us (log)'\n"
+                "set ylabel 'replies'\nset logscale x 10\nset grid\n"
+                "bin(x) = 10 ** (floor(log10(x > 1 ? x : 1) * 20) / 20.0)\n"
+                "set arrow from %.3f, graph 0 to %.3f, graph 1 nohead lc rgb 'red' lw 2\n"
+                "set label 'T_CYCLE1 %.0f us' at %.3f, graph 0.95 right offset -1,0 tc rgb 'red' noenhanced\n"
+                "plot '%s' using (bin($1)):(1.0) smooth freq with impulses lw 4 title 'replies per bin'\n",
+                p->chosen, tc, tc, tc, tc, data_path);
     } else {
-        fprintf(gp, "set title 'session %u: axis %u %s %s'\nset xlabel 's'\nset ylabel '%s'\nset grid\n",
-                p->chosen, p->axis, p->side, p->field, p->field);
+        unsigned k;
+        const double span = (s != NULL) ? (double)(s->last_ns - s->first_ns) * 1e-9 : 0.0;
+        fprintf(gp, "set title 'session %u: OPEN axis %u, %s'\nset xlabel 'time since the session start (s)'\n"
+                "set ylabel '%s'\nset grid\nset key outside bottom center horizontal\n", p->chosen,
+                p->axis, strcmp(p->side, "pc") == 0 ? "replies of the PC" : "packets of the controller",
+                p->n_fields == 1U ? field_label(p, p->field_k[0]) : "");
         if (s != NULL && p->axis <= s->n_axes) {
             const uint32_t arm = s->map.arm_of[p->axis - 1U];
+            double last = -1e9;
             for (i = 0U; arm < C4G_ARMS && i < s->n_tl[arm]; i++) {
                 const double t = (double)s->tl[arm][i].t_ns * 1e-9;
-                fprintf(gp, "set arrow from %.6f, graph 0 to %.6f, graph 1 nohead dt 2 lc rgb 'gray40'\n"
-                        "set label 'mode %d' at %.6f, graph 0.95 left rotate by 90 font ',8'\n", t, t,
-                        (int)s->tl[arm][i].to, t);
+                fprintf(gp, "set arrow from %.6f, graph 0 to %.6f, graph 1 nohead dt 2 lc rgb 'gray40'\n", t, t);
+                if (t - last >= span / 50.0) { /* a label closer than that would overlap */
+                    fprintf(gp, "set label 'mode %d' at %.6f, graph 0.95 left rotate by 90 font ',8'\n",
+                            (int)s->tl[arm][i].to, t);
+                    last = t;
+                }
             }
         }
-        fprintf(gp, "plot '%s' using 1:2 with lines title 'axis %u %s %s'\n", data_path, p->axis, p->side,
-                p->field);
+        fprintf(gp, "plot");
+        for (k = 0U; k < p->n_fields; k++) {
+            fprintf(gp, "%s '%s' using 1:%u with lines title '%s'", k > 0U ? "," : "", data_path, k + 2U,
+                    field_label(p, p->field_k[k]));
+        }
+        fputc('\n', gp);
     }
     rc = pclose(gp);
     if (rc != 0) {
@@ -125,6 +166,15 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
         return CLI_EXIT_RUNTIME;
     }
     if (p->output[0] != '\0') {
+        FILE *f = fopen(p->output, "rb");
+        const int written = (f != NULL) && fgetc(f) != EOF;
+        if (f != NULL) {
+            fclose(f);
+        }
+        if (!written) {
+            fprintf(stderr, RP_TOOL ": plot: gnuplot could not write %s\n", p->output);
+            return CLI_EXIT_RUNTIME;
+        }
         fprintf(stderr, RP_TOOL ": plot: %llu points of session %u written to %s\n",
                 (unsigned long long)p->points, p->chosen, p->output);
     }
@@ -169,6 +219,7 @@ static const char *const examples[] = {
     RP_TOOL " plot fixtures/replay/mode4.pcap --axis 1 --field d1",
     RP_TOOL " plot field.pcap --axis 2 --field d1 --side pc --output d1.png",
     RP_TOOL " plot field.pcap --latency --output latency.svg",
+    RP_TOOL " plot field.pcap --axis 1 --field d1,d3 --output target-actual.png",
     NULL};
 
 int rp_cmd_plot(int argc, char **argv)
@@ -180,8 +231,8 @@ int rp_cmd_plot(int argc, char **argv)
     cli_result_t r;
     const cli_opt_t rows[] = {
         {"axis", 'a', CLI_UINT, "N", "OPEN axis 1..20 (default 1)", &p.axis, 0, 1, 20, NULL, 0},
-        {"field", 'f', CLI_STRING, "F", "mode, d1..d5 or ext1..ext3 (default d1)", p.field, sizeof p.field, 0, 0,
-         NULL, 0},
+        {"field", 'f', CLI_STRING, "F[,F]", "mode, d1..d5 or ext1..ext3, up to 4 in one plot (default d1; "
+         "d1,d3: target and actual)", p.field, sizeof p.field, 0, 0, NULL, 0},
         {"side", 0, CLI_STRING, "ctrl|pc", "the controller's packets or the PC's replies (default ctrl)", p.side,
          sizeof p.side, 0, 0, NULL, 0},
         {"session", 's', CLI_UINT, "N", "session N (default the first)", &p.session, 0, 1, 1e6, NULL, 0},
@@ -210,13 +261,28 @@ int rp_cmd_plot(int argc, char **argv)
     if (r != CLI_RUN) {
         return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
     }
-    for (k = 0U; k < 9U && strcmp(field_names[k], p.field) != 0; k++) {
+    {
+        const char *f = p.field;
+        while (*f != '\0') {
+            const size_t n = strcspn(f, ",");
+            for (k = 0U; k < 9U && !(strlen(field_names[k]) == n && strncmp(field_names[k], f, n) == 0); k++) {
+            }
+            if (k == 9U || p.n_fields >= 4U) {
+                cli_error(&spec, "--field: bad value '%s' (want up to 4 of mode, d1..d5, ext1..ext3 "
+                          "separated by commas, e.g. d1,d3)", p.field);
+                return CLI_EXIT_USAGE;
+            }
+            p.field_k[p.n_fields++] = k;
+            f += n;
+            if (*f == ',') {
+                f++;
+            }
+        }
+        if (p.n_fields == 0U) {
+            cli_error(&spec, "--field: no field given");
+            return CLI_EXIT_USAGE;
+        }
     }
-    if (k == 9U) {
-        cli_error(&spec, "--field: bad value '%s' (want mode, d1..d5 or ext1..ext3)", p.field);
-        return CLI_EXIT_USAGE;
-    }
-    p.field_k = k;
     if (strcmp(p.side, "ctrl") != 0 && strcmp(p.side, "pc") != 0) {
         cli_error(&spec, "--side: bad value '%s' (want ctrl or pc)", p.side);
         return CLI_EXIT_USAGE;

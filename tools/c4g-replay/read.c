@@ -106,6 +106,7 @@ int rp_read(an_t *a, const char *path, rp_file_t *info, int want_progress)
     cap_t *c;
     cap_pkt_t p;
     int rc = 0;
+    uint64_t doubled0;
     const int show = want_progress && isatty(2);
     memset(info, 0, sizeof *info);
     info->path = path;
@@ -119,6 +120,7 @@ int rp_read(an_t *a, const char *path, rp_file_t *info, int want_progress)
     (void)snprintf(info->format, sizeof info->format, "%s", cap_format(c));
     (void)snprintf(info->link, sizeof info->link, "%s", cap_link_name(c));
     info->nano = cap_nanosecond(c);
+    doubled0 = a->doubled;
     for (;;) {
         const cap_res_t r = cap_next(c, &p, err, sizeof err);
         if (r == CAP_END) {
@@ -156,6 +158,7 @@ int rp_read(an_t *a, const char *path, rp_file_t *info, int want_progress)
     info->n = *cap_counts(c);
     info->complete = (rc == 0);
     an_file_end(a, path);
+    info->doubled = a->doubled - doubled0;
     cap_close(c);
     return rc;
 }

@@ -15,6 +15,7 @@
 /* Exit codes: the tools' shared ones, and for check: */
 #define RP_EXIT_FINDINGS 1   /* the captures show findings (check) */
 #define RP_EXIT_UNREADABLE 2 /* an input could not be read (also bad usage) */
+#define RP_EXIT_NO_SESSION 3 /* check: a file holds no C4G Open session (nothing was checked) */
 
 /* What reading one file found. */
 typedef struct rp_file {
@@ -25,6 +26,7 @@ typedef struct rp_file {
     char link[16];
     int nano;
     cap_counts_t n;
+    uint64_t doubled;         /* frames captured twice (analysed once) */
     char first_bad[400];      /* the first damaged frame, in words */
     char fatal[400];           /* why reading stopped early, or why it could not start */
 } rp_file_t;
@@ -57,6 +59,10 @@ int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_
 /* One line per finding (check): returns the number of findings not waived. */
 unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
                             uint32_t allow);
+/* Sessions of the file read as @p path (by the analysis' file name). */
+unsigned rp_file_sessions(const an_t *a, const char *path);
+/* "no C4G Open session found (...)": what a file without a session held. */
+const char *rp_no_session_text(const an_t *a, const rp_file_t *f, char *buf, size_t cap);
 /* Findings not waived, damaged files counted. */
 unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow);
 

@@ -52,12 +52,49 @@ unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_fil
             if (files[i].opened && (files[i].n.bad > 0U || !files[i].complete)) {
                 n++;
             }
+            if (files[i].opened && files[i].doubled > 0U) {
+                n++;
+            }
         }
     }
     return n;
 }
 
+unsigned rp_file_sessions(const an_t *a, const char *path)
+{
+    unsigned i, n = 0U;
+    for (i = 0U; i < a->n_sess; i++) {
+        n += (a->sess[i].file == path) ? 1U : 0U;
+    }
+    return n;
+}
+
+const char *rp_no_session_text(const an_t *a, const rp_file_t *f, char *buf, size_t cap)
+{
+    size_t used;
+    unsigned i;
+    used = (size_t)snprintf(buf, cap, "no C4G Open session found in %llu frames (%llu UDP, %llu not "
+                            "IPv4/UDP; looked for: PC ports", (unsigned long long)f->n.frames,
+                            (unsigned long long)f->n.udp, (unsigned long long)f->n.ignored);
+    for (i = 0U; i < a->opt.n_ports && used < cap; i++) {
+        used += (size_t)snprintf(buf + used, cap - used, " %u", (unsigned)a->opt.ports[i]);
+    }
+    if (used < cap) {
+        (void)snprintf(buf + used, cap - used, ", a 1200-byte initialization packet, or %u datagrams "
+                       "of the C4G Open shape in a row; IPv4 only)", 8U);
+    }
+    return buf;
+}
+
 /* ---- text ------------------------------------------------------------------ */
+
+static const char *doubled_text(const rp_file_t *f, char *buf, size_t cap)
+{
+    (void)snprintf(buf, cap, "%llu frames captured twice (an identical datagram at the same time "
+                   "right after itself, e.g. a file merged with itself): each analysed once",
+                   (unsigned long long)f->doubled);
+    return buf;
+}
 
 static void text_init(FILE *out, const an_session_t *s)
 {
@@ -137,7 +174,8 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
             (unsigned long long)s->ctrl_cyclic, (unsigned long long)s->ctrl_other,
             (unsigned long long)s->pc_sync, (unsigned long long)s->pc_init,
             (unsigned long long)s->pc_cyclic, (unsigned long long)s->pc_other);
-    fprintf(out, "  NUM policy: %s\n", policy_name(s));
+    fprintf(out, "  NUM policy: %s%s\n", policy_name(s),
+            s->policy_from_cyclic ? " (from the cyclic replies: no init echo in time)" : "");
     fprintf(out, "  replies: %lu in time, latency p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us; "
             "%lu late (> %.0f us)\n", n->replies_ok, an_latency_us(s, 0.5), an_latency_us(s, 0.99),
             an_latency_us(s, 0.999), (double)n->lat_max * 1e-3, n->late,
@@ -148,9 +186,14 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
     }
     fprintf(out, "); NUM mismatches %lu; duplicate replies %lu; stale replies %lu\n", n->wrong_num,
             n->duplicates, n->stale);
-    fprintf(out, "  controller NUM: %llu gaps (%llu packets skipped), %llu repeated, %llu out of order\n",
+    fprintf(out, "  controller NUM: %llu gaps (%llu packets skipped), %llu repeated, %llu out of order",
             (unsigned long long)s->ctrl_gaps, (unsigned long long)s->ctrl_skipped,
             (unsigned long long)s->ctrl_dups, (unsigned long long)s->ctrl_older);
+    if (s->pc_unseen > 0U) {
+        fprintf(out, "; %llu replies to packets the capture lost (the PC answered them)",
+                (unsigned long long)s->pc_unseen);
+    }
+    fputc('\n', out);
     text_modes(out, s);
     nf = an_findings(s, allow);
     fprintf(out, "  findings: %s\n", nf == 0U ? "none" : "");
@@ -168,6 +211,7 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
 void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
 {
     unsigned i, nf;
+    char buf[160];
     for (i = 0U; i < n_files; i++) {
         const rp_file_t *f = &files[i];
         if (!f->opened) {
@@ -179,6 +223,9 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
                 (unsigned long long)f->n.udp, (unsigned long long)f->n.ignored,
                 (unsigned long long)f->n.bad, f->complete ? "" : "; stopped early: ",
                 f->complete ? "" : f->fatal);
+        if (f->doubled > 0U) {
+            fprintf(out, "%s: capture: %s\n", f->path, doubled_text(f, buf, sizeof buf));
+        }
     }
     for (i = 0U; i < a->n_sess; i++) {
         text_session(out, &a->sess[i], allow);
@@ -195,11 +242,21 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
             fprintf(out, " %u", (unsigned)a->opt.ports[i]);
         }
         fprintf(out, ", or a 1200-byte initialization packet)%s\n", nf > 0U ? "; damaged capture" : "");
-    } else if (nf == 0U) {
-        fprintf(out, "verdict: clean: %u session%s, no findings\n", a->n_sess, a->n_sess == 1U ? "" : "s");
     } else {
-        fprintf(out, "verdict: %u finding%s in %u session%s\n", nf, nf == 1U ? "" : "s", a->n_sess,
-                a->n_sess == 1U ? "" : "s");
+        unsigned empty = 0U;
+        for (i = 0U; i < n_files; i++) {
+            empty += (files[i].opened && rp_file_sessions(a, files[i].path) == 0U) ? 1U : 0U;
+        }
+        if (nf == 0U) {
+            fprintf(out, "verdict: clean: %u session%s, no findings", a->n_sess, a->n_sess == 1U ? "" : "s");
+        } else {
+            fprintf(out, "verdict: %u finding%s in %u session%s", nf, nf == 1U ? "" : "s", a->n_sess,
+                    a->n_sess == 1U ? "" : "s");
+        }
+        if (empty > 0U) {
+            fprintf(out, "; no C4G Open session in %u of the files (not checked)", empty);
+        }
+        fputc('\n', out);
     }
 }
 
@@ -220,6 +277,11 @@ unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, un
             n++;
         } else if (!f->complete) {
             fprintf(out, "%s: capture: %s\n", f->path, f->fatal);
+            n++;
+        }
+        if (f->doubled > 0U) {
+            char buf[160];
+            fprintf(out, "%s: capture: %s\n", f->path, doubled_text(f, buf, sizeof buf));
             n++;
         }
     }
@@ -369,6 +431,10 @@ static json_t *j_session(const an_session_t *s, uint32_t allow)
     (void)json_object_set_new(o, "controller_num", json_pack("{s:I, s:I, s:I, s:I}", "gaps",
         (json_int_t)s->ctrl_gaps, "skipped", (json_int_t)s->ctrl_skipped, "repeated",
         (json_int_t)s->ctrl_dups, "out_of_order", (json_int_t)s->ctrl_older));
+    if (s->pc_unseen > 0U) {
+        (void)json_object_set_new(json_object_get(o, "controller_num"), "replies_to_lost",
+                                  json_integer((json_int_t)s->pc_unseen));
+    }
     (void)json_object_set_new(o, "modes", j_modes(s));
     (void)json_object_set_new(o, "events", j_events(s));
     (void)json_object_set_new(o, "special_modes", special);
@@ -394,6 +460,9 @@ int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_
             (void)json_object_set_new(o, "other", json_integer((json_int_t)f->n.ignored));
             (void)json_object_set_new(o, "damaged", json_integer((json_int_t)f->n.bad));
             (void)json_object_set_new(o, "complete", json_boolean(f->complete));
+            if (f->doubled > 0U) {
+                (void)json_object_set_new(o, "doubled", json_integer((json_int_t)f->doubled));
+            }
         }
         if (f->first_bad[0] != '\0') {
             (void)json_object_set_new(o, "first_damage", json_string(f->first_bad));

@@ -11,6 +11,7 @@
  * pause only the newest packet answered once the pause is over. */
 #include "replay.h"
 
+#include "c4g_fixtures.h"
 #include "c4g_srv.h"
 #include "c4g_textfile.h"
 
@@ -20,6 +21,7 @@
 #include <string.h>
 
 #define RR_MAX_SERVER_ARGS 128
+#define RR_PENDING 8U  /* produced replies awaiting a late recorded one (packets) */
 
 /* Fields a divergence is counted under: reply (sent on one side only), length, a word of a
  * sync reply or of the init echo, then the cyclic reply's words. */
@@ -80,6 +82,9 @@ typedef struct rr_sess {
     uint64_t held_dropped;      /* packets the server drops after an active-freezing pause */
     uint64_t first_div_tick;
     int any_div;
+    uint64_t timing_only;       /* recorded after the next packet, produced in time, equal */
+    int primed;                 /* no start-up in the capture: a synthetic one was fed */
+    unsigned primed_axes, primed_period_ms;
 } rr_sess_t;
 
 /* A controller packet and the recorded reply, as rerun needs them (held across a pause). */
@@ -96,6 +101,17 @@ typedef struct rr_pkt {
     size_t rec_len;
     int64_t rec_ns;
 } rr_pkt_t;
+
+/* A reply produced for a packet the recording shows no reply to by its deadline: judged
+ * once the recorded reply turns up late (a timing difference, its content compared) or
+ * RR_PENDING packets later (a divergence: recorded none). */
+typedef struct rr_pending {
+    int used;
+    rr_pkt_t p;
+    uint8_t ctrl[C4G_INIT_SIZE];
+    uint8_t out[C4G_INIT_SIZE];
+    size_t out_len;
+} rr_pending_t;
 
 typedef struct rr {
     rp_common_t c;
@@ -128,6 +144,9 @@ typedef struct rr {
     rr_div_t first;
     rr_field_count_t fields[RR_F_COUNT];
     long long listed;
+    rr_pending_t pending[RR_PENDING];
+    unsigned pend_next;
+    uint64_t timing_only;
     int init_error;
     char init_why[200];
 } rr_t;
@@ -206,14 +225,21 @@ static void print_div(FILE *out, const rr_div_t *d)
     fprintf(out, ": recorded %s, produced %s\n", d->recorded, d->produced);
 }
 
+/* Divergences of a packet whose recorded reply came late are found after later ones: the
+ * first is the first in the capture. */
+static int before(const rr_div_t *a, const rr_div_t *b)
+{
+    return a->session < b->session || (a->session == b->session && a->frame < b->frame);
+}
+
 static void count_div(rr_t *R, const rr_div_t *d)
 {
     rr_field_count_t *fc = &R->fields[d->field];
-    if (fc->count++ == 0U) {
+    if (fc->count++ == 0U || before(d, &fc->first)) {
         fc->first = *d;
     }
     R->words_divergent++;
-    if (!R->have_first) {
+    if (!R->have_first || before(d, &R->first)) {
         R->first = *d;
         R->have_first = 1;
     }
@@ -287,6 +313,61 @@ static int compare_words(rr_t *R, const rr_pkt_t *p, const uint8_t *rec, const u
     return diverged;
 }
 
+static void diverged_packet(rr_t *R, rr_sess_t *ss, const rr_pkt_t *p)
+{
+    R->divergent++;
+    ss->divergent++;
+    if (!ss->any_div || p->tick < ss->first_div_tick) {
+        ss->any_div = 1;
+        ss->first_div_tick = p->tick;
+    }
+}
+
+/* A pending packet without its late recorded reply: recorded none, produced a reply. */
+static void pending_expire(rr_t *R, rr_pending_t *e)
+{
+    rr_sess_t *ss = sess_of(R, e->p.s);
+    rr_div_t d;
+    e->used = 0;
+    if (ss == NULL) {
+        return;
+    }
+    ss->recorded_missing++;
+    div_where(&d, &e->p);
+    d.field = RR_F_REPLY;
+    (void)snprintf(d.recorded, sizeof d.recorded, "none");
+    (void)snprintf(d.produced, sizeof d.produced, "a reply");
+    count_div(R, &d);
+    diverged_packet(R, ss, &e->p);
+}
+
+static void pending_add(rr_t *R, const rr_pkt_t *p, const uint8_t *out, size_t out_len)
+{
+    rr_pending_t *e = &R->pending[R->pend_next];
+    R->pend_next = (R->pend_next + 1U) % RR_PENDING;
+    if (e->used) {
+        pending_expire(R, e);
+    }
+    e->used = 1;
+    e->p = *p;
+    memcpy(e->ctrl, p->ctrl, p->ctrl_len);
+    e->p.ctrl = e->ctrl;
+    e->p.rec = NULL;
+    memcpy(e->out, out, out_len);
+    e->out_len = out_len;
+}
+
+static void pending_flush(rr_t *R)
+{
+    unsigned k;
+    for (k = 0U; k < RR_PENDING; k++) {
+        rr_pending_t *e = &R->pending[(R->pend_next + k) % RR_PENDING];
+        if (e->used) {
+            pending_expire(R, e);
+        }
+    }
+}
+
 static void compare(rr_t *R, const rr_pkt_t *p, const uint8_t *out, size_t out_len)
 {
     rr_sess_t *ss = sess_of(R, p->s);
@@ -297,6 +378,10 @@ static void compare(rr_t *R, const rr_pkt_t *p, const uint8_t *out, size_t out_l
     }
     ss->compared++;
     R->compared++;
+    if (p->rec == NULL && out != NULL && out_len <= C4G_INIT_SIZE && p->ctrl_len <= C4G_INIT_SIZE) {
+        pending_add(R, p, out, out_len); /* its recorded reply may still come, late */
+        return;
+    }
     if (p->rec == NULL) {
         ss->recorded_missing++;
     }
@@ -320,12 +405,54 @@ static void compare(rr_t *R, const rr_pkt_t *p, const uint8_t *out, size_t out_l
         diverged |= compare_words(R, p, p->rec, out, n);
     }
     if (diverged) {
-        R->divergent++;
-        ss->divergent++;
-        if (!ss->any_div) {
-            ss->any_div = 1;
-            ss->first_div_tick = p->tick;
+        diverged_packet(R, ss, p);
+    }
+}
+
+/* A recorded reply that came after its packet's deadline: the reply the server produced for
+ * that packet is compared with it; equal content is a timing difference only. */
+static void on_late(void *ctx, const an_session_t *s, const uint8_t *d, size_t len, int64_t ns,
+                    uint64_t frame)
+{
+    rr_t *R = ctx;
+    const int32_t num = (len >= 4U) ? (int32_t)an_le_u32(d) : -1;
+    const int policy = (s->cs.detected >= 0) ? s->cs.detected
+                                              : ((R->c.an.num_policy == CS_NUM_ECHO) ? CS_NUM_ECHO
+                                                                                      : CS_NUM_PLUS_ONE);
+    unsigned k;
+    (void)ns;
+    (void)frame;
+    for (k = 0U; k < RR_PENDING; k++) {
+        rr_pending_t *e = &R->pending[(R->pend_next + RR_PENDING - 1U - k) % RR_PENDING];
+        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)an_le_u32(e->p.ctrl) : -1;
+        rr_sess_t *ss;
+        int diverged = 0;
+        if (!e->used || e->p.s != s ||
+            c4g_reply_num(sent, policy == CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+            continue;
         }
+        e->used = 0;
+        ss = sess_of(R, s);
+        if (ss == NULL) {
+            return;
+        }
+        if (len != e->out_len) {
+            rr_div_t dv;
+            div_where(&dv, &e->p);
+            dv.field = RR_F_LENGTH;
+            (void)snprintf(dv.recorded, sizeof dv.recorded, "%zu bytes", len);
+            (void)snprintf(dv.produced, sizeof dv.produced, "%zu bytes", e->out_len);
+            count_div(R, &dv);
+            diverged = 1;
+        }
+        diverged |= compare_words(R, &e->p, d, e->out, (len < e->out_len) ? len : e->out_len);
+        if (diverged) {
+            diverged_packet(R, ss, &e->p);
+        } else {
+            ss->timing_only++;
+            R->timing_only++;
+        }
+        return;
     }
 }
 
@@ -398,6 +525,71 @@ static void feed(rr_t *R, const rr_pkt_t *p, uint64_t t_rx, int after_pause)
         R->server_stopped = 1;
     }
     R->t_last = (int64_t)t_rx;
+}
+
+/* A session the capture shows without its start-up (it begins after the initialization
+ * packet): the server is first taken through one, as a controller starts (9 synchronization
+ * packets, the initialization packet, 2 synchronization packets, one period apart, ending one
+ * period before the first recorded packet). The init packet is the manual's figure 10.1 for
+ * the recorded axis count (axes 1-10 on arm 1, 11-20 on arm 2, as the analysis takes them)
+ * and the recorded period. Its replies are not compared. */
+static void prime(rr_t *R, rr_sess_t *ss, const an_exchange_t *x)
+{
+    static uint8_t out[C4G_INIT_SIZE + 64U];
+    uint8_t pkt[C4G_INIT_SIZE];
+    c4g_init_t init;
+    c4g_endpoint_t from;
+    const uint32_t n = (uint32_t)((x->ctrl_len - C4G_HEADER_SIZE) / C4G_AXIS_SIZE);
+    uint64_t per_ns = 2000000U;
+    uint32_t i;
+    int32_t k;
+    if (x->next_ns > x->ctrl_ns && x->next_ns - x->ctrl_ns < 1500000) {
+        per_ns = 1000000U;
+    }
+    if (c4g_init_fig10_1(&init) != C4G_OK) {
+        return;
+    }
+    init.n_ax_open = (int32_t)n;
+    init.period_ms = (int32_t)(per_ns / 1000000U);
+    for (i = 0U; i < n && i < C4G_MAX_AXES; i++) {
+        const uint32_t arm = i / C4G_AXES_PER_ARM, lax = i % C4G_AXES_PER_ARM, src = i % 6U;
+        init.open_ax[arm][lax] = (int32_t)i;
+        init.cal_data[arm][lax] = init.cal_data[0][src];
+        init.az_lim[arm][lax] = init.az_lim[0][src];
+        init.ax_info[arm][lax] = init.ax_info[0][src];
+        init.tx_rate[arm][lax] = init.tx_rate[0][src];
+        init.follow_error[arm][lax] = init.follow_error[0][src];
+    }
+    for (i = n; i < 6U; i++) {
+        init.open_ax[0][i] = C4G_OPEN_AX_NONE;
+    }
+    if (!R->server_live || R->server_stopped) {
+        if (server_start(R) != 0) {
+            return;
+        }
+        g_srv.t0_ns = (uint64_t)x->ctrl_ns - 12U * per_ns;
+    }
+    endpoint_of(&x->s->ctrl, &from);
+    for (k = 1; k <= 12; k++) {
+        const uint64_t t = (uint64_t)x->ctrl_ns - (uint64_t)(13 - k) * per_ns;
+        size_t len = C4G_CYCLIC_SIZE((size_t)n), olen = 0U;
+        srv_verdict_t v;
+        memset(pkt, 0, sizeof pkt);
+        if (k == C4G_INIT_NUM) {
+            if (c4g_init_encode(&init, pkt, sizeof pkt, &len) != C4G_OK) {
+                return;
+            }
+        } else {
+            pkt[0] = (uint8_t)k;
+        }
+        memset(&v, 0, sizeof v);
+        if (srv_process(&g_srv, pkt, len, &from, t, out, sizeof out, &olen, &v) == C4G_OK && v.send) {
+            srv_sent(&g_srv, t);
+        }
+    }
+    ss->primed = 1;
+    ss->primed_axes = n;
+    ss->primed_period_ms = (unsigned)(per_ns / 1000000U);
 }
 
 static void hold(rr_t *R, const rr_pkt_t *p)
@@ -491,6 +683,12 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
         p.rec_len = x->other_len;
         p.rec_ns = x->other_ns;
     }
+    if (!x->s->have_init && x->kind == CS_CYCLIC && x->ctrl_len >= C4G_CYCLIC_SIZE(1U)) {
+        rr_sess_t *ss = sess_of(R, x->s);
+        if (ss != NULL && ss->fed[CS_SYNC] + ss->fed[CS_INIT] + ss->fed[CS_CYCLIC] == 0U) {
+            prime(R, ss, x);
+        }
+    }
     if (R->frozen && p.ctrl_ns < R->freeze_until) {
         if (R->have_held) {
             drop_held(R);
@@ -551,6 +749,15 @@ static void report_text(const rr_t *R, const char *path)
         if (s->recorded_missing > 0U) {
             printf("  %llu controller packets have no reply in the capture\n",
                    (unsigned long long)s->recorded_missing);
+        }
+        if (s->timing_only > 0U) {
+            printf("  timing: %llu recorded replies came after the controller's next packet, the server's "
+                   "in time with the same content (not divergences)\n", (unsigned long long)s->timing_only);
+        }
+        if (s->primed) {
+            printf("  no start-up in the capture: the server was first taken through one (9 sync, the "
+                   "figure 10.1 init packet for %u axes, %u ms, 2 sync), not compared\n", s->primed_axes,
+                   s->primed_period_ms);
         }
     }
     if (R->server_starts > 1U) {
@@ -631,6 +838,10 @@ static int report_json(const rr_t *R, const char *path)
                       (json_int_t)(s->compared - s->divergent), "divergent", (json_int_t)s->divergent,
                       "recorded_missing", (json_int_t)s->recorded_missing, "dropped_after_pause",
                       (json_int_t)s->held_dropped));
+        (void)json_object_set_new(json_array_get(sessions, json_array_size(sessions) - 1U), "timing_only",
+                                  json_integer((json_int_t)s->timing_only));
+        (void)json_object_set_new(json_array_get(sessions, json_array_size(sessions) - 1U), "synthetic_startup",
+                                  json_boolean(s->primed));
     }
     for (k = 0; k < (int)RR_F_COUNT; k++) {
         if (R->fields[k].count > 0U) {
@@ -649,6 +860,7 @@ static int report_json(const rr_t *R, const char *path)
     (void)json_object_set_new(root, "sessions_not_rerun", json_integer((json_int_t)R->n_other));
     (void)json_object_set_new(root, "compared", json_integer((json_int_t)R->compared));
     (void)json_object_set_new(root, "divergent", json_integer((json_int_t)R->divergent));
+    (void)json_object_set_new(root, "timing_only", json_integer((json_int_t)R->timing_only));
     (void)json_object_set_new(root, "first", R->have_first ? div_json(&R->first) : json_null());
     (void)json_object_set_new(root, "fields", fields);
     rc = json_dumpf(root, stdout, JSON_INDENT(2) | JSON_PRESERVE_ORDER);
@@ -694,8 +906,10 @@ static const char epilogue[] =
     "server (default) runs c4g-server's per-arm behaviours as configured; echo drives no\n"
     "axis (NUM, mode echo and the library's neutral reply only).\n"
     "Fields compared: reply (sent on one side only), length, sync and init words, num,\n"
-    "infpar, cmd and per OPEN axis mode, d1..d5, ext1..ext3. A reply the capture shows\n"
-    "later than the next controller packet counts as none.\n"
+    "infpar, cmd and per OPEN axis mode, d1..d5, ext1..ext3. A recorded reply that came\n"
+    "after the next controller packet is compared with the one produced: equal content is\n"
+    "a timing difference (counted apart), not a divergence. A capture that starts after\n"
+    "the init packet is rerun after a synthetic start-up (figure 10.1 init, its axis count).\n"
     "Exit status: 0 the replies produced equal the recorded ones, 1 some diverge, 2 bad\n"
     "usage or an unreadable capture.\n";
 
@@ -794,6 +1008,7 @@ int rp_cmd_rerun(int argc, char **argv)
         return (rc < 0) ? CLI_EXIT_OK : rc;
     }
     R->c.an.on_exchange = on_exchange;
+    R->c.an.on_late = on_late;
     R->c.an.ctx = R;
     if (an_init(&a, &R->c.an) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
@@ -803,6 +1018,7 @@ int rp_cmd_rerun(int argc, char **argv)
     if (R->frozen) {
         release(R);
     }
+    pending_flush(R);
     an_free(&a);
     if (rc == 2) {
         return RP_EXIT_UNREADABLE;

@@ -76,8 +76,10 @@ static const char *const check_examples[] = {
 
 static const char check_epilogue[] =
     "Kinds (--allow): capture missing missing-run late num duplicate ctrl-gap reorder malformed\n"
-    "nonfinite unknown-mode transition follow-error current-limit position-step (or all).\n"
-    "Exit status: 0 no findings, 1 findings, 2 bad usage or an unreadable file.\n";
+    "nonfinite unknown-mode transition follow-error current-limit position-step clock-step\n"
+    "silence (or all).\n"
+    "Exit status: 0 no findings, 1 findings, 2 bad usage or an unreadable file, 3 no finding\n"
+    "but a file without any C4G Open session (nothing was checked in it).\n";
 
 static const char summary_epilogue[] =
     "Exit status: 0 the files were read (whatever they show), 1 a file stopped early,\n"
@@ -103,13 +105,28 @@ static int run(sum_ctx_t *s, int argc, char **argv, int first)
         }
     }
     if (s->lines) {
+        unsigned empty = 0U;
         nf = rp_report_findings(stdout, &a, files, n, s->allow);
-        if (!s->c.quiet) {
-            printf("%s: %u file%s, %u session%s, %u finding%s\n", worst == 2 ? "UNREADABLE" :
-                   (nf > 0U ? "FINDINGS" : "CLEAN"), n, n == 1U ? "" : "s", a.n_sess,
-                   a.n_sess == 1U ? "" : "s", nf, nf == 1U ? "" : "s");
+        /* a file without a session was not checked at all: never clean */
+        for (i = 0U; i < n; i++) {
+            if (files[i].opened && rp_file_sessions(&a, files[i].path) == 0U) {
+                char why[300];
+                printf("%s: no-session: %s\n", files[i].path,
+                       rp_no_session_text(&a, &files[i], why, sizeof why));
+                empty++;
+            }
         }
-        rc = (worst == 2) ? RP_EXIT_UNREADABLE : (nf > 0U ? RP_EXIT_FINDINGS : CLI_EXIT_OK);
+        if (!s->c.quiet) {
+            printf("%s: %u file%s, %u session%s, %u finding%s", worst == 2 ? "UNREADABLE" :
+                   (nf > 0U ? "FINDINGS" : (empty > 0U ? "NO SESSION" : "CLEAN")), n, n == 1U ? "" : "s",
+                   a.n_sess, a.n_sess == 1U ? "" : "s", nf, nf == 1U ? "" : "s");
+            if (empty > 0U) {
+                printf(", %u file%s without a session", empty, empty == 1U ? "" : "s");
+            }
+            printf("\n");
+        }
+        rc = (worst == 2) ? RP_EXIT_UNREADABLE
+                          : (nf > 0U ? RP_EXIT_FINDINGS : (empty > 0U ? RP_EXIT_NO_SESSION : CLI_EXIT_OK));
     } else {
         if (s->c.json) {
             (void)rp_report_json(stdout, &a, files, n, s->allow);

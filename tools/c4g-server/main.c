@@ -12,6 +12,7 @@
  * to a writer thread. */
 #include "srv.h"
 #include "c4g_pcap.h"
+#include "c4g_udpts.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -304,12 +305,26 @@ typedef struct dgram {
     struct sockaddr_in peer;
     socklen_t plen;
     uint64_t t_rx;
+    uint64_t t_cap;       /* for --pcap: the kernel's receive time, else t_rx */
 } dgram_t;
 
 enum { SRV_NEXT = -1, SRV_HAVE = -2 }; /* besides exit codes: go on / a datagram is in */
 
 static uint8_t g_in[2048];
 static uint8_t g_out[C4G_INIT_SIZE];
+
+/* recvfrom with the kernel's receive time of the datagram in d->t_cap (0: none). */
+static ssize_t recv_stamped(srv_host_t *H, int fd, dgram_t *d)
+{
+    uts_msg_t m;
+    const ssize_t n = uts_recv_flags(fd, MSG_TRUNC, H->kstamp_off, g_in, sizeof g_in, &m);
+    if (n >= 0) {
+        d->peer = m.from;
+        d->plen = sizeof d->peer;
+        d->t_cap = m.stamp_ns;
+    }
+    return n;
+}
 
 /* Wait for one datagram of the controller's address into g_in. SRV_HAVE, SRV_NEXT (nothing
  * came, or another address's), or an exit code. After an active-freezing pause (the core's
@@ -329,11 +344,14 @@ static int receive(srv_host_t *H, int fd, uint64_t start, dgram_t *d)
     if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
         n = -1;
         errno = EAGAIN;
+    } else if (H->kstamp) {
+        n = recv_stamped(H, fd, d);
     } else {
         /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
         n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC, (struct sockaddr *)&d->peer, &d->plen);
     }
     d->t_rx = now_ns();
+    d->t_cap = (H->kstamp && d->t_cap != 0U && d->t_cap <= d->t_rx) ? d->t_cap : d->t_rx;
     if (n < 0) {
         /* a timeout runs the idle checks; EINTR or a transient error: go on */
         code = (errno == EAGAIN || errno == EWOULDBLOCK) ? on_idle(S, start) : SRV_NEXT;
@@ -354,8 +372,26 @@ static int receive(srv_host_t *H, int fd, uint64_t start, dgram_t *d)
     if (S->thaw_due) {
         drain_queue(H, fd, g_in, sizeof g_in, &d->len, &d->peer);
         d->t_rx = now_ns();
+        d->t_cap = d->t_rx;
     }
     return SRV_HAVE;
+}
+
+/* The send stamp of the datagram just sent, from the error queue (the clock read after
+ * sendto when the kernel has none for it). */
+static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
+{
+    static uint8_t buf[64];
+    const uint32_t key = H->tx_key++;
+    uint64_t t = 0U;
+    uts_msg_t m;
+    unsigned guard = 0U;
+    while (guard++ < 64U && uts_recv(fd, 1, H->kstamp_off, buf, sizeof buf, &m) >= 0) {
+        if (m.has_key && m.key == key && m.stamp_ns != 0U) {
+            t = m.stamp_ns;
+        }
+    }
+    return (t != 0U && t <= t_tx) ? t : t_tx;
 }
 
 /* Send the reply the core produced; the send time and the moni/pcap records. */
@@ -372,7 +408,7 @@ static void send_reply(srv_host_t *H, int fd, const dgram_t *d, const srv_verdic
         log_moni(H, d->t_rx, v->pkt, &S->loop.tx); /* before srv_sent: a 504 may end the session */
     }
     srv_sent(S, t_tx);
-    log_datagram(H, LOG_PCAP_TX, t_tx, g_out, olen, &d->peer);
+    log_datagram(H, LOG_PCAP_TX, H->kstamp ? sent_stamp(H, fd, t_tx) : t_tx, g_out, olen, &d->peer);
 }
 
 /* One datagram through the server core, the reply sent, then the active-freezing pause.
@@ -384,7 +420,7 @@ static int handle(srv_host_t *H, int fd, const dgram_t *d)
     srv_verdict_t v;
     size_t olen = 0U;
     endpoint_of(&d->peer, &from);
-    log_datagram(H, LOG_PCAP_RX, d->t_rx, g_in, d->len, &d->peer);
+    log_datagram(H, LOG_PCAP_RX, d->t_cap, g_in, d->len, &d->peer);
     if (srv_process(S, g_in, d->len, &from, d->t_rx, g_out, sizeof g_out, &olen, &v) != C4G_OK) {
         return SRV_NEXT;
     }
@@ -553,6 +589,10 @@ int main(int argc, char **argv)
         return code;
     }
     H->s.t0_ns = now_ns();
+    /* --pcap records the kernel's receive and send times (as c4g-sim's does); without
+     * kernel stamps, the clock reads around recvfrom and sendto */
+    H->kstamp = (H->pcap != NULL) && uts_enable(fd);
+    H->kstamp_off = H->kstamp ? uts_real_minus_mono() : 0U;
     code = serve(H, fd);
     c4g_rtlog_stop(&H->log);
     close(fd);

@@ -35,6 +35,11 @@ typedef struct srv_host {
     int connected;                /* the socket is connect()ed to conn_peer (kernel filter) */
     c4g_endpoint_t conn_peer;
     uint16_t local_port;
+    /* --pcap: the kernel's receive and send times of each datagram (SO_TIMESTAMPING), so
+     * the capture shows when a datagram was on the wire, not when the server got to it */
+    int kstamp;
+    uint64_t kstamp_off;          /* CLOCK_REALTIME - CLOCK_MONOTONIC */
+    uint32_t tx_key;              /* the kernel's id of the next send stamp */
 } srv_host_t;
 
 /* report.c */

@@ -84,6 +84,11 @@ static uint64_t msg_stamp(struct msghdr *m, uint64_t off, int errq, uts_msg_t *o
 
 ssize_t uts_recv(int fd, int errq, uint64_t off, uint8_t *buf, size_t cap, uts_msg_t *out)
 {
+    return uts_recv_flags(fd, MSG_DONTWAIT | (errq ? MSG_ERRQUEUE : 0), off, buf, cap, out);
+}
+
+ssize_t uts_recv_flags(int fd, int flags, uint64_t off, uint8_t *buf, size_t cap, uts_msg_t *out)
+{
     union { char c[256]; struct cmsghdr align; } ctl;
     struct iovec iov;
     struct msghdr m;
@@ -98,10 +103,10 @@ ssize_t uts_recv(int fd, int errq, uint64_t off, uint8_t *buf, size_t cap, uts_m
     m.msg_iovlen = 1;
     m.msg_control = ctl.c;
     m.msg_controllen = sizeof ctl.c;
-    n = recvmsg(fd, &m, MSG_DONTWAIT | (errq ? MSG_ERRQUEUE : 0));
+    n = recvmsg(fd, &m, flags);
     if (n < 0) {
         return -1;
     }
-    out->stamp_ns = msg_stamp(&m, off, errq, out);
+    out->stamp_ns = msg_stamp(&m, off, (flags & MSG_ERRQUEUE) != 0, out);
     return n;
 }

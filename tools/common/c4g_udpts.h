@@ -40,4 +40,8 @@ typedef struct uts_msg {
  * Its length, or -1 when none is waiting. */
 ssize_t uts_recv(int fd, int errq, uint64_t off, uint8_t *buf, size_t cap, uts_msg_t *m);
 
+/* The same with recvmsg's @p flags (0: block as the socket does; MSG_TRUNC: the datagram's
+ * full length), for a caller that waits in the receive call itself (c4g-server). */
+ssize_t uts_recv_flags(int fd, int flags, uint64_t off, uint8_t *buf, size_t cap, uts_msg_t *m);
+
 #endif
