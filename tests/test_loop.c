@@ -331,14 +331,30 @@ static void test_user_limits_survive_restart(void **state)
     assert_true(got.max_step == 0.01f); /* was: 0, off, after every restart */
     assert_int_equal(c4g_loop_limits(&f.lp, 1, &got), C4G_OK);
     assert_true(got.max_step == 0.0f);
-    /* an init whose axis 1 has no transmission ratio: its joint limits cannot be kept */
+    /* a cold restart (the session lost, then a new start-up) with an init whose axis 1 has
+     * no transmission ratio: its joint limits cannot be kept */
     assert_int_equal(c4g_init_decode(th_fig, sizeof th_fig, &in, NULL), C4G_OK);
     in.tx_rate[0][0] = 0.0f;
     assert_int_equal(c4g_init_encode(&in, other, sizeof other, &len), C4G_OK);
-    restart_with(&f, other);
+    f.t += 3000 * MS;
+    {
+        uint8_t b[732];
+        int32_t num;
+        for (num = 1; num <= 12; num++) {
+            if (num == 10) {
+                assert_int_equal(feed_from(&f, other, sizeof other, &f.ctl), C4G_RX_INIT);
+                answer(&f, 1200U);
+                continue;
+            }
+            memset(b, 0, sizeof b);
+            th_put_u32(b, (uint32_t)num);
+            assert_int_equal(feed_from(&f, b, C4G_CYCLIC_SIZE(6U), &f.ctl), C4G_RX_SYNC);
+            answer(&f, 732U);
+        }
+    }
     assert_int_equal(f.lp.counters.limits_refused, 1U);
     assert_int_equal(f.lp.engine_ready, 0U);
-    cyclic(&f, 11, C4G_MODE_4, 0.5f);
+    cyclic(&f, 13, C4G_MODE_4, 0.5f);
     answer(&f, C4G_CYCLIC_SIZE(6U));
     decode_reply(&f, &pc);
     assert_int_equal(pc.ax[0].mode, C4G_MODE_DRIVE_OFF); /* the fallback: hold, 505 */

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer target: the library's adversarial property fuzzer. A controller model written
  * from the manual (not from the filter) talks to the PC-side loop object through real
- * datagrams: the start-up handshake, cyclic packets, restarts (506) with new init packets
- * whose limits span the representable range, lost packets (NUM gaps). The arbitrary PC
+ * datagrams: the start-up handshake, cyclic packets, restarts (506 with the session's init,
+ * 506 with another one, cold restarts after a loss with new init packets whose limits span
+ * the representable range), lost packets (NUM gaps). The arbitrary PC
  * fills every reply with what the input says; the invariants are checked on the reply BYTES
  * the loop encodes, against what the model will do with them:
  *  - every float on the wire is finite;
@@ -498,10 +499,25 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         uint64_t before;
         const int lost_rx = (op & 0x0FU) == 1U;   /* the packet never reaches the PC */
         const int lost_tx = (op & 0x0FU) == 2U;   /* the reply never reaches the controller */
-        if ((op & 0x3FU) == 3U) {                 /* 506: restart with a new init packet */
-            make_init(&c, &w.init, 1);
-            user_limits(&c, &w.user);
-            set_user_limits(&lp, &w.user);
+        if ((op & 0x3FU) == 3U) {
+            /* a restart: 506 and the session's own init packet; 506 and another one (an
+             * attack, or a changed controller: the session is refused); or a cold restart
+             * (silence past the loss timeout, a new start-up) with a new init packet */
+            const uint8_t how = u8(&c) % 3U;
+            if (how != 0U) {
+                make_init(&c, &w.init, 1);
+                user_limits(&c, &w.user);
+                set_user_limits(&lp, &w.user);
+            }
+            if (how == 2U) {
+                t += 1500000000U;
+                for (i = 0; i < N_AX; i++) {
+                    w.ax[i].mode = 0;
+                }
+                w.have_sent = 0;
+                handshake(&lp, &w, 0, &t);
+                continue;
+            }
             for (i = 0; i < N_AX; i++) {
                 w.ax[i].mode = 506;
             }
