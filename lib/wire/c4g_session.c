@@ -340,10 +340,11 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         count_malformed(s, st, res);
     } else if ((s->phase == C4G_PHASE_POST_SYNC) && (drop_stale(s, num, res) != 0)) {
         /* counted */
-    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen >= C4G_HANDSHAKE_SYNCS)) {
-        /* The field answers the handshake's 9 syncs with 732 bytes. More are no handshake:
-         * not answered (no amplification; and a reply of the datagram's own size would read
-         * as a cyclic reply echoing the controller's own data). */
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen >= C4G_SYNC_REPLY_BUDGET)) {
+        /* The field answers the handshake's 9 syncs with 732 bytes (twice as many allowed:
+         * duplicates on the path). More are no handshake: not answered (no amplification;
+         * and a reply of the datagram's own size would read as a cyclic reply echoing the
+         * controller's own data). */
         s->counters.sync_excess++;
         res->kind = C4G_RX_DROPPED;
         res->events |= C4G_EV_SYNC_EXCESS;

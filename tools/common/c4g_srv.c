@@ -225,8 +225,8 @@ static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t
     }
     if ((e & C4G_EV_SYNC_EXCESS) != 0U) {
         if (s->counters.sync_excess <= 10U || S->cfg.verbose) {
-            srv_log(S, t, "dropped a %zu-byte sync: more than the handshake's %u, not answered",
-                    len, (unsigned)C4G_HANDSHAKE_SYNCS);
+            srv_log(S, t, "dropped a %zu-byte sync: more than %u before an init packet, not "
+                    "answered", len, (unsigned)C4G_SYNC_REPLY_BUDGET);
         }
         return 1;
     }
