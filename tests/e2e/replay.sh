@@ -229,6 +229,11 @@ if command -v gnuplot >/dev/null 2>&1; then
     ok "plot PNG: exit 0, a PNG file" eq "$rc:$(head -c 4 "$T/p.png" | od -An -c | tr -d ' ')" '0:211PNG'
     "$RP" plot --latency --output "$T/l.svg" $FX/mode4.pcap >/dev/null 2>&1; rc=$?
     ok "plot --latency SVG: exit 0, an SVG file" eq "$rc:$(grep -c '<svg' "$T/l.svg")" "0:1"
+    "$RP" plot --axis 1 --field d1,d3 --output "$T/ta.png" $FX/mode4.pcap >"$T/ta.out" 2>"$T/ta.err"; rc=$?
+    ok "plot --field d1,d3 (target and actual in one plot): exit 0, a PNG, nothing on stdout" \
+        eq "$rc:$(head -c 4 "$T/ta.png" | od -An -c | tr -d ' '):$(wc -c <"$T/ta.out")" '0:211PNG:0'
+    "$RP" plot --axis 1 --field d1,nope $FX/mode4.pcap >/dev/null 2>"$T/tb.err"; rc=$?
+    ok "  ... a bad field in the list: exit 2, named" eq "$rc:$(grep -c "bad value 'd1,nope'" "$T/tb.err")" "2:1"
     "$RP" plot --axis 1 --field d1 $FX/mode4.pcap >"$T/p.txt" 2>&1; rc=$?
     ok "plot in the terminal (text): exit 0, a drawing" eq "$rc:$([ "$(wc -l <"$T/p.txt")" -gt 10 ] && echo drawn)" "0:drawn"
 else
