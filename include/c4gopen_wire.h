@@ -282,6 +282,9 @@ typedef enum c4g_rx_kind {
                                           previous packet was in an operating mode (manual
                                           15.4 presets mode 0): forged or out of procedure */
 #define C4G_EV_REFUSED 0x80000U      /**< datagram dropped because the session is REFUSED */
+#define C4G_EV_SYNC_EXCESS 0x100000U /**< a sync beyond C4G_SYNC_REPLY_BUDGET (start-up): not
+                                          answered; a start-up silent for the loss timeout
+                                          starts afresh */
 /**@}*/
 
 /** @name Default ceilings of c4g_session_config_t */
@@ -289,6 +292,8 @@ typedef enum c4g_rx_kind {
 #define C4G_AZLIM_MAX_DEFAULT 200.0F       /**< largest AzLim accepted [A] */
 #define C4G_FOLLOW_ERROR_MAX_DEFAULT 50.0F /**< largest FollowError accepted [motor turns] */
 #define C4G_HANDSHAKE_SYNCS 9U             /**< syncs before the init packet (field) */
+#define C4G_SYNC_REPLY_BUDGET 18U          /**< syncs answered before an init packet: the
+                                                handshake's 9, each duplicated on the path */
 /**@}*/
 
 /**
@@ -363,7 +368,7 @@ typedef struct c4g_counters {
     uint64_t new_peers;          /**< C4G_EV_NEW_PEER events */
     uint64_t end_unexpected;     /**< C4G_EV_END_UNEXPECTED events */
     uint64_t refused;            /**< datagrams dropped in the REFUSED phase */
-    uint64_t sync_unpadded;      /**< syncs beyond the handshake's answered with their own size */
+    uint64_t sync_excess;        /**< syncs beyond C4G_SYNC_REPLY_BUDGET: not answered */
 } c4g_counters_t;
 
 /** Chapter 22 timing statistics, all in ns, from caller timestamps. */
@@ -450,8 +455,8 @@ C4G_NODISCARD c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_
  *   reported (C4G_EV_NEW_PEER);
  * - a synchronization packet must decode as a cyclic packet of 1..20 axes (finite values,
  *   known modes): its reply never echoes a non-finite value or answers a datagram smaller
- *   than a cyclic packet, and is padded to 732 bytes for the handshake's 9 syncs (and the
- *   post-init ones) only: later ones are answered with their own size;
+ *   than a cyclic packet; the handshake's syncs (up to C4G_SYNC_REPLY_BUDGET, and the
+ *   post-init ones) get the 732-byte reply, more are not answered (C4G_EV_SYNC_EXCESS);
  * - a duplicate or an older NUM is dropped (counted, not answered, not delivered).
  * A datagram refused for any of these is not a failure of the call: it returns C4G_OK with
  * kind DROPPED (nothing to answer) and EV_MALFORMED or EV_FOREIGN.

@@ -425,6 +425,8 @@ PY
     editcap -F pcap -r "$M4" "$T/h1.pcap" 1-500 && editcap -F pcap -r "$M4" "$T/h2.pcap" 501-806 &&
         editcap -F pcap -t 10 "$T/h2.pcap" "$T/h2s.pcap" &&
         mergecap -F pcap -a -w "$F/hole-10s.pcap" "$T/h1.pcap" "$T/h2s.pcap" || return 1
+    # a nanosecond pcapng (its interface's if_tsresol 9)
+    editcap -F pcapng "$OUT/fmt-nsec.pcap" "$F/nsec.pcapng" || return 1
     # a compressed capture
     gzip -n -c "$OUT/mode0.pcap" >"$F/mode0.pcap.gz" || return 1
     say "field/*.pcap"

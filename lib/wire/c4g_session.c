@@ -136,17 +136,8 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
         (void)memcpy(s->pending_raw, buf, keep);
         s->pending_len = (uint32_t)keep;
-        s->pending_reply_len = (uint32_t)C4G_SYNC_REPLY_SIZE;
-        if (kind == C4G_RX_INIT) {
-            s->pending_reply_len = (uint32_t)C4G_INIT_SIZE;
-        } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > C4G_HANDSHAKE_SYNCS)) {
-            /* The field pads the 9 handshake syncs (and the post-init ones) to 732 bytes;
-             * beyond them a sync is answered with its own size: no amplification. */
-            s->pending_reply_len = (uint32_t)keep;
-            s->counters.sync_unpadded++;
-        } else {
-            /* field behaviour */
-        }
+        s->pending_reply_len = (kind == C4G_RX_INIT) ? (uint32_t)C4G_INIT_SIZE
+                                                     : (uint32_t)C4G_SYNC_REPLY_SIZE;
     }
 }
 
@@ -349,6 +340,14 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         count_malformed(s, st, res);
     } else if ((s->phase == C4G_PHASE_POST_SYNC) && (drop_stale(s, num, res) != 0)) {
         /* counted */
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen >= C4G_SYNC_REPLY_BUDGET)) {
+        /* The field answers the handshake's 9 syncs with 732 bytes (twice as many allowed:
+         * duplicates on the path). More are no handshake: not answered (no amplification;
+         * and a reply of the datagram's own size would read as a cyclic reply echoing the
+         * controller's own data). */
+        s->counters.sync_excess++;
+        res->kind = C4G_RX_DROPPED;
+        res->events |= C4G_EV_SYNC_EXCESS;
     } else {
         {
             s->counters.sync++;
@@ -513,6 +512,12 @@ static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
         s->startup_only = 1U;
         s->counters.lost_events++;
         ev = C4G_EV_LOST;
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > 0U) &&
+               (now_ns > s->last_rx_ns) && ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
+        /* a start-up that stopped before its init: the next one starts afresh (a cold
+         * restart of the controller takes far longer than the loss timeout) */
+        s->sync_seen = 0U;
+        s->peer_locked = 0U;
     } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
         (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns)) {
         const uint64_t gap = now_ns - s->last_rx_ns;
@@ -673,12 +678,12 @@ static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, u
     uint32_t was_silent;
     uint32_t lost_ev;
     c4g_counters_t before;
+    s->counters.rx++;
+    s->pending_num = -1;
+    res->events |= check_lost(s, now_ns); /* (may unlock a start-up that stopped) */
     if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
         other = 1;
     }
-    s->counters.rx++;
-    s->pending_num = -1;
-    res->events |= check_lost(s, now_ns);
     was_silent = c4g_flag((s->silent != 0U) || (s->phase == C4G_PHASE_LOST));
     lost_ev = res->events;
     if (new_startup(s, buf, len, other) != 0) {

@@ -327,6 +327,10 @@ def field_small(replay, fd):
         fs = findings(d["sessions"][0])
         expect(f, "a silence finding at frame 501", fs.get("silence", {}).get("frame"), 501)
         expect(f, "silence over 10 s", fs.get("silence", {}).get("worst", 0) > 10.0, True)
+    f = fd + "nsec.pcapng"
+    d = summary(replay, f)
+    if d:
+        expect(f, "nanosecond", d["files"][0]["nanosecond"], True)
     f = fd + "mode0.pcap.gz"
     rc, out, err = run(replay, "summary", "--no-progress", f)
     expect(f, "summary exit status", rc, 2)

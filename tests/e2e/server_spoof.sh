@@ -58,6 +58,7 @@ spoofed() {
     wait_server
 }
 spoof_ready() { grep -q "ready=1" "$T/$1.spoof" 2>/dev/null; }
+atk_ready() { grep -q "lport=" "$T/$1.atk" 2>/dev/null; }
 
 currents() {  # currents NAME: the current check of the server's moni CSV
     python3 "$CHK" currents "$T/$1.moni" "$INIT" >"$T/$1.cur" 2>"$T/$1.cur.err"
@@ -141,8 +142,9 @@ start_server peer 31164 --persist --lost-timeout-ms 1000
 python3 "$ATK" 31164 sync --wait "$T/peer.err" "controller.lost" --listen-s 0.3 >"$T/peer.atk" 2>"$T/peer.atk.err" &
 APID=$!
 PIDS="$PIDS $APID"
-# a 3 s stall: the attacker (a python that can take a second or two to start on the loaded
-# host, started before the controller) has 2 s after the loss to send its sync
+wait_until 30 atk_ready peer
+# a 3 s stall: the attacker (a python that can take seconds to start on the loaded host:
+# running before the controller starts) has 2 s after the loss to send its sync
 timeout 50 "$SIM" -p 31164 -n 2000 --pause 200:1500 --json >"$T/peer.sim.json" 2>"$T/peer.sim.err"
 SIMRC=$?
 wait "$APID"

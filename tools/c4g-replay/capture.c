@@ -251,6 +251,52 @@ cap_t *cap_open_stream(FILE *fp, const char *name, char *err, size_t errlen)
     return c;
 }
 
+/* pcapng: the first interface's time stamp resolution (if_tsresol, option 9 of its IDB):
+ * 1 if finer than a microsecond. libpcap scales the times but does not say. */
+static int pcapng_nano(const char *path)
+{
+    uint8_t b[512];
+    FILE *fp = fopen(path, "rb");
+    size_t n, off, end;
+    uint32_t shb_len, idb_len;
+    int be, nano = 0;
+    if (fp == NULL) {
+        return 0;
+    }
+    n = fread(b, 1U, sizeof b, fp);
+    (void)fclose(fp);
+    if (n < 28U) {
+        return 0;
+    }
+    be = (b[8] == 0x1AU); /* byte-order magic 0x1A2B3C4D as written */
+#define RD32(p) (be ? ((uint32_t)(p)[0] << 24 | (uint32_t)(p)[1] << 16 | (uint32_t)(p)[2] << 8 | (p)[3]) \
+                    : ((uint32_t)(p)[3] << 24 | (uint32_t)(p)[2] << 16 | (uint32_t)(p)[1] << 8 | (p)[0]))
+#define RD16(p) (be ? (uint32_t)((p)[0] << 8 | (p)[1]) : (uint32_t)((p)[1] << 8 | (p)[0]))
+    shb_len = RD32(b + 4);
+    if (shb_len < 28U || shb_len > n - 20U || RD32(b + shb_len) != 1U) {
+        return 0;
+    }
+    idb_len = RD32(b + shb_len + 4U);
+    if (idb_len < 20U || idb_len > n - shb_len) {
+        return 0;
+    }
+    end = shb_len + idb_len - 4U;
+    for (off = shb_len + 16U; off + 4U <= end;) {
+        const uint32_t code = RD16(b + off), len = RD16(b + off + 2U);
+        if (code == 0U || off + 4U + len > end) {
+            break;
+        }
+        if (code == 9U && len >= 1U) {
+            const uint8_t r = b[off + 4U];
+            nano = (r & 0x80U) ? ((r & 0x7FU) > 20U) : (r > 6U);
+        }
+        off += 4U + ((len + 3U) & ~3U);
+    }
+#undef RD32
+#undef RD16
+    return nano;
+}
+
 cap_t *cap_open(const char *path, char *err, size_t errlen)
 {
     uint64_t size = 0U;
@@ -270,6 +316,9 @@ cap_t *cap_open(const char *path, char *err, size_t errlen)
     c = cap_open_stream(fp, path, err, errlen);
     if (c != NULL) {
         c->size = size;
+        if (c->ng) {
+            c->nano = pcapng_nano(path);
+        }
     }
     return c;
 }

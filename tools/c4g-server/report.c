@@ -230,12 +230,12 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
             (unsigned long long)c->foreign[C4G_FOREIGN_CYCLIC],
             (unsigned long long)c->foreign[C4G_FOREIGN_OTHER], (unsigned long long)c->silences,
             (double)c->longest_silence_ns * 1e-6);
-    if (c->init_conflicts + c->contended + c->new_peers + c->end_unexpected + c->sync_unpadded > 0U) {
+    if (c->init_conflicts + c->contended + c->new_peers + c->end_unexpected + c->sync_excess > 0U) {
         fprintf(out, "trust: init conflicts %llu, contended start-ups %llu (refused datagrams %llu), "
-                "new peers %llu, 504 out of procedure %llu, syncs answered unpadded %llu\n",
+                "new peers %llu, 504 out of procedure %llu, syncs beyond the handshake %llu\n",
                 (unsigned long long)c->init_conflicts, (unsigned long long)c->contended,
                 (unsigned long long)c->refused, (unsigned long long)c->new_peers,
-                (unsigned long long)c->end_unexpected, (unsigned long long)c->sync_unpadded);
+                (unsigned long long)c->end_unexpected, (unsigned long long)c->sync_excess);
     }
     fprintf(out, "replies skipped %llu, send errors %llu, encode errors %llu, log records dropped %llu\n",
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
@@ -340,7 +340,7 @@ static json_t *json_counters(const srv_host_t *H)
     put_u(o, "refused", c.refused);
     put_u(o, "new_peers", c.new_peers);
     put_u(o, "end_unexpected", c.end_unexpected);
-    put_u(o, "sync_unpadded", c.sync_unpadded);
+    put_u(o, "sync_excess", c.sync_excess);
     put_u(o, "silences", c.silences);
     put_f(o, "longest_silence_ms", (double)c.longest_silence_ns * 1e-6);
     put_u(o, "oversize", st->oversize);

@@ -75,7 +75,7 @@ void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c)
     sum->new_peers += c->new_peers;
     sum->end_unexpected += c->end_unexpected;
     sum->refused += c->refused;
-    sum->sync_unpadded += c->sync_unpadded;
+    sum->sync_excess += c->sync_excess;
     if (c->longest_silence_ns > sum->longest_silence_ns) {
         sum->longest_silence_ns = c->longest_silence_ns;
     }
@@ -221,6 +221,13 @@ static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t
         srv_log(S, t, "ATTACK? start-up contended: a %zu-byte start-up packet from %s while "
                 "%s's start-up runs: both refused; no reply until the controller is silent "
                 "for %.0f ms", len, a, p, (double)s->lost_timeout_ns * 1e-6);
+        return 1;
+    }
+    if ((e & C4G_EV_SYNC_EXCESS) != 0U) {
+        if (s->counters.sync_excess <= 10U || S->cfg.verbose) {
+            srv_log(S, t, "dropped a %zu-byte sync: more than %u before an init packet, not "
+                    "answered", len, (unsigned)C4G_SYNC_REPLY_BUDGET);
+        }
         return 1;
     }
     if ((e & C4G_EV_REFUSED) != 0U) {
