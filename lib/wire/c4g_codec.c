@@ -298,45 +298,49 @@ c4g_status_t c4g_pc_encode(const c4g_pc_packet_t *pkt, uint8_t *buf, size_t cap,
     return st;
 }
 
+/* One axis of the neutral reply, mode @p r->mode with rules @p rules: it holds. */
+static void neutral_axis(const c4g_ctrl_axis_t *r, uint32_t rules, c4g_pc_axis_t *a)
+{
+    a->mode = r->mode;
+    if (r->mode == C4G_MODE_0_DEBUG) {
+        /* Mode 0': the field library copies D1..D5 back unchanged. */
+        a->target_pos = r->target_pos;
+        a->target_vel = r->target_vel;
+        a->measure = r->actual_pos;
+        a->vel_add = r->actual_vel;
+        a->current_add = r->current_ref;
+    } else {
+        /* hold: the reference and the current the controller applied (a zero there would
+         * mean "go to 0", "no current"), nothing added */
+        if ((rules & C4G_MR_ABS) != 0U) {
+            a->target_pos = r->target_pos;
+        }
+        if ((rules & C4G_MR_CUR) != 0U) {
+            a->current_add = r->current_ref;
+        }
+    }
+}
+
 c4g_status_t c4g_pc_reply_neutral(const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((rx != NULL) && (tx != NULL)) {
         st = C4G_ERR_AXES;
         if ((rx->n_axes >= 1U) && (rx->n_axes <= C4G_MAX_AXES)) {
+            int32_t looked_up = C4G_MODE_0;
+            uint32_t rules = 0U; /* of mode 0 */
             uint32_t i;
             tx->num = rx->num;
             tx->infpar = 0U;
             tx->cmd = 0U;
             tx->n_axes = rx->n_axes;
             (void)memset(tx->ax, 0, sizeof tx->ax);
-            int32_t looked_up = C4G_MODE_0;
-            uint32_t rules = 0U; /* of mode 0 */
             for (i = 0U; i < rx->n_axes; i++) {
-                const c4g_ctrl_axis_t *r = &rx->ax[i];
-                c4g_pc_axis_t *a = &tx->ax[i];
-                if (r->mode != looked_up) { /* the axes of an arm mostly share one mode */
-                    looked_up = r->mode;
+                if (rx->ax[i].mode != looked_up) { /* the axes of an arm mostly share one mode */
+                    looked_up = rx->ax[i].mode;
                     rules = c4g_mode_rules(looked_up);
                 }
-                a->mode = r->mode;
-                if (r->mode == C4G_MODE_0_DEBUG) {
-                    /* Mode 0': the field library copies D1..D5 back unchanged. */
-                    a->target_pos = r->target_pos;
-                    a->target_vel = r->target_vel;
-                    a->measure = r->actual_pos;
-                    a->vel_add = r->actual_vel;
-                    a->current_add = r->current_ref;
-                } else {
-                    /* hold: the reference and the current the controller applied (a zero
-                     * there would mean "go to 0", "no current"), nothing added */
-                    if ((rules & C4G_MR_ABS) != 0U) {
-                        a->target_pos = r->target_pos;
-                    }
-                    if ((rules & C4G_MR_CUR) != 0U) {
-                        a->current_add = r->current_ref;
-                    }
-                }
+                neutral_axis(&rx->ax[i], rules, &tx->ax[i]);
             }
             st = C4G_OK;
         }
