@@ -788,6 +788,34 @@ static void learn_policy(const an_t *a, an_session_t *s, int32_t num)
     s->policy_from_cyclic = 1;
 }
 
+/* A reply the conversation accepted: kept, counted by kind, its requests and data judged. */
+static void pc_accepted(an_t *a, an_session_t *s, const cap_pkt_t *p, int32_t num)
+{
+    const cs_outstanding_t *o = &s->cs.out;
+    const size_t n = (p->len <= sizeof s->reply_raw) ? p->len : sizeof s->reply_raw;
+    memcpy(s->reply_raw, p->payload, n);
+    s->reply_len = n;
+    s->reply_ns = p->ts_ns;
+    s->reply_frame = p->frame;
+    if (o->kind == CS_SYNC) {
+        s->pc_sync++;
+    } else if (o->kind == CS_INIT) {
+        s->pc_init++;
+        s->policy = s->cs.detected;
+    } else {
+        s->pc_cyclic++;
+        if (num == o->num) {
+            s->policy_echo++;
+        } else {
+            s->policy_plus++;
+        }
+        if (s->rx_ok) {
+            pc_requests(s, &o->reply, p);
+            pc_data(a, s, &o->reply, p);
+        }
+    }
+}
+
 static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p)
 {
     an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
@@ -812,32 +840,9 @@ static void from_pc(an_t *a, an_flow_t *fl, const char *file, const cap_pkt_t *p
         s->other_frame = p->frame;
     }
     switch (r) {
-    case CS_RX_ACCEPTED: {
-        const cs_outstanding_t *o = &s->cs.out;
-        const size_t n = (p->len <= sizeof s->reply_raw) ? p->len : sizeof s->reply_raw;
-        memcpy(s->reply_raw, p->payload, n);
-        s->reply_len = n;
-        s->reply_ns = p->ts_ns;
-        s->reply_frame = p->frame;
-        if (o->kind == CS_SYNC) {
-            s->pc_sync++;
-        } else if (o->kind == CS_INIT) {
-            s->pc_init++;
-            s->policy = s->cs.detected;
-        } else {
-            s->pc_cyclic++;
-            if (num == o->num) {
-                s->policy_echo++;
-            } else {
-                s->policy_plus++;
-            }
-            if (s->rx_ok) {
-                pc_requests(s, &o->reply, p);
-                pc_data(a, s, &o->reply, p);
-            }
-        }
+    case CS_RX_ACCEPTED:
+        pc_accepted(a, s, p, num);
         break;
-    }
     case CS_RX_WRONG_NUM:
         s->pc_other++;
         if (looks_init(p->payload, p->len) && num == C4G_INIT_NUM + 1 && s->cs.out.kind != CS_INIT) {

@@ -85,12 +85,43 @@ static const char summary_epilogue[] =
     "Exit status: 0 the files were read (whatever they show), 1 a file stopped early,\n"
     "2 bad usage or an unreadable file. Use check for a verdict in the exit status.\n";
 
+/* check: one line per finding, a no-session line per file without a session, the verdict. */
+static int check_lines(const sum_ctx_t *s, an_t *a, rp_file_t *files, unsigned n, int worst)
+{
+    unsigned empty = 0U;
+    unsigned i;
+    const unsigned nf = rp_report_findings(stdout, a, files, n, s->allow);
+    /* a file without a session was not checked at all: never clean */
+    for (i = 0U; i < n; i++) {
+        if (files[i].opened && rp_file_sessions(a, files[i].path) == 0U) {
+            char why[300];
+            printf("%s: no-session: %s\n", files[i].path,
+                   rp_no_session_text(a, &files[i], why, sizeof why));
+            empty++;
+        }
+    }
+    if (!s->c.quiet) {
+        const char *verdict = (worst == 2) ? "UNREADABLE"
+                              : (nf > 0U ? "FINDINGS" : (empty > 0U ? "NO SESSION" : "CLEAN"));
+        printf("%s: %u file%s, %u session%s, %u finding%s", verdict, n, n == 1U ? "" : "s",
+               a->n_sess, a->n_sess == 1U ? "" : "s", nf, nf == 1U ? "" : "s");
+        if (empty > 0U) {
+            printf(", %u file%s without a session", empty, empty == 1U ? "" : "s");
+        }
+        printf("\n");
+    }
+    if (worst == 2) {
+        return RP_EXIT_UNREADABLE;
+    }
+    return nf > 0U ? RP_EXIT_FINDINGS : (empty > 0U ? RP_EXIT_NO_SESSION : CLI_EXIT_OK);
+}
+
 static int run(sum_ctx_t *s, int argc, char **argv, int first)
 {
     an_t a;
     rp_file_t *files;
     const unsigned n = (unsigned)(argc - first);
-    unsigned i, nf;
+    unsigned i;
     int worst = 0, rc;
     files = calloc(n, sizeof *files);
     if (files == NULL || an_init(&a, &s->c.an) != 0) {
@@ -105,28 +136,7 @@ static int run(sum_ctx_t *s, int argc, char **argv, int first)
         }
     }
     if (s->lines) {
-        unsigned empty = 0U;
-        nf = rp_report_findings(stdout, &a, files, n, s->allow);
-        /* a file without a session was not checked at all: never clean */
-        for (i = 0U; i < n; i++) {
-            if (files[i].opened && rp_file_sessions(&a, files[i].path) == 0U) {
-                char why[300];
-                printf("%s: no-session: %s\n", files[i].path,
-                       rp_no_session_text(&a, &files[i], why, sizeof why));
-                empty++;
-            }
-        }
-        if (!s->c.quiet) {
-            printf("%s: %u file%s, %u session%s, %u finding%s", worst == 2 ? "UNREADABLE" :
-                   (nf > 0U ? "FINDINGS" : (empty > 0U ? "NO SESSION" : "CLEAN")), n, n == 1U ? "" : "s",
-                   a.n_sess, a.n_sess == 1U ? "" : "s", nf, nf == 1U ? "" : "s");
-            if (empty > 0U) {
-                printf(", %u file%s without a session", empty, empty == 1U ? "" : "s");
-            }
-            printf("\n");
-        }
-        rc = (worst == 2) ? RP_EXIT_UNREADABLE
-                          : (nf > 0U ? RP_EXIT_FINDINGS : (empty > 0U ? RP_EXIT_NO_SESSION : CLI_EXIT_OK));
+        rc = check_lines(s, &a, files, n, worst);
     } else {
         if (s->c.json) {
             (void)rp_report_json(stdout, &a, files, n, s->allow);
