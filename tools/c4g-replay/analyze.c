@@ -1119,6 +1119,20 @@ static int c4g_shaped(const an_t *a, const cap_pkt_t *p)
     return n >= AN_SHAPE_MIN && dirs == 3U && len[0] == len[1] && steps >= AN_SHAPE_MIN / 2U - 1U;
 }
 
+/* A new flow from packet @p p's endpoints (a the sender), its controller side unknown. */
+static an_flow_t *flow_new(an_t *a, const cap_pkt_t *p)
+{
+    an_flow_t *fl = &a->flows[a->n_flows++];
+    memset(fl, 0, sizeof *fl);
+    fl->a.ip = p->src_ip;
+    fl->a.port = p->src_port;
+    fl->b.ip = p->dst_ip;
+    fl->b.port = p->dst_port;
+    fl->ctrl_is_a = -1;
+    fl->sess = -1;
+    return fl;
+}
+
 static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
 {
     int from_a = 1;
@@ -1135,14 +1149,7 @@ static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
                 return;
             }
             /* found by its shape: the datagrams in the ring (this one the last) are its start */
-            fl = &a->flows[a->n_flows++];
-            memset(fl, 0, sizeof *fl);
-            fl->a.ip = p->src_ip;
-            fl->a.port = p->src_port;
-            fl->b.ip = p->dst_ip;
-            fl->b.port = p->dst_port;
-            fl->ctrl_is_a = -1;
-            fl->sess = -1;
+            fl = flow_new(a, p);
             take_recent(a, fl, file);
             return;
         }
@@ -1150,14 +1157,7 @@ static void datagram(an_t *a, const char *file, const cap_pkt_t *p)
             a->flows_dropped++;
             return;
         }
-        fl = &a->flows[a->n_flows++];
-        memset(fl, 0, sizeof *fl);
-        fl->a.ip = p->src_ip;
-        fl->a.port = p->src_port;
-        fl->b.ip = p->dst_ip;
-        fl->b.port = p->dst_port;
-        fl->ctrl_is_a = -1;
-        fl->sess = -1;
+        fl = flow_new(a, p);
         if (init) {
             /* the initialization packet comes from the controller; a first one carrying
              * NUM 11 is the PC's plus-one echo of an init packet the capture lost (a
