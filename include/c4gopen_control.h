@@ -230,7 +230,7 @@ C4G_NODISCARD c4g_status_t c4g_kin_motor_vel_to_link(const c4g_kin_t *kin, const
 #define C4G_SF_VELOCITY 0x0040U     /**< velocity per tick limited */
 #define C4G_SF_STROKE 0x0080U       /**< stroke end (motor turns) */
 #define C4G_SF_STROKE_JOINT 0x0100U /**< stroke end (joint units, through kinematics) */
-#define C4G_SF_HELD 0x0200U         /**< data replaced by the last safe values */
+#define C4G_SF_HELD 0x0200U         /**< data replaced by the hold (what the controller applied) */
 #define C4G_SF_DRIVE_OFF 0x0400U    /**< axis carries 505 */
 #define C4G_SF_FE_SENT 0x0800U      /**< axis carries 508 */
 #define C4G_SF_MODE_RESTORED 0x1000U/**< the caller wrote a forbidden mode: restored */
@@ -299,9 +299,6 @@ typedef struct c4g_engine {
     uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
     float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_engine_anchor) */
     uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
-    c4g_pc_axis_t last_safe[C4G_MAX_AXES]; /**< last values sent */
-    int32_t last_mode[C4G_MAX_AXES];    /**< last mode sent */
-    uint32_t have_last;                 /**< last_safe is valid */
     uint32_t stepped;                   /**< step done, finish expected */
     int32_t step_num;                   /**< NUM of the stepped packet */
 } c4g_engine_t;

@@ -84,7 +84,7 @@ int main(void)
     CHECK(tick(C4G_MODE_0, 0, 1.0f, 1.0f) == C4G_OK);
     CHECK((rep.events & C4G_CEV_LATCH_CLEARED) != 0 && tx.ax[0].mode == C4G_MODE_0);
 
-    /* a NaN is never sent: the axis holds its last safe value, the arm carries 505 */
+    /* a NaN is never sent: the axis holds what the controller applied, the arm carries 505 */
     CHECK(tick(C4G_MODE_4, C4G_STS_MOVING, 1.0f, 1.0f) == C4G_OK);
     CHECK(tick(C4G_MODE_4, C4G_STS_MOVING, 1.0f, 0.0f / 0.0f) == C4G_ERR_NONFINITE);
     CHECK(tx.ax[0].target_pos == 1.0f && tx.ax[3].mode == C4G_MODE_DRIVE_OFF);

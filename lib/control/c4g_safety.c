@@ -284,7 +284,7 @@ static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
     return infpar;
 }
 
-/* Arms with a bad axis: bad axes hold their last safe values, every axis carries 505. */
+/* Arms with a bad axis: bad axes hold (hold_axis), every axis carries 505. */
 static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
                                         c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
@@ -397,9 +397,9 @@ static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
     dst->ext[2] = src->ext[2];
 }
 
-/* Final mode of one axis (latches, freezing), its report, and the values kept as the last
- * safe ones. Idempotent except for the n_filtered count. (latch_sent: c4g_engine_finish.) */
-static inline void record_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+/* Final mode of one axis (latches, freezing) and its report. Idempotent except for the
+ * n_filtered count. (latch_sent: c4g_engine_finish.) */
+static inline void record_axis(const c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
                                c4g_engine_report_t *r)
 {
     const uint32_t arm = ctl->map.arm_of[i];
@@ -416,12 +416,10 @@ static inline void record_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g
         r->arm_events[arm] |= C4G_CEV_SAFETY;
         r->events |= C4G_CEV_SAFETY;
     }
-    keep_axis(&ctl->last_safe[i], tx);
-    ctl->last_mode[i] = ctl->prep_mode[i];
 }
 
 /* Every axis recorded with the final overlays. */
-static CTL_COLD void finish_record(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+static CTL_COLD void finish_record(const c4g_engine_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
                           c4g_engine_report_t *r)
 {
     uint32_t i;
@@ -551,7 +549,6 @@ static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx
         st = C4G_ERR_MODE_RESTORED; /* a fault's status comes first */
     }
     latches_sent(ctl);
-    ctl->have_last = 1U;
     ctl->stepped = 0U;
     return st;
 }
