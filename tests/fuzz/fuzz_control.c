@@ -206,8 +206,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             if ((p == 5 || p == 7 || p == 8) && m == p && !held && ctl.lim[i].motor_min < ctl.lim[i].motor_max &&
                 !(rep.axis_flags[i] & C4G_SF_NONFINITE)) {
-                /* the position the controller integrates to stays in the stroke it was in */
-                const float base = rx.ax[i].target_pos;
+                /* the position the controller integrates to stays in the stroke it was in:
+                 * from its reference advanced by its own target velocity (fig. 14.1) */
+                const float base = rx.ax[i].target_pos + rx.ax[i].target_vel;
                 const float d = (p == 5) ? tx.ax[i].target_vel
                                 : (p == 7) ? tx.ax[i].target_pos : tx.ax[i].vel_add;
                 const float lo = ctl.lim[i].motor_min, hi = ctl.lim[i].motor_max;
