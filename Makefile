@@ -41,38 +41,55 @@ WARN_GCC := -Wlogical-op -Wduplicated-cond -Wduplicated-branches -Wjump-misses-i
 ifeq ($(IS_GCC),0)
 WARN_GCC :=
 endif
-LIB_CFLAGS := -std=c99 -pedantic-errors $(WARN_LIB) $(WARN_GCC) -Iinclude
+LIB_CFLAGS := -std=c99 -pedantic-errors $(WARN_LIB) $(WARN_GCC) -Iinclude -ffunction-sections -fdata-sections
 OPT ?= -O2
 CFLAGS ?= -g
 TOOL_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -pedantic -Wall -Wextra \
   -Werror -Wshadow -Wstrict-prototypes -Wvla -Iinclude
 TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror -Iinclude
 
-LIB_SRCS := $(sort $(wildcard lib/*/*.c))
-LIB_HDRS := $(wildcard include/*.h) $(wildcard lib/*.h lib/*/*.h)
+# Three archives (docs/architecture.md):
+#   libc4gopen       lib/{wire,engine,loop,cell,canopen}: the real-time library (installed)
+#   libc4gopen-sim   lib/sim: the controller model, CANopen slaves, fixtures; pure like the core
+#   libc4gopen-host  lib/host: POSIX I/O for the tools (sockets, clocks, files, pcap, CLI)
+# The two pure archives pass the same gates (strict flags, MISRA, clang-tidy, cross builds,
+# coverage); every tool is tools/NAME/*.c: its main file plus an archive of the rest, which
+# its tests and fuzz targets link.
+CORE_DIRS := wire engine loop cell canopen
+LIB_SRCS := $(sort $(foreach d,$(CORE_DIRS),$(wildcard lib/$(d)/*.c)))
+SIM_SRCS := $(sort $(wildcard lib/sim/*.c))
+HOST_SRCS := $(sort $(wildcard lib/host/*.c))
+# (lib/sim joins the pure gates once it builds with LIB_CFLAGS)
+PURE_SRCS := $(LIB_SRCS)
+SIM_CFLAGS := -std=c99 -pedantic-errors -Wall -Wextra -Werror -Iinclude
+LIB_HDRS := $(wildcard include/*.h) $(wildcard lib/*.h) $(foreach d,$(CORE_DIRS),$(wildcard lib/$(d)/*.h))
+SIM_HDRS := $(wildcard lib/sim/*.h)
+HOST_HDRS := $(wildcard lib/host/*.h)
 LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/obj/%.o)
 LIB_PICS := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
 STATIC := $(BUILD)/lib/libc4gopen.a
 SHARED := $(BUILD)/lib/libc4gopen.so.$(VERSION)
+SIM_LIB := $(BUILD)/lib/libc4gopen-sim.a
+HOST_LIB := $(BUILD)/lib/libc4gopen-host.a
+ARCH_INC := -Iinclude -Ilib/sim -Ilib/host
 
-# Tool helpers that tests, benches and fuzz targets also need (plain C99, no dependencies):
-# the manual's fixtures and the CSV text of monitoring records. Not in the RT library.
-HELPER_SRCS := tools/common/c4g_fixtures.c tools/common/c4g_csv.c
-
-UNIT_SRCS := $(sort $(wildcard tests/test_*.c))
-UNIT_BINS := $(UNIT_SRCS:tests/%.c=$(BUILD)/tests/%)
-FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
-FUZZ_NAMES := $(FUZZ_SRCS:tests/fuzz/%.c=%)
-
-# Tools: every directory tools/NAME becomes $(BUILD)/bin/NAME. tools/NAME/tool.mk may
-# set NAME_LDLIBS; C++ sources (*.cpp) link with $(CXX).
-TOOL_NAMES := $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c tools/*/*.cpp))))
-TOOL_NAMES := $(sort $(TOOL_NAMES))
+# Tools: every directory tools/NAME becomes $(BUILD)/bin/NAME. tools/NAME/tool.mk may set
+# NAME_LDLIBS, NAME_CPPFLAGS and NAME_USES (other tools' archives it links); C++ sources
+# link with $(CXX). The file with main() is the tool's MAIN; the rest is its archive.
+TOOL_NAMES := $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c tools/*/*.cpp)))))
 -include $(wildcard tools/*/tool.mk)
 TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
-COMMON_TOOL_SRCS := $(wildcard tools/common/*.c)
-TOOL_NAMES := $(filter-out common,$(TOOL_NAMES))
-TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
+C_TOOLS := $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c)))))
+tool_main = $(shell grep -l '^int main.int argc' $(wildcard tools/$(1)/*.c tools/$(1)/*.cpp) 2>/dev/null)
+tool_srcs = $(filter-out $(call tool_main,$(1)),$(wildcard tools/$(1)/*.c))
+TOOL_INC := $(foreach t,$(C_TOOLS),-Itools/$(t))
+TOOL_LIB_LIBS := -linih -lpcap -ljansson -ledit -lpthread -lm
+
+UNIT_SRCS := $(sort $(wildcard tests/lib/test_*.c tests/sim/test_*.c tests/host/test_*.c tests/tools/test_*.c))
+UNIT_NAMES := $(notdir $(UNIT_SRCS:%.c=%))
+UNIT_BINS := $(UNIT_NAMES:%=$(BUILD)/tests/%)
+FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_NAMES := $(FUZZ_SRCS:tests/fuzz/%.c=%)
 
 DEPS_STAMP := $(BUILD)/.deps-ok
 
@@ -90,6 +107,14 @@ $(DEPS_STAMP): scripts/deps.sh
 
 lib: $(STATIC) $(SHARED) $(BUILD)/lib/c4gopen.pc
 
+$(BUILD)/obj/lib/sim/%.o: lib/sim/%.c $(LIB_HDRS) $(SIM_HDRS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  CC      $@"; $(CC) $(SIM_CFLAGS) -Ilib/sim $(OPT) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/lib/host/%.o: lib/host/%.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  CC      $@"; $(CC) $(TOOL_CFLAGS) $(ARCH_INC) $(OPT) $(CFLAGS) -c $< -o $@
+
 $(BUILD)/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
@@ -98,10 +123,20 @@ $(BUILD)/pic/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -fPIC -c $< -o $@
 
+# The static archive is one relocatable object whose internal symbols (C4G_INTERNAL) are
+# made local: it exports exactly the public headers. Each function has its own section, so
+# a program linked with --gc-sections keeps only what it calls.
 $(STATIC): $(LIB_OBJS)
 	@mkdir -p $(@D)
-	rm -f $@
-	ar rcs $@ $^
+	@rm -f $@ $(BUILD)/obj/libc4gopen.o
+	ld -r -o $(BUILD)/obj/libc4gopen.o $^ && objcopy --localize-hidden $(BUILD)/obj/libc4gopen.o
+	ar rcs $@ $(BUILD)/obj/libc4gopen.o
+$(SIM_LIB): $(SIM_SRCS:%.c=$(BUILD)/obj/%.o)
+	@mkdir -p $(@D)
+	@rm -f $@; ar rcs $@ $^
+$(HOST_LIB): $(HOST_SRCS:%.c=$(BUILD)/obj/%.o)
+	@mkdir -p $(@D)
+	@rm -f $@; ar rcs $@ $^
 
 $(SHARED): $(LIB_PICS)
 	@mkdir -p $(@D)
@@ -115,31 +150,30 @@ $(BUILD)/lib/c4gopen.pc: scripts/c4gopen.pc.in include/c4gopen.h
 
 # ---- tools
 tools: $(TOOL_BINS)
-
-# tools/common/*.c: an archive, so each tool links only the shared pieces it uses
-TOOLCOMMON := $(BUILD)/lib/libtoolcommon.a
-$(TOOLCOMMON): $(COMMON_TOOL_SRCS:%.c=$(BUILD)/tobj/%.o)
-	@mkdir -p $(@D)
-	rm -f $@
-	ar rcs $@ $^
+ARCHIVES := $(HOST_LIB) $(SIM_LIB) $(STATIC)
 
 define tool_rule
-$(1)_CSRCS := $$(wildcard tools/$(1)/*.c) $$($(1)_EXTRA_CSRCS)
-$(1)_CXXSRCS := $$(wildcard tools/$(1)/*.cpp)
-$(1)_OBJS := $$($(1)_CSRCS:%.c=$$(BUILD)/tobj/%.o) $$($(1)_CXXSRCS:%.cpp=$$(BUILD)/tobj/%.o)
-$$(BUILD)/bin/$(1): $$($(1)_OBJS) $$(TOOLCOMMON) $$(STATIC)
+$(1)_MAIN := $$(call tool_main,$(1))
+$(1)_LIB := $$(BUILD)/tools/lib$(1).a
+$$($(1)_LIB): $$(patsubst %.c,$$(BUILD)/tobj/%.o,$$(call tool_srcs,$(1)))
 	@mkdir -p $$(@D)
-	$$(if $$($(1)_CXXSRCS),$$(CXX),$$(CC)) -o $$@ $$($(1)_OBJS) $$(TOOLCOMMON) $$(STATIC) $$($(1)_LDLIBS) -lm
+	@rm -f $$@; ar rcs $$@ $$^
+$(1)_CXXSRCS := $$(filter-out $$($(1)_MAIN),$$(wildcard tools/$(1)/*.cpp))
+$(1)_OBJS := $$(patsubst %.c,$$(BUILD)/tobj/%.o,$$(patsubst %.cpp,%.c,$$($(1)_MAIN) $$($(1)_CXXSRCS)))
+$$(BUILD)/bin/$(1): $$($(1)_OBJS) $$($(1)_LIB) $$(foreach u,$$($(1)_USES),$$(BUILD)/tools/lib$$(u).a) $$(ARCHIVES)
+	@mkdir -p $$(@D)
+	$$(if $$(filter %.cpp,$$($(1)_MAIN)),$$(CXX),$$(CC)) -o $$@ $$($(1)_OBJS) $$($(1)_LIB) \
+	  $$(foreach u,$$($(1)_USES),$$(BUILD)/tools/lib$$(u).a) $$(ARCHIVES) $$($(1)_LDLIBS) -lm
 endef
 $(foreach t,$(TOOL_NAMES),$(eval $(call tool_rule,$(t))))
 
-$(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
+$(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(TOOL_CFLAGS) -Itools/common $(OPT) $(CFLAGS) -c $< -o $@
+	$(CC) $(TOOL_CFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CPPFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
+$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CXX) $(TOOL_CXXFLAGS) $($(word 2,$(subst /, ,$<))_CXXFLAGS) -Itools/common $(OPT) -g -c $< -o $@
+	$(CXX) $(TOOL_CXXFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CXXFLAGS) $(OPT) -g -c $< -o $@
 
 # ---- man pages: docs/man/NAME.scd (scdoc) with each tool's option list and examples
 # taken from its own --help (scripts/man-page.py), so page and tool cannot disagree
@@ -150,32 +184,63 @@ $(BUILD)/man/%: docs/man/%.scd scripts/man-page.py $(TOOL_BINS) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  MAN     $@"; python3 scripts/man-page.py $< $(BUILD)/bin > $@.scd && scdoc < $@.scd > $@
 
-# ---- unit tests (CMocka)
-# Tests of tool parsers #include the tool sources they test (tools/ is not in the
-# library), so every test sees tools/common and links inih.
-TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Iinclude \
-  -Itools/common -g
-TEST_LIBS := -lcmocka -linih -lpcap -lm
-$(BUILD)/tests/%: tests/%.c $(STATIC) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
+# ---- unit tests (CMocka): tests/lib, tests/sim, tests/host, tests/tools mirror the sources
+# (tests/README.md). A test links the archives; it includes a .c only to reach a static
+# function, and says so. Every flavour below (plain, ASan+UBSan, coverage, libFuzzer) builds
+# its own copy of the three archives and of each tool's archive.
+TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra -Werror -Itests $(ARCH_INC) \
+  $(TOOL_INC) -g
+TEST_LIBS := -lcmocka $(TOOL_LIB_LIBS)
+TOOL_C_LIBS = $(foreach t,$(C_TOOLS),$(1)/tools/lib$(t).a)
+# link line of a test in flavour directory $(1): every tool archive, then host, sim, core
+test_link = -Wl,--start-group $(call TOOL_C_LIBS,$(1)) $(1)/lib/libc4gopen-host.a \
+  $(1)/lib/libc4gopen-sim.a $(1)/lib/libc4gopen.a -Wl,--end-group $(TEST_LIBS)
+PLAIN_ARCH := $(call TOOL_C_LIBS,$(BUILD)) $(ARCHIVES)
+$(BUILD)/tests/%: $(PLAIN_ARCH) $(wildcard tests/*.h)
 	@mkdir -p $(@D)
-	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' \
-	  -o $@ $< $(HELPER_SRCS) $(STATIC) $(TEST_LIBS)
+	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $(filter %/$*.c,$(UNIT_SRCS)) \
+	  $(call test_link,$(BUILD))
+define unit_src_dep
+$(BUILD)/tests/$(notdir $(1:%.c=%)): $(1)
+$(BUILD)/san/tests/$(notdir $(1:%.c=%)): $(1)
+$(BUILD)/cov/tests/$(notdir $(1:%.c=%)): $(1)
+endef
+$(foreach s,$(UNIT_SRCS),$(eval $(call unit_src_dep,$(s))))
 
 unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
 
-# ---- ASan + UBSan build of the unit tests (library compiled in)
-# The library and helpers are compiled once per flavour (not once per test), and every
-# step is a make target, so `make -jN` builds them in parallel.
+# ---- flavours: $(1) name, $(2) compiler, $(3) flags
+ALL_C_TOOL_SRCS := $(foreach t,$(C_TOOLS),$(call tool_srcs,$(t)))
+define flavour
+$(1)_DIR := $$(BUILD)/$(1)
+$$(BUILD)/$(1)/obj/%.o: %.c $$(LIB_HDRS) $$(SIM_HDRS) $$(HOST_HDRS) $$(wildcard tools/*/*.h) | $$(DEPS_STAMP)
+	@mkdir -p $$(@D)
+	@echo "  $(1)CC  $$@"; $(2) $(3) $$(ARCH_INC) $$(TOOL_INC) -c $$< -o $$@
+$$(BUILD)/$(1)/lib/libc4gopen.a: $$(LIB_SRCS:%.c=$$(BUILD)/$(1)/obj/%.o)
+	@mkdir -p $$(@D); rm -f $$@; ar rcs $$@ $$^
+$$(BUILD)/$(1)/lib/libc4gopen-sim.a: $$(SIM_SRCS:%.c=$$(BUILD)/$(1)/obj/%.o)
+	@mkdir -p $$(@D); rm -f $$@; ar rcs $$@ $$^
+$$(BUILD)/$(1)/lib/libc4gopen-host.a: $$(HOST_SRCS:%.c=$$(BUILD)/$(1)/obj/%.o)
+	@mkdir -p $$(@D); rm -f $$@; ar rcs $$@ $$^
+$(1)_ARCH := $$(call TOOL_C_LIBS,$$(BUILD)/$(1)) $$(BUILD)/$(1)/lib/libc4gopen-host.a \
+  $$(BUILD)/$(1)/lib/libc4gopen-sim.a $$(BUILD)/$(1)/lib/libc4gopen.a
+.SECONDARY: $$(patsubst %.c,$$(BUILD)/$(1)/obj/%.o,$$(LIB_SRCS) $$(SIM_SRCS) $$(HOST_SRCS) $$(ALL_C_TOOL_SRCS))
+endef
+define flavour_tool
+$$(BUILD)/$(1)/tools/lib$(2).a: $$(patsubst %.c,$$(BUILD)/$(1)/obj/%.o,$$(call tool_srcs,$(2)))
+	@mkdir -p $$(@D); rm -f $$@; ar rcs $$@ $$^
+endef
+
+# ---- ASan + UBSan build of the unit tests
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-SAN_OBJS := $(LIB_SRCS:%.c=$(BUILD)/san/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/san/obj/%.o)
-$(BUILD)/san/obj/%.o: %.c $(LIB_HDRS) $(wildcard tools/common/*.h) | $(DEPS_STAMP)
+$(eval $(call flavour,san,$(CLANG),$(TEST_CFLAGS) $(SAN_FLAGS)))
+$(foreach t,$(C_TOOLS),$(eval $(call flavour_tool,san,$(t))))
+$(BUILD)/san/tests/%: $(san_ARCH) $(wildcard tests/*.h)
 	@mkdir -p $(@D)
-	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -c $< -o $@
-$(BUILD)/san/test_%: tests/test_%.c $(SAN_OBJS) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
-	@mkdir -p $(@D)
-	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $< $(SAN_OBJS) $(TEST_LIBS)
-sanitize: $(UNIT_SRCS:tests/%.c=$(BUILD)/san/%)
+	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ \
+	  $(filter %/$*.c,$(UNIT_SRCS)) $(call test_link,$(BUILD)/san)
+sanitize: $(UNIT_NAMES:%=$(BUILD)/san/tests/%)
 	@sh scripts/run-tests.sh sanitize $^
 
 # ---- the unit tests under valgrind memcheck (uninitialised reads ASan does not see)
@@ -188,57 +253,31 @@ valgrind-run-%: $(BUILD)/tests/%
 	@valgrind -q --error-exitcode=1 --leak-check=full $< >/dev/null 2>$(BUILD)/valgrind/$*.log || \
 	  { cat $(BUILD)/valgrind/$*.log; echo "valgrind: $< FAILED"; exit 1; }
 
-# ---- coverage of lib/ (gcov + lcov): 100% lines, >= 95% branches
+# ---- coverage of the two pure archives (gcov + lcov): 100% lines, >= 95% branches
 COV_LINES ?= 100
 COV_BRANCHES ?= 95
 COV_FLAGS := $(TEST_CFLAGS) -O0 --coverage -DNDEBUG
-COV_OBJS := $(LIB_SRCS:%.c=$(BUILD)/cov/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/cov/obj/%.o)
-$(BUILD)/cov/obj/%.o: %.c $(LIB_HDRS) $(wildcard tools/common/*.h) | $(DEPS_STAMP)
+$(eval $(call flavour,cov,gcc,$(COV_FLAGS)))
+$(foreach t,$(C_TOOLS),$(eval $(call flavour_tool,cov,$(t))))
+$(BUILD)/cov/tests/%: $(cov_ARCH) $(wildcard tests/*.h)
 	@mkdir -p $(@D)
-	gcc $(COV_FLAGS) -c $< -o $@
-$(BUILD)/cov/test_%: tests/test_%.c $(COV_OBJS) $(wildcard tests/*.h) $(wildcard tools/*/*.c tools/*/*.h)
-	@mkdir -p $(@D)
-	gcc $(COV_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $< $(COV_OBJS) $(TEST_LIBS)
+	gcc $(COV_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $(filter %/$*.c,$(UNIT_SRCS)) \
+	  $(call test_link,$(BUILD)/cov)
 # the counts of every test binary add up in the shared objects' .gcda files: start from zero
-coverage: $(UNIT_SRCS:tests/%.c=$(BUILD)/cov/%)
+coverage: $(UNIT_NAMES:%=$(BUILD)/cov/tests/%)
 	@find $(BUILD)/cov -name '*.gcda' -delete; rm -f $(BUILD)/cov/*.info
-	@cd $(BUILD)/cov && for t in $(UNIT_SRCS:tests/%.c=%); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
-	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES)
+	@cd $(BUILD)/cov/tests && for t in $(UNIT_NAMES); do ./$$t >/dev/null 2>&1 || { echo "coverage: $$t failed"; exit 1; }; done
+	@sh scripts/coverage-gate.sh $(BUILD)/cov $(COV_LINES) $(COV_BRANCHES) $(PURE_SRCS)
 
-# ---- fuzzing (libFuzzer via clang), bounded
-# The library is compiled once with the fuzzer's coverage instrumentation. Targets of
-# tool parsers also compile the tool sources named in FUZZ_TOOL_<name> (the parsers
-# take a buffer in memory) and link inih.
+# ---- fuzzing (libFuzzer via clang), bounded: every target links the fuzz flavour's archives
 FUZZ_SAN := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
-FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/fuzz/obj/%.o) $(HELPER_SRCS:%.c=$(BUILD)/fuzz/obj/%.o)
-FUZZ_TF := tools/common/c4g_textfile.c
-FUZZ_TOOL_fuzz_scenario := tools/c4g-sim/scenario.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_sim_ini := tools/c4g-sim/config.c tools/c4g-sim/model.c $(FUZZ_TF)
-FUZZ_FFM := tools/common/c4g_ffmodel.c tools/common/c4g_ffmodel_load.c
-FUZZ_TOOL_fuzz_traj := tools/common/c4g_srv_files.c $(FUZZ_FFM) $(FUZZ_TF)
-FUZZ_TOOL_fuzz_ff := tools/common/c4g_srv_files.c $(FUZZ_FFM) $(FUZZ_TF)
-FUZZ_TOOL_fuzz_ffmodel := $(FUZZ_FFM) $(FUZZ_TF)
-FUZZ_TOOL_fuzz_server_ini := tools/common/c4g_srv_opts.c tools/common/c4g_cli.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_cli_ini := tools/cell-cli/cli_config.c tools/common/cell_common.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_cli_cmd := tools/cell-cli/cli_cmd.c tools/common/cell_common.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_canopen_ini := tools/common/c4g_co_config.c $(FUZZ_TF)
-FUZZ_TOOL_fuzz_capture := tools/c4g-replay/capture.c tools/c4g-replay/analyze.c \
-  tools/common/c4g_ctrlside.c tools/common/c4g_hist.c
-FUZZ_LIBS_fuzz_capture := -lpcap
-FUZZ_TOOL_INC := -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Itools/common -Itools/c4g-sim \
-  -Itools/cell-cli -Itools/c4g-replay
-
-.SECONDARY: $(FUZZ_LIB_OBJS) $(SAN_OBJS) $(COV_OBJS)
-$(BUILD)/fuzz/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+FUZZ_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(FUZZ_SAN)
+$(eval $(call flavour,fuzz,$(CLANG),$(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link))
+$(foreach t,$(C_TOOLS),$(eval $(call flavour_tool,fuzz,$(t))))
+$(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(fuzz_ARCH) $(wildcard tests/fuzz/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	@echo "  FUZZCC  $@"; $(CLANG) -std=c99 -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c $< -o $@
-
-$(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_OBJS) $(wildcard tests/fuzz/*.h) \
-    $(wildcard tools/*/*.c tools/*/*.h) | $(DEPS_STAMP)
-	@mkdir -p $(@D)
-	@echo "  FUZZLD  $@"; $(CLANG) -std=c99 -Iinclude -Itools/common $(if $(FUZZ_TOOL_$(@F)),$(FUZZ_TOOL_INC)) \
-	  $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $< $(FUZZ_TOOL_$(@F)) $(FUZZ_LIB_OBJS) \
-	  $(if $(FUZZ_TOOL_$(@F)),-linih) $(FUZZ_LIBS_$(@F)) -lm
+	@echo "  FUZZLD  $@"; $(CLANG) $(FUZZ_CFLAGS) $(ARCH_INC) $(TOOL_INC) -fsanitize=fuzzer -o $@ $< \
+	  -Wl,--start-group $(fuzz_ARCH) -Wl,--end-group $(TOOL_LIB_LIBS)
 
 fuzz-build: $(FUZZ_NAMES:%=$(BUILD)/fuzz/%)
 # one target per run, so `make -jN fuzz` runs N fuzzers at a time
@@ -247,19 +286,26 @@ fuzz-run-%: $(BUILD)/fuzz/%
 	@sh scripts/run-fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $*
 
 # ---- symbol audit, cross builds, qemu smoke test
-audit: $(STATIC)
-	@sh scripts/check-symbols.sh nm $(STATIC)
+# each archive exports exactly what its headers declare, under its own prefix; the pure two
+# hold no mutable state and need nothing from outside but the C library's mem* functions
+audit: $(STATIC) $(SIM_LIB) $(HOST_LIB)
+	@sh scripts/check-symbols.sh nm $(STATIC) c4g_ pure include/*.h
+	@sh scripts/check-symbols.sh nm $(SIM_LIB) c4gsim_ pure lib/sim/*.h
+	@sh scripts/check-symbols.sh nm $(HOST_LIB) c4gh_ host lib/host/*.h
 
-ARM_FLAGS := -std=c99 -pedantic-errors $(WARN_LIB) -Iinclude -Os -ffreestanding
+ARM_FLAGS := -std=c99 -pedantic-errors $(WARN_LIB) -Iinclude -Ilib/sim -Os -ffreestanding
 cross: | $(DEPS_STAMP)
 	@rm -rf $(BUILD)/arm $(BUILD)/armbe && mkdir -p $(BUILD)/arm $(BUILD)/armbe
-	@set -e; for f in $(LIB_SRCS); do \
+	@set -e; for f in $(PURE_SRCS); do \
 	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -c $$f -o $(BUILD)/arm/$$(basename $$f .c).o; \
 	  $(ARM_CC) $(ARM_FLAGS) -mcpu=cortex-r5 -marm -mbig-endian -c $$f -o $(BUILD)/armbe/$$(basename $$f .c).o; done
-	@arm-none-eabi-ar rcs $(BUILD)/arm/libc4gopen.a $(BUILD)/arm/*.o
-	@arm-none-eabi-ar rcs $(BUILD)/armbe/libc4gopen.a $(BUILD)/armbe/*.o
-	@sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/arm/libc4gopen.a
-	@sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/armbe/libc4gopen.a
+	@for d in arm armbe; do \
+	  arm-none-eabi-ld -r $$(test $$d = armbe && echo -EB) -o $(BUILD)/$$d/all.o $(addprefix $(BUILD)/$$d/,$(notdir $(LIB_SRCS:.c=.o))) && \
+	  arm-none-eabi-objcopy --localize-hidden $(BUILD)/$$d/all.o && \
+	  arm-none-eabi-ar rcs $(BUILD)/$$d/libc4gopen.a $(BUILD)/$$d/all.o && \
+	  sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/$$d/libc4gopen.a c4g_ pure include/*.h && \
+	  $(if $(filter lib/sim/%,$(PURE_SRCS)),arm-none-eabi-ar rcs $(BUILD)/$$d/libc4gopen-sim.a $(addprefix $(BUILD)/$$d/,$(notdir $(SIM_SRCS:.c=.o))) && \
+	  sh scripts/check-symbols.sh arm-none-eabi-nm $(BUILD)/$$d/libc4gopen-sim.a c4gsim_ pure lib/sim/*.h &&) true || exit 1; done
 	@echo "cross: cortex-m4 thumb size:"; arm-none-eabi-size -t $(BUILD)/arm/libc4gopen.a | tail -1
 	@echo "cross: cortex-r5 big-endian OK"
 
@@ -267,7 +313,7 @@ qemu-smoke: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/qemu
 	$(ARM_CC) -std=c99 -O1 -Iinclude -marm -mcpu=arm926ej-s --specs=rdimon.specs \
 	  -DFIXTURE_INIT='"$(CURDIR)/fixtures/vectors/init-fig10-1.bin"' \
-	  -Itools/common tests/target/target_smoke.c $(LIB_SRCS) $(HELPER_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
+	  -Ilib/sim tests/target/target_smoke.c $(LIB_SRCS) $(SIM_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
 	qemu-arm $(BUILD)/qemu/target_smoke.elf
 	$(ARM_CC) -std=c99 -O2 -Iinclude -marm -mcpu=cortex-r5 -mbig-endian -mbe8 -ffreestanding -nostdlib \
 	  -static -Wl,--be8 tests/target/target_be_codec.c lib/wire/c4g_codec.c lib/wire/c4g_modes.c \
@@ -278,7 +324,7 @@ qemu-smoke: | $(DEPS_STAMP)
 cppcheck: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)
 	cppcheck --quiet --std=c99 --language=c --enable=warning,style,performance,portability \
-	  --inline-suppr --error-exitcode=2 --suppress=missingIncludeSystem -Iinclude $(LIB_SRCS)
+	  --inline-suppr --error-exitcode=2 --suppress=missingIncludeSystem -Iinclude -Ilib/sim $(PURE_SRCS)
 	@echo "cppcheck: clean"
 misra: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)
@@ -287,28 +333,27 @@ misra: | $(DEPS_STAMP)
 	cppcheck --quiet --std=c99 --language=c --addon=misra --inline-suppr \
 	  --cppcheck-build-dir=$(BUILD)/cppcheck-misra \
 	  --suppressions-list=scripts/cppcheck-misra.supp -Iinclude --error-exitcode=3 \
-	  --output-file=$(BUILD)/misra.txt $(LIB_SRCS)
+	  --output-file=$(BUILD)/misra.txt -Ilib/sim $(PURE_SRCS)
 	@if [ -s $(BUILD)/misra.txt ]; then cat $(BUILD)/misra.txt; echo "misra: findings above (see docs/misra-deviations.md)"; exit 1; fi
 	@echo "misra: clean (deviations: docs/misra-deviations.md)"
 clang-tidy: | $(DEPS_STAMP)
-	clang-tidy --quiet $(LIB_SRCS) -- -std=c99 -Iinclude
+	clang-tidy --quiet $(PURE_SRCS) -- -std=c99 -Iinclude -Ilib/sim
 	@echo "clang-tidy: clean"
 analyzer: | $(DEPS_STAMP)
 	@mkdir -p $(BUILD)/fanalyzer
-	@set -e; for f in $(LIB_SRCS); do gcc -std=c99 -fanalyzer -Werror -Iinclude -c $$f -o $(BUILD)/fanalyzer/$$(basename $$f .c).o; done
+	@set -e; for f in $(PURE_SRCS); do gcc -std=c99 -fanalyzer -Werror -Iinclude -Ilib/sim -c $$f -o $(BUILD)/fanalyzer/$$(basename $$f .c).o; done
 	@echo "analyzer: gcc -fanalyzer clean"
 # Cognitive complexity of the tools and tests (laxer than the library's 25, set in
 # .clang-tidy): functions of one job each, mains that only wire the parts together.
 TOOL_COMPLEXITY ?= 40
 TEST_COMPLEXITY ?= 90
-CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -DFIXTURES_DIR=\"\" -Iinclude -Itools/common \
-  -Itools/c4g-sim -Itools/c4g-server -Itools/cell-cli -Itools/cell-sim -Itools/c4g-replay
+CPLX_INC := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -DFIXTURES_DIR=\"\" -Itests $(ARCH_INC) $(TOOL_INC)
 complexity: | $(DEPS_STAMP)
-	@sh scripts/complexity.sh $(TOOL_COMPLEXITY) "$(CPLX_INC)" $(sort $(wildcard tools/*/*.c))
+	@sh scripts/complexity.sh $(TOOL_COMPLEXITY) "$(CPLX_INC)" $(sort $(wildcard tools/*/*.c)) $(HOST_SRCS)
 	@sh scripts/complexity.sh $(TEST_COMPLEXITY) "$(CPLX_INC)" $(UNIT_SRCS) $(FUZZ_SRCS)
 # Statuses nobody reads: clang honours C4G_NODISCARD (and a deliberate (void) cast).
 nodiscard: | $(DEPS_STAMP)
-	@set -e; for f in $(sort $(wildcard tools/*/*.c)) examples/*.c docs/examples/*.c bench/*.c $(UNIT_SRCS) $(FUZZ_SRCS); do \
+	@set -e; for f in $(sort $(wildcard tools/*/*.c)) $(HOST_SRCS) examples/*.c docs/examples/*.c bench/*.c $(UNIT_SRCS) $(FUZZ_SRCS); do \
 	  $(CLANG) $(CPLX_INC) -fsyntax-only -Werror=unused-result $$f; done
 	@echo "nodiscard: every status is used or deliberately dropped"
 static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
@@ -325,12 +370,12 @@ IDENT_TOOL_OBJS := $(addprefix $(BUILD)/tobj/tools/c4g-ident/,signal.o fit.o exc
 IDENT_OBJS := $(BUILD)/tests/ident-obj/accuracy.o $(BUILD)/tests/ident-obj/simgen.o \
   $(BUILD)/tests/ident-obj/model.o
 $(BUILD)/tests/ident-obj/%.o: tests/ident/%.cpp tests/ident/simgen.hpp tools/c4g-ident/ident.hpp \
-  tools/c4g-ident/excite.hpp tools/c4g-sim/model.h | $(DEPS_STAMP)
+  tools/c4g-ident/excite.hpp lib/sim/c4gsim_model.h | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Itools/c4g-sim -O2 -g -c $< -o $@
-$(BUILD)/tests/ident-obj/model.o: tools/c4g-sim/model.c tools/c4g-sim/model.h | $(DEPS_STAMP)
+	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Ilib/sim -O2 -g -c $< -o $@
+$(BUILD)/tests/ident-obj/model.o: lib/sim/c4gsim_model.c lib/sim/c4gsim_model.h | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(TOOL_CFLAGS) -O2 -c $< -o $@
+	$(CC) $(TOOL_CFLAGS) -Ilib/sim -O2 -c $< -o $@
 $(IDENT_ACC): $(IDENT_OBJS) $(IDENT_TOOL_OBJS)
 	$(CXX) -o $@ $^ -lceres -lglog -lpthread -lm
 ident-accuracy: $(IDENT_ACC)

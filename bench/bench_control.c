@@ -10,7 +10,7 @@
 #include <time.h>
 
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 
 #define BATCH 1000
 #define RUNS 1000
@@ -99,7 +99,7 @@ static void setup(void)
     c4g_axis_limits_t l;
     size_t len = 0;
     uint32_t a, x, i;
-    c4g_init_fig10_1(&in);
+    c4gsim_fig10_1(&in);
     in.n_ax_open = 20;
     for (a = 0; a < 2; a++) {
         for (x = 0; x < 10; x++) {

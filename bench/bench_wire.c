@@ -6,7 +6,7 @@
  *   bench_wire                       table for 6 and 20 axes (>= 1e6 ticks each)
  *   bench_wire --only KIND AXES N    run N ticks of one loop (for callgrind) */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +38,7 @@ static void setup(uint32_t axes)
     c4g_rx_result_t r;
     size_t n;
     uint32_t i;
-    c4g_init_fig10_1(&in);
+    c4gsim_fig10_1(&in);
     in.n_ax_open = (int32_t)axes;
     for (i = 0; i < 40; i++) {
         in.open_ax[i / 10][i % 10] = (i < axes) ? (int32_t)i : C4G_OPEN_AX_NONE;

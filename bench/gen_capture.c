@@ -12,8 +12,8 @@
  * has something real to fit (the c4g-ident benchmark).
  *   gen_capture [--minutes M | --seconds S] [--axes N] [--period-ms P] [--dynamics] FILE */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
-#include "c4g_pcap.h"
+#include "c4gsim_fixtures.h"
+#include "c4gh_pcap.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -29,7 +29,7 @@
 #define TWO_PI 6.283185307179586
 
 typedef struct gen {
-    c4g_pcap_t *w;
+    c4gh_pcap_t *w;
     uint64_t rng;
     int64_t period_ns;
     uint64_t tick;       /* controller packets so far: the time grid */
@@ -88,9 +88,9 @@ static void write_at(gen_t *g, int64_t t_ns, int from_ctrl, const uint8_t *buf, 
     ts.tv_sec = (time_t)(t_ns / 1000000000LL);
     ts.tv_nsec = (long)(t_ns % 1000000000LL);
     if (from_ctrl) {
-        rc = c4g_pcap_write_udp(g->w, &ts, CTRL_IP, CTRL_PORT, PC_IP, PC_PORT, buf, len);
+        rc = c4gh_pcap_write_udp(g->w, &ts, CTRL_IP, CTRL_PORT, PC_IP, PC_PORT, buf, len);
     } else {
-        rc = c4g_pcap_write_udp(g->w, &ts, PC_IP, PC_PORT, CTRL_IP, CTRL_PORT, buf, len);
+        rc = c4gh_pcap_write_udp(g->w, &ts, PC_IP, PC_PORT, CTRL_IP, CTRL_PORT, buf, len);
     }
     if (rc != 0) {
         g->bad++;
@@ -162,7 +162,7 @@ static void init_pair(gen_t *g)
 static int make_init(c4g_init_t *in, uint32_t axes, int32_t period_ms)
 {
     uint32_t i;
-    if (c4g_init_fig10_1(in) != C4G_OK) {
+    if (c4gsim_fig10_1(in) != C4G_OK) {
         return -1;
     }
     in->n_ax_open = (int32_t)axes;
@@ -356,7 +356,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "gen_capture: the initialization packet does not validate\n");
         return 1;
     }
-    g.w = c4g_pcap_open(path, err, sizeof err);
+    g.w = c4gh_pcap_open(path, err, sizeof err);
     if (g.w == NULL) {
         fprintf(stderr, "gen_capture: %s\n", err);
         return 1;
@@ -370,7 +370,7 @@ int main(int argc, char **argv)
         sync_pair(&g);
     }
     cyclic(&g, ticks);
-    if (c4g_pcap_close(g.w) != 0 || g.bad != 0U) {
+    if (c4gh_pcap_close(g.w) != 0 || g.bad != 0U) {
         fprintf(stderr, "gen_capture: %s: %lu packets not written\n", path, g.bad);
         return 1;
     }

@@ -25,8 +25,8 @@ trap 'exit 130' INT TERM
 mkdir -p "$build/bench"
 cc=${CC:-cc}
 cxx=${CXX:-g++}
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Iinclude -Itools/common \
-    -o "$build/bench/gen_capture" bench/gen_capture.c tools/common/c4g_pcap.c tools/common/c4g_fixtures.c \
+$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Iinclude -Ilib/sim -Ilib/host \
+    -o "$build/bench/gen_capture" bench/gen_capture.c lib/host/c4gh_pcap.c lib/sim/c4gsim_fixtures.c \
     "$build/lib/libc4gopen.a" -lpcap -lm
 $cxx -std=c++17 -O2 -Wall -Wextra -Iinclude -isystem /usr/include/eigen3 -Itools/c4g-ident \
     -o "$build/bench/ident_fit" bench/ident_fit.cpp tools/c4g-ident/signal.cpp tools/c4g-ident/fit.cpp \

@@ -31,8 +31,8 @@ trap 'exit 130' INT TERM
 
 mkdir -p "$build/bench"
 cc=${CC:-cc}
-$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Iinclude -Itools/common \
-    -o "$gen" bench/gen_capture.c tools/common/c4g_pcap.c tools/common/c4g_fixtures.c \
+$cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Iinclude -Ilib/sim -Ilib/host \
+    -o "$gen" bench/gen_capture.c lib/host/c4gh_pcap.c lib/sim/c4gsim_fixtures.c \
     "$build/lib/libc4gopen.a" -lpcap -lm
 $cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -o "$bare" \
     bench/pcap_bare.c -lpcap

@@ -19,7 +19,7 @@
  *   tick --only PATH AXES N      N ticks of one path for callgrind; PATH is wire, full,
  *                                wire-tx, base-wire or base-full */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -154,7 +154,7 @@ static void init_packet(uint32_t axes, uint8_t *buf, size_t *n)
 {
     c4g_init_t in;
     uint32_t i;
-    c4g_init_fig10_1(&in);
+    c4gsim_fig10_1(&in);
     in.n_ax_open = (int32_t)axes;
     for (i = 0; i < 40U; i++) {
         const uint32_t a = i / 10U, x = i % 10U;

@@ -10,8 +10,8 @@ set -eu
 build=$1
 b="$build/bench/tick"
 mkdir -p "$build/bench"
-${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Itools/common -o "$b" \
-  bench/tick.c tools/common/c4g_fixtures.c "$build/lib/libc4gopen.a" -lm
+${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Ilib/sim -Ilib/host -o "$b" \
+  bench/tick.c lib/sim/c4gsim_fixtures.c "$build/lib/libc4gopen.a" -lm
 ns=$(mktemp)
 trap 'rm -f "$ns"' EXIT
 "$b" >"$ns"

@@ -39,7 +39,7 @@
 
 #include "c4gopen_base.h"
 #include "c4gopen_wire.h"
-#include "c4gopen_control.h"
+#include "c4gopen_engine.h"
 #include "c4gopen_loop.h"
 #include "c4gopen_cell.h"
 #include "c4gopen_canopen.h"

@@ -21,7 +21,7 @@
 #ifndef C4GOPEN_LOOP_H
 #define C4GOPEN_LOOP_H
 
-#include "c4gopen_control.h"
+#include "c4gopen_engine.h"
 
 #ifdef __cplusplus
 extern "C" {

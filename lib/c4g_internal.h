@@ -6,6 +6,15 @@
 #include "c4gopen.h"
 #include <string.h>
 
+/* Functions shared between the library's own files: hidden from the shared object, and
+ * localised in the static archive (one relocatable object, see the Makefile), so a program
+ * links only what the public headers declare. */
+#if defined(__GNUC__)
+#define C4G_INTERNAL __attribute__((visibility("hidden")))
+#else
+#define C4G_INTERNAL
+#endif
+
 /* A condition as a 0/1 flag word (the struct flags are uint32_t). */
 static inline uint32_t c4g_flag(bool b)
 {
@@ -245,7 +254,7 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
 
 /* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
  * decoder checked every value and mode of it, so the step does not check them again. */
-c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+C4G_INTERNAL c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
                                      uint64_t now_ns, c4g_pc_packet_t *tx,
                                      c4g_engine_report_t *rep);
 

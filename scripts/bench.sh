@@ -7,8 +7,8 @@ mkdir -p "$build/bench"
 for f in bench/bench_*.c; do
   [ -f "$f" ] || continue
   b="$build/bench/$(basename "$f" .c)"
-  ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Itools/common -o "$b" "$f" \
-    tools/common/c4g_fixtures.c tools/common/c4g_csv.c \
+  ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Ilib/sim -Ilib/host -o "$b" "$f" \
+    lib/sim/c4gsim_fixtures.c lib/host/c4gh_csv.c \
     "$build/lib/libc4gopen.a" -lm
   echo "== $(basename "$f" .c)"
   "$b"

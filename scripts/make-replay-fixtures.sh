@@ -44,12 +44,12 @@ trap 'exit 130' INT TERM
 FAILED=""
 say() { echo "make-replay-fixtures: $*"; }
 
-CFLAGS="-std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Werror -Iinclude -Itools/common"
+CFLAGS="-std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Werror -Iinclude -Ilib/sim -Ilib/host"
 # shellcheck disable=SC2086
 cc $CFLAGS -o "$T/ref_pc" tests/e2e/helpers/ref_pc.c "$LIB" -lm || exit 1
 # shellcheck disable=SC2086
-cc $CFLAGS -o "$T/forge" tests/e2e/helpers/forge_capture.c tools/common/c4g_pcap.c \
-    tools/common/c4g_fixtures.c "$LIB" -lpcap -lm || exit 1
+cc $CFLAGS -o "$T/forge" tests/e2e/helpers/forge_capture.c lib/host/c4gh_pcap.c \
+    lib/sim/c4gsim_fixtures.c "$LIB" -lpcap -lm || exit 1
 FORGE=$T/forge
 mkdir -p "$OUT/bad"
 

@@ -12,8 +12,8 @@
 #include <string.h>
 #include <cmocka.h>
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
-#include "c4g_csv.h"
+#include "c4gsim_fixtures.h"
+#include "c4gh_csv.h"
 
 static inline size_t th_read_file(const char *path, uint8_t *buf, size_t cap)
 {

@@ -3,7 +3,7 @@
  * in mode 0' (10, debug echo) the library copies D1..D5 back, whatever the caller wrote.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -37,7 +37,7 @@ int main(void)
     uint8_t out[C4G_MAX_CYCLIC_SIZE];
     size_t len = 0;
 
-    CHECK(c4g_init_fig10_1(&init) == C4G_OK);      /* normally from c4g_session_rx */
+    CHECK(c4gsim_fig10_1(&init) == C4G_OK);      /* normally from c4g_session_rx */
     CHECK(c4g_engine_init(&ctl, &init, NULL) == C4G_OK);
 
     /* mode 0: nothing to fill */

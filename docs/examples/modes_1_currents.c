@@ -5,7 +5,7 @@
  * EXIT_FROM_OPEN, holds the robot in 1 stand-by (11) while ramping out with rho, and the
  * controller returns to mode 0. Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -52,7 +52,7 @@ int main(void)
     uint32_t i;
     float target = 0.0f;
 
-    CHECK(c4g_init_fig10_1(&init) == C4G_OK);
+    CHECK(c4gsim_fig10_1(&init) == C4G_OK);
     CHECK(c4g_engine_config_default(&cfg) == C4G_OK);
     cfg.start_ns = SWITCH_NS;
     CHECK(c4g_engine_init(&ctl, &init, &cfg) == C4G_OK);

@@ -6,7 +6,7 @@
  * and stops the arm (505) before joint 5 crosses its stroke end. Exit status 0 only if
  * every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -43,7 +43,7 @@ int main(void)
     int k, clamped = 0, stopped = 0;
     uint32_t i;
 
-    CHECK(c4g_init_fig10_1(&init) == C4G_OK);
+    CHECK(c4gsim_fig10_1(&init) == C4G_OK);
     CHECK(c4g_engine_init(&ctl, &init, NULL) == C4G_OK);
     CHECK(c4g_kin_link_to_motor(&ctl.kin[0], q, 6, qm_now) == C4G_OK);
 

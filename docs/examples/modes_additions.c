@@ -6,8 +6,8 @@
  * SMP+ current plus the delta stays within AzLim. Moni type 23 rows are written as CSV.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
-#include "c4g_csv.h"
+#include "c4gsim_fixtures.h"
+#include "c4gh_csv.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -57,11 +57,11 @@ int main(void)
     static pc_t p;
     c4g_init_t init;
     c4g_moni_rec_t rec;
-    char row[C4G_MONI_ROW_MAX];
+    char row[C4GH_MONI_ROW_MAX];
     size_t len = 0;
     uint32_t i;
 
-    CHECK(c4g_init_fig10_1(&init) == C4G_OK);
+    CHECK(c4gsim_fig10_1(&init) == C4G_OK);
     CHECK(c4g_engine_init(&p.ctl, &init, NULL) == C4G_OK);
 
     /* mode 2: PC loops, SMP+ trajectory; EXIT_FROM_OPEN is refused, PDL2 sets 12 */
@@ -134,11 +134,11 @@ int main(void)
     CHECK(finish(&p) == C4G_OK);
     CHECK(p.tx.ax[0].current_add == 4.5f);              /* 20 + 4.5 = AzLim */
     CHECK((p.rep.axis_flags[0] & C4G_SF_DCURRENT) != 0);
-    CHECK(c4g_moni_csv_header(23, row, sizeof row, &len) == C4G_OK);
+    CHECK(c4gh_moni_csv_header(23, row, sizeof row, &len) == C4G_OK);
     fputs(row, stdout);
     for (i = 0; i < 6; i++) {
         CHECK(c4g_moni_record(23, &p.rx, &p.tx, i, &rec) == C4G_OK);
-        CHECK(c4g_moni_csv_row(&rec, row, sizeof row, &len) == C4G_OK);
+        CHECK(c4gh_moni_csv_row(&rec, row, sizeof row, &len) == C4G_OK);
         fputs(row, stdout);
     }
     return 0;

@@ -5,7 +5,7 @@
  * every axis of the arm), and the drive-off latch that ends when the drives are off.
  * Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -49,7 +49,7 @@ static int tick(int32_t mode, uint8_t drives, float actual0, float d1_0)
 int main(void)
 {
     c4g_init_t init;
-    CHECK(c4g_init_fig10_1(&init) == C4G_OK);
+    CHECK(c4gsim_fig10_1(&init) == C4G_OK);
     CHECK(c4g_engine_init(&ctl, &init, NULL) == C4G_OK);
 
     /* DRIVE ON: the controller forces 501; requests are refused meanwhile */

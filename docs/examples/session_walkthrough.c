@@ -5,7 +5,7 @@
  * initialization packet like the manual's figure 10.1, then the session counters and the
  * chapter 22 timing report. Exit status 0 only if every expectation holds. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -51,7 +51,7 @@ int main(void)
     int32_t num;
     unsigned i, bad = 0;
 
-    bad += c4g_init_fig10_1(&init) != C4G_OK;
+    bad += c4gsim_fig10_1(&init) != C4G_OK;
     bad += c4g_session_init(&s, NULL) != C4G_OK;
     for (num = 1; num <= 12; num++) {            /* 9 syncs, init (10), 2 syncs */
         if (num == C4G_INIT_NUM) {

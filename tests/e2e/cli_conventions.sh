@@ -1,5 +1,5 @@
 #!/bin/sh
-# The conventions every tool shares (tools/common/c4g_cli.c): a bad option is exit 2 and
+# The conventions every tool shares (lib/host/c4gh_cli.c): a bad option is exit 2 and
 # exactly one line on stderr; an output file that cannot be written fails at start-up,
 # before any session, with the tool's documented exit code, naming the path once with the
 # system's reason; bytes that are not printable are shown escaped.

@@ -50,7 +50,7 @@ ok "check --allow late,missing on fault-late: exit 0" eq "$rc" 0
 echo "2. oracle: the reader's payloads against tshark's udp.payload"
 HELP=$T/cap_payloads
 ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Werror -Itools/c4g-replay \
-    -o "$HELP" tests/e2e/helpers/cap_payloads.c tools/c4g-replay/capture.c -lpcap || { echo "replay: cannot build cap_payloads"; exit 1; }
+    -o "$HELP" tests/e2e/helpers/cap_payloads.c lib/host/c4gh_capture.c -lpcap || { echo "replay: cannot build cap_payloads"; exit 1; }
 ok "every datagram of every fixture and hostile file" $CHECK oracle "$HELP" $FX/*.pcap $FX/*.pcapng $FX/bad/*.pcap
 
 echo "3. hostile files"

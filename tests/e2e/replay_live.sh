@@ -10,7 +10,7 @@
 #  3. a capture without mode changes played to the deliberately broken reference PC
 #     (tests/e2e/helpers/ref_pc.c: wrong NUM, no reply, one reply dropped): live's counts of
 #     lost replies and wrong NUMs are c4g-sim's for the same faults (both judge with
-#     tools/common/c4g_ctrlside), and what the fault must give; then a shorter capture
+#     lib/host/c4gh_ctrlside), and what the fault must give; then a shorter capture
 #     played to a reference PC that answers 5 chosen packets late (--late-us): live counts
 #     as many late replies as c4g-sim.
 #  4. refusals: a capture without its start-up (exit 2, rerun suggested), a bad --to.

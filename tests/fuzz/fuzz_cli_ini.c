@@ -12,21 +12,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     cli_config_t c;
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char *buf = fuzz_copy(data, size);
     int d;
     if (buf == NULL) {
         return 0;
     }
     cli_config_default(&c);
-    tf_open_mem(&f, "f.ini", buf, size);
+    c4gh_tf_open_mem(&f, "f.ini", buf, size);
     memset(err, 0x55, sizeof err);
     if (cli_config_parse(&c, &f, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.ini");
         free(buf);
         return 0;
     }
-    for (d = 0; d < CELL_DEVICES; d++) {
+    for (d = 0; d < C4GH_CELL_DEVICES; d++) {
         if (c.host[d][0] == '\0' || memchr(c.host[d], '\0', sizeof c.host[d]) == NULL ||
             c.port[d] < 1U || c.port[d] > 65535U) {
             abort();

@@ -7,7 +7,7 @@
    limit; in mode 9 the delta only shrinks towards 0 and SMP+ current + delta stays within
    the limit unless SMP+ alone is beyond it; in modes 5, 7 and 8 the position the controller
    integrates to stays inside the stroke; finish returns only its documented statuses; moni
-   rows always fit C4G_MONI_ROW_MAX. */
+   rows always fit C4GH_MONI_ROW_MAX. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "c4gopen.h"
-#include "c4g_csv.h"
-#include "c4g_fixtures.h"
+#include "c4gh_csv.h"
+#include "c4gsim_fixtures.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -87,7 +87,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int32_t num = 0;
     const uint8_t setup = byte(&c);
 
-    (void)c4g_init_fig10_1(&in);
+    (void)c4gsim_fig10_1(&in);
     if (setup & 1u) { /* a second arm with two axes */
         in.n_ax_open = 8;
         in.open_ax[1][0] = 6;
@@ -222,10 +222,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             {
                 c4g_moni_rec_t r;
-                char row[C4G_MONI_ROW_MAX];
+                char row[C4GH_MONI_ROW_MAX];
                 size_t len = 0;
                 check(c4g_moni_record(19u + (tick % 6u), &rx, &tx, i, &r) == C4G_OK);
-                check(c4g_moni_csv_row(&r, row, sizeof row, &len) == C4G_OK);
+                check(c4gh_moni_csv_row(&r, row, sizeof row, &len) == C4G_OK);
             }
         }
     }

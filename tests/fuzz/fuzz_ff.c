@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's mode-9 feedforward parameter file (tools/common/c4g_srv_files.c).
+/* libFuzzer: c4g-server's mode-9 feedforward parameter file (tools/c4g-server/srv_files.c).
  * Invariants: an error is one well-formed "PATH:..." message; an accepted file sets at
  * least one axis, each once, with finite coefficients within +-1e6. */
 #include "fuzz_text.h"
-#include "c4g_srv.h"
+#include "srv_core.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -11,14 +11,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM];
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char *buf = fuzz_copy(data, size);
     unsigned a, l, n = 0U;
     if (buf == NULL) {
         return 0;
     }
     memset(ff, 0, sizeof ff);
-    tf_open_mem(&f, "f.txt", buf, size);
+    c4gh_tf_open_mem(&f, "f.txt", buf, size);
     memset(err, 0x55, sizeof err);
     if (srv_parse_ff(&f, ff, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.txt");

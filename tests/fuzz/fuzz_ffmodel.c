@@ -1,17 +1,17 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-ident's mode-9 parameter file (tools/common/c4g_ffmodel_load.c through
+/* libFuzzer: c4g-ident's mode-9 parameter file (lib/host/c4gh_ffmodel_load.c through
  * the shared INI layer and inih). Invariants: an error is one well-formed "PATH:..."
  * message; an accepted file names an arm 1..4, a period in (0, 1000] ms, at least one
  * axis, every number finite in its range, the checksum the text really has, and the
  * model gives a finite current anywhere in the fit's range. */
 #include "fuzz_text.h"
-#include "c4g_ffmodel.h"
+#include "c4gh_ffmodel.h"
 
 #include <math.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static void check_axis(const ffm_axis_t *p)
+static void check_axis(const c4gh_ffm_axis_t *p)
 {
     const double v = (p->v_max > 0.0) ? p->v_max : 1e3;
     const double a = (p->a_max > 0.0) ? p->a_max : 1e3;
@@ -31,15 +31,15 @@ static void check_axis(const ffm_axis_t *p)
     FUZZ_FINITE_IN(p->ga, -1e6, 1e6);
     FUZZ_FINITE_IN(p->gb, -1e6, 1e6);
     FUZZ_FINITE_IN(p->delay, -1e6, 1e6);
-    if (!isfinite(ffm_current(p, v, a, 1.0, 1)) || !isfinite(ffm_current(p, -v, -a, -1.0, 1)) ||
-        !isfinite(ffm_current(p, 0.0, 0.0, 0.0, 0))) {
+    if (!isfinite(c4gh_ffm_current(p, v, a, 1.0, 1)) || !isfinite(c4gh_ffm_current(p, -v, -a, -1.0, 1)) ||
+        !isfinite(c4gh_ffm_current(p, 0.0, 0.0, 0.0, 0))) {
         abort();
     }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static ffm_file_t m;
+    static c4gh_ffm_file_t m;
     char err[512];
     char *buf = fuzz_copy(data, size);
     unsigned l, n = 0U;
@@ -48,16 +48,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     }
     memset(err, 0x55, sizeof err);
-    if (ffm_parse_text("f.ini", buf, size, &m, err, sizeof err) != 0) {
+    if (c4gh_ffm_parse_text("f.ini", buf, size, &m, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.ini");
         free(buf);
         return 0;
     }
     if (m.arm < 1U || m.arm > 4U || !(m.period_ms > 0.0 && m.period_ms <= 1000.0) ||
-        ffm_checksum_text(buf, size, &sum) != 0 || sum != m.checksum) {
+        c4gh_ffm_checksum_text(buf, size, &sum) != 0 || sum != m.checksum) {
         abort();
     }
-    for (l = 0U; l < FFM_AXES; l++) {
+    for (l = 0U; l < C4GH_FFM_AXES; l++) {
         if (m.ax[l].set) {
             check_axis(&m.ax[l]);
             n++;

@@ -2,7 +2,7 @@
 /* libFuzzer: initialization packet decoder and axis maps. The input is laid over the
  * figure 10.1 packet so that the fuzzer reaches the deep validation paths. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,7 +20,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* raw input as is */
     (void)c4g_init_decode(data, size, &in, &d);
     /* overlay: first 2 bytes pick an offset, the rest overwrite from there */
-    (void)c4g_init_fig10_1(&in);
+    (void)c4gsim_fig10_1(&in);
     (void)c4g_init_encode(&in, buf, sizeof buf, &len);
     if (size >= 2U) {
         size_t off = (((size_t)data[0] << 8U) | data[1]) % C4G_INIT_SIZE;

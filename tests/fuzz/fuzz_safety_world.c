@@ -34,7 +34,7 @@
 #include <string.h>
 
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -396,7 +396,7 @@ static void check_neutral(const c4g_loop_t *lp, const c4g_ctrl_packet_t *p)
 static void make_init(cur_t *c, c4g_init_t *in, int wide)
 {
     uint32_t i;
-    (void)c4g_init_fig10_1(in);
+    (void)c4gsim_fig10_1(in);
     for (i = 0; i < N_AX && wide; i++) {
         /* limits across the representable range (finite, >= 0) */
         const uint32_t e = u8(c);

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's INI configuration (tools/common/c4g_srv_opts.c through the shared
+/* libFuzzer: c4g-server's INI configuration (tools/c4g-server/srv_opts.c through the shared
  * INI layer and inih). Invariants: an error is one well-formed "PATH:..." message; an
  * accepted file leaves every setting inside its documented range. */
 #include <math.h>
 
 #include "fuzz_text.h"
-#include "c4g_srv.h"
+#include "srv_core.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -13,14 +13,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static srv_config_t c;
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char *buf = fuzz_copy(data, size);
     unsigned a;
     if (buf == NULL) {
         return 0;
     }
     srv_config_default(&c);
-    tf_open_mem(&f, "f.ini", buf, size);
+    c4gh_tf_open_mem(&f, "f.ini", buf, size);
     memset(err, 0x55, sizeof err);
     if (srv_config_parse_ini(&c, &f, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.ini");

@@ -10,7 +10,7 @@
  * equals the public decoder's output, and a twin session answering every cyclic packet with
  * c4g_session_reply_neutral sends the bytes c4g_pc_reply_neutral + c4g_session_reply send. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,7 +38,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     eps[0].port = 3600;
     eps[1].port = 3601;
     eps[2].port = 3600;
-    (void)c4g_init_fig10_1(&in);
+    (void)c4gsim_fig10_1(&in);
     (void)c4g_init_encode(&in, init, sizeof init, &len);
     if ((c4g_session_init(&s, NULL) != C4G_OK) || (c4g_session_init(&twin, NULL) != C4G_OK)) {
         abort();

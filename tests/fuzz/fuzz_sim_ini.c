@@ -11,14 +11,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static sim_config_t c;
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char *buf = fuzz_copy(data, size);
     int a, l, n;
     if (buf == NULL) {
         return 0;
     }
     sim_config_default(&c);
-    tf_open_mem(&f, "f.ini", buf, size);
+    c4gh_tf_open_mem(&f, "f.ini", buf, size);
     memset(err, 0x55, sizeof err);
     if (sim_config_parse(&c, &f, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.ini");
@@ -38,7 +38,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_FINITE_IN(c.switch_ms, 0.0, 1e5);
     for (a = 0; a < (int)C4G_ARMS; a++) {
         for (l = 0; l < (int)C4G_AXES_PER_ARM; l++) {
-            const sim_axis_params_t *p = &c.ax[a][l];
+            const c4gsim_axis_params_t *p = &c.ax[a][l];
             FUZZ_FINITE_IN(p->j, 1e-9, 1e3);
             FUZZ_FINITE_IN(p->kt, 1e-6, 1e3);
             FUZZ_FINITE_IN(p->gravity, -1e4, 1e4);

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "c4g_textfile.h"
+#include "c4gh_textfile.h"
 
 static char *fuzz_copy(const uint8_t *data, size_t size)
 {

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* libFuzzer: c4g-server's trajectory CSV (tools/common/c4g_srv_files.c). Invariants: an
+/* libFuzzer: c4g-server's trajectory CSV (tools/c4g-server/srv_files.c). Invariants: an
  * error is one well-formed "PATH:..." message; an accepted file has 1..20000 rows of
  * 1..10 columns, strictly increasing finite times and offsets within +-1e6 turns. */
 #include "fuzz_text.h"
-#include "c4g_srv.h"
+#include "srv_core.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -11,13 +11,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static srv_traj_t tr;
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char *buf = fuzz_copy(data, size);
     uint32_t r, k;
     if (buf == NULL) {
         return 0;
     }
-    tf_open_mem(&f, "f.csv", buf, size);
+    c4gh_tf_open_mem(&f, "f.csv", buf, size);
     memset(err, 0x55, sizeof err);
     if (srv_parse_traj(&f, &tr, err, sizeof err) != 0) {
         fuzz_check_err(err, sizeof err, "f.csv");

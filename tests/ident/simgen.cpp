@@ -7,7 +7,7 @@ namespace simgen {
 
 constexpr double kTwoPi = 6.283185307179586;
 
-ident::Vec truth(const sim_axis_params_t &p)
+ident::Vec truth(const c4gsim_axis_params_t &p)
 {
     ident::Vec t{};
     t[ident::JA] = kTwoPi * p.j / p.kt;
@@ -23,13 +23,13 @@ ident::Vec truth(const sim_axis_params_t &p)
     return t;
 }
 
-double link_angle(const sim_axis_params_t &p, double motor) { return kTwoPi * (motor - p.cal) / p.tx_rate; }
+double link_angle(const c4gsim_axis_params_t &p, double motor) { return kTwoPi * (motor - p.cal) / p.tx_rate; }
 
 ident::AxisLog run(const Case &c, uint64_t seed)
 {
-    sim_rng_t rng, orng;
-    sim_rng_seed(&rng, seed);
-    sim_rng_seed(&orng, seed * 7919U + 17U);
+    c4gsim_rng_t rng, orng;
+    c4gsim_rng_seed(&rng, seed);
+    c4gsim_rng_seed(&orng, seed * 7919U + 17U);
     ident::ExciteOptions eo = c.ex;
     eo.duration = c.seconds;
     eo.seed = static_cast<unsigned>(seed % 97U);
@@ -38,8 +38,8 @@ ident::AxisLog run(const Case &c, uint64_t seed)
     ea.amax = c.amax;
     ea.on = !c.still;
     const ident::Excitation ex(eo, {ea});
-    sim_axis_t a;
-    sim_axis_reset(&a, &c.p, &rng);
+    c4gsim_axis_t a;
+    c4gsim_axis_reset(&a, &c.p, &rng);
     a.drive_on = 1;
     ident::AxisLog L;
     L.arm = 1;
@@ -58,22 +58,22 @@ ident::AxisLog run(const Case &c, uint64_t seed)
         const double t = static_cast<double>(k) * c.period;
         double q, v, acc;
         ex.eval(0, t, &q, &v, &acc);
-        sim_dsa_in_t in{};
+        c4gsim_dsa_in_t in{};
         in.pos_ref = c.p.pos0 + q;
         in.vel_ff = v;
         // as c4g-sim: the DSA interpolates the reference over its steps
         for (int j = 0; j < sub; j++) {
-            sim_dsa_in_t st = in;
-            sim_dsa_interp(prev_ref, prev_vel, in.pos_ref, in.vel_ff, static_cast<double>(j) / sub,
+            c4gsim_dsa_in_t st = in;
+            c4gsim_dsa_interp(prev_ref, prev_vel, in.pos_ref, in.vel_ff, static_cast<double>(j) / sub,
                            c.period, &st.pos_ref, &st.vel_ff);
-            sim_axis_step(&a, &c.p, &st, dt, &rng);
+            c4gsim_axis_step(&a, &c.p, &st, dt, &rng);
         }
         prev_ref = in.pos_ref;
         prev_vel = in.vel_ff;
-        double d5 = sim_axis_report_current(&a, &c.p, &rng);
-        if (c.outliers > 0.0 && sim_rng_uniform(&orng) < c.outliers) {
-            const double m = c.outlier_size * (0.5 + 0.5 * sim_rng_uniform(&orng));
-            d5 += (sim_rng_uniform(&orng) < 0.5) ? -m : m;
+        double d5 = c4gsim_axis_report_current(&a, &c.p, &rng);
+        if (c.outliers > 0.0 && c4gsim_rng_uniform(&orng) < c.outliers) {
+            const double m = c.outlier_size * (0.5 + 0.5 * c4gsim_rng_uniform(&orng));
+            d5 += (c4gsim_rng_uniform(&orng) < 0.5) ? -m : m;
         }
         L.tick.push_back(static_cast<int64_t>(k));
         L.t.push_back(t);
@@ -82,7 +82,7 @@ ident::AxisLog run(const Case &c, uint64_t seed)
         L.d3.push_back(static_cast<float>(a.meas_pos));
         L.d4.push_back(static_cast<float>(a.meas_pos - prev));
         L.d5.push_back(static_cast<float>(d5));
-        L.e1.push_back(static_cast<float>(sim_axis_gravity(&c.p, a.pos) / c.p.kt));
+        L.e1.push_back(static_cast<float>(c4gsim_axis_gravity(&c.p, a.pos) / c.p.kt));
         L.e2.push_back(static_cast<float>(c.p.j));
         L.q.push_back(link_angle(c.p, static_cast<double>(static_cast<float>(a.meas_pos))));
         prev = a.meas_pos;

@@ -8,13 +8,13 @@
 #include "ident.hpp"
 
 extern "C" {
-#include "model.h"
+#include "c4gsim_model.h"
 }
 
 namespace simgen {
 
 struct Case {
-    sim_axis_params_t p{};
+    c4gsim_axis_params_t p{};
     unsigned logical = 0;         // 0-based, for the defaults
     double period = 0.002;
     double seconds = 40.0;
@@ -26,9 +26,9 @@ struct Case {
 };
 
 // The truth in c4g-ident's units.
-ident::Vec truth(const sim_axis_params_t &p);
+ident::Vec truth(const c4gsim_axis_params_t &p);
 // Link angle of a motor position (what the library's kinematics gives on an uncoupled axis).
-double link_angle(const sim_axis_params_t &p, double motor);
+double link_angle(const c4gsim_axis_params_t &p, double motor);
 ident::AxisLog run(const Case &c, uint64_t seed);
 
 }  // namespace simgen

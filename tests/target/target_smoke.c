@@ -2,7 +2,7 @@
 /* Runs on the target (qemu-arm, newlib rdimon): codec and session smoke test on a
  * 32-bit ARM. Prints a closing "N passed, N failed" line; exit status = failures. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -30,7 +30,7 @@ int main(void)
     size_t len = 0, n = 0;
     FILE *f;
 
-    check(c4g_init_fig10_1(&in) == C4G_OK, "fig10_1");
+    check(c4gsim_fig10_1(&in) == C4G_OK, "fig10_1");
     check(c4g_init_encode(&in, init, sizeof init, &len) == C4G_OK && len == 1200, "init encode");
     /* the shared vector, read through semihosting: byte-exact on the target too */
     f = fopen(FIXTURE_INIT, "rb");

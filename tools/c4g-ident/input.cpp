@@ -2,9 +2,9 @@
 #include "input.hpp"
 
 extern "C" {
-#include "analyze.h"
-#include "c4g_textfile.h"
-#include "capture.h"
+#include "c4gh_analyze.h"
+#include "c4gh_textfile.h"
+#include "c4gh_capture.h"
 }
 
 #include <unistd.h>
@@ -30,7 +30,7 @@ constexpr int64_t kSessionStride = 1000000000LL;  // ticks of one session never 
 std::string shown(const std::string &s, std::size_t max)
 {
     char buf[512];
-    tf_escape(s.data(), std::min(s.size(), max), buf, sizeof buf);
+    c4gh_tf_escape(s.data(), std::min(s.size(), max), buf, sizeof buf);
     return std::string(buf);
 }
 
@@ -126,11 +126,11 @@ struct CapCtx {
     bool kin_ok = false;
 };
 
-void on_exchange(void *vp, const an_exchange_t *x)
+void on_exchange(void *vp, const c4gh_an_exchange_t *x)
 {
     CapCtx *c = static_cast<CapCtx *>(vp);
-    if (x->kind != CS_CYCLIC || x->rx == nullptr) return;
-    const an_session_t *s = x->s;
+    if (x->kind != C4GH_CS_CYCLIC || x->rx == nullptr) return;
+    const c4gh_an_session_t *s = x->s;
     if (c->col->sel.session != 0 && s->id != c->col->sel.session) return;
     const uint32_t arm = c->col->sel.arm - 1U;
     if (s->id != c->last_session) {
@@ -177,50 +177,50 @@ void on_exchange(void *vp, const an_exchange_t *x)
 int read_capture(const std::string &path, Collector &col, InputInfo *info, std::string *err)
 {
     char e[400];
-    cap_t *c = cap_open(path.c_str(), e, sizeof e);
+    c4gh_cap_t *c = c4gh_cap_open(path.c_str(), e, sizeof e);
     if (c == nullptr) {
         *err = e;
         return -1;
     }
-    an_options_t o;
-    an_options_default(&o);
+    c4gh_an_options_t o;
+    c4gh_an_options_default(&o);
     CapCtx ctx;
     ctx.col = &col;
     ctx.info = info;
     o.on_exchange = on_exchange;
     o.ctx = &ctx;
-    an_t a;
-    if (an_init(&a, &o) != 0) {
-        cap_close(c);
+    c4gh_an_t a;
+    if (c4gh_an_init(&a, &o) != 0) {
+        c4gh_cap_close(c);
         *err = "out of memory";
         return -1;
     }
     const bool show = col.sel.progress && isatty(2);
-    cap_pkt_t p;
+    c4gh_cap_pkt_t p;
     uint64_t bad = 0;
     int rc = 0;
     for (;;) {
-        const cap_res_t r = cap_next(c, &p, e, sizeof e);
-        if (r == CAP_END) break;
-        if (r == CAP_FATAL) {
+        const c4gh_cap_res_t r = c4gh_cap_next(c, &p, e, sizeof e);
+        if (r == C4GH_CAP_END) break;
+        if (r == C4GH_CAP_FATAL) {
             *err = e;
             rc = -1;
             break;
         }
-        if (r == CAP_BAD) {
+        if (r == C4GH_CAP_BAD) {
             if (++bad <= 10) std::fprintf(stderr, "c4g-ident: %s\n", e);
             continue;
         }
-        if (r == CAP_DATAGRAM) an_datagram(&a, path.c_str(), &p);
-        if (show && (cap_counts(c)->frames & 0xFFFFU) == 0U && cap_size(c) > 0) {
+        if (r == C4GH_CAP_DATAGRAM) c4gh_an_datagram(&a, path.c_str(), &p);
+        if (show && (c4gh_cap_counts(c)->frames & 0xFFFFU) == 0U && c4gh_cap_size(c) > 0) {
             std::fprintf(stderr, "\rc4g-ident: reading %s %3.0f %%", path.c_str(),
-                         100.0 * static_cast<double>(cap_pos(c)) / static_cast<double>(cap_size(c)));
+                         100.0 * static_cast<double>(c4gh_cap_pos(c)) / static_cast<double>(c4gh_cap_size(c)));
         }
     }
     if (show) std::fprintf(stderr, "\r\033[K");
-    an_file_end(&a, path.c_str());
-    an_free(&a);
-    cap_close(c);
+    c4gh_an_file_end(&a, path.c_str());
+    c4gh_an_free(&a);
+    c4gh_cap_close(c);
     info->format = "capture (" + std::string(rc == 0 ? "complete" : "cut short") + ")";
     if (bad > 10) std::fprintf(stderr, "c4g-ident: %s: %llu damaged frames in all\n", path.c_str(), static_cast<unsigned long long>(bad));
     for (const AxisLog &L : *col.logs) info->have_kin = info->have_kin || L.have_q;

@@ -9,7 +9,7 @@
 #include "output.hpp"
 
 extern "C" {
-#include "c4g_cli.h"
+#include "c4gh_cli.h"
 #include "c4gopen.h"
 }
 
@@ -83,13 +83,13 @@ struct FitCli {
     int json = 0, quiet = 0, no_gravity = 0, keep_late = 0;
 };
 
-int fit_axes(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int fit_axes(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     return parse_axes(v, &static_cast<FitCli *>(ctx)->sel.axes, why, whylen);
 }
 
 // --az-lim A or AXIS:A[,AXIS:A...]: one limit for every axis, or one per logical axis
-int fit_az_lim(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int fit_az_lim(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     double *lim = static_cast<FitCli *>(ctx)->sel.az_lim;
     const std::vector<std::string> items = split_commas(v);
@@ -115,7 +115,7 @@ int fit_az_lim(void *ctx, const cli_opt_t *, const char *v, char *why, size_t wh
     return 0;
 }
 
-int fit_loss(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int fit_loss(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     Options &o = static_cast<FitCli *>(ctx)->opt;
     if (std::strcmp(v, "huber") == 0) o.loss = LOSS_HUBER;
@@ -128,7 +128,7 @@ int fit_loss(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whyl
     return 0;
 }
 
-int fit_variant(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int fit_variant(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     Options &o = static_cast<FitCli *>(ctx)->opt;
     if (std::strcmp(v, "auto") == 0) {
@@ -145,7 +145,7 @@ int fit_variant(void *ctx, const cli_opt_t *, const char *v, char *why, size_t w
     return -1;
 }
 
-int fit_delay(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int fit_delay(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     Options &o = static_cast<FitCli *>(ctx)->opt;
     if (std::strcmp(v, "auto") == 0) {
@@ -169,16 +169,16 @@ bool plot_dir_writable(const char *tool, const char *dir)
     struct stat st;
     if (stat(dir, &st) == 0) {
         if (!S_ISDIR(st.st_mode)) {
-            cli_file_error(tool, "--plot", dir, ENOTDIR);
+            c4gh_cli_file_error(tool, "--plot", dir, ENOTDIR);
             return false;
         }
         if (access(dir, W_OK | X_OK) != 0) {
-            cli_file_error(tool, "--plot", dir, errno);
+            c4gh_cli_file_error(tool, "--plot", dir, errno);
             return false;
         }
         return true;
     }
-    return cli_check_output(tool, "--plot", dir) == 0;
+    return c4gh_cli_check_output(tool, "--plot", dir) == 0;
 }
 
 int run_fit(int argc, char **argv)
@@ -186,30 +186,30 @@ int run_fit(int argc, char **argv)
     FitCli c;
     double holdout = 0.2, loss_k = 1.345, eps = 0.0, from = 0.0, to = -1.0;
     unsigned arm = 1, half = 12, order = 3, threads = 2, session = 0;
-    const cli_opt_t opts[] = {
-        {"arm", 'a', CLI_UINT, "N", "arm 1..4 (default 1)", &arm, 0, 1, 4, nullptr, 0},
-        {"axes", 'x', CLI_CALL, "LIST", "logical axes, e.g. 1,2,3 (default: every open axis)", nullptr, 0, 0, 0, fit_axes, 0},
-        {"from", 0, CLI_DOUBLE, "S", "use ticks from S seconds after the first one", &from, 0, 0, 1e7, nullptr, 0},
-        {"to", 0, CLI_DOUBLE, "S", "... up to S seconds after the first one", &to, 0, 0, 1e7, nullptr, 0},
-        {"session", 0, CLI_UINT, "N", "captures: only session N (default all)", &session, 0, 1, 1e6, nullptr, 0},
-        {"validate", 0, CLI_STRING, "LOG", "validate on a second log instead of the last 20 %", c.validate, sizeof c.validate, 0, 0, nullptr, 0},
-        {"holdout", 0, CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
-        {"variant", 0, CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity", nullptr, 0, 0, 0, fit_variant, 0},
-        {"keep-late", 0, CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
-        {"az-lim", 0, CLI_CALL, "A|AXIS:A,...", "CSV logs: the DSA current limit (AzLim) of every axis or of each; ticks at 98 % of it are dropped", nullptr, 0, 0, 0, fit_az_lim, 0},
-        {"no-gravity", 0, CLI_FLAG, nullptr, "never offer the gravity variants", &c.no_gravity, 0, 0, 0, nullptr, 0},
-        {"loss", 0, CLI_CALL, "NAME", "robust loss: huber (default), cauchy or none", nullptr, 0, 0, 0, fit_loss, 0},
-        {"loss-scale", 0, CLI_DOUBLE, "K", "robust scale in noise sigmas (default 1.345)", &loss_k, 0, 0.1, 100, nullptr, 0},
-        {"sg-half", 0, CLI_UINT, "N", "Savitzky-Golay half window in ticks (default 12)", &half, 0, 2, 200, nullptr, 0},
-        {"sg-order", 0, CLI_UINT, "N", "Savitzky-Golay polynomial order 2..6 (default 3)", &order, 0, 2, 6, nullptr, 0},
-        {"delay", 0, CLI_CALL, "TICKS", "delay of D5 after D4: auto (default) or ticks", nullptr, 0, 0, 0, fit_delay, 0},
-        {"eps", 0, CLI_DOUBLE, "V", "smooth-sign velocity [turn/s] (default automatic)", &eps, 0, 0, 1e4, nullptr, 0},
-        {"threads", 'j', CLI_UINT, "N", "axes fitted at once, or solver threads for one axis (default 2)", &threads, 0, 1, 64, nullptr, 0},
-        {"out", 'o', CLI_STRING, "FILE", "write the parameter file for c4g-server --ff", c.out, sizeof c.out, 0, 0, nullptr, 0},
-        {"plot", 0, CLI_STRING, "DIR", "write PNG and SVG plots (gnuplot) into DIR", c.plot, sizeof c.plot, 0, 0, nullptr, 0},
-        {"samples", 0, CLI_STRING, "DIR", "write the samples each axis was fitted to (CSV) into DIR", c.samples, sizeof c.samples, 0, 0, nullptr, 0},
-        {"json", 0, CLI_FLAG, nullptr, "the report as JSON on stdout", &c.json, 0, 0, 0, nullptr, 0},
-        {"quiet", 'q', CLI_FLAG, nullptr, "no report", &c.quiet, 0, 0, 0, nullptr, 0},
+    const c4gh_cli_opt_t opts[] = {
+        {"arm", 'a', C4GH_CLI_UINT, "N", "arm 1..4 (default 1)", &arm, 0, 1, 4, nullptr, 0},
+        {"axes", 'x', C4GH_CLI_CALL, "LIST", "logical axes, e.g. 1,2,3 (default: every open axis)", nullptr, 0, 0, 0, fit_axes, 0},
+        {"from", 0, C4GH_CLI_DOUBLE, "S", "use ticks from S seconds after the first one", &from, 0, 0, 1e7, nullptr, 0},
+        {"to", 0, C4GH_CLI_DOUBLE, "S", "... up to S seconds after the first one", &to, 0, 0, 1e7, nullptr, 0},
+        {"session", 0, C4GH_CLI_UINT, "N", "captures: only session N (default all)", &session, 0, 1, 1e6, nullptr, 0},
+        {"validate", 0, C4GH_CLI_STRING, "LOG", "validate on a second log instead of the last 20 %", c.validate, sizeof c.validate, 0, 0, nullptr, 0},
+        {"holdout", 0, C4GH_CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
+        {"variant", 0, C4GH_CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity", nullptr, 0, 0, 0, fit_variant, 0},
+        {"keep-late", 0, C4GH_CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
+        {"az-lim", 0, C4GH_CLI_CALL, "A|AXIS:A,...", "CSV logs: the DSA current limit (AzLim) of every axis or of each; ticks at 98 % of it are dropped", nullptr, 0, 0, 0, fit_az_lim, 0},
+        {"no-gravity", 0, C4GH_CLI_FLAG, nullptr, "never offer the gravity variants", &c.no_gravity, 0, 0, 0, nullptr, 0},
+        {"loss", 0, C4GH_CLI_CALL, "NAME", "robust loss: huber (default), cauchy or none", nullptr, 0, 0, 0, fit_loss, 0},
+        {"loss-scale", 0, C4GH_CLI_DOUBLE, "K", "robust scale in noise sigmas (default 1.345)", &loss_k, 0, 0.1, 100, nullptr, 0},
+        {"sg-half", 0, C4GH_CLI_UINT, "N", "Savitzky-Golay half window in ticks (default 12)", &half, 0, 2, 200, nullptr, 0},
+        {"sg-order", 0, C4GH_CLI_UINT, "N", "Savitzky-Golay polynomial order 2..6 (default 3)", &order, 0, 2, 6, nullptr, 0},
+        {"delay", 0, C4GH_CLI_CALL, "TICKS", "delay of D5 after D4: auto (default) or ticks", nullptr, 0, 0, 0, fit_delay, 0},
+        {"eps", 0, C4GH_CLI_DOUBLE, "V", "smooth-sign velocity [turn/s] (default automatic)", &eps, 0, 0, 1e4, nullptr, 0},
+        {"threads", 'j', C4GH_CLI_UINT, "N", "axes fitted at once, or solver threads for one axis (default 2)", &threads, 0, 1, 64, nullptr, 0},
+        {"out", 'o', C4GH_CLI_STRING, "FILE", "write the parameter file for c4g-server --ff", c.out, sizeof c.out, 0, 0, nullptr, 0},
+        {"plot", 0, C4GH_CLI_STRING, "DIR", "write PNG and SVG plots (gnuplot) into DIR", c.plot, sizeof c.plot, 0, 0, nullptr, 0},
+        {"samples", 0, C4GH_CLI_STRING, "DIR", "write the samples each axis was fitted to (CSV) into DIR", c.samples, sizeof c.samples, 0, 0, nullptr, 0},
+        {"json", 0, C4GH_CLI_FLAG, nullptr, "the report as JSON on stdout", &c.json, 0, 0, 0, nullptr, 0},
+        {"quiet", 'q', C4GH_CLI_FLAG, nullptr, "no report", &c.quiet, 0, 0, 0, nullptr, 0},
     };
     static const char *const examples[] = {
         "c4g-ident fit run.pcap -o arm1.ini",
@@ -218,7 +218,7 @@ int run_fit(int argc, char **argv)
         "c4g-ident fit --arm 1 moni.csv          # c4g-server --moni-type 0 CSV",
         "c4g-ident fit --az-lim 1:24.5,4:9.5 moni.csv   # AzLim as c4g-replay summary shows it",
         nullptr};
-    cli_spec_t spec = {"c4g-ident fit", C4G_VERSION_STRING,
+    c4gh_cli_spec_t spec = {"c4g-ident fit", C4G_VERSION_STRING,
                        "Usage: c4g-ident fit [OPTIONS] LOG...\n"
                        "Fits each axis' inertia, friction (viscous, Coulomb, Stribeck), offset and gravity from\n"
                        "logged runs: captures (pcap, pcapng), c4g-server --moni CSV (--moni-type 0) or\n"
@@ -229,9 +229,9 @@ int run_fit(int argc, char **argv)
                        "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted).",
                        1, -1, 1, nullptr};
     int first = 0;
-    const cli_result_t r = cli_parse(&spec, &c, argc, argv, &first);
-    if (r == CLI_DONE) return CLI_EXIT_OK;
-    if (r == CLI_BAD) return CLI_EXIT_USAGE;
+    const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
+    if (r == C4GH_CLI_DONE) return C4GH_CLI_EXIT_OK;
+    if (r == C4GH_CLI_BAD) return C4GH_CLI_EXIT_USAGE;
     c.sel.arm = arm;
     c.sel.from = from;
     c.sel.to = to;
@@ -246,15 +246,15 @@ int run_fit(int argc, char **argv)
     c.opt.threads = static_cast<int>(threads);
     c.opt.want_gravity = !c.no_gravity;
     if (to >= 0.0 && to <= from) {
-        cli_error(&spec, "--to %g must be after --from %g", to, from);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--to %g must be after --from %g", to, from);
+        return C4GH_CLI_EXIT_USAGE;
     }
     // output paths are checked before any work: a file that could not be written is exit 1
-    if (c.out[0] != '\0' && cli_check_output(spec.tool, "--out", c.out) != 0) {
-        return CLI_EXIT_RUNTIME;
+    if (c.out[0] != '\0' && c4gh_cli_check_output(spec.tool, "--out", c.out) != 0) {
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (c.plot[0] != '\0' && !plot_dir_writable(spec.tool, c.plot)) {
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     const auto t0 = std::chrono::steady_clock::now();
     Job job;
@@ -266,7 +266,7 @@ int run_fit(int argc, char **argv)
         std::string err;
         if (read_input(argv[i], c.sel, &logs, &info, &err) != 0) {
             std::fprintf(stderr, "%s: %s\n", kTool, err.c_str());
-            return CLI_EXIT_USAGE;
+            return C4GH_CLI_EXIT_USAGE;
         }
         job.inputs.push_back(info);
         // several logs: one run after another, never filtered across the seam
@@ -296,7 +296,7 @@ int run_fit(int argc, char **argv)
     }
     if (merged.empty()) {
         std::fprintf(stderr, "%s: no axis of arm %u%s in the log(s)\n", kTool, arm, c.sel.axes ? " among --axes" : "");
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     std::vector<AxisLog> vlogs;
     if (c.validate[0] != '\0') {
@@ -304,7 +304,7 @@ int run_fit(int argc, char **argv)
         std::string err;
         if (read_input(c.validate, c.sel, &vlogs, &info, &err) != 0) {
             std::fprintf(stderr, "%s: --validate %s\n", kTool, err.c_str());
-            return CLI_EXIT_USAGE;
+            return C4GH_CLI_EXIT_USAGE;
         }
         job.validate_path = c.validate;
     }
@@ -350,17 +350,17 @@ int run_fit(int argc, char **argv)
     std::string err;
     if (c.out[0] != '\0' && write_params(c.out, job, C4G_VERSION_STRING, &err) != 0) {
         std::fprintf(stderr, "%s: %s\n", kTool, err.c_str());
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (c.plot[0] != '\0' && write_plots(c.plot, job, &err) != 0) {
         std::fprintf(stderr, "%s: --plot: %s\n", kTool, err.c_str());
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (c.samples[0] != '\0' && write_samples(c.samples, job, &err) != 0) {
         std::fprintf(stderr, "%s: --samples: %s\n", kTool, err.c_str());
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
-    return all_ok ? CLI_EXIT_OK : 3;
+    return all_ok ? C4GH_CLI_EXIT_OK : 3;
 }
 
 // ---------------------------------------------------------------- excite
@@ -371,7 +371,7 @@ struct ExCli {
     char amax[256] = "200";
 };
 
-int ex_axes(void *ctx, const cli_opt_t *, const char *v, char *why, size_t whylen)
+int ex_axes(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     return parse_axes(v, &static_cast<ExCli *>(ctx)->axes, why, whylen);
 }
@@ -400,23 +400,23 @@ int run_excite(int argc, char **argv)
     c.axes = 0x3F;
     double duration = 38.0, period = 2.0, f0 = 0.1, stair = 0.3;
     unsigned harmonics = 16, seed = 1;
-    const cli_opt_t opts[] = {
-        {"axes", 'x', CLI_CALL, "LIST", "logical axes to excite (default 1,2,3,4,5,6)", nullptr, 0, 0, 0, ex_axes, 0},
-        {"vmax", 0, CLI_STRING, "V[,V...]", "velocity limit [motor turn/s], one or one per axis (default 10)", c.vmax, sizeof c.vmax, 0, 0, nullptr, 0},
-        {"amax", 0, CLI_STRING, "A[,A...]", "acceleration limit [motor turn/s^2] (default 200)", c.amax, sizeof c.amax, 0, 0, nullptr, 0},
-        {"duration", 'd', CLI_DOUBLE, "S", "length [s] (default 38: 19000 rows at 2 ms)", &duration, 0, 2, 36000, nullptr, 0},
-        {"period", 'T', CLI_DOUBLE, "MS", "row spacing [ms] (default 2, the SMP+ period)", &period, 0, 0.1, 100, nullptr, 0},
-        {"f0", 0, CLI_DOUBLE, "HZ", "multi-sine fundamental (default 0.1)", &f0, 0, 0.001, 100, nullptr, 0},
-        {"harmonics", 0, CLI_UINT, "N", "multi-sine harmonics (default 16)", &harmonics, 0, 1, 200, nullptr, 0},
-        {"stair", 0, CLI_DOUBLE, "F", "share of the time in constant-speed runs (default 0.3)", &stair, 0, 0, 0.9, nullptr, 0},
-        {"seed", 0, CLI_UINT, "N", "phase seed (default 1)", &seed, 0, 0, 1e9, nullptr, 0},
-        {"out", 'o', CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout)", c.out, sizeof c.out, 0, 0, nullptr, 0},
+    const c4gh_cli_opt_t opts[] = {
+        {"axes", 'x', C4GH_CLI_CALL, "LIST", "logical axes to excite (default 1,2,3,4,5,6)", nullptr, 0, 0, 0, ex_axes, 0},
+        {"vmax", 0, C4GH_CLI_STRING, "V[,V...]", "velocity limit [motor turn/s], one or one per axis (default 10)", c.vmax, sizeof c.vmax, 0, 0, nullptr, 0},
+        {"amax", 0, C4GH_CLI_STRING, "A[,A...]", "acceleration limit [motor turn/s^2] (default 200)", c.amax, sizeof c.amax, 0, 0, nullptr, 0},
+        {"duration", 'd', C4GH_CLI_DOUBLE, "S", "length [s] (default 38: 19000 rows at 2 ms)", &duration, 0, 2, 36000, nullptr, 0},
+        {"period", 'T', C4GH_CLI_DOUBLE, "MS", "row spacing [ms] (default 2, the SMP+ period)", &period, 0, 0.1, 100, nullptr, 0},
+        {"f0", 0, C4GH_CLI_DOUBLE, "HZ", "multi-sine fundamental (default 0.1)", &f0, 0, 0.001, 100, nullptr, 0},
+        {"harmonics", 0, C4GH_CLI_UINT, "N", "multi-sine harmonics (default 16)", &harmonics, 0, 1, 200, nullptr, 0},
+        {"stair", 0, C4GH_CLI_DOUBLE, "F", "share of the time in constant-speed runs (default 0.3)", &stair, 0, 0, 0.9, nullptr, 0},
+        {"seed", 0, C4GH_CLI_UINT, "N", "phase seed (default 1)", &seed, 0, 0, 1e9, nullptr, 0},
+        {"out", 'o', C4GH_CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout)", c.out, sizeof c.out, 0, 0, nullptr, 0},
     };
     static const char *const examples[] = {
         "c4g-ident excite --axes 1,2,3 --vmax 20 --amax 300 -o excite.csv",
         "c4g-server --traj excite.csv --pcap ident.pcap      # then c4g-ident fit ident.pcap",
         nullptr};
-    cli_spec_t spec = {"c4g-ident excite", C4G_VERSION_STRING,
+    c4gh_cli_spec_t spec = {"c4g-ident excite", C4G_VERSION_STRING,
                        "Usage: c4g-ident excite [OPTIONS] [-o FILE]\n"
                        "Writes an excitation trajectory (offsets from the mode-entry position, the format of\n"
                        "c4g-server --traj): constant-speed runs both ways at log-spaced speeds for friction,\n"
@@ -425,17 +425,17 @@ int run_excite(int argc, char **argv)
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 written; 1 the file could not be written; 2 bad usage.", 0, 0, 1, nullptr};
     int first = 0;
-    const cli_result_t r = cli_parse(&spec, &c, argc, argv, &first);
-    if (r == CLI_DONE) return CLI_EXIT_OK;
-    if (r == CLI_BAD) return CLI_EXIT_USAGE;
+    const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
+    if (r == C4GH_CLI_DONE) return C4GH_CLI_EXIT_OK;
+    if (r == C4GH_CLI_BAD) return C4GH_CLI_EXIT_USAGE;
     std::vector<double> vm, am;
     if (!list(c.vmax, &vm)) {
-        cli_error(&spec, "--vmax: bad value '%s' (positive numbers)", c.vmax);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--vmax: bad value '%s' (positive numbers)", c.vmax);
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (!list(c.amax, &am)) {
-        cli_error(&spec, "--amax: bad value '%s' (positive numbers)", c.amax);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--amax: bad value '%s' (positive numbers)", c.amax);
+        return C4GH_CLI_EXIT_USAGE;
     }
     unsigned last = 0, n_on = 0;
     for (unsigned k = 0; k < 10; k++) {
@@ -445,13 +445,13 @@ int run_excite(int argc, char **argv)
         }
     }
     if ((vm.size() != 1 && vm.size() != n_on) || (am.size() != 1 && am.size() != n_on)) {
-        cli_error(&spec, "--vmax and --amax take one value or one per excited axis (%u)", n_on);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--vmax and --amax take one value or one per excited axis (%u)", n_on);
+        return C4GH_CLI_EXIT_USAGE;
     }
     const double rows = duration / (period * 1e-3);
     if (rows > 20000.0) {
-        cli_error(&spec, "%.0f rows: c4g-server --traj reads at most 20000 (shorten --duration or widen --period)", rows);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "%.0f rows: c4g-server --traj reads at most 20000 (shorten --duration or widen --period)", rows);
+        return C4GH_CLI_EXIT_USAGE;
     }
     ExciteOptions eo;
     eo.duration = duration;
@@ -475,8 +475,8 @@ int run_excite(int argc, char **argv)
     if (c.out[0] != '\0') {
         out = std::fopen(c.out, "w");
         if (out == nullptr) {
-            cli_file_error(spec.tool, "--out", c.out, errno);
-            return CLI_EXIT_RUNTIME;
+            c4gh_cli_file_error(spec.tool, "--out", c.out, errno);
+            return C4GH_CLI_EXIT_RUNTIME;
         }
     }
     std::fprintf(out, "# c4g-ident excite: %s, %.6g s, rows every %.6g ms; offsets [motor turns] from the\n"
@@ -497,10 +497,10 @@ int run_excite(int argc, char **argv)
         std::fputc('\n', out);
     }
     if (out != stdout && std::fclose(out) != 0) {
-        cli_error(&spec, "--out %s: write error", c.out);
-        return CLI_EXIT_RUNTIME;
+        c4gh_cli_error(&spec, "--out %s: write error", c.out);
+        return C4GH_CLI_EXIT_RUNTIME;
     }
-    return CLI_EXIT_OK;
+    return C4GH_CLI_EXIT_OK;
 }
 
 void usage(FILE *out)
@@ -532,25 +532,25 @@ int main(int argc, char **argv)
     google::InitGoogleLogging(kTool);
     if (argc < 2) {
         usage(stderr);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     const std::string cmd = argv[1];
     if (cmd == "-h" || cmd == "--help" || cmd == "help") {
         usage(stdout);
-        return CLI_EXIT_OK;
+        return C4GH_CLI_EXIT_OK;
     }
     if (cmd == "-V" || cmd == "--version") {
         std::printf("c4g-ident %s (libc4gopen %s, Ceres Solver %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING, CERES_VERSION_STRING);
-        return CLI_EXIT_OK;
+        return C4GH_CLI_EXIT_OK;
     }
     if (cmd == "fit") return run_fit(argc - 1, argv + 1);
     if (cmd == "excite") return run_excite(argc - 1, argv + 1);
     char shown[80];
-    cli_path_text(cmd.c_str(), shown, sizeof shown);
+    c4gh_cli_path_text(cmd.c_str(), shown, sizeof shown);
     if (cmd[0] == '-') {
         std::fprintf(stderr, "%s: unrecognized option '%s' (see %s --help)\n", kTool, shown, kTool);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     std::fprintf(stderr, "%s: unknown command '%s' (see %s --help)\n", kTool, shown, kTool);
-    return CLI_EXIT_USAGE;
+    return C4GH_CLI_EXIT_USAGE;
 }

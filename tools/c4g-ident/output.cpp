@@ -2,7 +2,7 @@
 #include "output.hpp"
 
 extern "C" {
-#include "c4g_ffmodel.h"
+#include "c4gh_ffmodel.h"
 }
 
 #include <jansson.h>
@@ -204,7 +204,7 @@ std::string params_text(const Job &j, const std::string &version)
     }
     // the checksum covers every byte but its own line
     const std::string without = o.str() + body.str();
-    uint64_t sum = ffm_fnv1a64(without.data(), without.size(), FFM_FNV_BASIS);
+    uint64_t sum = c4gh_ffm_fnv1a64(without.data(), without.size(), C4GH_FFM_FNV_BASIS);
     char line[64];
     std::snprintf(line, sizeof line, "checksum = fnv1a64:%016llx\n", static_cast<unsigned long long>(sum));
     return o.str() + line + body.str();

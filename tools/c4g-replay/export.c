@@ -5,9 +5,9 @@
  * exported ("nan" in CSV, null in JSON). */
 #include "replay.h"
 
-#include "c4g_csv.h"
-#include "c4g_tickcsv.h"
-#include "c4g_textfile.h"
+#include "c4gh_csv.h"
+#include "c4gh_csv.h"
+#include "c4gh_textfile.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -72,14 +72,14 @@ static void csv_side(ex_ctx_t *e, const uint8_t *d, size_t len, unsigned n)
             fprintf(e->out, ",,,,,,,,,");
             continue;
         }
-        fprintf(e->out, ",%d", (int)an_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
+        fprintf(e->out, ",%d", (int)c4gh_an_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",%.9g", (double)an_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
+            fprintf(e->out, ",%.9g", (double)c4gh_an_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
         }
     }
 }
 
-static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
+static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
     const unsigned n = axes_in(x->ctrl_len);
     if (!e->header_done || n != e->last_header_axes) {
@@ -92,15 +92,15 @@ static void csv_row(ex_ctx_t *e, const an_exchange_t *x, double t)
     if (x->reply != NULL) {
         fprintf(e->out, "%llu", (unsigned long long)x->reply_frame);
     }
-    fprintf(e->out, ",%d,", (int)an_le_i32(x->ctrl));
+    fprintf(e->out, ",%d,", (int)c4gh_an_le_i32(x->ctrl));
     if (x->reply != NULL && x->reply_len >= 4U) {
-        fprintf(e->out, "%d,%.3f", (int)an_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        fprintf(e->out, "%d,%.3f", (int)c4gh_an_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
         fputc(',', e->out);
     }
-    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)an_le_u32(x->ctrl + 4), (unsigned)an_le_u32(x->ctrl + 8));
+    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)c4gh_an_le_u32(x->ctrl + 4), (unsigned)c4gh_an_le_u32(x->ctrl + 8));
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        fprintf(e->out, "0x%08x,0x%08x", (unsigned)an_le_u32(x->reply + 4), (unsigned)an_le_u32(x->reply + 8));
+        fprintf(e->out, "0x%08x,0x%08x", (unsigned)c4gh_an_le_u32(x->reply + 4), (unsigned)c4gh_an_le_u32(x->reply + 8));
     } else {
         fputc(',', e->out);
     }
@@ -131,9 +131,9 @@ static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
     }
     o = json_object();
     axes = json_array();
-    json_object_set_new(o, "num", json_integer(an_le_i32(d)));
-    json_object_set_new(o, "infpar", json_integer(an_le_u32(d + 4)));
-    json_object_set_new(o, "cmd", json_integer(an_le_u32(d + 8)));
+    json_object_set_new(o, "num", json_integer(c4gh_an_le_i32(d)));
+    json_object_set_new(o, "infpar", json_integer(c4gh_an_le_u32(d + 4)));
+    json_object_set_new(o, "cmd", json_integer(c4gh_an_le_u32(d + 8)));
     for (i = 0U; i < n; i++) {
         const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
         json_t *ax;
@@ -142,9 +142,9 @@ static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
         }
         ax = json_object();
         json_object_set_new(ax, "axis", json_integer(i + 1U));
-        json_object_set_new(ax, "mode", json_integer(an_le_i32(a)));
+        json_object_set_new(ax, "mode", json_integer(c4gh_an_le_i32(a)));
         for (k = 0U; k < 8U; k++) {
-            json_object_set_new(ax, fnames[k], json_float(an_le_f32(a + 4U + 4U * k)));
+            json_object_set_new(ax, fnames[k], json_float(c4gh_an_le_f32(a + 4U + 4U * k)));
         }
         json_array_append_new(axes, ax);
     }
@@ -154,7 +154,7 @@ static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
 
 /* One tick as one JSON object on one line (jansson; 12 significant digits: the floats' 9-digit
  * decimals as they are, the time to the nanosecond below 1000 s). */
-static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
+static void json_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
     json_t *o = json_object();
     json_object_set_new(o, "session", json_integer(x->s->id));
@@ -168,8 +168,8 @@ static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
         json_object_set_new(o, "pc_frame", json_null());
         json_object_set_new(o, "latency_us", json_null());
     }
-    json_object_set_new(o, "verdict", json_string(x->verdict == CS_J_OK ? (x->late ? "late" : "ok")
-                                                  : (x->verdict == CS_J_MISSING ? "missing"
+    json_object_set_new(o, "verdict", json_string(x->verdict == C4GH_CS_J_OK ? (x->late ? "late" : "ok")
+                                                  : (x->verdict == C4GH_CS_J_MISSING ? "missing"
                                                                                 : "unjudged")));
     json_object_set_new(o, "ctrl", json_side(e, x->ctrl, x->ctrl_len));
     json_object_set_new(o, "pc", json_side(e, x->reply, x->reply_len));
@@ -178,16 +178,16 @@ static void json_row(ex_ctx_t *e, const an_exchange_t *x, double t)
     json_decref(o);
 }
 
-static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
+static void moni_rows(ex_ctx_t *e, const c4gh_an_exchange_t *x)
 {
-    char buf[C4G_MONI_ROW_MAX + 8U];
+    char buf[C4GH_MONI_ROW_MAX + 8U];
     size_t len = 0U;
     uint32_t i;
     if (x->rx == NULL || x->tx == NULL) {
         return; /* moni records need both packets decoded */
     }
     if (!e->header_done) {
-        if (c4g_moni_csv_header(e->moni, buf, sizeof buf, &len) == C4G_OK) {
+        if (c4gh_moni_csv_header(e->moni, buf, sizeof buf, &len) == C4G_OK) {
             fputs(buf, e->out);
         }
         e->header_done = 1U;
@@ -197,7 +197,7 @@ static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
         if (!axis_on(e, i) || c4g_moni_record(e->moni, x->rx, x->tx, i, &rec) != C4G_OK) {
             continue;
         }
-        if (c4g_moni_csv_row(&rec, buf, sizeof buf, &len) == C4G_OK) {
+        if (c4gh_moni_csv_row(&rec, buf, sizeof buf, &len) == C4G_OK) {
             fputs(buf, e->out);
         }
     }
@@ -205,7 +205,7 @@ static void moni_rows(ex_ctx_t *e, const an_exchange_t *x)
 
 /* The per-tick CSV every tool shares (docs/csv.md): one row per axis, the columns of
  * c4g-server --moni, for ticks whose packet and reply both decoded. */
-static void tick_rows(ex_ctx_t *e, const an_exchange_t *x, double t)
+static void tick_rows(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
     const c4g_axis_map_t *m = &x->s->map;
     uint32_t i;
@@ -213,25 +213,25 @@ static void tick_rows(ex_ctx_t *e, const an_exchange_t *x, double t)
         return;
     }
     if (!e->header_done) {
-        fputs(C4G_TICK_CSV_COLUMNS "\n", e->out);
+        fputs(C4GH_TICK_CSV_COLUMNS "\n", e->out);
         e->header_done = 1U;
     }
     for (i = 0U; i < x->rx->n_axes && i < C4G_MAX_AXES; i++) {
         if (!axis_on(e, i)) {
             continue;
         }
-        c4g_tick_csv_row(e->out, t, x->rx->num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+        c4gh_tick_csv_row(e->out, t, x->rx->num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
                          (uint32_t)m->logical_of[i] + 1U, &x->rx->ax[i], x->tx->infpar,
                          &x->tx->ax[i]);
         fputc('\n', e->out);
     }
 }
 
-static void on_exchange(void *ctx, const an_exchange_t *x)
+static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 {
     ex_ctx_t *e = ctx;
     const double t = (double)(x->ctrl_ns - x->s->first_ns) * 1e-9;
-    if (x->kind != CS_CYCLIC || axes_in(x->ctrl_len) == 0U) {
+    if (x->kind != C4GH_CS_CYCLIC || axes_in(x->ctrl_len) == 0U) {
         return;
     }
     if ((e->session != 0U && x->s->id != e->session) || t < e->from_s || (e->to_s >= 0.0 && t > e->to_s)) {
@@ -250,7 +250,7 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
 }
 
 /* --axes 1,3-5: OPEN indexes 1..20 */
-static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_axes(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     ex_ctx_t *e = ctx;
     const char *p = v;
@@ -271,8 +271,8 @@ static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, s
         if (dash != NULL) {
             *dash = '\0';
         }
-        if (tf_parse_int(item, 1, 20, &lo) != TF_NUM_OK ||
-            (dash != NULL && tf_parse_int(dash + 1, lo, 20, &hi) != TF_NUM_OK)) {
+        if (c4gh_tf_parse_int(item, 1, 20, &lo) != C4GH_TF_NUM_OK ||
+            (dash != NULL && c4gh_tf_parse_int(dash + 1, lo, 20, &hi) != C4GH_TF_NUM_OK)) {
             (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
             return -1;
         }
@@ -290,7 +290,7 @@ static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, s
     return 0;
 }
 
-static int opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_port(&((ex_ctx_t *)ctx)->c, row, v, why, whylen);
 }
@@ -314,28 +314,28 @@ static const char epilogue[] =
 int rp_cmd_export(int argc, char **argv)
 {
     ex_ctx_t e;
-    cli_spec_t spec;
-    an_t a;
+    c4gh_cli_spec_t spec;
+    c4gh_an_t a;
     rp_file_t file;
     int first = 0, rc;
-    cli_result_t r;
-    const cli_opt_t rows[] = {
-        {"moni", 'm', CLI_UINT, "TYPE", "the manual's monitoring rows of type 19..24 instead", &e.moni, 0, 19,
+    c4gh_cli_result_t r;
+    const c4gh_cli_opt_t rows[] = {
+        {"moni", 'm', C4GH_CLI_UINT, "TYPE", "the manual's monitoring rows of type 19..24 instead", &e.moni, 0, 19,
          24, NULL, 0},
-        {"axes", 0, CLI_CALL, "LIST", "OPEN axes to export, e.g. 1,3-5 (default all)", NULL, 0, 0, 0,
+        {"axes", 0, C4GH_CLI_CALL, "LIST", "OPEN axes to export, e.g. 1,3-5 (default all)", NULL, 0, 0, 0,
          opt_axes, 0},
-        {"from", 0, CLI_DOUBLE, "S", "first tick at or after S seconds into the session", &e.from_s, 0, 0,
+        {"from", 0, C4GH_CLI_DOUBLE, "S", "first tick at or after S seconds into the session", &e.from_s, 0, 0,
          1e9, NULL, 0},
-        {"to", 0, CLI_DOUBLE, "S", "last tick at or before S seconds", &e.to_s, 0, 0, 1e9, NULL, 0},
-        {"session", 's', CLI_UINT, "N", "only session N (summary numbers them)", &e.session, 0, 1, 1e6,
+        {"to", 0, C4GH_CLI_DOUBLE, "S", "last tick at or before S seconds", &e.to_s, 0, 0, 1e9, NULL, 0},
+        {"session", 's', C4GH_CLI_UINT, "N", "only session N (summary numbers them)", &e.session, 0, 1, 1e6,
          NULL, 0},
-        {"json-lines", 0, CLI_FLAG, NULL, "one JSON object per tick instead of CSV", &e.json_lines, 0, 0, 0,
+        {"json-lines", 0, C4GH_CLI_FLAG, NULL, "one JSON object per tick instead of CSV", &e.json_lines, 0, 0, 0,
          NULL, 0},
-        {"ticks", 0, CLI_FLAG, NULL, "the per-tick CSV of c4g-server --moni and c4g-sim --csv instead",
+        {"ticks", 0, C4GH_CLI_FLAG, NULL, "the per-tick CSV of c4g-server --moni and c4g-sim --csv instead",
          &e.ticks, 0, 0, 0, NULL, 0},
-        {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
+        {"port", 'p', C4GH_CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
-        {"no-progress", 0, CLI_FLAG, NULL, "no progress bar on a terminal", &e.c.no_progress, 0, 0, 0, NULL, 0},
+        {"no-progress", 0, C4GH_CLI_FLAG, NULL, "no progress bar on a terminal", &e.c.no_progress, 0, 0, 0, NULL, 0},
     };
     memset(&e, 0, sizeof e);
     rp_common_default(&e.c);
@@ -354,29 +354,29 @@ int rp_cmd_export(int argc, char **argv)
     spec.operands_min = 1;
     spec.operands_max = 1;
     spec.permute = 1;
-    r = cli_parse(&spec, &e, argc, argv, &first);
-    if (r != CLI_RUN) {
-        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    r = c4gh_cli_parse(&spec, &e, argc, argv, &first);
+    if (r != C4GH_CLI_RUN) {
+        return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     if (e.to_s >= 0.0 && e.to_s < e.from_s) {
-        cli_error(&spec, "--to %g is before --from %g: no tick would be exported", e.to_s, e.from_s);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--to %g is before --from %g: no tick would be exported", e.to_s, e.from_s);
+        return C4GH_CLI_EXIT_USAGE;
     }
     if ((e.moni != 0U) + e.json_lines + e.ticks > 1) {
-        cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--moni, --json-lines and --ticks exclude each other");
+        return C4GH_CLI_EXIT_USAGE;
     }
     e.c.an.on_exchange = on_exchange;
     e.c.an.ctx = &e;
-    if (an_init(&a, &e.c.an) != 0) {
+    if (c4gh_an_init(&a, &e.c.an) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     rc = rp_read(&a, argv[first], &file, !e.c.no_progress);
-    an_free(&a);
+    c4gh_an_free(&a);
     if (fflush(stdout) != 0) {
         fprintf(stderr, RP_TOOL ": writing the export failed\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
-    return (rc == 2) ? RP_EXIT_UNREADABLE : (rc == 1 ? CLI_EXIT_RUNTIME : CLI_EXIT_OK);
+    return (rc == 2) ? RP_EXIT_UNREADABLE : (rc == 1 ? C4GH_CLI_EXIT_RUNTIME : C4GH_CLI_EXIT_OK);
 }

@@ -6,8 +6,8 @@
  * until the packet is due, so memory stays bounded whatever the capture's length. */
 #include "live.h"
 
-#include "c4g_textfile.h"
-#include "c4g_udpts.h"
+#include "c4gh_textfile.h"
+#include "c4gh_udp.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -35,7 +35,7 @@ static void on_signal(int sig)
 
 /* ---- options ------------------------------------------------------------- */
 
-static int opt_to(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_to(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     lv_t *L = ctx;
     const char *colon = strrchr(v, ':');
@@ -45,7 +45,7 @@ static int opt_to(void *ctx, const cli_opt_t *row, const char *v, char *why, siz
     int rc;
     (void)row;
     if (colon == NULL || colon == v || (size_t)(colon - v) >= sizeof host ||
-        tf_parse_int(colon + 1, 1, 65535, &port) != TF_NUM_OK) {
+        c4gh_tf_parse_int(colon + 1, 1, 65535, &port) != C4GH_TF_NUM_OK) {
         (void)snprintf(why, whylen, "want HOST:PORT");
         return -1;
     }
@@ -67,16 +67,16 @@ static int opt_to(void *ctx, const cli_opt_t *row, const char *v, char *why, siz
     return 0;
 }
 
-static int opt_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     lv_t *L = ctx;
     (void)row;
     if (strcmp(v, "plus-one") == 0) {
-        L->policy = CS_NUM_PLUS_ONE;
+        L->policy = C4GH_CS_NUM_PLUS_ONE;
     } else if (strcmp(v, "echo") == 0) {
-        L->policy = CS_NUM_ECHO;
+        L->policy = C4GH_CS_NUM_ECHO;
     } else if (strcmp(v, "either") == 0) {
-        L->policy = CS_NUM_EITHER;
+        L->policy = C4GH_CS_NUM_EITHER;
     } else {
         (void)snprintf(why, whylen, "want plus-one, echo or either");
         return -1;
@@ -84,24 +84,24 @@ static int opt_policy(void *ctx, const cli_opt_t *row, const char *v, char *why,
     return 0;
 }
 
-static int opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_port(&((lv_t *)ctx)->c, row, v, why, whylen);
 }
 
-static int opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_tcycle1(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_tcycle1(&((lv_t *)ctx)->c, row, v, why, whylen);
 }
 
 /* ---- pass 1: which session, and can it be played -------------------------- */
 
-static void on_scan(void *ctx, const an_exchange_t *x)
+static void on_scan(void *ctx, const c4gh_an_exchange_t *x)
 {
     lv_t *L = ctx;
     lv_scan_t *sc;
     uint64_t last;
-    if (x->s->id == 0U || x->s->id > AN_MAX_SESSIONS) {
+    if (x->s->id == 0U || x->s->id > C4GH_AN_MAX_SESSIONS) {
         return;
     }
     sc = &L->scan[x->s->id - 1U];
@@ -112,9 +112,9 @@ static void on_scan(void *ctx, const an_exchange_t *x)
         sc->first_kind = (int)x->kind;
         sc->first_ns = x->ctrl_ns;
     }
-    sc->sync += (x->kind == CS_SYNC);
-    sc->init += (x->kind == CS_INIT);
-    sc->cyclic += (x->kind == CS_CYCLIC);
+    sc->sync += (x->kind == C4GH_CS_SYNC);
+    sc->init += (x->kind == C4GH_CS_INIT);
+    sc->cyclic += (x->kind == C4GH_CS_CYCLIC);
     sc->last_ns = x->ctrl_ns;
     last = x->ctrl_frame;
     if (x->reply != NULL && x->reply_frame > last) {
@@ -149,14 +149,14 @@ static int choose(lv_t *L)
     if (L->session > L->n_scan || L->scan[L->session - 1U].exchanges == 0U) {
         fprintf(stderr, RP_TOOL ": live: --session %u: %s has %u session%s\n", L->session, L->path,
                 L->n_scan, L->n_scan == 1U ? "" : "s");
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     sc = &L->scan[L->session - 1U];
     if (sc->init == 0U) {
         fprintf(stderr, RP_TOOL ": live: --session %u: the session starts at a %s packet without "
                 "its start-up (no initialization packet): a PC server cannot take it up in the "
                 "middle; 'c4g-replay rerun' replays it through c4g-server's code\n", L->session,
-                sc->first_kind == CS_SYNC ? "synchronization" : "cyclic");
+                sc->first_kind == C4GH_CS_SYNC ? "synchronization" : "cyclic");
         return RP_EXIT_UNREADABLE;
     }
     L->chosen = L->session;
@@ -175,7 +175,7 @@ static int net_open(lv_t *L)
         fprintf(stderr, RP_TOOL ": live: socket: %s\n", strerror(errno));
         return -1;
     }
-    L->kstamp = uts_enable(L->fd);
+    L->kstamp = c4gh_udp_enable(L->fd);
     return 0;
 }
 
@@ -183,25 +183,25 @@ static int net_open(lv_t *L)
  * time of our last packet. */
 static void drain(lv_t *L)
 {
-    const uint64_t off = L->kstamp ? uts_real_minus_mono() : 0U;
+    const uint64_t off = L->kstamp ? c4gh_udp_real_minus_mono() : 0U;
     uint8_t buf[LV_DGRAM];
-    uts_msg_t m;
+    c4gh_udp_msg_t m;
     ssize_t n;
-    while ((n = uts_recv(L->fd, 0, off, buf, sizeof buf, &m)) >= 0) {
-        const uint64_t now = uts_now_ns();
+    while ((n = c4gh_udp_recv(L->fd, 0, off, buf, sizeof buf, &m)) >= 0) {
+        const uint64_t now = c4gh_udp_now_ns();
         const uint64_t t = (m.stamp_ns != 0U && m.stamp_ns <= now) ? m.stamp_ns : now;
         if (m.from.sin_addr.s_addr != L->to.sin_addr.s_addr || m.from.sin_port != L->to.sin_port) {
-            cs_foreign(&L->cs);
+            c4gh_cs_foreign(&L->cs);
             continue;
         }
-        if (cs_reply(&L->cs, buf, (size_t)n, t) == CS_RX_ACCEPTED) {
+        if (c4gh_cs_reply(&L->cs, buf, (size_t)n, t) == C4GH_CS_RX_ACCEPTED) {
             L->live_len = ((size_t)n <= sizeof L->live_raw) ? (size_t)n : sizeof L->live_raw;
             memcpy(L->live_raw, buf, L->live_len);
         }
     }
-    while (L->kstamp && uts_recv(L->fd, 1, off, buf, sizeof buf, &m) >= 0) {
+    while (L->kstamp && c4gh_udp_recv(L->fd, 1, off, buf, sizeof buf, &m) >= 0) {
         if (m.has_key && L->has_key && m.key == L->tx_key) {
-            (void)cs_sent_stamp(&L->cs, m.stamp_ns, uts_now_ns());
+            (void)c4gh_cs_sent_stamp(&L->cs, m.stamp_ns, c4gh_udp_now_ns());
         }
     }
 }
@@ -209,7 +209,7 @@ static void drain(lv_t *L)
 /* Wait for the socket at most until @p until (0 when the time has come). */
 static void poll_until(lv_t *L, uint64_t until)
 {
-    const uint64_t now = uts_now_ns();
+    const uint64_t now = c4gh_udp_now_ns();
     fd_set rf;
     struct timespec ts;
     if (now >= until) {
@@ -231,20 +231,20 @@ static void wait_until(lv_t *L, uint64_t t)
 {
     const uint64_t guard = LV_GUARD_NS + L->spin_ns;
     while (!g_stop) {
-        const uint64_t now = uts_now_ns();
+        const uint64_t now = c4gh_udp_now_ns();
         if (now + guard >= t) {
             break;
         }
         poll_until(L, t - guard);
     }
     if (!g_stop) {
-        uts_sleep_until(t - L->spin_ns, &g_stop);
+        c4gh_udp_sleep_until(t - L->spin_ns, &g_stop);
     }
     /* A sleeping process wakes tens of us late (timer slack, CPU idle states, a virtual
      * machine's timer): the last stretch is a busy wait on the clock. */
     if (L->spin_ns > 0U) {
         drain(L);
-        while (!g_stop && uts_now_ns() < t) {
+        while (!g_stop && c4gh_udp_now_ns() < t) {
         }
     }
     drain(L);
@@ -256,7 +256,7 @@ static void wait_reply(lv_t *L, uint64_t deadline)
     for (;;) {
         drain(L);
         if (!L->pend.check || L->pend.suspended || L->cs.out.got || g_stop ||
-            uts_now_ns() >= deadline) {
+            c4gh_udp_now_ns() >= deadline) {
             return;
         }
         poll_until(L, deadline);
@@ -322,8 +322,8 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
     L->compared++;
     if (!P->has_rec) {
         divergence(L, &nd, LV_F_REPLY, 0U, "none", "a valid reply");
-    } else if (P->kind != CS_CYCLIC) {
-        cmp_int(L, &nd, LV_F_NUM, 0U, an_le_i32(P->rec_raw), an_le_i32(L->live_raw), 0);
+    } else if (P->kind != C4GH_CS_CYCLIC) {
+        cmp_int(L, &nd, LV_F_NUM, 0U, c4gh_an_le_i32(P->rec_raw), c4gh_an_le_i32(L->live_raw), 0);
         if (P->rec_len != L->live_len || memcmp(P->rec_raw + 4, L->live_raw + 4, P->rec_len - 4U) != 0) {
             char a[24], b[24];
             (void)snprintf(a, sizeof a, "%u bytes", (unsigned)P->rec_len);
@@ -361,24 +361,24 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
 /* The recorded reply to the pending packet came after the next controller packet (the
  * controller counted it missing): it is still what the recorded PC answered, so a reply
  * judged ok now is compared with it (a timing difference, not a divergence, when equal). */
-static void on_late_rec(void *ctx, const an_session_t *s, const uint8_t *d, size_t len, int64_t ns,
+static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d, size_t len, int64_t ns,
                         uint64_t frame)
 {
     lv_t *L = ctx;
     lv_pending_t *P = &L->pend;
-    const int32_t num = (len >= 4U) ? an_le_i32(d) : -1;
-    const int pol = (s->cs.detected >= 0) ? s->cs.detected : CS_NUM_PLUS_ONE;
+    const int32_t num = (len >= 4U) ? c4gh_an_le_i32(d) : -1;
+    const int pol = (s->cs.detected >= 0) ? s->cs.detected : C4GH_CS_NUM_PLUS_ONE;
     (void)ns;
     (void)frame;
     if (!P->active || P->has_rec || len > sizeof P->rec_raw ||
-        c4g_reply_num(P->num, pol == CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+        c4g_reply_num(P->num, pol == C4GH_CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
         return;
     }
     P->has_rec = 1;
     P->rec_late = 1;
     P->rec_len = len;
     memcpy(P->rec_raw, d, len);
-    if (P->kind == CS_CYCLIC) {
+    if (P->kind == C4GH_CS_CYCLIC) {
         P->rec_decoded = (c4g_pc_decode(d, len, s->cs.cfg.n_axes, &P->rec, NULL) == C4G_OK);
     }
 }
@@ -389,23 +389,23 @@ static void on_late_rec(void *ctx, const an_session_t *s, const uint8_t *d, size
 static void judge(lv_t *L, uint64_t deadline, int own_short)
 {
     lv_pending_t *P = &L->pend;
-    cs_verdict_t v;
-    uint64_t woke = uts_now_ns();
+    c4gh_cs_verdict_t v;
+    uint64_t woke = c4gh_udp_now_ns();
     /* We sent the packet so late that the PC had less than its period: judged as our own
-     * lateness (cs_judge): a reply that is there counts, none is unjudged, not missing. */
+     * lateness (c4gh_cs_judge): a reply that is there counts, none is unjudged, not missing. */
     if (own_short && woke <= deadline + L->tol_ns) {
         woke = deadline + L->tol_ns + 1U;
     }
-    cs_set_deadline(&L->cs, deadline);
-    v = cs_judge(&L->cs, woke, P->suspended);
+    c4gh_cs_set_deadline(&L->cs, deadline);
+    v = c4gh_cs_judge(&L->cs, woke, P->suspended);
     if (!L->topspeed) {
         /* the kernel's send time when it came back, else the clock read before sendto */
         const uint64_t sent = L->cs.out.sent_ns;
-        c4g_hist_add(&L->err, (int64_t)(sent - P->sched_ns));
+        c4gh_hist_add(&L->err, (int64_t)(sent - P->sched_ns));
         L->drift_ns = (int64_t)(sent - P->sched_ns);
     }
-    if (v == CS_J_OK) {
-        compare(L, cs_take_reply(&L->cs));
+    if (v == C4GH_CS_J_OK) {
+        compare(L, c4gh_cs_take_reply(&L->cs));
     }
     P->active = 0;
 }
@@ -443,14 +443,14 @@ static void close_pending(lv_t *L, uint64_t next_sched, int64_t next_rec_ns)
     judge(L, deadline, own_short);
 }
 
-static void send_packet(lv_t *L, const an_exchange_t *x, uint64_t sched)
+static void send_packet(lv_t *L, const c4gh_an_exchange_t *x, uint64_t sched)
 {
     lv_pending_t *P = &L->pend;
     int check = 1;
     uint32_t i;
     uint64_t t;
     ssize_t n;
-    const int32_t num = an_le_i32(x->ctrl);
+    const int32_t num = c4gh_an_le_i32(x->ctrl);
     /* the controller does not wait for the reply to 504 (the analysis' rule) */
     for (i = 0U; x->rx != NULL && i < x->rx->n_axes; i++) {
         if (x->rx->ax[i].mode == C4G_MODE_EXIT_OPEN) {
@@ -458,8 +458,8 @@ static void send_packet(lv_t *L, const an_exchange_t *x, uint64_t sched)
         }
     }
     L->live_len = 0U;
-    t = uts_now_ns();
-    cs_emit(&L->cs, x->kind, num, x->ctrl, x->ctrl_len, check, t);
+    t = c4gh_udp_now_ns();
+    c4gh_cs_emit(&L->cs, x->kind, num, x->ctrl, x->ctrl_len, check, t);
     n = sendto(L->fd, x->ctrl, x->ctrl_len, 0, (const struct sockaddr *)&L->to, sizeof L->to);
     L->has_key = (n >= 0);
     if (n >= 0) {
@@ -501,7 +501,7 @@ static void send_packet(lv_t *L, const an_exchange_t *x, uint64_t sched)
     }
 }
 
-static void on_play(void *ctx, const an_exchange_t *x)
+static void on_play(void *ctx, const c4gh_an_exchange_t *x)
 {
     lv_t *L = ctx;
     uint64_t rel, sched;
@@ -511,7 +511,7 @@ static void on_play(void *ctx, const an_exchange_t *x)
     if (!L->started) {
         L->started = 1;
         L->first_rec_ns = x->ctrl_ns;
-        L->origin_ns = uts_now_ns() + LV_LEAD_NS;
+        L->origin_ns = c4gh_udp_now_ns() + LV_LEAD_NS;
         L->last_rel_ns = 0U;
     }
     rel = (x->ctrl_ns > L->first_rec_ns)
@@ -529,7 +529,7 @@ static void on_play(void *ctx, const an_exchange_t *x)
     if (g_stop) {
         return;
     }
-    if (!L->topspeed && sched > uts_now_ns()) {
+    if (!L->topspeed && sched > c4gh_udp_now_ns()) {
         wait_until(L, sched); /* the window closed at a deadline before the packet is due */
     }
     send_packet(L, x, sched);
@@ -539,52 +539,52 @@ static void on_play(void *ctx, const an_exchange_t *x)
 static int play_pass(lv_t *L)
 {
     const lv_scan_t *sc = &L->scan[L->chosen - 1U];
-    an_options_t o = L->c.an;
-    cs_config_t cfg;
+    c4gh_an_options_t o = L->c.an;
+    c4gh_cs_config_t cfg;
     char err[390];
-    an_t a;
-    cap_t *c;
-    cap_pkt_t p;
+    c4gh_an_t a;
+    c4gh_cap_t *c;
+    c4gh_cap_pkt_t p;
     int ended = 0;
     memset(&cfg, 0, sizeof cfg);
-    cfg.policy = (cs_policy_t)L->policy;
+    cfg.policy = (c4gh_cs_policy_t)L->policy;
     cfg.n_axes = sc->n_axes;
     cfg.t_cycle1_ns = L->c.an.t_cycle1_ns;
     cfg.tol_ns = L->tol_ns;
     cfg.max_miss = 10U;
     cfg.sync_before = 9U;
     cfg.sync_after = 2U;
-    cs_init(&L->cs, &cfg);
+    c4gh_cs_init(&L->cs, &cfg);
     L->started = 0;
     L->pass_done = 0;
     L->pend.active = 0;
     o.on_exchange = on_play;
     o.on_late = on_late_rec;
     o.ctx = L;
-    if (an_init(&a, &o) != 0) {
+    if (c4gh_an_init(&a, &o) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
         return -1;
     }
-    c = cap_open(L->path, err, sizeof err);
+    c = c4gh_cap_open(L->path, err, sizeof err);
     if (c == NULL) {
         fprintf(stderr, RP_TOOL ": %s\n", err);
-        an_free(&a);
+        c4gh_an_free(&a);
         return -1;
     }
     while (!g_stop && !ended) {
-        const cap_res_t r = cap_next(c, &p, err, sizeof err);
-        if (r == CAP_END || r == CAP_FATAL) {
+        const c4gh_cap_res_t r = c4gh_cap_next(c, &p, err, sizeof err);
+        if (r == C4GH_CAP_END || r == C4GH_CAP_FATAL) {
             break;
         }
-        if (r == CAP_DATAGRAM) {
-            an_datagram(&a, L->path, &p);
+        if (r == C4GH_CAP_DATAGRAM) {
+            c4gh_an_datagram(&a, L->path, &p);
             /* the session's last packet and its reply are in: close it now rather than read
              * the rest of the file (other sessions) with the packet still waiting */
             ended = p.frame >= sc->stop_frame;
         }
     }
     if (!g_stop) {
-        an_file_end(&a, L->path);
+        c4gh_an_file_end(&a, L->path);
     }
     if (L->pend.active && !g_stop) {
         const uint64_t settle = L->pend.sent_ns + L->period_ns;
@@ -595,19 +595,19 @@ static int play_pass(lv_t *L)
         }
         /* the reply to an unchecked last packet (504) is counted in this pass, not taken
          * for a wrong reply to the next pass's first packet */
-        while (!g_stop && uts_now_ns() < settle) {
+        while (!g_stop && c4gh_udp_now_ns() < settle) {
             poll_until(L, settle);
         }
         drain(L);
     }
     L->pass_done = 1;
-    cap_close(c);
-    an_free(&a);
+    c4gh_cap_close(c);
+    c4gh_an_free(&a);
     return 0;
 }
 
 /* Add one pass's counters to the totals. */
-static void add_counters(cs_counters_t *t, const cs_counters_t *n)
+static void add_counters(c4gh_cs_counters_t *t, const c4gh_cs_counters_t *n)
 {
     if (n->replies_ok > 0U && (t->replies_ok == 0U || n->lat_min < t->lat_min)) {
         t->lat_min = n->lat_min;
@@ -633,14 +633,14 @@ static void add_counters(cs_counters_t *t, const cs_counters_t *n)
     t->stale += n->stale;
     t->unexpected += n->unexpected;
     t->lat_sum += n->lat_sum;
-    c4g_hist_merge(&t->lat, &n->lat);
+    c4gh_hist_merge(&t->lat, &n->lat);
 }
 
 static int play(lv_t *L)
 {
     const lv_scan_t *sc = &L->scan[L->chosen - 1U];
     const uint64_t b = L->c.an.t_cycle1_ns;
-    const uint64_t start = uts_now_ns();
+    const uint64_t start = c4gh_udp_now_ns();
     struct sigaction sa;
     L->period_ns = (uint64_t)((double)(sc->period_ms > 0 ? sc->period_ms : 2) * 1e6 /
                               (L->topspeed ? 1.0 : L->speed));
@@ -664,7 +664,7 @@ static int play(lv_t *L)
             L->loops == 1U ? "" : "es");
     for (L->pass = 1U; L->pass <= L->loops && !g_stop; L->pass++) {
         if (L->pass > 1U && L->gap_ms > 0U) {
-            uts_sleep_until(uts_now_ns() + (uint64_t)L->gap_ms * 1000000U, &g_stop);
+            c4gh_udp_sleep_until(c4gh_udp_now_ns() + (uint64_t)L->gap_ms * 1000000U, &g_stop);
         }
         if (play_pass(L) != 0) {
             L->read_failed = 1;
@@ -676,7 +676,7 @@ static int play(lv_t *L)
         }
     }
     L->interrupted = g_stop != 0;
-    L->elapsed_ns = uts_now_ns() - start;
+    L->elapsed_ns = c4gh_udp_now_ns() - start;
     close(L->fd);
     return 0;
 }
@@ -704,44 +704,44 @@ static const char live_epilogue[] =
 int rp_cmd_live(int argc, char **argv)
 {
     lv_t *L;
-    cli_spec_t spec;
-    cli_result_t r;
+    c4gh_cli_spec_t spec;
+    c4gh_cli_result_t r;
     rp_file_t info;
-    an_t a;
-    an_options_t o;
+    c4gh_an_t a;
+    c4gh_an_options_t o;
     int first = 0, rc;
     L = calloc(1, sizeof *L);
     if (L == NULL) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     {
-        const cli_opt_t rows[] = {
-            {"to", 't', CLI_CALL, "HOST:PORT", "the PC server (required)", NULL, 0, 0, 0, opt_to, 0},
-            {"speed", 0, CLI_DOUBLE, "X", "time scale: 2 plays twice as fast (default 1)", &L->speed, 0,
+        const c4gh_cli_opt_t rows[] = {
+            {"to", 't', C4GH_CLI_CALL, "HOST:PORT", "the PC server (required)", NULL, 0, 0, 0, opt_to, 0},
+            {"speed", 0, C4GH_CLI_DOUBLE, "X", "time scale: 2 plays twice as fast (default 1)", &L->speed, 0,
              0.01, 1000, NULL, 0},
-            {"topspeed", 0, CLI_FLAG, NULL, "each packet as soon as the previous one's reply came",
+            {"topspeed", 0, C4GH_CLI_FLAG, NULL, "each packet as soon as the previous one's reply came",
              &L->topspeed, 0, 0, 0, NULL, 0},
-            {"loop", 0, CLI_UINT, "N", "play the session N times, each a full start-up (default 1)",
+            {"loop", 0, C4GH_CLI_UINT, "N", "play the session N times, each a full start-up (default 1)",
              &L->loops, 0, 1, 1000000, NULL, 0},
-            {"loop-gap", 0, CLI_UINT, "MS", "silence between two passes (default 0)", &L->gap_ms, 0, 0,
+            {"loop-gap", 0, C4GH_CLI_UINT, "MS", "silence between two passes (default 0)", &L->gap_ms, 0, 0,
              3600000, NULL, 0},
-            {"session", 's', CLI_UINT, "N", "the session to play (default: the first with its start-up)",
-             &L->session, 0, 1, AN_MAX_SESSIONS, NULL, 0},
-            {"t-cycle1", 0, CLI_CALL, "US", "replies later than this count as late (default 500)", NULL,
+            {"session", 's', C4GH_CLI_UINT, "N", "the session to play (default: the first with its start-up)",
+             &L->session, 0, 1, C4GH_AN_MAX_SESSIONS, NULL, 0},
+            {"t-cycle1", 0, C4GH_CLI_CALL, "US", "replies later than this count as late (default 500)", NULL,
              0, 0, 0, opt_tcycle1, 0},
-            {"num-policy", 0, CLI_CALL, "P", "reply NUM accepted: plus-one, echo, either (default)", NULL,
+            {"num-policy", 0, C4GH_CLI_CALL, "P", "reply NUM accepted: plus-one, echo, either (default)", NULL,
              0, 0, 0, opt_policy, 0},
-            {"spin-us", 0, CLI_UINT, "US", "busy-wait this long before each packet (default 100)",
+            {"spin-us", 0, C4GH_CLI_UINT, "US", "busy-wait this long before each packet (default 100)",
              &L->spin_us, 0, 0, 100000, NULL, 0},
-            {"tolerance", 0, CLI_DOUBLE, "X", "floats equal within X (default 0: the same bits)",
+            {"tolerance", 0, C4GH_CLI_DOUBLE, "X", "floats equal within X (default 0: the same bits)",
              &L->tolerance, 0, 0, 1e30, NULL, 0},
-            {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows in the file (default 1000,1001)",
+            {"port", 'p', C4GH_CLI_CALL, "LIST", "PC ports of C4G Open flows in the file (default 1000,1001)",
              NULL, 0, 0, 0, opt_port, 0},
-            {"json", 'j', CLI_FLAG, NULL, "the report as one JSON object", &L->c.json, 0, 0, 0, NULL, 0},
+            {"json", 'j', C4GH_CLI_FLAG, NULL, "the report as one JSON object", &L->c.json, 0, 0, 0, NULL, 0},
         };
         rp_common_default(&L->c);
-        L->policy = CS_NUM_EITHER;
+        L->policy = C4GH_CS_NUM_EITHER;
         L->loops = 1U;
         L->spin_us = 100U;
         L->fd = -1;
@@ -759,21 +759,21 @@ int rp_cmd_live(int argc, char **argv)
         spec.operands_min = 1;
         spec.operands_max = 1;
         spec.permute = 1;
-        r = cli_parse(&spec, L, argc, argv, &first);
+        r = c4gh_cli_parse(&spec, L, argc, argv, &first);
     }
-    if (r != CLI_RUN) {
+    if (r != C4GH_CLI_RUN) {
         free(L);
-        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+        return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     if (!L->have_to) {
         fprintf(stderr, RP_TOOL ": live: --to HOST:PORT is required (the PC server to play to)\n");
         free(L);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (L->topspeed && L->speed > 0.0) {
         fprintf(stderr, RP_TOOL ": live: --speed and --topspeed exclude each other\n");
         free(L);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (L->speed <= 0.0) {
         L->speed = 1.0;
@@ -783,32 +783,32 @@ int rp_cmd_live(int argc, char **argv)
     if (strcmp(L->path, "-") == 0) {
         fprintf(stderr, RP_TOOL ": live: reads the file once per pass: give a file, not - (standard input)\n");
         free(L);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     o = L->c.an;
     o.on_exchange = on_scan;
     o.ctx = L;
-    if (an_init(&a, &o) != 0) {
+    if (c4gh_an_init(&a, &o) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
         free(L);
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     rc = rp_read(&a, L->path, &info, 1);
-    an_free(&a);
+    c4gh_an_free(&a);
     if (rc == 2) {
         free(L);
         return RP_EXIT_UNREADABLE;
     }
     rc = choose(L);
     if (rc == 0 && play(L) != 0) {
-        rc = CLI_EXIT_RUNTIME;
+        rc = C4GH_CLI_EXIT_RUNTIME;
     } else if (rc == 0) {
         if (L->c.json) {
             lv_report_json(stdout, L);
         } else {
             lv_report_text(stdout, L);
         }
-        rc = (lv_findings(L) > 0) ? RP_EXIT_FINDINGS : CLI_EXIT_OK;
+        rc = (lv_findings(L) > 0) ? RP_EXIT_FINDINGS : C4GH_CLI_EXIT_OK;
     }
     free(L);
     return rc;

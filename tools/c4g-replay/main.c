@@ -53,16 +53,16 @@ int main(int argc, char **argv)
     size_t i;
     if (argc < 2) {
         usage(stderr);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "help") == 0) {
         usage(stdout);
-        return CLI_EXIT_OK;
+        return C4GH_CLI_EXIT_OK;
     }
     if (strcmp(argv[1], "-V") == 0 || strcmp(argv[1], "--version") == 0) {
         printf(RP_TOOL " %s (libc4gopen %s, %s)\n", C4G_VERSION_STRING, C4G_VERSION_STRING,
                pcap_lib_version());
-        return CLI_EXIT_OK;
+        return C4GH_CLI_EXIT_OK;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(argv[1], commands[i].name) == 0) {
@@ -71,7 +71,7 @@ int main(int argc, char **argv)
     }
     {
         char shown[80];
-        cli_path_text(argv[1], shown, sizeof shown);
+        c4gh_cli_path_text(argv[1], shown, sizeof shown);
         if (argv[1][0] == '-') {
             fprintf(stderr, RP_TOOL ": unrecognized option '%s' (see " RP_TOOL " --help)\n", shown);
         } else {
@@ -79,5 +79,5 @@ int main(int argc, char **argv)
                     "live, plot; see " RP_TOOL " --help)\n", shown);
         }
     }
-    return CLI_EXIT_USAGE;
+    return C4GH_CLI_EXIT_USAGE;
 }

@@ -26,14 +26,14 @@ typedef struct pl_ctx {
 
 static const char *const field_names[9] = {"mode", "d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
 
-static void on_exchange(void *ctx, const an_exchange_t *x)
+static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 {
     pl_ctx_t *p = ctx;
     const uint8_t *d;
     size_t len, off;
     double v;
     unsigned k;
-    if (x->kind != CS_CYCLIC) {
+    if (x->kind != C4GH_CS_CYCLIC) {
         return;
     }
     if (p->chosen == 0U && (p->session == 0U || p->session == x->s->id)) {
@@ -44,7 +44,7 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
     }
     if (p->latency) {
         /* the replies the controller used (judged in time): a stale one is no latency */
-        if (x->reply != NULL && x->verdict == CS_J_OK) {
+        if (x->reply != NULL && x->verdict == C4GH_CS_J_OK) {
             fprintf(p->data, "%.3f\n", (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
             p->points++;
         }
@@ -62,7 +62,7 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
             fprintf(p->data, " NaN");
             continue;
         }
-        v = (p->field_k[k] == 0U) ? (double)an_le_i32(d + off) : (double)an_le_f32(d + off);
+        v = (p->field_k[k] == 0U) ? (double)c4gh_an_le_i32(d + off) : (double)c4gh_an_le_f32(d + off);
         if (isfinite(v)) {
             fprintf(p->data, " %.9g", v);
         } else {
@@ -99,9 +99,9 @@ static const char *terminal_for(const char *out)
 }
 
 /* The gnuplot script: output, mode changes as labelled vertical lines, the data. */
-static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
+static int draw(const pl_ctx_t *p, const c4gh_an_t *a, const char *data_path)
 {
-    const an_session_t *s = NULL;
+    const c4gh_an_session_t *s = NULL;
     FILE *gp;
     unsigned i;
     int rc;
@@ -115,7 +115,7 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
     gp = popen(p->output[0] != '\0' ? "gnuplot >/dev/null" : "gnuplot", "w");
     if (gp == NULL) {
         fprintf(stderr, RP_TOOL ": plot: cannot run gnuplot (install gnuplot-nox)\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (p->output[0] != '\0') {
         fprintf(gp, "set terminal %s\nset output '%s'\n", terminal_for(p->output), p->output);
@@ -163,7 +163,7 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
     rc = pclose(gp);
     if (rc != 0) {
         fprintf(stderr, RP_TOOL ": plot: gnuplot failed (status %d)\n", rc);
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (p->output[0] != '\0') {
         FILE *f = fopen(p->output, "rb");
@@ -173,31 +173,31 @@ static int draw(const pl_ctx_t *p, const an_t *a, const char *data_path)
         }
         if (!written) {
             fprintf(stderr, RP_TOOL ": plot: gnuplot could not write %s\n", p->output);
-            return CLI_EXIT_RUNTIME;
+            return C4GH_CLI_EXIT_RUNTIME;
         }
         fprintf(stderr, RP_TOOL ": plot: %llu points of session %u written to %s\n",
                 (unsigned long long)p->points, p->chosen, p->output);
     }
-    return CLI_EXIT_OK;
+    return C4GH_CLI_EXIT_OK;
 }
 
 static int run(pl_ctx_t *p, const char *path)
 {
     char tmp[] = "/tmp/c4g-replay-plot-XXXXXX";
     const int fd = mkstemp(tmp);
-    an_t a;
+    c4gh_an_t a;
     rp_file_t file;
     int rc;
     if (fd < 0 || (p->data = fdopen(fd, "w")) == NULL) {
         fprintf(stderr, RP_TOOL ": plot: cannot create a temporary file\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     p->c.an.on_exchange = on_exchange;
     p->c.an.ctx = p;
-    if (an_init(&a, &p->c.an) != 0) {
+    if (c4gh_an_init(&a, &p->c.an) != 0) {
         fclose(p->data);
         unlink(tmp);
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     rc = rp_read(&a, path, &file, 1);
     fclose(p->data);
@@ -206,11 +206,11 @@ static int run(pl_ctx_t *p, const char *path)
     } else if (p->points == 0U) {
         fprintf(stderr, RP_TOOL ": plot: %s: nothing to plot (session %u, axis %u, %s %s)\n", path, p->session,
                 p->axis, p->side, p->latency ? "latency" : p->field);
-        rc = CLI_EXIT_RUNTIME;
+        rc = C4GH_CLI_EXIT_RUNTIME;
     } else {
         rc = draw(p, &a, tmp);
     }
-    an_free(&a);
+    c4gh_an_free(&a);
     unlink(tmp);
     return rc;
 }
@@ -225,19 +225,19 @@ static const char *const examples[] = {
 int rp_cmd_plot(int argc, char **argv)
 {
     pl_ctx_t p;
-    cli_spec_t spec;
+    c4gh_cli_spec_t spec;
     int first = 0;
     unsigned k;
-    cli_result_t r;
-    const cli_opt_t rows[] = {
-        {"axis", 'a', CLI_UINT, "N", "OPEN axis 1..20 (default 1)", &p.axis, 0, 1, 20, NULL, 0},
-        {"field", 'f', CLI_STRING, "F[,F]", "mode, d1..d5 or ext1..ext3, up to 4 in one plot (default d1; "
+    c4gh_cli_result_t r;
+    const c4gh_cli_opt_t rows[] = {
+        {"axis", 'a', C4GH_CLI_UINT, "N", "OPEN axis 1..20 (default 1)", &p.axis, 0, 1, 20, NULL, 0},
+        {"field", 'f', C4GH_CLI_STRING, "F[,F]", "mode, d1..d5 or ext1..ext3, up to 4 in one plot (default d1; "
          "d1,d3: target and actual)", p.field, sizeof p.field, 0, 0, NULL, 0},
-        {"side", 0, CLI_STRING, "ctrl|pc", "the controller's packets or the PC's replies (default ctrl)", p.side,
+        {"side", 0, C4GH_CLI_STRING, "ctrl|pc", "the controller's packets or the PC's replies (default ctrl)", p.side,
          sizeof p.side, 0, 0, NULL, 0},
-        {"session", 's', CLI_UINT, "N", "session N (default the first)", &p.session, 0, 1, 1e6, NULL, 0},
-        {"latency", 0, CLI_FLAG, NULL, "the reply latency histogram instead", &p.latency, 0, 0, 0, NULL, 0},
-        {"output", 'o', CLI_STRING, "FILE", "FILE.png or FILE.svg (default: a text plot on stdout)", p.output,
+        {"session", 's', C4GH_CLI_UINT, "N", "session N (default the first)", &p.session, 0, 1, 1e6, NULL, 0},
+        {"latency", 0, C4GH_CLI_FLAG, NULL, "the reply latency histogram instead", &p.latency, 0, 0, 0, NULL, 0},
+        {"output", 'o', C4GH_CLI_STRING, "FILE", "FILE.png or FILE.svg (default: a text plot on stdout)", p.output,
          sizeof p.output, 0, 0, NULL, 0},
     };
     memset(&p, 0, sizeof p);
@@ -257,9 +257,9 @@ int rp_cmd_plot(int argc, char **argv)
     spec.operands_min = 1;
     spec.operands_max = 1;
     spec.permute = 1;
-    r = cli_parse(&spec, &p, argc, argv, &first);
-    if (r != CLI_RUN) {
-        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    r = c4gh_cli_parse(&spec, &p, argc, argv, &first);
+    if (r != C4GH_CLI_RUN) {
+        return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     {
         const char *f = p.field;
@@ -268,9 +268,9 @@ int rp_cmd_plot(int argc, char **argv)
             for (k = 0U; k < 9U && !(strlen(field_names[k]) == n && strncmp(field_names[k], f, n) == 0); k++) {
             }
             if (k == 9U || p.n_fields >= 4U) {
-                cli_error(&spec, "--field: bad value '%s' (want up to 4 of mode, d1..d5, ext1..ext3 "
+                c4gh_cli_error(&spec, "--field: bad value '%s' (want up to 4 of mode, d1..d5, ext1..ext3 "
                           "separated by commas, e.g. d1,d3)", p.field);
-                return CLI_EXIT_USAGE;
+                return C4GH_CLI_EXIT_USAGE;
             }
             p.field_k[p.n_fields++] = k;
             f += n;
@@ -279,24 +279,24 @@ int rp_cmd_plot(int argc, char **argv)
             }
         }
         if (p.n_fields == 0U) {
-            cli_error(&spec, "--field: no field given");
-            return CLI_EXIT_USAGE;
+            c4gh_cli_error(&spec, "--field: no field given");
+            return C4GH_CLI_EXIT_USAGE;
         }
     }
     if (strcmp(p.side, "ctrl") != 0 && strcmp(p.side, "pc") != 0) {
-        cli_error(&spec, "--side: bad value '%s' (want ctrl or pc)", p.side);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--side: bad value '%s' (want ctrl or pc)", p.side);
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (p.output[0] != '\0' && terminal_for(p.output) == NULL) {
-        cli_error(&spec, "--output: bad value '%s' (want a name ending in .png or .svg)", p.output);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--output: bad value '%s' (want a name ending in .png or .svg)", p.output);
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (strchr(p.output, '\'') != NULL) {
-        cli_error(&spec, "--output: bad value '%s' (no quotes in the name)", p.output);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--output: bad value '%s' (no quotes in the name)", p.output);
+        return C4GH_CLI_EXIT_USAGE;
     }
-    if (p.output[0] != '\0' && cli_check_output(spec.tool, "--output", p.output) != 0) {
-        return CLI_EXIT_RUNTIME; /* before gnuplot runs: the plot could not be written */
+    if (p.output[0] != '\0' && c4gh_cli_check_output(spec.tool, "--output", p.output) != 0) {
+        return C4GH_CLI_EXIT_RUNTIME; /* before gnuplot runs: the plot could not be written */
     }
     return run(&p, argv[first]);
 }

@@ -4,9 +4,9 @@
 #ifndef C4G_REPLAY_H
 #define C4G_REPLAY_H
 
-#include "analyze.h"
-#include "c4g_cli.h"
-#include "capture.h"
+#include "c4gh_analyze.h"
+#include "c4gh_cli.h"
+#include "c4gh_capture.h"
 
 #include <stdio.h>
 
@@ -25,7 +25,7 @@ typedef struct rp_file {
     char format[8];
     char link[16];
     int nano;
-    cap_counts_t n;
+    c4gh_cap_counts_t n;
     uint64_t doubled;         /* frames captured twice (analysed once) */
     char first_bad[400];      /* the first damaged frame, in words */
     char fatal[400];           /* why reading stopped early, or why it could not start */
@@ -33,38 +33,38 @@ typedef struct rp_file {
 
 /* Options of the analysing commands. */
 typedef struct rp_common {
-    an_options_t an;
+    c4gh_an_options_t an;
     int json;
     int quiet;
     int no_progress;
 } rp_common_t;
 
 void rp_common_default(rp_common_t *c);
-/* CLI_CALL handlers for the shared rows (ctx is the rp_common_t) */
-int rp_opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
-int rp_opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
-int rp_opt_num_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen);
+/* C4GH_CLI_CALL handlers for the shared rows (ctx is the rp_common_t) */
+int rp_opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen);
+int rp_opt_tcycle1(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen);
+int rp_opt_num_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen);
 
 /* Read @p path through the analysis @p a (which must outlive the file names). Errors go to
  * stderr as "c4g-replay: ...". Returns 0 when the file was read to its end (damaged frames
  * are counted and reported, not fatal), 1 when it stopped early, 2 when it could not be
  * opened. */
-int rp_read(an_t *a, const char *path, rp_file_t *info, int progress);
+int rp_read(c4gh_an_t *a, const char *path, rp_file_t *info, int progress);
 
 /* Reports (report.c) */
-void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+void rp_report_text(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files,
                     uint32_t allow);
-int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+int rp_report_json(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files,
                    uint32_t allow);
 /* One line per finding (check): returns the number of findings not waived. */
-unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+unsigned rp_report_findings(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files,
                             uint32_t allow);
 /* Sessions of the file read as @p path (by the analysis' file name). */
-unsigned rp_file_sessions(const an_t *a, const char *path);
+unsigned rp_file_sessions(const c4gh_an_t *a, const char *path);
 /* "no C4G Open session found (...)": what a file without a session held. */
-const char *rp_no_session_text(const an_t *a, const rp_file_t *f, char *buf, size_t cap);
+const char *rp_no_session_text(const c4gh_an_t *a, const rp_file_t *f, char *buf, size_t cap);
 /* Findings not waived, damaged files counted. */
-unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow);
+unsigned rp_count_findings(const c4gh_an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow);
 
 /* Commands: argv[0] is the command's name. */
 int rp_cmd_summary(int argc, char **argv);

@@ -8,17 +8,17 @@
 
 static double sec(int64_t ns) { return (double)ns * 1e-9; }
 
-static const char *ep(const an_endpoint_t *e, char buf[32])
+static const char *ep(const c4gh_an_endpoint_t *e, char buf[32])
 {
     char ip[16];
-    (void)snprintf(buf, 32, "%s:%u", cap_ip_str(e->ip, ip), (unsigned)e->port);
+    (void)snprintf(buf, 32, "%s:%u", c4gh_cap_ip_str(e->ip, ip), (unsigned)e->port);
     return buf;
 }
 
-static const char *policy_name(const an_session_t *s)
+static const char *policy_name(const c4gh_an_session_t *s)
 {
-    if (s->policy == CS_NUM_PLUS_ONE || s->policy == CS_NUM_ECHO) {
-        return cs_policy_name(s->policy);
+    if (s->policy == C4GH_CS_NUM_PLUS_ONE || s->policy == C4GH_CS_NUM_ECHO) {
+        return c4gh_cs_policy_name(s->policy);
     }
     if (s->policy_plus > 0U && s->policy_echo > 0U) {
         return "mixed";
@@ -41,11 +41,11 @@ static const char *mode_str(int32_t m, char buf[24])
     return buf;
 }
 
-unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
+unsigned rp_count_findings(const c4gh_an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
 {
     unsigned i, n = 0U;
     for (i = 0U; i < a->n_sess; i++) {
-        n += an_findings(&a->sess[i], allow);
+        n += c4gh_an_findings(&a->sess[i], allow);
     }
     if ((allow & (1U << AN_K_CAPTURE)) == 0U) {
         for (i = 0U; i < n_files; i++) {
@@ -60,7 +60,7 @@ unsigned rp_count_findings(const an_t *a, const rp_file_t *files, unsigned n_fil
     return n;
 }
 
-unsigned rp_file_sessions(const an_t *a, const char *path)
+unsigned rp_file_sessions(const c4gh_an_t *a, const char *path)
 {
     unsigned i, n = 0U;
     for (i = 0U; i < a->n_sess; i++) {
@@ -69,7 +69,7 @@ unsigned rp_file_sessions(const an_t *a, const char *path)
     return n;
 }
 
-const char *rp_no_session_text(const an_t *a, const rp_file_t *f, char *buf, size_t cap)
+const char *rp_no_session_text(const c4gh_an_t *a, const rp_file_t *f, char *buf, size_t cap)
 {
     size_t used;
     unsigned i;
@@ -96,7 +96,7 @@ static const char *doubled_text(const rp_file_t *f, char *buf, size_t cap)
     return buf;
 }
 
-static void text_init(FILE *out, const an_session_t *s)
+static void text_init(FILE *out, const c4gh_an_session_t *s)
 {
     const c4g_init_t *in = &s->init;
     uint32_t arm, i;
@@ -124,7 +124,7 @@ static void text_init(FILE *out, const an_session_t *s)
     }
 }
 
-static void text_modes(FILE *out, const an_session_t *s)
+static void text_modes(FILE *out, const c4gh_an_session_t *s)
 {
     uint32_t arm, k;
     char b1[24], b2[24];
@@ -134,7 +134,7 @@ static void text_modes(FILE *out, const an_session_t *s)
         }
         fprintf(out, "  arm %u modes:", (unsigned)arm + 1U);
         for (k = 0U; k < s->n_tl[arm]; k++) {
-            const an_transition_t *t = &s->tl[arm][k];
+            const c4gh_an_transition_t *t = &s->tl[arm][k];
             fprintf(out, "%s%s -> %s at %.3f s (NUM %d)%s", k == 0U ? " " : "; ", mode_str(t->from, b1),
                     mode_str(t->to, b2), sec(t->t_ns), (int)t->num, t->mixed ? " mixed" : "");
         }
@@ -144,7 +144,7 @@ static void text_modes(FILE *out, const an_session_t *s)
         fputc('\n', out);
     }
     for (k = 0U; k < s->n_ev; k++) {
-        const an_event_t *e = &s->ev[k];
+        const c4gh_an_event_t *e = &s->ev[k];
         fprintf(out, "  event: %.3f s NUM %d arm %u: %s\n", sec(e->t_ns), (int)e->num,
                 (unsigned)e->arm + 1U, e->what);
     }
@@ -159,10 +159,10 @@ static void text_modes(FILE *out, const an_session_t *s)
     }
 }
 
-static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
+static void text_session(FILE *out, const c4gh_an_session_t *s, uint32_t allow)
 {
     char b1[32], b2[32];
-    const cs_counters_t *n = &s->cs.n;
+    const c4gh_cs_counters_t *n = &s->cs.n;
     unsigned k, nf;
     fprintf(out, "session %u: %s, controller %s -> PC %s, %.3f s, frames %llu..%llu, ended by %s\n", s->id,
             s->file, ep(&s->ctrl, b1), ep(&s->pc, b2), sec(s->last_ns - s->first_ns),
@@ -177,8 +177,8 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
     fprintf(out, "  NUM policy: %s%s\n", policy_name(s),
             s->policy_from_cyclic ? " (from the cyclic replies: no init echo in time)" : "");
     fprintf(out, "  replies: %lu in time, latency p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us; "
-            "%lu late (> %.0f us)\n", n->replies_ok, an_latency_us(s, 0.5), an_latency_us(s, 0.99),
-            an_latency_us(s, 0.999), (double)n->lat_max * 1e-3, n->late,
+            "%lu late (> %.0f us)\n", n->replies_ok, c4gh_an_latency_us(s, 0.5), c4gh_an_latency_us(s, 0.99),
+            c4gh_an_latency_us(s, 0.999), (double)n->lat_max * 1e-3, n->late,
             (double)s->cs.cfg.t_cycle1_ns * 1e-3);
     fprintf(out, "  missing: %lu (longest run %llu", n->missing, (unsigned long long)s->run_longest);
     if (s->run_longest > 0U) {
@@ -195,20 +195,20 @@ static void text_session(FILE *out, const an_session_t *s, uint32_t allow)
     }
     fputc('\n', out);
     text_modes(out, s);
-    nf = an_findings(s, allow);
+    nf = c4gh_an_findings(s, allow);
     fprintf(out, "  findings: %s\n", nf == 0U ? "none" : "");
     for (k = 0U; k < (unsigned)AN_K_COUNT; k++) {
-        const an_finding_t *f = &s->f[k];
+        const c4gh_an_finding_t *f = &s->f[k];
         if (f->count == 0U) {
             continue;
         }
-        fprintf(out, "    %-13s %6llu%s  first at %.3f s (frame %llu): %s\n", an_kind_name((an_kind_t)k),
+        fprintf(out, "    %-13s %6llu%s  first at %.3f s (frame %llu): %s\n", c4gh_an_kind_name((c4gh_an_kind_t)k),
                 (unsigned long long)f->count, (allow & (1U << k)) != 0U ? " (allowed)" : "",
                 sec(f->t_ns), (unsigned long long)f->frame, f->first);
     }
 }
 
-void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
+void rp_report_text(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
 {
     unsigned i, nf;
     char buf[160];
@@ -233,7 +233,7 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
     if (a->sess_dropped > 0U || a->flows_dropped > 0U) {
         fprintf(out, "not analysed: %llu sessions and %llu datagrams of flows beyond the limits (%u sessions, "
                 "%u flows per file)\n", (unsigned long long)a->sess_dropped,
-                (unsigned long long)a->flows_dropped, AN_MAX_SESSIONS, AN_MAX_FLOWS);
+                (unsigned long long)a->flows_dropped, C4GH_AN_MAX_SESSIONS, C4GH_AN_MAX_FLOWS);
     }
     nf = rp_count_findings(a, files, n_files, allow);
     if (a->n_sess == 0U) {
@@ -262,7 +262,7 @@ void rp_report_text(FILE *out, const an_t *a, const rp_file_t *files, unsigned n
 
 /* ---- findings, one line each --------------------------------------------------- */
 
-unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files,
+unsigned rp_report_findings(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files,
                             uint32_t allow)
 {
     unsigned i, k, n = 0U;
@@ -286,14 +286,14 @@ unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, un
         }
     }
     for (i = 0U; i < a->n_sess; i++) {
-        const an_session_t *s = &a->sess[i];
+        const c4gh_an_session_t *s = &a->sess[i];
         for (k = 0U; k < (unsigned)AN_K_COUNT; k++) {
-            const an_finding_t *f = &s->f[k];
+            const c4gh_an_finding_t *f = &s->f[k];
             if (f->count == 0U || (allow & (1U << k)) != 0U) {
                 continue;
             }
             fprintf(out, "%s: session %u: %s: %llu, first at %.3f s (frame %llu, NUM %d): %s\n", s->file,
-                    s->id, an_kind_name((an_kind_t)k), (unsigned long long)f->count, sec(f->t_ns),
+                    s->id, c4gh_an_kind_name((c4gh_an_kind_t)k), (unsigned long long)f->count, sec(f->t_ns),
                     (unsigned long long)f->frame, (int)f->num, f->first);
             n++;
         }
@@ -303,13 +303,13 @@ unsigned rp_report_findings(FILE *out, const an_t *a, const rp_file_t *files, un
 
 /* ---- JSON ---------------------------------------------------------------------- */
 
-static json_t *j_endpoint(const an_endpoint_t *e)
+static json_t *j_endpoint(const c4gh_an_endpoint_t *e)
 {
     char ip[16];
-    return json_pack("{s:s, s:i}", "ip", cap_ip_str(e->ip, ip), "port", (json_int_t)e->port);
+    return json_pack("{s:s, s:i}", "ip", c4gh_cap_ip_str(e->ip, ip), "port", (json_int_t)e->port);
 }
 
-static json_t *j_init(const an_session_t *s)
+static json_t *j_init(const c4gh_an_session_t *s)
 {
     const c4g_init_t *in = &s->init;
     json_t *o, *axes, *arms;
@@ -339,7 +339,7 @@ static json_t *j_init(const an_session_t *s)
     return o;
 }
 
-static json_t *j_modes(const an_session_t *s)
+static json_t *j_modes(const c4gh_an_session_t *s)
 {
     json_t *arr = json_array();
     uint32_t arm, k;
@@ -350,7 +350,7 @@ static json_t *j_modes(const an_session_t *s)
         }
         tl = json_array();
         for (k = 0U; k < s->n_tl[arm]; k++) {
-            const an_transition_t *t = &s->tl[arm][k];
+            const c4gh_an_transition_t *t = &s->tl[arm][k];
             (void)json_array_append_new(
                 tl, json_pack("{s:f, s:i, s:I, s:i, s:i, s:s, s:b}", "t", sec(t->t_ns), "num",
                               (json_int_t)t->num, "frame", (json_int_t)t->frame, "from", (json_int_t)t->from,
@@ -364,12 +364,12 @@ static json_t *j_modes(const an_session_t *s)
     return arr;
 }
 
-static json_t *j_events(const an_session_t *s)
+static json_t *j_events(const c4gh_an_session_t *s)
 {
     json_t *arr = json_array();
     uint32_t k;
     for (k = 0U; k < s->n_ev; k++) {
-        const an_event_t *e = &s->ev[k];
+        const c4gh_an_event_t *e = &s->ev[k];
         (void)json_array_append_new(arr, json_pack("{s:f, s:i, s:I, s:i, s:s}", "t", sec(e->t_ns),
                                                    "num", (json_int_t)e->num, "frame",
                                                    (json_int_t)e->frame, "arm", (json_int_t)e->arm + 1,
@@ -378,17 +378,17 @@ static json_t *j_events(const an_session_t *s)
     return arr;
 }
 
-static json_t *j_findings(const an_session_t *s, uint32_t allow)
+static json_t *j_findings(const c4gh_an_session_t *s, uint32_t allow)
 {
     json_t *arr = json_array();
     unsigned k;
     for (k = 0U; k < (unsigned)AN_K_COUNT; k++) {
-        const an_finding_t *f = &s->f[k];
+        const c4gh_an_finding_t *f = &s->f[k];
         if (f->count == 0U) {
             continue;
         }
         (void)json_array_append_new(
-            arr, json_pack("{s:s, s:I, s:b, s:f, s:I, s:i, s:f, s:s}", "kind", an_kind_name((an_kind_t)k),
+            arr, json_pack("{s:s, s:I, s:b, s:f, s:I, s:i, s:f, s:s}", "kind", c4gh_an_kind_name((c4gh_an_kind_t)k),
                            "count", (json_int_t)f->count, "allowed", (allow & (1U << k)) != 0U, "t",
                            sec(f->t_ns), "frame", (json_int_t)f->frame, "num", (json_int_t)f->num,
                            "worst", f->worst, "first", f->first));
@@ -396,9 +396,9 @@ static json_t *j_findings(const an_session_t *s, uint32_t allow)
     return arr;
 }
 
-static json_t *j_session(const an_session_t *s, uint32_t allow)
+static json_t *j_session(const c4gh_an_session_t *s, uint32_t allow)
 {
-    const cs_counters_t *n = &s->cs.n;
+    const c4gh_cs_counters_t *n = &s->cs.n;
     json_t *special = json_object();
     json_t *o;
     unsigned k;
@@ -426,8 +426,8 @@ static json_t *j_session(const an_session_t *s, uint32_t allow)
         "longest_missing_run", (json_int_t)s->run_longest, "longest_run_from_num",
         (json_int_t)(s->run_longest > 0U ? s->longest_start_num : -1), "num_mismatch",
         (json_int_t)n->wrong_num, "duplicates", (json_int_t)n->duplicates, "stale",
-        (json_int_t)n->stale, "latency_us", "p50", an_latency_us(s, 0.5), "p99",
-        an_latency_us(s, 0.99), "p99_9", an_latency_us(s, 0.999), "max", (double)n->lat_max * 1e-3));
+        (json_int_t)n->stale, "latency_us", "p50", c4gh_an_latency_us(s, 0.5), "p99",
+        c4gh_an_latency_us(s, 0.99), "p99_9", c4gh_an_latency_us(s, 0.999), "max", (double)n->lat_max * 1e-3));
     (void)json_object_set_new(o, "controller_num", json_pack("{s:I, s:I, s:I, s:I}", "gaps",
         (json_int_t)s->ctrl_gaps, "skipped", (json_int_t)s->ctrl_skipped, "repeated",
         (json_int_t)s->ctrl_dups, "out_of_order", (json_int_t)s->ctrl_older));
@@ -439,11 +439,11 @@ static json_t *j_session(const an_session_t *s, uint32_t allow)
     (void)json_object_set_new(o, "events", j_events(s));
     (void)json_object_set_new(o, "special_modes", special);
     (void)json_object_set_new(o, "findings", j_findings(s, allow));
-    (void)json_object_set_new(o, "verdict", json_string(an_findings(s, allow) == 0U ? "clean" : "findings"));
+    (void)json_object_set_new(o, "verdict", json_string(c4gh_an_findings(s, allow) == 0U ? "clean" : "findings"));
     return o;
 }
 
-int rp_report_json(FILE *out, const an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
+int rp_report_json(FILE *out, const c4gh_an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow)
 {
     json_t *root = json_object(), *jf = json_array(), *js = json_array();
     unsigned i, nf;

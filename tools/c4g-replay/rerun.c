@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-replay rerun: the recorded controller packets of a capture through c4g-server's own
- * per-datagram core (tools/common/c4g_srv: libc4gopen's loop and the server's controllers,
+ * per-datagram core (tools/c4g-server/srv_core: libc4gopen's loop and the server's controllers,
  * the code c4g-server runs), at top speed with the recorded reception times. Every reply
  * produced is compared with the reply recorded for the same controller packet, word by word,
  * each word named by its field; the first divergence and the count per field are reported.
@@ -11,9 +11,9 @@
  * pause only the newest packet answered once the pause is over. */
 #include "replay.h"
 
-#include "c4g_fixtures.h"
-#include "c4g_srv.h"
-#include "c4g_textfile.h"
+#include "c4gsim_fixtures.h"
+#include "srv_core.h"
+#include "c4gh_textfile.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -57,7 +57,7 @@ typedef enum rr_behaviour { RR_SERVER = 0, RR_ECHO } rr_behaviour_t;
 typedef struct rr_div {
     unsigned session;
     uint64_t tick;           /* the cyclic packet's number in its session (1 = the first) */
-    int kind;                /* CS_SYNC / CS_INIT / CS_CYCLIC */
+    int kind;                /* C4GH_CS_SYNC / C4GH_CS_INIT / C4GH_CS_CYCLIC */
     int32_t num;             /* the controller packet's NUM */
     uint64_t frame;          /* its frame in the capture */
     double t_s;              /* since the session's first packet */
@@ -75,7 +75,7 @@ typedef struct rr_field_count {
 
 typedef struct rr_sess {
     unsigned id;
-    an_endpoint_t ctrl, pc;
+    c4gh_an_endpoint_t ctrl, pc;
     uint64_t fed[3];         /* sync, init, cyclic packets fed */
     uint64_t compared, divergent;
     uint64_t recorded_missing;  /* controller packets the recording has no reply to */
@@ -90,7 +90,7 @@ typedef struct rr_sess {
 /* A controller packet and the recorded reply, as rerun needs them (held across a pause). */
 typedef struct rr_pkt {
     unsigned session;
-    const an_session_t *s;
+    const c4gh_an_session_t *s;
     int kind;
     uint64_t tick;
     const uint8_t *ctrl;
@@ -124,7 +124,7 @@ typedef struct rr {
     int srv_argc;
     /* the run */
     int have_ctrl;
-    an_endpoint_t ctrl;      /* the controller being rerun */
+    c4gh_an_endpoint_t ctrl;      /* the controller being rerun */
     int server_live;         /* a server is running (fresh after a stop) */
     int server_stopped;      /* the last packet ended the server's run */
     uint64_t server_starts;
@@ -135,9 +135,9 @@ typedef struct rr {
     rr_pkt_t held;
     uint8_t held_ctrl[C4G_INIT_SIZE], held_rec[C4G_INIT_SIZE];
     uint64_t other_ctrl_exchanges;  /* packets of sessions not rerun */
-    unsigned other_sessions[AN_MAX_SESSIONS];
+    unsigned other_sessions[C4GH_AN_MAX_SESSIONS];
     unsigned n_other;
-    rr_sess_t sess[AN_MAX_SESSIONS];
+    rr_sess_t sess[C4GH_AN_MAX_SESSIONS];
     unsigned n_sess;
     uint64_t compared, divergent, words_divergent;
     int have_first;
@@ -156,7 +156,7 @@ static rr_t g_rr;
 
 /* ---- comparing one reply ------------------------------------------------- */
 
-static rr_sess_t *sess_of(rr_t *R, const an_session_t *s)
+static rr_sess_t *sess_of(rr_t *R, const c4gh_an_session_t *s)
 {
     unsigned i;
     for (i = 0U; i < R->n_sess; i++) {
@@ -164,7 +164,7 @@ static rr_sess_t *sess_of(rr_t *R, const an_session_t *s)
             return &R->sess[i];
         }
     }
-    if (R->n_sess >= AN_MAX_SESSIONS) {
+    if (R->n_sess >= C4GH_AN_MAX_SESSIONS) {
         return NULL;
     }
     R->sess[R->n_sess].id = s->id;
@@ -176,7 +176,7 @@ static rr_sess_t *sess_of(rr_t *R, const an_session_t *s)
 static void word_text(char *buf, size_t cap, rr_field_t f, uint32_t u)
 {
     if (f >= RR_F_D1) {
-        (void)snprintf(buf, cap, "%.9g", (double)an_f32_bits(u));
+        (void)snprintf(buf, cap, "%.9g", (double)c4gh_an_f32_bits(u));
     } else if (f == RR_F_NUM || f == RR_F_MODE) {
         (void)snprintf(buf, cap, "%d", (int)(int32_t)u);
     } else {
@@ -190,20 +190,20 @@ static void div_where(rr_div_t *d, const rr_pkt_t *p)
     d->session = p->session;
     d->tick = p->tick;
     d->kind = p->kind;
-    d->num = (p->ctrl_len >= 4U) ? (int32_t)an_le_u32(p->ctrl) : -1;
+    d->num = (p->ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(p->ctrl) : -1;
     d->frame = p->ctrl_frame;
     d->t_s = (double)(p->ctrl_ns - p->s->first_ns) * 1e-9;
 }
 
 static const char *kind_name(int kind)
 {
-    return (kind == CS_SYNC) ? "sync" : ((kind == CS_INIT) ? "init" : "cyclic");
+    return (kind == C4GH_CS_SYNC) ? "sync" : ((kind == C4GH_CS_INIT) ? "init" : "cyclic");
 }
 
 static void print_div(FILE *out, const rr_div_t *d)
 {
     fprintf(out, "session %u ", d->session);
-    if (d->kind == CS_CYCLIC) {
+    if (d->kind == C4GH_CS_CYCLIC) {
         fprintf(out, "tick %llu", (unsigned long long)d->tick);
     } else {
         fprintf(out, "%s packet", kind_name(d->kind));
@@ -252,7 +252,7 @@ static void count_div(rr_t *R, const rr_div_t *d)
 
 static int float_equal(const rr_t *R, uint32_t a, uint32_t b)
 {
-    const double x = (double)an_f32_bits(a), y = (double)an_f32_bits(b);
+    const double x = (double)c4gh_an_f32_bits(a), y = (double)c4gh_an_f32_bits(b);
     if (a == b) {
         return 1;
     }
@@ -276,24 +276,24 @@ static rr_field_t cyclic_field(unsigned w, int *axis)
 /* Compare the words both replies have; 1 if any differs. */
 static int compare_words(rr_t *R, const rr_pkt_t *p, const uint8_t *rec, const uint8_t *out, size_t n)
 {
-    const an_session_t *s = p->s;
+    const c4gh_an_session_t *s = p->s;
     unsigned w;
     int diverged = 0;
     for (w = 0U; w < (unsigned)(n / 4U); w++) {
-        const uint32_t a = an_le_u32(rec + 4U * w), b = an_le_u32(out + 4U * w);
+        const uint32_t a = c4gh_an_le_u32(rec + 4U * w), b = c4gh_an_le_u32(out + 4U * w);
         rr_div_t d;
         int axis = -1;
         rr_field_t f;
         if (a == b) {
             continue;
         }
-        if (p->kind == CS_CYCLIC) {
+        if (p->kind == C4GH_CS_CYCLIC) {
             f = cyclic_field(w, &axis);
             if (f >= RR_F_D1 && float_equal(R, a, b)) {
                 continue;
             }
         } else {
-            f = (p->kind == CS_SYNC) ? RR_F_SYNC : RR_F_INIT;
+            f = (p->kind == C4GH_CS_SYNC) ? RR_F_SYNC : RR_F_INIT;
         }
         div_where(&d, p);
         d.field = f;
@@ -411,24 +411,24 @@ static void compare(rr_t *R, const rr_pkt_t *p, const uint8_t *out, size_t out_l
 
 /* A recorded reply that came after its packet's deadline: the reply the server produced for
  * that packet is compared with it; equal content is a timing difference only. */
-static void on_late(void *ctx, const an_session_t *s, const uint8_t *d, size_t len, int64_t ns,
+static void on_late(void *ctx, const c4gh_an_session_t *s, const uint8_t *d, size_t len, int64_t ns,
                     uint64_t frame)
 {
     rr_t *R = ctx;
-    const int32_t num = (len >= 4U) ? (int32_t)an_le_u32(d) : -1;
+    const int32_t num = (len >= 4U) ? (int32_t)c4gh_an_le_u32(d) : -1;
     const int policy = (s->cs.detected >= 0) ? s->cs.detected
-                                              : ((R->c.an.num_policy == CS_NUM_ECHO) ? CS_NUM_ECHO
-                                                                                      : CS_NUM_PLUS_ONE);
+                                              : ((R->c.an.num_policy == C4GH_CS_NUM_ECHO) ? C4GH_CS_NUM_ECHO
+                                                                                      : C4GH_CS_NUM_PLUS_ONE);
     unsigned k;
     (void)ns;
     (void)frame;
     for (k = 0U; k < RR_PENDING; k++) {
         rr_pending_t *e = &R->pending[(R->pend_next + RR_PENDING - 1U - k) % RR_PENDING];
-        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)an_le_u32(e->p.ctrl) : -1;
+        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(e->p.ctrl) : -1;
         rr_sess_t *ss;
         int diverged = 0;
         if (!e->used || e->p.s != s ||
-            c4g_reply_num(sent, policy == CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+            c4g_reply_num(sent, policy == C4GH_CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
             continue;
         }
         e->used = 0;
@@ -471,7 +471,7 @@ static int server_start(rr_t *R)
     return 0;
 }
 
-static void endpoint_of(const an_endpoint_t *a, c4g_endpoint_t *e)
+static void endpoint_of(const c4gh_an_endpoint_t *a, c4g_endpoint_t *e)
 {
     memset(e, 0, sizeof *e);
     e->addr[0] = (uint8_t)(a->ip >> 24);
@@ -506,7 +506,7 @@ static void feed(rr_t *R, const rr_pkt_t *p, uint64_t t_rx, int after_pause)
         }
         g_srv.t0_ns = t_rx;
     }
-    if (ss != NULL && p->kind >= CS_SYNC && p->kind <= CS_CYCLIC) {
+    if (ss != NULL && p->kind >= C4GH_CS_SYNC && p->kind <= C4GH_CS_CYCLIC) {
         ss->fed[p->kind]++;
     }
     endpoint_of(&p->s->ctrl, &from);
@@ -533,7 +533,7 @@ static void feed(rr_t *R, const rr_pkt_t *p, uint64_t t_rx, int after_pause)
  * period before the first recorded packet). The init packet is the manual's figure 10.1 for
  * the recorded axis count (axes 1-10 on arm 1, 11-20 on arm 2, as the analysis takes them)
  * and the recorded period. Its replies are not compared. */
-static void prime(rr_t *R, rr_sess_t *ss, const an_exchange_t *x)
+static void prime(rr_t *R, rr_sess_t *ss, const c4gh_an_exchange_t *x)
 {
     static uint8_t out[C4G_INIT_SIZE + 64U];
     uint8_t pkt[C4G_INIT_SIZE];
@@ -546,7 +546,7 @@ static void prime(rr_t *R, rr_sess_t *ss, const an_exchange_t *x)
     if (x->next_ns > x->ctrl_ns && x->next_ns - x->ctrl_ns < 1500000) {
         per_ns = 1000000U;
     }
-    if (c4g_init_fig10_1(&init) != C4G_OK) {
+    if (c4gsim_fig10_1(&init) != C4G_OK) {
         return;
     }
     init.n_ax_open = (int32_t)n;
@@ -623,7 +623,7 @@ static void drop_held(rr_t *R)
     srv_drop(&g_srv, R->held.ctrl, R->held.ctrl_len, &from, (uint64_t)R->freeze_until);
     if (ss != NULL) {
         ss->held_dropped++;
-        if (R->held.kind >= CS_SYNC && R->held.kind <= CS_CYCLIC) {
+        if (R->held.kind >= C4GH_CS_SYNC && R->held.kind <= C4GH_CS_CYCLIC) {
             ss->fed[R->held.kind]++;
         }
     }
@@ -631,7 +631,7 @@ static void drop_held(rr_t *R)
     R->have_held = 0;
 }
 
-static int selected(rr_t *R, const an_exchange_t *x)
+static int selected(rr_t *R, const c4gh_an_exchange_t *x)
 {
     if (R->only_session != 0U) {
         return x->s->id == R->only_session;
@@ -652,12 +652,12 @@ static void note_other(rr_t *R, unsigned id)
             return;
         }
     }
-    if (R->n_other < AN_MAX_SESSIONS) {
+    if (R->n_other < C4GH_AN_MAX_SESSIONS) {
         R->other_sessions[R->n_other++] = id;
     }
 }
 
-static void on_exchange(void *ctx, const an_exchange_t *x)
+static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 {
     rr_t *R = ctx;
     rr_pkt_t p;
@@ -683,9 +683,9 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
         p.rec_len = x->other_len;
         p.rec_ns = x->other_ns;
     }
-    if (!x->s->have_init && x->kind == CS_CYCLIC && x->ctrl_len >= C4G_CYCLIC_SIZE(1U)) {
+    if (!x->s->have_init && x->kind == C4GH_CS_CYCLIC && x->ctrl_len >= C4G_CYCLIC_SIZE(1U)) {
         rr_sess_t *ss = sess_of(R, x->s);
-        if (ss != NULL && ss->fed[CS_SYNC] + ss->fed[CS_INIT] + ss->fed[CS_CYCLIC] == 0U) {
+        if (ss != NULL && ss->fed[C4GH_CS_SYNC] + ss->fed[C4GH_CS_INIT] + ss->fed[C4GH_CS_CYCLIC] == 0U) {
             prime(R, ss, x);
         }
     }
@@ -704,10 +704,10 @@ static void on_exchange(void *ctx, const an_exchange_t *x)
 
 /* ---- reports -------------------------------------------------------------- */
 
-static const char *ep_text(const an_endpoint_t *e, char *buf, size_t cap)
+static const char *ep_text(const c4gh_an_endpoint_t *e, char *buf, size_t cap)
 {
     char ip[16];
-    (void)snprintf(buf, cap, "%s:%u", cap_ip_str(e->ip, ip), (unsigned)e->port);
+    (void)snprintf(buf, cap, "%s:%u", c4gh_cap_ip_str(e->ip, ip), (unsigned)e->port);
     return buf;
 }
 
@@ -733,8 +733,8 @@ static void report_text(const rr_t *R, const char *path)
         char a[32], b[32];
         printf("session %u  controller %s  PC %s\n", s->id, ep_text(&s->ctrl, a, sizeof a),
                ep_text(&s->pc, b, sizeof b));
-        printf("  fed %llu sync, %llu init, %llu cyclic packets", (unsigned long long)s->fed[CS_SYNC],
-               (unsigned long long)s->fed[CS_INIT], (unsigned long long)s->fed[CS_CYCLIC]);
+        printf("  fed %llu sync, %llu init, %llu cyclic packets", (unsigned long long)s->fed[C4GH_CS_SYNC],
+               (unsigned long long)s->fed[C4GH_CS_INIT], (unsigned long long)s->fed[C4GH_CS_CYCLIC]);
         if (s->held_dropped > 0U) {
             printf(" (%llu dropped unanswered after an active-freezing pause)",
                    (unsigned long long)s->held_dropped);
@@ -833,8 +833,8 @@ static int report_json(const rr_t *R, const char *path)
             sessions,
             json_pack("{s:i, s:s, s:s, s:{s:I, s:I, s:I}, s:I, s:I, s:I, s:I, s:I}", "id", (json_int_t)s->id,
                       "controller", ep_text(&s->ctrl, a, sizeof a), "pc", ep_text(&s->pc, b, sizeof b), "fed",
-                      "sync", (json_int_t)s->fed[CS_SYNC], "init", (json_int_t)s->fed[CS_INIT], "cyclic",
-                      (json_int_t)s->fed[CS_CYCLIC], "compared", (json_int_t)s->compared, "equal",
+                      "sync", (json_int_t)s->fed[C4GH_CS_SYNC], "init", (json_int_t)s->fed[C4GH_CS_INIT], "cyclic",
+                      (json_int_t)s->fed[C4GH_CS_CYCLIC], "compared", (json_int_t)s->compared, "equal",
                       (json_int_t)(s->compared - s->divergent), "divergent", (json_int_t)s->divergent,
                       "recorded_missing", (json_int_t)s->recorded_missing, "dropped_after_pause",
                       (json_int_t)s->held_dropped));
@@ -871,7 +871,7 @@ static int report_json(const rr_t *R, const char *path)
 
 /* ---- the command ---------------------------------------------------------- */
 
-static int opt_behaviour(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_behaviour(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     rr_t *R = ctx;
     (void)row;
@@ -886,7 +886,7 @@ static int opt_behaviour(void *ctx, const cli_opt_t *row, const char *v, char *w
     return 0;
 }
 
-static int opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_port(&((rr_t *)ctx)->c, row, v, why, whylen);
 }
@@ -913,7 +913,7 @@ static const char epilogue[] =
     "Exit status: 0 the replies produced equal the recorded ones, 1 some diverge, 2 bad\n"
     "usage or an unreadable capture.\n";
 
-static int setup_server(rr_t *R, const cli_spec_t *spec)
+static int setup_server(rr_t *R, const c4gh_cli_spec_t *spec)
 {
     static char *argv2[RR_MAX_SERVER_ARGS + 2];
     char err[700];
@@ -922,8 +922,8 @@ static int setup_server(rr_t *R, const cli_spec_t *spec)
     const char *tool = RP_TOOL " rerun (c4g-server options)";
     srv_config_default(&R->cfg);
     if (R->srv_argc > RR_MAX_SERVER_ARGS) {
-        cli_error(spec, "at most %d c4g-server options", RR_MAX_SERVER_ARGS);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(spec, "at most %d c4g-server options", RR_MAX_SERVER_ARGS);
+        return C4GH_CLI_EXIT_USAGE;
     }
     argv2[0] = (char *)tool;
     for (k = 0; k < R->srv_argc; k++) {
@@ -931,16 +931,16 @@ static int setup_server(rr_t *R, const cli_spec_t *spec)
     }
     argv2[R->srv_argc + 1] = NULL;
     switch (srv_config_cli(&R->cfg, tool, NULL, R->srv_argc + 1, argv2)) {
-    case CLI_RUN:
+    case C4GH_CLI_RUN:
         break;
-    case CLI_DONE:
+    case C4GH_CLI_DONE:
         return -1;
     default:
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (srv_load_files(&R->cfg, err, sizeof err) != 0) {
-        cli_error(spec, "%s", err);
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(spec, "%s", err);
+        return C4GH_CLI_EXIT_USAGE;
     }
     /* what only the live server does: none of it changes a reply */
     R->cfg.pcap_path[0] = '\0';
@@ -961,24 +961,24 @@ static int setup_server(rr_t *R, const cli_spec_t *spec)
 int rp_cmd_rerun(int argc, char **argv)
 {
     rr_t *R = &g_rr;
-    cli_spec_t spec;
-    an_t a;
+    c4gh_cli_spec_t spec;
+    c4gh_an_t a;
     rp_file_t file;
     int first = 0, rc;
-    cli_result_t r;
-    const cli_opt_t rows[] = {
-        {"behaviour", 'b', CLI_CALL, "NAME", "server (c4g-server's behaviours, default) or echo", NULL, 0, 0, 0,
+    c4gh_cli_result_t r;
+    const c4gh_cli_opt_t rows[] = {
+        {"behaviour", 'b', C4GH_CLI_CALL, "NAME", "server (c4g-server's behaviours, default) or echo", NULL, 0, 0, 0,
          opt_behaviour, 0},
-        {"session", 's', CLI_UINT, "N", "only session N (default: every session of the first controller)",
-         &R->only_session, 0, 1, AN_MAX_SESSIONS, NULL, 0},
-        {"tolerance", 't', CLI_DOUBLE, "X", "float fields within X count as equal (default 0: bit-exact)",
+        {"session", 's', C4GH_CLI_UINT, "N", "only session N (default: every session of the first controller)",
+         &R->only_session, 0, 1, C4GH_AN_MAX_SESSIONS, NULL, 0},
+        {"tolerance", 't', C4GH_CLI_DOUBLE, "X", "float fields within X count as equal (default 0: bit-exact)",
          &R->tolerance, 0, 0, 1e9, NULL, 0},
-        {"list", 'l', CLI_INT, "N", "print the first N divergences, one per line", &R->max_lines, 0, 0, 1e9,
+        {"list", 'l', C4GH_CLI_INT, "N", "print the first N divergences, one per line", &R->max_lines, 0, 0, 1e9,
          NULL, 0},
-        {"json", 'j', CLI_FLAG, NULL, "the report as JSON on stdout", &R->c.json, 0, 0, 0, NULL, 0},
-        {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
+        {"json", 'j', C4GH_CLI_FLAG, NULL, "the report as JSON on stdout", &R->c.json, 0, 0, 0, NULL, 0},
+        {"port", 'p', C4GH_CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
-        {"no-progress", 0, CLI_FLAG, NULL, "no progress bar on a terminal", &R->c.no_progress, 0, 0, 0, NULL, 0},
+        {"no-progress", 0, C4GH_CLI_FLAG, NULL, "no progress bar on a terminal", &R->c.no_progress, 0, 0, 0, NULL, 0},
     };
     memset(R, 0, sizeof *R);
     rp_common_default(&R->c);
@@ -997,35 +997,35 @@ int rp_cmd_rerun(int argc, char **argv)
     spec.operands_min = 1;
     spec.operands_max = -1;
     spec.permute = 1;
-    r = cli_parse(&spec, R, argc, argv, &first);
-    if (r != CLI_RUN) {
-        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    r = c4gh_cli_parse(&spec, R, argc, argv, &first);
+    if (r != C4GH_CLI_RUN) {
+        return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     R->srv_argv = argv + first + 1;
     R->srv_argc = argc - first - 1;
     rc = setup_server(R, &spec);
     if (rc != 0) {
-        return (rc < 0) ? CLI_EXIT_OK : rc;
+        return (rc < 0) ? C4GH_CLI_EXIT_OK : rc;
     }
     R->c.an.on_exchange = on_exchange;
     R->c.an.on_late = on_late;
     R->c.an.ctx = R;
-    if (an_init(&a, &R->c.an) != 0) {
+    if (c4gh_an_init(&a, &R->c.an) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     rc = rp_read(&a, argv[first], &file, !R->c.no_progress);
     if (R->frozen) {
         release(R);
     }
     pending_flush(R);
-    an_free(&a);
+    c4gh_an_free(&a);
     if (rc == 2) {
         return RP_EXIT_UNREADABLE;
     }
     if (R->init_error) {
         fprintf(stderr, RP_TOOL ": rerun: %s\n", R->init_why);
-        return CLI_EXIT_USAGE;
+        return C4GH_CLI_EXIT_USAGE;
     }
     if (R->compared == 0U) {
         fprintf(stderr, RP_TOOL ": %s: no controller packet to rerun%s\n", argv[first],
@@ -1034,14 +1034,14 @@ int rp_cmd_rerun(int argc, char **argv)
     }
     if (R->c.json ? report_json(R, argv[first]) != 0 : (report_text(R, argv[first]), 0)) {
         fprintf(stderr, RP_TOOL ": writing the report failed\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (fflush(stdout) != 0) {
         fprintf(stderr, RP_TOOL ": writing the report failed\n");
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     if (rc == 1) {
         return RP_EXIT_UNREADABLE;
     }
-    return (R->divergent > 0U) ? RP_EXIT_FINDINGS : CLI_EXIT_OK;
+    return (R->divergent > 0U) ? RP_EXIT_FINDINGS : C4GH_CLI_EXIT_OK;
 }

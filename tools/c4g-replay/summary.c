@@ -11,7 +11,7 @@ typedef struct sum_ctx {
     int lines;          /* check: findings only */
 } sum_ctx_t;
 
-static int opt_allow(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_allow(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     sum_ctx_t *s = ctx;
     const char *p = v;
@@ -28,13 +28,13 @@ static int opt_allow(void *ctx, const cli_opt_t *row, const char *v, char *why, 
         name[n] = '\0';
         if (strcmp(name, "all") == 0) {
             s->allow = 0xFFFFFFFFU;
-        } else if ((k = an_kind_find(name)) >= 0) {
+        } else if ((k = c4gh_an_kind_find(name)) >= 0) {
             s->allow |= 1U << (unsigned)k;
         } else {
             unsigned i;
             size_t used = (size_t)snprintf(why, whylen, "unknown kind '%s'; kinds:", name);
             for (i = 0U; i < (unsigned)AN_K_COUNT && used < whylen; i++) {
-                used += (size_t)snprintf(why + used, whylen - used, " %s", an_kind_name((an_kind_t)i));
+                used += (size_t)snprintf(why + used, whylen - used, " %s", c4gh_an_kind_name((c4gh_an_kind_t)i));
             }
             return -1;
         }
@@ -46,17 +46,17 @@ static int opt_allow(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     return 0;
 }
 
-static int opt_port(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_port(&((sum_ctx_t *)ctx)->c, row, v, why, whylen);
 }
 
-static int opt_tcycle1(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_tcycle1(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_tcycle1(&((sum_ctx_t *)ctx)->c, row, v, why, whylen);
 }
 
-static int opt_num_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t whylen)
+static int opt_num_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     return rp_opt_num_policy(&((sum_ctx_t *)ctx)->c, row, v, why, whylen);
 }
@@ -86,7 +86,7 @@ static const char summary_epilogue[] =
     "2 bad usage or an unreadable file. Use check for a verdict in the exit status.\n";
 
 /* check: one line per finding, a no-session line per file without a session, the verdict. */
-static int check_lines(const sum_ctx_t *s, an_t *a, rp_file_t *files, unsigned n, int worst)
+static int check_lines(const sum_ctx_t *s, c4gh_an_t *a, rp_file_t *files, unsigned n, int worst)
 {
     unsigned empty = 0U;
     unsigned i;
@@ -113,21 +113,21 @@ static int check_lines(const sum_ctx_t *s, an_t *a, rp_file_t *files, unsigned n
     if (worst == 2) {
         return RP_EXIT_UNREADABLE;
     }
-    return nf > 0U ? RP_EXIT_FINDINGS : (empty > 0U ? RP_EXIT_NO_SESSION : CLI_EXIT_OK);
+    return nf > 0U ? RP_EXIT_FINDINGS : (empty > 0U ? RP_EXIT_NO_SESSION : C4GH_CLI_EXIT_OK);
 }
 
 static int run(sum_ctx_t *s, int argc, char **argv, int first)
 {
-    an_t a;
+    c4gh_an_t a;
     rp_file_t *files;
     const unsigned n = (unsigned)(argc - first);
     unsigned i;
     int worst = 0, rc;
     files = calloc(n, sizeof *files);
-    if (files == NULL || an_init(&a, &s->c.an) != 0) {
+    if (files == NULL || c4gh_an_init(&a, &s->c.an) != 0) {
         fprintf(stderr, RP_TOOL ": out of memory\n");
         free(files);
-        return CLI_EXIT_RUNTIME;
+        return C4GH_CLI_EXIT_RUNTIME;
     }
     for (i = 0U; i < n; i++) {
         rc = rp_read(&a, argv[first + (int)i], &files[i], !s->c.no_progress);
@@ -143,9 +143,9 @@ static int run(sum_ctx_t *s, int argc, char **argv, int first)
         } else {
             rp_report_text(stdout, &a, files, n, s->allow);
         }
-        rc = (worst == 2) ? RP_EXIT_UNREADABLE : (worst == 1 ? CLI_EXIT_RUNTIME : CLI_EXIT_OK);
+        rc = (worst == 2) ? RP_EXIT_UNREADABLE : (worst == 1 ? C4GH_CLI_EXIT_RUNTIME : C4GH_CLI_EXIT_OK);
     }
-    an_free(&a);
+    c4gh_an_free(&a);
     free(files);
     return rc;
 }
@@ -153,24 +153,24 @@ static int run(sum_ctx_t *s, int argc, char **argv, int first)
 static int command(int argc, char **argv, int check)
 {
     sum_ctx_t s;
-    cli_spec_t spec;
+    c4gh_cli_spec_t spec;
     int first = 0;
-    cli_result_t r;
-    const cli_opt_t rows[] = {
-        {"port", 'p', CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
+    c4gh_cli_result_t r;
+    const c4gh_cli_opt_t rows[] = {
+        {"port", 'p', C4GH_CLI_CALL, "LIST", "PC ports of C4G Open flows (default 1000,1001)", NULL, 0, 0, 0,
          opt_port, 0},
-        {"t-cycle1", 0, CLI_CALL, "US", "replies later than this count as late (default 500)", NULL, 0,
+        {"t-cycle1", 0, C4GH_CLI_CALL, "US", "replies later than this count as late (default 500)", NULL, 0,
          0, 0, opt_tcycle1, 0},
-        {"num-policy", 0, CLI_CALL, "P", "the controller's NUM rule: auto (from the init echo), plus-one, echo",
+        {"num-policy", 0, C4GH_CLI_CALL, "P", "the controller's NUM rule: auto (from the init echo), plus-one, echo",
          NULL, 0, 0, 0, opt_num_policy, 0},
-        {"max-step", 0, CLI_DOUBLE, "TURNS", "flag absolute targets that move more per tick (default off)",
+        {"max-step", 0, C4GH_CLI_DOUBLE, "TURNS", "flag absolute targets that move more per tick (default off)",
          &s.c.an.max_step, 0, 0, 1e6, NULL, 0},
-        {"allow", 'a', CLI_CALL, "KIND[,KIND]", "waive findings of these kinds (repeatable)", NULL, 0, 0,
+        {"allow", 'a', C4GH_CLI_CALL, "KIND[,KIND]", "waive findings of these kinds (repeatable)", NULL, 0, 0,
          0, opt_allow, 0},
-        {"json", 'j', CLI_FLAG, NULL, "the whole analysis as one JSON object (summary)", &s.c.json, 0, 0,
+        {"json", 'j', C4GH_CLI_FLAG, NULL, "the whole analysis as one JSON object (summary)", &s.c.json, 0, 0,
          0, NULL, 0},
-        {"quiet", 'q', CLI_FLAG, NULL, "check: no closing count line", &s.c.quiet, 0, 0, 0, NULL, 0},
-        {"no-progress", 0, CLI_FLAG, NULL, "no progress bar on a terminal", &s.c.no_progress, 0, 0, 0,
+        {"quiet", 'q', C4GH_CLI_FLAG, NULL, "check: no closing count line", &s.c.quiet, 0, 0, 0, NULL, 0},
+        {"no-progress", 0, C4GH_CLI_FLAG, NULL, "no progress bar on a terminal", &s.c.no_progress, 0, 0, 0,
          NULL, 0},
     };
     memset(&s, 0, sizeof s);
@@ -195,13 +195,13 @@ static int command(int argc, char **argv, int check)
     spec.operands_min = 1;
     spec.operands_max = -1;
     spec.permute = 1;
-    r = cli_parse(&spec, &s, argc, argv, &first);
-    if (r != CLI_RUN) {
-        return (r == CLI_DONE) ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    r = c4gh_cli_parse(&spec, &s, argc, argv, &first);
+    if (r != C4GH_CLI_RUN) {
+        return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     if (check && s.c.json) {
-        cli_error(&spec, "--json: check prints lines; use summary --json");
-        return CLI_EXIT_USAGE;
+        c4gh_cli_error(&spec, "--json: check prints lines; use summary --json");
+        return C4GH_CLI_EXIT_USAGE;
     }
     return run(&s, argc, argv, first);
 }

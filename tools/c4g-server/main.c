@@ -4,15 +4,15 @@
  * and answers every packet with a per-arm behaviour passed through the PC-side safety
  * filter.
  *
- * The real-time loop: recvfrom -> srv_process (tools/common/c4g_srv.c: c4g_loop_rx,
+ * The real-time loop: recvfrom -> srv_process (tools/c4g-server/srv_core.c: c4g_loop_rx,
  * controllers, c4g_loop_reply, counters; the same code c4g-replay rerun runs on a
  * capture) -> sendto -> srv_sent. This file holds only the I/O around it: socket,
  * clock, the active-freezing pause, outputs. Nothing on that path allocates or does file
- * I/O: logs, pcap and moni rows go through a lock-free ring (tools/common/c4g_rtlog.h)
+ * I/O: logs, pcap and moni rows go through a lock-free ring (lib/host/c4gh_rtlog.h)
  * to a writer thread. */
 #include "srv.h"
-#include "c4g_pcap.h"
-#include "c4g_udpts.h"
+#include "c4gh_pcap.h"
+#include "c4gh_udp.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -47,25 +47,25 @@ static uint64_t now_ns(void)
 static void host_log(void *ctx, uint64_t t_ns, const char *fmt, va_list ap)
 {
     srv_host_t *H = (srv_host_t *)ctx;
-    c4g_rtlog_rec_t *rec;
+    c4gh_rtlog_rec_t *rec;
     int n;
     if (H->s.cfg.quiet && !H->log_fp) {
         return;
     }
-    rec = c4g_rtlog_reserve(&H->log);
+    rec = c4gh_rtlog_reserve(&H->log);
     if (rec == NULL) {
         return; /* counted as dropped */
     }
-    n = vsnprintf((char *)rec->data, C4G_RTLOG_SLOT_BYTES, fmt, ap);
+    n = vsnprintf((char *)rec->data, C4GH_RTLOG_SLOT_BYTES, fmt, ap);
     if (n < 0) {
         n = 0;
-    } else if ((size_t)n >= C4G_RTLOG_SLOT_BYTES) {
-        n = (int)C4G_RTLOG_SLOT_BYTES - 1;
+    } else if ((size_t)n >= C4GH_RTLOG_SLOT_BYTES) {
+        n = (int)C4GH_RTLOG_SLOT_BYTES - 1;
     }
     rec->kind = LOG_TEXT;
     rec->t_ns = t_ns;
     rec->len = (uint32_t)n;
-    c4g_rtlog_commit(&H->log);
+    c4gh_rtlog_commit(&H->log);
 }
 
 static int open_socket(srv_host_t *H)
@@ -160,16 +160,16 @@ static void pause_ms(double ms)
 static void log_datagram(srv_host_t *H, uint32_t kind, uint64_t t, const uint8_t *buf, size_t n,
                          const struct sockaddr_in *peer)
 {
-    c4g_rtlog_rec_t *rec;
+    c4gh_rtlog_rec_t *rec;
     if (H->pcap == NULL) {
         return;
     }
-    rec = c4g_rtlog_reserve(&H->log);
+    rec = c4gh_rtlog_reserve(&H->log);
     if (rec == NULL) {
         return;
     }
-    if (n > C4G_RTLOG_SLOT_BYTES - 8U) {
-        n = C4G_RTLOG_SLOT_BYTES - 8U;
+    if (n > C4GH_RTLOG_SLOT_BYTES - 8U) {
+        n = C4GH_RTLOG_SLOT_BYTES - 8U;
     }
     rec->kind = kind;
     rec->t_ns = t;
@@ -178,16 +178,16 @@ static void log_datagram(srv_host_t *H, uint32_t kind, uint64_t t, const uint8_t
     memcpy(rec->data + 6, &H->local_port, 2U);
     memcpy(rec->data + 8, buf, n);
     rec->len = (uint32_t)(n + 8U);
-    c4g_rtlog_commit(&H->log);
+    c4gh_rtlog_commit(&H->log);
 }
 
 static void log_moni(srv_host_t *H, uint64_t t, const c4g_ctrl_packet_t *rx, const c4g_pc_packet_t *tx)
 {
-    c4g_rtlog_rec_t *rec;
+    c4gh_rtlog_rec_t *rec;
     if (H->moni_fp == NULL) {
         return;
     }
-    rec = c4g_rtlog_reserve(&H->log);
+    rec = c4gh_rtlog_reserve(&H->log);
     if (rec == NULL) {
         return;
     }
@@ -196,7 +196,7 @@ static void log_moni(srv_host_t *H, uint64_t t, const c4g_ctrl_packet_t *rx, con
     memcpy(rec->data, rx, sizeof *rx);
     memcpy(rec->data + sizeof *rx, tx, sizeof *tx);
     rec->len = (uint32_t)(sizeof *rx + sizeof *tx);
-    c4g_rtlog_commit(&H->log);
+    c4gh_rtlog_commit(&H->log);
 }
 
 /* A stop the core reported, as the exit code; -1 to go on. */
@@ -316,8 +316,8 @@ static uint8_t g_out[C4G_INIT_SIZE];
 /* recvfrom with the kernel's receive time of the datagram in d->t_cap (0: none). */
 static ssize_t recv_stamped(srv_host_t *H, int fd, dgram_t *d)
 {
-    uts_msg_t m;
-    const ssize_t n = uts_recv_flags(fd, MSG_TRUNC, H->kstamp_off, g_in, sizeof g_in, &m);
+    c4gh_udp_msg_t m;
+    const ssize_t n = c4gh_udp_recv_flags(fd, MSG_TRUNC, H->kstamp_off, g_in, sizeof g_in, &m);
     if (n >= 0) {
         d->peer = m.from;
         d->plen = sizeof d->peer;
@@ -384,9 +384,9 @@ static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
     static uint8_t buf[64];
     const uint32_t key = H->tx_key++;
     uint64_t t = 0U;
-    uts_msg_t m;
+    c4gh_udp_msg_t m;
     unsigned guard = 0U;
-    while (guard++ < 64U && uts_recv(fd, 1, H->kstamp_off, buf, sizeof buf, &m) >= 0) {
+    while (guard++ < 64U && c4gh_udp_recv(fd, 1, H->kstamp_off, buf, sizeof buf, &m) >= 0) {
         if (m.has_key && m.key == key && m.stamp_ns != 0U) {
             t = m.stamp_ns;
         }
@@ -498,9 +498,9 @@ static int configure(srv_host_t *H, int argc, char **argv)
 {
     char err[640];
     srv_config_default(&g_cfg);
-    switch (srv_config_cli(&g_cfg, "c4g-server", C4G_PCAP_ANCHOR(), argc, argv)) {
-    case CLI_RUN: break;
-    case CLI_DONE: return 0; /* --help, --version */
+    switch (srv_config_cli(&g_cfg, "c4g-server", C4GH_PCAP_ANCHOR(), argc, argv)) {
+    case C4GH_CLI_RUN: break;
+    case C4GH_CLI_DONE: return 0; /* --help, --version */
     default: return EXIT_USAGE;
     }
     if (srv_load_files(&g_cfg, err, sizeof err) != 0) {
@@ -529,8 +529,8 @@ static int start(srv_host_t *H, int *fd)
         close(*fd);
         return EXIT_SETUP;
     }
-    c4g_rtlog_init(&H->log, srv_sink, H);
-    if (c4g_rtlog_start(&H->log) != 0) {
+    c4gh_rtlog_init(&H->log, srv_sink, H);
+    if (c4gh_rtlog_start(&H->log) != 0) {
         fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
         close(*fd);
         return EXIT_SETUP;
@@ -542,7 +542,7 @@ static int start(srv_host_t *H, int *fd)
     sigaction(SIGTERM, &sa, NULL);
     /* RT settings last: the writer thread stays SCHED_OTHER; memory is locked from here */
     if (srv_rt_setup(cfg, stderr) != 0) {
-        c4g_rtlog_stop(&H->log);
+        c4gh_rtlog_stop(&H->log);
         close(*fd);
         return EXIT_SETUP;
     }
@@ -591,10 +591,10 @@ int main(int argc, char **argv)
     H->s.t0_ns = now_ns();
     /* --pcap records the kernel's receive and send times (as c4g-sim's does); without
      * kernel stamps, the clock reads around recvfrom and sendto */
-    H->kstamp = (H->pcap != NULL) && uts_enable(fd);
-    H->kstamp_off = H->kstamp ? uts_real_minus_mono() : 0U;
+    H->kstamp = (H->pcap != NULL) && c4gh_udp_enable(fd);
+    H->kstamp_off = H->kstamp ? c4gh_udp_real_minus_mono() : 0U;
     code = serve(H, fd);
-    c4g_rtlog_stop(&H->log);
+    c4gh_rtlog_stop(&H->log);
     close(fd);
     return finish(H, code);
 }

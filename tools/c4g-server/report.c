@@ -3,9 +3,9 @@
  * exit report (chapter 22 timing, counters, safety events) as text and JSON. Nothing
  * here runs on the real-time path. */
 #include "srv.h"
-#include "c4g_pcap.h"
-#include "c4g_csv.h"
-#include "c4g_tickcsv.h"
+#include "c4gh_pcap.h"
+#include "c4gh_csv.h"
+#include "c4gh_csv.h"
 
 #include <jansson.h>
 
@@ -28,40 +28,40 @@ int srv_outputs_open(srv_host_t *H)
     H->pcap = NULL;
     H->moni_fp = NULL;
     /* the JSON summary is written at exit: its place is checked now, before the session */
-    if (S->cfg.json_path[0] != '\0' && cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
+    if (S->cfg.json_path[0] != '\0' && c4gh_cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
         return -1;
     }
     if (S->cfg.log_path[0] != '\0') {
         H->log_fp = fopen(S->cfg.log_path, "w");
         if (H->log_fp == NULL) {
-            cli_file_error("c4g-server", "--log", S->cfg.log_path, errno);
+            c4gh_cli_file_error("c4g-server", "--log", S->cfg.log_path, errno);
             return -1;
         }
     }
     if (S->cfg.pcap_path[0] != '\0') {
         char err[256];
-        H->pcap = c4g_pcap_open(S->cfg.pcap_path, err, sizeof err);
+        H->pcap = c4gh_pcap_open(S->cfg.pcap_path, err, sizeof err);
         if (H->pcap == NULL) {
             char pt[600];
             fprintf(stderr, "c4g-server: --pcap %s: %s\n",
-                    cli_path_text(S->cfg.pcap_path, pt, sizeof pt), err);
+                    c4gh_cli_path_text(S->cfg.pcap_path, pt, sizeof pt), err);
             return -1;
         }
     }
     if (S->cfg.moni_path[0] != '\0') {
         H->moni_fp = fopen(S->cfg.moni_path, "w");
         if (H->moni_fp == NULL) {
-            cli_file_error("c4g-server", "--moni", S->cfg.moni_path, errno);
+            c4gh_cli_file_error("c4g-server", "--moni", S->cfg.moni_path, errno);
             return -1;
         }
         if (S->cfg.moni_type == 0) {
-            fputs(C4G_TICK_CSV_COLUMNS "\n", H->moni_fp);
+            fputs(C4GH_TICK_CSV_COLUMNS "\n", H->moni_fp);
         } else {
             char hdr[256];
             size_t hl = 0U;
-            fprintf(H->moni_fp, "# moni type %d (manual chapter 16), rows from c4g_moni_csv_row\n",
+            fprintf(H->moni_fp, "# moni type %d (manual chapter 16), rows from c4gh_moni_csv_row\n",
                     S->cfg.moni_type);
-            if (c4g_moni_csv_header((uint32_t)S->cfg.moni_type, hdr, sizeof hdr, &hl) == C4G_OK) {
+            if (c4gh_moni_csv_header((uint32_t)S->cfg.moni_type, hdr, sizeof hdr, &hl) == C4G_OK) {
                 fwrite(hdr, 1, hl, H->moni_fp);
             }
         }
@@ -73,7 +73,7 @@ void srv_outputs_close(srv_host_t *H)
 {
     const srv_t *S = &H->s;
     if (H->log_fp != NULL) fclose(H->log_fp);
-    if (H->pcap != NULL && c4g_pcap_close(H->pcap) != 0) {
+    if (H->pcap != NULL && c4gh_pcap_close(H->pcap) != 0) {
         fprintf(stderr, "c4g-server: --pcap %s: write error\n", S->cfg.pcap_path);
     }
     H->pcap = NULL;
@@ -82,9 +82,9 @@ void srv_outputs_close(srv_host_t *H)
 }
 
 /* rec->data: peer addr (4, network order), peer port (2), local port (2), payload.
- * Written with the shared tools/common/c4g_pcap writer (Ethernet/IPv4/UDP frames), the
+ * Written with the shared lib/host/c4gh_pcap writer (Ethernet/IPv4/UDP frames), the
  * same format as c4g-sim's --pcap. */
-static void write_pcap(srv_host_t *H, const c4g_rtlog_rec_t *rec)
+static void write_pcap(srv_host_t *H, const c4gh_rtlog_rec_t *rec)
 {
     const srv_t *S = &H->s;
     uint32_t peer, local;
@@ -105,14 +105,14 @@ static void write_pcap(srv_host_t *H, const c4g_rtlog_rec_t *rec)
     }
     ts.tv_sec = (time_t)(t / 1000000000ULL);
     ts.tv_nsec = (long)(t % 1000000000ULL);
-    if (c4g_pcap_write_udp(H->pcap, &ts, rx ? peer : local, rx ? pport : lport,
+    if (c4gh_pcap_write_udp(H->pcap, &ts, rx ? peer : local, rx ? pport : lport,
                            rx ? local : peer, rx ? lport : pport, rec->data + 8,
                            rec->len - 8U) != 0) {
         H->pcap_errors++;
     }
 }
 
-static void write_moni(srv_host_t *H, const c4g_rtlog_rec_t *rec)
+static void write_moni(srv_host_t *H, const c4gh_rtlog_rec_t *rec)
 {
     const srv_t *S = &H->s;
     c4g_ctrl_packet_t rx;
@@ -127,21 +127,21 @@ static void write_moni(srv_host_t *H, const c4g_rtlog_rec_t *rec)
         const c4g_pc_axis_t *o = &tx.ax[i];
         if (S->cfg.moni_type >= 19) {
             c4g_moni_rec_t mr;
-            char row[C4G_MONI_ROW_MAX + 8U];
+            char row[C4GH_MONI_ROW_MAX + 8U];
             size_t rl = 0U;
             if (c4g_moni_record((uint32_t)S->cfg.moni_type, &rx, &tx, i, &mr) == C4G_OK &&
-                c4g_moni_csv_row(&mr, row, sizeof row, &rl) == C4G_OK) {
+                c4gh_moni_csv_row(&mr, row, sizeof row, &rl) == C4G_OK) {
                 fwrite(row, 1, rl, H->moni_fp);
             }
             continue;
         }
-        c4g_tick_csv_row(H->moni_fp, t, rx.num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
+        c4gh_tick_csv_row(H->moni_fp, t, rx.num, i + 1U, (uint32_t)m->arm_of[i] + 1U,
                          (uint32_t)m->logical_of[i] + 1U, r, tx.infpar, o);
         fputc('\n', H->moni_fp);
     }
 }
 
-void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
+void srv_sink(void *ctx, const c4gh_rtlog_rec_t *rec)
 {
     srv_host_t *H = (srv_host_t *)ctx;
     const srv_t *S = &H->s;
@@ -173,7 +173,7 @@ void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec)
 
 static double pct_us(const srv_stats_t *st, double p)
 {
-    return c4g_hist_us(&st->cycle, p);
+    return c4gh_hist_us(&st->cycle, p);
 }
 
 static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "nonfinite",
@@ -208,7 +208,7 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     fprintf(out, "Percentage jitter range = [%+.9f; %+.9f] %%\n", t.min_jitter_pct, t.max_jitter_pct);
     fprintf(out, "Cycle time (rx -> sent): samples %llu, mean %.1f us, p50 %.0f us, p99 %.0f us, "
             "p99.9 %.0f us, max %.1f us; later than %u us: %llu\n",
-            (unsigned long long)st->cycle.n, c4g_hist_mean_us(&st->cycle),
+            (unsigned long long)st->cycle.n, c4gh_hist_mean_us(&st->cycle),
             pct_us(st, 0.5), pct_us(st, 0.99), pct_us(st, 0.999), (double)st->cycle.max_ns / 1000.0,
             S->cfg.late_us, (unsigned long long)st->late);
     fprintf(out, "== Counters\n");
@@ -294,7 +294,7 @@ static json_t *json_timing(const srv_t *S)
     put_f(o, "min_jitter_pct", t.min_jitter_pct);
     put_f(o, "max_jitter_pct", t.max_jitter_pct);
     put_u(o, "cycle_samples", st->cycle.n);
-    put_f(o, "cycle_mean_us", c4g_hist_mean_us(&st->cycle));
+    put_f(o, "cycle_mean_us", c4gh_hist_mean_us(&st->cycle));
     put_f(o, "cycle_p50_us", pct_us(st, 0.5));
     put_f(o, "cycle_p99_us", pct_us(st, 0.99));
     put_f(o, "cycle_p999_us", pct_us(st, 0.999));
@@ -386,7 +386,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     json_t *o;
     int rc;
     if (fp == NULL) {
-        cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json", path, errno);
         return -1;
     }
     o = json_object();
@@ -412,7 +412,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
         fflush(fp);
     }
     if (rc != 0) {
-        cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json", path, errno);
         return -1;
     }
     return 0;

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server's I/O around the server core (tools/common/c4g_srv.h): the socket's address
+/* c4g-server's I/O around the server core (tools/c4g-server/srv_core.h): the socket's address
  * filter, the log ring and its writer thread's outputs (text log, pcap, moni), exit codes. */
 #ifndef SRV_IO_H
 #define SRV_IO_H
 
-#include "c4g_srv.h"
-#include "c4g_rtlog.h"
+#include "srv_core.h"
+#include "c4gh_rtlog.h"
 
 #include <netinet/in.h>
 #include <stdint.h>
@@ -27,9 +27,9 @@ enum { LOG_TEXT = 1, LOG_PCAP_RX = 2, LOG_PCAP_TX = 3, LOG_MONI = 4 };
 /* The server: its core and the I/O the core never does. */
 typedef struct srv_host {
     srv_t s;                      /* the per-datagram core */
-    c4g_rtlog_t log;              /* RT-safe ring to the writer thread */
+    c4gh_rtlog_t log;              /* RT-safe ring to the writer thread */
     FILE *log_fp, *moni_fp;
-    struct c4g_pcap *pcap;        /* tools/common/c4g_pcap writer (log thread only) */
+    struct c4g_pcap *pcap;        /* lib/host/c4gh_pcap writer (log thread only) */
     uint64_t pcap_errors;
     struct sockaddr_in ctrl;      /* controller filter (sin_addr.s_addr 0 = any) */
     int connected;                /* the socket is connect()ed to conn_peer (kernel filter) */
@@ -45,7 +45,7 @@ typedef struct srv_host {
 /* report.c */
 void srv_report(srv_host_t *H, FILE *out, const char *why, int code);
 int srv_json(srv_host_t *H, const char *path, const char *why, int code);
-void srv_sink(void *ctx, const c4g_rtlog_rec_t *rec);
+void srv_sink(void *ctx, const c4gh_rtlog_rec_t *rec);
 int srv_outputs_open(srv_host_t *H);
 void srv_outputs_close(srv_host_t *H);
 

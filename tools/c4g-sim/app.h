@@ -11,8 +11,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "c4g_ctrlside.h"
-#include "c4g_pcap.h"
+#include "c4gh_ctrlside.h"
+#include "c4gh_pcap.h"
 #include "sim.h"
 
 /* Exit codes (docs/c4g-sim.md): 0, 1 and 2 are the shared ones of c4g_cli.h. */
@@ -50,7 +50,7 @@ typedef struct app_opts {
     int entry_fault; /* --entry-fault: 0 none, 1 drop, 2 truncate */
 } app_opts_t;
 
-/* The simulator's own counters (the protocol's are in cs_t). */
+/* The simulator's own counters (the protocol's are in c4gh_cs_t). */
 typedef struct app_stats {
     unsigned long sent;
     unsigned long fault[F_COUNT];
@@ -64,20 +64,20 @@ typedef struct app {
     sim_config_t cfg;
     sim_t sim;
     scn_t scn;
-    cs_t cs;
+    c4gh_cs_t cs;
     int fd;
     struct sockaddr_in srv;
     struct sockaddr_in local;
     uint32_t local_ip;
     uint16_t local_port;
     FILE *csv;
-    c4g_pcap_t *pcap;
+    c4gh_pcap_t *pcap;
     int out_error;
     app_stats_t st;
     pending_t pend[MAX_PENDING];
     pending_t held;          /* reorder: sent after the next packet */
     int32_t sent_modes[C4G_MAX_AXES]; /* modes of the last cyclic packet sent */
-    sim_rng_t frng;
+    c4gsim_rng_t frng;
     int kstamp;              /* kernel send/receive timestamps (SO_TIMESTAMPING) are on */
     uint32_t tx_seq;         /* SO_TIMESTAMPING id of the next sendto */
     int has_key;             /* tx_key: SO_TIMESTAMPING id of the outstanding packet */

@@ -2,7 +2,7 @@
 /* c4g-sim configuration: defaults and the INI file (read with inih). */
 #include "sim.h"
 
-#include "c4g_textfile.h"
+#include "c4gh_textfile.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -36,7 +36,7 @@ void sim_config_default(sim_config_t *c)
     for (a = 0; a < C4G_ARMS; a++) {
         c->option_ok[a] = 1;
         for (l = 0; l < C4G_AXES_PER_ARM; l++) {
-            sim_axis_params_default(&c->ax[a][l], l);
+            c4gsim_axis_params_default(&c->ax[a][l], l);
         }
     }
 }
@@ -70,25 +70,25 @@ typedef struct kv {
     size_t msglen;
 } kv_t;
 
-static int bad_num(const kv_t *k, tf_num_t st, double lo, double hi)
+static int bad_num(const kv_t *k, c4gh_tf_num_t st, double lo, double hi)
 {
     char why[200];
-    tf_num_explain(st, k->value, lo, hi, why, sizeof why);
+    c4gh_tf_num_explain(st, k->value, lo, hi, why, sizeof why);
     snprintf(k->msg, k->msglen, "[%s] %s: %s", k->section, k->name, why);
     return -1;
 }
 
 static int dbl(const kv_t *k, double lo, double hi, double *out)
 {
-    const tf_num_t st = tf_parse_double(k->value, lo, hi, out);
-    return (st == TF_NUM_OK) ? 0 : bad_num(k, st, lo, hi);
+    const c4gh_tf_num_t st = c4gh_tf_parse_double(k->value, lo, hi, out);
+    return (st == C4GH_TF_NUM_OK) ? 0 : bad_num(k, st, lo, hi);
 }
 
 static int uns(const kv_t *k, long long lo, long long hi, unsigned *out)
 {
     long long v = 0;
-    const tf_num_t st = tf_parse_int(k->value, lo, hi, &v);
-    if (st != TF_NUM_OK) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_int(k->value, lo, hi, &v);
+    if (st != C4GH_TF_NUM_OK) {
         return bad_num(k, st, (double)lo, (double)hi);
     }
     *out = (unsigned)v;
@@ -98,8 +98,8 @@ static int uns(const kv_t *k, long long lo, long long hi, unsigned *out)
 static int sint(const kv_t *k, long long lo, long long hi, int *out)
 {
     long long v = 0;
-    const tf_num_t st = tf_parse_int(k->value, lo, hi, &v);
-    if (st != TF_NUM_OK) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_int(k->value, lo, hi, &v);
+    if (st != C4GH_TF_NUM_OK) {
         return bad_num(k, st, (double)lo, (double)hi);
     }
     *out = (int)v;
@@ -109,20 +109,20 @@ static int sint(const kv_t *k, long long lo, long long hi, int *out)
 static int bad_text(const kv_t *k, const char *want)
 {
     char v[80];
-    tf_escape(k->value, strlen(k->value), v, sizeof v);
+    c4gh_tf_escape(k->value, strlen(k->value), v, sizeof v);
     snprintf(k->msg, k->msglen, "[%s] %s: '%s' is not %s", k->section, k->name, v, want);
     return -1;
 }
 
 /* Axis parameter by name; returns 0 ok, -1 bad value, -2 unknown key. */
-static int axis_key(sim_axis_params_t *p, const kv_t *k)
+static int axis_key(c4gsim_axis_params_t *p, const kv_t *k)
 {
     static const struct {
         const char *name;
         size_t off;
         double lo, hi;
     } keys[] = {
-#define K(n, lo, hi) {#n, offsetof(sim_axis_params_t, n), lo, hi}
+#define K(n, lo, hi) {#n, offsetof(c4gsim_axis_params_t, n), lo, hi}
         K(j, 1e-9, 1e3), K(kt, 1e-6, 1e3), K(fv, 0.0, 1e3), K(fc, 0.0, 1e3), K(fs, 0.0, 1e3), K(vs, 0.0, 1e4),
         K(load, -1e4, 1e4), K(cur_noise, 0.0, 1e3), K(torque_noise, 0.0, 1e3), K(gravity, -1e4, 1e4),
         K(kp, 0.0, 1e5), K(kv, 0.0, 1e5), K(ki, 0.0, 1e7), K(az_lim, 0.0, 1e4),
@@ -160,7 +160,7 @@ static int axis_key(sim_axis_params_t *p, const kv_t *k)
 static int section_arm(const char *s, unsigned *a)
 {
     long long v = 0;
-    if (strncmp(s, "arm ", 4) != 0 || tf_parse_int(s + 4, 1, (long long)C4G_ARMS, &v) != TF_NUM_OK) {
+    if (strncmp(s, "arm ", 4) != 0 || c4gh_tf_parse_int(s + 4, 1, (long long)C4G_ARMS, &v) != C4GH_TF_NUM_OK) {
         return 0;
     }
     *a = (unsigned)v;
@@ -179,8 +179,8 @@ static int section_axis(const char *s, unsigned *a, unsigned *l)
     }
     memcpy(tmp, s + 5, (size_t)(dot - (s + 5)));
     tmp[dot - (s + 5)] = '\0';
-    if (tf_parse_int(tmp, 1, (long long)C4G_ARMS, &va) != TF_NUM_OK ||
-        tf_parse_int(dot + 1, 1, (long long)C4G_AXES_PER_ARM, &vl) != TF_NUM_OK) {
+    if (c4gh_tf_parse_int(tmp, 1, (long long)C4G_ARMS, &va) != C4GH_TF_NUM_OK ||
+        c4gh_tf_parse_int(dot + 1, 1, (long long)C4G_AXES_PER_ARM, &vl) != C4GH_TF_NUM_OK) {
         return 0;
     }
     *a = (unsigned)va;
@@ -194,16 +194,16 @@ static int seed_key(sim_config_t *c, const kv_t *k)
     const char *name = k->name;
     const char *value = k->value;
     unsigned long long v = 0;
-    const tf_num_t st = tf_parse_uint(value, ~0ULL, &v);
-    if (st == TF_NUM_RANGE) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_uint(value, ~0ULL, &v);
+    if (st == C4GH_TF_NUM_RANGE) {
         /* 2^64 - 1 as text: a double bound would print rounded */
         char v80[80];
-        tf_escape(value, strlen(value), v80, sizeof v80);
+        c4gh_tf_escape(value, strlen(value), v80, sizeof v80);
         snprintf(k->msg, k->msglen, "[%s] %s: '%s' is out of range 0..18446744073709551615",
                  k->section, name, v80);
         return -1;
     }
-    if (st != TF_NUM_OK) {
+    if (st != C4GH_TF_NUM_OK) {
         return bad_num(k, st, 0.0, 0.0);
     }
     c->seed = (uint64_t)v;
@@ -251,7 +251,7 @@ static int version_key(sim_config_t *c, const kv_t *k)
     }
     for (int i = 0; i < n; i++) {
         long long x = 0;
-        if (tf_parse_int(part[i], 0, 65535, &x) != TF_NUM_OK) {
+        if (c4gh_tf_parse_int(part[i], 0, 65535, &x) != C4GH_TF_NUM_OK) {
             return bad_text(k, "a version MAJOR.MINOR.BUILD (each 0..65535)");
         }
         v[i] = (int)x;
@@ -340,7 +340,7 @@ static int arm_key(sim_config_t *c, unsigned a, const kv_t *k)
         strcpy(tmp, k->value);
         for (tok = strtok_r(tmp, " ,\t", &save); tok != NULL; tok = strtok_r(NULL, " ,\t", &save)) {
             long long v = 0;
-            if (tf_parse_int(tok, 1, 10, &v) != TF_NUM_OK) {
+            if (c4gh_tf_parse_int(tok, 1, 10, &v) != C4GH_TF_NUM_OK) {
                 return bad_text(k, "a list of logical axes 1..10");
             }
             m |= 1U << (v - 1);
@@ -360,7 +360,7 @@ static int arm_key(sim_config_t *c, unsigned a, const kv_t *k)
     return rc;
 }
 
-static tf_ini_rc_t handler(void *user, const char *section, const char *name, const char *value,
+static c4gh_tf_ini_rc_t handler(void *user, const char *section, const char *name, const char *value,
                            char *msg, size_t msglen)
 {
     sim_config_t *c = user;
@@ -388,22 +388,22 @@ static tf_ini_rc_t handler(void *user, const char *section, const char *name, co
         rc = axis_key(&c->ax[a - 1U][l - 1U], &k);
     } else {
         char s[80];
-        tf_escape(section, strlen(section), s, sizeof s);
+        c4gh_tf_escape(section, strlen(section), s, sizeof s);
         snprintf(msg, msglen, "unknown section [%s] (want [sim], [model], [arm 1..4] or [axis A.L])", s);
-        return TF_INI_BAD_SECTION;
+        return C4GH_TF_INI_BAD_SECTION;
     }
     if (rc == -2) {
         char n[80];
-        tf_escape(name, strlen(name), n, sizeof n);
+        c4gh_tf_escape(name, strlen(name), n, sizeof n);
         snprintf(msg, msglen, "[%s]: unknown key '%s'", section, n);
-        return TF_INI_BAD_KEY;
+        return C4GH_TF_INI_BAD_KEY;
     }
-    return (rc == 0) ? TF_INI_OK : TF_INI_BAD_VALUE;
+    return (rc == 0) ? C4GH_TF_INI_OK : C4GH_TF_INI_BAD_VALUE;
 }
 
-int sim_config_parse(sim_config_t *c, tf_file_t *f, char *err, size_t errlen)
+int sim_config_parse(sim_config_t *c, c4gh_tf_file_t *f, char *err, size_t errlen)
 {
-    if (tf_ini_parse(f, handler, c, err, errlen) != 0) {
+    if (c4gh_tf_ini_parse(f, handler, c, err, errlen) != 0) {
         return -1;
     }
     if (sim_config_axes(c) < 0) {
@@ -415,12 +415,12 @@ int sim_config_parse(sim_config_t *c, tf_file_t *f, char *err, size_t errlen)
 
 int sim_config_load(sim_config_t *c, const char *path, char *err, size_t errlen)
 {
-    tf_file_t f;
+    c4gh_tf_file_t f;
     int rc;
-    if (tf_load(&f, path, TF_MAX_INI, err, errlen) != 0) {
+    if (c4gh_tf_load(&f, path, C4GH_TF_MAX_INI, err, errlen) != 0) {
         return -1;
     }
     rc = sim_config_parse(c, &f, err, errlen);
-    tf_free(&f);
+    c4gh_tf_free(&f);
     return rc;
 }

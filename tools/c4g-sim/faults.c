@@ -10,7 +10,7 @@ const char *const fault_names[F_COUNT] = {"drop", "delay", "duplicate", "reorder
 
 static int roll(app_t *a, enum fault f)
 {
-    return a->o.fault_frac[f] > 0.0 && sim_rng_uniform(&a->frng) < a->o.fault_frac[f];
+    return a->o.fault_frac[f] > 0.0 && c4gsim_rng_uniform(&a->frng) < a->o.fault_frac[f];
 }
 
 static void queue_pending(app_t *a, const uint8_t *buf, size_t len, uint64_t due)
@@ -52,7 +52,7 @@ static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
 /* --entry-fault and --drop: 1 if the packet is lost; the entry fault may cut *len. */
 static int lost(app_t *a, const uint8_t *pkt, size_t *len)
 {
-    if (a->cs.out.kind == CS_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
+    if (a->cs.out.kind == C4GH_CS_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
         /* the packet that opens a mode is lost or cut: the PC must not anchor on it */
         if (a->o.entry_fault == 1) {
             a->st.fault[F_DROP]++;
@@ -72,12 +72,12 @@ static int lost(app_t *a, const uint8_t *pkt, size_t *len)
 static void damage(app_t *a, uint8_t *buf, size_t *len)
 {
     if (roll(a, F_CORRUPT)) {
-        const size_t at = (size_t)(sim_rng_next(&a->frng) % *len);
-        buf[at] ^= (uint8_t)(1U + sim_rng_next(&a->frng) % 255U);
+        const size_t at = (size_t)(c4gsim_rng_next(&a->frng) % *len);
+        buf[at] ^= (uint8_t)(1U + c4gsim_rng_next(&a->frng) % 255U);
         a->st.fault[F_CORRUPT]++;
     }
     if (roll(a, F_TRUNCATE)) {
-        *len = (size_t)(sim_rng_next(&a->frng) % *len);
+        *len = (size_t)(c4gsim_rng_next(&a->frng) % *len);
         a->st.fault[F_TRUNCATE]++;
     }
 }
@@ -117,7 +117,7 @@ int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key)
     a->st.sent++;
     if (!lost(a, pkt, &len)) {
         damage(a, buf, &len);
-        if (a->cs.out.kind == CS_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
+        if (a->cs.out.kind == C4GH_CS_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
             /* the PC echoes what went on the wire: a --corrupt byte is not a PC's own limit */
             memcpy(a->cs.out.raw, buf, C4G_INIT_SIZE);
         }

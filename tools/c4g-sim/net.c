@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include "app.h"
-#include "c4g_udpts.h"
+#include "c4gh_udp.h"
 
-uint64_t now_ns(void) { return uts_now_ns(); }
+uint64_t now_ns(void) { return c4gh_udp_now_ns(); }
 
 static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
                         const uint8_t *buf, size_t len)
@@ -27,9 +27,9 @@ static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
     pip = ntohl(peer->sin_addr.s_addr);
     pport = ntohs(peer->sin_port);
     if (outgoing) {
-        rc = c4g_pcap_write_udp(a->pcap, &ts, a->local_ip, a->local_port, pip, pport, buf, len);
+        rc = c4gh_pcap_write_udp(a->pcap, &ts, a->local_ip, a->local_port, pip, pport, buf, len);
     } else {
-        rc = c4g_pcap_write_udp(a->pcap, &ts, pip, pport, a->local_ip, a->local_port, buf, len);
+        rc = c4gh_pcap_write_udp(a->pcap, &ts, pip, pport, a->local_ip, a->local_port, buf, len);
     }
     if (rc != 0) {
         a->out_error = 1;
@@ -89,7 +89,7 @@ int net_open(app_t *a)
     /* Replies are judged by their kernel arrival time and our packets by their kernel
      * send time, so the simulator's own scheduling delays are not charged to the PC.
      * If the kernel refuses them: clock reads in user space. */
-    a->kstamp = uts_enable(a->fd);
+    a->kstamp = c4gh_udp_enable(a->fd);
     if (!a->kstamp && a->o.verbose) {
         fprintf(stderr, "c4g-sim: no kernel timestamps (%s): reply times from user space\n",
                 strerror(errno));
@@ -104,8 +104,8 @@ int net_open(app_t *a)
 static int read_one(app_t *a, int errq, uint64_t off)
 {
     uint8_t buf[MAX_DGRAM];
-    uts_msg_t m;
-    const ssize_t n = uts_recv(a->fd, errq, off, buf, sizeof buf, &m);
+    c4gh_udp_msg_t m;
+    const ssize_t n = c4gh_udp_recv(a->fd, errq, off, buf, sizeof buf, &m);
     uint64_t t, now;
     if (n < 0) {
         return 0;
@@ -115,7 +115,7 @@ static int read_one(app_t *a, int errq, uint64_t off)
     if (errq) {
         /* the send happened after the clock read in emit and before now */
         if (m.has_key && a->has_key && m.key == a->tx_key) {
-            (void)cs_sent_stamp(&a->cs, t, now);
+            (void)c4gh_cs_sent_stamp(&a->cs, t, now);
         }
         return 1;
     }
@@ -129,7 +129,7 @@ static int read_one(app_t *a, int errq, uint64_t off)
  * the send timestamps of our own datagrams. */
 void drain(app_t *a)
 {
-    const uint64_t off = a->kstamp ? uts_real_minus_mono() : 0U;
+    const uint64_t off = a->kstamp ? c4gh_udp_real_minus_mono() : 0U;
     while (read_one(a, 0, off)) {
     }
     while (a->kstamp && read_one(a, 1, off)) {

@@ -1,19 +1,19 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-sim command line: one table row per option (tools/common/c4g_cli.h), the INI file
+/* c4g-sim command line: one table row per option (lib/host/c4gh_cli.h), the INI file
  * under it, then the checks that need both (addresses, scenario, the controller). */
 #include <arpa/inet.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "app.h"
-#include "c4g_cli.h"
-#include "c4g_textfile.h"
+#include "c4gh_cli.h"
+#include "c4gh_textfile.h"
 
-/* ---- value handlers (CLI_CALL rows; ctx is the app) ---------------------- */
+/* ---- value handlers (C4GH_CLI_CALL rows; ctx is the app) ---------------------- */
 
 /* A path: kept as the argv string. row->key picks the field. */
 enum { P_CONFIG = 0, P_SCENARIO, P_CSV, P_PCAP };
-static int opt_path(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_path(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     app_opts_t *o = &((app_t *)ctx)->o;
     const char **dst[] = {&o->config_path, &o->scenario_path, &o->csv_path, &o->pcap_path};
@@ -24,20 +24,20 @@ static int opt_path(void *ctx, const cli_opt_t *row, const char *v, char *why, s
 }
 
 /* An int field of the configuration (row->dest) in row->lo..row->hi. */
-static int opt_int(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_int(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     long long x = 0;
-    const tf_num_t st = tf_parse_int(v, (long long)row->lo, (long long)row->hi, &x);
+    const c4gh_tf_num_t st = c4gh_tf_parse_int(v, (long long)row->lo, (long long)row->hi, &x);
     (void)ctx;
-    if (st != TF_NUM_OK) {
-        tf_num_explain(st, v, row->lo, row->hi, why, wl);
+    if (st != C4GH_TF_NUM_OK) {
+        c4gh_tf_num_explain(st, v, row->lo, row->hi, why, wl);
         return -1;
     }
     *(int *)row->dest = (int)x;
     return 0;
 }
 
-static int opt_policy(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     static const char *const names[] = {"plus-one", "echo", "either"};
     static const sim_policy_t pol[] = {SIM_NUM_PLUS_ONE, SIM_NUM_ECHO, SIM_NUM_EITHER};
@@ -54,7 +54,7 @@ static int opt_policy(void *ctx, const cli_opt_t *row, const char *v, char *why,
 }
 
 /* "6" or "6,4": open axes 1..n of each arm. */
-static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_axes(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_config_t *cfg = &((app_t *)ctx)->cfg;
     const char *p = v;
@@ -78,13 +78,13 @@ static int opt_axes(void *ctx, const cli_opt_t *row, const char *v, char *why, s
     return 0;
 }
 
-static int opt_startup_mode(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_startup_mode(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_config_t *cfg = &((app_t *)ctx)->cfg;
     long long m = 0;
     unsigned a, l;
     (void)row;
-    if (tf_parse_int(v, 0, 1000, &m) != TF_NUM_OK || !c4g_mode_is_known((int32_t)m)) {
+    if (c4gh_tf_parse_int(v, 0, 1000, &m) != C4GH_TF_NUM_OK || !c4g_mode_is_known((int32_t)m)) {
         snprintf(why, wl, "not a mode code");
         return -1;
     }
@@ -96,14 +96,14 @@ static int opt_startup_mode(void *ctx, const cli_opt_t *row, const char *v, char
     return 0;
 }
 
-/* --seed 0..2^64-1 and --ticks 1..ULONG_MAX: wider than CLI_INT. */
-static int opt_u64(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+/* --seed 0..2^64-1 and --ticks 1..ULONG_MAX: wider than C4GH_CLI_INT. */
+static int opt_u64(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_config_t *cfg = &((app_t *)ctx)->cfg;
     const int seed = strcmp(row->name, "seed") == 0;
     unsigned long long x = 0;
-    const tf_num_t st = tf_parse_uint(v, seed ? ~0ULL : (unsigned long long)~0UL, &x);
-    if (st != TF_NUM_OK || (!seed && x == 0U)) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_uint(v, seed ? ~0ULL : (unsigned long long)~0UL, &x);
+    if (st != C4GH_TF_NUM_OK || (!seed && x == 0U)) {
         snprintf(why, wl, seed ? "not a number 0..18446744073709551615" : "not a positive number");
         return -1;
     }
@@ -115,7 +115,7 @@ static int opt_u64(void *ctx, const cli_opt_t *row, const char *v, char *why, si
     return 0;
 }
 
-static int opt_no_follow(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_no_follow(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     (void)row;
     (void)v;
@@ -126,7 +126,7 @@ static int opt_no_follow(void *ctx, const cli_opt_t *row, const char *v, char *w
 }
 
 /* --drop F etc. (row->key: the fault); --delay F[:US]. */
-static int opt_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_fault(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     app_opts_t *o = &((app_t *)ctx)->o;
     char frac[64];
@@ -138,8 +138,8 @@ static int opt_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     if (!bad) {
         memcpy(frac, v, n);
         frac[n] = '\0';
-        bad = tf_parse_double(frac, 0.0, 1.0, &f) != TF_NUM_OK ||
-              (colon != NULL && tf_parse_uint(colon + 1, 10000000ULL, &us) != TF_NUM_OK);
+        bad = c4gh_tf_parse_double(frac, 0.0, 1.0, &f) != C4GH_TF_NUM_OK ||
+              (colon != NULL && c4gh_tf_parse_uint(colon + 1, 10000000ULL, &us) != C4GH_TF_NUM_OK);
     }
     if (bad) {
         snprintf(why, wl, "not a fraction 0..1%s", row->key == F_DELAY ? " (optionally :US)" : "");
@@ -150,7 +150,7 @@ static int opt_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     return 0;
 }
 
-static int opt_pause(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_pause(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     app_opts_t *o = &((app_t *)ctx)->o;
     char tick[32];
@@ -163,8 +163,8 @@ static int opt_pause(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     }
     memcpy(tick, v, (size_t)(colon - v));
     tick[colon - v] = '\0';
-    if (tf_parse_uint(tick, (unsigned long long)~0UL, &at) != TF_NUM_OK ||
-        tf_parse_uint(colon + 1, 1000000ULL, &len) != TF_NUM_OK || len == 0U) {
+    if (c4gh_tf_parse_uint(tick, (unsigned long long)~0UL, &at) != C4GH_TF_NUM_OK ||
+        c4gh_tf_parse_uint(colon + 1, 1000000ULL, &len) != C4GH_TF_NUM_OK || len == 0U) {
         snprintf(why, wl, "must be TICK:N");
         return -1;
     }
@@ -173,7 +173,7 @@ static int opt_pause(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     return 0;
 }
 
-static int opt_entry(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int opt_entry(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     app_opts_t *o = &((app_t *)ctx)->o;
     (void)row;
@@ -187,7 +187,7 @@ static int opt_entry(void *ctx, const cli_opt_t *row, const char *v, char *why, 
 
 /* ---- the table ------------------------------------------------------------ */
 
-#define ROW_CALL(name, s, arg, help, fn, key) {name, s, CLI_CALL, arg, help, NULL, 0, 0, 0, fn, key}
+#define ROW_CALL(name, s, arg, help, fn, key) {name, s, C4GH_CLI_CALL, arg, help, NULL, 0, 0, 0, fn, key}
 
 static const char usage_text[] =
     "Usage: c4g-sim [OPTIONS]\n"
@@ -208,24 +208,24 @@ static const char *const examples[] = {
 #define N_ROWS 29
 
 /* The rows point into this app, so they are built at run time. */
-static void opt_rows(app_t *a, cli_opt_t *rows)
+static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
 {
     sim_config_t *c = &a->cfg;
-    const cli_opt_t r[] = {
-        {"server", 's', CLI_STRING, "ADDR", "PC server IPv4 address (default 127.0.0.1)", c->server,
+    const c4gh_cli_opt_t r[] = {
+        {"server", 's', C4GH_CLI_STRING, "ADDR", "PC server IPv4 address (default 127.0.0.1)", c->server,
          sizeof c->server, 0, 0, NULL, 0},
-        {"port", 'p', CLI_UINT, "N", "PC server UDP port (default 1000)", &c->port, 0, 1, 65535, NULL, 0},
-        {"bind", 0, CLI_STRING, "ADDR", "local address to bind (default 0.0.0.0)", c->bind_addr,
+        {"port", 'p', C4GH_CLI_UINT, "N", "PC server UDP port (default 1000)", &c->port, 0, 1, 65535, NULL, 0},
+        {"bind", 0, C4GH_CLI_STRING, "ADDR", "local address to bind (default 0.0.0.0)", c->bind_addr,
          sizeof c->bind_addr, 0, 0, NULL, 0},
-        {"local-port", 0, CLI_UINT, "N", "local UDP port (default 0: any)", &c->local_port, 0, 0,
+        {"local-port", 0, C4GH_CLI_UINT, "N", "local UDP port (default 0: any)", &c->local_port, 0, 0,
          65535, NULL, 0},
-        {"period", 'T', CLI_CALL, "MS", "SMP+ period, 1 or 2 ms (default 2, as figure 10.1)",
+        {"period", 'T', C4GH_CLI_CALL, "MS", "SMP+ period, 1 or 2 ms (default 2, as figure 10.1)",
          &c->period_ms, 0, 1, 2, opt_int, 0},
-        {"t-cycle1", 0, CLI_UINT, "US", "reply budget; later replies count as late (default 500)",
+        {"t-cycle1", 0, C4GH_CLI_UINT, "US", "reply budget; later replies count as late (default 500)",
          &c->t_cycle1_us, 0, 1, 1000000, NULL, 0},
         ROW_CALL("num-policy", 0, "P", "accepted reply NUM: plus-one, echo or either (default either)",
                  opt_policy, 0),
-        {"max-miss", 0, CLI_UINT, "N", "consecutive missing/wrong replies raising ERR_C4GOPEN_UDP (10)",
+        {"max-miss", 0, C4GH_CLI_UINT, "N", "consecutive missing/wrong replies raising ERR_C4GOPEN_UDP (10)",
          &c->max_miss, 0, 1, 1000000, NULL, 0},
         ROW_CALL("config", 'c', "FILE", "INI file (sections [sim] [model] [arm N] [axis A.L])",
                  opt_path, P_CONFIG),
@@ -240,7 +240,7 @@ static void opt_rows(app_t *a, cli_opt_t *rows)
                  P_SCENARIO),
         ROW_CALL("ticks", 'n', "N", "stop after N cyclic ticks (default: when the scenario ends)",
                  opt_u64, 0),
-        {"hold", 0, CLI_FLAG, NULL, "keep running after the scenario ends (until --ticks or signal)",
+        {"hold", 0, C4GH_CLI_FLAG, NULL, "keep running after the scenario ends (until --ticks or signal)",
          &c->hold, 0, 0, 0, NULL, 0},
         ROW_CALL("drop", 0, "F", "fault: lose a fraction F of the packets", opt_fault, F_DROP),
         ROW_CALL("duplicate", 0, "F", "fault: send a fraction F twice", opt_fault, F_DUP),
@@ -257,10 +257,10 @@ static void opt_rows(app_t *a, cli_opt_t *rows)
         ROW_CALL("csv", 0, "FILE", "per-tick records (moni-style)", opt_path, P_CSV),
         ROW_CALL("pcap", 0, "FILE", "every datagram in both directions (Ethernet/IPv4/UDP)",
                  opt_path, P_PCAP),
-        {"json", 'j', CLI_FLAG, NULL, "end-of-run summary as JSON on stdout", &a->o.json, 0, 0, 0,
+        {"json", 'j', C4GH_CLI_FLAG, NULL, "end-of-run summary as JSON on stdout", &a->o.json, 0, 0, 0,
          NULL, 0},
-        {"verbose", 'v', CLI_FLAG, NULL, "log events on stderr", &a->o.verbose, 0, 0, 0, NULL, 0},
-        {"quiet", 'q', CLI_FLAG, NULL, "no summary", &a->o.quiet, 0, 0, 0, NULL, 0},
+        {"verbose", 'v', C4GH_CLI_FLAG, NULL, "log events on stderr", &a->o.verbose, 0, 0, 0, NULL, 0},
+        {"quiet", 'q', C4GH_CLI_FLAG, NULL, "no summary", &a->o.quiet, 0, 0, 0, NULL, 0},
     };
     /* one row per option: a row added above must raise N_ROWS */
     typedef char rows_fill_the_table[(sizeof r / sizeof r[0] == N_ROWS) ? 1 : -1];
@@ -268,15 +268,15 @@ static void opt_rows(app_t *a, cli_opt_t *rows)
     memcpy(rows, r, sizeof r);
 }
 
-/* Parse the command line over the configuration: CLI_RUN, CLI_DONE or CLI_BAD. */
-static cli_result_t opt_parse(app_t *a, int argc, char **argv)
+/* Parse the command line over the configuration: C4GH_CLI_RUN, C4GH_CLI_DONE or C4GH_CLI_BAD. */
+static c4gh_cli_result_t opt_parse(app_t *a, int argc, char **argv)
 {
-    cli_opt_t rows[N_ROWS];
-    cli_spec_t spec;
+    c4gh_cli_opt_t rows[N_ROWS];
+    c4gh_cli_spec_t spec;
     opt_rows(a, rows);
     memset(&spec, 0, sizeof spec);
     spec.tool = "c4g-sim";
-    spec.version_extra = C4G_PCAP_ANCHOR();
+    spec.version_extra = C4GH_PCAP_ANCHOR();
     spec.usage = usage_text;
     spec.opts = rows;
     spec.n_opts = N_ROWS;
@@ -284,7 +284,7 @@ static cli_result_t opt_parse(app_t *a, int argc, char **argv)
     spec.epilogue = epilogue_text;
     spec.operands_min = 0;
     spec.operands_max = 0;
-    return cli_parse(&spec, a, argc, argv, NULL);
+    return c4gh_cli_parse(&spec, a, argc, argv, NULL);
 }
 
 static void opt_defaults(app_t *a)
@@ -297,14 +297,14 @@ static void opt_defaults(app_t *a)
 int app_options(app_t *a, int argc, char **argv, int *done)
 {
     char err[512];
-    cli_result_t r;
+    c4gh_cli_result_t r;
     *done = 1;
     opt_defaults(a);
     /* Pass 1 finds the INI file (and checks every option); pass 2 sets the options
      * again over the file's values, so the command line overrides it. */
     r = opt_parse(a, argc, argv);
-    if (r != CLI_RUN) {
-        return (r == CLI_DONE) ? EXIT_OK : EXIT_USAGE;
+    if (r != C4GH_CLI_RUN) {
+        return (r == C4GH_CLI_DONE) ? EXIT_OK : EXIT_USAGE;
     }
     if (a->o.config_path != NULL) {
         const char *path = a->o.config_path;
@@ -313,7 +313,7 @@ int app_options(app_t *a, int argc, char **argv, int *done)
             fprintf(stderr, "c4g-sim: %s\n", err);
             return EXIT_USAGE;
         }
-        if (opt_parse(a, argc, argv) != CLI_RUN) {
+        if (opt_parse(a, argc, argv) != C4GH_CLI_RUN) {
             return EXIT_USAGE;
         }
     }
@@ -336,14 +336,14 @@ static int parse_addr(const char *what, const char *text, unsigned port, struct 
 static int load_scenario(app_t *a)
 {
     char err[512];
-    tf_file_t f;
+    c4gh_tf_file_t f;
     int bad;
-    if (tf_load(&f, a->o.scenario_path, TF_MAX_SCENARIO, err, sizeof err) != 0) {
+    if (c4gh_tf_load(&f, a->o.scenario_path, C4GH_TF_MAX_SCENARIO, err, sizeof err) != 0) {
         fprintf(stderr, "c4g-sim: %s\n", err);
         return -1;
     }
     bad = scn_parse(a->o.scenario_path, f.data, f.len, &a->scn, err, sizeof err);
-    tf_free(&f);
+    c4gh_tf_free(&f);
     if (bad != 0) {
         fprintf(stderr, "c4g-sim: %s\n", err);
         return -1;
@@ -356,7 +356,7 @@ int app_prepare(app_t *a)
     const sim_config_t *c = &a->cfg;
     const uint64_t p = (uint64_t)c->period_ms * 1000000U;
     const uint64_t b = (uint64_t)c->t_cycle1_us * 1000U;
-    cs_config_t cc;
+    c4gh_cs_config_t cc;
     if (parse_addr("server", c->server, c->port, &a->srv) != 0 ||
         parse_addr("bind", c->bind_addr, c->local_port, &a->local) != 0) {
         return EXIT_USAGE;
@@ -368,19 +368,19 @@ int app_prepare(app_t *a)
         fprintf(stderr, "c4g-sim: %s: %s\n", c4g_ctrl_error_name(a->sim.err[0].code), a->sim.err[0].text);
         return EXIT_USAGE;
     }
-    sim_rng_seed(&a->frng, c->seed + 0x5EEDU);
+    c4gsim_rng_seed(&a->frng, c->seed + 0x5EEDU);
     /* a late start up to min(t-cycle1, period - t-cycle1) still leaves a PC that answers
      * within t-cycle1 before the next tick */
     a->tol_ns = (b < p) ? ((b < p - b) ? b : p - b) : p / 2U;
     memset(&cc, 0, sizeof cc);
-    cc.policy = (c->policy == SIM_NUM_ECHO) ? CS_NUM_ECHO
-                : (c->policy == SIM_NUM_PLUS_ONE) ? CS_NUM_PLUS_ONE : CS_NUM_EITHER;
+    cc.policy = (c->policy == SIM_NUM_ECHO) ? C4GH_CS_NUM_ECHO
+                : (c->policy == SIM_NUM_PLUS_ONE) ? C4GH_CS_NUM_PLUS_ONE : C4GH_CS_NUM_EITHER;
     cc.n_axes = (uint32_t)a->sim.n_axes;
     cc.t_cycle1_ns = b;
     cc.tol_ns = a->tol_ns;
     cc.max_miss = c->max_miss;
     cc.sync_before = c->sync_before;
     cc.sync_after = c->sync_after;
-    cs_init(&a->cs, &cc);
+    c4gh_cs_init(&a->cs, &cc);
     return EXIT_OK;
 }

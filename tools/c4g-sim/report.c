@@ -6,8 +6,8 @@
 #include <sys/resource.h>
 
 #include "app.h"
-#include "c4g_cli.h"
-#include "c4g_tickcsv.h"
+#include "c4gh_cli.h"
+#include "c4gh_csv.h"
 
 #include <jansson.h>
 
@@ -15,7 +15,7 @@
 
 static void csv_header(app_t *a)
 {
-    fputs(C4G_TICK_CSV_COLUMNS ",tick,sent,reply_ok,rx_infpar,rx_cmd\n", a->csv);
+    fputs(C4GH_TICK_CSV_COLUMNS ",tick,sent,reply_ok,rx_infpar,rx_cmd\n", a->csv);
 }
 
 int outputs_open(app_t *a)
@@ -24,16 +24,16 @@ int outputs_open(app_t *a)
     if (a->o.csv_path != NULL) {
         a->csv = fopen(a->o.csv_path, "w");
         if (a->csv == NULL) {
-            cli_file_error("c4g-sim", "--csv", a->o.csv_path, errno);
+            c4gh_cli_file_error("c4g-sim", "--csv", a->o.csv_path, errno);
             return EXIT_OUTPUT;
         }
         csv_header(a);
     }
     if (a->o.pcap_path != NULL) {
-        a->pcap = c4g_pcap_open(a->o.pcap_path, err, sizeof err);
+        a->pcap = c4gh_pcap_open(a->o.pcap_path, err, sizeof err);
         if (a->pcap == NULL) {
             char pt[600];
-            fprintf(stderr, "c4g-sim: --pcap %s: %s\n", cli_path_text(a->o.pcap_path, pt, sizeof pt),
+            fprintf(stderr, "c4g-sim: --pcap %s: %s\n", c4gh_cli_path_text(a->o.pcap_path, pt, sizeof pt),
                     err);
             return EXIT_OUTPUT;
         }
@@ -46,7 +46,7 @@ void outputs_close(app_t *a)
     if (a->csv != NULL && fclose(a->csv) != 0) {
         a->out_error = 1;
     }
-    if (a->pcap != NULL && c4g_pcap_close(a->pcap) != 0) {
+    if (a->pcap != NULL && c4gh_pcap_close(a->pcap) != 0) {
         a->out_error = 1;
     }
     a->csv = NULL;
@@ -64,7 +64,7 @@ void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, i
     }
     for (i = 0; i < a->sim.n_axes; i++) {
         const sim_ax_t *x = &a->sim.ax[i];
-        c4g_tick_csv_row(a->csv, (double)a->sim.tick * a->sim.period, p->num, (uint32_t)i + 1U,
+        c4gh_tick_csv_row(a->csv, (double)a->sim.tick * a->sim.period, p->num, (uint32_t)i + 1U,
                          (uint32_t)x->arm + 1U, (uint32_t)x->logical + 1U, &p->ax[i],
                          rep != NULL ? rep->infpar : 0U, &x->rx);
         fprintf(a->csv, ",%lu,%d,%d,0x%08x,0x%08x\n", a->sim.tick, sent, rep != NULL,
@@ -89,13 +89,13 @@ typedef struct figures {
 
 static figures_t figures(const app_t *a, double cpu_s)
 {
-    const cs_counters_t *n = &a->cs.n;
+    const c4gh_cs_counters_t *n = &a->cs.n;
     figures_t f;
     f.per_packet_ns = (a->st.sent > 0U) ? cpu_s * 1e9 / (double)a->st.sent : 0.0;
     f.lat_avg = (n->replies_ok > 0U) ? (double)n->lat_sum / (double)n->replies_ok / 1000.0 : 0.0;
-    f.p50 = cs_lat_percentile(n, 0.5);
-    f.p99 = cs_lat_percentile(n, 0.99);
-    f.p999 = cs_lat_percentile(n, 0.999);
+    f.p50 = c4gh_cs_lat_percentile(n, 0.5);
+    f.p99 = c4gh_cs_lat_percentile(n, 0.99);
+    f.p999 = c4gh_cs_lat_percentile(n, 0.999);
     f.lat_min = (double)n->lat_min / 1000.0;
     f.lat_max = (double)n->lat_max / 1000.0;
     return f;
@@ -113,7 +113,7 @@ static void put_f(json_t *o, const char *key, double v)
 
 static json_t *json_replies(const app_t *a, const figures_t *g)
 {
-    const cs_counters_t *n = &a->cs.n;
+    const c4gh_cs_counters_t *n = &a->cs.n;
     json_t *o = json_object();
     json_t *l = json_object();
     put_u(o, "ok", n->replies_ok);
@@ -143,8 +143,8 @@ static void json_faults_errors(json_t *o, const app_t *a)
     json_t *faults = json_object();
     json_t *errors = json_array();
     int i;
-    json_object_set_new(o, "num_policy", json_string(cs_policy_name((int)a->cs.cfg.policy)));
-    json_object_set_new(o, "pc_policy", json_string(cs_policy_name(a->cs.detected)));
+    json_object_set_new(o, "num_policy", json_string(c4gh_cs_policy_name((int)a->cs.cfg.policy)));
+    json_object_set_new(o, "pc_policy", json_string(c4gh_cs_policy_name(a->cs.detected)));
     put_u(o, "udp_debug", s->udp_debug);
     put_u(o, "overruns", a->st.overruns);
     put_f(o, "overrun_max_us", (double)a->st.overrun_max / 1000.0);
@@ -191,7 +191,7 @@ static void json_scenario_robot(json_t *o, const sim_t *s)
 static void summary_json(const app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
-    const cs_counters_t *n = &a->cs.n;
+    const c4gh_cs_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
     json_t *o = json_object();
     json_object_set_new(o, "tool", json_string("c4g-sim"));
@@ -248,7 +248,7 @@ static void text_errors_robot(const sim_t *s)
 static void summary_text(const app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
-    const cs_counters_t *n = &a->cs.n;
+    const c4gh_cs_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
     int i;
     printf("c4g-sim %s: %s (exit %d)\n", C4G_VERSION_STRING, result, code);

@@ -1,25 +1,25 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-sim's tick loop: at each tick, read what arrived, judge the previous packet's reply
- * (tools/common/c4g_ctrlside.c), send the packet the handshake driver asks for, then
+ * (lib/host/c4gh_ctrlside.c), send the packet the handshake driver asks for, then
  * wait on an absolute grid for the next tick. */
 #include <arpa/inet.h>
 #include <string.h>
 
 #include "app.h"
-#include "c4g_udpts.h"
-#include "c4g_cli.h"
+#include "c4gh_udp.h"
+#include "c4gh_cli.h"
 
 volatile sig_atomic_t g_stop;
 
 /* ---- replies ------------------------------------------------------------- */
 
-static void log_refused(const app_t *a, cs_rx_t r, size_t len)
+static void log_refused(const app_t *a, c4gh_cs_rx_t r, size_t len)
 {
-    const cs_t *c = &a->cs;
-    if (r == CS_RX_WRONG_NUM) {
+    const c4gh_cs_t *c = &a->cs;
+    if (r == C4GH_CS_RX_WRONG_NUM) {
         fprintf(stderr, "c4g-sim: reply NUM %d to packet NUM %d violates the %s policy\n",
-                c->last_num, c->out.num, cs_policy_name((int)c->cfg.policy));
-    } else if (r == CS_RX_BAD_DECODE) {
+                c->last_num, c->out.num, c4gh_cs_policy_name((int)c->cfg.policy));
+    } else if (r == C4GH_CS_RX_BAD_DECODE) {
         fprintf(stderr, "c4g-sim: bad reply (%u bytes): %s, field %s, axis %d, value %lld\n",
                 (unsigned)len, c4g_strerror(c->last_diag.status), c4g_field_name(c->last_diag.field),
                 c->last_diag.axis, (long long)c->last_diag.value);
@@ -60,13 +60,13 @@ static const char *init_field_name(uint32_t off)
  * the PC sends from here can be trusted to respect this controller's limits. */
 static void bad_init_echo(app_t *a, const uint8_t *buf)
 {
-    const cs_outstanding_t *o = &a->cs.out;
+    const c4gh_cs_outstanding_t *o = &a->cs.out;
     uint32_t off = 4U;
     while (off < C4G_INIT_SIZE && buf[off] == o->raw[off]) {
         off++;
     }
     {
-        /* (off < 1200: cs_reply found a difference) */
+        /* (off < 1200: c4gh_cs_reply found a difference) */
         const uint32_t w = ((off < C4G_INIT_SIZE) ? off : C4G_INIT_SIZE - 1U) & ~3U;
         fprintf(stderr, "c4g-sim: the PC's init echo differs from the init packet sent at byte "
                 "offset %u (field %s: sent 0x%02x%02x%02x%02x, echoed 0x%02x%02x%02x%02x, "
@@ -83,9 +83,9 @@ static void bad_init_echo(app_t *a, const uint8_t *buf)
 void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
                uint64_t t)
 {
-    cs_rx_t r;
+    c4gh_cs_rx_t r;
     if (from->sin_addr.s_addr != a->srv.sin_addr.s_addr || from->sin_port != a->srv.sin_port) {
-        cs_foreign(&a->cs);
+        c4gh_cs_foreign(&a->cs);
         if (a->o.verbose) {
             char ip[INET_ADDRSTRLEN];
             inet_ntop(AF_INET, &from->sin_addr, ip, sizeof ip);
@@ -93,10 +93,10 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
         }
         return;
     }
-    r = cs_reply(&a->cs, buf, len, t);
+    r = c4gh_cs_reply(&a->cs, buf, len, t);
     /* another length is a late or stray reply (a late sync reply passes the NUM check of
      * "either"): counted as malformed, as before; 1200 other bytes are the PC's limits */
-    if (r == CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal) {
+    if (r == C4GH_CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal) {
         bad_init_echo(a, buf);
     }
     if (a->o.verbose) {
@@ -104,11 +104,11 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
     }
 }
 
-static void log_miss(const app_t *a, cs_verdict_t v, uint64_t woke)
+static void log_miss(const app_t *a, c4gh_cs_verdict_t v, uint64_t woke)
 {
-    const cs_outstanding_t *o = &a->cs.out;
+    const c4gh_cs_outstanding_t *o = &a->cs.out;
     const unsigned long row = a->cs.n.consecutive;
-    if (v == CS_J_UNJUDGED) {
+    if (v == C4GH_CS_J_UNJUDGED) {
         fprintf(stderr, "c4g-sim: no reply to NUM %d by a deadline the simulator overran "
                         "itself (%.1f ms late; %lu in a row)\n", o->num,
                 (double)(woke - o->deadline_ns) / 1e6, row);
@@ -128,11 +128,11 @@ static void log_miss(const app_t *a, cs_verdict_t v, uint64_t woke)
  * to the outstanding packet arrive by its deadline? */
 void judge(app_t *a, uint64_t woke)
 {
-    const cs_verdict_t v = cs_judge(&a->cs, woke, sim_checks_suspended(&a->sim));
-    if (v == CS_J_MISSING) {
+    const c4gh_cs_verdict_t v = c4gh_cs_judge(&a->cs, woke, sim_checks_suspended(&a->sim));
+    if (v == C4GH_CS_J_MISSING) {
         a->sim.udp_debug++; /* ERR_C4GOPEN_UDP_DEBUG: not fatal, not listed among the errors */
     }
-    if ((v == CS_J_MISSING || v == CS_J_UNJUDGED) && a->o.verbose) {
+    if ((v == C4GH_CS_J_MISSING || v == C4GH_CS_J_UNJUDGED) && a->o.verbose) {
         log_miss(a, v, woke);
     }
     if (a->cs.fatal) {
@@ -142,9 +142,9 @@ void judge(app_t *a, uint64_t woke)
     }
 }
 
-static void emit(app_t *a, cs_kind_t kind, int32_t num, const uint8_t *buf, size_t len, int check)
+static void emit(app_t *a, c4gh_cs_kind_t kind, int32_t num, const uint8_t *buf, size_t len, int check)
 {
-    cs_emit(&a->cs, kind, num, buf, len, check, now_ns());
+    c4gh_cs_emit(&a->cs, kind, num, buf, len, check, now_ns());
     a->has_key = send_packet(a, buf, len, &a->tx_key);
 }
 
@@ -164,11 +164,11 @@ static void tick_sync(app_t *a)
     size_t len = 0;
     c4g_ctrl_packet_t pkt;
     memset(&pkt, 0, sizeof pkt);
-    pkt.num = cs_next_num(&a->cs);
+    pkt.num = c4gh_cs_next_num(&a->cs);
     pkt.n_axes = (uint32_t)a->sim.n_axes;
     (void)c4g_ctrl_encode(&pkt, buf, sizeof buf, &len);
-    emit(a, CS_SYNC, pkt.num, buf, len, 1);
-    cs_advance(&a->cs);
+    emit(a, C4GH_CS_SYNC, pkt.num, buf, len, 1);
+    c4gh_cs_advance(&a->cs);
 }
 
 static void tick_init(app_t *a)
@@ -177,8 +177,8 @@ static void tick_init(app_t *a)
     size_t len = 0;
     a->sim.init.num = C4G_INIT_NUM;
     (void)c4g_init_encode(&a->sim.init, buf, sizeof buf, &len);
-    emit(a, CS_INIT, C4G_INIT_NUM, buf, len, 1);
-    cs_advance(&a->cs);
+    emit(a, C4GH_CS_INIT, C4G_INIT_NUM, buf, len, 1);
+    c4gh_cs_advance(&a->cs);
     a->sim.restart_req = 0;
 }
 
@@ -209,8 +209,8 @@ static int tick_send(app_t *a, c4g_ctrl_packet_t *pkt)
         fprintf(stderr, "c4g-sim: internal: packet not encodable\n");
         return 0;
     }
-    emit(a, CS_CYCLIC, pkt->num, buf, len, !a->sim.exit_open_req);
-    cs_advance(&a->cs);
+    emit(a, C4GH_CS_CYCLIC, pkt->num, buf, len, !a->sim.exit_open_req);
+    c4gh_cs_advance(&a->cs);
     return 1;
 }
 
@@ -229,7 +229,7 @@ static int run_over(const app_t *a, const loop_t *L)
 
 static void tick_cyclic(app_t *a, loop_t *L)
 {
-    const c4g_pc_packet_t *rep = cs_take_reply(&a->cs);
+    const c4g_pc_packet_t *rep = c4gh_cs_take_reply(&a->cs);
     c4g_ctrl_packet_t pkt;
     int send;
     if (a->o.pause_len > 0U && L->cyclic_ticks == a->o.pause_at) {
@@ -242,13 +242,13 @@ static void tick_cyclic(app_t *a, loop_t *L)
     sim_tick(&a->sim, rep, &pkt);
     L->cyclic_ticks++;
     send = tick_silence(a, L);
-    pkt.num = cs_next_num(&a->cs);
+    pkt.num = c4gh_cs_next_num(&a->cs);
     if (send) {
         send = tick_send(a, &pkt);
     }
     csv_row(a, &pkt, rep, send);
     if (!a->sim.exit_open_req && a->sim.restart_req && send) {
-        cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
+        c4gh_cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
         return;
     }
     L->ended = run_over(a, L);
@@ -278,12 +278,12 @@ static void progress(const app_t *a, const loop_t *L, unsigned long *shown)
     }
     *shown = L->cyclic_ticks;
     if (a->cfg.ticks != 0U) {
-        cli_progress("c4g-sim", "tick %lu of %lu (%.0f %%), replies ok %lu, missing %lu",
+        c4gh_cli_progress("c4g-sim", "tick %lu of %lu (%.0f %%), replies ok %lu, missing %lu",
                      L->cyclic_ticks, a->cfg.ticks,
                      100.0 * (double)L->cyclic_ticks / (double)a->cfg.ticks, a->cs.n.replies_ok,
                      a->cs.n.missing);
     } else {
-        cli_progress("c4g-sim", "tick %lu (%.0f s), replies ok %lu, missing %lu", L->cyclic_ticks,
+        c4gh_cli_progress("c4g-sim", "tick %lu (%.0f s), replies ok %lu, missing %lu", L->cyclic_ticks,
                      (double)L->cyclic_ticks * a->cfg.period_ms * 1e-3, a->cs.n.replies_ok,
                      a->cs.n.missing);
     }
@@ -293,7 +293,7 @@ void app_run(app_t *a)
 {
     loop_t L;
     /* a progress line only for a person watching: stderr a terminal, no log lines on it */
-    const int show = cli_progress_wanted() && !a->o.quiet && !a->o.verbose;
+    const int show = c4gh_cli_progress_wanted() && !a->o.quiet && !a->o.verbose;
     unsigned long shown = 0;
     memset(&L, 0, sizeof L);
     L.deadline = now_ns();
@@ -304,14 +304,14 @@ void app_run(app_t *a)
         if (a->sim.fatal) {
             break;
         }
-        switch (cs_next_kind(&a->cs)) {
-        case CS_SYNC:
+        switch (c4gh_cs_next_kind(&a->cs)) {
+        case C4GH_CS_SYNC:
             tick_sync(a);
             break;
-        case CS_INIT:
+        case C4GH_CS_INIT:
             tick_init(a);
             break;
-        case CS_CYCLIC:
+        case C4GH_CS_CYCLIC:
         default:
             tick_cyclic(a, &L);
             break;
@@ -321,12 +321,12 @@ void app_run(app_t *a)
             progress(a, &L, &shown);
         }
         L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
-        cs_set_deadline(&a->cs, L.deadline);
+        c4gh_cs_set_deadline(&a->cs, L.deadline);
         window(a, L.deadline);
-        uts_sleep_until(L.deadline, &g_stop);
+        c4gh_udp_sleep_until(L.deadline, &g_stop);
     }
     if (show && shown > 0) {
-        cli_progress_end();
+        c4gh_cli_progress_end();
     }
     if (!a->sim.fatal) {
         const uint64_t woke = now_ns();

@@ -3,7 +3,7 @@
  * keywords case-insensitive) is documented in docs/c4g-sim.md. */
 #include "scenario.h"
 
-#include "c4g_textfile.h"
+#include "c4gh_textfile.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -31,7 +31,7 @@ static int kw(const char *tok, const char *word)
 
 /* Where the words of the current line start (1-based columns, for messages). */
 typedef struct scn_line {
-    tf_file_t *f;
+    c4gh_tf_file_t *f;
     char *buf;
     char **t;
     int nt;
@@ -52,18 +52,18 @@ static int scn_fail(const scn_line_t *L, int k, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return tf_error(L->f, col_of(L, k), L->err, L->errlen, "%s", msg);
+    return c4gh_tf_error(L->f, col_of(L, k), L->err, L->errlen, "%s", msg);
 }
 
 /* Word k as a finite number in lo..hi; what names the value in the message. */
 static int get_num(const scn_line_t *L, int k, double lo, double hi, double *out, const char *what)
 {
     char why[160];
-    const tf_num_t st = tf_parse_double(L->t[k], lo, hi, out);
-    if (st == TF_NUM_OK) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_double(L->t[k], lo, hi, out);
+    if (st == C4GH_TF_NUM_OK) {
         return 0;
     }
-    tf_num_explain(st, L->t[k], lo, hi, why, sizeof why);
+    c4gh_tf_num_explain(st, L->t[k], lo, hi, why, sizeof why);
     return scn_fail(L, k, "%s: %s: %s", L->t[0], what, why);
 }
 
@@ -71,12 +71,12 @@ static int get_int(const scn_line_t *L, int k, long lo, long hi, int *out, const
 {
     char why[160];
     long long v = 0;
-    const tf_num_t st = tf_parse_int(L->t[k], lo, hi, &v);
-    if (st == TF_NUM_OK) {
+    const c4gh_tf_num_t st = c4gh_tf_parse_int(L->t[k], lo, hi, &v);
+    if (st == C4GH_TF_NUM_OK) {
         *out = (int)v;
         return 0;
     }
-    tf_num_explain(st, L->t[k], (double)lo, (double)hi, why, sizeof why);
+    c4gh_tf_num_explain(st, L->t[k], (double)lo, (double)hi, why, sizeof why);
     return scn_fail(L, k, "%s: %s: %s", L->t[0], what, why);
 }
 
@@ -404,15 +404,15 @@ static int parse_line(const scn_line_t *L, scn_cmd_t *c)
 
 int scn_parse(const char *path, const char *text, size_t len, scn_t *out, char *err, size_t errlen)
 {
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char buf[MAX_LINE];
     int r;
     out->n = 0;
     if (err != NULL && errlen > 0U) {
         err[0] = '\0';
     }
-    tf_open_mem(&f, path, text, len);
-    while ((r = tf_next_line(&f, buf, sizeof buf, err, errlen)) > 0) {
+    c4gh_tf_open_mem(&f, path, text, len);
+    while ((r = c4gh_tf_next_line(&f, buf, sizeof buf, err, errlen)) > 0) {
         char *tok[MAX_TOK];
         scn_line_t L;
         int nt = 0;
@@ -429,7 +429,7 @@ int scn_parse(const char *path, const char *text, size_t len, scn_t *out, char *
                 break;
             }
             if (nt >= MAX_TOK) {
-                return tf_error(&f, (size_t)(p - buf) + 1U, err, errlen, "more than %d words", MAX_TOK);
+                return c4gh_tf_error(&f, (size_t)(p - buf) + 1U, err, errlen, "more than %d words", MAX_TOK);
             }
             tok[nt++] = p;
             while (*p != '\0' && *p != ' ' && *p != '\t') {
@@ -443,7 +443,7 @@ int scn_parse(const char *path, const char *text, size_t len, scn_t *out, char *
             continue;
         }
         if (out->n >= SCN_MAX_CMDS) {
-            return tf_error(&f, 1U, err, errlen, "more than %d commands", SCN_MAX_CMDS);
+            return c4gh_tf_error(&f, 1U, err, errlen, "more than %d commands", SCN_MAX_CMDS);
         }
         L.f = &f;
         L.buf = buf;

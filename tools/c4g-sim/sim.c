@@ -2,7 +2,7 @@
 /* c4g-sim controller: modes (chapter 14), special modes (15), state machine (24),
  * errors (17), PDL2-like scenario interpreter (figure 24.4). No I/O but the log. */
 #include "sim.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -120,7 +120,7 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
     s->scn = scn;
     s->override = 1.0;
     s->period = (double)cfg->period_ms / 1000.0;
-    sim_rng_seed(&s->rng, cfg->seed);
+    c4gsim_rng_seed(&s->rng, cfg->seed);
     if (sim_config_axes(cfg) < 0) {
         sim_raise(s, C4G_CERR_CONFIG, 0, 0);
         return -1;
@@ -132,14 +132,14 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
         }
     }
     /* Initialization packet (field facts order): figure 10.1 shape, our axes. */
-    (void)c4g_init_fig10_1(&s->init);
+    (void)c4gsim_fig10_1(&s->init);
     s->init.period_ms = cfg->period_ms;
     s->init.version_major = cfg->version[0];
     s->init.version_minor = cfg->version[1];
     s->init.version_build = cfg->version[2];
     for (a = 0; a < (int)C4G_ARMS; a++) {
         for (l = 0; l < (int)C4G_AXES_PER_ARM; l++) {
-            const sim_axis_params_t *p = &cfg->ax[a][l];
+            const c4gsim_axis_params_t *p = &cfg->ax[a][l];
             const int open = (a < cfg->n_arms) && ((cfg->open_mask[a] >> l) & 1U);
             s->init.open_ax[a][l] = open ? n : C4G_OPEN_AX_NONE;
             s->init.open_mask[a][l] = open ? p->startup_mode : 0;
@@ -153,7 +153,7 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
                 x->arm = a;
                 x->logical = l;
                 x->p = &s->cfg.ax[a][l];
-                sim_axis_reset(&x->m, x->p, &s->rng);
+                c4gsim_axis_reset(&x->m, x->p, &s->rng);
                 x->mode = p->startup_mode;
                 x->set_mode = p->startup_mode;
                 x->req_mode = -1;
@@ -223,7 +223,7 @@ static void start_move(sim_t *s, const scn_cmd_t *c)
         if (x->arm == arm) {
             const double tgt = (k < c->n) ? ((c->op == SCN_MOVE) ? c->v[k] : x->pos_i + c->v[k]) : x->pos_i;
             const double ov = (s->override > 0.01) ? s->override : 0.01;
-            const double t = sim_trap_min_time(tgt - x->pos_i, x->p->vmax * ov, x->p->amax * ov * ov);
+            const double t = c4gsim_trap_min_time(tgt - x->pos_i, x->p->vmax * ov, x->p->amax * ov * ov);
             if (t > dur) {
                 dur = t;
             }
@@ -237,7 +237,7 @@ static void start_move(sim_t *s, const scn_cmd_t *c)
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
         if (x->arm == arm) {
-            sim_trap_plan(&x->trap, x->trap.p0, x->trap.p0 + x->trap.d, dur);
+            c4gsim_trap_plan(&x->trap, x->trap.p0, x->trap.p0 + x->trap.d, dur);
         }
     }
     s->arm[arm].moving = 1;
@@ -684,7 +684,7 @@ static void apply_reply(sim_t *s, const c4g_pc_packet_t *r)
 /* DSA inputs for one axis in the mode of the packet the reply answered. A missing reply, or
  * one of another mode, adds nothing: the reference holds (modes 1 and 2, where the PC closes
  * the loops, keep the last current of their own mode). */
-static void dsa_inputs(sim_t *s, sim_ax_t *x, sim_dsa_in_t *in)
+static void dsa_inputs(sim_t *s, sim_ax_t *x, c4gsim_dsa_in_t *in)
 {
     const double T = s->period;
     const c4g_pc_axis_t *r = &x->rx;
@@ -708,7 +708,7 @@ static void dsa_inputs(sim_t *s, sim_ax_t *x, sim_dsa_in_t *in)
         in->vel_ff = 0.0;
         x->ref.pos_ref = in->pos_ref;
     } else {
-        sim_ref_step(&x->ref, x->mode, pc, x->pos_i, x->vel_i, s->override, T, in);
+        c4gsim_ref_step(&x->ref, x->mode, pc, x->pos_i, x->vel_i, s->override, T, in);
     }
     if (is_pc_current_mode(x->mode)) {
         in->pc_share = (s->cfg.switch_ms > 0.0)
@@ -728,7 +728,7 @@ static void advance_trajectory(sim_t *s)
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
         if (s->arm[x->arm].moving) {
-            sim_trap_eval(&x->trap, s->arm[x->arm].move_t, &x->pos_i, &x->vel_i);
+            c4gsim_trap_eval(&x->trap, s->arm[x->arm].move_t, &x->pos_i, &x->vel_i);
         } else {
             x->vel_i = 0.0;
         }
@@ -841,7 +841,7 @@ void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
         o->actual_pos = (float)x->m.meas_pos;
         o->actual_vel = (float)x->act_vel_tick;
         o->current_ref = (float)x->m.cur_report;
-        o->ext[0] = (float)(sim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
+        o->ext[0] = (float)(c4gsim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
         o->ext[1] = (float)x->p->j;                                     /* diagonal inertia */
         o->ext[2] = 0.0F;
     }
@@ -855,7 +855,7 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     int k;
     const int sub = SUBSTEPS_PER_MS * s->cfg.period_ms;
     const double dt = s->period / (double)sub;
-    sim_dsa_in_t in[C4G_MAX_AXES];
+    c4gsim_dsa_in_t in[C4G_MAX_AXES];
     double prev_ref[C4G_MAX_AXES];
     double prev_vel[C4G_MAX_AXES];
 
@@ -884,21 +884,21 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
     }
     /* The DSA interpolates the SMP+ references over its steps, as a real drive does: a
      * reference held for the whole period would put a ripple at the SMP+ rate into the
-     * current (sim_dsa_interp). Step k regulates at the period's instant
+     * current (c4gsim_dsa_interp). Step k regulates at the period's instant
      * k/sub, where its encoder reading was taken: a perfect feedforward leaves no following
      * error. */
     for (k = 0; k < sub; k++) {
         const double w = (double)k / (double)sub;
         for (i = 0; i < s->n_axes; i++) {
-            sim_dsa_in_t step = in[i];
-            sim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
+            c4gsim_dsa_in_t step = in[i];
+            c4gsim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
                            &step.pos_ref, &step.vel_ff);
-            sim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng);
+            c4gsim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng);
         }
     }
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
-        (void)sim_axis_report_current(&x->m, x->p, &s->rng);
+        (void)c4gsim_axis_report_current(&x->m, x->p, &s->rng);
         x->act_vel_tick = x->m.meas_pos - x->prev_tick_meas;
         x->prev_tick_meas = x->m.meas_pos;
         if (x->set_mode == C4G_MODE_0 || x->set_mode == C4G_MODE_FREEZING_A) {

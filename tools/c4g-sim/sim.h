@@ -8,7 +8,7 @@
 #include <stdio.h>
 
 #include "c4gopen.h"
-#include "model.h"
+#include "c4gsim_model.h"
 #include "scenario.h"
 
 #define SIM_MAX_ERRORS 64
@@ -38,7 +38,7 @@ typedef struct sim_config {
     unsigned open_mask[C4G_ARMS];   /* bit l: logical axis l open */
     int option_ok[C4G_ARMS];        /* C4G Open software option present */
     int version[3];
-    sim_axis_params_t ax[C4G_ARMS][C4G_AXES_PER_ARM];
+    c4gsim_axis_params_t ax[C4G_ARMS][C4G_AXES_PER_ARM];
 } sim_config_t;
 
 void sim_config_default(sim_config_t *c);
@@ -47,9 +47,9 @@ int sim_config_axes(const sim_config_t *c);
 /** Load an INI file over @p c (at most 1 MiB). Returns 0, or -1 with
  *  "FILE:LINE:COL: ..." in err. */
 int sim_config_load(sim_config_t *c, const char *path, char *err, size_t errlen);
-struct tf_file;
-/** The same over a file already in memory (tools/common/c4g_textfile.h). */
-int sim_config_parse(sim_config_t *c, struct tf_file *f, char *err, size_t errlen);
+struct c4gh_tf_file;
+/** The same over a file already in memory (lib/host/c4gh_textfile.h). */
+int sim_config_parse(sim_config_t *c, struct c4gh_tf_file *f, char *err, size_t errlen);
 
 typedef struct sim_error {
     c4g_ctrl_error_t code;
@@ -72,20 +72,20 @@ typedef struct sim_arm {
 typedef struct sim_ax {
     int arm;                    /* 0..3 */
     int logical;                /* 0..9 */
-    const sim_axis_params_t *p;
-    sim_axis_t m;               /* model + DSA */
+    const c4gsim_axis_params_t *p;
+    c4gsim_axis_t m;               /* model + DSA */
     int mode;                   /* mode of the last packet sent */
     int set_mode;               /* mode set by PDL2/PC (shown unless driving on) */
     int req_mode;               /* pending request from the scenario, -1 none */
     int standby_ticks;          /* one-tick exit modes (14, 15, 170) */
     long counter;               /* control switching counter (modes 1, 2) */
     double pos_i, vel_i;        /* SMP+ trajectory [turns, turns/s] */
-    sim_ref_t ref;              /* mode 5 integrator, modes 7/8 offset, last reference */
+    c4gsim_ref_t ref;              /* mode 5 integrator, modes 7/8 offset, last reference */
     double pos_ref, vel_ref;    /* what went to the DSA */
     double hold;                /* hold position while driving on */
     double prev_tick_meas;
     double act_vel_tick;        /* measured delta turns in the last tick */
-    sim_trap_t trap;
+    c4gsim_trap_t trap;
     c4g_pc_axis_t rx;           /* last PC data applied */
     int fresh;                  /* rx came with this tick's reply */
 } sim_ax_t;
@@ -102,7 +102,7 @@ typedef struct sim {
     int n_axes;
     sim_ax_t ax[C4G_MAX_AXES];
     sim_arm_t arm[C4G_ARMS];
-    sim_rng_t rng;
+    c4gsim_rng_t rng;
     double period;              /* s */
     double override;            /* 0..1 */
     int selector_prog;

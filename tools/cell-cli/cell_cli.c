@@ -20,9 +20,9 @@
 #include <jansson.h>
 
 #include "c4gopen.h"
-#include "c4g_cli.h"
-#include "c4g_textfile.h"
-#include "cell_common.h"
+#include "c4gh_cli.h"
+#include "c4gh_textfile.h"
+#include "c4gh_cell.h"
 #include "cli_canopen.h"
 #include "cli_cmd.h"
 #include "cli_config.h"
@@ -47,7 +47,7 @@ typedef struct conn {
     c4g_cell_splitter_t sp;
 } conn_t;
 
-static conn_t g_conn[CELL_DEVICES];
+static conn_t g_conn[C4GH_CELL_DEVICES];
 static int g_connect_ms = 2000;
 static int g_reply_ms = 2000;
 /* How replies are shown: the human text on a terminal, the reply line as the device sent
@@ -62,7 +62,7 @@ static int g_echo;
 static int g_hints = 1; /* [cli] hints in the config file */
 /* A motion this process started (MOV, PNP sent) that no STA has shown finished and no
  * STP stopped: what ^C stops. A monitor (-r robot sta) never stops a robot others move. */
-static int g_moved[CELL_DEVICES];
+static int g_moved[C4GH_CELL_DEVICES];
 
 /* ^C: the handler only notes it and wakes poll() through a pipe (a flag alone could be set
  * just before a poll that then sleeps its whole timeout). */
@@ -162,9 +162,9 @@ static int conn_get(int dev)
     if (c->fd >= 0) {
         return 0;
     }
-    c->fd = cell_tcp_connect(c->host, c->port, g_connect_ms, &err);
+    c->fd = c4gh_cell_tcp_connect(c->host, c->port, g_connect_ms, &err);
     if (c->fd < 0) {
-        fprintf(stderr, "cell-cli: %s at %s:%u: %s\n", cell_dev_name(dev), c->host, c->port, err);
+        fprintf(stderr, "cell-cli: %s at %s:%u: %s\n", c4gh_cell_dev_name(dev), c->host, c->port, err);
         return EXIT_CONNECT;
     }
     (void)c4g_cell_split_init(&c->sp, c->buf, sizeof c->buf);
@@ -194,8 +194,8 @@ static void unsolicited(int dev, const char *l, size_t n)
 {
     char shown[C4G_CELL_LINE_MAX * 4 + 4];
     size_t ll = (n >= 2 && l[n - 2] == '\r') ? n - 2 : (n >= 1 && l[n - 1] == '\n') ? n - 1 : n;
-    tf_escape(l, ll, shown, sizeof shown);
-    fprintf(stderr, "cell-cli: %s: unsolicited line dropped: \"%s\"\n", cell_dev_name(dev), shown);
+    c4gh_tf_escape(l, ll, shown, sizeof shown);
+    fprintf(stderr, "cell-cli: %s: unsolicited line dropped: \"%s\"\n", c4gh_cell_dev_name(dev), shown);
 }
 
 /* Before a request: what the device sent unasked (an alarm, a late or extra reply) is
@@ -217,7 +217,7 @@ static void conn_drain(int dev)
             unsolicited(dev, l, n);
         } else if (ev == C4G_CELL_SPLIT_OVERLONG) {
             fprintf(stderr, "cell-cli: %s: unsolicited line longer than %u bytes dropped\n",
-                    cell_dev_name(dev), (unsigned)C4G_CELL_LINE_MAX);
+                    c4gh_cell_dev_name(dev), (unsigned)C4G_CELL_LINE_MAX);
         } else {
             break;
         }
@@ -247,13 +247,13 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
             if (errno == EINTR) {
                 continue;
             }
-            fprintf(stderr, "cell-cli: %s: send failed: %s\n", cell_dev_name(dev), strerror(errno));
+            fprintf(stderr, "cell-cli: %s: send failed: %s\n", c4gh_cell_dev_name(dev), strerror(errno));
             conn_drop(dev);
             return EXIT_CONNECT;
         }
         off += (size_t)w;
     }
-    deadline = cell_now_ns() + (uint64_t)g_reply_ms * 1000000ULL;
+    deadline = c4gh_cell_now_ns() + (uint64_t)g_reply_ms * 1000000ULL;
     for (;;) {
         c4g_cell_split_event_t ev;
         const char *l = NULL;
@@ -273,14 +273,14 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
             return 0;
         }
         if (ev == C4G_CELL_SPLIT_OVERLONG) {
-            fprintf(stderr, "cell-cli: %s: reply longer than %u bytes\n", cell_dev_name(dev),
+            fprintf(stderr, "cell-cli: %s: reply longer than %u bytes\n", c4gh_cell_dev_name(dev),
                     (unsigned)C4G_CELL_LINE_MAX);
             conn_drop(dev);
             return EXIT_PROTOCOL;
         }
-        uint64_t now = cell_now_ns();
+        uint64_t now = c4gh_cell_now_ns();
         if (now >= deadline) {
-            fprintf(stderr, "cell-cli: %s: no reply within %d ms\n", cell_dev_name(dev), g_reply_ms);
+            fprintf(stderr, "cell-cli: %s: no reply within %d ms\n", c4gh_cell_dev_name(dev), g_reply_ms);
             conn_drop(dev); /* a late reply would desynchronise the next request */
             return EXIT_CONNECT;
         }
@@ -298,7 +298,7 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
             continue;
         }
         if (r <= 0) {
-            fprintf(stderr, "cell-cli: %s: connection closed by the device\n", cell_dev_name(dev));
+            fprintf(stderr, "cell-cli: %s: connection closed by the device\n", c4gh_cell_dev_name(dev));
             conn_drop(dev);
             return EXIT_CONNECT;
         }
@@ -346,7 +346,7 @@ static json_t *json_head(int dev)
         stamp_text(t, sizeof t);
         json_object_set_new(o, "time", json_string(t));
     }
-    json_object_set_new(o, "device", json_string(cell_dev_name(dev)));
+    json_object_set_new(o, "device", json_string(c4gh_cell_dev_name(dev)));
     return o;
 }
 
@@ -373,7 +373,7 @@ static void json_emit(json_t *o)
 static void put_escaped(const char *s, size_t n)
 {
     char shown[C4G_CELL_LINE_MAX * 4 + 4];
-    tf_escape(s, n, shown, sizeof shown);
+    c4gh_tf_escape(s, n, shown, sizeof shown);
     fputs(shown, stdout);
 }
 
@@ -409,12 +409,12 @@ static const char *axis_label(int dev, int a)
 {
     static const char *const r[4] = {"x", "y", "z", "c"};
     static const char *const p[2] = {"a", "b"};
-    return dev == CELL_DEV_ROBOT ? r[a] : p[a];
+    return dev == C4GH_CELL_DEV_ROBOT ? r[a] : p[a];
 }
 
 static c4g_cell_unit_t axis_unit(int dev, int a)
 {
-    return (dev == CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
+    return (dev == C4GH_CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
 }
 
 static int axis_places(int dev, int a)
@@ -451,7 +451,7 @@ static int show_invalid(int dev, const char *req, size_t rl, const char *line, s
         put_escaped(line, ll);
         fputc('\n', stdout);
     } else {
-        printf("%s: invalid reply \"", cell_dev_name(dev));
+        printf("%s: invalid reply \"", c4gh_cell_dev_name(dev));
         put_escaped(line, ll);
         printf("\" to ");
         put_escaped(req, rl);
@@ -508,7 +508,7 @@ static void csv_row(int dev, const char *req, size_t rl, const char *line, size_
         stamp_text(t, sizeof t);
         printf("%s,", t);
     }
-    printf("%s,", cell_dev_name(dev));
+    printf("%s,", c4gh_cell_dev_name(dev));
     csv_field(req, rl);
     printf(",%s,", r == NULL ? "invalid" : r->kind == C4G_CELL_REPLY_ER ? "ER" : "OK");
     csv_field(line, ll);
@@ -535,15 +535,15 @@ static void show_text(int dev, const c4g_cell_reply_t *r)
     int project = 0;
     const char *etext = c4g_cell_error_text(r->error, &project);
     if (r->kind == C4G_CELL_REPLY_ER) {
-        printf("%s: ER %+06d  %s (%s)\n", cell_dev_name(dev), (int)r->error, etext,
+        printf("%s: ER %+06d  %s (%s)\n", c4gh_cell_dev_name(dev), (int)r->error, etext,
                project ? "project code" : "spec");
         return;
     }
     if (r->kind == C4G_CELL_REPLY_OK) {
-        printf("%s: OK\n", cell_dev_name(dev));
+        printf("%s: OK\n", c4gh_cell_dev_name(dev));
         return;
     }
-    printf("%s: %s, servo %s, override %d %%, error %+06d (%s)\n", cell_dev_name(dev),
+    printf("%s: %s, servo %s, override %d %%, error %+06d (%s)\n", c4gh_cell_dev_name(dev),
            r->moving ? "MOVING" : "stopped", r->servo_on ? "ON" : "off", (int)r->override_pct,
            (int)r->error, etext);
     for (uint32_t a = 0; a < r->pose.n_axes; a++) {
@@ -584,10 +584,10 @@ static const char *reply_misfit(int dev, int want, const c4g_cell_reply_t *r)
     if (want != C4G_CELL_REPLY_STA && r->kind == C4G_CELL_REPLY_STA) {
         return "a status reply where a bare OK was expected";
     }
-    if (r->kind == C4G_CELL_REPLY_STA && dev == CELL_DEV_ROBOT && r->pose.n_axes != 4U) {
+    if (r->kind == C4G_CELL_REPLY_STA && dev == C4GH_CELL_DEV_ROBOT && r->pose.n_axes != 4U) {
         return "a status of 2 axes (a platform's) where the robot's 4 were expected";
     }
-    if (r->kind == C4G_CELL_REPLY_STA && dev == CELL_DEV_PLATFORM && r->pose.n_axes != 2U) {
+    if (r->kind == C4G_CELL_REPLY_STA && dev == C4GH_CELL_DEV_PLATFORM && r->pose.n_axes != 2U) {
         return "a status of 4 axes (a robot's) where the platform's 2 were expected";
     }
     return NULL;
@@ -649,9 +649,9 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
 /* A pause that ^C ends: EXIT_OK, or EXIT_INTR. */
 static int sleep_s(double s)
 {
-    const uint64_t end = cell_now_ns() + (uint64_t)(s * 1e9);
+    const uint64_t end = c4gh_cell_now_ns() + (uint64_t)(s * 1e9);
     for (;;) {
-        const uint64_t now = cell_now_ns();
+        const uint64_t now = c4gh_cell_now_ns();
         if (now >= end) {
             return interrupted() ? EXIT_INTR : EXIT_OK;
         }
@@ -664,7 +664,7 @@ static int sleep_s(double s)
 /* Poll STA every 50 ms until the device reports 'F' (stopped). */
 static int wait_stopped(int dev, double timeout_s)
 {
-    uint64_t deadline = cell_now_ns() + (uint64_t)(timeout_s * 1e9);
+    uint64_t deadline = c4gh_cell_now_ns() + (uint64_t)(timeout_s * 1e9);
     for (;;) {
         char reply[C4G_CELL_LINE_MAX];
         size_t n = 0;
@@ -689,14 +689,14 @@ static int wait_stopped(int dev, double timeout_s)
             } else if (g_fmt == OUT_RAW || g_fmt == OUT_CSV) {
                 (void)show_reply(dev, "STA\r\n", 5, reply, n); /* the reply that ended it */
             } else {
-                printf("%s: stopped\n", cell_dev_name(dev));
+                printf("%s: stopped\n", c4gh_cell_dev_name(dev));
             }
             fflush(stdout);
             return EXIT_OK;
         }
-        if (cell_now_ns() >= deadline) {
+        if (c4gh_cell_now_ns() >= deadline) {
             fprintf(stderr, "cell-cli: wait %s stopped: still moving after %g s\n",
-                    cell_dev_name(dev), timeout_s);
+                    c4gh_cell_dev_name(dev), timeout_s);
             return EXIT_WAIT;
         }
         if (sleep_s(0.05) != EXIT_OK) {
@@ -714,14 +714,14 @@ static void stop_after_interrupt(void)
     if (isatty(STDERR_FILENO)) {
         fputc('\n', stderr); /* after the "^C" the terminal echoed */
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         char reply[C4G_CELL_LINE_MAX];
         size_t n = 0;
         if (!g_moved[d]) {
             continue;
         }
         fprintf(stderr, "cell-cli: %s: interrupted: sending STP to stop the motion started here\n",
-                cell_dev_name(d));
+                c4gh_cell_dev_name(d));
         if (transact(d, "STP\r\n", 5, reply, sizeof reply, &n) == 0) {
             (void)show_reply(d, "STP\r\n", 5, reply, n);
         }
@@ -1072,7 +1072,7 @@ static unsigned char repl_complete(EditLine *el, int ch)
         }
     }
     if (nm == 0) {
-        const char *topic = (n >= 2 && cell_dev_parse(w[0]) >= 0) ? w[1] : w[0];
+        const char *topic = (n >= 2 && c4gh_cell_dev_parse(w[0]) >= 0) ? w[1] : w[0];
         if (list != NULL || n == 0 || cli_cmd_help(topic, help, sizeof help) != 0) {
             return CC_ERROR;
         }
@@ -1177,7 +1177,7 @@ static void repl_set_prompt(void)
     /* the device of the last command and its address while its connection is open */
     if (g_last_dev >= 0 && g_conn[g_last_dev].fd >= 0) {
         snprintf(g_repl.prompt, sizeof g_repl.prompt, "cell %s@%s:%u> ",
-                 cell_dev_name(g_last_dev), g_conn[g_last_dev].host, g_conn[g_last_dev].port);
+                 c4gh_cell_dev_name(g_last_dev), g_conn[g_last_dev].host, g_conn[g_last_dev].port);
     } else {
         snprintf(g_repl.prompt, sizeof g_repl.prompt, "cell not connected> ");
     }
@@ -1283,7 +1283,7 @@ typedef struct opts {
     char config[1024];
     char script[1024];
     char host_all[HOST_CAP];
-    char dev_addr[CELL_DEVICES][HOST_CAP + 8];
+    char dev_addr[C4GH_CELL_DEVICES][HOST_CAP + 8];
     unsigned port_base;
     unsigned connect_ms, reply_ms;
     long long repeat;
@@ -1294,12 +1294,12 @@ typedef struct opts {
 static opts_t g_opt = {.repeat = 1};
 
 /* --robot / --platform / --conditioning HOST[:PORT]: checked now, applied after the file. */
-static int on_addr(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_addr(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     opts_t *o = ctx;
     char host[HOST_CAP];
     unsigned port = 0;
-    if (strlen(v) >= sizeof o->dev_addr[0] || cell_parse_hostport(v, host, sizeof host, &port) != 0) {
+    if (strlen(v) >= sizeof o->dev_addr[0] || c4gh_cell_parse_hostport(v, host, sizeof host, &port) != 0) {
         snprintf(why, wl, "expected HOST[:PORT]");
         return -1;
     }
@@ -1307,12 +1307,12 @@ static int on_addr(void *ctx, const cli_opt_t *row, const char *v, char *why, si
     return 0;
 }
 
-static int on_repeat(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_repeat(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     opts_t *o = ctx;
     long long x = 0;
     (void)row;
-    if (tf_parse_int(v, -1, 100000000LL, &x) != TF_NUM_OK || x == 0) {
+    if (c4gh_tf_parse_int(v, -1, 100000000LL, &x) != C4GH_TF_NUM_OK || x == 0) {
         snprintf(why, wl, "a count 1..100000000, or -1 for forever");
         return -1;
     }
@@ -1320,43 +1320,43 @@ static int on_repeat(void *ctx, const cli_opt_t *row, const char *v, char *why, 
     return 0;
 }
 
-static const cli_opt_t k_opts[] = {
-    {"host", 'H', CLI_STRING, "HOST", "host of all three devices (default 127.0.0.1)",
+static const c4gh_cli_opt_t k_opts[] = {
+    {"host", 'H', C4GH_CLI_STRING, "HOST", "host of all three devices (default 127.0.0.1)",
      g_opt.host_all, sizeof g_opt.host_all, 0, 0, NULL, 0},
-    {"port-base", 'p', CLI_UINT, "N", "robot on N, platform N+1, conditioning N+2",
+    {"port-base", 'p', C4GH_CLI_UINT, "N", "robot on N, platform N+1, conditioning N+2",
      &g_opt.port_base, 0, 1, 65533, NULL, 0},
-    {"robot", 0, CLI_CALL, "HOST[:PORT]", "robot address", NULL, 0, 0, 0, on_addr,
-     CELL_DEV_ROBOT},
-    {"platform", 0, CLI_CALL, "HOST[:PORT]", "platform address", NULL, 0, 0, 0, on_addr,
-     CELL_DEV_PLATFORM},
-    {"conditioning", 0, CLI_CALL, "HOST[:PORT]", "conditioning controller address", NULL, 0, 0,
-     0, on_addr, CELL_DEV_CONDITIONING},
-    {"config", 'c', CLI_STRING, "FILE", "INI file (see below)", g_opt.config,
+    {"robot", 0, C4GH_CLI_CALL, "HOST[:PORT]", "robot address", NULL, 0, 0, 0, on_addr,
+     C4GH_CELL_DEV_ROBOT},
+    {"platform", 0, C4GH_CLI_CALL, "HOST[:PORT]", "platform address", NULL, 0, 0, 0, on_addr,
+     C4GH_CELL_DEV_PLATFORM},
+    {"conditioning", 0, C4GH_CLI_CALL, "HOST[:PORT]", "conditioning controller address", NULL, 0, 0,
+     0, on_addr, C4GH_CELL_DEV_CONDITIONING},
+    {"config", 'c', C4GH_CLI_STRING, "FILE", "INI file (see below)", g_opt.config,
      sizeof g_opt.config, 0, 0, NULL, 0},
-    {"connect-timeout", 0, CLI_UINT, "MS", "connect timeout 1..600000 (default 2000)",
+    {"connect-timeout", 0, C4GH_CLI_UINT, "MS", "connect timeout 1..600000 (default 2000)",
      &g_opt.connect_ms, 0, 1, 600000, NULL, 0},
-    {"timeout", 't', CLI_UINT, "MS", "reply timeout 1..600000 (default 2000)", &g_opt.reply_ms,
+    {"timeout", 't', C4GH_CLI_UINT, "MS", "reply timeout 1..600000 (default 2000)", &g_opt.reply_ms,
      0, 1, 600000, NULL, 0},
-    {"file", 'f', CLI_STRING, "FILE", "run a script ('-' = stdin)", g_opt.script,
+    {"file", 'f', C4GH_CLI_STRING, "FILE", "run a script ('-' = stdin)", g_opt.script,
      sizeof g_opt.script, 0, 0, NULL, 0},
-    {"keep-going", 'k', CLI_FLAG, NULL, "scripts: do not stop at the first ER reply",
+    {"keep-going", 'k', C4GH_CLI_FLAG, NULL, "scripts: do not stop at the first ER reply",
      &g_opt.keep_going, 0, 0, 0, NULL, 0},
-    {"echo", 'e', CLI_FLAG, NULL, "scripts: print each command before running it", &g_echo, 0,
+    {"echo", 'e', C4GH_CLI_FLAG, NULL, "scripts: print each command before running it", &g_echo, 0,
      0, 0, NULL, 0},
-    {"repeat", 'r', CLI_CALL, "N", "one-shot: run the command N times (-1: forever)", NULL, 0,
+    {"repeat", 'r', C4GH_CLI_CALL, "N", "one-shot: run the command N times (-1: forever)", NULL, 0,
      0, 0, on_repeat, 0},
-    {"interval", 'i', CLI_DOUBLE, "SEC", "one-shot: pause between repeats 0..86400 (default 0)",
+    {"interval", 'i', C4GH_CLI_DOUBLE, "SEC", "one-shot: pause between repeats 0..86400 (default 0)",
      &g_opt.interval, 0, 0, 86400, NULL, 0},
-    {"json", 'j', CLI_FLAG, NULL, "one JSON object per reply", &g_json, 0, 0, 0, NULL, 0},
-    {"csv", 0, CLI_FLAG, NULL, "one CSV row per reply, after a header line", &g_csv, 0, 0, 0,
+    {"json", 'j', C4GH_CLI_FLAG, NULL, "one JSON object per reply", &g_json, 0, 0, 0, NULL, 0},
+    {"csv", 0, C4GH_CLI_FLAG, NULL, "one CSV row per reply, after a header line", &g_csv, 0, 0, 0,
      NULL, 0},
-    {"raw", 0, CLI_FLAG, NULL, "replies as the device sent them (default when stdout is not a "
+    {"raw", 0, C4GH_CLI_FLAG, NULL, "replies as the device sent them (default when stdout is not a "
      "terminal)", &g_raw, 0, 0, 0, NULL, 0},
-    {"no-raw", 0, CLI_FLAG, NULL, "the human format even when stdout is not a terminal",
+    {"no-raw", 0, C4GH_CLI_FLAG, NULL, "the human format even when stdout is not a terminal",
      &g_no_raw, 0, 0, 0, NULL, 0},
-    {"no-history", 0, CLI_FLAG, NULL, "REPL: do not read or write the history file",
+    {"no-history", 0, C4GH_CLI_FLAG, NULL, "REPL: do not read or write the history file",
      &g_opt.no_history, 0, 0, 0, NULL, 0},
-    {"no-hints", 0, CLI_FLAG, NULL, "REPL: no argument hints as you type", &g_opt.no_hints, 0,
+    {"no-hints", 0, C4GH_CLI_FLAG, NULL, "REPL: no argument hints as you type", &g_opt.no_hints, 0,
      0, 0, NULL, 0},
 };
 
@@ -1369,7 +1369,7 @@ static const char *const k_examples[] = {
     "cell-cli raw robot OVR+00050",
     NULL};
 
-static const cli_spec_t k_spec = {
+static const c4gh_cli_spec_t k_spec = {
     "cell-cli", NULL,
     "Usage: cell-cli [options] [DEVICE COMMAND [ARGS...]]\n"
     "Terminal client of the cell protocol (robot 2001, platform 2002, conditioning 2003).\n"
@@ -1420,7 +1420,7 @@ static int load_config(const char *path)
     cli_config_t cc;
     char err[600];
     cli_config_default(&cc);
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         strcpy(cc.host[d], g_conn[d].host);
         cc.port[d] = g_conn[d].port;
     }
@@ -1431,7 +1431,7 @@ static int load_config(const char *path)
         fprintf(stderr, "cell-cli: config file %s\n", err);
         return EXIT_USAGE;
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         strcpy(g_conn[d].host, cc.host[d]);
         g_conn[d].port = cc.port[d];
     }
@@ -1445,9 +1445,9 @@ static int load_config(const char *path)
 static int configure(void)
 {
     const char *config = config_path();
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         strcpy(g_conn[d].host, "127.0.0.1");
-        g_conn[d].port = cell_dev_default_port(d);
+        g_conn[d].port = c4gh_cell_dev_default_port(d);
         g_conn[d].fd = -1;
     }
     if (config != NULL && load_config(config) != EXIT_OK) {
@@ -1459,7 +1459,7 @@ static int configure(void)
     if (g_opt.reply_ms > 0) {
         g_reply_ms = (int)g_opt.reply_ms;
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         if (g_opt.host_all[0] != '\0') {
             strcpy(g_conn[d].host, g_opt.host_all);
         }
@@ -1467,7 +1467,7 @@ static int configure(void)
             g_conn[d].port = g_opt.port_base + (unsigned)d;
         }
         if (g_opt.dev_addr[d][0] != '\0') {
-            (void)cell_parse_hostport(g_opt.dev_addr[d], g_conn[d].host, sizeof g_conn[d].host,
+            (void)c4gh_cell_parse_hostport(g_opt.dev_addr[d], g_conn[d].host, sizeof g_conn[d].host,
                                       &g_conn[d].port); /* checked by on_addr */
         }
     }
@@ -1531,12 +1531,12 @@ int main(int argc, char **argv)
 {
     int first = 0;
     int rc;
-    cli_result_t pr = cli_parse(&k_spec, &g_opt, argc, argv, &first);
-    if (pr != CLI_RUN) {
-        return pr == CLI_DONE ? EXIT_OK : EXIT_USAGE;
+    c4gh_cli_result_t pr = c4gh_cli_parse(&k_spec, &g_opt, argc, argv, &first);
+    if (pr != C4GH_CLI_RUN) {
+        return pr == C4GH_CLI_DONE ? EXIT_OK : EXIT_USAGE;
     }
     if (g_json + g_csv > 1 || g_raw + g_no_raw > 1) {
-        cli_error(&k_spec, "--json and --csv, or --raw and --no-raw, exclude each other (see "
+        c4gh_cli_error(&k_spec, "--json and --csv, or --raw and --no-raw, exclude each other (see "
                   "cell-cli --help)");
         return EXIT_USAGE;
     }
@@ -1557,7 +1557,7 @@ int main(int argc, char **argv)
         }
         rc = run_script_file(g_opt.script);
     } else if (first < argc && strcmp(argv[first], "canopen") == 0) {
-        rc = cli_canopen_run(g_conn[CELL_DEV_PLATFORM].host, g_conn[CELL_DEV_PLATFORM].port + 10U,
+        rc = cli_canopen_run(g_conn[C4GH_CELL_DEV_PLATFORM].host, g_conn[C4GH_CELL_DEV_PLATFORM].port + 10U,
                              argc - first - 1, argv + first + 1, g_reply_ms);
     } else if (first < argc) {
         rc = run_oneshot(argc - first, argv + first);
@@ -1566,7 +1566,7 @@ int main(int argc, char **argv)
     } else {
         rc = run_script(stdin, "stdin", g_opt.keep_going);
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         conn_drop(d);
     }
     return rc;

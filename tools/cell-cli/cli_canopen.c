@@ -10,7 +10,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "c4g_textfile.h"
+#include "c4gh_textfile.h"
 
 static int connect_to(const char *host, unsigned port)
 {
@@ -88,7 +88,7 @@ int cli_canopen_run(const char *host, unsigned port, int n, char **words, int ti
         return 1;
     }
     /* the shell's bytes escaped: none of its escape sequences reaches a terminal */
-    tf_escape(reply, len - 1, shown, sizeof shown);
+    c4gh_tf_escape(reply, len - 1, shown, sizeof shown);
     if (strncmp(reply, "ERR", 3) == 0) {
         fprintf(stderr, "cell-cli: canopen: %s\n", len > 4 ? shown + 4 : "");
         return 1;

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "cell_common.h"
+#include "c4gh_cell.h"
 
 #define MAX_WORDS 12
 #define WORD_MAX 32 /* longest command word of the table, NUL included */
@@ -194,13 +194,13 @@ static const char *pose_key(int dev, int j)
 {
     static const char *const rk[5] = {"x", "y", "z", "c", "clear"};
     static const char *const pk[2] = {"a", "b"};
-    return dev == CELL_DEV_ROBOT ? rk[j] : pk[j];
+    return dev == C4GH_CELL_DEV_ROBOT ? rk[j] : pk[j];
 }
 
 /* Index of key k, -1 if the device (with or without a clearance) has none. */
 static int pose_key_index(int dev, int clear, const char *k)
 {
-    int nk = dev == CELL_DEV_ROBOT ? 4 + clear : 2;
+    int nk = dev == C4GH_CELL_DEV_ROBOT ? 4 + clear : 2;
     for (int j = 0; j < nk; j++) {
         if (strcasecmp(k, pose_key(dev, j)) == 0) {
             return j;
@@ -221,15 +221,15 @@ static int parse_pose_word(int dev, int clear, char *word, int *seen, c4g_cell_i
     *eq = '\0';
     k = pose_key_index(dev, clear, word);
     if (k < 0) {
-        return errf(err, cap, "unknown axis '%s' for the %s (use %s)", word, cell_dev_name(dev),
-                    dev == CELL_DEV_ROBOT ? (clear ? "clear, x, y, z, c" : "x, y, z, c")
+        return errf(err, cap, "unknown axis '%s' for the %s (use %s)", word, c4gh_cell_dev_name(dev),
+                    dev == C4GH_CELL_DEV_ROBOT ? (clear ? "clear, x, y, z, c" : "x, y, z, c")
                                           : "a, b");
     }
     if (seen[k]) {
         return errf(err, cap, "axis '%s' given twice", word);
     }
     seen[k] = 1;
-    c4g_cell_unit_t u = (dev == CELL_DEV_ROBOT && k != 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
+    c4g_cell_unit_t u = (dev == C4GH_CELL_DEV_ROBOT && k != 3) ? C4G_CELL_UNIT_MM : C4G_CELL_UNIT_RAD;
     return parse_value(eq + 1, u, k == 4 ? &in->clearance : &in->pose.v[k], word, err, cap);
 }
 
@@ -238,7 +238,7 @@ static int parse_pose(int dev, int clear, char **w, int n, int need_all, c4g_cel
                       char *err, size_t cap)
 {
     int seen[5] = {0};
-    int nk = dev == CELL_DEV_ROBOT ? 4 : 2;
+    int nk = dev == C4GH_CELL_DEV_ROBOT ? 4 : 2;
     in->pose.n_axes = (uint32_t)nk;
     for (int i = 0; i < n; i++) {
         if (parse_pose_word(dev, clear, w[i], seen, in, err, cap) != 0) {
@@ -290,18 +290,18 @@ static int parse_args(const cmd_row_t *r, int dev, char **w, int n, int first,
         in->open = strcasecmp(w[first + 1], "open") == 0;
         return parse_int_arg(w[first], r->lo, r->hi, r->what, &in->value, err, cap);
     case C4G_CELL_ARGS_MODE_POSE:
-        if (dev == CELL_DEV_CONDITIONING) {
+        if (dev == C4GH_CELL_DEV_CONDITIONING) {
             return errf(err, cap, "the conditioning controller has no axes");
         }
         if (n <= first ||
             (strcasecmp(w[first], "abs") != 0 && strcasecmp(w[first], "rel") != 0)) {
             return errf(err, cap, "usage: %s %s abs|rel %s", w[0], primary(r, pw, sizeof pw),
-                        dev == CELL_DEV_ROBOT ? "x=MM y=MM z=MM c=RAD" : "a=RAD b=RAD");
+                        dev == C4GH_CELL_DEV_ROBOT ? "x=MM y=MM z=MM c=RAD" : "a=RAD b=RAD");
         }
         in->relative = strcasecmp(w[first], "rel") == 0;
         return parse_pose(dev, 0, w + first + 1, n - first - 1, !in->relative, in, err, cap);
     case C4G_CELL_ARGS_CLEAR_POSE:
-        if (dev != CELL_DEV_ROBOT) {
+        if (dev != C4GH_CELL_DEV_ROBOT) {
             return errf(err, cap, "%s is a robot command", primary(r, pw, sizeof pw));
         }
         return parse_pose(dev, 1, w + first, n - first, 1, in, err, cap);
@@ -333,7 +333,7 @@ static int parse_device_cmd(int dev, char **w, int n, cli_cmd_t *out, char *err,
     }
     if (r == NULL) {
         return errf(err, cap, "unknown command '%s' for the %s (try: help)", w[1],
-                    cell_dev_name(dev));
+                    c4gh_cell_dev_name(dev));
     }
     in->cmd = r->cmd;
     return parse_args(r, dev, w, n, 1 + used, in, err, cap);
@@ -362,7 +362,7 @@ static int parse_raw(const char *text, cli_cmd_t *out, char *err, size_t cap)
         dl++;
     }
     devw[dl] = '\0';
-    out->dev = cell_dev_parse(devw);
+    out->dev = c4gh_cell_dev_parse(devw);
     if (out->dev < 0) {
         return errf(err, cap, "usage: raw robot|platform|conditioning TEXT");
     }
@@ -403,7 +403,7 @@ static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap
     }
     if (strcasecmp(w[0], "sleep") == 0) {
         out->kind = CMD_SLEEP;
-        if (n != 2 || cell_parse_double(w[1], &out->seconds) != 0 || out->seconds < 0 ||
+        if (n != 2 || c4gh_cell_parse_double(w[1], &out->seconds) != 0 || out->seconds < 0 ||
             out->seconds > 3600) {
             return errf(err, cap, "usage: sleep SECONDS (0..3600)");
         }
@@ -412,9 +412,9 @@ static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap
     if (strcasecmp(w[0], "wait") == 0) {
         out->kind = CMD_WAIT;
         out->seconds = 60.0;
-        if (n < 3 || n > 4 || (out->dev = cell_dev_parse(w[1])) < 0 ||
-            out->dev == CELL_DEV_CONDITIONING || strcasecmp(w[2], "stopped") != 0 ||
-            (n == 4 && (cell_parse_double(w[3], &out->seconds) != 0 || out->seconds <= 0))) {
+        if (n < 3 || n > 4 || (out->dev = c4gh_cell_dev_parse(w[1])) < 0 ||
+            out->dev == C4GH_CELL_DEV_CONDITIONING || strcasecmp(w[2], "stopped") != 0 ||
+            (n == 4 && (c4gh_cell_parse_double(w[3], &out->seconds) != 0 || out->seconds <= 0))) {
             return errf(err, cap, "usage: wait robot|platform stopped [TIMEOUT_SECONDS]");
         }
         return 0;
@@ -449,7 +449,7 @@ int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
     if (rc <= 0) {
         return rc;
     }
-    dev = cell_dev_parse(w[0]);
+    dev = c4gh_cell_dev_parse(w[0]);
     if (dev < 0) {
         return errf(err, err_cap, "unknown device or command '%s' (try: help)", w[0]);
     }
@@ -523,19 +523,19 @@ int cli_cmd_help(const char *topic, char *out, size_t cap)
 /* Completion lists built once from the table: the primary words per device, and the
  * help topics (every primary word, then the tool's commands). */
 static char g_primary[N_ROWS][WORD_MAX];
-static const char *g_dev_cmds[CELL_DEVICES][N_ROWS + 1];
+static const char *g_dev_cmds[C4GH_CELL_DEVICES][N_ROWS + 1];
 static const char *g_topics[N_ROWS + N_TOOL_HELP + 1];
 
 static void words_init(void)
 {
-    size_t nd[CELL_DEVICES] = {0, 0, 0};
+    size_t nd[C4GH_CELL_DEVICES] = {0, 0, 0};
     size_t nt = 0;
     if (g_topics[0] != NULL) {
         return;
     }
     for (size_t i = 0; i < N_ROWS; i++) {
         primary(&k_rows[i], g_primary[i], sizeof g_primary[i]);
-        for (int d = 0; d < CELL_DEVICES; d++) {
+        for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
             if ((k_rows[i].devices & (1U << d)) != 0U) {
                 g_dev_cmds[d][nd[d]++] = g_primary[i];
             }
@@ -562,9 +562,9 @@ static const char *const *arg_words(int word, int dev, const char *second)
     }
     switch (r->args) {
     case C4G_CELL_ARGS_MODE_POSE:
-        return word == 2 ? absrel : dev == CELL_DEV_ROBOT ? robot_keys : plat_keys;
+        return word == 2 ? absrel : dev == C4GH_CELL_DEV_ROBOT ? robot_keys : plat_keys;
     case C4G_CELL_ARGS_CLEAR_POSE:
-        return dev == CELL_DEV_ROBOT ? pnp_keys : NULL;
+        return dev == C4GH_CELL_DEV_ROBOT ? pnp_keys : NULL;
     case C4G_CELL_ARGS_INT_ACTION:
         return word == 3 ? openclose : NULL;
     case C4G_CELL_ARGS_INT:
@@ -595,7 +595,7 @@ const char *const *cli_cmd_words(int word, const char *first, const char *second
     if (strcasecmp(first, "help") == 0) {
         return word == 1 ? g_topics : NULL;
     }
-    dev = cell_dev_parse(first);
+    dev = c4gh_cell_dev_parse(first);
     if (dev < 0) {
         return NULL;
     }
@@ -655,11 +655,11 @@ static void tok_key(const char *tok, char *key, size_t cap)
 static int choice_match(const char *tok, const char *word)
 {
     const char *p = tok;
-    int dev = cell_dev_parse(word);
+    int dev = c4gh_cell_dev_parse(word);
     while (*p != '\0') {
         size_t n = strcspn(p, "|");
         if ((strlen(word) == n && strncasecmp(p, word, n) == 0) ||
-            (dev >= 0 && strlen(cell_dev_name(dev)) == n && strncmp(p, cell_dev_name(dev), n) == 0)) {
+            (dev >= 0 && strlen(c4gh_cell_dev_name(dev)) == n && strncmp(p, c4gh_cell_dev_name(dev), n) == 0)) {
             return 1;
         }
         p += n + (p[n] == '|' ? 1 : 0);
@@ -730,7 +730,7 @@ static int device_tpl(int dev, char **w, int n, int typing, hint_tpl_t *t, int *
         break;
     case C4G_CELL_ARGS_MODE_POSE: {
         int rel = n > *k && strcasecmp(w[*k], "rel") == 0;
-        const char *keys = dev == CELL_DEV_ROBOT
+        const char *keys = dev == C4GH_CELL_DEV_ROBOT
                                ? (rel ? "[x=MM] [y=MM] [z=MM] [c=RAD]" : "x=MM y=MM z=MM c=RAD")
                                : (rel ? "[a=RAD] [b=RAD]" : "a=RAD b=RAD");
         snprintf(buf, sizeof buf, "abs|rel %s", keys);
@@ -757,7 +757,7 @@ static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
                 {"wait", "robot|platform stopped [TIMEOUT]"},
                 {"raw", "robot|platform|conditioning TEXT"}, {"clear", ""}, {"quit", ""},
                 {"exit", ""}};
-    int dev = cell_dev_parse(w[0]);
+    int dev = c4gh_cell_dev_parse(w[0]);
     *k = 1;
     t->n = 0;
     for (size_t i = 0; i < sizeof tool / sizeof tool[0]; i++) {
@@ -773,13 +773,13 @@ static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
         return device_tpl(dev, w, n, typing, t, k);
     }
     /* a device alone: its commands, once the word is the device's whole name (or ended) */
-    if (typing && strcasecmp(w[0], cell_dev_name(dev)) != 0) {
+    if (typing && strcasecmp(w[0], c4gh_cell_dev_name(dev)) != 0) {
         return -1;
     }
     {
         char *list = t->tok[0];
         size_t o = 0;
-        const char *const *c = cli_cmd_words(1, cell_dev_name(dev), NULL);
+        const char *const *c = cli_cmd_words(1, c4gh_cell_dev_name(dev), NULL);
         list[0] = '\0';
         for (; c != NULL && *c != NULL && o < sizeof t->tok[0]; c++) {
             o += (size_t)snprintf(list + o, sizeof t->tok[0] - o, "%s%s", o > 0 ? "|" : "", *c);

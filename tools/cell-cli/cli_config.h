@@ -5,11 +5,11 @@
 
 #include <stddef.h>
 
-#include "cell_common.h"
+#include "c4gh_cell.h"
 
 typedef struct cli_config {
-    char host[CELL_DEVICES][256];
-    unsigned port[CELL_DEVICES];
+    char host[C4GH_CELL_DEVICES][256];
+    unsigned port[C4GH_CELL_DEVICES];
     int connect_ms;
     int reply_ms;
     int hints; /* REPL hints as you type (1 unless [cli] hints = no) */
@@ -21,8 +21,8 @@ void cli_config_default(cli_config_t *c);
  * (host, port) and [cli] (connect_timeout_ms, reply_timeout_ms, hints); anything else is an
  * error. 0, or -1 with "PATH:LINE:COL: ..." in err. */
 int cli_config_load(cli_config_t *c, const char *path, char *err, size_t errlen);
-struct tf_file;
-/* The same over a file already in memory (tools/common/c4g_textfile.h). */
-int cli_config_parse(cli_config_t *c, struct tf_file *f, char *err, size_t errlen);
+struct c4gh_tf_file;
+/* The same over a file already in memory (lib/host/c4gh_textfile.h). */
+int cli_config_parse(cli_config_t *c, struct c4gh_tf_file *f, char *err, size_t errlen);
 
 #endif /* CLI_CONFIG_H */

@@ -22,9 +22,9 @@
 #include <jansson.h>
 
 #include "c4gopen.h"
-#include "c4g_cli.h"
-#include "c4g_textfile.h"
-#include "cell_common.h"
+#include "c4gh_cli.h"
+#include "c4gh_textfile.h"
+#include "c4gh_cell.h"
 #include "sim_device.h"
 #include "sim_canopen.h"
 
@@ -104,7 +104,7 @@ static void logf_(int level, const char *dev, const char *peer, const char *even
             json_t *m = json_string(msg);
             if (m == NULL) {
                 char safe[1100];
-                tf_escape(msg, strlen(msg), safe, sizeof safe);
+                c4gh_tf_escape(msg, strlen(msg), safe, sizeof safe);
                 m = json_string(safe);
             }
             json_object_set_new(o, "msg", m);
@@ -136,7 +136,7 @@ static void printable(const char *s, size_t n, char *out, size_t cap)
 /* May this client's input cause one more error line? */
 static int client_log_ok(client_t *c)
 {
-    const uint64_t now = cell_now_ns();
+    const uint64_t now = c4gh_cell_now_ns();
     c->log_last_ns = now;
     if (now - c->log_win_ns >= LOG_WINDOW_NS) {
         c->log_win_ns = now;
@@ -158,7 +158,7 @@ static void client_log_summary(client_t *c, const char *when)
     if (c->sup_err == 0) {
         return;
     }
-    logf_(0, cell_dev_name(c->dev), c->peer, "suppressed",
+    logf_(0, c4gh_cell_dev_name(c->dev), c->peer, "suppressed",
           "%llu more error lines not logged (at most %u per second per client), %s",
           (unsigned long long)c->sup_err, LOG_PER_SEC, when);
     c->sup_err = 0;
@@ -168,7 +168,7 @@ static void client_log_summary(client_t *c, const char *when)
 static void client_close(client_t *c, const char *why)
 {
     client_log_summary(c, "connection closing");
-    logf_(1, cell_dev_name(c->dev), c->peer, "disconnect", "%s (%llu lines)", why,
+    logf_(1, c4gh_cell_dev_name(c->dev), c->peer, "disconnect", "%s (%llu lines)", why,
           (unsigned long long)c->lines);
     close(c->fd);
     c->fd = -1;
@@ -207,7 +207,7 @@ static void reply_line(client_t *c, const char *line, size_t len, c4g_cell_cmd_t
     char pr[160];
     char out[C4G_CELL_LINE_MAX];
     size_t n = 0;
-    const char *dev = cell_dev_name(c->dev);
+    const char *dev = c4gh_cell_dev_name(c->dev);
     if (c4g_cell_reply_encode(rep, out, sizeof out, &n) != C4G_OK) {
         rep->kind = C4G_CELL_REPLY_ER;
         rep->error = C4G_CELL_E_GENERIC;
@@ -241,7 +241,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
     char pr[160];
     int close_after = 0;
     const char *note;
-    const char *dev = cell_dev_name(c->dev);
+    const char *dev = c4gh_cell_dev_name(c->dev);
     c4g_status_t st = c4g_cell_instr_decode(line, len, &in, &d);
     c->lines++;
     if (st != C4G_OK) {
@@ -256,7 +256,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
         queue_er(c, code);
         return;
     }
-    if (g_co_on && c->dev == CELL_DEV_PLATFORM) {
+    if (g_co_on && c->dev == C4GH_CELL_DEV_PLATFORM) {
         int deferred = 0;
         if (sim_co_servo_busy(&g_co)) {
             c->waiting = 1; /* run when the one waiting for the drives is answered */
@@ -265,7 +265,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
             c->lines--;     /* counted when it runs */
             return;
         }
-        note = sim_co_exec(&g_co, &devs[c->dev], &in, cell_now_ns(), &rep, &close_after,
+        note = sim_co_exec(&g_co, &devs[c->dev], &in, c4gh_cell_now_ns(), &rep, &close_after,
                            &deferred);
         if (deferred) {
             c->waiting = 2;
@@ -275,7 +275,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
             return;
         }
     } else {
-        note = sim_device_exec(&devs[c->dev], &in, cell_now_ns(), &rep, &close_after);
+        note = sim_device_exec(&devs[c->dev], &in, c4gh_cell_now_ns(), &rep, &close_after);
     }
     reply_line(c, line, len, in.cmd, &rep, note, close_after);
 }
@@ -305,7 +305,7 @@ static void client_lines(client_t *c, sim_device_t *devs)
         if (ev == C4G_CELL_SPLIT_OVERLONG) {
             c->lines++;
             if (client_log_ok(c)) {
-                logf_(0, cell_dev_name(c->dev), c->peer, "error",
+                logf_(0, c4gh_cell_dev_name(c->dev), c->peer, "error",
                       "ER+%05d: line longer than %u bytes dropped", C4G_CELL_E_MALFORMED,
                       (unsigned)C4G_CELL_LINE_MAX);
             }
@@ -378,7 +378,7 @@ static void client_read(client_t *c, sim_device_t *devs)
         }
         return;
     }
-    c->last_ns = cell_now_ns();
+    c->last_ns = c4gh_cell_now_ns();
     off = client_feed(c, devs, buf, (size_t)r);
     client_stash(c, buf + off, (size_t)r - off);
 }
@@ -411,14 +411,14 @@ typedef struct ws_limit {
 /* What the options say (defaults set in main before parsing). */
 typedef struct sim_opts {
     char bind[64];
-    unsigned ports[CELL_DEVICES];
+    unsigned ports[C4GH_CELL_DEVICES];
     double speed;
     unsigned cameras, max_clients, idle_s;
     ws_limit_t ws[MAX_WS];
     int n_ws;
-    double home[CELL_DEVICES][4];
-    int home_set[CELL_DEVICES];
-    int fault[CELL_DEVICES];
+    double home[C4GH_CELL_DEVICES][4];
+    int home_set[C4GH_CELL_DEVICES];
+    int fault[C4GH_CELL_DEVICES];
     char canopen[512];      /* the platform on CANopen: channel INI (docs/canopen.md) */
     char can_if[32];        /* SocketCAN interface; empty: in-process virtual bus */
     char can_log[512];      /* candump log of the bus */
@@ -432,7 +432,7 @@ static sim_opts_t g_opt = {.bind = "127.0.0.1", .speed = 1.0, .cameras = 2, .max
 /* Largest magnitude a STA field can show: lengths 999.999 mm, angles 99.9999 rad. */
 static double axis_field_max(int dev, int axis)
 {
-    return (dev == CELL_DEV_ROBOT && axis < 3) ? 999.999 : 99.9999;
+    return (dev == C4GH_CELL_DEV_ROBOT && axis < 3) ? 999.999 : 99.9999;
 }
 
 /* "DEV:" prefix of arg: the motion device it names, -1 if none; *rest after the colon. */
@@ -446,32 +446,32 @@ static int motion_dev_prefix(const char *arg, const char **rest)
     }
     memcpy(tmp, arg, (size_t)(colon - arg));
     tmp[colon - arg] = '\0';
-    dev = cell_dev_parse(tmp);
+    dev = c4gh_cell_dev_parse(tmp);
     *rest = colon + 1;
-    return dev == CELL_DEV_CONDITIONING ? -1 : dev;
+    return dev == C4GH_CELL_DEV_CONDITIONING ? -1 : dev;
 }
 
-static int on_port_base(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_port_base(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_opts_t *o = ctx;
     long long x = 0;
-    tf_num_t st = tf_parse_int(v, 1, 65533, &x);
-    if (st != TF_NUM_OK) {
-        tf_num_explain(st, v, row->lo, row->hi, why, wl);
+    c4gh_tf_num_t st = c4gh_tf_parse_int(v, 1, 65533, &x);
+    if (st != C4GH_TF_NUM_OK) {
+        c4gh_tf_num_explain(st, v, row->lo, row->hi, why, wl);
         return -1;
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         o->ports[d] = (unsigned)x + (unsigned)d;
     }
     return 0;
 }
 
-static int on_speed(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_speed(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_opts_t *o = ctx;
     double x = 0.0;
     (void)row;
-    if (tf_parse_double(v, 0.0, 1e6, &x) != TF_NUM_OK || !(x > 0.0)) {
+    if (c4gh_tf_parse_double(v, 0.0, 1e6, &x) != C4GH_TF_NUM_OK || !(x > 0.0)) {
         snprintf(why, wl, "need a number > 0 and <= 1e6");
         return -1;
     }
@@ -480,7 +480,7 @@ static int on_speed(void *ctx, const cli_opt_t *row, const char *v, char *why, s
 }
 
 /* DEV:AXIS:MIN:MAX, within the STA field range. */
-static int on_workspace(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_workspace(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_opts_t *o = ctx;
     char tmp[128];
@@ -497,7 +497,7 @@ static int on_workspace(void *ctx, const cli_opt_t *row, const char *v, char *wh
     for (char *p = strtok(tmp, ":"); p != NULL && n < 4; p = strtok(NULL, ":")) {
         f[n++] = p;
     }
-    if (n != 4 || (w.dev = cell_dev_parse(f[0])) < 0 || w.dev == CELL_DEV_CONDITIONING) {
+    if (n != 4 || (w.dev = c4gh_cell_dev_parse(f[0])) < 0 || w.dev == C4GH_CELL_DEV_CONDITIONING) {
         return -1;
     }
     for (int a = 0; a < 4; a++) {
@@ -505,8 +505,8 @@ static int on_workspace(void *ctx, const cli_opt_t *row, const char *v, char *wh
             w.axis = a;
         }
     }
-    if (w.axis < 0 || cell_parse_double(f[2], &w.lo) != 0 ||
-        cell_parse_double(f[3], &w.hi) != 0 || w.lo > w.hi ||
+    if (w.axis < 0 || c4gh_cell_parse_double(f[2], &w.lo) != 0 ||
+        c4gh_cell_parse_double(f[3], &w.hi) != 0 || w.lo > w.hi ||
         w.lo < -axis_field_max(w.dev, w.axis) || w.hi > axis_field_max(w.dev, w.axis)) {
         return -1;
     }
@@ -515,7 +515,7 @@ static int on_workspace(void *ctx, const cli_opt_t *row, const char *v, char *wh
 }
 
 /* DEV:V1,V2[,V3,V4]: the robot takes 4 numbers, the platform 2. */
-static int on_home(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_home(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_opts_t *o = ctx;
     const char *rest = NULL;
@@ -529,15 +529,15 @@ static int on_home(void *ctx, const cli_opt_t *row, const char *v, char *why, si
     }
     strcpy(tmp, rest);
     for (char *p = strtok(tmp, ","); p != NULL; p = strtok(NULL, ",")) {
-        if (n >= 4 || cell_parse_double(p, &o->home[dev][n]) != 0) {
+        if (n >= 4 || c4gh_cell_parse_double(p, &o->home[dev][n]) != 0) {
             n = 99;
             break;
         }
         n++;
     }
-    if (n != (dev == CELL_DEV_ROBOT ? 4 : 2)) {
-        snprintf(why, wl, "the %s needs %d numbers", cell_dev_name(dev),
-                 dev == CELL_DEV_ROBOT ? 4 : 2);
+    if (n != (dev == C4GH_CELL_DEV_ROBOT ? 4 : 2)) {
+        snprintf(why, wl, "the %s needs %d numbers", c4gh_cell_dev_name(dev),
+                 dev == C4GH_CELL_DEV_ROBOT ? 4 : 2);
         return -1;
     }
     o->home_set[dev] = 1;
@@ -545,14 +545,14 @@ static int on_home(void *ctx, const cli_opt_t *row, const char *v, char *why, si
 }
 
 /* DEV:1 or DEV:2, DEV robot or platform. */
-static int on_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_fault(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     sim_opts_t *o = ctx;
     const char *rest = NULL;
     unsigned long u = 0;
     int dev = motion_dev_prefix(v, &rest);
     (void)row;
-    if (dev < 0 || cell_parse_uint(rest, 2, &u) != 0 || u == 0) {
+    if (dev < 0 || c4gh_cell_parse_uint(rest, 2, &u) != 0 || u == 0) {
         snprintf(why, wl, "expected DEV:1 or DEV:2 with DEV robot or platform");
         return -1;
     }
@@ -560,7 +560,7 @@ static int on_fault(void *ctx, const cli_opt_t *row, const char *v, char *why, s
     return 0;
 }
 
-static int on_verbosity(void *ctx, const cli_opt_t *row, const char *v, char *why, size_t wl)
+static int on_verbosity(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     (void)ctx;
     (void)v;
@@ -570,47 +570,47 @@ static int on_verbosity(void *ctx, const cli_opt_t *row, const char *v, char *wh
     return 0;
 }
 
-static const cli_opt_t k_opts[] = {
-    {"config", 'c', CLI_STRING, "FILE", "INI file read before the options (see below)",
+static const c4gh_cli_opt_t k_opts[] = {
+    {"config", 'c', C4GH_CLI_STRING, "FILE", "INI file read before the options (see below)",
      g_opt.config, sizeof g_opt.config, 0, 0, NULL, 0},
-    {"bind", 'b', CLI_STRING, "ADDR", "IPv4 address to listen on (default 127.0.0.1)", g_opt.bind,
+    {"bind", 'b', C4GH_CLI_STRING, "ADDR", "IPv4 address to listen on (default 127.0.0.1)", g_opt.bind,
      sizeof g_opt.bind, 0, 0, NULL, 0},
-    {"port-base", 'p', CLI_CALL, "N", "robot on N, platform N+1, conditioning N+2", NULL, 0, 1,
+    {"port-base", 'p', C4GH_CLI_CALL, "N", "robot on N, platform N+1, conditioning N+2", NULL, 0, 1,
      65533, on_port_base, 0},
-    {"robot-port", 0, CLI_UINT, "N", "robot port (default 2001)", &g_opt.ports[CELL_DEV_ROBOT], 0,
+    {"robot-port", 0, C4GH_CLI_UINT, "N", "robot port (default 2001)", &g_opt.ports[C4GH_CELL_DEV_ROBOT], 0,
      1, 65535, NULL, 0},
-    {"platform-port", 0, CLI_UINT, "N", "platform port (default 2002)",
-     &g_opt.ports[CELL_DEV_PLATFORM], 0, 1, 65535, NULL, 0},
-    {"conditioning-port", 0, CLI_UINT, "N", "conditioning port (default 2003)",
-     &g_opt.ports[CELL_DEV_CONDITIONING], 0, 1, 65535, NULL, 0},
-    {"speed-factor", 's', CLI_CALL, "F", "multiply every axis speed by F (default 1)", NULL, 0, 0,
+    {"platform-port", 0, C4GH_CLI_UINT, "N", "platform port (default 2002)",
+     &g_opt.ports[C4GH_CELL_DEV_PLATFORM], 0, 1, 65535, NULL, 0},
+    {"conditioning-port", 0, C4GH_CLI_UINT, "N", "conditioning port (default 2003)",
+     &g_opt.ports[C4GH_CELL_DEV_CONDITIONING], 0, 1, 65535, NULL, 0},
+    {"speed-factor", 's', C4GH_CLI_CALL, "F", "multiply every axis speed by F (default 1)", NULL, 0, 0,
      0, on_speed, 0},
-    {"workspace", 'w', CLI_CALL, "DEV:AXIS:MIN:MAX", "workspace limit, e.g. robot:x:-50:50", NULL,
+    {"workspace", 'w', C4GH_CLI_CALL, "DEV:AXIS:MIN:MAX", "workspace limit, e.g. robot:x:-50:50", NULL,
      0, 0, 0, on_workspace, 0},
-    {"home", 0, CLI_CALL, "DEV:V1,V2[,V3,V4]", "home pose used by RST (mm / rad)", NULL, 0, 0, 0,
+    {"home", 0, C4GH_CLI_CALL, "DEV:V1,V2[,V3,V4]", "home pose used by RST (mm / rad)", NULL, 0, 0, 0,
      on_home, 0},
-    {"servo-fault", 0, CLI_CALL, "DEV:N", "SRVON on DEV fails with error +0000(N+1), N = 1 or 2",
+    {"servo-fault", 0, C4GH_CLI_CALL, "DEV:N", "SRVON on DEV fails with error +0000(N+1), N = 1 or 2",
      NULL, 0, 0, 0, on_fault, 0},
-    {"cameras", 0, CLI_UINT, "N", "camera ids 1..N accepted by ACQ (default 2)", &g_opt.cameras,
+    {"cameras", 0, C4GH_CLI_UINT, "N", "camera ids 1..N accepted by ACQ (default 2)", &g_opt.cameras,
      0, 0, 99999, NULL, 0},
-    {"max-clients", 0, CLI_UINT, "N", "concurrent connections (default 2048)",
+    {"max-clients", 0, C4GH_CLI_UINT, "N", "concurrent connections (default 2048)",
      &g_opt.max_clients, 0, 1, 100000, NULL, 0},
-    {"idle-timeout", 0, CLI_UINT, "SEC", "close connections silent that long (default 0: never)",
+    {"idle-timeout", 0, C4GH_CLI_UINT, "SEC", "close connections silent that long (default 0: never)",
      &g_opt.idle_s, 0, 0, 86400, NULL, 0},
-    {"canopen", 0, CLI_STRING, "FILE", "platform drives on a CANopen bus configured by FILE (INI)",
+    {"canopen", 0, C4GH_CLI_STRING, "FILE", "platform drives on a CANopen bus configured by FILE (INI)",
      g_opt.canopen, sizeof g_opt.canopen, 0, 0, NULL, 0},
-    {"can-if", 0, CLI_STRING, "IF", "SocketCAN interface for --canopen (default: virtual bus)",
+    {"can-if", 0, C4GH_CLI_STRING, "IF", "SocketCAN interface for --canopen (default: virtual bus)",
      g_opt.can_if, sizeof g_opt.can_if, 0, 0, NULL, 0},
-    {"can-log", 0, CLI_STRING, "FILE", "candump log of the CANopen bus", g_opt.can_log,
+    {"can-log", 0, C4GH_CLI_STRING, "FILE", "candump log of the CANopen bus", g_opt.can_log,
      sizeof g_opt.can_log, 0, 0, NULL, 0},
-    {"can-pcap", 0, CLI_STRING, "FILE", "pcap (SocketCAN link type) of the CANopen bus",
+    {"can-pcap", 0, C4GH_CLI_STRING, "FILE", "pcap (SocketCAN link type) of the CANopen bus",
      g_opt.can_pcap, sizeof g_opt.can_pcap, 0, 0, NULL, 0},
-    {"canopen-port", 0, CLI_UINT, "N", "CANopen diagnostic shell port (default: platform port + 10)",
+    {"canopen-port", 0, C4GH_CLI_UINT, "N", "CANopen diagnostic shell port (default: platform port + 10)",
      &g_opt.canopen_port, 0, 1, 65535, NULL, 0},
-    {"json", 'j', CLI_FLAG, NULL, "log as JSON lines", &g_json, 0, 0, 0, NULL, 0},
-    {"verbose", 'v', CLI_CALL, NULL, "log every request and reply", NULL, 0, 0, 0, on_verbosity,
+    {"json", 'j', C4GH_CLI_FLAG, NULL, "log as JSON lines", &g_json, 0, 0, 0, NULL, 0},
+    {"verbose", 'v', C4GH_CLI_CALL, NULL, "log every request and reply", NULL, 0, 0, 0, on_verbosity,
      2},
-    {"quiet", 'q', CLI_CALL, NULL, "log errors only", NULL, 0, 0, 0, on_verbosity, 0},
+    {"quiet", 'q', C4GH_CLI_CALL, NULL, "log errors only", NULL, 0, 0, 0, on_verbosity, 0},
 };
 
 static const char *const k_examples[] = {
@@ -624,7 +624,7 @@ static const char *const k_examples[] = {
     "cell-sim -c fixtures/cell/cell-sim.ini     the settings of an INI file",
     NULL};
 
-static const cli_spec_t k_spec = {
+static const c4gh_cli_spec_t k_spec = {
     "cell-sim", NULL,
     "Usage: cell-sim [options]\n"
     "Simulates the cell's robot (port 2001), orientation platform (2002) and\n"
@@ -644,62 +644,62 @@ static const cli_spec_t k_spec = {
 
 /* One INI line: [cell-sim] KEY = any long option; [DEVICE] port, workspace, home and
  * servo_fault for that device (as the options DEVICE-port, workspace DEVICE:..., ...). */
-static tf_ini_rc_t on_ini(void *user, const char *section, const char *name, const char *value,
+static c4gh_tf_ini_rc_t on_ini(void *user, const char *section, const char *name, const char *value,
                           char *msg, size_t msglen)
 {
     char key[64], val[256], why[300], shown[80];
     int dev = -1, rc;
     (void)user;
-    for (int d = 0; d < CELL_DEVICES; d++) {
-        if (strcmp(section, cell_dev_name(d)) == 0) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        if (strcmp(section, c4gh_cell_dev_name(d)) == 0) {
             dev = d;
         }
     }
     if (dev < 0 && strcmp(section, "cell-sim") != 0) {
-        tf_escape(section, strlen(section), shown, sizeof shown);
+        c4gh_tf_escape(section, strlen(section), shown, sizeof shown);
         snprintf(msg, msglen, "unknown section [%s] (want [cell-sim], [robot], [platform] or "
                               "[conditioning])", shown);
-        return TF_INI_BAD_SECTION;
+        return C4GH_TF_INI_BAD_SECTION;
     }
     snprintf(key, sizeof key, "%s", name);
     snprintf(val, sizeof val, "%s", value);
     if (dev >= 0) {
         if (strcmp(name, "port") == 0) {
-            snprintf(key, sizeof key, "%s-port", cell_dev_name(dev));
+            snprintf(key, sizeof key, "%s-port", c4gh_cell_dev_name(dev));
         } else if (strcmp(name, "workspace") == 0 || strcmp(name, "home") == 0 ||
                    strcmp(name, "servo_fault") == 0 || strcmp(name, "servo-fault") == 0) {
-            snprintf(val, sizeof val, "%s:%.200s", cell_dev_name(dev), value);
+            snprintf(val, sizeof val, "%s:%.200s", c4gh_cell_dev_name(dev), value);
         } else {
             key[0] = '\0';
         }
     }
     rc = (key[0] == '\0' || strcmp(key, "config") == 0)
-             ? 1 : cli_apply(&k_spec, &g_opt, key, val, why, sizeof why);
+             ? 1 : c4gh_cli_apply(&k_spec, &g_opt, key, val, why, sizeof why);
     if (rc > 0) {
-        tf_escape(name, strlen(name), shown, sizeof shown);
+        c4gh_tf_escape(name, strlen(name), shown, sizeof shown);
         snprintf(msg, msglen, "[%s] unknown key '%s'", section, shown);
-        return TF_INI_BAD_KEY;
+        return C4GH_TF_INI_BAD_KEY;
     }
     if (rc < 0) {
-        tf_escape(value, strlen(value), shown, sizeof shown);
+        c4gh_tf_escape(value, strlen(value), shown, sizeof shown);
         snprintf(msg, msglen, "[%s] %s: bad value '%s' (%s)", section, name, shown, why);
-        return TF_INI_BAD_VALUE;
+        return C4GH_TF_INI_BAD_VALUE;
     }
-    return TF_INI_OK;
+    return C4GH_TF_INI_OK;
 }
 
 /* The INI file named by -c, read before the command line so that the options win. */
 static int load_config(const char *path)
 {
-    tf_file_t f;
+    c4gh_tf_file_t f;
     char err[700];
     int rc;
-    if (tf_load(&f, path, TF_MAX_INI, err, sizeof err) != 0) {
+    if (c4gh_tf_load(&f, path, C4GH_TF_MAX_INI, err, sizeof err) != 0) {
         fprintf(stderr, "cell-sim: config file %s\n", err);
         return -1;
     }
-    rc = tf_ini_parse(&f, on_ini, &g_opt, err, sizeof err);
-    tf_free(&f);
+    rc = c4gh_tf_ini_parse(&f, on_ini, &g_opt, err, sizeof err);
+    c4gh_tf_free(&f);
     if (rc != 0) {
         fprintf(stderr, "cell-sim: config file %s\n", err);
         return -1;
@@ -710,24 +710,24 @@ static int load_config(const char *path)
 /* The devices as the options configure them; -1 when a home is outside its workspace. */
 static int devices_setup(sim_device_t *devs)
 {
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         sim_device_init(&devs[d], d, g_opt.speed);
         devs[d].servo_fault = g_opt.fault[d];
         devs[d].cameras = (int)g_opt.cameras;
-        devs[d].last_ns = cell_now_ns();
+        devs[d].last_ns = c4gh_cell_now_ns();
     }
     for (int i = 0; i < g_opt.n_ws; i++) {
         devs[g_opt.ws[i].dev].lo[g_opt.ws[i].axis] = g_opt.ws[i].lo;
         devs[g_opt.ws[i].dev].hi[g_opt.ws[i].axis] = g_opt.ws[i].hi;
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         if (g_opt.home_set[d]) {
             memcpy(devs[d].home, g_opt.home[d], sizeof g_opt.home[d]);
         }
         for (int a = 0; a < devs[d].n_axes; a++) {
             if (devs[d].home[a] < devs[d].lo[a] || devs[d].home[a] > devs[d].hi[a]) {
                 fprintf(stderr, "cell-sim: %s home %s=%g is outside the workspace\n",
-                        cell_dev_name(d), sim_axis_name(d, a), devs[d].home[a]);
+                        c4gh_cell_dev_name(d), sim_axis_name(d, a), devs[d].home[a]);
                 return -1;
             }
         }
@@ -756,7 +756,7 @@ static void process_setup(void)
 /* ------------------------------------------------------------------ the server */
 
 typedef struct server {
-    int lfd[CELL_DEVICES];
+    int lfd[C4GH_CELL_DEVICES];
     client_t *cl;
     struct pollfd *pf;
     int *map;               /* pf index -> client slot, or -1 - device for a listener */
@@ -768,20 +768,20 @@ static int server_open(server_t *s)
 {
     memset(s, 0, sizeof *s);
     s->max_clients = g_opt.max_clients;
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         char where[96];
-        s->lfd[d] = cell_tcp_listen(g_opt.bind, g_opt.ports[d], 512);
+        s->lfd[d] = c4gh_cell_tcp_listen(g_opt.bind, g_opt.ports[d], 512);
         if (s->lfd[d] < 0) {
             fprintf(stderr, "cell-sim: cannot listen on %s:%u for the %s: %s\n", g_opt.bind,
-                    g_opt.ports[d], cell_dev_name(d), strerror(errno));
+                    g_opt.ports[d], c4gh_cell_dev_name(d), strerror(errno));
             return -1;
         }
         snprintf(where, sizeof where, "%s:%u", g_opt.bind, g_opt.ports[d]);
-        logf_(1, cell_dev_name(d), where, "listen", "ready");
+        logf_(1, c4gh_cell_dev_name(d), where, "listen", "ready");
     }
     s->cl = calloc(s->max_clients, sizeof *s->cl);
-    s->pf = calloc(s->max_clients + CELL_DEVICES, sizeof *s->pf);
-    s->map = calloc(s->max_clients + CELL_DEVICES, sizeof *s->map);
+    s->pf = calloc(s->max_clients + C4GH_CELL_DEVICES, sizeof *s->pf);
+    s->map = calloc(s->max_clients + C4GH_CELL_DEVICES, sizeof *s->map);
     if (s->cl == NULL || s->pf == NULL || s->map == NULL) {
         fprintf(stderr, "cell-sim: out of memory for %lu clients\n", s->max_clients);
         return -1;
@@ -799,7 +799,7 @@ static void server_close(server_t *s)
             client_close(&s->cl[i], "shutting down");
         }
     }
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         close(s->lfd[d]);
     }
     free(s->cl);
@@ -811,7 +811,7 @@ static void server_close(server_t *s)
 static nfds_t poll_set(server_t *s)
 {
     nfds_t n = 0;
-    for (int d = 0; d < CELL_DEVICES; d++) {
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         s->pf[n].fd = s->lfd[d];
         s->pf[n].events = POLLIN;
         s->map[n] = -1 - d;
@@ -870,7 +870,7 @@ static void client_start(client_t *c, int fd, int dev, const char *peer, uint64_
     c->stash_len = 0;
     snprintf(c->peer, sizeof c->peer, "%s", peer);
     (void)c4g_cell_split_init(&c->sp, c->line_buf, sizeof c->line_buf);
-    logf_(1, cell_dev_name(dev), c->peer, "connect", "connection accepted");
+    logf_(1, c4gh_cell_dev_name(dev), c->peer, "connect", "connection accepted");
 }
 
 /* Accept every pending connection of device d's listener. */
@@ -885,14 +885,14 @@ static void accept_all(server_t *s, int d, uint64_t now)
         if (fd < 0) {
             if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR &&
                 errno != ECONNABORTED) {
-                logf_(0, cell_dev_name(d), "-", "error", "accept: %s", strerror(errno));
+                logf_(0, c4gh_cell_dev_name(d), "-", "error", "accept: %s", strerror(errno));
             }
             return;
         }
         slot = free_slot(s);
-        cell_peer_string(fd, ps, sizeof ps);
+        c4gh_cell_peer_string(fd, ps, sizeof ps);
         if (slot == s->max_clients) {
-            logf_(0, cell_dev_name(d), ps, "error", "refused: %lu connections already open",
+            logf_(0, c4gh_cell_dev_name(d), ps, "error", "refused: %lu connections already open",
                   s->max_clients);
             close(fd);
             continue;
@@ -924,7 +924,7 @@ static void housekeeping(server_t *s)
 {
     /* Reads stamped clients after the poll returned: compare with a fresh clock, never a
      * difference that wraps around. */
-    const uint64_t now = cell_now_ns();
+    const uint64_t now = c4gh_cell_now_ns();
     for (unsigned long i = 0; i < s->max_clients; i++) {
         client_t *c = &s->cl[i];
         /* a burst is over once its client caused no log line for a second */
@@ -946,7 +946,7 @@ static void servo_replies(server_t *s, sim_device_t *devs)
     c4g_cell_reply_t rep;
     const char *note = NULL;
     int close_after = 0;
-    if (sim_co_servo_poll(&g_co, &devs[CELL_DEV_PLATFORM], cell_now_ns(), &rep, &note,
+    if (sim_co_servo_poll(&g_co, &devs[C4GH_CELL_DEV_PLATFORM], c4gh_cell_now_ns(), &rep, &note,
                           &close_after)) {
         client_t *c = g_servo_client;
         g_servo_client = NULL;
@@ -985,7 +985,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
             fprintf(stderr, "cell-sim: poll: %s\n", strerror(errno));
             return;
         }
-        now = cell_now_ns();
+        now = c4gh_cell_now_ns();
         for (nfds_t k = 0; k < n && rc > 0; k++) {
             if (s->pf[k].revents == 0) {
                 continue;
@@ -998,7 +998,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
         }
         housekeeping(s);
         if (g_co_on) {
-            sim_co_step(&g_co, cell_now_ns(), &devs[CELL_DEV_PLATFORM]);
+            sim_co_step(&g_co, c4gh_cell_now_ns(), &devs[C4GH_CELL_DEV_PLATFORM]);
             servo_replies(s, devs);
         }
     }
@@ -1006,18 +1006,18 @@ static void server_loop(server_t *s, sim_device_t *devs)
 
 int main(int argc, char **argv)
 {
-    sim_device_t devs[CELL_DEVICES];
+    sim_device_t devs[C4GH_CELL_DEVICES];
     server_t srv;
-    cli_result_t pr;
-    for (int d = 0; d < CELL_DEVICES; d++) {
-        g_opt.ports[d] = cell_dev_default_port(d);
+    c4gh_cli_result_t pr;
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        g_opt.ports[d] = c4gh_cell_dev_default_port(d);
     }
-    if (cli_find_config(argc, argv) != NULL && load_config(cli_find_config(argc, argv)) != 0) {
+    if (c4gh_cli_find_config(argc, argv) != NULL && load_config(c4gh_cli_find_config(argc, argv)) != 0) {
         return EXIT_USAGE;
     }
-    pr = cli_parse(&k_spec, &g_opt, argc, argv, NULL);
-    if (pr != CLI_RUN) {
-        return pr == CLI_DONE ? EXIT_OK : EXIT_USAGE;
+    pr = c4gh_cli_parse(&k_spec, &g_opt, argc, argv, NULL);
+    if (pr != C4GH_CLI_RUN) {
+        return pr == C4GH_CLI_DONE ? EXIT_OK : EXIT_USAGE;
     }
     if (devices_setup(devs) != 0) {
         return EXIT_USAGE;
@@ -1029,7 +1029,7 @@ int main(int argc, char **argv)
     if (g_opt.canopen[0] != '\0') {
         char err[512];
         if (g_opt.canopen_port == 0) {
-            g_opt.canopen_port = g_opt.ports[CELL_DEV_PLATFORM] + 10U;
+            g_opt.canopen_port = g_opt.ports[C4GH_CELL_DEV_PLATFORM] + 10U;
         }
         if (sim_co_open(&g_co, g_opt.canopen, g_opt.can_if[0] ? g_opt.can_if : NULL,
                         g_opt.can_log[0] ? g_opt.can_log : NULL,

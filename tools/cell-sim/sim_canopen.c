@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* cell-sim: the orientation platform on a CANopen bus (see sim_canopen.h). */
 #include "sim_canopen.h"
-#include "cell_common.h"
+#include "c4gh_cell.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -32,13 +32,13 @@ static uint64_t wall_us(void)
 
 static void socketcan_step(sim_co_t *s, uint64_t t)
 {
-    c4g_co_frame_t f, out[C4G_CO_SLAVE_OUT];
+    c4g_co_frame_t f, out[C4GSIM_SLAVE_OUT];
     bool have = true;
     int n = 0;
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        c4g_co_slave_poll(&s->slave[i], t, out, &n);
+        c4gsim_slave_poll(&s->slave[i], t, out, &n);
         for (int k = 0; k < n; k++) {
-            (void)c4g_co_socketcan_send(s->fd_nodes, &out[k]);
+            (void)c4gh_co_socketcan_send(s->fd_nodes, &out[k]);
         }
     }
     (void)c4g_co_master_poll(&s->m, t);
@@ -46,21 +46,21 @@ static void socketcan_step(sim_co_t *s, uint64_t t)
         int moved = 0;
         while (c4g_co_master_tx(&s->m, &f, &have) == C4G_OK && have) {
             f.t_us = t;
-            c4g_co_buslog_write(&s->log, &f);
-            (void)c4g_co_socketcan_send(s->fd_master, &f);
+            c4gh_co_buslog_write(&s->log, &f);
+            (void)c4gh_co_socketcan_send(s->fd_master, &f);
             moved = 1;
         }
-        while (c4g_co_socketcan_recv(s->fd_nodes, &f, t) == 1) {
+        while (c4gh_co_socketcan_recv(s->fd_nodes, &f, t) == 1) {
             for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-                c4g_co_slave_rx(&s->slave[i], &f, out, &n);
+                c4gsim_slave_rx(&s->slave[i], &f, out, &n);
                 for (int k = 0; k < n; k++) {
-                    (void)c4g_co_socketcan_send(s->fd_nodes, &out[k]);
+                    (void)c4gh_co_socketcan_send(s->fd_nodes, &out[k]);
                 }
             }
             moved = 1;
         }
-        while (c4g_co_socketcan_recv(s->fd_master, &f, t) == 1) {
-            c4g_co_buslog_write(&s->log, &f);
+        while (c4gh_co_socketcan_recv(s->fd_master, &f, t) == 1) {
+            c4gh_co_buslog_write(&s->log, &f);
             (void)c4g_co_master_rx(&s->m, &f);
             moved = 1;
         }
@@ -76,7 +76,7 @@ static void bus_step(sim_co_t *s, uint64_t now_ns)
     if (s->fd_master >= 0) {
         socketcan_step(s, t);
     } else {
-        c4g_co_vbus_step(&s->bus, t);
+        c4gsim_vbus_step(&s->bus, t);
     }
 }
 
@@ -309,7 +309,7 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
     }
     s->axis_slot[0] = s->axis_slot[1] = -1;
     s->goal = C4G_CO_GOAL_READY;
-    if (c4g_co_config_load(&s->cfg, ini, err, errlen) != 0) {
+    if (c4gh_co_config_load(&s->cfg, ini, err, errlen) != 0) {
         return -1;
     }
     if (s->cfg.net.n_nodes < 2) {
@@ -324,34 +324,34 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
         return -1;
     }
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        c4g_co_slave_init(&s->slave[i], s->cfg.net.node[i].node_id,
+        c4gsim_slave_init(&s->slave[i], s->cfg.net.node[i].node_id,
                           s->cfg.net.node[i].device_type & ~C4G_CO_DEVTYPE_LG_REVERSE);
     }
     if (ifname != NULL) {
-        s->fd_master = c4g_co_socketcan_open(ifname, err, errlen);
+        s->fd_master = c4gh_co_socketcan_open(ifname, err, errlen);
         if (s->fd_master < 0) {
             return -1;
         }
-        s->fd_nodes = c4g_co_socketcan_open(ifname, err, errlen);
+        s->fd_nodes = c4gh_co_socketcan_open(ifname, err, errlen);
         if (s->fd_nodes < 0) {
             close(s->fd_master);
             return -1;
         }
     }
-    if (c4g_co_buslog_open(&s->log, candump, pcap, ifname != NULL ? ifname : "vcan0", 0, err,
+    if (c4gh_co_buslog_open(&s->log, candump, pcap, ifname != NULL ? ifname : "vcan0", 0, err,
                            errlen) != 0) {
         return -1;
     }
-    s->t0_ns = cell_now_ns();
+    s->t0_ns = c4gh_cell_now_ns();
     s->log.epoch_us = wall_us();
-    c4g_co_vbus_init(&s->bus, &s->m);
+    c4gsim_vbus_init(&s->bus, &s->m);
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        (void)c4g_co_vbus_add(&s->bus, &s->slave[i]);
+        (void)c4gsim_vbus_add(&s->bus, &s->slave[i]);
     }
-    s->bus.log = c4g_co_buslog_cb;
+    s->bus.log = c4gh_co_buslog_cb;
     s->bus.log_ctx = &s->log;
     if (shell_port != 0) {
-        s->listen_fd = cell_tcp_listen(shell_bind, shell_port, 4);
+        s->listen_fd = c4gh_cell_tcp_listen(shell_bind, shell_port, 4);
         if (s->listen_fd < 0) {
             snprintf(err, errlen, "cannot listen on %s:%u for the CANopen shell: %s", shell_bind,
                      shell_port, strerror(errno));
@@ -366,7 +366,7 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
 
 void sim_co_close(sim_co_t *s)
 {
-    c4g_co_buslog_close(&s->log);
+    c4gh_co_buslog_close(&s->log);
     if (s->fd_master >= 0) {
         close(s->fd_master);
     }
@@ -586,12 +586,12 @@ static void sh_nmt(sim_co_t *s, char **tok, int nt, char *out, size_t cap)
 
 static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int nt, char *out, size_t cap)
 {
-    c4g_co_slave_t *sl = &s->slave[slot];
+    c4gsim_slave_t *sl = &s->slave[slot];
     if (strcasecmp(cmd, "SIM_UNPLUG") == 0) {
         sl->silent = 1;
         snprintf(out, cap, "node %u unplugged (silent)", sl->node_id);
     } else if (strcasecmp(cmd, "SIM_PLUG") == 0) {
-        c4g_co_slave_reset(sl);
+        c4gsim_slave_reset(sl);
         sl->silent = 0;
         sl->no_heartbeat = 0;
         snprintf(out, cap, "node %u plugged in (power-up, boot-up message)", sl->node_id);
@@ -602,15 +602,15 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
         sl->device_type = nt > 0 ? (uint32_t)strtoul(tok[0], NULL, 0) : 0;
         snprintf(out, cap, "node %u: device type 0x%08X", sl->node_id, sl->device_type);
     } else if (strcasecmp(cmd, "SIM_FAULT") == 0) {
-        c4g_co_frame_t f[C4G_CO_SLAVE_OUT];
+        c4g_co_frame_t f[C4GSIM_SLAVE_OUT];
         int n = 0;
         const long code = nt > 0 ? strtol(tok[0], NULL, 0) : 0x7300;
-        c4g_co_slave_fault(sl, (uint16_t)code, f, &n);
+        c4gsim_slave_fault(sl, (uint16_t)code, f, &n);
         for (int k = 0; k < n; k++) {
             if (s->fd_nodes >= 0) {
-                (void)c4g_co_socketcan_send(s->fd_nodes, &f[k]);
+                (void)c4gh_co_socketcan_send(s->fd_nodes, &f[k]);
             } else {
-                c4g_co_vbus_inject(&s->bus, &f[k], bus_us(s, cell_now_ns()));
+                c4gsim_vbus_inject(&s->bus, &f[k], bus_us(s, c4gh_cell_now_ns()));
             }
         }
         handle_events(s, s->platform);

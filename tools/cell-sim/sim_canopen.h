@@ -2,16 +2,16 @@
 /* cell-sim: the orientation platform on a CANopen bus (docs/canopen.md). The platform's
  * axes A and B are DS402 drives (the first two nodes of the channel's configuration) in
  * cyclic synchronous position mode, driven by libc4gopen's CANopen master; the nodes are
- * simulated (c4g_co_slave) on the in-process virtual bus or on a SocketCAN interface.
+ * simulated (c4gsim_slave) on the in-process virtual bus or on a SocketCAN interface.
  * A text shell on its own TCP port answers the Robox diagnostic commands (CO_RNMT, ...)
  * and injects faults (SIM_UNPLUG, ...). */
 #ifndef SIM_CANOPEN_H
 #define SIM_CANOPEN_H
 
 #include <stdint.h>
-#include "c4g_co_bus.h"
-#include "c4g_co_config.h"
-#include "c4g_co_io.h"
+#include "c4gsim_vbus.h"
+#include "c4gh_coconfig.h"
+#include "c4gh_can.h"
 #include "sim_device.h"
 
 #define SIM_CO_COUNTS_PER_RAD 1000000.0 /* drive position unit: 1 urad */
@@ -45,11 +45,11 @@ typedef struct sim_co_servo {
 } sim_co_servo_t;
 
 typedef struct sim_co {
-    c4g_co_config_t cfg;
+    c4gh_co_config_t cfg;
     c4g_co_master_t m;
-    c4g_co_slave_t slave[C4G_CO_MAX_NODES];
-    c4g_co_vbus_t bus;
-    c4g_co_buslog_t log;
+    c4gsim_slave_t slave[C4G_CO_MAX_NODES];
+    c4gsim_vbus_t bus;
+    c4gh_co_buslog_t log;
     int fd_master, fd_nodes;   /* SocketCAN sockets, -1 on the virtual bus */
     uint64_t t0_ns;            /* bus time 0 */
     uint16_t cw[2];            /* last controlwords sent to the two axes */

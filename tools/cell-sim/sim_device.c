@@ -5,16 +5,16 @@
 #include <math.h>
 #include <string.h>
 
-#include "cell_common.h"
+#include "c4gh_cell.h"
 
 const char *sim_axis_name(int kind, int axis)
 {
     static const char *const r[4] = {"x", "y", "z", "c"};
     static const char *const p[2] = {"a", "b"};
-    if (kind == CELL_DEV_ROBOT && axis >= 0 && axis < 4) {
+    if (kind == C4GH_CELL_DEV_ROBOT && axis >= 0 && axis < 4) {
         return r[axis];
     }
-    if (kind == CELL_DEV_PLATFORM && axis >= 0 && axis < 2) {
+    if (kind == C4GH_CELL_DEV_PLATFORM && axis >= 0 && axis < 2) {
         return p[axis];
     }
     return "?";
@@ -26,7 +26,7 @@ void sim_device_init(sim_device_t *d, int kind, double speed_factor)
     d->kind = kind;
     d->ovr = 100;
     d->cameras = 2;
-    if (kind == CELL_DEV_ROBOT) {
+    if (kind == C4GH_CELL_DEV_ROBOT) {
         static const double lo[4] = {-200.0, -200.0, -100.0, -3.1416};
         static const double hi[4] = {200.0, 200.0, 200.0, 3.1416};
         static const double v[4] = {50.0, 50.0, 50.0, 1.0}; /* mm/s, rad/s */
@@ -35,7 +35,7 @@ void sim_device_init(sim_device_t *d, int kind, double speed_factor)
         memcpy(d->lo, lo, sizeof lo);
         memcpy(d->hi, hi, sizeof hi);
         memcpy(d->vmax, v, sizeof v);
-    } else if (kind == CELL_DEV_PLATFORM) {
+    } else if (kind == C4GH_CELL_DEV_PLATFORM) {
         d->n_axes = 2;
         d->lo[0] = d->lo[1] = -1.5708;
         d->hi[0] = d->hi[1] = 1.5708;
@@ -99,7 +99,7 @@ static int in_workspace(const sim_device_t *d, const double *p)
 static void pose_to_units(const sim_device_t *d, const c4g_cell_pose_t *p, double *out)
 {
     for (int a = 0; a < d->n_axes; a++) {
-        c4g_cell_unit_t u = (d->kind == CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM
+        c4g_cell_unit_t u = (d->kind == C4GH_CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM
                                                                  : C4G_CELL_UNIT_RAD;
         (void)c4g_cell_to_double(p->v[a], u, &out[a]);
     }
@@ -114,7 +114,7 @@ static void fill_sta(const sim_device_t *d, c4g_cell_reply_t *rep)
     rep->error = d->error;
     rep->pose.n_axes = (uint32_t)d->n_axes;
     for (int a = 0; a < d->n_axes; a++) {
-        c4g_cell_unit_t u = (d->kind == CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM
+        c4g_cell_unit_t u = (d->kind == C4GH_CELL_DEV_ROBOT && a < 3) ? C4G_CELL_UNIT_MM
                                                                  : C4G_CELL_UNIT_RAD;
         if (c4g_cell_from_double(d->pos[a], u, &rep->pose.v[a]) != C4G_OK) {
             rep->pose.v[a] = 0; /* limits keep positions in range; defensive only */
@@ -192,7 +192,7 @@ static const char *exec_motion_dev(sim_device_t *d, const c4g_cell_instr_t *in,
         return start_motion(d, rep);
     case C4G_CELL_CMD_PNP: {
         double clear;
-        if (d->kind != CELL_DEV_ROBOT) {
+        if (d->kind != C4GH_CELL_DEV_ROBOT) {
             return fail(d, rep, C4G_CELL_E_UNSUPPORTED, "PNP is robot only");
         }
         if (!d->servo) {
@@ -279,7 +279,7 @@ const char *sim_device_exec(sim_device_t *d, const c4g_cell_instr_t *in, uint64_
         *close_after = 1;
         return "close requested";
     }
-    if (d->kind == CELL_DEV_CONDITIONING) {
+    if (d->kind == C4GH_CELL_DEV_CONDITIONING) {
         return exec_conditioning(d, in, rep);
     }
     if (in->cmd == C4G_CELL_CMD_ACQ || in->cmd == C4G_CELL_CMD_HND) {

@@ -55,7 +55,7 @@
  *   --mode M           mode of the window: 0, 2, 4 or 9 (default: 9 for current, 4 for step,
  *                      else 0)
  *   --period MS        1 or 2 (default 2)
- *   --link TYPE        eth (default; the tools' own writer, tools/common/c4g_pcap), vlan
+ *   --link TYPE        eth (default; the tools' own writer, lib/host/c4gh_pcap), vlan
  *                      (Ethernet with an 802.1Q tag, VLAN 100), raw (DLT_RAW, bare IPv4),
  *                      null (DLT_NULL, 4-byte host-order AF_INET), sll (Linux cooked, 16
  *                      bytes), sll2 (Linux cooked v2, 20 bytes); cooked headers as tcpdump
@@ -70,8 +70,8 @@
  *                      is close to it (the reply to 0x7FFF carries 1, as does the reply to 0)
  * Exit status: 0 written, 1 write error, 2 usage. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
-#include "c4g_pcap.h"
+#include "c4gsim_fixtures.h"
+#include "c4gh_pcap.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -108,7 +108,7 @@ static struct {
 
 /* ---------------------------------------------------------------- capture file */
 
-static c4g_pcap_t *c4g_w;   /* plain Ethernet: the tools' writer */
+static c4gh_pcap_t *c4g_w;   /* plain Ethernet: the tools' writer */
 static pcap_t *dead;        /* every other link type, and fragments */
 static pcap_dumper_t *dump;
 static uint16_t ip_id = 1U;
@@ -144,7 +144,7 @@ static int open_capture(void)
                               DLT_LINUX_SLL2};
     char err[256];
     if (o.link == LINK_ETH && !o.frag_init) {
-        c4g_w = c4g_pcap_open(o.out, err, sizeof err);
+        c4g_w = c4gh_pcap_open(o.out, err, sizeof err);
         if (c4g_w == NULL) {
             fprintf(stderr, "forge_capture: %s: %s\n", o.out, err);
         }
@@ -163,8 +163,8 @@ static int close_capture(void)
 {
     int rc = 0;
     if (c4g_w != NULL) {
-        frames = c4g_pcap_frames(c4g_w);
-        rc = c4g_pcap_close(c4g_w);
+        frames = c4gh_pcap_frames(c4g_w);
+        rc = c4gh_pcap_close(c4g_w);
     }
     if (dump != NULL) {
         rc = pcap_dump_flush(dump);
@@ -183,7 +183,7 @@ static size_t link_header(uint8_t *f)
     switch (o.link) {
     case LINK_ETH:
     case LINK_VLAN:
-        /* same addresses as tools/common/c4g_pcap.c, so the variants differ by the link only */
+        /* same addresses as lib/host/c4gh_pcap.c, so the variants differ by the link only */
         memcpy(f, mac_dst, 6);
         memcpy(&f[6], mac_src, 6);
         if (o.link == LINK_ETH) {
@@ -262,7 +262,7 @@ static int emit(uint64_t t_us, int from_ctrl, const uint8_t *p, size_t len, int 
         struct timespec ts;
         ts.tv_sec = (time_t)(t_us / 1000000U);
         ts.tv_nsec = (long)(t_us % 1000000U) * 1000L;
-        return c4g_pcap_write_udp(c4g_w, &ts, src, sport, dst, dport, p, len);
+        return c4gh_pcap_write_udp(c4g_w, &ts, src, sport, dst, dport, p, len);
     }
     put16(&udp[0], sport);
     put16(&udp[2], dport);
@@ -376,7 +376,7 @@ static int run(void)
     uint64_t t;
 
     rng = o.seed;
-    if (c4g_init_fig10_1(&init) != C4G_OK) return -1;
+    if (c4gsim_fig10_1(&init) != C4G_OK) return -1;
     init.n_ax_open = n;
     init.period_ms = o.period_ms;
     for (i = n; i < 6; i++) init.open_ax[0][i] = C4G_OPEN_AX_NONE;

@@ -4,7 +4,7 @@
  * encoders, runs a tiny robot model per axis, checks every reply byte by byte and
  * prints a key=value summary. Not a simulator: c4g-sim is the real one. */
 #include "c4gopen.h"
-#include "c4g_fixtures.h"
+#include "c4gsim_fixtures.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -138,7 +138,7 @@ static void send_init(void)
 static void build_init(void)
 {
     unsigned a, l, idx = 0;
-    c4g_init_fig10_1(&ini);
+    c4gsim_fig10_1(&ini);
     ini.period_ms = o.period_ms;
     for (a = 0; a < 4; a++) for (l = 0; l < 10; l++) {
         ini.open_ax[a][l] = (l < o.arms_n[a]) ? (int32_t)idx++ : C4G_OPEN_AX_NONE;

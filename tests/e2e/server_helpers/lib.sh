@@ -27,7 +27,7 @@ build_stub() {
     if [ ! -x "$STUB" ] || [ tests/e2e/server_helpers/ctrl_stub.c -nt "$STUB" ] || \
        [ "$BUILD/lib/libc4gopen.a" -nt "$STUB" ]; then
         ${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Werror \
-            -Iinclude -Itools/common -o "$STUB" tests/e2e/server_helpers/ctrl_stub.c tools/common/c4g_fixtures.c "$BUILD/lib/libc4gopen.a" -lm \
+            -Iinclude -Ilib/sim -Ilib/host -o "$STUB" tests/e2e/server_helpers/ctrl_stub.c lib/sim/c4gsim_fixtures.c "$BUILD/lib/libc4gopen.a" -lm \
             || { echo "server e2e: cannot build ctrl_stub"; exit 1; }
     fi
 }

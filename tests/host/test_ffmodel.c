@@ -1,0 +1,380 @@
+/* SPDX-License-Identifier: MIT */
+/* c4g-ident's mode-9 parameter file and model (lib/host/c4gh_ffmodel.{h,c},
+ * c4g_ffmodel_load.c): FNV-1a values, the checksum line left out of the sum, a good
+ * file read exactly, every refusal naming FILE:LINE:COL, [section] and key, and the
+ * model's current against values worked out by hand. Tool sources included directly. */
+#include <float.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdlib.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "c4gh_textfile.h"
+#include "c4gh_ffmodel.h"
+
+#define PI 3.14159265358979323846
+#define near(a, b, eps) assert_true(fabs((double)(a) - (double)(b)) < (eps))
+
+/* A file as c4g-ident writes it; seal() fills the checksum in. Lines numbered for the
+ * expected messages below. */
+static const char GOOD[] =
+    "# c4g-ident parameter file\n"             /* 1 */
+    "[model]\n"                                /* 2 */
+    "format = c4g-ident 1\n"                   /* 3 */
+    "model = motor-current-1\n"                /* 4 */
+    "arm = 2\n"                                /* 5 */
+    "period_ms = 2\n"                          /* 6 */
+    "source = run.pcap\n"                      /* 7 */
+    "created_by = c4g-ident 1.0.0\n"           /* 8 */
+    "checksum = fnv1a64:0000000000000000\n"    /* 9 */
+    "\n"                                       /* 10 */
+    "[axis 2]\n"                               /* 11 */
+    "variant = stribeck+gravity\n"             /* 12 */
+    "Ja = 0.00314159\n"                        /* 13 */
+    "Fv = 0.00785\n"                           /* 14 */
+    "Fc = 0.1875\n"                            /* 15 */
+    "Fs = 0.3\n"                               /* 16 */
+    "vs = 1.0\n"                               /* 17 */
+    "off = 0.025\n"                            /* 18 */
+    "ga = 0.5\n"                               /* 19 */
+    "gb = -0.25\n"                             /* 20 */
+    "eps = 0.01\n"                             /* 21 */
+    "delay = -0.21\n"                          /* 22 */
+    "v_max = 9.5\n"                            /* 23 */
+    "a_max = 120\n"                            /* 24 */
+    "\n"                                       /* 25 */
+    "; a second axis, optional keys left out\n" /* 26 */
+    "[axis 5]\n"                               /* 27 */
+    "Ja = 1e-3\n"                              /* 28 */
+    "Fv = 0\n"                                 /* 29 */
+    "Fc = 0.05\n"                              /* 30 */
+    "off = 0\n"                                /* 31 */
+    "eps = 0.02\n";                            /* 32 */
+
+static char g_text[4096];
+static c4gh_ffm_file_t g_f;
+
+/* Put the right sum into the text's checksum line (16 hex digits after "fnv1a64:"). */
+static void seal(char *text)
+{
+    uint64_t sum = 0U;
+    char hex[25];
+    char *p = strstr(text, "checksum = fnv1a64:");
+    assert_non_null(p);
+    assert_int_equal(c4gh_ffm_checksum_text(text, strlen(text), &sum), 0);
+    c4gh_ffm_checksum_format(sum, hex);
+    memcpy(p + 11, hex, 24U);
+}
+
+/* GOOD with the first @p from replaced by @p to (NULL: as is), sealed unless @p raw. */
+static const char *edit(const char *from, const char *to, int raw)
+{
+    char *p;
+    strcpy(g_text, GOOD);
+    if (from != NULL) {
+        p = strstr(g_text, from);
+        assert_non_null(p);
+        memmove(p + strlen(to), p + strlen(from), strlen(p + strlen(from)) + 1U);
+        memcpy(p, to, strlen(to));
+    }
+    if (!raw && strstr(g_text, "checksum = fnv1a64:") != NULL) {
+        seal(g_text);
+    }
+    return g_text;
+}
+
+static int parse(const char *text, char *err, size_t errlen)
+{
+    return c4gh_ffm_parse_text("m.ini", text, strlen(text), &g_f, err, errlen);
+}
+
+static void test_fnv(void **state)
+{
+    char hex[25];
+    uint64_t sum = 0U;
+    (void)state;
+    assert_true(c4gh_ffm_fnv1a64("", 0U, C4GH_FFM_FNV_BASIS) == 0xcbf29ce484222325ULL);
+    assert_true(c4gh_ffm_fnv1a64("a", 1U, C4GH_FFM_FNV_BASIS) == 0xaf63dc4c8601ec8cULL);
+    /* the running hash: in pieces as at once */
+    assert_true(c4gh_ffm_fnv1a64("bar", 3U, c4gh_ffm_fnv1a64("foo", 3U, C4GH_FFM_FNV_BASIS)) ==
+                c4gh_ffm_fnv1a64("foobar", 6U, C4GH_FFM_FNV_BASIS));
+    assert_true(c4gh_ffm_fnv1a64("foobar", 6U, C4GH_FFM_FNV_BASIS) == 0x85944171f73967e8ULL);
+    c4gh_ffm_checksum_format(0xaf63dc4c8601ec8cULL, hex);
+    assert_string_equal(hex, "fnv1a64:af63dc4c8601ec8c");
+    c4gh_ffm_checksum_format(0x0123456789abcdefULL, hex);
+    assert_string_equal(hex, "fnv1a64:0123456789abcdef");
+    /* no checksum line: -1, the hash of everything */
+    assert_int_equal(c4gh_ffm_checksum_text("a", 1U, &sum), -1);
+    assert_true(sum == 0xaf63dc4c8601ec8cULL);
+}
+
+/* The checksum line, from its first byte through its LF, is all that is left out. */
+static void test_checksum_span(void **state)
+{
+    static const struct {
+        const char *text;
+        const char *rest; /* the text without its checksum line */
+    } t[] = {
+        {"a\nchecksum = x\nb\n", "a\nb\n"},
+        {"a\n  \tchecksum=x\r\nb", "a\nb"},          /* indented, CRLF */
+        {"a\nchecksum : x", "a\n"},                  /* last line, no LF; ':' separator */
+        {"checksum = x\n", ""},
+        {"# checksum = no\nchecksums = no\nchecksum = x\nz", "# checksum = no\nchecksums = no\nz"},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0U; i < sizeof t / sizeof t[0]; i++) {
+        uint64_t sum = 0U;
+        assert_int_equal(c4gh_ffm_checksum_text(t[i].text, strlen(t[i].text), &sum), 0);
+        assert_true(sum == c4gh_ffm_fnv1a64(t[i].rest, strlen(t[i].rest), C4GH_FFM_FNV_BASIS));
+    }
+}
+
+static void test_good_file(void **state)
+{
+    char err[600];
+    const c4gh_ffm_axis_t *a;
+    unsigned k;
+    (void)state;
+    assert_int_equal(parse(edit(NULL, NULL, 0), err, sizeof err), 0);
+    assert_int_equal(g_f.arm, 2);
+    assert_true(g_f.period_ms == 2.0);
+    assert_int_equal(g_f.model_line, 2);
+    assert_string_equal(g_f.source, "run.pcap");
+    assert_string_equal(g_f.created_by, "c4g-ident 1.0.0");
+    a = &g_f.ax[1];
+    assert_int_equal(a->set, 1);
+    assert_int_equal(a->line, 11);
+    assert_string_equal(a->variant, "stribeck+gravity");
+    /* exactly the decimal values: strtod's nearest double */
+    assert_true(a->ja == 0.00314159 && a->fv == 0.00785 && a->fc == 0.1875 && a->fs == 0.3);
+    assert_true(a->vs == 1.0 && a->off == 0.025 && a->ga == 0.5 && a->gb == -0.25);
+    assert_true(a->eps == 0.01 && a->delay == -0.21 && a->v_max == 9.5 && a->a_max == 120.0);
+    a = &g_f.ax[4];
+    assert_int_equal(a->set, 1);
+    assert_int_equal(a->line, 27);
+    assert_string_equal(a->variant, "");
+    assert_true(a->ja == 1e-3 && a->fc == 0.05 && a->eps == 0.02);
+    /* optional keys left out are 0 */
+    assert_true(a->fs == 0.0 && a->vs == 0.0 && a->ga == 0.0 && a->gb == 0.0 && a->delay == 0.0 &&
+                a->v_max == 0.0 && a->a_max == 0.0);
+    for (k = 0U; k < C4GH_FFM_AXES; k++) {
+        if (k != 1U && k != 4U) {
+            assert_int_equal(g_f.ax[k].set, 0);
+        }
+    }
+    /* the verified sum is the one in the text */
+    {
+        char hex[25];
+        c4gh_ffm_checksum_format(g_f.checksum, hex);
+        assert_non_null(strstr(g_text, hex));
+    }
+    /* inline comments, blanks around '=', CRLF line ends: same values */
+    assert_int_equal(parse(edit("Fc = 0.1875\n", "  Fc=0.1875 ; fitted\r\n", 0), err, sizeof err), 0);
+    assert_true(g_f.ax[1].fc == 0.1875);
+}
+
+static void test_fixture(void **state)
+{
+    char err[600];
+    (void)state;
+    assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/ff_ident_example.ini", &g_f, err, sizeof err), 0);
+    assert_int_equal(g_f.arm, 1);
+    assert_true(g_f.period_ms == 2.0);
+    assert_int_equal(g_f.ax[1].set, 1);
+    assert_true(g_f.ax[1].gb == 7.5 && g_f.ax[1].v_max == 9.5 && g_f.ax[1].fs == 0.3);
+    assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/no-such.ini", &g_f, err, sizeof err), -1);
+    assert_non_null(strstr(err, "no-such.ini: cannot open"));
+    assert_int_equal(c4gh_ffm_load("/dev/zero", &g_f, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/dev/zero: more than 1048576 bytes"));
+}
+
+static void test_refusals(void **state)
+{
+    static const struct {
+        const char *from, *to;
+        int raw;            /* leave the checksum as it is */
+        const char *msg;
+    } bad[] = {
+        /* the checksum */
+        {"Fc = 0.1875", "Fc = 0.1876", 1,
+         "m.ini:9:12: [model] checksum: checksum mismatch: the file was edited after c4g-ident "
+         "wrote it (expected fnv1a64:0000000000000000, computed fnv1a64:"},
+        {"checksum = fnv1a64:0000000000000000\n", "", 0,
+         "m.ini:2:1: [model] checksum: missing (c4g-ident writes one: was the file written by hand?)"},
+        {"fnv1a64:0000000000000000", "fnv1a64:00000000000000", 1,
+         "m.ini:9:12: [model] checksum: 'fnv1a64:00000000000000' is not 'fnv1a64:' and 16 lowercase hex digits"},
+        {"fnv1a64:0000000000000000", "fnv1a64:000000000000000A", 1,
+         "m.ini:9:12: [model] checksum: 'fnv1a64:000000000000000A' is not 'fnv1a64:' and 16 lowercase hex digits"},
+        /* [model] */
+        {"format = c4g-ident 1", "format = c4g-ident 2", 0,
+         "m.ini:3:10: [model] format: 'c4g-ident 2' is not 'c4g-ident 1' (the only format this reader knows)"},
+        {"format = c4g-ident 1\n", "", 0, "m.ini:2:1: [model] format: missing"},
+        {"model = motor-current-1", "model = joint-torque", 0,
+         "m.ini:4:9: [model] model: 'joint-torque' is not 'motor-current-1' (the only model this reader evaluates)"},
+        {"arm = 2", "arm = 5", 0, "m.ini:5:7: [model] arm: '5' is out of range 1..4"},
+        {"arm = 2", "arm = 0", 0, "m.ini:5:7: [model] arm: '0' is out of range 1..4"},
+        {"arm = 2", "arm = 1.5", 0, "m.ini:5:7: [model] arm: '1.5' is not an integer"},
+        {"arm = 2\n", "", 0, "m.ini:2:1: [model] arm: missing"},
+        {"period_ms = 2", "period_ms = 0", 0, "m.ini:6:13: [model] period_ms: '0' must be > 0"},
+        {"period_ms = 2", "period_ms = inf", 0, "m.ini:6:13: [model] period_ms: 'inf' is not a finite number"},
+        {"source = run.pcap", "sauce = run.pcap", 0,
+         "m.ini:7:1: [model] sauce: unknown key (want format, model, arm, period_ms, source, created_by, checksum)"},
+        {"source = run.pcap\n", "source = run.pcap\narm = 3\n", 0,
+         "m.ini:8:1: [model] arm: set twice (first on line 5)"},
+        /* sections */
+        {"[axis 5]", "[axis 11]", 0,
+         "m.ini:27:1: unknown section [axis 11] (want [model] or [axis 1]..[axis 10])"},
+        {"[axis 5]", "[axes 5]", 0,
+         "m.ini:27:1: unknown section [axes 5] (want [model] or [axis 1]..[axis 10])"},
+        {"\n; a second", "\n[extra]\n; a second", 0, /* an empty one: inih never shows it */
+         "m.ini:26:1: unknown section [extra] (want [model] or [axis 1]..[axis 10])"},
+        {"[axis 5]", "[axis 2]", 0, "m.ini:27:1: [axis 2]: section given twice (first on line 11)"},
+        {"[axis 5]", "[axis 2]\n[axis 5]", 0, "m.ini:27:1: [axis 2]: section given twice (first on line 11)"},
+        {"[model]\n", "[model]\n[model]\n", 0, "m.ini:3:1: [model]: section given twice (first on line 2)"},
+        {"# c4g-ident parameter file\n", "stray = 1\n", 0,
+         "m.ini:1:1: stray: a key before the first section (want [model] first)"},
+        {"[model]", "[model", 0, "m.ini:2:1: '[model': a section header needs a closing ']'"},
+        /* [axis N] keys */
+        {"Fc = 0.1875", "Fc = nan", 0, "m.ini:15:6: [axis 2] Fc: 'nan' is not a finite number"},
+        {"Fc = 0.1875", "Fc = -inf", 0, "m.ini:15:6: [axis 2] Fc: '-inf' is not a finite number"},
+        {"Fc = 0.1875", "Fc = -0.1", 0, "m.ini:15:6: [axis 2] Fc: '-0.1' is out of range 0..1000000"},
+        {"Fc = 0.1875", "Fc = 0x10", 0, "m.ini:15:6: [axis 2] Fc: '0x10' is not a decimal number"},
+        {"Fc = 0.1875", "Fc =", 0, "m.ini:15:5: [axis 2] Fc: missing number"},
+        {"off = 0.025", "off = 1e7", 0, "m.ini:18:7: [axis 2] off: '1e7' is out of range -1000000..1000000"},
+        {"gb = -0.25", "gb = -1e999", 0, "m.ini:20:6: [axis 2] gb: '-1e999' is out of range -1000000..1000000"},
+        {"Ja = 0.00314159", "Ja = 0", 0, "m.ini:13:6: [axis 2] Ja: '0' must be > 0"},
+        {"eps = 0.01", "eps = 0.0", 0, "m.ini:21:7: [axis 2] eps: '0.0' must be > 0"},
+        {"vs = 1.0", "vs = -1", 0, "m.ini:17:6: [axis 2] vs: '-1' is out of range 0..1000000"},
+        {"Fs = 0.3", "Fs = -0.3", 0, "m.ini:16:6: [axis 2] Fs: '-0.3' is out of range 0..1000000"},
+        {"v_max = 9.5", "v_max = -9.5", 0, "m.ini:23:9: [axis 2] v_max: '-9.5' is out of range 0..1000000"},
+        {"Fv = 0.00785", "Jv = 0.00785", 0,
+         "m.ini:14:1: [axis 2] Jv: unknown key (want variant, Ja, Fv, Fc, Fs, vs, off, ga, gb, eps, delay, v_max, a_max)"},
+        {"Fv = 0.00785\n", "Fv = 0.00785\nFv = 0.1\n", 0, "m.ini:15:1: [axis 2] Fv: set twice (first on line 14)"},
+        {"Fv = 0.00785\n", "", 0,
+         "m.ini:11:1: [axis 2] Fv: missing (Ja, Fv, Fc, off and eps are required)"},
+        {"eps = 0.02\n", "", 0,
+         "m.ini:27:1: [axis 5] eps: missing (Ja, Fv, Fc, off and eps are required)"},
+        {"variant = stribeck+gravity", "variant = viscous", 0,
+         "m.ini:12:11: [axis 2] variant: 'viscous' is not coulomb, coulomb+gravity, stribeck or stribeck+gravity"},
+    };
+    char err[600];
+    size_t i;
+    (void)state;
+    for (i = 0U; i < sizeof bad / sizeof bad[0]; i++) {
+        memset(err, 0, sizeof err);
+        if (parse(edit(bad[i].from, bad[i].to, bad[i].raw), err, sizeof err) != -1) {
+            fail_msg("accepted: %s -> %s", bad[i].from, bad[i].to);
+        }
+        if (strncmp(err, bad[i].msg, strlen(bad[i].msg)) != 0) {
+            fail_msg("case %zu:\n  got  %s\n  want %s", i, err, bad[i].msg);
+        }
+    }
+}
+
+/* Whole-file refusals: no [model], no axis, empty, binary content. */
+static void test_refusals_file(void **state)
+{
+    static const struct {
+        const char *text, *msg;
+    } bad[] = {
+        {"", "m.ini: no [model] section (not a c4g-ident parameter file?)"},
+        {"[axis 1]\nJa = 1\nFv = 0\nFc = 0\noff = 0\neps = 1\n",
+         "m.ini: no [model] section (not a c4g-ident parameter file?)"},
+        {"[model]\nformat = c4g-ident 1\nmodel = motor-current-1\narm = 1\nperiod_ms = 2\n"
+         "checksum = fnv1a64:0000000000000000\n",
+         "m.ini: no [axis N] section: the file sets no axis"},
+        {"[model]\nformat = c4g-ident 1\x01\n",
+         "m.ini:2:21: control byte \\x01 at byte offset 28 (after 'format = c4g-ident 1')"},
+    };
+    char err[600];
+    char text[512];
+    size_t i;
+    (void)state;
+    for (i = 0U; i < sizeof bad / sizeof bad[0]; i++) {
+        strcpy(text, bad[i].text);
+        if (strstr(text, "checksum = ") != NULL) {
+            seal(text);
+        }
+        assert_int_equal(parse(text, err, sizeof err), -1);
+        if (strncmp(err, bad[i].msg, strlen(bad[i].msg)) != 0) {
+            fail_msg("case %zu:\n  got  %s\n  want %s", i, err, bad[i].msg);
+        }
+    }
+}
+
+/* The mismatch message names the sum the text really has. */
+static void test_mismatch_sum(void **state)
+{
+    char err[600];
+    char want[25];
+    uint64_t sum = 0U;
+    (void)state;
+    edit("Fc = 0.1875", "Fc = 0.1876", 0);                 /* sealed: right sum */
+    assert_int_equal(parse(g_text, err, sizeof err), 0);
+    assert_int_equal(c4gh_ffm_checksum_text(g_text, strlen(g_text), &sum), 0);
+    memcpy(strstr(g_text, "0.1876"), "0.1877", 6U);        /* then edited */
+    assert_int_equal(parse(g_text, err, sizeof err), -1);
+    c4gh_ffm_checksum_format(sum, want);
+    assert_non_null(strstr(err, want));                    /* expected: what the file says */
+    assert_int_equal(c4gh_ffm_checksum_text(g_text, strlen(g_text), &sum), 0);
+    c4gh_ffm_checksum_format(sum, want);
+    assert_non_null(strstr(err, want));                    /* computed: the edited text's */
+}
+
+static void test_current(void **state)
+{
+    c4gh_ffm_axis_t p;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    /* Coulomb: 0.01*10 + 0.1*1 + 0.5*tanh(100) + 0.02 */
+    p.ja = 0.01;
+    p.fv = 0.1;
+    p.fc = 0.5;
+    p.eps = 0.01;
+    p.off = 0.02;
+    near(c4gh_ffm_current(&p, 1.0, 10.0, 0.0, 0), 0.72, 1e-12);
+    near(c4gh_ffm_current(&p, -1.0, 0.0, 0.0, 0), -0.1 - 0.5 + 0.02, 1e-12);
+    near(c4gh_ffm_current(&p, 0.0, 0.0, 0.0, 0), 0.02, 1e-15);              /* tanh(0) = 0 */
+    near(c4gh_ffm_current(&p, 0.005, 0.0, 0.0, 0), 0.0005 + 0.5 * tanh(0.5) + 0.02, 1e-12);
+    /* Fs and vs unused while vs = 0 */
+    p.fs = 9.0;
+    near(c4gh_ffm_current(&p, 1.0, 10.0, 0.0, 0), 0.72, 1e-12);
+    /* Stribeck: level 0.5 + (0.8 - 0.5) exp(-(0.5/0.5)^2) at v = 0.5 */
+    p.fs = 0.8;
+    p.vs = 0.5;
+    near(c4gh_ffm_current(&p, 0.5, 0.0, 0.0, 0), 0.05 + (0.5 + 0.3 * exp(-1.0)) + 0.02, 1e-12);
+    near(c4gh_ffm_current(&p, 0.5, 0.0, 0.0, 0), 0.05 + 0.610363832351 + 0.02, 1e-9);
+    near(c4gh_ffm_current(&p, -50.0, 0.0, 0.0, 0), -5.0 - 0.5 + 0.02, 1e-12); /* far: Coulomb */
+    /* gravity: only with a link angle */
+    p.ga = 2.0;
+    p.gb = 3.0;
+    near(c4gh_ffm_current(&p, 0.0, 0.0, PI / 6.0, 1), 0.02 + 2.0 * 0.8660254037844386 + 1.5, 1e-12);
+    near(c4gh_ffm_current(&p, 0.0, 0.0, PI / 6.0, 0), 0.02, 1e-15);
+    /* eps <= 0 (not from a file): the plain sign */
+    p.eps = 0.0;
+    p.vs = 0.0;
+    p.ga = p.gb = 0.0;
+    near(c4gh_ffm_current(&p, 1e-9, 0.0, 0.0, 0), 1e-10 + 0.5 + 0.02, 1e-12);
+    near(c4gh_ffm_current(&p, 0.0, 0.0, 0.0, 0), 0.02, 1e-15);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fnv),
+        cmocka_unit_test(test_checksum_span),
+        cmocka_unit_test(test_good_file),
+        cmocka_unit_test(test_fixture),
+        cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_refusals_file),
+        cmocka_unit_test(test_mismatch_sum),
+        cmocka_unit_test(test_current),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
