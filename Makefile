@@ -45,8 +45,8 @@ LIB_CFLAGS := -std=c99 -pedantic-errors $(WARN_LIB) $(WARN_GCC) -Iinclude -ffunc
 OPT ?= -O2
 CFLAGS ?= -g
 TOOL_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -pedantic -Wall -Wextra \
-  -Werror -Wshadow -Wstrict-prototypes -Wvla -Iinclude
-TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror -Iinclude
+  -Werror -Wshadow -Wstrict-prototypes -Wvla
+TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror
 
 # Three archives (docs/architecture.md):
 #   libc4gopen       lib/{wire,engine,loop,cell,canopen}: the real-time library (installed)
@@ -169,11 +169,11 @@ $(foreach t,$(TOOL_NAMES),$(eval $(call tool_rule,$(t))))
 
 $(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(TOOL_CFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CPPFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
+	@echo "  CC      $@"; $(CC) $(TOOL_CFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CPPFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CXX) $(TOOL_CXXFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CXXFLAGS) $(OPT) -g -c $< -o $@
+	@echo "  CXX     $@"; $(CXX) $(TOOL_CXXFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CXXFLAGS) $(OPT) -g -c $< -o $@
 
 # ---- man pages: docs/man/NAME.scd (scdoc) with each tool's option list and examples
 # taken from its own --help (scripts/man-page.py), so page and tool cannot disagree
@@ -192,20 +192,19 @@ TEST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextr
   $(TOOL_INC) -g
 TEST_LIBS := -lcmocka $(TOOL_LIB_LIBS)
 TOOL_C_LIBS = $(foreach t,$(C_TOOLS),$(1)/tools/lib$(t).a)
-# link line of a test in flavour directory $(1): every tool archive, then host, sim, core
-test_link = -Wl,--start-group $(call TOOL_C_LIBS,$(1)) $(1)/lib/libc4gopen-host.a \
-  $(1)/lib/libc4gopen-sim.a $(1)/lib/libc4gopen.a -Wl,--end-group $(TEST_LIBS)
-PLAIN_ARCH := $(call TOOL_C_LIBS,$(BUILD)) $(ARCHIVES)
-$(BUILD)/tests/%: $(PLAIN_ARCH) $(wildcard tests/*.h)
-	@mkdir -p $(@D)
-	$(CC) $(TEST_CFLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $(filter %/$*.c,$(UNIT_SRCS)) \
-	  $(call test_link,$(BUILD))
-define unit_src_dep
-$(BUILD)/tests/$(notdir $(1:%.c=%)): $(1)
-$(BUILD)/san/tests/$(notdir $(1:%.c=%)): $(1)
-$(BUILD)/cov/tests/$(notdir $(1:%.c=%)): $(1)
+# What a test links, by its folder ($(1)), in flavour directory $(2): a library test needs
+# only the pure archives, so editing a tool relinks only tests/tools and tests/host.
+test_archs = $(if $(filter tests/tools/ tests/sim/,$(1)),$(call TOOL_C_LIBS,$(2))) \
+  $(if $(filter tests/tools/ tests/sim/ tests/host/,$(1)),$(2)/lib/libc4gopen-host.a) \
+  $(2)/lib/libc4gopen-sim.a $(2)/lib/libc4gopen.a
+# unit_test SRC FLAVOUR_DIR COMPILER_AND_FLAGS
+define unit_test
+$(2)/tests/$(notdir $(1:%.c=%)): $(1) $(call test_archs,$(dir $(1)),$(2)) tests/test_helpers.h
+	@mkdir -p $$(@D)
+	@echo "  TEST    $$@"; $(3) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $$@ $(1) \
+	  -Wl,--start-group $(call test_archs,$(dir $(1)),$(2)) -Wl,--end-group $(TEST_LIBS)
 endef
-$(foreach s,$(UNIT_SRCS),$(eval $(call unit_src_dep,$(s))))
+$(foreach s,$(UNIT_SRCS),$(eval $(call unit_test,$(s),$(BUILD),$(CC) $(TEST_CFLAGS))))
 
 unit: $(UNIT_BINS)
 	@sh scripts/run-tests.sh unit $(UNIT_BINS)
@@ -236,10 +235,7 @@ endef
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 $(eval $(call flavour,san,$(CLANG),$(TEST_CFLAGS) $(SAN_FLAGS)))
 $(foreach t,$(C_TOOLS),$(eval $(call flavour_tool,san,$(t))))
-$(BUILD)/san/tests/%: $(san_ARCH) $(wildcard tests/*.h)
-	@mkdir -p $(@D)
-	$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ \
-	  $(filter %/$*.c,$(UNIT_SRCS)) $(call test_link,$(BUILD)/san)
+$(foreach s,$(UNIT_SRCS),$(eval $(call unit_test,$(s),$(BUILD)/san,$(CLANG) $(TEST_CFLAGS) $(SAN_FLAGS))))
 sanitize: $(UNIT_NAMES:%=$(BUILD)/san/tests/%)
 	@sh scripts/run-tests.sh sanitize $^
 
@@ -259,10 +255,7 @@ COV_BRANCHES ?= 95
 COV_FLAGS := $(TEST_CFLAGS) -O0 --coverage -DNDEBUG
 $(eval $(call flavour,cov,gcc,$(COV_FLAGS)))
 $(foreach t,$(C_TOOLS),$(eval $(call flavour_tool,cov,$(t))))
-$(BUILD)/cov/tests/%: $(cov_ARCH) $(wildcard tests/*.h)
-	@mkdir -p $(@D)
-	gcc $(COV_FLAGS) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $@ $(filter %/$*.c,$(UNIT_SRCS)) \
-	  $(call test_link,$(BUILD)/cov)
+$(foreach s,$(UNIT_SRCS),$(eval $(call unit_test,$(s),$(BUILD)/cov,gcc $(COV_FLAGS))))
 # the counts of every test binary add up in the shared objects' .gcda files: start from zero
 coverage: $(UNIT_NAMES:%=$(BUILD)/cov/tests/%)
 	@find $(BUILD)/cov -name '*.gcda' -delete; rm -f $(BUILD)/cov/*.info

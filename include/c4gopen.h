@@ -12,9 +12,9 @@
  * LAYERS (one header each; this umbrella includes them all)
  *   c4gopen_base.h     version, the one status type, c4g_strerror
  *   c4gopen_wire.h     packets, initialization packet, mode vocabulary, session
- *   c4gopen_control.h  control engine: mode state machines, packet rules, safety
+ *   c4gopen_engine.h   engine: mode state machines, packet rules, safety
  *                      filter, kinematics, soft control switching, monitoring
- *   c4gopen_loop.h     the PC-side loop object: session + control engine in one
+ *   c4gopen_loop.h     the PC-side loop object: session + engine in one
  *   c4gopen_cell.h     the cell line protocol (usable alone: needs only the base)
  *   c4gopen_canopen.h  CANopen master and DS402 drives (usable alone: needs only the base)
  *

@@ -82,10 +82,8 @@ typedef enum c4g_status {
     C4G_ERR_MODE_RESTORED = -115, /**< the reply carried a mode the rules forbid; restored */
     C4G_ERR_PDL_ONLY = -116,      /**< operating modes are started by the PDL2 program only */
     /* cell protocol: -200..-299 */
-    C4G_ERR_CELL_NULL = -201,       /**< required pointer is NULL */
-    C4G_ERR_CELL_CAPACITY = -202,   /**< output buffer too small */
-    C4G_ERR_CELL_ARG = -203,        /**< argument outside its enum/range */
-    C4G_ERR_CELL_LENGTH = -204,     /**< line shorter/longer than its format */
+    /* cell: the generic codes above serve for NULL, capacity, argument, length, range,
+     * non-finite and axis-count errors; these are the string protocol's own */
     C4G_ERR_CELL_TERMINATOR = -205, /**< missing CR LF, or CR/LF inside */
     C4G_ERR_CELL_HEAD = -206,       /**< unknown instruction or reply head */
     C4G_ERR_CELL_SIGN = -207,       /**< sign character is not '+' or '-' */
@@ -94,9 +92,6 @@ typedef enum c4g_status {
     C4G_ERR_CELL_FLAG = -210,       /**< 'T' or 'F' expected */
     C4G_ERR_CELL_MODE = -211,       /**< MOV mode is not 'A' or 'R' */
     C4G_ERR_CELL_ACTION = -212,     /**< HND action is not OPEN or CLOSE */
-    C4G_ERR_CELL_RANGE = -213,      /**< value outside its field/semantic range */
-    C4G_ERR_CELL_NONFINITE = -214,  /**< NaN or infinity */
-    C4G_ERR_CELL_AXES = -215,       /**< axis count is not 2 or 4 */
     C4G_ERR_CELL_OVERLONG = -216    /**< line longer than the splitter limit */
 } c4g_status_t;
 

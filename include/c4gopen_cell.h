@@ -262,7 +262,7 @@ const char *c4g_cell_cmd_name(c4g_cell_cmd_t cmd);
 
 /**
  * The command table's row of @p cmd (head, argument layout, reply, devices).
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd outside the table).
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (cmd outside the table).
  */
 c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out);
 
@@ -270,8 +270,8 @@ c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out);
  * Convert a real value to counts: rounds to the nearest count, halves away from
  * zero, then checks the field range (after rounding: +-999.9995 mm rounds out).
  * @param[in] unit C4G_CELL_UNIT_MM (value in mm), _RAD (rad) or _INT.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit),
- *         C4G_ERR_CELL_NONFINITE, C4G_ERR_CELL_RANGE.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (unit),
+ *         C4G_ERR_NONFINITE, C4G_ERR_RANGE.
  */
 c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *out);
 
@@ -281,22 +281,22 @@ c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *o
  * halves away from zero) but applied to the decimal digits, so "1.0005" mm is
  * 1001 counts. Used for human input, where a binary double would round 1.0005
  * down.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_LENGTH
- *         (empty), C4G_ERR_CELL_DIGIT (syntax), C4G_ERR_CELL_RANGE.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (unit), C4G_ERR_LENGTH
+ *         (empty), C4G_ERR_CELL_DIGIT (syntax), C4G_ERR_RANGE.
  */
 c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
                                      int32_t *out);
 
 /**
  * Convert counts to a real value (mm, rad or units). Exact to the printed digits.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (unit), C4G_ERR_CELL_RANGE.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (unit), C4G_ERR_RANGE.
  */
 c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *out);
 
 /**
  * Format one field: 8 chars (MM, RAD) or 6 chars (INT), no terminator.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_CAPACITY,
- *         C4G_ERR_CELL_RANGE.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_CAPACITY,
+ *         C4G_ERR_RANGE.
  */
 c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *buf,
                                         size_t cap, size_t *out_len);
@@ -304,7 +304,7 @@ c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *b
 /**
  * Parse one field of exactly 8 (MM, RAD) or 6 (INT) chars.
  * @param[out] diag optional; its column is relative to @p buf (1 = first char)
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG, C4G_ERR_CELL_LENGTH,
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG, C4G_ERR_LENGTH,
  *         C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT.
  */
 c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t unit,
@@ -314,8 +314,8 @@ c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t 
  * Encode an instruction with its CR LF. Validates first: OVR 0..100, ACQ and HND
  * ids 0..99999, MOV 2 or 4 axes, PNP 4 axes, every count within its field.
  * @param[out] out_len bytes written (no NUL is written)
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (cmd), C4G_ERR_CELL_AXES,
- *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (cmd), C4G_ERR_AXES,
+ *         C4G_ERR_RANGE, C4G_ERR_CAPACITY.
  */
 c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t cap,
                                         size_t *out_len);
@@ -324,9 +324,9 @@ c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t
  * Decode one instruction line (with CR LF). MOV's layout follows its length:
  * 38 chars robot (4 axes), 22 platform (2 axes). OVR must be 0..100 (RANGE),
  * ACQ/HND ids must be >= 0 (RANGE).
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_LENGTH, C4G_ERR_CELL_TERMINATOR,
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_LENGTH, C4G_ERR_CELL_TERMINATOR,
  *         C4G_ERR_CELL_HEAD, C4G_ERR_CELL_SIGN, C4G_ERR_CELL_DIGIT, C4G_ERR_CELL_POINT,
- *         C4G_ERR_CELL_MODE, C4G_ERR_CELL_ACTION, C4G_ERR_CELL_RANGE; @p out is zeroed
+ *         C4G_ERR_CELL_MODE, C4G_ERR_CELL_ACTION, C4G_ERR_RANGE; @p out is zeroed
  *         on error.
  */
 c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_t *out,
@@ -335,8 +335,8 @@ c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_
 /**
  * Encode a reply with its CR LF. OK: 4 chars; ER: error number 0..99999 (10
  * chars); STA: 4 axes -> robot (50), 2 axes -> platform (34), override 0..100.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG (kind), C4G_ERR_CELL_AXES,
- *         C4G_ERR_CELL_RANGE, C4G_ERR_CELL_CAPACITY.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (kind), C4G_ERR_AXES,
+ *         C4G_ERR_RANGE, C4G_ERR_CAPACITY.
  */
 c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t cap,
                                         size_t *out_len);
@@ -372,7 +372,7 @@ typedef enum c4g_cell_split_event {
 
 /**
  * Attach @p buf (@p cap bytes, 4..65535) to @p sp and empty it.
- * @return C4G_OK, C4G_ERR_CELL_NULL, C4G_ERR_CELL_ARG.
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG.
  */
 c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap);
 
@@ -380,17 +380,27 @@ c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap)
  * Append up to @p n bytes of @p data (as many as fit; the rest stays with the
  * caller, who calls c4g_cell_split_next and pushes again).
  * @param[out] used bytes taken from @p data
- * @return C4G_OK, C4G_ERR_CELL_NULL (data may be NULL only when n is 0).
+ * @return C4G_OK, C4G_ERR_NULL (data may be NULL only when n is 0).
  */
 c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size_t n,
                                       size_t *used);
 
 /**
  * Take the next event. @p line / @p len are set for C4G_CELL_SPLIT_LINE only.
- * @return C4G_OK, C4G_ERR_CELL_NULL.
+ * @return C4G_OK, C4G_ERR_NULL.
  */
 c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t *ev,
                                       const char **line, size_t *len);
+
+/* Deprecated (removed in 3.0): the cell layer's copies of the generic statuses. The cell
+ * functions return the generic codes; these names stay for one release. */
+#define C4G_ERR_CELL_NULL C4G_ERR_NULL
+#define C4G_ERR_CELL_CAPACITY C4G_ERR_CAPACITY
+#define C4G_ERR_CELL_ARG C4G_ERR_ARG
+#define C4G_ERR_CELL_LENGTH C4G_ERR_LENGTH
+#define C4G_ERR_CELL_RANGE C4G_ERR_RANGE
+#define C4G_ERR_CELL_NONFINITE C4G_ERR_NONFINITE
+#define C4G_ERR_CELL_AXES C4G_ERR_AXES
 
 #ifdef __cplusplus
 }

@@ -1,25 +1,25 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file c4gopen_control.h
- * @brief libc4gopen control layer: modes, per-arm mode state machine, PC-side requests,
+ * @file c4gopen_engine.h
+ * @brief libc4gopen engine: modes, per-arm mode state machine, PC-side requests,
  *        per-mode packet rules, PC-side safety filter, kinematic transforms, soft control
  *        switching and monitoring records (included by c4gopen.h).
  *
  * PER-TICK FLOW (PC side)
  *   c4g_session_rx(&s, buf, n, t_rx, &res);              wire layer: decode, session rules
  *   if (res.kind == C4G_RX_CYCLIC) {
- *     c4g_engine_step(&ctl, res.pkt, t_rx, &tx, &rep);     state machines + prepared reply
+ *     c4g_engine_step(&eng, res.pkt, t_rx, &tx, &rep);     state machines + prepared reply
  *     ... fill the fields the mode needs (c4g_mode_pc_fields), e.g. tx.ax[i].target_pos ...
- *     c4g_engine_finish(&ctl, res.pkt, &tx, &rep);          packet rules + safety filter
+ *     c4g_safety_filter(&eng, res.pkt, &tx, &rep);          packet rules + safety filter
  *     c4g_session_reply(&s, &tx, out, sizeof out, &len); encode
  *   }
  *   Requests (c4g_engine_request_*) may be made at any time between ticks; the wire effect of
- *   a mode request appears in the next c4g_engine_step, the others in the next c4g_engine_finish.
+ *   a mode request appears in the next c4g_engine_step, the others in the next c4g_safety_filter.
  *
  * REQUIRED FIELDS AND THE "UNSET" MARKER
  *   c4g_engine_step writes a quiet NaN with a reserved payload (C4G_UNSET_BITS) into every
  *   field the outgoing mode requires (field facts "What the PC must fill per mode"). A field
- *   still unset at c4g_engine_finish means the data of the mode is missing: the arm is sent a
+ *   still unset at c4g_safety_filter means the data of the mode is missing: the arm is sent a
  *   drive-off request (505) instead, and C4G_ERR_MISSING_DATA is returned. So the data of
  *   a new mode is always present in the first packet that carries the mode.
  *
@@ -270,9 +270,9 @@ uint32_t c4g_sf_velocity(float vel, float max_vel, float *out);
  *  @return 0, C4G_SF_STROKE, C4G_SF_NONFINITE, C4G_SF_BAD_LIMIT */
 uint32_t c4g_sf_stroke(float pos, float min, float max, float *out);
 
-/* ====================================================================== control context */
+/* ====================================================================== the engine */
 
-/** What c4g_engine_step / c4g_engine_finish did on one tick. */
+/** What c4g_engine_step / c4g_safety_filter did on one tick. */
 typedef struct c4g_engine_report {
     uint32_t events;                    /**< union of arm_events */
     uint32_t arm_events[C4G_ARMS];      /**< C4G_CEV_* per arm */
@@ -288,8 +288,8 @@ typedef struct c4g_engine {
     c4g_kin_t kin[C4G_ARMS];
     uint32_t kin_ok[C4G_ARMS];          /**< kinematics usable (all ratios non-zero) */
     c4g_axis_limits_t lim[C4G_MAX_AXES];/**< effective limits by OPEN index */
-    float ctl_fe[C4G_MAX_AXES];         /**< FollowError of the init packet, by OPEN index */
-    float ctl_az[C4G_MAX_AXES];         /**< AzLim of the init packet, by OPEN index */
+    float ctrl_fe[C4G_MAX_AXES];         /**< FollowError of the init packet, by OPEN index */
+    float ctrl_az[C4G_MAX_AXES];         /**< AzLim of the init packet, by OPEN index */
     uint32_t joint_on[C4G_ARMS];        /**< some joint stroke end set on the arm */
     uint32_t n_joint[C4G_ARMS];         /**< logical axes in the arm's joint check */
     c4g_arm_sm_t arm[C4G_ARMS];
@@ -309,7 +309,7 @@ typedef struct c4g_engine {
  * @param[in] cfg may be NULL for the defaults
  * @return C4G_OK, C4G_ERR_NULL, an init validation status, C4G_ERR_ARG (cfg). O(axes).
  */
-C4G_NODISCARD c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg);
+C4G_NODISCARD c4g_status_t c4g_engine_init(c4g_engine_t *eng, const c4g_init_t *init, const c4g_engine_config_t *cfg);
 
 /**
  * Set user limits for logical axis @p axis of @p arm (see c4g_axis_limits_t). Limits can only
@@ -323,7 +323,7 @@ C4G_NODISCARD c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *
  *         usable kinematics), C4G_ERR_NOT_OPEN also when joint limits need an axis 0..axis of
  *         the arm that is not open.
  */
-C4G_NODISCARD c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
+C4G_NODISCARD c4g_status_t c4g_engine_set_limits(c4g_engine_t *eng, uint32_t arm, uint32_t axis,
                                 const c4g_axis_limits_t *lim);
 
 /**
@@ -333,7 +333,7 @@ C4G_NODISCARD c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_PACKET (axis count), C4G_ERR_MODE,
  *         C4G_ERR_NONFINITE (@p rx invalid: @p tx untouched). O(axes).
  */
-C4G_NODISCARD c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+C4G_NODISCARD c4g_status_t c4g_engine_step(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
                           c4g_pc_packet_t *tx, c4g_engine_report_t *rep);
 
 /**
@@ -344,7 +344,7 @@ C4G_NODISCARD c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_pac
  * @return C4G_OK; C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE (an arm was sent 505);
  *         C4G_ERR_MODE_RESTORED; C4G_ERR_NULL; C4G_ERR_STATE (no matching step). O(axes).
  */
-C4G_NODISCARD c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+C4G_NODISCARD c4g_status_t c4g_safety_filter(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_engine_report_t *rep);
 
 /**
@@ -352,7 +352,7 @@ C4G_NODISCARD c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_p
  * 24.2). Kept so that a program ported from code that tried gets a clear answer.
  * @return C4G_ERR_PDL_ONLY (C4G_ERR_MODE: unknown code; NULL, ARG, NOT_OPEN, ENDED).
  */
-C4G_NODISCARD c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode);
+C4G_NODISCARD c4g_status_t c4g_engine_request_mode(c4g_engine_t *eng, uint32_t arm, int32_t mode);
 /**
  * Where OPEN axis @p axis stood when its current mode began: the controller's reference D1
  * on the first packet seen in that mode (in mode 0 or 0': on the latest packet). A mode
@@ -362,15 +362,15 @@ C4G_NODISCARD c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t a
  * controller reports on the packet being answered.
  * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (axis), C4G_ERR_STATE (no packet yet). O(1).
  */
-C4G_NODISCARD c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos);
+C4G_NODISCARD c4g_status_t c4g_engine_anchor(const c4g_engine_t *eng, uint32_t axis, float *pos);
 /** Request EXIT_FROM_OPEN on @p arm (also ends an active freezing). Idempotent. */
-C4G_NODISCARD c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_exit(c4g_engine_t *eng, uint32_t arm);
 /** Request a drive off (505 on every axis of @p arm until its drives are off). Never refused. */
-C4G_NODISCARD c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *eng, uint32_t arm);
 /** Signal a following error (508 on every axis of @p arm until drives off). Never refused. */
-C4G_NODISCARD c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *eng, uint32_t arm);
 /** Active freezing of @p arm (500), from mode 0 only; left with c4g_engine_request_exit. */
-C4G_NODISCARD c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm);
+C4G_NODISCARD c4g_status_t c4g_engine_request_freeze(c4g_engine_t *eng, uint32_t arm);
 
 /** The unset marker (a quiet NaN with payload C4G_UNSET_BITS). */
 #define C4G_UNSET_BITS 0x7FC4C0DEU
@@ -435,6 +435,10 @@ C4G_NODISCARD c4g_status_t c4g_moni_record(uint32_t type, const c4g_ctrl_packet_
                              const c4g_pc_packet_t *tx, uint32_t axis, c4g_moni_rec_t *out);
 /** Column name of value @p k (0..4) of moni @p type ("pc_d1", "smp_e2"); "?" when out of range. */
 const char *c4g_moni_value_name(uint32_t type, uint32_t k);
+
+/** Deprecated (removed in 3.0): the filter's entry point was called c4g_engine_finish. */
+/* cppcheck-suppress misra-c2012-2.5 */
+#define c4g_engine_finish c4g_safety_filter
 
 #ifdef __cplusplus
 }

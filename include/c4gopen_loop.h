@@ -55,7 +55,7 @@ typedef struct c4g_loop {
     c4g_pc_packet_t tx;            /**< the cyclic reply being prepared */
     const c4g_ctrl_packet_t *rx;   /**< the cyclic packet it answers, NULL if none */
     c4g_engine_report_t report;       /**< of the last step and finish */
-    c4g_status_t finish_status;    /**< c4g_engine_finish of the last cyclic reply (505 sent on
+    c4g_status_t finish_status;    /**< c4g_safety_filter of the last cyclic reply (505 sent on
                                         C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE) */
     uint32_t engine_ready;            /**< the control engine holds the accepted init packet */
     uint32_t prepared;             /**< tx was prepared by c4g_engine_step for rx */
@@ -95,7 +95,7 @@ C4G_NODISCARD c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_
 
 /**
  * Encode the reply due: the sync/init echo, or the cyclic reply after the packet rules and
- * the safety filter (c4g_engine_finish). A cyclic reply the filter cannot run on (the
+ * the safety filter (c4g_safety_filter). A cyclic reply the filter cannot run on (the
  * control engine refused the init packet or the packet, the caller changed the reply's axis
  * count, the encoder refused it) is replaced by the fallback: every axis holds
  * (c4g_session_neutral: the applied reference, the controller's current within AzLim,

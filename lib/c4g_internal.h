@@ -90,7 +90,7 @@ static inline void c4g_put_f32le(uint8_t *p, float f)
 /* NaN/inf test on the bit pattern (no libm, no FP exceptions, same on every target).
  * Adding one exponent LSB to the masked exponent carries into bit 31 only when the
  * exponent is all ones, so OR-ing several carries and testing bit 31 once checks many
- * values branch-free (the hot paths in lib/c4g_codec.c and the control layer do that). */
+ * values branch-free (the hot paths in lib/wire/c4g_codec.c and the engine do that). */
 static inline uint32_t c4g_exp_carry(uint32_t bits)
 {
     return (bits & 0x7F800000U) + 0x00800000U;
@@ -254,7 +254,7 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
 
 /* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
  * decoder checked every value and mode of it, so the step does not check them again. */
-C4G_INTERNAL c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+C4G_INTERNAL c4g_status_t c4g_engine_step_decoded(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                      uint64_t now_ns, c4g_pc_packet_t *tx,
                                      c4g_engine_report_t *rep);
 

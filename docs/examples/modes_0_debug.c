@@ -44,7 +44,7 @@ int main(void)
     controller_packet(&rx, 100, C4G_MODE_0);
     CHECK(c4g_engine_step(&ctl, &rx, 0, &tx, &rep) == C4G_OK);
     CHECK(c4g_mode_pc_fields(C4G_MODE_0) == 0);
-    CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+    CHECK(c4g_safety_filter(&ctl, &rx, &tx, &rep) == C4G_OK);
     CHECK(tx.ax[3].mode == C4G_MODE_0 && tx.ax[3].target_pos == 0.0f && tx.infpar == 0);
     CHECK(ctl.arm[0].fsm == C4G_FSM_S10);              /* SMP+ moving, CLOSED */
     CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK && len == C4G_CYCLIC_SIZE(6));
@@ -53,7 +53,7 @@ int main(void)
     controller_packet(&rx, 101, C4G_MODE_0_DEBUG);
     CHECK(c4g_engine_step(&ctl, &rx, 2000000, &tx, &rep) == C4G_OK);
     tx.ax[2].target_pos = 42.0f;                       /* ignored: mode 0' echoes */
-    CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+    CHECK(c4g_safety_filter(&ctl, &rx, &tx, &rep) == C4G_OK);
     CHECK(tx.ax[2].target_pos == rx.ax[2].target_pos);
     CHECK(tx.ax[2].measure == rx.ax[2].actual_pos);
     CHECK(tx.ax[2].current_add == rx.ax[2].current_ref);

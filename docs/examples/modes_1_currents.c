@@ -95,7 +95,7 @@ int main(void)
                 tx.ax[i].current_add = cur;
             }
         }
-        CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+        CHECK(c4g_safety_filter(&ctl, &rx, &tx, &rep) == C4G_OK);
         CHECK(rep.n_filtered == 0);                      /* no safety action needed */
         CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK);
         for (i = 0; i < 6; i++) {

@@ -74,7 +74,7 @@ int main(void)
                 tx.ax[i].target_vel = (float)(qm[i] - qm_now[i]); /* D2 */
             }
         }
-        CHECK(c4g_engine_finish(&ctl, &rx, &tx, &rep) == C4G_OK);
+        CHECK(c4g_safety_filter(&ctl, &rx, &tx, &rep) == C4G_OK);
         CHECK(c4g_pc_encode(&tx, out, sizeof out, &len) == C4G_OK);
         clamped += (rep.axis_flags[4] & C4G_SF_STROKE_JOINT) ? 1 : 0;
         /* the simulated controller: 505 takes the drives off, the robot stops */

@@ -45,7 +45,7 @@ static int finish(pc_t *p)
 {
     uint8_t out[C4G_MAX_CYCLIC_SIZE];
     size_t len = 0;
-    int st = c4g_engine_finish(&p->ctl, &p->rx, &p->tx, &p->rep);
+    int st = c4g_safety_filter(&p->ctl, &p->rx, &p->tx, &p->rep);
     if (c4g_pc_encode(&p->tx, out, sizeof out, &len) != C4G_OK) {
         st = -1;
     }

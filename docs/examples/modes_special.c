@@ -39,7 +39,7 @@ static int tick(int32_t mode, uint8_t drives, float actual0, float d1_0)
         tx.ax[i].target_pos = (i == 0) ? d1_0 : 1.0f;
         tx.ax[i].target_vel = 0.0f;
     }
-    st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
+    st = c4g_safety_filter(&ctl, &rx, &tx, &rep);
     if (c4g_pc_encode(&tx, out, sizeof out, &len) != C4G_OK) {
         st = -1;                    /* never happens: nothing unsendable leaves finish */
     }

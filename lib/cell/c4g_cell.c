@@ -80,9 +80,9 @@ c4g_status_t c4g_cell_cmd_info(c4g_cell_cmd_t cmd, c4g_cell_cmd_info_t *out)
 {
     c4g_status_t st = C4G_OK;
     if (out == NULL) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if ((uint32_t)cmd >= (uint32_t)C4G_CELL_CMD_COUNT_) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else {
         const cmd_row_t *row = &k_cmds[cmd];
         out->cmd = cmd;
@@ -121,12 +121,12 @@ c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *o
     c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if (out == NULL) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (f == NULL) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else if (!((value >= -DBL_MAX) && (value <= DBL_MAX))) {
         /* NaN fails every comparison, infinities fail the bounds (no libm) */
-        st = C4G_ERR_CELL_NONFINITE;
+        st = C4G_ERR_NONFINITE;
     } else {
         double scale = 1.0;
         if (unit == C4G_CELL_UNIT_MM) {
@@ -140,7 +140,7 @@ c4g_status_t c4g_cell_from_double(double value, c4g_cell_unit_t unit, int32_t *o
         /* Range test before the conversion: converting an out-of-range double is UB. */
         const double lim = (double)f->max + 0.5;
         if ((x >= lim) || (x <= -lim)) {
-            st = C4G_ERR_CELL_RANGE;
+            st = C4G_ERR_RANGE;
         } else if (x >= 0.0) {
             const double r = x + 0.5; /* truncating x + 0.5: halves go up */
             *out = (int32_t)r;
@@ -157,11 +157,11 @@ c4g_status_t c4g_cell_to_double(int32_t counts, c4g_cell_unit_t unit, double *ou
     c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if (out == NULL) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (f == NULL) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else if (in_range(counts, f) == 0) {
-        st = C4G_ERR_CELL_RANGE;
+        st = C4G_ERR_RANGE;
     } else if (unit == C4G_CELL_UNIT_MM) {
         *out = (double)counts / SCALE_MM;
     } else if (unit == C4G_CELL_UNIT_RAD) {
@@ -196,13 +196,13 @@ c4g_status_t c4g_cell_field_encode(int32_t counts, c4g_cell_unit_t unit, char *b
     c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((buf == NULL) || (out_len == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (f == NULL) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else if (in_range(counts, f) == 0) {
-        st = C4G_ERR_CELL_RANGE;
+        st = C4G_ERR_RANGE;
     } else if (cap < f->width) {
-        st = C4G_ERR_CELL_CAPACITY;
+        st = C4G_ERR_CAPACITY;
     } else {
         put_field(counts, f, buf);
         *out_len = f->width;
@@ -246,7 +246,7 @@ static c4g_status_t check_terminator(cursor_t *c, size_t len)
         i++;
     }
     if (len == 0U) {
-        st = fail_at(c, C4G_ERR_CELL_LENGTH, 0U, C4G_CELL_PART_LENGTH, -1);
+        st = fail_at(c, C4G_ERR_LENGTH, 0U, C4G_CELL_PART_LENGTH, -1);
     } else if (((bad + CRLF_LEN) == len) && (s[bad] == '\r') && (s[bad + 1U] == '\n')) {
         c->body = bad;
     } else if (((bad + 1U) == len) && (s[bad] == '\r')) {
@@ -262,7 +262,7 @@ static c4g_status_t need(const cursor_t *c, size_t n, c4g_cell_part_t part, int3
 {
     c4g_status_t st = C4G_OK;
     if ((c->body - c->pos) < n) {
-        st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, part, axis);
+        st = fail_at(c, C4G_ERR_LENGTH, c->body, part, axis);
     }
     return st;
 }
@@ -272,7 +272,7 @@ static c4g_status_t expect_end(const cursor_t *c)
 {
     c4g_status_t st = C4G_OK;
     if (c->pos != c->body) {
-        st = fail_at(c, C4G_ERR_CELL_LENGTH, c->pos, C4G_CELL_PART_LENGTH, -1);
+        st = fail_at(c, C4G_ERR_LENGTH, c->pos, C4G_CELL_PART_LENGTH, -1);
     }
     return st;
 }
@@ -346,9 +346,9 @@ c4g_status_t c4g_cell_field_decode(const char *buf, size_t len, c4g_cell_unit_t 
     c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((buf == NULL) || (out == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (f == NULL) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else {
         cursor_t c = {buf, len, 0U, diag};
         int32_t v = 0;
@@ -404,7 +404,7 @@ static c4g_status_t take_int(cursor_t *c, int32_t lo, int32_t hi, int32_t *out)
     const size_t at = c->pos;
     c4g_status_t st = take_field(c, &k_fmt_int, C4G_CELL_PART_VALUE, -1, out);
     if ((st == C4G_OK) && ((*out < lo) || (*out > hi))) {
-        st = fail_at(c, C4G_ERR_CELL_RANGE, at, C4G_CELL_PART_VALUE, -1);
+        st = fail_at(c, C4G_ERR_RANGE, at, C4G_CELL_PART_VALUE, -1);
     }
     return st;
 }
@@ -417,7 +417,7 @@ static c4g_status_t take_word(cursor_t *c, const char *w, size_t n, c4g_status_t
     size_t i = 0U;
     while ((st == C4G_OK) && (i < n)) {
         if (c->pos >= c->body) {
-            st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, part, -1);
+            st = fail_at(c, C4G_ERR_LENGTH, c->body, part, -1);
         } else if (char_differs(cur_char(c), w[i]) != 0) {
             st = fail_at(c, st_bad, c->pos, part, -1);
         } else {
@@ -468,7 +468,7 @@ static c4g_status_t find_head(cursor_t *c, c4g_cell_cmd_t *cmd)
         } else if (best < HEAD_LEN) {
             st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos, C4G_CELL_PART_HEAD, -1);
         } else if ((c->pos + best) == c->body) {
-            st = fail_at(c, C4G_ERR_CELL_LENGTH, c->body, C4G_CELL_PART_HEAD, -1);
+            st = fail_at(c, C4G_ERR_LENGTH, c->body, C4G_CELL_PART_HEAD, -1);
         } else {
             st = fail_at(c, C4G_ERR_CELL_HEAD, c->pos + best, C4G_CELL_PART_HEAD, -1);
         }
@@ -572,7 +572,7 @@ c4g_status_t c4g_cell_instr_decode(const char *line, size_t len, c4g_cell_instr_
 {
     c4g_status_t st = C4G_OK;
     if ((line == NULL) || (out == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else {
         cursor_t c = {line, 0U, 0U, diag};
         (void)memset(out, 0, sizeof *out);
@@ -646,7 +646,7 @@ c4g_status_t c4g_cell_reply_decode(const char *line, size_t len, c4g_cell_reply_
 {
     c4g_status_t st = C4G_OK;
     if ((line == NULL) || (out == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else {
         cursor_t c = {line, 0U, 0U, diag};
         (void)memset(out, 0, sizeof *out);
@@ -685,7 +685,7 @@ static c4g_status_t w_field(writer_t *w, int32_t v, const field_fmt_t *f)
 {
     c4g_status_t st = C4G_OK;
     if (in_range(v, f) == 0) {
-        st = C4G_ERR_CELL_RANGE;
+        st = C4G_ERR_RANGE;
     } else {
         put_field(v, f, &w->b[w->n]);
         w->n += f->width;
@@ -698,7 +698,7 @@ static c4g_status_t w_pose(writer_t *w, const c4g_cell_pose_t *p)
     c4g_status_t st = C4G_OK;
     uint32_t a = 0U;
     if ((p->n_axes != C4G_CELL_AXES_ROBOT) && (p->n_axes != C4G_CELL_AXES_PLATFORM)) {
-        st = C4G_ERR_CELL_AXES;
+        st = C4G_ERR_AXES;
     }
     while ((st == C4G_OK) && (a < p->n_axes)) {
         st = w_field(w, p->v[a], axis_fmt(p->n_axes, a));
@@ -709,7 +709,7 @@ static c4g_status_t w_pose(writer_t *w, const c4g_cell_pose_t *p)
 
 static c4g_status_t w_int(writer_t *w, int32_t v, int32_t lo, int32_t hi)
 {
-    c4g_status_t st = C4G_ERR_CELL_RANGE;
+    c4g_status_t st = C4G_ERR_RANGE;
     if ((v >= lo) && (v <= hi)) {
         st = w_field(w, v, &k_fmt_int);
     }
@@ -722,7 +722,7 @@ static c4g_status_t w_flush(const writer_t *w, c4g_status_t st_in, char *buf, si
     c4g_status_t st = st_in;
     if (st == C4G_OK) {
         if (cap < (w->n + CRLF_LEN)) {
-            st = C4G_ERR_CELL_CAPACITY;
+            st = C4G_ERR_CAPACITY;
         } else {
             (void)memcpy(buf, w->b, w->n);
             buf[w->n] = '\r';
@@ -756,7 +756,7 @@ static c4g_status_t encode_instr_data(const c4g_cell_instr_t *in, const cmd_row_
     case C4G_CELL_ARGS_CLEAR_POSE:
         st = w_field(w, in->clearance, &k_fmt_mm);
         if ((st == C4G_OK) && (in->pose.n_axes != C4G_CELL_AXES_ROBOT)) {
-            st = C4G_ERR_CELL_AXES;
+            st = C4G_ERR_AXES;
         }
         if (st == C4G_OK) {
             st = w_pose(w, &in->pose);
@@ -774,9 +774,9 @@ c4g_status_t c4g_cell_instr_encode(const c4g_cell_instr_t *in, char *buf, size_t
 {
     c4g_status_t st = C4G_OK;
     if ((in == NULL) || (buf == NULL) || (out_len == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if ((uint32_t)in->cmd >= (uint32_t)C4G_CELL_CMD_COUNT_) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else {
         writer_t w;
         w.n = 0U;
@@ -792,7 +792,7 @@ c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t
 {
     c4g_status_t st = C4G_OK;
     if ((in == NULL) || (buf == NULL) || (out_len == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else {
         writer_t w;
         w.n = 0U;
@@ -817,7 +817,7 @@ c4g_status_t c4g_cell_reply_encode(const c4g_cell_reply_t *in, char *buf, size_t
             }
             break;
         default:
-            st = C4G_ERR_CELL_ARG;
+            st = C4G_ERR_ARG;
             break;
         }
         st = w_flush(&w, st, buf, cap, out_len);
@@ -901,11 +901,11 @@ c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
     c4g_status_t st = C4G_OK;
     const field_fmt_t *f = fmt_of(unit);
     if ((s == NULL) || (out == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (f == NULL) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else if (len == 0U) {
-        st = C4G_ERR_CELL_LENGTH;
+        st = C4G_ERR_LENGTH;
     } else {
         dec_t t;
         size_t start = 0U;
@@ -927,7 +927,7 @@ c4g_status_t c4g_cell_from_text(const char *s, size_t len, c4g_cell_unit_t unit,
         if (st == C4G_OK) {
             const int32_t mag = t.mag + (int32_t)t.round_up;
             if ((t.over != 0U) || (mag > t.max)) {
-                st = C4G_ERR_CELL_RANGE;
+                st = C4G_ERR_RANGE;
             } else {
                 *out = (neg != 0U) ? -mag : mag;
             }

@@ -9,9 +9,9 @@ c4g_status_t c4g_cell_split_init(c4g_cell_splitter_t *sp, char *buf, size_t cap)
 {
     c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (buf == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else if (cap < SPLIT_MIN_CAP) {
-        st = C4G_ERR_CELL_ARG;
+        st = C4G_ERR_ARG;
     } else {
         sp->buf = buf;
         sp->cap = cap;
@@ -27,7 +27,7 @@ c4g_status_t c4g_cell_split_push(c4g_cell_splitter_t *sp, const char *data, size
 {
     c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (used == NULL) || (sp->buf == NULL) || ((data == NULL) && (n != 0U))) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else {
         size_t k = 0U;
         if (sp->head > 0U) {
@@ -65,7 +65,7 @@ c4g_status_t c4g_cell_split_next(c4g_cell_splitter_t *sp, c4g_cell_split_event_t
 {
     c4g_status_t st = C4G_OK;
     if ((sp == NULL) || (ev == NULL) || (line == NULL) || (len == NULL) || (sp->buf == NULL)) {
-        st = C4G_ERR_CELL_NULL;
+        st = C4G_ERR_NULL;
     } else {
         uint32_t done = 0U;
         *ev = C4G_CELL_SPLIT_NONE;

@@ -6,20 +6,20 @@
 
 float c4g_unset(void)
 {
-    return ctl_unset();
+    return eng_unset();
 }
 
 bool c4g_is_unset(float f)
 {
-    return ctl_is_unset(f);
+    return eng_is_unset(f);
 }
 
 /* ------------------------------------------------------------------ init and limits */
 
-c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4g_engine_config_t *cfg)
+c4g_status_t c4g_engine_init(c4g_engine_t *eng, const c4g_init_t *init, const c4g_engine_config_t *cfg)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((ctl != NULL) && (init != NULL)) {
+    if ((eng != NULL) && (init != NULL)) {
         c4g_engine_config_t c;
         (void)c4g_engine_config_default(&c);
         if (cfg != NULL) {
@@ -30,27 +30,27 @@ c4g_status_t c4g_engine_init(c4g_engine_t *ctl, const c4g_init_t *init, const c4
             st = c4g_init_validate(init, NULL);
         }
         if (st == C4G_OK) {
-            (void)memset(ctl, 0, sizeof *ctl);
-            ctl->cfg = c;
-            st = c4g_axis_map_build(init, &ctl->map, NULL);
+            (void)memset(eng, 0, sizeof *eng);
+            eng->cfg = c;
+            st = c4g_axis_map_build(init, &eng->map, NULL);
         }
         if (st == C4G_OK) {
             uint32_t a;
             uint32_t i;
             for (a = 0U; a < C4G_ARMS; a++) {
-                (void)c4g_arm_sm_init(&ctl->arm[a], ctl->map.n_axes_arm[a]);
-                ctl->kin_ok[a] = 0U;
-                if (c4g_kin_from_init(init, a, &ctl->kin[a]) == C4G_OK) {
-                    ctl->kin_ok[a] = 1U;
+                (void)c4g_arm_sm_init(&eng->arm[a], eng->map.n_axes_arm[a]);
+                eng->kin_ok[a] = 0U;
+                if (c4g_kin_from_init(init, a, &eng->kin[a]) == C4G_OK) {
+                    eng->kin_ok[a] = 1U;
                 }
             }
-            for (i = 0U; i < ctl->map.n_axes; i++) {
-                const uint32_t arm = ctl->map.arm_of[i];
-                const uint32_t lax = ctl->map.logical_of[i];
-                ctl->ctl_fe[i] = init->follow_error[arm][lax];
-                ctl->ctl_az[i] = init->az_lim[arm][lax];
-                ctl->lim[i].follow_error = ctl->ctl_fe[i];
-                ctl->lim[i].current_max = ctl->ctl_az[i];
+            for (i = 0U; i < eng->map.n_axes; i++) {
+                const uint32_t arm = eng->map.arm_of[i];
+                const uint32_t lax = eng->map.logical_of[i];
+                eng->ctrl_fe[i] = init->follow_error[arm][lax];
+                eng->ctrl_az[i] = init->az_lim[arm][lax];
+                eng->lim[i].follow_error = eng->ctrl_fe[i];
+                eng->lim[i].current_max = eng->ctrl_az[i];
             }
         }
     }
@@ -108,21 +108,21 @@ static c4g_status_t check_limits(const c4g_axis_limits_t *lim)
 }
 
 /* Joint stroke ends need every logical axis up to the arm's last open one, and its ratios. */
-static c4g_status_t joint_span(const c4g_engine_t *ctl, uint32_t arm, uint32_t *n_out)
+static c4g_status_t joint_span(const c4g_engine_t *eng, uint32_t arm, uint32_t *n_out)
 {
     c4g_status_t st = C4G_OK;
     uint32_t n = 0U;
     uint32_t j;
     for (j = 0U; j < C4G_AXES_PER_ARM; j++) {
-        if (ctl->map.open_of[arm][j] != NO_AXIS) {
+        if (eng->map.open_of[arm][j] != NO_AXIS) {
             n = j + 1U;
         }
     }
     for (j = 0U; (j < n) && (st == C4G_OK); j++) {
-        if (ctl->map.open_of[arm][j] == NO_AXIS) {
+        if (eng->map.open_of[arm][j] == NO_AXIS) {
             st = C4G_ERR_NOT_OPEN;
-        } else if ((ctl->kin_ok[arm] == 0U) ||
-                   ((ctl->kin[arm].kr[j] <= 0.0) && (ctl->kin[arm].kr[j] >= 0.0))) {
+        } else if ((eng->kin_ok[arm] == 0U) ||
+                   ((eng->kin[arm].kr[j] <= 0.0) && (eng->kin[arm].kr[j] >= 0.0))) {
             st = C4G_ERR_SINGULAR;
         } else {
             /* usable */
@@ -132,34 +132,34 @@ static c4g_status_t joint_span(const c4g_engine_t *ctl, uint32_t arm, uint32_t *
     return st;
 }
 
-c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axis,
+c4g_status_t c4g_engine_set_limits(c4g_engine_t *eng, uint32_t arm, uint32_t axis,
                                 const c4g_axis_limits_t *lim)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((ctl != NULL) && (lim != NULL)) {
+    if ((eng != NULL) && (lim != NULL)) {
         uint32_t idx = NO_AXIS;
         uint32_t n = 0U;
         st = C4G_ERR_ARG;
         if ((arm < C4G_ARMS) && (axis < C4G_AXES_PER_ARM)) {
-            idx = ctl->map.open_of[arm][axis];
+            idx = eng->map.open_of[arm][axis];
             st = (idx == NO_AXIS) ? C4G_ERR_NOT_OPEN : check_limits(lim);
         }
         if ((st == C4G_OK) && (lim->joint_min < lim->joint_max)) {
-            st = joint_span(ctl, arm, &n);
+            st = joint_span(eng, arm, &n);
         }
         if (st == C4G_OK) {
             uint32_t i;
-            ctl->lim[idx] = *lim;
-            ctl->lim[idx].follow_error = tighter(ctl->ctl_fe[idx], lim->follow_error);
-            ctl->lim[idx].current_max = tighter(ctl->ctl_az[idx], lim->current_max);
-            ctl->joint_on[arm] = 0U;
-            for (i = 0U; i < ctl->map.n_axes; i++) {
-                if ((ctl->map.arm_of[i] == arm) && (ctl->lim[i].joint_min < ctl->lim[i].joint_max)) {
-                    ctl->joint_on[arm] = 1U;
+            eng->lim[idx] = *lim;
+            eng->lim[idx].follow_error = tighter(eng->ctrl_fe[idx], lim->follow_error);
+            eng->lim[idx].current_max = tighter(eng->ctrl_az[idx], lim->current_max);
+            eng->joint_on[arm] = 0U;
+            for (i = 0U; i < eng->map.n_axes; i++) {
+                if ((eng->map.arm_of[i] == arm) && (eng->lim[i].joint_min < eng->lim[i].joint_max)) {
+                    eng->joint_on[arm] = 1U;
                 }
             }
             if (n > 0U) {
-                ctl->n_joint[arm] = n;
+                eng->n_joint[arm] = n;
             }
         }
     }
@@ -169,18 +169,18 @@ c4g_status_t c4g_engine_set_limits(c4g_engine_t *ctl, uint32_t arm, uint32_t axi
 /* ------------------------------------------------------------------ step */
 
 /* The status of the first bad axis of a packet rx_scan flagged (axis count already checked). */
-static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx)
+static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *eng, const c4g_ctrl_packet_t *rx)
 {
     c4g_status_t st = C4G_OK;
     uint32_t i;
     for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes) && (st == C4G_OK); i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
-        const uint32_t bad = ctl_nonfinite_bit(a->target_pos) | ctl_nonfinite_bit(a->target_vel) |
-                             ctl_nonfinite_bit(a->actual_pos) | ctl_nonfinite_bit(a->actual_vel) |
-                             ctl_nonfinite_bit(a->current_ref) | ctl_nonfinite_bit(a->ext[0]) |
-                             ctl_nonfinite_bit(a->ext[1]) | ctl_nonfinite_bit(a->ext[2]);
+        const uint32_t bad = eng_nonfinite_bit(a->target_pos) | eng_nonfinite_bit(a->target_vel) |
+                             eng_nonfinite_bit(a->actual_pos) | eng_nonfinite_bit(a->actual_vel) |
+                             eng_nonfinite_bit(a->current_ref) | eng_nonfinite_bit(a->ext[0]) |
+                             eng_nonfinite_bit(a->ext[1]) | eng_nonfinite_bit(a->ext[2]);
         /* the mode prepared last tick is known: skip the lookup when it repeats */
-        if ((a->mode != ctl->prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
+        if ((a->mode != eng->prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
             st = C4G_ERR_MODE;
         } else if (bad != 0U) {
             st = C4G_ERR_NONFINITE;
@@ -202,13 +202,13 @@ typedef struct arm_view {
 } arm_view_t;
 
 /* The aggregated modes, for packets where some arm is mixed (rx_scan did the rest). */
-static CTL_COLD void arm_modes(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static CTL_COLD void arm_modes(const c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                arm_view_t v[C4G_ARMS])
 {
     int32_t m[C4G_ARMS] = {0, 0, 0, 0};
     uint32_t i;
     for (i = 0U; (i < C4G_MAX_AXES) && (i < rx->n_axes); i++) {
-        const uint32_t a = ctl->map.arm_of[i];
+        const uint32_t a = eng->map.arm_of[i];
         const int32_t am = rx->ax[i].mode;
         if (am != m[a]) {
             if ((m[a] == C4G_MODE_0) ||
@@ -224,9 +224,9 @@ static CTL_COLD void arm_modes(const c4g_engine_t *ctl, const c4g_ctrl_packet_t 
 
 static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
 {
-    return ctl_exp_carry(a->target_pos) | ctl_exp_carry(a->target_vel) | ctl_exp_carry(a->actual_pos) |
-           ctl_exp_carry(a->actual_vel) | ctl_exp_carry(a->current_ref) | ctl_exp_carry(a->ext[0]) |
-           ctl_exp_carry(a->ext[1]) | ctl_exp_carry(a->ext[2]);
+    return eng_exp_carry(a->target_pos) | eng_exp_carry(a->target_vel) | eng_exp_carry(a->actual_pos) |
+           eng_exp_carry(a->actual_vel) | eng_exp_carry(a->current_ref) | eng_exp_carry(a->ext[0]) |
+           eng_exp_carry(a->ext[1]) | eng_exp_carry(a->ext[2]);
 }
 
 /* Fast pass over a packet of the context's axis count: 1 if some axis carries an unknown
@@ -234,22 +234,22 @@ static inline uint32_t rx_axis_carry(const c4g_ctrl_axis_t *a)
  * first mode, mixed and moving filled (the aggregated mode is exact for unmixed arms).
  * @p check 0: the packet comes from the library's own decoder, which checked every value and
  * mode of it already (the loop object's path): only the arm view is built. */
-static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static uint32_t rx_scan(const c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                         arm_view_t v[C4G_ARMS], uint32_t check)
 {
-    const uint32_t n = axes_in(ctl->map.n_axes);
+    const uint32_t n = axes_in(eng->map.n_axes);
     uint32_t carry = 0U;
     uint32_t unknown = 0U;
     uint32_t i;
     (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
     for (i = 0U; i < n; i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
-        arm_view_t *w = &v[ctl->map.arm_of[i]];
+        arm_view_t *w = &v[eng->map.arm_of[i]];
         const int32_t am = a->mode;
         if (check != 0U) {
             carry |= rx_axis_carry(a);
             /* the mode prepared last tick is known: skip the lookup when it repeats */
-            if ((am != ctl->prep_mode[i]) && (!c4g_mode_is_known(am))) {
+            if ((am != eng->prep_mode[i]) && (!c4g_mode_is_known(am))) {
                 unknown = 1U;
             }
         }
@@ -262,7 +262,7 @@ static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
         } else {
             /* same as the first axis */
         }
-        if (ctl_absf(a->target_vel) > ctl->cfg.moving_eps) {
+        if (eng_absf(a->target_vel) > eng->cfg.moving_eps) {
             w->moving = 1U;
         }
     }
@@ -273,7 +273,7 @@ static uint32_t rx_scan(const c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
  * zero (mode 0' is copied back per tick instead). */
 static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *t)
 {
-    const float u = ctl_unset();
+    const float u = eng_unset();
     (void)memset(t, 0, sizeof *t);
     t->mode = mode;
     if ((rules & C4G_MR_COPY) == 0U) {
@@ -286,7 +286,7 @@ static CTL_COLD void prep_template(uint32_t rules, int32_t mode, c4g_pc_axis_t *
 }
 
 /* Reply data of one axis before the caller fills it. */
-static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t some,
+static inline void prepare_axis(c4g_engine_t *eng, const int32_t over[C4G_ARMS], uint32_t some,
                                 const c4g_ctrl_axis_t *rx, uint32_t i, c4g_pc_axis_t *tx)
 {
     const int32_t mode = rx->mode; /* the PC echoes the mode (manual figure 24.3) */
@@ -294,46 +294,46 @@ static inline void prepare_axis(c4g_engine_t *ctl, const int32_t over[C4G_ARMS],
     /* The anchor: the controller's reference where the axis's current mode began (every
      * packet of mode 0 or 0'), whichever packet of the mode arrives first. After a passive
      * freezing or a stand-by the mode begins again where the axis stands, not in mode 0. */
-    if ((mode != ctl->prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
-        (ctl->anchor_set[i] == 0U)) {
-        ctl->anchor[i] = rx->target_pos;
-        ctl->anchor_set[i] = 1U;
+    if ((mode != eng->prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
+        (eng->anchor_set[i] == 0U)) {
+        eng->anchor[i] = rx->target_pos;
+        eng->anchor_set[i] = 1U;
     }
     /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
      * look up on change only */
-    if (mode != ctl->prep_mode[i]) {
-        ctl->prep_mode[i] = mode;
-        ctl->prep_rules[i] = mode_rules(mode);
-        prep_template(ctl->prep_rules[i], mode, &ctl->prep_tx[i]);
+    if (mode != eng->prep_mode[i]) {
+        eng->prep_mode[i] = mode;
+        eng->prep_rules[i] = mode_rules(mode);
+        prep_template(eng->prep_rules[i], mode, &eng->prep_tx[i]);
     }
-    shown = (some != 0U) ? overlay_mode(ctl, over, i, mode) : mode;
+    shown = (some != 0U) ? overlay_mode(eng, over, i, mode) : mode;
     if (shown != mode) {
         /* hold while a safety request goes out: what the controller applied, nothing new */
-        hold_axis(ctl->prep_rules[i], rx, ctl->lim[i].current_max, tx);
-    } else if ((ctl->prep_rules[i] & C4G_MR_COPY) != 0U) {
+        hold_axis(eng->prep_rules[i], rx, eng->lim[i].current_max, tx);
+    } else if ((eng->prep_rules[i] & C4G_MR_COPY) != 0U) {
         (void)memset(tx, 0, sizeof *tx);
         copy_back(rx, tx);
     } else {
-        *tx = ctl->prep_tx[i]; /* required fields unset, the others zero */
+        *tx = eng->prep_tx[i]; /* required fields unset, the others zero */
     }
     tx->mode = shown;
 }
 
 /* The arms' state machines on this packet; a cleared latch clears its axes' FE latches. */
-static void step_arms(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, const arm_view_t v[C4G_ARMS],
+static void step_arms(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, const arm_view_t v[C4G_ARMS],
                       uint64_t now_ns, c4g_engine_report_t *r)
 {
     uint32_t a;
     uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
-        c4g_arm_sm_t *sm = &ctl->arm[a];
+        c4g_arm_sm_t *sm = &eng->arm[a];
         if (sm->n_axes > 0U) {
             uint32_t ev = 0U;
-            (void)c4g_arm_sm_update(sm, &ctl->cfg, v[a].mode, v[a].mixed,
+            (void)c4g_arm_sm_update(sm, &eng->cfg, v[a].mode, v[a].mixed,
                                     c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns, &ev);
             if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
-                for (i = 0U; i < ctl->map.n_axes; i++) {
-                    ctl->fe_latch[i] = (ctl->map.arm_of[i] == a) ? 0U : ctl->fe_latch[i];
+                for (i = 0U; i < eng->map.n_axes; i++) {
+                    eng->fe_latch[i] = (eng->map.arm_of[i] == a) ? 0U : eng->fe_latch[i];
                 }
             }
             r->arm_events[a] = ev;
@@ -343,7 +343,7 @@ static void step_arms(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, const arm_
 }
 
 /* The prepared reply: header and every axis. */
-static inline void step_prepare(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static inline void step_prepare(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                 c4g_pc_packet_t *tx)
 {
     const uint32_t n = axes_in(rx->n_axes);
@@ -354,19 +354,19 @@ static inline void step_prepare(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
     tx->infpar = 0U;
     tx->cmd = 0U;
     tx->n_axes = rx->n_axes;
-    some = arm_overlays(ctl, over);
+    some = arm_overlays(eng, over);
     for (i = 0U; i < n; i++) {
-        prepare_axis(ctl, over, some, &rx->ax[i], i, &tx->ax[i]);
+        prepare_axis(eng, over, some, &rx->ax[i], i, &tx->ax[i]);
     }
-    ctl->stepped = 1U;
-    ctl->step_num = rx->num;
+    eng->stepped = 1U;
+    eng->step_num = rx->num;
 }
 
-static c4g_status_t engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+static c4g_status_t engine_step(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
                                 c4g_pc_packet_t *tx, c4g_engine_report_t *rep, uint32_t check)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+    if ((eng != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_engine_report_t local;
         c4g_engine_report_t *r = rep;
         arm_view_t v[C4G_ARMS];
@@ -375,65 +375,65 @@ static c4g_status_t engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, 
         }
         (void)memset(r, 0, sizeof *r);
         st = C4G_ERR_PACKET;
-        if (rx->n_axes == ctl->map.n_axes) {
+        if (rx->n_axes == eng->map.n_axes) {
             st = C4G_OK;
-            if (rx_scan(ctl, rx, v, check) != 0U) {
-                st = check_rx(ctl, rx);
+            if (rx_scan(eng, rx, v, check) != 0U) {
+                st = check_rx(eng, rx);
             }
         }
         if (st == C4G_OK) {
             if ((v[0].mixed | v[1].mixed | v[2].mixed | v[3].mixed) != 0U) {
-                arm_modes(ctl, rx, v); /* special > non-zero > 0 on mixed arms */
+                arm_modes(eng, rx, v); /* special > non-zero > 0 on mixed arms */
             }
-            step_arms(ctl, rx, v, now_ns, r);
-            step_prepare(ctl, rx, tx);
+            step_arms(eng, rx, v, now_ns, r);
+            step_prepare(eng, rx, tx);
         }
     }
     return st;
 }
 
-c4g_status_t c4g_engine_step(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
+c4g_status_t c4g_engine_step(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
                           c4g_pc_packet_t *tx, c4g_engine_report_t *rep)
 {
-    return engine_step(ctl, rx, now_ns, tx, rep, 1U);
+    return engine_step(eng, rx, now_ns, tx, rep, 1U);
 }
 
-c4g_status_t c4g_engine_step_decoded(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+c4g_status_t c4g_engine_step_decoded(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                      uint64_t now_ns, c4g_pc_packet_t *tx,
                                      c4g_engine_report_t *rep)
 {
-    return engine_step(ctl, rx, now_ns, tx, rep, 0U);
+    return engine_step(eng, rx, now_ns, tx, rep, 0U);
 }
 
 /* ------------------------------------------------------------------ requests */
 
-static c4g_status_t request(c4g_engine_t *ctl, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
+static c4g_status_t request(c4g_engine_t *eng, uint32_t arm, c4g_req_kind_t kind, int32_t mode)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if (ctl != NULL) {
+    if (eng != NULL) {
         st = C4G_ERR_ARG;
         if (arm < C4G_ARMS) {
-            st = c4g_arm_sm_check(&ctl->arm[arm], kind, mode);
+            st = c4g_arm_sm_check(&eng->arm[arm], kind, mode);
         }
     }
     return st;
 }
 
 /* Refused: only the controller's PDL2 program starts a mode (see check_mode_req). */
-c4g_status_t c4g_engine_request_mode(c4g_engine_t *ctl, uint32_t arm, int32_t mode)
+c4g_status_t c4g_engine_request_mode(c4g_engine_t *eng, uint32_t arm, int32_t mode)
 {
-    return request(ctl, arm, C4G_REQ_MODE, mode);
+    return request(eng, arm, C4G_REQ_MODE, mode);
 }
 
-c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *pos)
+c4g_status_t c4g_engine_anchor(const c4g_engine_t *eng, uint32_t axis, float *pos)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((ctl != NULL) && (pos != NULL)) {
+    if ((eng != NULL) && (pos != NULL)) {
         st = C4G_ERR_ARG;
-        if ((axis < ctl->map.n_axes) && (axis < C4G_MAX_AXES)) {
+        if ((axis < eng->map.n_axes) && (axis < C4G_MAX_AXES)) {
             st = C4G_ERR_STATE;
-            if (ctl->anchor_set[axis] != 0U) {
-                *pos = ctl->anchor[axis];
+            if (eng->anchor_set[axis] != 0U) {
+                *pos = eng->anchor[axis];
                 st = C4G_OK;
             }
         }
@@ -441,11 +441,11 @@ c4g_status_t c4g_engine_anchor(const c4g_engine_t *ctl, uint32_t axis, float *po
     return st;
 }
 
-c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_exit(c4g_engine_t *eng, uint32_t arm)
 {
-    c4g_status_t st = request(ctl, arm, C4G_REQ_EXIT, 0);
+    c4g_status_t st = request(eng, arm, C4G_REQ_EXIT, 0);
     if (st == C4G_OK) {
-        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        c4g_arm_sm_t *sm = &eng->arm[arm];
         if ((sm->exit_req == 0U) && (sm->leaving == 0U)) {
             sm->exit_req = 1U;
             sm->exit_ticks = 0U;
@@ -455,33 +455,33 @@ c4g_status_t c4g_engine_request_exit(c4g_engine_t *ctl, uint32_t arm)
     return st;
 }
 
-c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_drive_off(c4g_engine_t *eng, uint32_t arm)
 {
-    c4g_status_t st = request(ctl, arm, C4G_REQ_DRIVE_OFF, 0);
+    c4g_status_t st = request(eng, arm, C4G_REQ_DRIVE_OFF, 0);
     if (st == C4G_OK) {
-        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        c4g_arm_sm_t *sm = &eng->arm[arm];
         sm->latch |= C4G_LATCH_DRIVE_OFF;
         sm->latch_sent = 0U;
     }
     return st;
 }
 
-c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_follow_error(c4g_engine_t *eng, uint32_t arm)
 {
-    c4g_status_t st = request(ctl, arm, C4G_REQ_FOLLOW_ERROR, 0);
+    c4g_status_t st = request(eng, arm, C4G_REQ_FOLLOW_ERROR, 0);
     if (st == C4G_OK) {
-        c4g_arm_sm_t *sm = &ctl->arm[arm];
+        c4g_arm_sm_t *sm = &eng->arm[arm];
         sm->latch |= C4G_LATCH_FOLLOW_ERROR;
         sm->latch_sent = 0U;
     }
     return st;
 }
 
-c4g_status_t c4g_engine_request_freeze(c4g_engine_t *ctl, uint32_t arm)
+c4g_status_t c4g_engine_request_freeze(c4g_engine_t *eng, uint32_t arm)
 {
-    c4g_status_t st = request(ctl, arm, C4G_REQ_FREEZE, 0);
+    c4g_status_t st = request(eng, arm, C4G_REQ_FREEZE, 0);
     if (st == C4G_OK) {
-        ctl->arm[arm].frozen = C4G_MODE_FREEZING_A;
+        eng->arm[arm].frozen = C4G_MODE_FREEZING_A;
     }
     return st;
 }

@@ -38,10 +38,10 @@ static inline uint32_t mode_rules(int32_t m)
     return r;
 }
 
-static inline float tighter(float ctl_value, float user)
+static inline float tighter(float ctrl_value, float user)
 {
-    float r = ctl_value;
-    if ((user > 0.0F) && ((ctl_value <= 0.0F) || (user < ctl_value))) {
+    float r = ctrl_value;
+    if ((user > 0.0F) && ((ctrl_value <= 0.0F) || (user < ctrl_value))) {
         r = user;
     }
     return r;
@@ -93,14 +93,14 @@ static inline int32_t arm_overlay(const c4g_arm_sm_t *sm)
 }
 
 /* Mode the axis finally carries: safety latches and active freezing override. */
-static inline int32_t overlay_mode(const c4g_engine_t *ctl, const int32_t over[C4G_ARMS], uint32_t i,
+static inline int32_t overlay_mode(const c4g_engine_t *eng, const int32_t over[C4G_ARMS], uint32_t i,
                             int32_t base)
 {
     int32_t m = base;
-    if (ctl->fe_latch[i] != 0U) {
+    if (eng->fe_latch[i] != 0U) {
         m = C4G_MODE_FOLLOW_ERROR;
-    } else if (over[ctl->map.arm_of[i]] != 0) {
-        m = over[ctl->map.arm_of[i]];
+    } else if (over[eng->map.arm_of[i]] != 0) {
+        m = over[eng->map.arm_of[i]];
     } else {
         /* the prepared mode */
     }
@@ -109,20 +109,20 @@ static inline int32_t overlay_mode(const c4g_engine_t *ctl, const int32_t over[C
 
 /* The overlay of every arm; 1 if some axis may carry a mode other than its prepared one (an
  * arm overlay, or an axis latched to 508), 0 if none can. */
-static inline uint32_t arm_overlays(const c4g_engine_t *ctl, int32_t over[C4G_ARMS])
+static inline uint32_t arm_overlays(const c4g_engine_t *eng, int32_t over[C4G_ARMS])
 {
     uint32_t some = 0U;
     uint32_t a;
     uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
-        over[a] = arm_overlay(&ctl->arm[a]);
+        over[a] = arm_overlay(&eng->arm[a]);
         if (over[a] != 0) {
             some = 1U;
         }
     }
     /* the whole array (zero past the open axes): a fixed count the compiler can vectorize */
     for (i = 0U; i < C4G_MAX_AXES; i++) {
-        some |= ctl->fe_latch[i];
+        some |= eng->fe_latch[i];
     }
     return (some != 0U) ? 1U : 0U;
 }

@@ -15,25 +15,25 @@
 
 /* Bit 31 set iff @p f is NaN or infinite (exponent all ones carries into the sign bit):
  * OR several of these and test once. */
-static inline uint32_t ctl_nonfinite_bit(float f)
+static inline uint32_t eng_nonfinite_bit(float f)
 {
     return c4g_exp_carry(c4g_f32_bits(f)) & 0x80000000U;
 }
 
 /* Exponent carry of a float: bit 31 of the OR of these is set iff one of them is NaN or
- * infinite (the mask test of ctl_nonfinite_bit, done once for several values). */
-static inline uint32_t ctl_exp_carry(float f)
+ * infinite (the mask test of eng_nonfinite_bit, done once for several values). */
+static inline uint32_t eng_exp_carry(float f)
 {
     return c4g_exp_carry(c4g_f32_bits(f));
 }
 
-static inline float ctl_absf(float x)
+static inline float eng_absf(float x)
 {
     return (x < 0.0F) ? -x : x;
 }
 
 /* Bits of a double, for the finite test. */
-static inline int ctl_f64_finite(double d)
+static inline int eng_f64_finite(double d)
 {
     uint64_t u;
     /* Deviation D-21 (MISRA 21.15): bit-exact reinterpretation, as D-02. */
@@ -42,12 +42,12 @@ static inline int ctl_f64_finite(double d)
     return ((u & 0x7FF0000000000000ULL) != 0x7FF0000000000000ULL) ? 1 : 0;
 }
 
-static inline bool ctl_is_unset(float f)
+static inline bool eng_is_unset(float f)
 {
     return c4g_f32_bits(f) == C4G_UNSET_BITS;
 }
 
-static inline float ctl_unset(void)
+static inline float eng_unset(void)
 {
     const uint32_t u = C4G_UNSET_BITS;
     float f;

@@ -49,13 +49,13 @@ c4g_status_t c4g_kin_from_init(const c4g_init_t *init, uint32_t arm, c4g_kin_t *
 static int kin_finite(const c4g_kin_t *kin)
 {
     int ok = 0;
-    if ((ctl_f64_finite(kin->k54) != 0) && (ctl_f64_finite(kin->k64) != 0) &&
-        (ctl_f64_finite(kin->k65) != 0) && (ctl_f64_finite(kin->period_s) != 0)) {
+    if ((eng_f64_finite(kin->k54) != 0) && (eng_f64_finite(kin->k64) != 0) &&
+        (eng_f64_finite(kin->k65) != 0) && (eng_f64_finite(kin->period_s) != 0)) {
         ok = 1;
     }
     uint32_t i;
     for (i = 0U; i < C4G_AXES_PER_ARM; i++) {
-        if ((ctl_f64_finite(kin->kr[i]) == 0) || (ctl_f64_finite(kin->cal[i]) == 0)) {
+        if ((eng_f64_finite(kin->kr[i]) == 0) || (eng_f64_finite(kin->cal[i]) == 0)) {
             ok = 0;
         }
     }
@@ -102,7 +102,7 @@ static c4g_status_t conv_check(const c4g_kin_t *kin, const double *in, uint32_t 
             st = C4G_ERR_NONFINITE;
         } else {
             for (i = 0U; i < n; i++) {
-                if (ctl_f64_finite(in[i]) == 0) {
+                if (eng_f64_finite(in[i]) == 0) {
                     st = C4G_ERR_NONFINITE;
                 } else if ((kin->kr[i] > 0.0) || (kin->kr[i] < 0.0)) {
                     /* usable ratio */
@@ -125,7 +125,7 @@ static c4g_status_t all_finite(const double *v, uint32_t n)
     c4g_status_t st = C4G_OK;
     uint32_t i;
     for (i = 0U; i < n; i++) {
-        if (ctl_f64_finite(v[i]) == 0) {
+        if (eng_f64_finite(v[i]) == 0) {
             st = C4G_ERR_NONFINITE;
         }
     }

@@ -17,7 +17,7 @@ static inline uint32_t value_check(float f, uint32_t required)
     uint32_t r = 0U;
     if (c4g_f32_finite(f) == 0) {
         r = C4G_SF_NONFINITE;
-        if ((required != 0U) && (ctl_is_unset(f))) {
+        if ((required != 0U) && (eng_is_unset(f))) {
             r = C4G_SF_MISSING;
         }
     }
@@ -27,10 +27,10 @@ static inline uint32_t value_check(float f, uint32_t required)
 /* @p fields: C4G_PCF_* whose unset marker means MISSING (the others: NONFINITE). */
 static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t fields)
 {
-    const uint32_t carry = ctl_exp_carry(tx->target_pos) | ctl_exp_carry(tx->target_vel) |
-                           ctl_exp_carry(tx->measure) | ctl_exp_carry(tx->vel_add) |
-                           ctl_exp_carry(tx->current_add) | ctl_exp_carry(tx->ext[0]) |
-                           ctl_exp_carry(tx->ext[1]) | ctl_exp_carry(tx->ext[2]);
+    const uint32_t carry = eng_exp_carry(tx->target_pos) | eng_exp_carry(tx->target_vel) |
+                           eng_exp_carry(tx->measure) | eng_exp_carry(tx->vel_add) |
+                           eng_exp_carry(tx->current_add) | eng_exp_carry(tx->ext[0]) |
+                           eng_exp_carry(tx->ext[1]) | eng_exp_carry(tx->ext[2]);
     return ((carry & 0x80000000U) == 0U)
                ? 0U
                : axis_data_slow(tx->target_pos, tx->target_vel, tx->measure, tx->vel_add,
@@ -77,17 +77,17 @@ static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
  * integrating mode D1 advanced by its own target velocity D2 (the worst case, which may
  * count the PC's last step once more). Both checks only shrink d towards 0: the filter
  * never creates a motion, even back into the stroke. */
-static inline uint32_t filter_targets(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_targets(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
-    const c4g_axis_limits_t *l = &ctl->lim[i];
+    const c4g_axis_limits_t *l = &eng->lim[i];
     const float base = ((rules & C4G_MR_ABS) != 0U) ? rx->target_pos
                                                : (rx->target_pos + rx->target_vel);
     float *field = int_field(rules, tx);
     const float req = ((rules & C4G_MR_ABS) != 0U) ? (tx->target_pos - base) : *field;
     uint32_t f = 0U;
     float d = req;
-    if ((ctl_nonfinite_bit(req) | ctl_nonfinite_bit(base) | ctl_nonfinite_bit(base + req)) != 0U) {
+    if ((eng_nonfinite_bit(req) | eng_nonfinite_bit(base) | eng_nonfinite_bit(base + req)) != 0U) {
         f = C4G_SF_NONFINITE; /* target - base or base + delta overflows: never sent */
     } else {
         f = sfc_step(0.0F, req, l->max_step, &d);
@@ -119,14 +119,14 @@ static inline float int_value(uint32_t rules, const c4g_pc_axis_t *tx)
     return v;
 }
 
-static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_axis(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
-    const c4g_axis_limits_t *l = &ctl->lim[i];
+    const c4g_axis_limits_t *l = &eng->lim[i];
     uint32_t f = 0U;
     float o = 0.0F;
     if ((rules & (C4G_MR_ABS | R_INT)) != 0U) {
-        f = filter_targets(ctl, i, rules, rx, tx);
+        f = filter_targets(eng, i, rules, rx, tx);
     }
     if ((rules & C4G_MR_VEL) != 0U) {
         f |= sfc_velocity(tx->target_vel, l->max_vel, &o);
@@ -149,17 +149,17 @@ static inline uint32_t filter_axis(const c4g_engine_t *ctl, uint32_t i, uint32_t
 }
 
 /* Following error (15.7) on the final targets: the axis carries 508 (field library). */
-static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
+static inline uint32_t filter_fe(c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                  const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx,
                                  float *fe_out)
 {
     uint32_t f = 0U;
     if ((rules & C4G_MR_FE) != 0U) {
         const float ref = ((rules & C4G_MR_ABS) != 0U) ? tx->target_pos : rx->target_pos;
-        f = sfc_follow_error(ref, rx->actual_pos, ctl->lim[i].follow_error, fe_out);
+        f = sfc_follow_error(ref, rx->actual_pos, eng->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
-            ctl->fe_latch[i] = 1U;
-            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
+            eng->fe_latch[i] = 1U;
+            eng->arm[eng->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
         }
     }
     return f;
@@ -168,14 +168,14 @@ static inline uint32_t filter_fe(c4g_engine_t *ctl, uint32_t i, uint32_t rules,
 /* Where each logical axis of @p arm starts this tick (@p base: the reference the controller
  * holds, as filter_targets measures it) and how far the PC moves it (@p d, 0 where SMP+
  * drives the axis), in motor turns. */
-static void joint_motion(const c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+static void joint_motion(const c4g_engine_t *eng, uint32_t arm, const c4g_ctrl_packet_t *rx,
                          const c4g_pc_packet_t *tx, double base[C4G_AXES_PER_ARM],
                          double d[C4G_AXES_PER_ARM])
 {
     uint32_t j;
-    for (j = 0U; j < ctl->n_joint[arm]; j++) {
-        const uint32_t i = ctl->map.open_of[arm][j];
-        const uint32_t rules = ctl->prep_rules[i];
+    for (j = 0U; j < eng->n_joint[arm]; j++) {
+        const uint32_t i = eng->map.open_of[arm][j];
+        const uint32_t rules = eng->prep_rules[i];
         const c4g_ctrl_axis_t *r = &rx->ax[i];
         if ((rules & C4G_MR_ABS) != 0U) {
             base[j] = (double)r->target_pos;
@@ -190,13 +190,13 @@ static void joint_motion(const c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_p
 /* The largest share a in [0, 1] of the motion q0 -> q1 of every joint that keeps each one
  * inside its stroke, or moving back towards it (a joint already beyond an end may not go
  * further). */
-static double joint_share(const c4g_engine_t *ctl, uint32_t arm, const double q0[C4G_AXES_PER_ARM],
+static double joint_share(const c4g_engine_t *eng, uint32_t arm, const double q0[C4G_AXES_PER_ARM],
                           const double q1[C4G_AXES_PER_ARM])
 {
     double a = 1.0;
     uint32_t j;
-    for (j = 0U; j < ctl->n_joint[arm]; j++) {
-        const c4g_axis_limits_t *l = &ctl->lim[ctl->map.open_of[arm][j]];
+    for (j = 0U; j < eng->n_joint[arm]; j++) {
+        const c4g_axis_limits_t *l = &eng->lim[eng->map.open_of[arm][j]];
         const double lo = (double)l->joint_min;
         const double hi = (double)l->joint_max;
         const double dq = q1[j] - q0[j];
@@ -219,10 +219,10 @@ static double joint_share(const c4g_engine_t *ctl, uint32_t arm, const double q0
  * binding joint stops at its end (to the float resolution of the motor reference), SMP+-driven
  * axes are untouched; where the kinematics cannot convert, the arm holds. Every axis whose
  * motion shrank is flagged (the arm stops). */
-static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ctrl_packet_t *rx,
+static CTL_COLD void filter_joints(c4g_engine_t *eng, uint32_t arm, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
-    const uint32_t n = ctl->n_joint[arm];
+    const uint32_t n = eng->n_joint[arm];
     double base[C4G_AXES_PER_ARM];
     double d[C4G_AXES_PER_ARM];
     double m1[C4G_AXES_PER_ARM];
@@ -230,18 +230,18 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
     double q1[C4G_AXES_PER_ARM];
     double a = 0.0;
     uint32_t j;
-    joint_motion(ctl, arm, rx, tx, base, d);
+    joint_motion(eng, arm, rx, tx, base, d);
     for (j = 0U; j < n; j++) {
         m1[j] = base[j] + d[j];
     }
-    if ((c4g_kin_motor_to_link(&ctl->kin[arm], base, n, q0) == C4G_OK) &&
-        (c4g_kin_motor_to_link(&ctl->kin[arm], m1, n, q1) == C4G_OK)) {
-        a = joint_share(ctl, arm, q0, q1);
+    if ((c4g_kin_motor_to_link(&eng->kin[arm], base, n, q0) == C4G_OK) &&
+        (c4g_kin_motor_to_link(&eng->kin[arm], m1, n, q1) == C4G_OK)) {
+        a = joint_share(eng, arm, q0, q1);
     }
     if (a < 1.0) {
         for (j = 0U; j < n; j++) {
-            const uint32_t i = ctl->map.open_of[arm][j];
-            const uint32_t rules = ctl->prep_rules[i];
+            const uint32_t i = eng->map.open_of[arm][j];
+            const uint32_t rules = eng->prep_rules[i];
             c4g_pc_axis_t *o = &tx->ax[i];
             if ((d[j] > 0.0) || (d[j] < 0.0)) {
                 const double moved = a * d[j];
@@ -260,12 +260,12 @@ static CTL_COLD void filter_joints(c4g_engine_t *ctl, uint32_t arm, const c4g_ct
 }
 
 /* EXIT_FROM_OPEN bytes, and the END phase on the first packet carrying one. */
-static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
+static uint32_t exit_bytes(c4g_engine_t *eng, c4g_engine_report_t *r)
 {
     uint32_t infpar = 0U;
     uint32_t a;
     for (a = 0U; a < C4G_ARMS; a++) {
-        c4g_arm_sm_t *sm = &ctl->arm[a];
+        c4g_arm_sm_t *sm = &eng->arm[a];
         if (sm->exit_req != 0U) {
             infpar = c4g_arm_byte_set(infpar, a, (uint8_t)C4G_EXIT_FROM_OPEN);
             sm->exit_ticks++;
@@ -285,7 +285,7 @@ static uint32_t exit_bytes(c4g_engine_t *ctl, c4g_engine_report_t *r)
 }
 
 /* Arms with a bad axis: bad axes hold (hold_axis), every axis carries 505. */
-static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                         c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     c4g_status_t st = C4G_OK;
@@ -294,7 +294,7 @@ static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, const c4g_ctrl_packet
     for (i = 0U; i < tx->n_axes; i++) {
         const uint32_t f = r->axis_flags[i];
         if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) != 0U) {
-            bad_arm[ctl->map.arm_of[i]] = 1U;
+            bad_arm[eng->map.arm_of[i]] = 1U;
             if ((f & C4G_SF_MISSING) != 0U) {
                 st = C4G_ERR_MISSING_DATA;
             } else if (st == C4G_OK) {
@@ -302,28 +302,28 @@ static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *ctl, const c4g_ctrl_packet
             } else {
                 /* keep the missing-data status */
             }
-            hold_axis(ctl->prep_rules[i], &rx->ax[i], ctl->lim[i].current_max, &tx->ax[i]);
+            hold_axis(eng->prep_rules[i], &rx->ax[i], eng->lim[i].current_max, &tx->ax[i]);
             r->axis_flags[i] |= C4G_SF_HELD;
         }
         if ((f & C4G_SF_NO_RULE) != 0U) {
-            bad_arm[ctl->map.arm_of[i]] = 1U;
+            bad_arm[eng->map.arm_of[i]] = 1U;
         }
     }
     for (i = 0U; i < C4G_ARMS; i++) {
         if (bad_arm[i] != 0U) {
-            ctl->arm[i].latch |= C4G_LATCH_DRIVE_OFF;
+            eng->arm[i].latch |= C4G_LATCH_DRIVE_OFF;
         }
     }
     return st;
 }
 
 /* Overflow check of what the filter wrote, then the following error on the final target. */
-static uint32_t finish_fe(c4g_engine_t *ctl, uint32_t i, const c4g_ctrl_axis_t *rx,
+static uint32_t finish_fe(c4g_engine_t *eng, uint32_t i, const c4g_ctrl_axis_t *rx,
                           const c4g_pc_axis_t *tx, float *fe_out)
 {
     uint32_t f = rewritten_check(tx);
     if (f == 0U) {
-        f = filter_fe(ctl, i, ctl->prep_rules[i], rx, tx, fe_out);
+        f = filter_fe(eng, i, eng->prep_rules[i], rx, tx, fe_out);
     }
     return f;
 }
@@ -342,11 +342,11 @@ static inline uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
 
 /* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
  * of the reply data, written back by the caller). */
-static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
+static inline uint32_t finish_axis(c4g_engine_t *eng, uint32_t i, int32_t shown,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
 {
-    const int32_t m = ctl->prep_mode[i];
-    const uint32_t rules = ctl->prep_rules[i];
+    const int32_t m = eng->prep_mode[i];
+    const uint32_t rules = eng->prep_rules[i];
     uint32_t f = 0U;
     if ((tx->mode != m) && (tx->mode != shown)) {
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
@@ -363,17 +363,17 @@ static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
     }
     f |= axis_data_check(tx, (shown == m) ? (rules | R_SHOWN) : rules);
     if ((f & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U) {
-        const uint32_t clamps = filter_axis(ctl, i, rules, rx, tx);
+        const uint32_t clamps = filter_axis(eng, i, rules, rx, tx);
         f |= clamps;
         /* without a joint check on the arm the targets are final here; values a clamp
          * rewrote are checked again (an overflow is never sent) */
-        if ((ctl->joint_on[ctl->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
+        if ((eng->joint_on[eng->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
             uint32_t g = 0U;
             if (clamps != 0U) {
                 g = rewritten_check(tx);
             }
             if (g == 0U) {
-                g = filter_fe(ctl, i, rules, rx, tx, fe_out);
+                g = filter_fe(eng, i, rules, rx, tx, fe_out);
             }
             f |= g;
         }
@@ -382,7 +382,7 @@ static inline uint32_t finish_axis(c4g_engine_t *ctl, uint32_t i, int32_t shown,
 }
 
 /* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
- * loads would stall on store forwarding (it cost 15 % of c4g_engine_finish); the per-tick filter
+ * loads would stall on store forwarding (it cost 15 % of c4g_safety_filter); the per-tick filter
  * works on such a copy in registers. */
 static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 {
@@ -398,11 +398,11 @@ static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 }
 
 /* Final mode of one axis (latches, freezing) and its report. Idempotent except for the
- * n_filtered count. (latch_sent: c4g_engine_finish.) */
-static inline void record_axis(const c4g_engine_t *ctl, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+ * n_filtered count. (latch_sent: c4g_safety_filter.) */
+static inline void record_axis(const c4g_engine_t *eng, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
                                c4g_engine_report_t *r)
 {
-    const uint32_t arm = ctl->map.arm_of[i];
+    const uint32_t arm = eng->map.arm_of[i];
     tx->mode = shown;
     if (shown == C4G_MODE_DRIVE_OFF) {
         r->axis_flags[i] |= C4G_SF_DRIVE_OFF;
@@ -419,12 +419,12 @@ static inline void record_axis(const c4g_engine_t *ctl, uint32_t i, int32_t show
 }
 
 /* Every axis recorded with the final overlays. */
-static CTL_COLD void finish_record(const c4g_engine_t *ctl, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
+static CTL_COLD void finish_record(const c4g_engine_t *eng, const int32_t over[C4G_ARMS], c4g_pc_packet_t *tx,
                           c4g_engine_report_t *r)
 {
     uint32_t i;
     for (i = 0U; i < tx->n_axes; i++) {
-        record_axis(ctl, i, overlay_mode(ctl, over, i, ctl->prep_mode[i]), &tx->ax[i], r);
+        record_axis(eng, i, overlay_mode(eng, over, i, eng->prep_mode[i]), &tx->ax[i], r);
     }
 }
 
@@ -434,12 +434,12 @@ static CTL_COLD void finish_record(const c4g_engine_t *ctl, const int32_t over[C
 
 /* A stroke end stops the arm: every axis carries 505 from this reply on (the reference sent
  * with it stays inside the stroke: the motion stops before the limit, not after). */
-static CTL_COLD void stroke_stops(c4g_engine_t *ctl, uint32_t n, const c4g_engine_report_t *r)
+static CTL_COLD void stroke_stops(c4g_engine_t *eng, uint32_t n, const c4g_engine_report_t *r)
 {
     uint32_t i;
     for (i = 0U; i < n; i++) {
         if ((r->axis_flags[i] & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
-            ctl->arm[ctl->map.arm_of[i]].latch |= C4G_LATCH_STROKE;
+            eng->arm[eng->map.arm_of[i]].latch |= C4G_LATCH_STROKE;
         }
     }
 }
@@ -447,27 +447,27 @@ static CTL_COLD void stroke_stops(c4g_engine_t *ctl, uint32_t n, const c4g_engin
 /* The per-axis pass: mode rules, filter and (while the overlays cannot change any more)
  * the record of each axis. Returns the OR of the axis flags; clears *rec when the axes
  * must be recorded again once the overlays are final. */
-static inline uint32_t finish_axes(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static inline uint32_t finish_axes(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r, uint32_t n,
                                    uint32_t *rec)
 {
     int32_t over[C4G_ARMS];
-    const uint32_t some = arm_overlays(ctl, over);
+    const uint32_t some = arm_overlays(eng, over);
     uint32_t any = 0U;
     uint32_t i;
     for (i = 0U; i < n; i++) {
-        const int32_t shown = (some != 0U) ? overlay_mode(ctl, over, i, ctl->prep_mode[i])
-                                           : ctl->prep_mode[i];
+        const int32_t shown = (some != 0U) ? overlay_mode(eng, over, i, eng->prep_mode[i])
+                                           : eng->prep_mode[i];
         c4g_pc_axis_t d;
         keep_axis(&d, &tx->ax[i]);
         r->follow_err[i] = 0.0F;
-        r->axis_flags[i] |= finish_axis(ctl, i, shown, &rx->ax[i], &d, &r->follow_err[i]);
+        r->axis_flags[i] |= finish_axis(eng, i, shown, &rx->ax[i], &d, &r->follow_err[i]);
         any |= r->axis_flags[i];
         if ((any & REDO_FLAGS) != 0U) {
             *rec = 0U;
         }
         if (*rec != 0U) {
-            record_axis(ctl, i, shown, &d, r);
+            record_axis(eng, i, shown, &d, r);
         }
         keep_axis(&tx->ax[i], &d);
     }
@@ -476,21 +476,21 @@ static inline uint32_t finish_axes(c4g_engine_t *ctl, const c4g_ctrl_packet_t *r
 
 /* Joint stroke ends of the arms with a joint check, then the following error on the final
  * targets of their axes. Returns the OR of the axis flags. */
-static CTL_COLD uint32_t finish_joints(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static CTL_COLD uint32_t finish_joints(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                        c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     uint32_t any = 0U;
     uint32_t a;
     uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
-        if (ctl->joint_on[a] != 0U) { /* set only on arms with open axes */
-            filter_joints(ctl, a, rx, tx, r);
+        if (eng->joint_on[a] != 0U) { /* set only on arms with open axes */
+            filter_joints(eng, a, rx, tx, r);
         }
     }
     for (i = 0U; i < tx->n_axes; i++) {
-        if ((ctl->joint_on[ctl->map.arm_of[i]] != 0U) &&
+        if ((eng->joint_on[eng->map.arm_of[i]] != 0U) &&
             ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
-            r->axis_flags[i] |= finish_fe(ctl, i, &rx->ax[i], &tx->ax[i], &r->follow_err[i]);
+            r->axis_flags[i] |= finish_fe(eng, i, &rx->ax[i], &tx->ax[i], &r->follow_err[i]);
             any |= r->axis_flags[i];
         }
     }
@@ -498,32 +498,32 @@ static CTL_COLD uint32_t finish_joints(c4g_engine_t *ctl, const c4g_ctrl_packet_
 }
 
 /* The faults of this reply: 505 on faulty arms (with their status), stroke stops. */
-static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static CTL_COLD c4g_status_t finish_faults(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                            c4g_pc_packet_t *tx, c4g_engine_report_t *r,
                                            uint32_t n, uint32_t any)
 {
     c4g_status_t st = C4G_OK;
     if ((any & (C4G_SF_MISSING | C4G_SF_NONFINITE | C4G_SF_NO_RULE)) != 0U) {
-        st = arm_faults(ctl, rx, tx, r);
+        st = arm_faults(eng, rx, tx, r);
     }
     if ((any & (C4G_SF_STROKE | C4G_SF_STROKE_JOINT)) != 0U) {
-        stroke_stops(ctl, n, r);
+        stroke_stops(eng, n, r);
     }
     return st;
 }
 
 /* Every open axis of an arm went out with its latch: the latch was sent. */
-static void latches_sent(c4g_engine_t *ctl)
+static void latches_sent(c4g_engine_t *eng)
 {
     uint32_t a;
     for (a = 0U; a < C4G_ARMS; a++) {
-        if ((ctl->map.n_axes_arm[a] != 0U) && (ctl->arm[a].latch != 0U)) {
-            ctl->arm[a].latch_sent = 1U;
+        if ((eng->map.n_axes_arm[a] != 0U) && (eng->arm[a].latch != 0U)) {
+            eng->arm[a].latch_sent = 1U;
         }
     }
 }
 
-static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx,
+static c4g_status_t finish_packet(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                   c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
     const uint32_t n = axes_in(rx->n_axes);
@@ -533,31 +533,31 @@ static c4g_status_t finish_packet(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx
     /* Each axis is recorded as soon as it is filtered while nothing can change the
      * overlays of the axes before it (no joint check, no fault, no following error);
      * otherwise every axis is recorded again once the overlays are final. */
-    uint32_t rec = c4g_flag((ctl->joint_on[0] | ctl->joint_on[1] | ctl->joint_on[2] |
-                             ctl->joint_on[3]) == 0U);
-    tx->infpar = exit_bytes(ctl, r);
-    any = finish_axes(ctl, rx, tx, r, n, &rec);
+    uint32_t rec = c4g_flag((eng->joint_on[0] | eng->joint_on[1] | eng->joint_on[2] |
+                             eng->joint_on[3]) == 0U);
+    tx->infpar = exit_bytes(eng, r);
+    any = finish_axes(eng, rx, tx, r, n, &rec);
     if (rec == 0U) {
         int32_t over[C4G_ARMS];
-        any |= finish_joints(ctl, rx, tx, r);
-        st = finish_faults(ctl, rx, tx, r, n, any);
-        (void)arm_overlays(ctl, over); /* the filter may have latched an arm or an axis */
+        any |= finish_joints(eng, rx, tx, r);
+        st = finish_faults(eng, rx, tx, r, n, any);
+        (void)arm_overlays(eng, over); /* the filter may have latched an arm or an axis */
         r->n_filtered = n_filtered;
-        finish_record(ctl, over, tx, r);
+        finish_record(eng, over, tx, r);
     }
     if ((st == C4G_OK) && ((any & C4G_SF_MODE_RESTORED) != 0U)) {
         st = C4G_ERR_MODE_RESTORED; /* a fault's status comes first */
     }
-    latches_sent(ctl);
-    ctl->stepped = 0U;
+    latches_sent(eng);
+    eng->stepped = 0U;
     return st;
 }
 
-c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
+c4g_status_t c4g_safety_filter(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
                             c4g_engine_report_t *rep)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((ctl != NULL) && (rx != NULL) && (tx != NULL)) {
+    if ((eng != NULL) && (rx != NULL) && (tx != NULL)) {
         c4g_engine_report_t local;
         c4g_engine_report_t *r = rep;
         if (r == NULL) {
@@ -565,9 +565,9 @@ c4g_status_t c4g_engine_finish(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, c
             r = &local;
         }
         st = C4G_ERR_STATE;
-        if ((ctl->stepped != 0U) && (rx->num == ctl->step_num) &&
-            (rx->n_axes == ctl->map.n_axes) && (tx->n_axes == rx->n_axes)) {
-            st = finish_packet(ctl, rx, tx, r);
+        if ((eng->stepped != 0U) && (rx->num == eng->step_num) &&
+            (rx->n_axes == eng->map.n_axes) && (tx->n_axes == rx->n_axes)) {
+            st = finish_packet(eng, rx, tx, r);
         }
     }
     return st;

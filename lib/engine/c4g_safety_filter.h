@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The PC-side safety checks as inline functions. Each rule has a core (sfc_*: finite inputs,
- * valid limits, as the per-tick filter in c4g_control.c guarantees) and a checked form
+ * valid limits, as the per-tick filter in c4g_safety.c guarantees) and a checked form
  * (sf_*: validates first, exported by c4g_safety.c as c4g_sf_*). Every form returns the
  * C4G_SF_* bits it raised; the checked forms return C4G_SF_NONFINITE on any non-finite
  * input and C4G_SF_BAD_LIMIT on a limit that is negative or non-finite, leaving the value. */
@@ -32,9 +32,9 @@ static inline uint32_t sfc_sym(float v, float lim, uint32_t flag, float *out)
  * difference is certainly too far. */
 static inline uint32_t sfc_follow_error(float ref, float mis, float threshold, float *err)
 {
-    const float e = ctl_absf(ref - mis);
+    const float e = eng_absf(ref - mis);
     uint32_t r = 0U;
-    if ((ctl_nonfinite_bit(e) != 0U) || ((threshold > 0.0F) && (e > threshold))) {
+    if ((eng_nonfinite_bit(e) != 0U) || ((threshold > 0.0F) && (e > threshold))) {
         r = C4G_SF_FOLLOW_ERROR;
     }
     *err = e;

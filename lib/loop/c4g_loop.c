@@ -167,7 +167,7 @@ static c4g_status_t loop_cyclic_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, 
         /* after any other status the filtered reply is safe and must be sent (an arm may
          * carry 505): only a refused call (the caller changed the reply's axis count or
          * header) falls back */
-        lp->finish_status = c4g_engine_finish(&lp->engine, lp->rx, &lp->tx, &lp->report);
+        lp->finish_status = c4g_safety_filter(&lp->engine, lp->rx, &lp->tx, &lp->report);
         if (lp->finish_status == C4G_ERR_STATE) {
             loop_fallback(lp);
         }

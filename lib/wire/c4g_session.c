@@ -94,7 +94,7 @@ static int32_t num_delta(const c4g_session_t *s, int32_t num)
 
 /* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is
  * counted and dropped: answered already, or its moment has passed, and acting on it would
- * move the control layer back in time. Returns 1 when the packet is dropped. */
+ * move the engine back in time. Returns 1 when the packet is dropped. */
 static int drop_stale(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
 {
     const int32_t delta = num_delta(s, num);
@@ -735,7 +735,7 @@ c4g_status_t c4g_session_rx(c4g_session_t *s, const uint8_t *buf, size_t len, ui
 }
 
 /* Active freezing is the PC's own request: 500 in a reply starts it (only mode 0 may
- * enter it, which the control layer enforces), EXIT_FROM_OPEN on any arm ends it. */
+ * enter it, which the engine enforces), EXIT_FROM_OPEN on any arm ends it. */
 static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
 {
     const uint32_t w = tx->infpar;

@@ -39,10 +39,6 @@ const char *c4g_strerror(c4g_status_t status)
     case C4G_ERR_LIMITS: text = "invalid limits (or a zero current limit for modes 1/2)"; break;
     case C4G_ERR_MODE_RESTORED: text = "the reply carried a forbidden mode: restored"; break;
     case C4G_ERR_PDL_ONLY: text = "only the controller's PDL2 program starts an operating mode"; break;
-    case C4G_ERR_CELL_NULL: text = "cell: null pointer argument"; break;
-    case C4G_ERR_CELL_CAPACITY: text = "cell: output buffer too small"; break;
-    case C4G_ERR_CELL_ARG: text = "cell: argument out of range"; break;
-    case C4G_ERR_CELL_LENGTH: text = "cell: wrong line length for this instruction or reply"; break;
     case C4G_ERR_CELL_TERMINATOR: text = "cell: missing CR LF terminator, or CR/LF inside the line"; break;
     case C4G_ERR_CELL_HEAD: text = "cell: unknown instruction or reply head"; break;
     case C4G_ERR_CELL_SIGN: text = "cell: sign character must be '+' or '-'"; break;
@@ -51,9 +47,6 @@ const char *c4g_strerror(c4g_status_t status)
     case C4G_ERR_CELL_FLAG: text = "cell: 'T' or 'F' expected"; break;
     case C4G_ERR_CELL_MODE: text = "cell: MOV mode must be 'A' or 'R'"; break;
     case C4G_ERR_CELL_ACTION: text = "cell: HND action must be OPEN or CLOSE"; break;
-    case C4G_ERR_CELL_RANGE: text = "cell: value out of range"; break;
-    case C4G_ERR_CELL_NONFINITE: text = "cell: NaN or infinity"; break;
-    case C4G_ERR_CELL_AXES: text = "cell: axis count must be 2 (platform) or 4 (robot)"; break;
     case C4G_ERR_CELL_OVERLONG: text = "cell: line longer than the splitter limit"; break;
     default: break;
     }

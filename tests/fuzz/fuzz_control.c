@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer target: arbitrary bytes drive a sequence of controller packets, PC requests,
-   user limits and caller-filled replies through c4g_engine_step / c4g_engine_finish.
+   user limits and caller-filled replies through c4g_engine_step / c4g_safety_filter.
    Invariants (abort on violation): every finished reply encodes (no NaN, no unknown mode);
    each axis carries its echo or a safety / freezing mode (500, 505, 508), never a mode of
    the PC's; INFPAR bytes are 0 or EXIT_FROM_OPEN; currents in modes 1/2 stay within the
@@ -168,7 +168,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         }
         c4g_pc_packet_t req = tx; /* what the caller asked, before the filter */
-        st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
+        st = c4g_safety_filter(&ctl, &rx, &tx, &rep);
         check(st == C4G_OK || st == (c4g_status_t)C4G_ERR_MISSING_DATA ||
               st == C4G_ERR_NONFINITE || st == (c4g_status_t)C4G_ERR_MODE_RESTORED);
         {

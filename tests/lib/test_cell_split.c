@@ -112,13 +112,13 @@ static void test_misuse(void **state)
     c4g_cell_split_event_t ev;
     const char *line;
     size_t len;
-    assert_int_equal(c4g_cell_split_init(NULL, buf, 8), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_init(&sp, NULL, 8), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_init(&sp, buf, 3), C4G_ERR_CELL_ARG);
+    assert_int_equal(c4g_cell_split_init(NULL, buf, 8), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_init(&sp, NULL, 8), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_init(&sp, buf, 3), C4G_ERR_ARG);
     assert_int_equal(c4g_cell_split_init(&sp, buf, 4), C4G_OK);
-    assert_int_equal(c4g_cell_split_push(NULL, "a", 1, &used), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_push(&sp, NULL, 1, &used), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_push(&sp, "a", 1, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_push(NULL, "a", 1, &used), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_push(&sp, NULL, 1, &used), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_push(&sp, "a", 1, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_cell_split_push(&sp, NULL, 0, &used), C4G_OK);
     assert_int_equal(used, 0);
     /* a full buffer takes nothing more */
@@ -132,14 +132,14 @@ static void test_misuse(void **state)
     assert_memory_equal(line, "OK\r\n", 4);
     assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, &len), C4G_OK);
     assert_int_equal(ev, C4G_CELL_SPLIT_NONE);
-    assert_int_equal(c4g_cell_split_next(NULL, &ev, &line, &len), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, NULL, &line, &len), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, NULL, &len), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, NULL), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_next(NULL, &ev, &line, &len), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, NULL, &line, &len), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, NULL, &len), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_next(&sp, &ev, &line, NULL), C4G_ERR_NULL);
     c4g_cell_splitter_t zero;
     memset(&zero, 0, sizeof zero);
-    assert_int_equal(c4g_cell_split_push(&zero, "a", 1, &used), C4G_ERR_CELL_NULL);
-    assert_int_equal(c4g_cell_split_next(&zero, &ev, &line, &len), C4G_ERR_CELL_NULL);
+    assert_int_equal(c4g_cell_split_push(&zero, "a", 1, &used), C4G_ERR_NULL);
+    assert_int_equal(c4g_cell_split_next(&zero, &ev, &line, &len), C4G_ERR_NULL);
 }
 
 /* The splitter feeding the decoder: a realistic server loop. */

@@ -62,7 +62,7 @@ static int tick(c4g_engine_t *ctl, const c4g_ctrl_packet_t *rx, uint64_t t, c4g_
 {
     assert_int_equal(c4g_engine_step(ctl, rx, t, tx, rep), C4G_OK);
     fill(rx, tx);
-    return c4g_engine_finish(ctl, rx, tx, rep);
+    return c4g_safety_filter(ctl, rx, tx, rep);
 }
 
 static void encodes(const c4g_pc_packet_t *tx)
@@ -138,13 +138,13 @@ static void test_step_finish_args(void **state)
     assert_int_equal(c4g_engine_step(NULL, &rx, 0, &tx, &rep), C4G_ERR_NULL);
     assert_int_equal(c4g_engine_step(&ctl, NULL, 0, &tx, &rep), C4G_ERR_NULL);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, NULL, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_engine_finish(NULL, &rx, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_engine_finish(&ctl, NULL, &tx, &rep), C4G_ERR_NULL);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, NULL, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_safety_filter(NULL, &rx, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_safety_filter(&ctl, NULL, &tx, &rep), C4G_ERR_NULL);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, NULL, &rep), C4G_ERR_NULL);
     /* finish without step */
     memset(&tx, 0, sizeof tx);
     tx.n_axes = 6;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     rx.n_axes = 5;
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_ERR_PACKET);
     mk_rx(&rx, 100, 6, 0, 5);
@@ -157,13 +157,13 @@ static void test_step_finish_args(void **state)
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, NULL), C4G_OK);
     /* finish with another packet than the stepped one */
     rx.num = 101;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     rx.num = 100;
     tx.n_axes = 5;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     tx.n_axes = 6;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, NULL), C4G_OK);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, NULL), C4G_ERR_STATE); /* once */
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, NULL), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, NULL), C4G_ERR_STATE); /* once */
 }
 
 static void test_neutral_and_copy_back(void **state)
@@ -186,7 +186,7 @@ static void test_neutral_and_copy_back(void **state)
         assert_int_equal(tx.ax[i].mode, 0);
         assert_true(tx.ax[i].target_pos == 0.0f);
     }
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(rep.n_filtered, 0);
     encodes(&tx);
     /* mode 10: the library copies D1..D5 back, whatever the caller wrote */
@@ -197,7 +197,7 @@ static void test_neutral_and_copy_back(void **state)
     assert_true(tx.ax[1].target_vel == 0.25f);
     tx.ax[1].target_pos = 99.0f;
     tx.ax[1].current_add = 99.0f;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_true(tx.ax[1].target_pos == rx.ax[1].target_pos);
     assert_true(tx.ax[1].target_vel == 0.25f);
     assert_true(tx.ax[1].measure == rx.ax[1].actual_pos);
@@ -242,7 +242,7 @@ static void test_required_fields(void **state)
             if (rows[r].fields & bit) {
                 *f = c4g_unset();
             }
-            st = c4g_engine_finish(&ctl, &rx, &tx, &rep);
+            st = c4g_safety_filter(&ctl, &rx, &tx, &rep);
             if (rows[r].fields & bit) {
                 assert_int_equal(st, C4G_ERR_MISSING_DATA);
                 assert_true(rep.axis_flags[2] & C4G_SF_MISSING);
@@ -276,7 +276,7 @@ static void test_nonfinite_holds(void **state)
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[0].ext[1] = 1.0f / 0.0f;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_true(tx.ax[0].ext[1] == 0.0f);
     assert_int_equal(tx.ax[0].mode, 505);
     encodes(&tx);
@@ -289,7 +289,7 @@ static void test_nonfinite_holds(void **state)
     fill(&rx, &tx);
     tx.ax[3].target_pos = 0.0f / 0.0f;
     tx.ax[4].target_pos = 4.9f;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_true(tx.ax[3].target_pos == 4.0f); /* last safe (held position) */
     assert_true(rep.axis_flags[3] & C4G_SF_NONFINITE);
     for (i = 0; i < 6; i++) {
@@ -303,14 +303,14 @@ static void test_nonfinite_holds(void **state)
     assert_int_equal(c4g_engine_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_false(c4g_is_unset(tx.ax[0].target_pos));
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     /* drives off: latch cleared, back to echo */
     mk_rx(&rx, 4, 6, 0, 0);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 3, &tx, &rep), C4G_OK);
     assert_true(rep.events & C4G_CEV_LATCH_CLEARED);
     assert_int_equal(tx.ax[0].mode, 0);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
 }
 
 static void test_mixed_arm(void **state)
@@ -352,20 +352,20 @@ static void test_mode_restored(void **state)
     mk_rx(&rx, 1, 6, 0, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     tx.ax[1].mode = C4G_MODE_4; /* not through the request API */
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
     assert_int_equal(tx.ax[1].mode, 0);
     assert_true(rep.axis_flags[1] & C4G_SF_MODE_RESTORED);
     /* a drive off asked between step and finish goes out at once */
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(c4g_engine_request_drive_off(&ctl, 0), C4G_OK);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
     /* caller may already write the overlay mode itself */
     mk_rx(&rx, 3, 6, 0, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 505);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
 }
 
 /* ----------------------------------------------------------------- requests */
@@ -401,7 +401,7 @@ static void test_request_mode_refused(void **state)
     mk_rx(&rx, 2, 6, 0, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 1, &tx, &rep), C4G_OK);
     assert_int_equal(tx.ax[0].mode, 0);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     /* PDL2 sets mode 4: the first packet carrying it needs the mode's data */
     mk_rx(&rx, 3, 6, 4, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 2, &tx, &rep), C4G_OK);
@@ -411,7 +411,7 @@ static void test_request_mode_refused(void **state)
         assert_true(c4g_is_unset(tx.ax[i].target_pos));
         assert_true(c4g_is_unset(tx.ax[i].target_vel));
     }
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MISSING_DATA);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_MISSING_DATA);
     assert_int_equal(tx.ax[0].mode, 505); /* never a mode without its data */
 }
 
@@ -756,14 +756,14 @@ static void test_more_paths(void **state)
     assert_true(tx.ax[0].target_pos == 2.5f);
     /* finish with a packet of another size than the context's */
     rx.n_axes = 5;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_STATE);
     /* a mode the C4G does not have (1xx): nothing required, nothing sent, 505 */
     assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 2, 6, C4G_MODE_101, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     assert_false(c4g_is_unset(tx.ax[0].measure));
     fill(&rx, &tx);
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_OK);
     assert_true(tx.ax[0].measure == 0.0f);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_true(rep.axis_flags[0] & C4G_SF_NO_RULE);
@@ -773,7 +773,7 @@ static void test_more_paths(void **state)
     fill(&rx, &tx);
     tx.ax[1].ext[0] = 1.0f / 0.0f;
     tx.ax[2].ext[0] = 1.0f / 0.0f;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     /* exit asked again while leaving through the stand-by: accepted, nothing new */
     assert_int_equal(c4g_engine_init(&ctl, &in, NULL), C4G_OK);
     mk_rx(&rx, 4, 6, 1, 5);
@@ -797,7 +797,7 @@ static void test_more_paths(void **state)
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     fill(&rx, &tx);
     tx.ax[2].vel_add = 0.0f / 0.0f;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_NONFINITE);
     assert_int_equal(tx.ax[0].mode, 505);
     assert_int_equal(tx.ax[6].mode, 4);
     /* a mode written by the caller on an arm with a joint check: restored, reported */
@@ -806,7 +806,7 @@ static void test_more_paths(void **state)
     mk_rx(&rx, 8, 8, 0, 5);
     assert_int_equal(c4g_engine_step(&ctl, &rx, 0, &tx, &rep), C4G_OK);
     tx.ax[1].mode = C4G_MODE_4;
-    assert_int_equal(c4g_engine_finish(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
+    assert_int_equal(c4g_safety_filter(&ctl, &rx, &tx, &rep), C4G_ERR_MODE_RESTORED);
     assert_int_equal(tx.ax[1].mode, 0);
     assert_true(rep.axis_flags[1] & C4G_SF_MODE_RESTORED);
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Property test, mode by mode: random PC requests go through the safety filter
- * (c4g_engine_step / c4g_engine_finish) and then through c4g-sim's model of what the controller
+ * (c4g_engine_step / c4g_safety_filter) and then through c4g-sim's model of what the controller
  * does with the fields (c4gsim_ref_step, the code c4g-sim runs). Whatever the PC asks, the
  * reference the controller integrates never leaves the stroke and never steps more than the
  * continuity limit; currents never exceed the limit and a mode-9 delta only ever shrinks.
@@ -127,7 +127,7 @@ static int run_mode(int32_t mode, uint64_t seed)
             fill_request(&rng, m, &rx.ax[i], &tx.ax[i]);
         }
         asked = tx;
-        (void)c4g_engine_finish(&w.ctl, &rx, &tx, &rep);
+        (void)c4g_safety_filter(&w.ctl, &rx, &tx, &rep);
         for (i = 0; i < N_AX; i++) {
             if (tx.ax[i].mode == C4G_MODE_DRIVE_OFF || tx.ax[i].mode == C4G_MODE_FOLLOW_ERROR) {
                 stopped = 1; /* the controller takes the drives off: nothing moves any more */

@@ -129,7 +129,7 @@ static void test_reply_is_filtered(void **state)
     assert_int_equal(pc.ax[0].mode, C4G_MODE_DRIVE_OFF); /* and the arm stopped */
 }
 
-/* No engine for a packet (its init refused by the control layer): the fallback holds the
+/* No engine for a packet (its init refused by the engine): the fallback holds the
  * reference the controller reports (never 0) and stops the arm the PC moves. */
 static void test_neutral_without_engine(void **state)
 {
@@ -393,7 +393,7 @@ static void test_queries(void **state)
     assert_int_equal(c4g_loop_limits(&f.lp, 1U, &got), C4G_OK);
     assert_true(got.motor_min == -2.0f);
     assert_true(got.motor_max == 3.0f);
-    assert_true(got.follow_error == f.lp.engine.ctl_fe[1]);
+    assert_true(got.follow_error == f.lp.engine.ctrl_fe[1]);
     assert_int_equal(c4g_loop_limits(&f.lp, 6U, &got), C4G_ERR_ARG);
     assert_int_equal(c4g_loop_limits(NULL, 0U, &got), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_limits(&f.lp, 0U, NULL), C4G_ERR_NULL);

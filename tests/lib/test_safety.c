@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* PC-side safety (14.17.2, 15.7): every pure check at and around its boundaries, then the
- * filter inside c4g_engine_finish mode by mode: following error -> 508, current saturation,
+ * filter inside c4g_safety_filter mode by mode: following error -> 508, current saturation,
  * delta current, continuity, stroke ends in motor turns and in joint units, user limits. */
 #include "test_helpers.h"
 #include <math.h>
@@ -166,7 +166,7 @@ static int f_tick(filt_t *f, int32_t mode, float d1, float d2, float d4, float d
         f->tx.ax[i].vel_add = (i == 0) ? d4 : 0.0f;
         f->tx.ax[i].current_add = (i == 0) ? d5 : 0.0f;
     }
-    st = c4g_engine_finish(&f->ctl, &f->rx, &f->tx, &f->rep);
+    st = c4g_safety_filter(&f->ctl, &f->rx, &f->tx, &f->rep);
     for (i = 0; i < 6; i++) { /* the controller applies an absolute reply of its mode */
         if (abs_mode && f->tx.ax[i].mode == mode) f->ref[i] = f->tx.ax[i].target_pos;
     }
@@ -202,7 +202,7 @@ static void test_filter_following_error(void **state)
             assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
             memset(f.tx.ax, 0, sizeof f.tx.ax);
             { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = rows[r].mode; }
-            assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
             assert_int_equal(f.tx.ax[0].mode, rows[r].mode);
             f.num++;
             mk_rx(&f.rx, f.num, rows[r].mode);
@@ -210,7 +210,7 @@ static void test_filter_following_error(void **state)
             assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
             memset(f.tx.ax, 0, sizeof f.tx.ax);
             { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = rows[r].mode; }
-            assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+            assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         }
         assert_int_equal(f.tx.ax[0].mode, C4G_MODE_FOLLOW_ERROR);  /* offending axis only */
         assert_int_equal(f.tx.ax[1].mode, rows[r].mode);
@@ -225,7 +225,7 @@ static void test_filter_following_error(void **state)
         mk_rx(&f.rx, f.num, 0);
         f.rx.ax[0].actual_pos = -100.0f;
         assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[0].mode, 0);
     }
     {   /* axis 6 has FollowError 0: no threshold unless the user sets one */
@@ -238,7 +238,7 @@ static void test_filter_following_error(void **state)
         assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 2);
         memset(&l, 0, sizeof l);
         l.follow_error = 1.0f;
@@ -250,7 +250,7 @@ static void test_filter_following_error(void **state)
         assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 508);
         /* the 508 stays until the drives are off */
         f.num++;
@@ -260,7 +260,7 @@ static void test_filter_following_error(void **state)
         assert_int_equal(f.tx.ax[4].mode, 2);
         memset(f.tx.ax, 0, sizeof f.tx.ax);
         { uint32_t i; for (i = 0; i < 6; i++) f.tx.ax[i].mode = 2; }
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         assert_int_equal(f.tx.ax[5].mode, 508);
         f.num++;
         mk_rx(&f.rx, f.num, 0);
@@ -430,7 +430,7 @@ static void test_filter_stroke(void **state)
         assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = 0.0f;
         f.tx.ax[0].target_pos = 3.4e38f;
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_ERR_NONFINITE);
         assert_int_equal(f.tx.ax[0].mode, 505);
     }
 }
@@ -454,7 +454,7 @@ static int j_tick(filt_t *f, const int32_t modes[6], const double at[6], const d
             f->tx.ax[i].target_vel = 0.0f;
         }
     }
-    return c4g_engine_finish(&f->ctl, &f->rx, &f->tx, &f->rep);
+    return c4g_safety_filter(&f->ctl, &f->rx, &f->tx, &f->rep);
 }
 
 static void test_filter_joint_stroke(void **state)
@@ -492,7 +492,7 @@ static void test_filter_joint_stroke(void **state)
     assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
     for (i = 0; i < 6; i++) f.tx.ax[i].target_pos = f.tx.ax[i].target_vel = 0.0f;
     f.tx.ax[4].target_pos = -100.0f;
-    assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+    assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
     assert_int_equal(f.tx.ax[4].mode, 508); /* its following error wins over the stop */
     /* integrating modes towards the lower end (7 adds D1, 5 integrates D2, 8 integrates
      * D4): the addition shrinks to a third, on every axis that moved */
@@ -520,7 +520,7 @@ static void test_filter_joint_stroke(void **state)
                 g.tx.ax[i].target_pos = g.tx.ax[i].target_vel = g.tx.ax[i].vel_add = 0.0f;
                 *fld = (float)(m1[i] - m0[i]);
             }
-            assert_int_equal(c4g_engine_finish(&g.ctl, &g.rx, &g.tx, &g.rep), C4G_OK);
+            assert_int_equal(c4g_safety_filter(&g.ctl, &g.rx, &g.tx, &g.rep), C4G_OK);
             assert_true(g.rep.axis_flags[4] & C4G_SF_STROKE_JOINT);
             for (i = 0; i < 6; i++) {
                 const float v = (imodes[mi] == 7) ? g.tx.ax[i].target_pos
@@ -715,7 +715,7 @@ static void test_mode_without_rules(void **state)
             f.tx.ax[i].measure = 7.0f;
             f.tx.ax[i].vel_add = 2.0f;
         }
-        assert_int_equal(c4g_engine_finish(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
+        assert_int_equal(c4g_safety_filter(&f.ctl, &f.rx, &f.tx, &f.rep), C4G_OK);
         for (i = 0; i < 6; i++) {
             assert_true(f.tx.ax[i].current_add == 0.0f);
             assert_true(f.tx.ax[i].target_pos == 0.0f);

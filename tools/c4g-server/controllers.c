@@ -297,7 +297,7 @@ int ctlr_step(ctlr_axis_t *X, const ctlr_in_t *in, int32_t pm, const c4g_ctrl_ax
     case C4G_MODE_2:
     case C4G_MODE_2_STANDBY:
         /* SMP+ trajectory, PC loops: current from the PD on the SMP+ target. PDL2 ends
-         * mode 2 by setting 12 (the control layer refuses a PC exit from mode 2). */
+         * mode 2 by setting 12 (the engine refuses a PC exit from mode 2). */
         o->vel_add = 0.0f;
         o->current_add = (float)ctlr_pd(X, in, (double)r->target_pos, (double)r->target_vel,
                                         r, t);

@@ -80,7 +80,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
         /* the loop keeps only the count: ask the engine again for the reason */
         static c4g_engine_t scratch;
         const c4g_status_t st = c4g_engine_init(&scratch, &S->loop.session.init, &S->loop.engine_cfg);
-        srv_log(S, t_ns, "control layer refused the init packet: %s", c4g_strerror(st));
+        srv_log(S, t_ns, "engine refused the init packet: %s", c4g_strerror(st));
         return;
     }
     for (i = 0U; i < m->n_axes; i++) {
@@ -226,7 +226,7 @@ static void request_exits(srv_t *S, const uint32_t arm_open[C4G_ARMS],
     }
 }
 
-/* Test hooks: requests through the control layer, like a user program would. */
+/* Test hooks: requests through the engine, like a user program would. */
 static void test_hooks(srv_t *S, uint64_t t_ns)
 {
     const c4g_axis_map_t *m = &S->loop.session.map;
@@ -323,7 +323,7 @@ void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns)
     const c4g_pc_packet_t *tx = &S->loop.tx;
     uint32_t i, a;
     if (S->loop.finish_status != C4G_OK) {
-        srv_log(S, t_ns, "control layer: %s", c4g_strerror(S->loop.finish_status));
+        srv_log(S, t_ns, "engine: %s", c4g_strerror(S->loop.finish_status));
     }
     for (a = 0U; a < C4G_ARMS; a++) {
         if (c4g_arm_byte(tx->infpar, a) == C4G_EXIT_FROM_OPEN) {

@@ -178,7 +178,7 @@ static int parse_value(const char *s, c4g_cell_unit_t unit, int32_t *out, const 
                        char *err, size_t cap)
 {
     c4g_status_t st = c4g_cell_from_text(s, strlen(s), unit, out);
-    if (st == C4G_ERR_CELL_RANGE) {
+    if (st == C4G_ERR_RANGE) {
         return errf(err, cap, "%s=%s is out of range (%s)", what, s,
                     unit == C4G_CELL_UNIT_MM ? "+-999.999 mm"
                     : unit == C4G_CELL_UNIT_RAD ? "+-99.9999 rad" : "+-99999");

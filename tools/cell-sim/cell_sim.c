@@ -246,7 +246,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
     c->lines++;
     if (st != C4G_OK) {
         int32_t code = (st == C4G_ERR_CELL_HEAD) ? C4G_CELL_E_UNKNOWN_CMD
-                       : (st == C4G_ERR_CELL_RANGE) ? C4G_CELL_E_RANGE
+                       : (st == C4G_ERR_RANGE) ? C4G_CELL_E_RANGE
                                                     : C4G_CELL_E_MALFORMED;
         if (client_log_ok(c)) {
             printable(line, len, pr, sizeof pr);
