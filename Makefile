@@ -314,8 +314,25 @@ nodiscard: | $(DEPS_STAMP)
 static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
 
 # ---- end-to-end tests (real processes, loopback) and doc examples
-e2e: all
+# ---- e2e begin: the harness (tests/e2e, pytest) and its C helpers
+# Every tests/e2e/helpers/*.c is built against the static library into $(BUILD)/e2e; a
+# helper that also takes a tool's own sources or a library names them in E2E_EXTRA_<name>.
+E2E_HELPER_SRCS := $(sort $(wildcard tests/e2e/helpers/*.c))
+E2E_HELPERS := $(E2E_HELPER_SRCS:tests/e2e/helpers/%.c=$(BUILD)/e2e/%)
+E2E_HELPER_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra \
+  -Werror -Iinclude -Itools/common -Itools/c4g-replay
+E2E_EXTRA_cap_payloads := tools/c4g-replay/capture.c -lpcap
+E2E_EXTRA_forge_capture := tools/common/c4g_pcap.c tools/common/c4g_fixtures.c -lpcap
+E2E_EXTRA_ctrl_stub := tools/common/c4g_fixtures.c
+.PHONY: e2e-helpers
+e2e-helpers: $(E2E_HELPERS)
+$(BUILD)/e2e/%: tests/e2e/helpers/%.c $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(filter %.c,$(E2E_EXTRA_$*)) $(STATIC) \
+	  $(filter -l%,$(E2E_EXTRA_$*)) -lm
+e2e: all e2e-helpers
 	@sh scripts/run-e2e.sh $(BUILD)
+# ---- e2e end
 
 # ---- c4g-ident's accuracy against c4g-sim's axis model, in-process (tests/ident)
 IDENT_ACC := $(BUILD)/tests/ident-accuracy
