@@ -1,0 +1,171 @@
+# SPDX-License-Identifier: MIT
+"""c4g-server against a controller (c4g-sim, or the test stub tests/e2e/helpers/ctrl_stub.c),
+for test_server_*.py. Each run's files are in the test's tmp_path under the run's name:
+NAME.json (the server's summary), NAME.log (its stdout and stderr), NAME.sim.json, ...
+Import the fixture with `from srvlib import srv`."""
+import json
+import re
+import signal
+
+import pytest
+
+from e2elib import first, kv, wait_until
+
+# The number of consecutive missing replies after which c4g-sim gives up (the real
+# controller: 10). The server is an ordinary process that a busy host can stop for 100 ms
+# (50 periods): unless a test is about the 10-in-a-row rule, such a stall is counted.
+SIM_PATIENT = ["--max-miss", "500"]
+
+
+class Checks:
+    """Named checks of one case: each prints ok/FAIL with its figures, and done() fails the
+    test listing every failed one, so that one run shows all that is wrong."""
+
+    def __init__(self):
+        self.failed = []
+        self.n = 0
+
+    def ok(self, what, cond, detail=""):
+        self.n += 1
+        print("  %s %s%s" % ("ok  " if cond else "FAIL", what, "" if cond else ": " + str(detail)))
+        if not cond:
+            self.failed.append("%s: %s" % (what, detail))
+        return bool(cond)
+
+    def eq(self, what, got, want):
+        return self.ok(what, got == want, "got %r, want %r" % (got, want))
+
+    def ge(self, what, got, want):
+        return self.ok(what, got is not None and got >= want, "got %r, want >= %r" % (got, want))
+
+    def le(self, what, got, want):
+        return self.ok(what, got is not None and got <= want, "got %r, want <= %r" % (got, want))
+
+    def near(self, what, got, want, tol):
+        return self.ok(what, got is not None and abs(got - want) <= tol,
+                       "got %r, want %r +/- %r" % (got, want, tol))
+
+    def has(self, what, text, pattern):
+        """pattern, a regular expression as grep takes it, somewhere in text"""
+        return self.ok(what, re.search(pattern, text, re.M) is not None,
+                       "%r not in ...%r" % (pattern, text[-800:]))
+
+    def done(self):
+        print("%d/%d checks passed" % (self.n - len(self.failed), self.n))
+        assert not self.failed, "%d of %d checks failed:\n  " % (len(self.failed), self.n) + \
+            "\n  ".join(self.failed)
+
+
+class Run:
+    """What one run left: the server's exit code, JSON and log; the controller's exit code
+    and JSON (c4g-sim) or key=value report (stub)."""
+
+    def __init__(self, name):
+        self.name = name
+        self.src = None
+        self.json = {}
+        self.log = ""
+        self.simrc = None
+        self.sim = {}
+        self.sim_err = ""
+        self.stub = {}
+
+    def jv(self, key):
+        return first(self.json, key)
+
+    def sv(self, key):
+        return first(self.sim, key)
+
+    def pos(self, n):
+        """robot position of OPEN axis n (1-based) from c4g-sim's summary"""
+        return self.sim["robot"][n - 1]["pos"]
+
+    def sim_late(self):
+        """replies c4g-sim counted missing, stale or unjudged (the host held a side up)"""
+        r = self.sim.get("replies", {})
+        return r.get("missing", 0) + r.get("stale", 0) + r.get("unjudged", 0)
+
+
+class Srv:
+    def __init__(self, procs, bins, ports, tmp):
+        self.procs, self.bins, self.ports, self.tmp = procs, bins, ports, tmp
+        self.last = None
+
+    def path(self, name):
+        return self.tmp / name
+
+    def start_server(self, name, port, *args):
+        """A background server whose summary goes to NAME.json; returns once it printed
+        "listening on" (its socket is bound), so the controller's first packet never races
+        its start-up. The loss timeout is 2 s unless a test sets its own: the controllers
+        here are ordinary processes that a busy host can stop for longer than 10 periods."""
+        h = self.procs.start([self.bins.server, "-p", port, "-c", "127.0.0.1", "--idle-timeout", 15,
+                              "--max-seconds", 45, "--json", self.path(name + ".json"),
+                              "--lost-timeout-ms", 2000] + list(args), name=name)
+        wait_until(lambda: "listening on" in h.out() or not h.running(), 30, "server %s listening" % name)
+        assert "listening on" in h.out(), "server %s did not start: %s" % (name, h.out())
+        self.last = h
+        return h
+
+    def wait_server(self, h, run):
+        """The server ends by itself (504, idle or --max-seconds); its exit code, JSON and
+        log go to run."""
+        try:
+            wait_until(lambda: not h.running(), 60, "server %s to end" % run.name)
+        except AssertionError:
+            h.signal(signal.SIGTERM)
+        run.src = h.wait(30)
+        run.log = h.out()
+        p = self.path(run.name + ".json")
+        run.json = json.loads(p.read_text()) if p.exists() and p.stat().st_size else {}
+        return run
+
+    def sim(self, port, *args, timeout=50):
+        return self.procs.run([self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
+
+    def run_sim(self, name, port, scn, server_args=(), sim_args=SIM_PATIENT):
+        """server + c4g-sim running scenario scn in the foreground"""
+        run = Run(name)
+        h = self.start_server(name, port, *server_args)
+        r = self.sim(port, "-S", scn, "--json", *sim_args)
+        read_sim(run, r)
+        return self.wait_server(h, run)
+
+    def run_stub(self, name, port, stub_args=(), server_args=()):
+        """server + the controller stub (its replies are checked byte by byte)"""
+        run = Run(name)
+        h = self.start_server(name, port, *server_args)
+        r = self.procs.run([self.bins.helper("ctrl_stub"), "--port", port, "--reply-us", 50000]
+                           + [str(a) for a in stub_args], timeout=50)
+        run.stub = dict(kv_text(r.stdout))
+        run.stub_err = r.stderr
+        return self.wait_server(h, run)
+
+
+def read_sim(run, r):
+    run.simrc = r.returncode
+    run.sim_err = r.stderr
+    try:
+        run.sim = json.loads(r.stdout)
+    except ValueError:
+        run.sim = {}
+
+
+def kv_text(text):
+    for line in text.splitlines():
+        k, sep, v = line.partition("=")
+        if sep:
+            yield k, v
+
+
+def num(v):
+    """a key=value figure as a number (None when absent)"""
+    try:
+        return float(v) if "." in v or "e" in v else int(v)
+    except (TypeError, ValueError):
+        return None
+
+
+@pytest.fixture
+def srv(procs, bins, ports, tmp_path):
+    return Srv(procs, bins, ports, tmp_path)
