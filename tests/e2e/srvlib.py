@@ -6,10 +6,11 @@ Import the fixture with `from srvlib import srv`."""
 import json
 import re
 import signal
+import sys
 
 import pytest
 
-from e2elib import first, kv, wait_until
+from e2elib import ROOT, first, kv, wait_until
 
 # The number of consecutive missing replies after which c4g-sim gives up (the real
 # controller: 10). The server is an ordinary process that a busy host can stop for 100 ms
@@ -140,6 +141,14 @@ class Srv:
         run.stub = dict(kv_text(r.stdout))
         run.stub_err = r.stderr
         return self.wait_server(h, run)
+
+
+ATTACKER = ROOT / "tests" / "e2e" / "helpers" / "attacker.py"
+
+
+def attacker(procs, name, port, kind, *opts):
+    """tests/e2e/helpers/attacker.py in the background (its key=value report: the log)"""
+    return procs.start([sys.executable, "-u", ATTACKER, port, kind] + [str(o) for o in opts], name=name)
 
 
 def read_sim(run, r):
