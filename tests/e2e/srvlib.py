@@ -3,9 +3,12 @@
 for test_server_*.py. Each run's files are in the test's tmp_path under the run's name:
 NAME.json (the server's summary), NAME.log (its stdout and stderr), NAME.sim.json, ...
 Import the fixture with `from srvlib import srv`."""
+import csv
 import json
+import pathlib
 import re
 import signal
+import struct
 import sys
 
 import pytest
@@ -91,6 +94,8 @@ class Srv:
     def __init__(self, procs, bins, ports, tmp):
         self.procs, self.bins, self.ports, self.tmp = procs, bins, ports, tmp
         self.last = None
+        # a command prefix for every process of the run (nsenter into a network namespace)
+        self.wrap = []
 
     def path(self, name):
         return self.tmp / name
@@ -100,7 +105,7 @@ class Srv:
         "listening on" (its socket is bound), so the controller's first packet never races
         its start-up. The loss timeout is 2 s unless a test sets its own: the controllers
         here are ordinary processes that a busy host can stop for longer than 10 periods."""
-        h = self.procs.start([self.bins.server, "-p", port, "-c", "127.0.0.1", "--idle-timeout", 15,
+        h = self.procs.start(self.wrap + [self.bins.server, "-p", port, "-c", "127.0.0.1", "--idle-timeout", 15,
                               "--max-seconds", 45, "--json", self.path(name + ".json"),
                               "--lost-timeout-ms", 2000] + list(args), name=name)
         wait_until(lambda: "listening on" in h.out() or not h.running(), 30, "server %s listening" % name)
@@ -122,7 +127,7 @@ class Srv:
         return run
 
     def sim(self, port, *args, timeout=50):
-        return self.procs.run([self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
+        return self.procs.run(self.wrap + [self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
 
     def run_sim(self, name, port, scn, server_args=(), sim_args=SIM_PATIENT):
         """server + c4g-sim running scenario scn in the foreground"""
@@ -149,6 +154,64 @@ ATTACKER = ROOT / "tests" / "e2e" / "helpers" / "attacker.py"
 def attacker(procs, name, port, kind, *opts):
     """tests/e2e/helpers/attacker.py in the background (its key=value report: the log)"""
     return procs.start([sys.executable, "-u", ATTACKER, port, kind] + [str(o) for o in opts], name=name)
+
+
+def currents(moni, init_bin):
+    """Every row of a c4g-server --moni CSV (type 0) where the server sent a current
+    (tx_d5 != 0): the total SMP+ current + delta (mode 9) must stay within +/-AzLim of the
+    controller's real initialization packet (AzLim at byte 548, [arm][10 axes] little-endian
+    floats), or the delta must point back towards 0 (the clamp only shrinks). Returns rows,
+    current_rows, over (violations, the first 5 in over_rows), max_tx_d5, max_total_ratio."""
+    az = struct.unpack_from("<40f", pathlib.Path(init_bin).read_bytes(), 548)
+    out = {"rows": 0, "current_rows": 0, "over": 0, "max_tx_d5": 0.0, "max_total_ratio": 0.0, "over_rows": []}
+    if not pathlib.Path(moni).exists():
+        return out
+    with open(moni, newline="") as f:
+        rd = csv.reader(f)
+        head = next(rd, [])
+        ix = {name: k for k, name in enumerate(head)}
+        for row in rd:
+            if len(row) < len(head):
+                continue
+            out["rows"] += 1
+            tx = float(row[ix["tx_d5"]])
+            if tx == 0.0:
+                continue
+            out["current_rows"] += 1
+            smp = float(row[ix["rx_d5"]])
+            lim = az[(int(row[ix["arm"]]) - 1) * 10 + int(row[ix["logical"]]) - 1]
+            total = smp + tx
+            out["max_tx_d5"] = max(out["max_tx_d5"], abs(tx))
+            if lim > 0:
+                out["max_total_ratio"] = max(out["max_total_ratio"], abs(total) / lim)
+            inside = abs(total) <= lim * (1 + 1e-5)
+            shrinks = (tx > 0 and total <= smp) or (tx < 0 and total >= smp)
+            if not inside and not shrinks:
+                out["over"] += 1
+                if out["over"] <= 5:
+                    out["over_rows"].append("AzLim %.3f: %s" % (lim, ",".join(row)))
+    return out
+
+
+def pcap_port_counts(path, port):
+    """Datagrams of a c4g-server --pcap capture to and from UDP port `port`."""
+    data = pathlib.Path(path).read_bytes()
+    magic = struct.unpack_from("<I", data, 0)[0]
+    end = "<" if magic in (0xA1B2C3D4, 0xA1B23C4D) else ">"
+    off = 24
+    out = {"frames": 0, "to_port": 0, "from_port": 0}
+    while off + 16 <= len(data):
+        incl = struct.unpack_from(end + "I", data, off + 8)[0]
+        frame = data[off + 16:off + 16 + incl]
+        off += 16 + incl
+        out["frames"] += 1
+        if len(frame) < 14 + 20 + 8:
+            continue
+        ihl = (frame[14] & 0x0F) * 4
+        sport, dport = struct.unpack_from(">HH", frame, 14 + ihl)
+        out["to_port"] += dport == port
+        out["from_port"] += sport == port
+    return out
 
 
 def read_sim(run, r):
