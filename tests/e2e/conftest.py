@@ -15,6 +15,8 @@ import pytest
 import e2elib
 
 ROOT = e2elib.ROOT
+# the fixture srv (c4g-server against a controller) of the test_server_* modules
+pytest_plugins = ["srvlib"]
 
 
 def pytest_addoption(parser):

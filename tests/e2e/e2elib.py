@@ -5,6 +5,7 @@ import csv
 import json
 import os
 import pathlib
+import re
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -110,3 +111,47 @@ def kv(path):
         if sep and k not in out:
             out[k] = v
     return out
+
+
+class Checks:
+    """Named checks of one case: each prints ok/FAIL with its figures, and done() fails the
+    test listing every failed one, so that one run shows all that is wrong."""
+
+    def __init__(self):
+        self.failed = []
+        self.n = 0
+
+    def ok(self, what, cond, detail=""):
+        self.n += 1
+        print("  %s %s%s" % ("ok  " if cond else "FAIL", what, "" if cond else ": " + str(detail)))
+        if not cond:
+            self.failed.append("%s: %s" % (what, detail))
+        return bool(cond)
+
+    def eq(self, what, got, want):
+        return self.ok(what, got == want, "got %r, want %r" % (got, want))
+
+    def ge(self, what, got, want):
+        return self.ok(what, got is not None and got >= want, "got %r, want >= %r" % (got, want))
+
+    def le(self, what, got, want):
+        return self.ok(what, got is not None and got <= want, "got %r, want <= %r" % (got, want))
+
+    def near(self, what, got, want, tol):
+        return self.ok(what, got is not None and abs(got - want) <= tol,
+                       "got %r, want %r +/- %r" % (got, want, tol))
+
+    def has(self, what, text, pattern):
+        """pattern, a regular expression as grep takes it, somewhere in text"""
+        return self.ok(what, re.search(pattern, text, re.M) is not None,
+                       "%r not in ...%r" % (pattern, text[-800:]))
+
+    def done(self, disturbed=(False, "")):
+        """Fails the test when a check failed; disturbed = (cond, evidence): when a check
+        failed and cond holds (the run's own figures show the host held it up), the test is
+        rerun once instead (host_disturbed). A run that passed is never made again."""
+        print("%d/%d checks passed" % (self.n - len(self.failed), self.n))
+        if self.failed:
+            host_disturbed(disturbed[0], "%s (failed: %s)" % (disturbed[1], "; ".join(self.failed)[:300]))
+        assert not self.failed, "%d of %d checks failed:\n  " % (len(self.failed), self.n) + \
+            "\n  ".join(self.failed)

@@ -2,62 +2,22 @@
 """c4g-server against a controller (c4g-sim, or the test stub tests/e2e/helpers/ctrl_stub.c),
 for test_server_*.py. Each run's files are in the test's tmp_path under the run's name:
 NAME.json (the server's summary), NAME.log (its stdout and stderr), NAME.sim.json, ...
-Import the fixture with `from srvlib import srv`."""
+The fixture srv is registered by conftest.py."""
 import csv
 import json
 import pathlib
-import re
 import signal
 import struct
 import sys
 
 import pytest
 
-from e2elib import ROOT, first, kv, wait_until
+from e2elib import ROOT, first, wait_until
 
 # The number of consecutive missing replies after which c4g-sim gives up (the real
 # controller: 10). The server is an ordinary process that a busy host can stop for 100 ms
 # (50 periods): unless a test is about the 10-in-a-row rule, such a stall is counted.
 SIM_PATIENT = ["--max-miss", "500"]
-
-
-class Checks:
-    """Named checks of one case: each prints ok/FAIL with its figures, and done() fails the
-    test listing every failed one, so that one run shows all that is wrong."""
-
-    def __init__(self):
-        self.failed = []
-        self.n = 0
-
-    def ok(self, what, cond, detail=""):
-        self.n += 1
-        print("  %s %s%s" % ("ok  " if cond else "FAIL", what, "" if cond else ": " + str(detail)))
-        if not cond:
-            self.failed.append("%s: %s" % (what, detail))
-        return bool(cond)
-
-    def eq(self, what, got, want):
-        return self.ok(what, got == want, "got %r, want %r" % (got, want))
-
-    def ge(self, what, got, want):
-        return self.ok(what, got is not None and got >= want, "got %r, want >= %r" % (got, want))
-
-    def le(self, what, got, want):
-        return self.ok(what, got is not None and got <= want, "got %r, want <= %r" % (got, want))
-
-    def near(self, what, got, want, tol):
-        return self.ok(what, got is not None and abs(got - want) <= tol,
-                       "got %r, want %r +/- %r" % (got, want, tol))
-
-    def has(self, what, text, pattern):
-        """pattern, a regular expression as grep takes it, somewhere in text"""
-        return self.ok(what, re.search(pattern, text, re.M) is not None,
-                       "%r not in ...%r" % (pattern, text[-800:]))
-
-    def done(self):
-        print("%d/%d checks passed" % (self.n - len(self.failed), self.n))
-        assert not self.failed, "%d of %d checks failed:\n  " % (len(self.failed), self.n) + \
-            "\n  ".join(self.failed)
 
 
 class Run:

@@ -31,8 +31,8 @@ replies once it has applied the reply that carried 500; under load that reply ca
 tick)."""
 import pytest
 
-from e2elib import kv
-from srvlib import Checks, Run, attacker, currents, num, pcap_port_counts, read_sim, srv  # noqa: F401
+from e2elib import Checks, kv
+from srvlib import Run, attacker, currents, num, pcap_port_counts, read_sim
 
 INIT = "fixtures/vectors/init-fig10-1.bin"   # the controller's real AzLim (c4g-sim: figure 10.1)
 FF = "fixtures/server/ff_saturating.txt"

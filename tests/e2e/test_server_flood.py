@@ -13,8 +13,8 @@ the host held up (c4g-sim overran its own period) is made again."""
 import json
 import signal
 
-from e2elib import host_disturbed, kv, wait_until
-from srvlib import Checks, Run, attacker, num, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, host_disturbed, kv, wait_until
+from srvlib import Run, attacker, num
 
 
 def test_amplification(srv):

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from e2elib import csv_rows
-from srvlib import Checks, num, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, csv_rows
+from srvlib import num
 
 
 def mode_run(srv, c, m, want, server_args, name=None):

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """c4g-server end to end: both NUM policies (field NUM + 1, manual echo) against a
 controller that enforces each, the start-up handshake byte by byte, and the NUM wrap."""
-from e2elib import host_disturbed
-from srvlib import SIM_PATIENT, Checks, num, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, host_disturbed
+from srvlib import SIM_PATIENT, num
 
 MODE0 = "fixtures/server/sim_mode0.scn"
 

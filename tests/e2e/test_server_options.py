@@ -7,8 +7,8 @@ import signal
 
 import pytest
 
-from e2elib import ROOT
-from srvlib import Checks, num, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, ROOT
+from srvlib import num
 
 
 def test_help_version_bad_options(srv, procs, bins):

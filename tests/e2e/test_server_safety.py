@@ -4,8 +4,8 @@ motion's anchor does not depend on the one packet that opens the mode. Real proc
 UDP on 127.0.0.1; c4g-sim is the controller and the truth about where the robot went."""
 import pytest
 
-from e2elib import csv_rows, host_disturbed
-from srvlib import SIM_PATIENT, Checks, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, csv_rows, host_disturbed
+from srvlib import SIM_PATIENT
 
 # Mode entry with the opening packet lost or cut: every mode ends where it ends without the
 # fault (the scenario's EXPECT POS lines), with no safety event and no controller error.

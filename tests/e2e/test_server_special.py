@@ -4,7 +4,8 @@ off, 504 ends both sides cleanly, 506 restarts with a new initialization packet,
 freezing survives a PC pause longer than 10 periods and passive freezing a controller
 silence longer than the loss timeout. Controller: c4g-sim (and the test stub for a following
 error the server detects itself)."""
-from srvlib import Checks, num, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks
+from srvlib import num
 
 IDLE = "fixtures/server/sim_idle.scn"
 

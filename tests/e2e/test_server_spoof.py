@@ -29,8 +29,8 @@ import sys
 
 import pytest
 
-from e2elib import ROOT, kv, wait_until
-from srvlib import Checks, Run, attacker, currents, num, read_sim, srv  # noqa: F401 (srv: fixture)
+from e2elib import Checks, ROOT, kv, wait_until
+from srvlib import Run, attacker, currents, num, read_sim
 
 SPOOF = ROOT / "tests" / "e2e" / "helpers" / "spoof.py"
 INIT = "fixtures/vectors/init-fig10-1.bin"

@@ -24,9 +24,8 @@ import time
 
 import pytest
 
-from e2elib import kv, wait_until
-from srvlib import Checks, Run, attacker, num, srv  # noqa: F401 (srv: fixture)
-
+from e2elib import Checks, kv, wait_until
+from srvlib import Run, attacker, num
 IDLE = "fixtures/server/sim_idle.scn"
 MISS = ["--max-miss", 100]
 

@@ -4,7 +4,6 @@ truncate, pause) is applied and counted; the PC side sees it; --seed makes runs 
 (identical per-tick CSV), a different seed changes the noise."""
 import re
 
-from e2elib import first
 from simlib import STALL_OK, run_sim, sim_json, start_pc, stop_pc
 
 

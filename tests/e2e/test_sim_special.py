@@ -5,7 +5,7 @@ freezing stops the packets; selector change forces mode 0."""
 import shutil
 
 from e2elib import csv_rows
-from simlib import STALL_OK, run_sim, sim_json, start_pc, stop_pc
+from simlib import STALL_OK, run_sim, sim_json, start_pc
 
 
 def has_error(j, name, message):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Test-only spoofer for tests/e2e/server_spoof.sh: sends a datagram whose source is the
+"""Test-only spoofer for tests/e2e/test_server_spoof.py: sends a datagram whose source is the
 controller's own address and port (what an attacker on the network can do; a second
 ordinary socket cannot), with a raw IPv4 socket. Needs CAP_NET_RAW: the test runs it inside
 a network namespace of its own (unshare -rn), where it has it.
