@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from e2elib import ROOT, first, wait_until
+from e2elib import ROOT, first, udp_rx_queue, wait_until
 
 # The number of consecutive missing replies after which c4g-sim gives up (the real
 # controller: 10). The server is an ordinary process that a busy host can stop for 100 ms
@@ -89,13 +89,24 @@ class Srv:
     def sim(self, port, *args, timeout=50):
         return self.procs.run(self.wrap + [self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
 
-    def run_sim(self, name, port, scn, server_args=(), sim_args=SIM_PATIENT):
-        """server + c4g-sim running scenario scn in the foreground"""
+    def run_sim(self, name, port, scn, server_args=(), sim_args=SIM_PATIENT, stop=False):
+        """server + c4g-sim running scenario scn in the foreground. stop: the controller
+        ends on an error (no 504), and the test does not judge how the server ends: it is
+        stopped (SIGTERM, its summary still written) once it has read every datagram,
+        instead of waiting for its loss timeout."""
         run = Run(name)
         h = self.start_server(name, port, *server_args)
         r = self.sim(port, "-S", scn, "--json", *sim_args)
         read_sim(run, r)
+        if stop:
+            self.stop_server(h, port)
         return self.wait_server(h, run)
+
+    def stop_server(self, h, port):
+        """SIGTERM once the server's socket holds no datagram (nothing left to count)"""
+        wait_until(lambda: not udp_rx_queue(port) or not h.running(), 10,
+                   "the server to read its socket")
+        h.signal(signal.SIGTERM)
 
     def run_stub(self, name, port, stub_args=(), server_args=()):
         """server + the controller stub (its replies are checked byte by byte)"""

@@ -31,7 +31,8 @@ def test_one_dropped_reply(srv):
 def test_ten_dropped_replies_sim(srv):
     # early (cyclic packet 20), so a host stall of the server before it cannot raise the
     # error first
-    r = srv.run_sim("drop10", srv.ports.udp(), IDLE, ["--skip-replies", "20,10"], ["--max-miss", 10])
+    r = srv.run_sim("drop10", srv.ports.udp(), IDLE, ["--skip-replies", "20,10"], ["--max-miss", 10],
+                    stop=True)
     c = Checks()
     c.ok("controller raised ERR_C4GOPEN_UDP", any(e.get("name") == "ERR_C4GOPEN_UDP" for e in r.sim["errors"]),
          r.sim.get("errors"))

@@ -29,7 +29,8 @@ def test_mismatch(srv):
     # controller enforces echo, server answers NUM + 1. A busy host that holds the server up
     # for 10 periods at the start ends the session before a single wrong NUM came: such a
     # run is made again (a server answering the echo NUM would show no wrong NUM in any run)
-    r = srv.run_sim("mm", srv.ports.udp(), MODE0, sim_args=["--num-policy", "echo", "--max-miss", 10])
+    r = srv.run_sim("mm", srv.ports.udp(), MODE0, sim_args=["--num-policy", "echo", "--max-miss", 10],
+                    stop=True)
     host_disturbed(r.sv("wrong_num") == 0 and r.sv("max_consecutive_missing") == 10,
                    "no wrong NUM came before 10 replies in a row were missing")
     c = Checks()

@@ -56,7 +56,7 @@ STROKE = [("stroke5", "5", -0.01, 0.01, 0.0001, ["--sine", "0.25,0.5,0.5"]),
 def test_stroke(srv, n, m, lo, hi, tol, args):
     csv = srv.path(n + ".csv")
     r = srv.run_sim(n, srv.ports.udp(), "fixtures/server/sim_mode%s.scn" % m,
-                    ["--stroke", "%s,%s" % (lo, hi)] + args, SIM_PATIENT + ["--csv", csv])
+                    ["--stroke", "%s,%s" % (lo, hi)] + args, SIM_PATIENT + ["--csv", csv], stop=True)
     c = Checks()
     c.eq("%s: c4g-sim ran the scenario" % n, r.sv("loaded"), True)
     c.ge("%s: the server stopped the arm (505 sent)" % n, r.jv("drive_off_505"), 1)

@@ -30,7 +30,7 @@ def test_501_and_504(srv):
 
 
 def test_505_from_the_pc(srv):
-    r = srv.run_sim("d505", srv.ports.udp(), IDLE, ["--inject", "505@400"])
+    r = srv.run_sim("d505", srv.ports.udp(), IDLE, ["--inject", "505@400"], stop=True)
     c = Checks()
     c.ok("505: controller raised ERR_C4GOPEN_DRIVEOFF_SERVER", "ERR_C4GOPEN_DRIVEOFF_SERVER" in errors(r), errors(r))
     c.ok("505: robot drives off", drives_off(r), r.sim.get("robot"))
@@ -39,7 +39,7 @@ def test_505_from_the_pc(srv):
 
 
 def test_508_requested(srv):
-    r = srv.run_sim("d508", srv.ports.udp(), IDLE, ["--inject", "508@400:1"])
+    r = srv.run_sim("d508", srv.ports.udp(), IDLE, ["--inject", "508@400:1"], stop=True)
     c = Checks()
     c.ok("508: controller raised ERR_C4GOPEN_FOLLOW_ERROR", "ERR_C4GOPEN_FOLLOW_ERROR" in errors(r), errors(r))
     c.ok("508: robot drives off", drives_off(r), r.sim.get("robot"))
