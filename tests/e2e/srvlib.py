@@ -108,14 +108,17 @@ class Srv:
                    "the server to read its socket")
         h.signal(signal.SIGTERM)
 
-    def run_stub(self, name, port, stub_args=(), server_args=()):
-        """server + the controller stub (its replies are checked byte by byte)"""
+    def run_stub(self, name, port, stub_args=(), server_args=(), stop=False):
+        """server + the controller stub (its replies are checked byte by byte); stop: as
+        for run_sim"""
         run = Run(name)
         h = self.start_server(name, port, *server_args)
         r = self.procs.run([self.bins.helper("ctrl_stub"), "--port", port, "--reply-us", 50000]
                            + [str(a) for a in stub_args], timeout=50)
         run.stub = dict(kv_text(r.stdout))
         run.stub_err = r.stderr
+        if stop:
+            self.stop_server(h, port)
         return self.wait_server(h, run)
 
 

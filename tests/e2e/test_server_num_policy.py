@@ -53,6 +53,6 @@ def test_handshake_byte_by_byte(srv):
                                              "--script", "0:200,10:100,504:1"], ["--num-policy", "echo"])
     c.eq("echo: every reply right", num(r.stub.get("bad")), 0)
     c.eq("echo: every packet answered", num(r.stub.get("missed")), 0)
-    r = srv.run_stub("sx", srv.ports.udp(), ["--policy", "echo", "--script", "0:50,504:1"])
+    r = srv.run_stub("sx", srv.ports.udp(), ["--policy", "echo", "--script", "0:50,504:1"], stop=True)
     c.ge("stub enforcing echo rejects the default server", num(r.stub.get("bad")), 1)
     c.done()
