@@ -17,5 +17,5 @@ shift
 py=/usr/bin/python3
 "$py" -c 'import pytest' 2>/dev/null ||
   { echo "e2e: $py has no pytest (scripts/deps.sh installs python3-pytest)" >&2; exit 2; }
-exec "$py" -m pytest -q -p no:cacheprovider -c tests/e2e/pytest.ini --rootdir tests/e2e \
-  tests/e2e --build "$build" "$@"
+# (tests/e2e/pytest.ini makes tests/e2e the root: its conftest.py is the harness)
+exec "$py" -m pytest -q -p no:cacheprovider tests/e2e --build "$build" "$@"

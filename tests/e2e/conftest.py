@@ -146,6 +146,11 @@ class Proc:
         return self.p.poll() is None
 
     @property
+    def stdin(self):
+        """the process's stdin when started with stdin=subprocess.PIPE"""
+        return self.p.stdin
+
+    @property
     def returncode(self):
         return self.p.poll()
 
