@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """c4g-server against a controller (c4g-sim, or the test stub tests/e2e/helpers/ctrl_stub.c),
 for test_server_*.py. Each run's files are in the test's tmp_path under the run's name:
-NAME.json (the server's summary), NAME.log (its stdout and stderr), NAME.sim.json, ...
+NAME.json (the server's summary), NAME.log (its stdout and stderr); c4g-sim's output is in
+sim-PORT.json and sim-PORT.err, a helper's log in its own NAME.log.
 The fixture srv is registered by conftest.py."""
 import csv
 import json
@@ -87,7 +88,12 @@ class Srv:
         return run
 
     def sim(self, port, *args, timeout=50):
-        return self.procs.run(self.wrap + [self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
+        """c4g-sim in the foreground; its stdout and stderr are also kept in sim-PORT.json
+        and sim-PORT.err (for a look after a failure: --basetemp)"""
+        r = self.procs.run(self.wrap + [self.bins.sim, "-p", port] + [str(a) for a in args], timeout=timeout)
+        self.path("sim-%d.json" % port).write_text(r.stdout)
+        self.path("sim-%d.err" % port).write_text(r.stderr)
+        return r
 
     def run_sim(self, name, port, scn, server_args=(), sim_args=SIM_PATIENT, stop=False):
         """server + c4g-sim running scenario scn in the foreground. stop: the controller
