@@ -352,7 +352,19 @@ nodiscard: | $(DEPS_STAMP)
 static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
 
 # ---- end-to-end tests (real processes, loopback) and doc examples
-e2e: all
+# ---- e2e: the harness (tests/e2e, pytest) and its C helpers
+# Every tests/e2e/helpers/*.c is built against the three archives into $(BUILD)/e2e (each
+# links only the members it uses; -lpcap for the capture helpers).
+E2E_HELPER_SRCS := $(sort $(wildcard tests/e2e/helpers/*.c))
+E2E_HELPERS := $(E2E_HELPER_SRCS:tests/e2e/helpers/%.c=$(BUILD)/e2e/%)
+E2E_HELPER_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra \
+  -Werror $(ARCH_INC)
+.PHONY: e2e-helpers
+e2e-helpers: $(E2E_HELPERS)
+$(BUILD)/e2e/%: tests/e2e/helpers/%.c $(ARCHIVES)
+	@mkdir -p $(@D)
+	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(ARCHIVES) -lpcap -lm
+e2e: all e2e-helpers
 	@sh scripts/run-e2e.sh $(BUILD)
 
 # ---- c4g-ident's accuracy against c4g-sim's axis model, in-process (tests/ident)

@@ -1,6 +1,6 @@
 #!/bin/sh
 # c4g-server's CPU per packet at 1 kHz on loopback against a bare blocking recvfrom/sendto
-# echo loop (tests/e2e/server_helpers/udp_echo.c) driven the same way in the same run, 6 and
+# echo loop (tests/e2e/helpers/udp_echo.c) driven the same way in the same run, 6 and
 # 20 axes, mode 0: CPU time (user + system) of the whole process, every thread, over the
 # controller stub's run, divided by the replies it received; and the round-trip p50 / p99
 # the stub measured. Goal: CPU per packet at most 1.2x the echo loop's, p99 no worse.

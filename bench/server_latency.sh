@@ -4,7 +4,7 @@
 #   - round-trip latency seen by the controller (the e2e controller stub: send -> reply,
 #     p50 / p99 / p99.9 / max, replies later than 500 us = T_CYCLE1),
 #   - the server's own cycle time (rx -> sent, its --json summary) and its late replies,
-#   - an in-run baseline: a bare UDP echo loop (tests/e2e/server_helpers/udp_echo.c) measured
+#   - an in-run baseline: a bare UDP echo loop (tests/e2e/helpers/udp_echo.c) measured
 #     the same way in the same run, so the numbers separate the machine from the server,
 #   - the latency seen by c4g-sim itself (min / avg / p50 / p99 / p99.9 / max), 6 and 20 axes.
 # Default: BENCH_SECONDS=10 per configuration; C4G_BENCH_LONG=1 runs 60 s each.

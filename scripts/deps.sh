@@ -35,6 +35,7 @@ editcap:wireshark-common
 /usr/include/ceres/ceres.h:libceres-dev
 /usr/include/eigen3/Eigen/Dense:libeigen3-dev
 /usr/lib/python3/dist-packages/scipy/__init__.py:python3-scipy
+/usr/lib/python3/dist-packages/pytest/__init__.py:python3-pytest
 scdoc:scdoc
 man:man-db
 nroff:groff-base

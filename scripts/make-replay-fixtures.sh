@@ -179,7 +179,7 @@ atmost() {  # atmost WHAT GOT MAX
 ok_pair() { check "c4g-sim exit" "$SIMRC" 0 && check "c4g-server exit" "$SRC" 0 && clean "$CUR"; }
 
 # ---------------------------------------------------------------- one per mode
-# fixtures/server/sim_modeN.scn with the server options of tests/e2e/server_modes.sh, the
+# fixtures/server/sim_modeN.scn with the server options of tests/e2e/test_server_modes.py, the
 # PC's profiles shortened (0.5 s); 6 axes (figure 10.1), 2 ms
 m_0() { pair "$1" 46100 fixtures/server/sim_mode0.scn "" && ok_pair; }
 m_10() { pair "$1" 46101 fixtures/server/sim_mode10.scn "" && ok_pair; }

@@ -12,7 +12,7 @@ trap 'exit 130' INT TERM
 mkdir -p "$build/e2e-server"
 cc=${CC:-cc}
 $cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Iinclude -Ilib/sim -Ilib/host -o "$stub" \
-    tests/e2e/server_helpers/ctrl_stub.c lib/sim/c4gsim_fixtures.c "$build/lib/libc4gopen.a" -lm || exit 1
+    tests/e2e/helpers/ctrl_stub.c lib/sim/c4gsim_fixtures.c "$build/lib/libc4gopen.a" -lm || exit 1
 $cc -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -o "$echo_bin" \
-    tests/e2e/server_helpers/udp_echo.c || exit 1
+    tests/e2e/helpers/udp_echo.c || exit 1
 kv() { sed -n "s/^$2=//p" "$1" | head -n 1; }

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Test-only spoofer for tests/e2e/server_spoof.sh: sends a datagram whose source is the
+"""Test-only spoofer for tests/e2e/test_server_spoof.py: sends a datagram whose source is the
 controller's own address and port (what an attacker on the network can do; a second
 ordinary socket cannot), with a raw IPv4 socket. Needs CAP_NET_RAW: the test runs it inside
 a network namespace of its own (unshare -rn), where it has it.
@@ -10,7 +10,8 @@ port and fires once its trigger is seen:
                       the 1200-byte FILE, from the controller's endpoint
   mode9 PORT          after a cyclic packet with mode 9 on axis 1: a 6-axis cyclic packet
                       with 504 on every axis and the next NUM, from the controller's endpoint
-Prints key=value lines: fired=1|0 src_port=N num=N. Every wait is bounded (--wait-s, 20 s).
+Prints key=value lines: fired=1|0 src_port=N num=N, and for init9 first_init=forged|
+controller|none: which init packet reached the PC's port first (the wire's order). Every wait is bounded (--wait-s, 20 s).
 """
 import socket
 import struct
@@ -33,6 +34,26 @@ def ip_udp(src, sport, dst, dport, payload):
         csum = (csum & 0xFFFF) + (csum >> 16)
     hdr = hdr[:10] + struct.pack("!H", ~csum & 0xFFFF) + hdr[12:]
     return hdr + udp
+
+
+def first_init(sniff, port, forged):
+    """Which 1200-byte datagram to the PC's port crossed the loopback first once the forged
+    one was sent: "forged", "controller" (the spoofer came too late: the host held it up),
+    or "none" within 2 s. The capture queue keeps the wire's order."""
+    end = time.monotonic() + 2.0
+    while time.monotonic() < end:
+        try:
+            pkt, addr = sniff.recvfrom(4096)
+        except socket.timeout:
+            continue
+        if addr[2] == socket.PACKET_OUTGOING or len(pkt) < 28 or pkt[9] != socket.IPPROTO_UDP:
+            continue
+        ihl = (pkt[0] & 0x0F) * 4
+        dport = struct.unpack("!H", pkt[ihl + 2:ihl + 4])[0]
+        data = pkt[ihl + 8:]
+        if dport == port and len(data) == 1200:
+            return "forged" if data == forged else "controller"
+    return "none"
 
 
 def main(argv):
@@ -74,6 +95,8 @@ def main(argv):
             continue
         raw.sendto(ip_udp(src, sport, "127.0.0.1", port, forged), ("127.0.0.1", 0))
         print("fired=1\nsrc_port=%d\nnum=%d" % (sport, num), flush=True)
+        if kind == "init9":
+            print("first_init=%s" % first_init(sniff, port, forged), flush=True)
         return 0
     print("fired=0", flush=True)
     return 0

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Test-only attacker for tests/e2e/server_attacks.sh and server_stall.sh.
+"""Test-only attacker for tests/e2e/test_server_attacks.py, test_server_stall.py and
+test_server_flood.py.
 
 Sends forged C4G Open datagrams at a c4g-server from its own UDP socket (another port than
 the controller's, optionally another source address), then listens on that socket and

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Test-only UDP flood for tests/e2e/server_flood.sh: zero-filled datagrams of SIZE bytes
+/* Test-only UDP flood for tests/e2e/test_server_flood.py: zero-filled datagrams of SIZE bytes
  * from SRC (any port) to 127.0.0.1:PORT, as fast as one process can send them, for SECONDS
  * (or until SIGTERM). Prints "sent=N seconds=S rate=R" (datagrams per second).
  * Usage: flood PORT SRC SIZE SECONDS */
