@@ -592,6 +592,18 @@ static int model_options_given(const app_t *a)
     return given || memcmp(&d, &a->cfg, sizeof d) != 0;
 }
 
+int capture_options_misplaced(const app_t *a)
+{
+    const cap_opts_t *c = &a->o.cap;
+    if (c->speed > 0.0 || c->topspeed || c->loops > 0U || c->gap_ms > 0U || c->session > 0U ||
+        c->tolerance > 0.0 || c->spin_us != CAP_SPIN_UNSET || c->n_ports > 0U || c->as_replay_live) {
+        fprintf(stderr, "c4g-sim: --session, --speed, --topspeed, --loop, --loop-gap, --spin-us, "
+                "--tolerance, --capture-ports and --replay-live need --capture FILE\n");
+        return 1;
+    }
+    return 0;
+}
+
 /* The first reading: 0, or the exit code after the error. */
 static int scan_file(cap_t *C)
 {

@@ -108,6 +108,8 @@ typedef struct cap {
 
 /* capture.c: c4g-sim --capture from after the command line to the exit code. */
 int capture_main(app_t *a);
+/* capture.c: 1 (after the error on stderr) when an option of --capture came without it. */
+int capture_options_misplaced(const app_t *a);
 
 /* capture_report.c: 1 when a reply was not ok or not equal to the recorded one. */
 int cap_findings(const cap_t *C);

@@ -48,19 +48,6 @@ static int socket_failed(app_t *a)
     return EXIT_RUNTIME;
 }
 
-/* An option of --capture without it: refused, not ignored. */
-static int capture_option_given(const app_t *a)
-{
-    const cap_opts_t *c = &a->o.cap;
-    if (c->speed > 0.0 || c->topspeed || c->loops > 0U || c->gap_ms > 0U || c->session > 0U ||
-        c->tolerance > 0.0 || c->spin_us != CAP_SPIN_UNSET || c->n_ports > 0U || c->as_replay_live) {
-        fprintf(stderr, "c4g-sim: --session, --speed, --topspeed, --loop, --loop-gap, --spin-us, "
-                "--tolerance, --capture-ports and --replay-live need --capture FILE\n");
-        return 1;
-    }
-    return 0;
-}
-
 /* app_t holds the scenario and the latency histogram: too big for the stack. */
 static app_t g_app;
 
@@ -80,7 +67,7 @@ int main(int argc, char **argv)
     if (a->o.cap.path != NULL) {
         return capture_main(a); /* a recorded controller plays instead of the model */
     }
-    if (capture_option_given(a)) {
+    if (capture_options_misplaced(a)) {
         return EXIT_USAGE;
     }
     code = app_prepare(a);
