@@ -728,7 +728,7 @@ static int cap_run(cap_t *C, app_t *a)
     close(a->fd);
     if (a->o.json) {
         cap_report_json(stdout, C);
-    } else {
+    } else if (!a->o.quiet) {
         cap_report_text(stdout, C);
     }
     return cap_findings(C) ? EXIT_RUNTIME : (a->out_error ? EXIT_OUTPUT : EXIT_OK);
