@@ -28,7 +28,7 @@ static void cap_on_signal(int sig)
     g_stop = 1;
 }
 
-/* ---- pass 1: which session, and can it be played -------------------------- */
+/* ---- the first reading: which session, and can it be played ------------------ */
 
 static void on_scan(void *ctx, const c4gh_an_exchange_t *x)
 {
