@@ -66,6 +66,30 @@ const char *rp_no_session_text(const c4gh_an_t *a, const rp_file_t *f, char *buf
 /* Findings not waived, damaged files counted. */
 unsigned rp_count_findings(const c4gh_an_t *a, const rp_file_t *files, unsigned n_files, uint32_t allow);
 
+/* live (live.c): what its command line asks of c4g-sim --capture. */
+typedef struct rp_live {
+    const char *path;
+    char host[256];
+    unsigned port;            /* 0: no --to */
+    double speed;             /* 0: not given */
+    int topspeed;
+    unsigned loops;           /* 0: not given */
+    unsigned gap_ms;
+    unsigned session;         /* 0: not given */
+    unsigned spin_us;
+    double tolerance;
+    const char *t_cycle1, *policy, *ports; /* as written; NULL: not given */
+    int json;
+} rp_live_t;
+
+#define RP_LIVE_ARGS 40       /* c4g-sim's argv, NULL included */
+#define RP_LIVE_NUMS 8        /* numbers written for it */
+#define RP_LIVE_NUM 32
+
+/* c4g-sim's argv for @p L (argv[0] = @p sim, NULL-terminated; numbers written into @p num,
+ * which must outlive argv): the argument count, or -1 when @p cap is too small. */
+int rp_live_argv(const rp_live_t *L, const char *sim, char **argv, size_t cap, char (*num)[RP_LIVE_NUM]);
+
 /* Commands: argv[0] is the command's name. */
 int rp_cmd_summary(int argc, char **argv);
 int rp_cmd_check(int argc, char **argv);

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "c4gh_analyze.h"
 #include "c4gh_ctrlside.h"
 #include "c4gh_pcap.h"
 #include "sim.h"
@@ -35,6 +36,23 @@ typedef struct pending {
     uint8_t buf[C4G_INIT_SIZE];
 } pending_t;
 
+/* The options of --capture (app_opts_t holds them while the command line is read). */
+typedef struct cap_opts {
+    const char *path;         /* --capture FILE */
+    double speed;             /* 0: not given (1) */
+    int topspeed;
+    unsigned loops;           /* 0: not given (1) */
+    unsigned gap_ms;
+    unsigned session;         /* 0: the first with an init packet */
+    double tolerance;
+    unsigned spin_us;         /* CAP_SPIN_UNSET: not given (100) */
+    uint16_t ports[C4GH_AN_MAX_PORTS]; /* --capture-ports; n_ports 0: 1000,1001 */
+    unsigned n_ports;
+    int as_replay_live;       /* --replay-live: messages and report as c4g-replay live */
+} cap_opts_t;
+
+#define CAP_SPIN_UNSET 0xFFFFFFFFU
+
 /* What the command line asks for besides sim_config_t. */
 typedef struct app_opts {
     const char *config_path;
@@ -48,6 +66,7 @@ typedef struct app_opts {
     unsigned delay_us;
     unsigned long pause_at, pause_len;
     int entry_fault; /* --entry-fault: 0 none, 1 drop, 2 truncate */
+    cap_opts_t cap;  /* --capture and its options */
 } app_opts_t;
 
 /* The simulator's own counters (the protocol's are in c4gh_cs_t). */
@@ -83,6 +102,9 @@ typedef struct app {
     int has_key;             /* tx_key: SO_TIMESTAMPING id of the outstanding packet */
     uint32_t tx_key;
     uint64_t tol_ns;         /* own lateness beyond which a tick is an overrun */
+    struct cap *cap;         /* --capture: the player (capture.h); NULL: the model plays */
+    uint8_t rx_raw[C4G_INIT_SIZE]; /* the reply c4gh_cs_reply accepted last, its bytes */
+    size_t rx_len;
 } app_t;
 
 extern volatile sig_atomic_t g_stop;
@@ -93,10 +115,14 @@ uint64_t now_ns(void);
 int app_options(app_t *a, int argc, char **argv, int *done);
 /* options.c: addresses, scenario and sim_init; 0 or EXIT_USAGE. */
 int app_prepare(app_t *a);
+/* options.c: the server's and the bind address into a->srv and a->local; 0 or EXIT_USAGE. */
+int app_addresses(app_t *a);
 
 /* net.c */
 int net_open(app_t *a);
 int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key);
+/* sendto the server, recorded in --pcap: the bytes sent, or -1 (errno kept). */
+long net_sendto(app_t *a, const uint8_t *buf, size_t len, uint32_t *key);
 void drain(app_t *a);
 void window(app_t *a, uint64_t until);
 

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "capture.h"
 
 static void on_signal(int sig)
 {
@@ -62,6 +63,12 @@ int main(int argc, char **argv)
     code = app_options(a, argc, argv, &done);
     if (done) {
         return code;
+    }
+    if (a->o.cap.path != NULL) {
+        return capture_main(a); /* a recorded controller plays instead of the model */
+    }
+    if (capture_options_misplaced(a)) {
+        return EXIT_USAGE;
     }
     code = app_prepare(a);
     if (code != EXIT_OK) {

@@ -36,10 +36,28 @@ static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
     }
 }
 
+long net_sendto(app_t *a, const uint8_t *buf, size_t len, uint32_t *key)
+{
+    const ssize_t n = sendto(a->fd, buf, len, 0, (const struct sockaddr *)&a->srv, sizeof a->srv);
+    const int e = errno;
+    /* refused (an ICMP error of an earlier datagram): this one went out all the same */
+    if (n >= 0 || e == ECONNREFUSED) {
+        pcap_record(a, 1, &a->srv, buf, len);
+    }
+    if (n >= 0) {
+        if (key != NULL) {
+            *key = a->tx_seq;
+        }
+        a->tx_seq++; /* the kernel numbers every datagram sent, from 0 */
+    }
+    errno = e;
+    return (long)n;
+}
+
 /* Returns 1 and the SO_TIMESTAMPING id of the datagram in @p key if it went out. */
 int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key)
 {
-    ssize_t n = sendto(a->fd, buf, len, 0, (const struct sockaddr *)&a->srv, sizeof a->srv);
+    const long n = net_sendto(a, buf, len, key);
     if (n < 0 && errno != ECONNREFUSED) {
         if (!a->sim.fatal) {
             fprintf(stderr, "c4g-sim: sendto: %s\n", strerror(errno));
@@ -49,15 +67,7 @@ int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key)
         }
         return 0;
     }
-    pcap_record(a, 1, &a->srv, buf, len);
-    if (n < 0) {
-        return 0;
-    }
-    if (key != NULL) {
-        *key = a->tx_seq;
-    }
-    a->tx_seq++; /* the kernel numbers every datagram sent, from 0 */
-    return 1;
+    return n >= 0;
 }
 
 /* Bound to any address: the source address the kernel picks towards the server. */

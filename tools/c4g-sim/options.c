@@ -2,6 +2,8 @@
 /* c4g-sim command line: one table row per option (lib/host/c4gh_cli.h), the INI file
  * under it, then the checks that need both (addresses, scenario, the controller). */
 #include <arpa/inet.h>
+#include <netdb.h>
+#include <sys/socket.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,11 +14,12 @@
 /* ---- value handlers (C4GH_CLI_CALL rows; ctx is the app) ---------------------- */
 
 /* A path: kept as the argv string. row->key picks the field. */
-enum { P_CONFIG = 0, P_SCENARIO, P_CSV, P_PCAP };
+enum { P_CONFIG = 0, P_SCENARIO, P_CSV, P_PCAP, P_CAPTURE };
 static int opt_path(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
     app_opts_t *o = &((app_t *)ctx)->o;
-    const char **dst[] = {&o->config_path, &o->scenario_path, &o->csv_path, &o->pcap_path};
+    const char **dst[] = {&o->config_path, &o->scenario_path, &o->csv_path, &o->pcap_path,
+                          &o->cap.path};
     (void)why;
     (void)wl;
     *dst[row->key] = v;
@@ -185,6 +188,44 @@ static int opt_entry(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *
     return -1;
 }
 
+/* --capture-ports LIST: the PC ports of C4G Open flows in the capture (default 1000,1001). */
+static int opt_cap_ports(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    cap_opts_t *c = &((app_t *)ctx)->o.cap;
+    const char *p = v;
+    (void)row;
+    c->n_ports = 0U;
+    while (*p != '\0') {
+        char item[16];
+        const size_t n = strcspn(p, ",");
+        long long port = 0;
+        if (n == 0U || n >= sizeof item) {
+            snprintf(why, wl, "want ports 1..65535 separated by commas");
+            return -1;
+        }
+        memcpy(item, p, n);
+        item[n] = '\0';
+        if (c4gh_tf_parse_int(item, 1, 65535, &port) != C4GH_TF_NUM_OK) {
+            snprintf(why, wl, "'%s' is not a port 1..65535", item);
+            return -1;
+        }
+        if (c->n_ports >= C4GH_AN_MAX_PORTS) {
+            snprintf(why, wl, "at most %u ports", C4GH_AN_MAX_PORTS);
+            return -1;
+        }
+        c->ports[c->n_ports++] = (uint16_t)port;
+        p += n;
+        if (*p == ',') {
+            p++;
+            if (*p == '\0') {
+                snprintf(why, wl, "want ports 1..65535 separated by commas");
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
 /* ---- the table ------------------------------------------------------------ */
 
 #define ROW_CALL(name, s, arg, help, fn, key) {name, s, C4GH_CLI_CALL, arg, help, NULL, 0, 0, 0, fn, key}
@@ -195,24 +236,29 @@ static const char usage_text[] =
     "handshake, cyclic packets, reply checking, table 17.1 errors), the DSA loops and a\n"
     "robot model, and a PDL2-like scenario. The PC server under test must be running.\n"
     "The INI file (-c) is read first; the other options override it. Fault injection\n"
-    "applies to the simulator's own packets (F = fraction 0..1).\n";
+    "applies to the simulator's own packets (F = fraction 0..1). With --capture the\n"
+    "controller's packets come from a recorded session instead of the model: each reply is\n"
+    "judged as the model's are and compared with the reply the recorded PC gave.\n";
 static const char epilogue_text[] =
     "Exit status: 0 ok; 1 a table 17.1 error was raised (e.g. ERR_C4GOPEN_UDP) or a\n"
     "socket failed; 2 usage, configuration or scenario error; 3 a scenario EXPECT failed\n"
-    "or WAIT PC timed out; 4 an output file could not be written.\n";
+    "or WAIT PC timed out; 4 an output file could not be written. With --capture: 0 every\n"
+    "reply ok and equal to the recorded one; 1 findings or divergences (or a socket error,\n"
+    "or interrupted); 2 also an unreadable capture or a session without its start-up.\n";
 static const char *const examples[] = {
     "c4g-sim -p 41000 -S fixtures/scenarios/mode0.scn --json",
     "c4g-sim -p 41000 -T 1 --num-policy plus-one -n 5000 --pcap run.pcap --csv run.csv",
-    "c4g-sim -p 41000 -c fixtures/sim/two-arms.ini --drop 0.01 --seed 7 -n 2000", NULL};
+    "c4g-sim -p 41000 -c fixtures/sim/two-arms.ini --drop 0.01 --seed 7 -n 2000",
+    "c4g-sim -p 41000 --capture fixtures/replay/mode4.pcap --num-policy plus-one --json", NULL};
 
-#define N_ROWS 29
+#define N_ROWS 39
 
 /* The rows point into this app, so they are built at run time. */
 static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
 {
     sim_config_t *c = &a->cfg;
     const c4gh_cli_opt_t r[] = {
-        {"server", 's', C4GH_CLI_STRING, "ADDR", "PC server IPv4 address (default 127.0.0.1)", c->server,
+        {"server", 's', C4GH_CLI_STRING, "ADDR", "PC server: IPv4 address or host name (default 127.0.0.1)", c->server,
          sizeof c->server, 0, 0, NULL, 0},
         {"port", 'p', C4GH_CLI_UINT, "N", "PC server UDP port (default 1000)", &c->port, 0, 1, 65535, NULL, 0},
         {"bind", 0, C4GH_CLI_STRING, "ADDR", "local address to bind (default 0.0.0.0)", c->bind_addr,
@@ -259,6 +305,26 @@ static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
                  opt_path, P_PCAP),
         {"json", 'j', C4GH_CLI_FLAG, NULL, "end-of-run summary as JSON on stdout", &a->o.json, 0, 0, 0,
          NULL, 0},
+        ROW_CALL("capture", 0, "FILE", "play a recorded session (pcap) instead of the model",
+                 opt_path, P_CAPTURE),
+        {"session", 0, C4GH_CLI_UINT, "N", "--capture: the session to play (default: the first with its "
+         "start-up)", &a->o.cap.session, 0, 1, C4GH_AN_MAX_SESSIONS, NULL, 0},
+        {"speed", 0, C4GH_CLI_DOUBLE, "X", "--capture: time scale, 2 plays twice as fast (default 1)",
+         &a->o.cap.speed, 0, 0.01, 1000, NULL, 0},
+        {"topspeed", 0, C4GH_CLI_FLAG, NULL, "--capture: each packet as soon as the previous one's reply "
+         "came", &a->o.cap.topspeed, 0, 0, 0, NULL, 0},
+        {"loop", 0, C4GH_CLI_UINT, "N", "--capture: play the session N times, each a full start-up",
+         &a->o.cap.loops, 0, 1, 1000000, NULL, 0},
+        {"loop-gap", 0, C4GH_CLI_UINT, "MS", "--capture: silence between two passes (default 0)",
+         &a->o.cap.gap_ms, 0, 0, 3600000, NULL, 0},
+        {"spin-us", 0, C4GH_CLI_UINT, "US", "--capture: busy-wait this long before each packet (100)",
+         &a->o.cap.spin_us, 0, 0, 100000, NULL, 0},
+        {"tolerance", 0, C4GH_CLI_DOUBLE, "X", "--capture: floats equal within X (default 0: the same "
+         "bits)", &a->o.cap.tolerance, 0, 0, 1e30, NULL, 0},
+        ROW_CALL("capture-ports", 0, "LIST", "--capture: PC ports of C4G Open flows in it (1000,1001)",
+                 opt_cap_ports, 0),
+        {"replay-live", 0, C4GH_CLI_FLAG, NULL, "--capture: messages and report as c4g-replay live "
+         "(its front end)", &a->o.cap.as_replay_live, 0, 0, 0, NULL, 0},
         {"verbose", 'v', C4GH_CLI_FLAG, NULL, "log events on stderr", &a->o.verbose, 0, 0, 0, NULL, 0},
         {"quiet", 'q', C4GH_CLI_FLAG, NULL, "no summary", &a->o.quiet, 0, 0, 0, NULL, 0},
     };
@@ -291,6 +357,7 @@ static void opt_defaults(app_t *a)
 {
     memset(&a->o, 0, sizeof a->o);
     a->o.delay_us = 300U;
+    a->o.cap.spin_us = CAP_SPIN_UNSET;
     sim_config_default(&a->cfg);
 }
 
@@ -321,16 +388,42 @@ int app_options(app_t *a, int argc, char **argv, int *done)
     return EXIT_OK;
 }
 
-static int parse_addr(const char *what, const char *text, unsigned port, struct sockaddr_in *sa)
+/* An IPv4 address, or (the server) a host name resolved to one. */
+static int parse_addr(const char *what, const char *text, unsigned port, int resolve,
+                      struct sockaddr_in *sa)
 {
     memset(sa, 0, sizeof *sa);
     sa->sin_family = AF_INET;
     sa->sin_port = htons((uint16_t)port);
-    if (inet_pton(AF_INET, text, &sa->sin_addr) != 1) {
-        fprintf(stderr, "c4g-sim: %s address '%s' is not an IPv4 address\n", what, text);
+    if (inet_pton(AF_INET, text, &sa->sin_addr) == 1) {
+        return 0;
+    }
+    if (resolve) {
+        struct addrinfo hints, *res = NULL;
+        memset(&hints, 0, sizeof hints);
+        hints.ai_family = AF_INET;
+        hints.ai_socktype = SOCK_DGRAM;
+        if (getaddrinfo(text, NULL, &hints, &res) == 0 && res != NULL) {
+            sa->sin_addr = ((const struct sockaddr_in *)(const void *)res->ai_addr)->sin_addr;
+            freeaddrinfo(res);
+            return 0;
+        }
+        fprintf(stderr, "c4g-sim: %s address '%s' is neither an IPv4 address nor a host name "
+                "with one\n", what, text);
         return -1;
     }
-    return 0;
+    fprintf(stderr, "c4g-sim: %s address '%s' is not an IPv4 address\n", what, text);
+    return -1;
+}
+
+int app_addresses(app_t *a)
+{
+    const sim_config_t *c = &a->cfg;
+    if (parse_addr("server", c->server, c->port, 1, &a->srv) != 0 ||
+        parse_addr("bind", c->bind_addr, c->local_port, 0, &a->local) != 0) {
+        return EXIT_USAGE;
+    }
+    return EXIT_OK;
 }
 
 static int load_scenario(app_t *a)
@@ -357,8 +450,7 @@ int app_prepare(app_t *a)
     const uint64_t p = (uint64_t)c->period_ms * 1000000U;
     const uint64_t b = (uint64_t)c->t_cycle1_us * 1000U;
     c4gh_cs_config_t cc;
-    if (parse_addr("server", c->server, c->port, &a->srv) != 0 ||
-        parse_addr("bind", c->bind_addr, c->local_port, &a->local) != 0) {
+    if (app_addresses(a) != EXIT_OK) {
         return EXIT_USAGE;
     }
     if (a->o.scenario_path != NULL && load_scenario(a) != 0) {

@@ -94,9 +94,16 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
         return;
     }
     r = c4gh_cs_reply(&a->cs, buf, len, t);
+    if (r == C4GH_CS_RX_ACCEPTED) {
+        /* --capture compares the reply's bytes with the recorded ones */
+        a->rx_len = (len <= sizeof a->rx_raw) ? len : sizeof a->rx_raw;
+        memcpy(a->rx_raw, buf, a->rx_len);
+    }
     /* another length is a late or stray reply (a late sync reply passes the NUM check of
-     * "either"): counted as malformed, as before; 1200 other bytes are the PC's limits */
-    if (r == C4GH_CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal) {
+     * "either"): counted as malformed, as before; 1200 other bytes are the PC's limits (a
+     * played capture's init packet is the recording's: an echo of other bytes is only a
+     * malformed reply there, the model is not running) */
+    if (r == C4GH_CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal && a->cap == NULL) {
         bad_init_echo(a, buf);
     }
     if (a->o.verbose) {
