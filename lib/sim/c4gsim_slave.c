@@ -456,7 +456,7 @@ static void send_tpdo(const c4gsim_slave_t *s, uint32_t k, c4g_co_frame_t *out, 
     }
 }
 
-static void on_sync(c4gsim_slave_t *s, c4g_co_frame_t *out, int *n)
+static void node_on_sync(c4gsim_slave_t *s, c4g_co_frame_t *out, int *n)
 {
     if (s->nmt == C4G_CO_STATE_OPERATIONAL) {
         csp_move(s);
@@ -501,14 +501,14 @@ static void on_other(c4gsim_slave_t *s, const c4g_co_frame_t *f)
     }
 }
 
-static void dispatch(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t *out, int *n)
+static void node_dispatch(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t *out, int *n)
 {
     const uint32_t id = f->id;
     const uint32_t node = s->node_id;
     if (id == C4G_CO_COB_NMT) {
         on_nmt(s, f);
     } else if (id == C4G_CO_COB_SYNC) {
-        on_sync(s, out, n);
+        node_on_sync(s, out, n);
     } else if ((id == (C4G_CO_COB_SDO_RX + node)) && (f->rtr == 0U)) {
         on_sdo(s, f, out, n);
     } else if ((id == (C4G_CO_COB_NMT_EC + node)) && (f->rtr != 0U)) {
@@ -577,7 +577,7 @@ c4g_status_t c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_
         st = ((f->dlc <= 8U) && (f->id <= 0x7FFU)) ? C4G_OK : C4G_ERR_RANGE;
     }
     if ((st == C4G_OK) && (!s->silent)) {
-        dispatch(s, f, out, n);
+        node_dispatch(s, f, out, n);
     }
     return st;
 }
