@@ -1,8 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-sim robot model: one motor-side axis with its DSA position/velocity loop. */
+/* c4g-sim robot model: one motor-side axis with its DSA position/velocity loop. Pure like
+ * the core library: no heap, no I/O; every function returns a status (C4G_ERR_NULL for a NULL
+ * pointer, C4G_ERR_NONFINITE for a NaN or infinite input, C4G_ERR_RANGE for a value outside
+ * its documented range, the state untouched) or is a computation on its arguments alone. */
 #ifndef C4GSIM_MODEL_H
 #define C4GSIM_MODEL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "c4gopen.h"
@@ -10,14 +14,17 @@
 /** Deterministic PRNG (xorshift64*), Gaussian by Box-Muller. */
 typedef struct c4gsim_rng {
     uint64_t s;
-    int have_spare;
+    bool have_spare;
     double spare;
 } c4gsim_rng_t;
 
-void c4gsim_rng_seed(c4gsim_rng_t *r, uint64_t seed);
-uint64_t c4gsim_rng_next(c4gsim_rng_t *r);
-double c4gsim_rng_uniform(c4gsim_rng_t *r); /* [0, 1) */
-double c4gsim_rng_gauss(c4gsim_rng_t *r);   /* N(0, 1) */
+C4G_NODISCARD c4g_status_t c4gsim_rng_seed(c4gsim_rng_t *r, uint64_t seed);
+/** The next 64 random bits into @p out. */
+C4G_NODISCARD c4g_status_t c4gsim_rng_next(c4gsim_rng_t *r, uint64_t *out);
+/** Uniform in [0, 1) into @p out. */
+C4G_NODISCARD c4g_status_t c4gsim_rng_uniform(c4gsim_rng_t *r, double *out);
+/** N(0, 1) into @p out. */
+C4G_NODISCARD c4g_status_t c4gsim_rng_gauss(c4gsim_rng_t *r, double *out);
 
 /** Axis parameters (motor side). Positions in motor turns, velocities in turns/s. */
 typedef struct c4gsim_axis_params {
@@ -48,6 +55,11 @@ typedef struct c4gsim_axis_params {
     int startup_mode;    /* start-up mode (init packet OpenMask) */
 } c4gsim_axis_params_t;
 
+/** Parameters the model can run with: every value finite (C4G_ERR_NONFINITE), j > 0, kt > 0,
+ * vs, cur_noise, torque_noise, az_lim, counts, noise >= 0 and 0 <= vel_filter <= 1
+ * (C4G_ERR_RANGE). Every function taking parameters checks them. */
+C4G_NODISCARD c4g_status_t c4gsim_axis_params_check(const c4gsim_axis_params_t *p);
+
 /** What the SMP+ hands the DSA for one period. */
 typedef struct c4gsim_dsa_in {
     double pos_ref;      /* position reference [turns] */
@@ -72,10 +84,11 @@ typedef struct c4gsim_ref {
  * offset; modes 1 and 2 take the PC's current; mode 9 adds D5. @p pc is the PC's data for this
  * tick, or NULL when no reply of this mode arrived: the reference then holds (no PC
  * contribution), never a stale value of another mode. Positions in turns, @p vel_i in turns/s,
- * @p T the period [s]. Fills @p in (pos_ref, vel_ff, vel_add, cur_add, cur_pc).
+ * @p T the period [s] (finite, > 0). Fills @p in (pos_ref, vel_ff, vel_add, cur_add, cur_pc).
  */
-void c4gsim_ref_step(c4gsim_ref_t *r, int mode, const c4g_pc_axis_t *pc, double pos_i, double vel_i,
-                  double override, double T, c4gsim_dsa_in_t *in);
+C4G_NODISCARD c4g_status_t c4gsim_ref_step(c4gsim_ref_t *r, int mode, const c4g_pc_axis_t *pc,
+                                           double pos_i, double vel_i, double override, double T,
+                                           c4gsim_dsa_in_t *in);
 
 /** Axis state. */
 typedef struct c4gsim_axis {
@@ -91,45 +104,54 @@ typedef struct c4gsim_axis {
     double prev_meas;
     double ff_vel;       /* velocity feedforward through the measurement's filter [turns/s] */
     double prev_ff;
-    int saturated;       /* last step hit AzLim */
-    int drive_on;
+    bool saturated;      /* last step hit AzLim */
+    bool drive_on;
 } c4gsim_axis_t;
 
 /** Default parameters for logical axis @p logical (0-based) of figure 10.1 style arms. */
-void c4gsim_axis_params_default(c4gsim_axis_params_t *p, unsigned logical);
-void c4gsim_axis_reset(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, c4gsim_rng_t *rng);
+C4G_NODISCARD c4g_status_t c4gsim_axis_params_default(c4gsim_axis_params_t *p, unsigned logical);
+/** The axis at rest at pos0, drive off, its encoder read once (one draw of @p rng). */
+C4G_NODISCARD c4g_status_t c4gsim_axis_reset(c4gsim_axis_t *a, const c4gsim_axis_params_t *p,
+                                             c4gsim_rng_t *rng);
 /** Friction torque [Nm] of a motor moving at @p vel turns/s (Coulomb, Stribeck, viscous),
- * without the sign of the motion: magnitude of the Coulomb/Stribeck part. */
+ * without the sign of the motion: magnitude of the Coulomb/Stribeck part. @p p must be
+ * non-NULL and checked (c4gsim_axis_params_check). */
 double c4gsim_axis_friction_level(const c4gsim_axis_params_t *p, double vel);
-/** Gravity torque at the motor [Nm] for @p pos. */
+/** Gravity torque at the motor [Nm] for @p pos (@p p non-NULL and checked). */
 double c4gsim_axis_gravity(const c4gsim_axis_params_t *p, double pos);
-/** One DSA step of @p dt seconds (loop + plant). Drive off: brakes hold the axis. */
-void c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in,
-                   double dt, c4gsim_rng_t *rng);
+/** One DSA step of @p dt seconds (finite, > 0; loop + plant). Drive off: brakes hold the
+ * axis. Every field of @p in must be finite. */
+C4G_NODISCARD c4g_status_t c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p,
+                                            const c4gsim_dsa_in_t *in, double dt, c4gsim_rng_t *rng);
 
 /** The DSA's reference at fraction @p w (0..1) of an SMP+ period of @p period seconds, from
  * (@p p0, @p v0) at its start to (@p p1, @p v1) at its end: one cubic (Hermite) through both
  * ends, so the velocity feedforward is the derivative of the position reference and a
  * trajectory of constant acceleration is reproduced exactly. */
-void c4gsim_dsa_interp(double p0, double v0, double p1, double v1, double w, double period,
-                    double *pos, double *vel);
+C4G_NODISCARD c4g_status_t c4gsim_dsa_interp(double p0, double v0, double p1, double v1, double w,
+                                             double period, double *pos, double *vel);
 
 /** The current reported for the SMP+ period that just ended: the mean of its DSA steps'
  * currents (the mean current is what moved the axis over the period, whatever ripple the
- * reference steps cause inside it), plus the sensor noise cur_noise. Starts a new period. */
-double c4gsim_axis_report_current(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, c4gsim_rng_t *rng);
+ * reference steps cause inside it), plus the sensor noise cur_noise, into @p current (also
+ * kept in cur_report). Starts a new period. */
+C4G_NODISCARD c4g_status_t c4gsim_axis_report_current(c4gsim_axis_t *a, const c4gsim_axis_params_t *p,
+                                                      c4gsim_rng_t *rng, double *current);
 
 /** Trapezoidal profile (synchronised multi-axis moves share one duration). */
 typedef struct c4gsim_trap {
-    double p0, d;        /* start, signed distance [turns] */
+    double p0;           /* start [turns] */
+    double d;            /* signed distance [turns] */
     double t_total;      /* duration [s] */
     double t_acc;        /* accelerating (and decelerating) time [s] */
 } c4gsim_trap_t;
 
-/** Shortest duration of a move of |d| under vmax/amax with the accel fraction used. */
+/** Shortest duration of a move of |d| under vmax/amax with the accel fraction used (a limit
+ * <= 0 does not bound it; 0 for d = 0). */
 double c4gsim_trap_min_time(double d, double vmax, double amax);
-void c4gsim_trap_plan(c4gsim_trap_t *t, double p0, double p1, double duration);
+/** A move from @p p0 to @p p1 in @p duration seconds (<= 0: at once). */
+C4G_NODISCARD c4g_status_t c4gsim_trap_plan(c4gsim_trap_t *t, double p0, double p1, double duration);
 /** Position and velocity at time @p t into the move (clamped to [0, t_total]). */
-void c4gsim_trap_eval(const c4gsim_trap_t *t, double time, double *pos, double *vel);
+C4G_NODISCARD c4g_status_t c4gsim_trap_eval(const c4gsim_trap_t *t, double time, double *pos, double *vel);
 
 #endif

@@ -2,7 +2,8 @@
 /* Simulated CANopen DS402 slave node: object dictionary, SDO server (expedited and
  * segmented), NMT, heartbeat producer, node guarding responder, PDOs on SYNC, EMCY on
  * faults, a position axis in cyclic synchronous position mode, and fault injection
- * (docs/canopen.md, "Simulated nodes"). No I/O: frames in, frames out. */
+ * (docs/canopen.md, "Simulated nodes"). No I/O: frames in, frames out. Every function returns a
+ * status: C4G_ERR_NULL for a NULL pointer, C4G_ERR_RANGE for a value outside its range. */
 #ifndef C4GSIM_SLAVE_H
 #define C4GSIM_SLAVE_H
 
@@ -32,8 +33,8 @@ typedef struct c4gsim_slave {
     uint8_t name[24];         /* 0x1008 (segmented upload) */
     uint8_t name_len;
     /* fault injection */
-    int silent;               /* answers nothing at all (unplugged) */
-    int no_heartbeat;         /* answers SDO but produces no heartbeat */
+    bool silent;              /* answers nothing at all (unplugged) */
+    bool no_heartbeat;        /* answers SDO but produces no heartbeat */
     uint16_t abort_index;     /* SDO abort on this object (0: none) */
     uint8_t abort_sub;
     uint32_t abort_code;
@@ -46,15 +47,18 @@ typedef struct c4gsim_slave {
     uint8_t seg_pos;
 } c4gsim_slave_t;
 
-/* A node in the boot-up state (it sends its boot-up message at the next poll). */
-void c4gsim_slave_init(c4gsim_slave_t *s, uint8_t node_id, uint32_t device_type);
-/* A frame from the bus; answers go to out[0..*n). */
-void c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t *out, int *n);
-/* Time passes: heartbeat. */
-void c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n);
+/* A node (@p node_id 1..127) in the boot-up state (it sends its boot-up message at the next
+ * poll). */
+C4G_NODISCARD c4g_status_t c4gsim_slave_init(c4gsim_slave_t *s, uint8_t node_id, uint32_t device_type);
+/* A frame from the bus (dlc 0..8, id 0..0x7FF, else C4G_ERR_RANGE); answers go to
+ * out[0..*n), @p out holding C4GSIM_SLAVE_OUT frames. */
+C4G_NODISCARD c4g_status_t c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t *out,
+                                           int *n);
+/* Time passes: boot-up message, heartbeat (out as for c4gsim_slave_rx). */
+C4G_NODISCARD c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n);
 /* Power cycle: boot-up state again with a fresh dictionary (a node that comes back). */
-void c4gsim_slave_reset(c4gsim_slave_t *s);
-/* Drive fault: EMCY (0x7300-style code) and DS402 fault state. */
-void c4gsim_slave_fault(c4gsim_slave_t *s, uint16_t code, c4g_co_frame_t *out, int *n);
+C4G_NODISCARD c4g_status_t c4gsim_slave_reset(c4gsim_slave_t *s);
+/* Drive fault: EMCY (0x7300-style code, unless silent) and DS402 fault state. */
+C4G_NODISCARD c4g_status_t c4gsim_slave_fault(c4gsim_slave_t *s, uint16_t code, c4g_co_frame_t *out, int *n);
 
 #endif /* C4GSIM_SLAVE_H */

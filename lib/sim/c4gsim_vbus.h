@@ -12,17 +12,20 @@ typedef void (*c4gsim_bus_log_fn)(void *ctx, const c4g_co_frame_t *f);
 typedef struct c4gsim_vbus {
     c4g_co_master_t *master;
     c4gsim_slave_t *slave[C4G_CO_MAX_NODES];
-    int n_slaves;
+    uint32_t n_slaves;
     c4gsim_bus_log_fn log;  /* optional: every frame on the bus */
     void *log_ctx;
     uint64_t frames;
 } c4gsim_vbus_t;
 
-void c4gsim_vbus_init(c4gsim_vbus_t *b, c4g_co_master_t *m);
-int c4gsim_vbus_add(c4gsim_vbus_t *b, c4gsim_slave_t *s);
+/* Every function returns a status: C4G_ERR_NULL for a NULL pointer. @p m may be NULL (a bus
+ * of nodes alone). */
+C4G_NODISCARD c4g_status_t c4gsim_vbus_init(c4gsim_vbus_t *b, c4g_co_master_t *m);
+/* A node on the bus; C4G_ERR_CAPACITY past C4G_CO_MAX_NODES. */
+C4G_NODISCARD c4g_status_t c4gsim_vbus_add(c4gsim_vbus_t *b, c4gsim_slave_t *s);
 /* Puts a frame on the bus as if a node had sent it (injection, EMCY of a fault). */
-void c4gsim_vbus_inject(c4gsim_vbus_t *b, const c4g_co_frame_t *f, uint64_t now_us);
+C4G_NODISCARD c4g_status_t c4gsim_vbus_inject(c4gsim_vbus_t *b, const c4g_co_frame_t *f, uint64_t now_us);
 /* Time passes to now_us: master timers, then every frame until the bus is quiet. */
-void c4gsim_vbus_step(c4gsim_vbus_t *b, uint64_t now_us);
+C4G_NODISCARD c4g_status_t c4gsim_vbus_step(c4gsim_vbus_t *b, uint64_t now_us);
 
 #endif /* C4GSIM_VBUS_H */

@@ -2,10 +2,27 @@
 #include "simgen.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace simgen {
 
 constexpr double kTwoPi = 6.283185307179586;
+
+// The model's statuses: a case it refuses is a broken harness, not a result.
+static void must(c4g_status_t st)
+{
+    if (st != C4G_OK) {
+        throw std::runtime_error("c4g-sim model: status " + std::to_string(static_cast<int>(st)));
+    }
+}
+
+static double uniform(c4gsim_rng_t *r)
+{
+    double u = 0.0;
+    must(c4gsim_rng_uniform(r, &u));
+    return u;
+}
 
 ident::Vec truth(const c4gsim_axis_params_t &p)
 {
@@ -28,8 +45,8 @@ double link_angle(const c4gsim_axis_params_t &p, double motor) { return kTwoPi *
 ident::AxisLog run(const Case &c, uint64_t seed)
 {
     c4gsim_rng_t rng, orng;
-    c4gsim_rng_seed(&rng, seed);
-    c4gsim_rng_seed(&orng, seed * 7919U + 17U);
+    must(c4gsim_rng_seed(&rng, seed));
+    must(c4gsim_rng_seed(&orng, seed * 7919U + 17U));
     ident::ExciteOptions eo = c.ex;
     eo.duration = c.seconds;
     eo.seed = static_cast<unsigned>(seed % 97U);
@@ -39,8 +56,8 @@ ident::AxisLog run(const Case &c, uint64_t seed)
     ea.on = !c.still;
     const ident::Excitation ex(eo, {ea});
     c4gsim_axis_t a;
-    c4gsim_axis_reset(&a, &c.p, &rng);
-    a.drive_on = 1;
+    must(c4gsim_axis_reset(&a, &c.p, &rng));
+    a.drive_on = true;
     ident::AxisLog L;
     L.arm = 1;
     L.axis = c.logical + 1;
@@ -64,16 +81,17 @@ ident::AxisLog run(const Case &c, uint64_t seed)
         // as c4g-sim: the DSA interpolates the reference over its steps
         for (int j = 0; j < sub; j++) {
             c4gsim_dsa_in_t st = in;
-            c4gsim_dsa_interp(prev_ref, prev_vel, in.pos_ref, in.vel_ff, static_cast<double>(j) / sub,
-                           c.period, &st.pos_ref, &st.vel_ff);
-            c4gsim_axis_step(&a, &c.p, &st, dt, &rng);
+            must(c4gsim_dsa_interp(prev_ref, prev_vel, in.pos_ref, in.vel_ff, static_cast<double>(j) / sub,
+                                   c.period, &st.pos_ref, &st.vel_ff));
+            must(c4gsim_axis_step(&a, &c.p, &st, dt, &rng));
         }
         prev_ref = in.pos_ref;
         prev_vel = in.vel_ff;
-        double d5 = c4gsim_axis_report_current(&a, &c.p, &rng);
-        if (c.outliers > 0.0 && c4gsim_rng_uniform(&orng) < c.outliers) {
-            const double m = c.outlier_size * (0.5 + 0.5 * c4gsim_rng_uniform(&orng));
-            d5 += (c4gsim_rng_uniform(&orng) < 0.5) ? -m : m;
+        double d5 = 0.0;
+        must(c4gsim_axis_report_current(&a, &c.p, &rng, &d5));
+        if (c.outliers > 0.0 && uniform(&orng) < c.outliers) {
+            const double m = c.outlier_size * (0.5 + 0.5 * uniform(&orng));
+            d5 += (uniform(&orng) < 0.5) ? -m : m;
         }
         L.tick.push_back(static_cast<int64_t>(k));
         L.t.push_back(t);

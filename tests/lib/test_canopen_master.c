@@ -102,15 +102,15 @@ static void net_cfg(c4g_co_net_cfg_t *c, int n)
 static void rig_init(rig_t *r)
 {
     assert_int_equal(c4g_co_master_init(&r->m, &r->cfg), C4G_OK);
-    c4gsim_vbus_init(&r->bus, &r->m);
+    assert_int_equal(c4gsim_vbus_init(&r->bus, &r->m), C4G_OK);
     for (int i = 0; i < r->cfg.n_nodes; i++) {
-        c4gsim_slave_init(&r->s[i], r->cfg.node[i].node_id, DEVTYPE);
-        assert_int_equal(c4gsim_vbus_add(&r->bus, &r->s[i]), 0);
+        assert_int_equal(c4gsim_slave_init(&r->s[i], r->cfg.node[i].node_id, DEVTYPE), C4G_OK);
+        assert_int_equal(c4gsim_vbus_add(&r->bus, &r->s[i]), C4G_OK);
     }
     r->bus.log = log_fn;
     r->bus.log_ctx = &r->tr;
     r->now = 1000;
-    c4gsim_vbus_step(&r->bus, r->now); /* boot-up messages */
+    assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK); /* boot-up messages */
     r->tr.n = 0;
     r->nev = 0;
 }
@@ -131,7 +131,7 @@ static void run_until(rig_t *r, uint64_t until)
 {
     while (r->now < until) {
         r->now += 1000;
-        c4gsim_vbus_step(&r->bus, r->now);
+        assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK);
         drain_events(r);
     }
 }
@@ -158,7 +158,7 @@ static int count_ev(const rig_t *r, int kind)
 static void start(rig_t *r)
 {
     assert_int_equal(c4g_co_master_start(&r->m, r->now), C4G_OK);
-    c4gsim_vbus_step(&r->bus, r->now);
+    assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK);
     drain_events(r);
 }
 
@@ -444,7 +444,7 @@ static void test_boot_no_watchdog(void **state)
     /* a late poll: one SYNC, the next a full period later (no burst) */
     const uint32_t syncs = r.m.count.syncs;
     r.now += 55000;
-    c4gsim_vbus_step(&r.bus, r.now);
+    assert_int_equal(c4gsim_vbus_step(&r.bus, r.now), C4G_OK);
     assert_int_equal(r.m.count.syncs, syncs + 1);
     assert_int_equal(r.m.next_sync_us, r.now + 10000);
 }
@@ -519,7 +519,7 @@ static void test_loss_and_recovery(void **state)
     assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_RUNNING);
     assert_int_equal(count_ev(&r, C4G_CO_EV_NODE_LOST), 1);
     /* it comes back (power cycle): at the next poll, steps 1-6 for it alone */
-    c4gsim_slave_reset(&r.s[0]);
+    assert_int_equal(c4gsim_slave_reset(&r.s[0]), C4G_OK);
     r.s[0].silent = 0;
     from = r.tr.n;
     run_until(&r, polls[2] + 2600000);
@@ -553,7 +553,7 @@ static void test_bootup_and_failed_recovery(void **state)
     rig_init(&r);
     start(&r);
     run_until(&r, r.now + 200000);
-    c4gsim_slave_reset(&r.s[0]);
+    assert_int_equal(c4gsim_slave_reset(&r.s[0]), C4G_OK);
     r.s[0].device_type = 0x1234; /* comes back as another device */
     run_until(&r, r.now + 5000);
     const c4g_co_event_t *lost = find_ev(&r, C4G_CO_EV_NODE_LOST, 1);
@@ -582,7 +582,7 @@ static void test_bootup_and_failed_recovery(void **state)
     rig_init(&r);
     start(&r);
     run_until(&r, r.now + 100000);
-    c4gsim_slave_reset(&r.s[0]);
+    assert_int_equal(c4gsim_slave_reset(&r.s[0]), C4G_OK);
     r.s[0].device_type = 0x1234;
     run_until(&r, r.now + 2600000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
@@ -633,9 +633,9 @@ static void test_ds402_over_pdos(void **state)
     c4g_co_frame_t out[8];
     int n = 0;
     for (int k = 0; k < 10; k++) {
-        c4gsim_slave_fault(&r.s[0], (uint16_t)(0x7300 + k), out, &n);
+        assert_int_equal(c4gsim_slave_fault(&r.s[0], (uint16_t)(0x7300 + k), out, &n), C4G_OK);
         assert_int_equal(n, 1);
-        c4gsim_vbus_inject(&r.bus, &out[0], r.now);
+        assert_int_equal(c4gsim_vbus_inject(&r.bus, &out[0], r.now), C4G_OK);
     }
     drain_events(&r);
     const c4g_co_node_t *nd = &r.m.node[0];

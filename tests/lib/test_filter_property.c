@@ -33,15 +33,22 @@ typedef struct world {
     int32_t num;
 } world_t;
 
+static double uniform(c4gsim_rng_t *r)
+{
+    double u = 0.0;
+    assert_int_equal(c4gsim_rng_uniform(r, &u), C4G_OK);
+    return u;
+}
+
 static float uni(c4gsim_rng_t *r, float a, float b)
 {
-    return a + (b - a) * (float)c4gsim_rng_uniform(r);
+    return a + (b - a) * (float)uniform(r);
 }
 
 /* A request that is sometimes tame, sometimes absurd. */
 static float wild(c4gsim_rng_t *r, float tame)
 {
-    const double u = c4gsim_rng_uniform(r);
+    const double u = uniform(r);
     if (u < 0.6) {
         return uni(r, -tame, tame);
     }
@@ -110,7 +117,7 @@ static int run_mode(int32_t mode, uint64_t seed)
     world_t w;
     c4gsim_rng_t rng;
     int tick;
-    c4gsim_rng_seed(&rng, seed);
+    assert_int_equal(c4gsim_rng_seed(&rng, seed), C4G_OK);
     world_init(&w, &rng);
     for (tick = 0; tick < TICKS; tick++) {
         const int32_t m = (tick < 3) ? C4G_MODE_0 : mode; /* the robot stands in mode 0 first */
@@ -142,7 +149,7 @@ static int run_mode(int32_t mode, uint64_t seed)
             const c4g_pc_axis_t *a = &tx.ax[i];
             c4gsim_dsa_in_t in;
             double step;
-            c4gsim_ref_step(&w.ref[i], m, a, w.pos_i[i], 0.0, 1.0, T_S, &in);
+            assert_int_equal(c4gsim_ref_step(&w.ref[i], m, a, w.pos_i[i], 0.0, 1.0, T_S, &in), C4G_OK);
             step = in.pos_ref - before;
             if (m == C4G_MODE_1 || m == C4G_MODE_2 || m == C4G_MODE_1_STANDBY) {
                 if (a->current_add > 10.0f || a->current_add < -10.0f) {
@@ -204,18 +211,18 @@ static void test_property_needs_the_filter(void **state)
     memset(&a, 0, sizeof a);
     a.target_vel = 0.25f; /* mode 5: 0.25 turns a tick, integrated */
     for (k = 0; k < 10; k++) {
-        c4gsim_ref_step(&r, C4G_MODE_5, &a, 0.0, 0.0, 1.0, T_S, &in);
+        assert_int_equal(c4gsim_ref_step(&r, C4G_MODE_5, &a, 0.0, 0.0, 1.0, T_S, &in), C4G_OK);
     }
     assert_true(in.pos_ref > 2.0);
     memset(&r, 0, sizeof r);
     a.target_vel = 0.0f;
     a.vel_add = 0.5f; /* mode 8: D4 integrated into the reference */
-    c4gsim_ref_step(&r, C4G_MODE_8, &a, 0.0, 0.0, 1.0, T_S, &in);
+    assert_int_equal(c4gsim_ref_step(&r, C4G_MODE_8, &a, 0.0, 0.0, 1.0, T_S, &in), C4G_OK);
     assert_true(in.pos_ref > 0.49);
     /* no reply of the mode: the reference holds */
-    c4gsim_ref_step(&r, C4G_MODE_8, NULL, 0.0, 0.0, 1.0, T_S, &in);
+    assert_int_equal(c4gsim_ref_step(&r, C4G_MODE_8, NULL, 0.0, 0.0, 1.0, T_S, &in), C4G_OK);
     assert_true(in.pos_ref > 0.49 && in.pos_ref < 0.51);
-    c4gsim_ref_step(&r, C4G_MODE_4, NULL, 0.0, 0.0, 1.0, T_S, &in);
+    assert_int_equal(c4gsim_ref_step(&r, C4G_MODE_4, NULL, 0.0, 0.0, 1.0, T_S, &in), C4G_OK);
     assert_true(in.pos_ref > 0.49 && in.pos_ref < 0.51);
 }
 

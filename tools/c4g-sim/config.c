@@ -36,7 +36,7 @@ void sim_config_default(sim_config_t *c)
     for (a = 0; a < C4G_ARMS; a++) {
         c->option_ok[a] = 1;
         for (l = 0; l < C4G_AXES_PER_ARM; l++) {
-            c4gsim_axis_params_default(&c->ax[a][l], l);
+            (void)c4gsim_axis_params_default(&c->ax[a][l], l); /* cannot fail: non-NULL */
         }
     }
 }

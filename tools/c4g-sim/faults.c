@@ -8,9 +8,22 @@
 const char *const fault_names[F_COUNT] = {"drop", "delay", "duplicate", "reorder", "corrupt",
                                           "truncate"};
 
+/* The fault generator's draws (it is seeded in app_start, so they cannot fail). */
+static uint64_t draw(app_t *a)
+{
+    uint64_t x = 0U;
+    (void)c4gsim_rng_next(&a->frng, &x);
+    return x;
+}
+
 static int roll(app_t *a, enum fault f)
 {
-    return a->o.fault_frac[f] > 0.0 && c4gsim_rng_uniform(&a->frng) < a->o.fault_frac[f];
+    double u = 1.0;
+    if (!(a->o.fault_frac[f] > 0.0)) {
+        return 0;
+    }
+    (void)c4gsim_rng_uniform(&a->frng, &u);
+    return u < a->o.fault_frac[f];
 }
 
 static void queue_pending(app_t *a, const uint8_t *buf, size_t len, uint64_t due)
@@ -72,12 +85,12 @@ static int lost(app_t *a, const uint8_t *pkt, size_t *len)
 static void damage(app_t *a, uint8_t *buf, size_t *len)
 {
     if (roll(a, F_CORRUPT)) {
-        const size_t at = (size_t)(c4gsim_rng_next(&a->frng) % *len);
-        buf[at] ^= (uint8_t)(1U + c4gsim_rng_next(&a->frng) % 255U);
+        const size_t at = (size_t)(draw(a) % *len);
+        buf[at] ^= (uint8_t)(1U + draw(a) % 255U);
         a->st.fault[F_CORRUPT]++;
     }
     if (roll(a, F_TRUNCATE)) {
-        *len = (size_t)(c4gsim_rng_next(&a->frng) % *len);
+        *len = (size_t)(draw(a) % *len);
         a->st.fault[F_TRUNCATE]++;
     }
 }

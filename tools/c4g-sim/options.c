@@ -460,7 +460,7 @@ int app_prepare(app_t *a)
         fprintf(stderr, "c4g-sim: %s: %s\n", c4g_ctrl_error_name(a->sim.err[0].code), a->sim.err[0].text);
         return EXIT_USAGE;
     }
-    c4gsim_rng_seed(&a->frng, c->seed + 0x5EEDU);
+    (void)c4gsim_rng_seed(&a->frng, c->seed + 0x5EEDU); /* cannot fail: a->frng exists */
     /* a late start up to min(t-cycle1, period - t-cycle1) still leaves a PC that answers
      * within t-cycle1 before the next tick */
     a->tol_ns = (b < p) ? ((b < p - b) ? b : p - b) : p / 2U;

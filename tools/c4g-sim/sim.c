@@ -69,6 +69,17 @@ int sim_has_error(const sim_t *s, const char *name)
     return 0;
 }
 
+static void arm_drive_off(sim_t *s, int arm);
+
+/* The axis model refused a value (not finite, out of range): the arm's drives go off, as a
+ * real drive faults, rather than running on with a state nobody can trust. */
+static void model_fault(sim_t *s, const sim_ax_t *x, const char *what)
+{
+    logf_(s, "arm %d axis %d: the model refused its %s input: drives off", x->arm + 1, x->logical + 1,
+          what);
+    arm_drive_off(s, x->arm);
+}
+
 static void arm_drive_off(sim_t *s, int arm)
 {
     int i;
@@ -120,7 +131,7 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
     s->scn = scn;
     s->override = 1.0;
     s->period = (double)cfg->period_ms / 1000.0;
-    c4gsim_rng_seed(&s->rng, cfg->seed);
+    (void)c4gsim_rng_seed(&s->rng, cfg->seed); /* cannot fail: s->rng exists */
     if (sim_config_axes(cfg) < 0) {
         sim_raise(s, C4G_CERR_CONFIG, 0, 0);
         return -1;
@@ -153,7 +164,10 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
                 x->arm = a;
                 x->logical = l;
                 x->p = &s->cfg.ax[a][l];
-                c4gsim_axis_reset(&x->m, x->p, &s->rng);
+                if (c4gsim_axis_reset(&x->m, x->p, &s->rng) != C4G_OK) {
+                    sim_raise(s, C4G_CERR_CONFIG, 0, 0); /* parameters the model refuses */
+                    return -1;
+                }
                 x->mode = p->startup_mode;
                 x->set_mode = p->startup_mode;
                 x->req_mode = -1;
@@ -237,7 +251,9 @@ static void start_move(sim_t *s, const scn_cmd_t *c)
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
         if (x->arm == arm) {
-            c4gsim_trap_plan(&x->trap, x->trap.p0, x->trap.p0 + x->trap.d, dur);
+            if (c4gsim_trap_plan(&x->trap, x->trap.p0, x->trap.p0 + x->trap.d, dur) != C4G_OK) {
+                model_fault(s, x, "trajectory");
+            }
         }
     }
     s->arm[arm].moving = 1;
@@ -708,7 +724,9 @@ static void dsa_inputs(sim_t *s, sim_ax_t *x, c4gsim_dsa_in_t *in)
         in->vel_ff = 0.0;
         x->ref.pos_ref = in->pos_ref;
     } else {
-        c4gsim_ref_step(&x->ref, x->mode, pc, x->pos_i, x->vel_i, s->override, T, in);
+        if (c4gsim_ref_step(&x->ref, x->mode, pc, x->pos_i, x->vel_i, s->override, T, in) != C4G_OK) {
+            model_fault(s, x, "reference");
+        }
     }
     if (is_pc_current_mode(x->mode)) {
         in->pc_share = (s->cfg.switch_ms > 0.0)
@@ -728,7 +746,9 @@ static void advance_trajectory(sim_t *s)
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
         if (s->arm[x->arm].moving) {
-            c4gsim_trap_eval(&x->trap, s->arm[x->arm].move_t, &x->pos_i, &x->vel_i);
+            if (c4gsim_trap_eval(&x->trap, s->arm[x->arm].move_t, &x->pos_i, &x->vel_i) != C4G_OK) {
+                model_fault(s, x, "trajectory");
+            }
         } else {
             x->vel_i = 0.0;
         }
@@ -891,14 +911,19 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
         const double w = (double)k / (double)sub;
         for (i = 0; i < s->n_axes; i++) {
             c4gsim_dsa_in_t step = in[i];
-            c4gsim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
-                           &step.pos_ref, &step.vel_ff);
-            c4gsim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng);
+            if (c4gsim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
+                                  &step.pos_ref, &step.vel_ff) != C4G_OK ||
+                c4gsim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng) != C4G_OK) {
+                model_fault(s, &s->ax[i], "DSA step");
+            }
         }
     }
     for (i = 0; i < s->n_axes; i++) {
         sim_ax_t *x = &s->ax[i];
-        (void)c4gsim_axis_report_current(&x->m, x->p, &s->rng);
+        double cur;
+        if (c4gsim_axis_report_current(&x->m, x->p, &s->rng, &cur) != C4G_OK) {
+            model_fault(s, x, "current");
+        }
         x->act_vel_tick = x->m.meas_pos - x->prev_tick_meas;
         x->prev_tick_meas = x->m.meas_pos;
         if (x->set_mode == C4G_MODE_0 || x->set_mode == C4G_MODE_FREEZING_A) {

@@ -36,7 +36,9 @@ static void socketcan_step(sim_co_t *s, uint64_t t)
     bool have = true;
     int n = 0;
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        c4gsim_slave_poll(&s->slave[i], t, out, &n);
+        if (c4gsim_slave_poll(&s->slave[i], t, out, &n) != C4G_OK) {
+            n = 0;
+        }
         for (int k = 0; k < n; k++) {
             (void)c4gh_co_socketcan_send(s->fd_nodes, &out[k]);
         }
@@ -52,7 +54,9 @@ static void socketcan_step(sim_co_t *s, uint64_t t)
         }
         while (c4gh_co_socketcan_recv(s->fd_nodes, &f, t) == 1) {
             for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-                c4gsim_slave_rx(&s->slave[i], &f, out, &n);
+                if (c4gsim_slave_rx(&s->slave[i], &f, out, &n) != C4G_OK) {
+                    n = 0; /* a frame no node can take (the recv side checks dlc and id) */
+                }
                 for (int k = 0; k < n; k++) {
                     (void)c4gh_co_socketcan_send(s->fd_nodes, &out[k]);
                 }
@@ -76,7 +80,7 @@ static void bus_step(sim_co_t *s, uint64_t now_ns)
     if (s->fd_master >= 0) {
         socketcan_step(s, t);
     } else {
-        c4gsim_vbus_step(&s->bus, t);
+        (void)c4gsim_vbus_step(&s->bus, t); /* cannot fail: the bus exists */
     }
 }
 
@@ -324,8 +328,12 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
         return -1;
     }
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        c4gsim_slave_init(&s->slave[i], s->cfg.net.node[i].node_id,
-                          s->cfg.net.node[i].device_type & ~C4G_CO_DEVTYPE_LG_REVERSE);
+        if (c4gsim_slave_init(&s->slave[i], s->cfg.net.node[i].node_id,
+                              s->cfg.net.node[i].device_type & ~C4G_CO_DEVTYPE_LG_REVERSE) != C4G_OK) {
+            snprintf(err, errlen, "%s: node id %u refused by the simulated node", ini,
+                     (unsigned)s->cfg.net.node[i].node_id);
+            return -1;
+        }
     }
     if (ifname != NULL) {
         s->fd_master = c4gh_co_socketcan_open(ifname, err, errlen);
@@ -344,9 +352,9 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
     }
     s->t0_ns = c4gh_cell_now_ns();
     s->log.epoch_us = wall_us();
-    c4gsim_vbus_init(&s->bus, &s->m);
+    (void)c4gsim_vbus_init(&s->bus, &s->m); /* cannot fail: the bus exists */
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
-        (void)c4gsim_vbus_add(&s->bus, &s->slave[i]);
+        (void)c4gsim_vbus_add(&s->bus, &s->slave[i]); /* n_nodes <= C4G_CO_MAX_NODES (master init) */
     }
     s->bus.log = c4gh_co_buslog_cb;
     s->bus.log_ctx = &s->log;
@@ -591,7 +599,7 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
         sl->silent = 1;
         snprintf(out, cap, "node %u unplugged (silent)", sl->node_id);
     } else if (strcasecmp(cmd, "SIM_PLUG") == 0) {
-        c4gsim_slave_reset(sl);
+        (void)c4gsim_slave_reset(sl); /* cannot fail: sl exists */
         sl->silent = 0;
         sl->no_heartbeat = 0;
         snprintf(out, cap, "node %u plugged in (power-up, boot-up message)", sl->node_id);
@@ -605,12 +613,14 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
         c4g_co_frame_t f[C4GSIM_SLAVE_OUT];
         int n = 0;
         const long code = nt > 0 ? strtol(tok[0], NULL, 0) : 0x7300;
-        c4gsim_slave_fault(sl, (uint16_t)code, f, &n);
+        if (c4gsim_slave_fault(sl, (uint16_t)code, f, &n) != C4G_OK) {
+            n = 0;
+        }
         for (int k = 0; k < n; k++) {
             if (s->fd_nodes >= 0) {
                 (void)c4gh_co_socketcan_send(s->fd_nodes, &f[k]);
             } else {
-                c4gsim_vbus_inject(&s->bus, &f[k], bus_us(s, c4gh_cell_now_ns()));
+                (void)c4gsim_vbus_inject(&s->bus, &f[k], bus_us(s, c4gh_cell_now_ns())); /* cannot fail */
             }
         }
         handle_events(s, s->platform);
