@@ -193,8 +193,8 @@ TEST_LIBS := -lcmocka $(TOOL_LIB_LIBS)
 TOOL_C_LIBS = $(foreach t,$(C_TOOLS),$(1)/tools/lib$(t).a)
 # What a test links, by its folder ($(1)), in flavour directory $(2): a library test needs
 # only the pure archives, so editing a tool relinks only tests/tools and tests/host.
-test_archs = $(if $(filter tests/tools/ tests/sim/,$(1)),$(call TOOL_C_LIBS,$(2))) \
-  $(if $(filter tests/tools/ tests/sim/ tests/host/,$(1)),$(2)/lib/libc4gopen-host.a) \
+test_archs = $(if $(filter tests/tools/,$(1)),$(call TOOL_C_LIBS,$(2))) \
+  $(if $(filter tests/tools/ tests/host/,$(1)),$(2)/lib/libc4gopen-host.a) \
   $(2)/lib/libc4gopen-sim.a $(2)/lib/libc4gopen.a
 # unit_test SRC FLAVOUR_DIR COMPILER_AND_FLAGS
 define unit_test
