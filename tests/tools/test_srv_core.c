@@ -188,7 +188,7 @@ static void test_handshake_and_cyclic_replies(void **state)
     /* mode 4: absolute targets from where the arm stood, moving away from it */
     assert_float_equal(reply_d1(&g_a.r[FIRST_CYCLIC + N_MODE0], 0U), 0.2, 1e-6);
     assert_true(reply_d1(&g_a.r[N_PKT - 1U], 0U) > 0.25f);
-    assert_int_equal(g_srv.loop.session.counters.cyclic, N_MODE0 + N_MODE4);
+    assert_int_equal(srv_counters(&g_srv)->cyclic, N_MODE0 + N_MODE4);
     assert_int_equal(g_srv.stats.inits, 1U);
     assert_int_equal(g_srv.stats.skipped, 0U);
     assert_true(g_a.saw_init_line); /* log lines reach the caller's logger */
