@@ -113,9 +113,6 @@ C4G_NODISCARD c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t c
  *  statistics); after a sync or init reply nothing is timed. @return C4G_OK, C4G_ERR_NULL. */
 C4G_NODISCARD c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns);
 
-/** c4g_loop_poll's next_ns when no time can change anything: only a datagram can. */
-#define C4G_NO_DEADLINE UINT64_MAX
-
 /**
  * The silence and loss check (c4g_session_poll), and the next instant at which it has work:
  * a caller sleeps until the next datagram or @p next_ns, whichever comes first, and polls

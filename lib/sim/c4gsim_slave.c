@@ -169,7 +169,7 @@ static uint32_t od_write(c4gsim_slave_t *s, uint16_t index, uint8_t sub, uint32_
     case 0x100D: s->life_factor = (uint8_t)v; return 0;
     case 0x1017:
         s->heartbeat_ms = (uint16_t)v;
-        s->next_hb_us = 0;
+        s->next_hb_ns = 0;
         return 0;
     case 0x6040: set_controlword(s, (uint16_t)v); return 0;
     case 0x6060: s->modes = (int8_t)v; return 0;
@@ -403,7 +403,7 @@ void c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t 
     }
 }
 
-void c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n)
+void c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_ns, c4g_co_frame_t *out, int *n)
 {
     c4g_co_frame_t f;
     *n = 0;
@@ -414,20 +414,20 @@ void c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, 
         (void)c4g_co_ec_encode(&f, s->node_id, C4G_CO_STATE_BOOTUP, 0);
         emit(out, n, &f);
         s->nmt = C4G_CO_STATE_PREOP;
-        s->next_hb_us = 0;
+        s->next_hb_ns = 0;
         return;
     }
     if (s->heartbeat_ms == 0 || s->no_heartbeat) {
         return;
     }
-    if (s->next_hb_us == 0) {
-        s->next_hb_us = now_us + 1000ULL * s->heartbeat_ms;
-    } else if (now_us >= s->next_hb_us) {
+    if (s->next_hb_ns == 0) {
+        s->next_hb_ns = now_ns + 1000000ULL * s->heartbeat_ms;
+    } else if (now_ns >= s->next_hb_ns) {
         (void)c4g_co_ec_encode(&f, s->node_id, s->nmt, 0);
         emit(out, n, &f);
-        s->next_hb_us += 1000ULL * s->heartbeat_ms;
-        if (s->next_hb_us <= now_us) {
-            s->next_hb_us = now_us + 1000ULL * s->heartbeat_ms;
+        s->next_hb_ns += 1000000ULL * s->heartbeat_ms;
+        if (s->next_hb_ns <= now_ns) {
+            s->next_hb_ns = now_ns + 1000000ULL * s->heartbeat_ms;
         }
     }
 }
