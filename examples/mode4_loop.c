@@ -109,11 +109,11 @@ int main(int argc, char **argv)
             break;                                         /* 504: end of communication */
     }
     c4g_timing_t t;
-    const c4g_counters_t *c;
-    if (c4g_loop_timing(&lp, &t) != C4G_OK || c4g_loop_counters(&lp, &c, NULL) != C4G_OK)
+    const c4g_counters_t *cnt;
+    if (c4g_loop_timing(&lp, &t) != C4G_OK || c4g_loop_counters(&lp, &cnt, NULL) != C4G_OK)
         return 1;
     printf("cyclic %llu, malformed %llu, worst cycle %.1f us, jitter [%+.1f; %+.1f] us\n",
-           (unsigned long long)c->cyclic, (unsigned long long)c->malformed_total,
+           (unsigned long long)cnt->cyclic, (unsigned long long)cnt->malformed_total,
            t.worst_cycle_ns / 1e3, t.min_jitter_ns / 1e3, t.max_jitter_ns / 1e3);
     return 0;
 }

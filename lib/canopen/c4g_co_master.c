@@ -589,7 +589,7 @@ c4g_status_t c4g_co_master_rx(c4g_co_master_t *m, const c4g_co_frame_t *f)
 static uint64_t co_after(uint64_t t, uint64_t d)
 {
     const uint64_t room = C4G_NO_DEADLINE - t;
-    return (d < room) ? (t + d + 1U) : C4G_NO_DEADLINE;
+    return (d < room) ? ((t + d) + 1U) : C4G_NO_DEADLINE;
 }
 
 static uint64_t co_min(uint64_t a, uint64_t b)
@@ -603,11 +603,11 @@ static uint64_t co_min(uint64_t a, uint64_t b)
 static uint64_t master_deadline(const c4g_co_master_t *m)
 {
     uint64_t next = C4G_NO_DEADLINE;
-    uint32_t i;
     if (c4g_co_sdo_busy(&m->sdo)) {
         next = m->sdo.deadline_ns;
     }
     if (m->phase == C4G_CO_PHASE_RUN) {
+        uint32_t i;
         next = co_min(next, m->next_sync_ns);
         for (i = 0U; i < m->cfg.n_nodes; i++) {
             const c4g_co_node_t *n = &m->node[i];

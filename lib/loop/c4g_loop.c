@@ -223,7 +223,7 @@ c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns)
 static uint64_t after(uint64_t t, uint64_t d)
 {
     const uint64_t room = C4G_NO_DEADLINE - t;
-    return (d < room) ? (t + d + 1U) : C4G_NO_DEADLINE;
+    return (d < room) ? ((t + d) + 1U) : C4G_NO_DEADLINE;
 }
 
 /* The first instant at which the session's silence/loss check (c4g_session_poll) changes
