@@ -334,8 +334,6 @@ static bool reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, ui
                          size_t cap, size_t *olen, srv_verdict_t *v)
 {
     const uint64_t k = srv_counters(S)->cyclic;
-    const uint64_t neutral0 = srv_loop_counters(S)->neutral_replies;
-    const uint64_t refused0 = srv_loop_counters(S)->encode_refused;
     const bool skip = S->cfg.skip_at > 0U && k >= S->cfg.skip_at &&
                       k < S->cfg.skip_at + S->cfg.skip_count;
     c4g_engine_report_t rep;
@@ -347,8 +345,6 @@ static bool reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, ui
         srv_behave(S, ev, t_rx);
     }
     st = c4g_loop_reply(&S->loop, out, skip ? 0U : cap, olen, &rep);
-    S->stats.neutral_replies += srv_loop_counters(S)->neutral_replies - neutral0;
-    S->stats.encode_errors += srv_loop_counters(S)->encode_refused - refused0;
     if (ev->cmd != NULL) {
         srv_behave_done(S, &rep, t_rx);
     }
@@ -418,7 +414,7 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     c4g_loop_event_t ev;
     c4g_status_t st;
     c4g_endpoint_t old_peer;
-    uint64_t ceil0;
+    uint64_t ceil0, neutral0, refused0;
     int was_lost;
     if (S == NULL || out_len == NULL || v == NULL) {
         return C4G_ERR_NULL;
@@ -427,6 +423,10 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     *out_len = 0U;
     settle(S);
     S->last_kind = C4G_RX_DROPPED;
+    /* the loop prepares a fallback at c4g_loop_rx (no engine for the packet) or at
+     * c4g_loop_reply (the encoder refused): both count */
+    neutral0 = srv_loop_counters(S)->neutral_replies;
+    refused0 = srv_loop_counters(S)->encode_refused;
     was_lost = (srv_state(S).phase == C4G_PHASE_LOST);
     old_peer = srv_state(S).peer;
     ceil0 = srv_counters(S)->malformed[C4G_MAL_CEILING];
@@ -444,6 +444,8 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     }
     session_events(S, &ev, t_rx_ns);
     answer(S, &ev, t_rx_ns, out, cap, out_len, v);
+    S->stats.neutral_replies += srv_loop_counters(S)->neutral_replies - neutral0;
+    S->stats.encode_errors += srv_loop_counters(S)->encode_refused - refused0;
     if (!v->send) {
         *out_len = 0U;
     }
