@@ -76,7 +76,13 @@ int main(int argc, char **argv)
         from.port = ntohs(peer.sin_port);
         if (n < 0 || c4g_loop_rx(&lp, in, (size_t)n, t_rx, &from, &ev) != C4G_OK)
             continue;
-        const double dt = lp.session.init.period_ms * 1e-3;
+        const c4g_init_t *init;                        /* the accepted init packet */
+        const c4g_axis_map_t *map;
+        c4g_engine_t *eng;                             /* takes requests */
+        (void)c4g_loop_init_packet(&lp, &init);
+        (void)c4g_loop_axis_map(&lp, &map);
+        (void)c4g_loop_engine(&lp, &eng);
+        const double dt = init->period_ms * 1e-3;
         for (uint32_t i = 0; ev.cmd != NULL && i < ev.cmd->n_axes; i++) {
             if (ev.pkt->ax[i].mode != C4G_MODE_4) {
                 ticks[i] = 0;
@@ -84,7 +90,7 @@ int main(int argc, char **argv)
             }
             if (ticks[i]++ == 0) {
                 float at = ev.pkt->ax[i].target_pos; /* where the axis stands as mode 4 begins */
-                if (c4g_engine_anchor(&lp.engine, i, &at) != C4G_OK)
+                if (c4g_engine_anchor(eng, i, &at) != C4G_OK)
                     fprintf(stderr, "axis %u: no anchor, starting from D1\n", i);
                 start[i] = at;
             }
@@ -93,7 +99,7 @@ int main(int argc, char **argv)
             ev.cmd->ax[i].target_pos = (float)(start[i] + q); /* D1: absolute target */
             ev.cmd->ax[i].target_vel = (float)dq;             /* D2: delta turns per tick */
             if (x >= 1.0) /* EXIT_FROM_OPEN; refused (and harmless) while already leaving */
-                (void)c4g_engine_request_exit(&lp.engine, lp.session.map.arm_of[i]);
+                (void)c4g_engine_request_exit(eng, map->arm_of[i]);
         }
         if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { /* safety filter */
             sendto(fd, out, len, 0, (struct sockaddr *)&peer, pl);
@@ -103,11 +109,11 @@ int main(int argc, char **argv)
             break;                                         /* 504: end of communication */
     }
     c4g_timing_t t;
-    if (c4g_session_timing(&lp.session, &t) != C4G_OK)
+    const c4g_counters_t *cnt;
+    if (c4g_loop_timing(&lp, &t) != C4G_OK || c4g_loop_counters(&lp, &cnt, NULL) != C4G_OK)
         return 1;
     printf("cyclic %llu, malformed %llu, worst cycle %.1f us, jitter [%+.1f; %+.1f] us\n",
-           (unsigned long long)lp.session.counters.cyclic,
-           (unsigned long long)lp.session.counters.malformed_total,
+           (unsigned long long)cnt->cyclic, (unsigned long long)cnt->malformed_total,
            t.worst_cycle_ns / 1e3, t.min_jitter_ns / 1e3, t.max_jitter_ns / 1e3);
     return 0;
 }

@@ -20,6 +20,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/** A poll's next deadline when no time can change anything (c4g_loop_poll,
+ *  c4g_co_master_poll): only an input can. */
+#define C4G_NO_DEADLINE UINT64_MAX
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -7,9 +7,9 @@
  *        Usable alone: needs only c4gopen_base.h.
  *
  * TIME
- *   The library reads no clock: every call that needs the time takes it (microseconds
- *   of a monotonic clock of the caller's choice); received frames carry their own
- *   reception time in c4g_co_frame_t.t_us.
+ *   The library reads no clock: every call that needs the time takes it (nanoseconds
+ *   of a monotonic clock of the caller's choice, as the rest of the library); received frames carry their own
+ *   reception time in c4g_co_frame_t.t_ns.
  *
  * I/O
  *   None. c4g_co_master_rx() takes a received frame; c4g_co_master_poll() runs the
@@ -47,7 +47,7 @@ extern "C" {
 #define C4G_CO_TXQ_LEN 128U
 #define C4G_CO_EVQ_LEN 64U
 #define C4G_CO_SDO_MAX 64U               /**< largest SDO transfer of the client, bytes */
-#define C4G_CO_RECOVERY_POLL_US 2500000U /**< DeviceType poll of a lost node: every 2.5 s */
+#define C4G_CO_RECOVERY_POLL_NS 2500000000ULL /**< DeviceType poll of a lost node: every 2.5 s */
 #define C4G_CO_DEVTYPE_LG_REVERSE 0x40000000UL /**< bit 30 of the configured device type */
 /**@}*/
 
@@ -135,7 +135,7 @@ extern "C" {
 
 /** A CAN 2.0A frame. */
 typedef struct c4g_co_frame {
-    uint64_t t_us;   /**< reception (or transmission) time, caller's clock */
+    uint64_t t_ns;   /**< reception (or transmission) time, caller's clock */
     uint16_t id;     /**< 11-bit identifier, 0..0x7FF */
     uint8_t rtr;     /**< 1: remote transmission request */
     uint8_t dlc;     /**< 0..8 */
@@ -177,7 +177,7 @@ C4G_NODISCARD c4g_status_t c4g_co_guard_request(c4g_co_frame_t *f, uint8_t node)
 
 /** One emergency message. */
 typedef struct c4g_co_emcy {
-    uint64_t t_us;
+    uint64_t t_ns;
     uint16_t code;   /**< emergency error code (0x0000: error reset) */
     uint8_t reg;     /**< error register 0x1001 */
     uint8_t mfr[5];  /**< manufacturer-specific bytes */
@@ -229,8 +229,8 @@ typedef enum c4g_co_sdo_result {
 
 /** SDO client: one transfer at a time; frames to send are taken with c4g_co_sdo_take. */
 typedef struct c4g_co_sdo_client {
-    uint64_t deadline_us;
-    uint32_t timeout_us;
+    uint64_t deadline_ns;
+    uint64_t timeout_ns;
     uint32_t abort_code;    /**< of the last transfer that ended in ABORTED/PROTOCOL/TIMEOUT */
     uint32_t ignored;       /**< answers that fitted no transfer (counted, not trusted) */
     uint16_t index;
@@ -248,21 +248,21 @@ typedef struct c4g_co_sdo_client {
     uint8_t data[C4G_CO_SDO_MAX];
 } c4g_co_sdo_client_t;
 
-/** @p timeout_us per request (1..10 s), @p retries 0..5. */
-C4G_NODISCARD c4g_status_t c4g_co_sdo_init(c4g_co_sdo_client_t *c, uint32_t timeout_us,
+/** @p timeout_ns per request (1 ms .. 10 s), @p retries 0..5. */
+C4G_NODISCARD c4g_status_t c4g_co_sdo_init(c4g_co_sdo_client_t *c, uint64_t timeout_ns,
                                            uint8_t retries);
 /** Starts an upload of index:sub from @p node; C4G_ERR_STATE while a transfer runs. */
 C4G_NODISCARD c4g_status_t c4g_co_sdo_upload(c4g_co_sdo_client_t *c, uint8_t node,
-                                             uint16_t index, uint8_t sub, uint64_t now_us);
+                                             uint16_t index, uint8_t sub, uint64_t now_ns);
 /** Starts a download of @p len bytes (1..C4G_CO_SDO_MAX; expedited up to 4). */
 C4G_NODISCARD c4g_status_t c4g_co_sdo_download(c4g_co_sdo_client_t *c, uint8_t node,
                                                uint16_t index, uint8_t sub,
                                                const uint8_t *data, uint16_t len,
-                                               uint64_t now_us);
+                                               uint64_t now_ns);
 /** Feeds a received frame; frames not on 0x580 + node are ignored (not counted). */
 C4G_NODISCARD c4g_status_t c4g_co_sdo_rx(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f);
 /** Runs the timeout: a retry or the end of the transfer. */
-C4G_NODISCARD c4g_status_t c4g_co_sdo_poll(c4g_co_sdo_client_t *c, uint64_t now_us);
+C4G_NODISCARD c4g_status_t c4g_co_sdo_poll(c4g_co_sdo_client_t *c, uint64_t now_ns);
 /** The next frame to send, if any (*have = false otherwise). */
 C4G_NODISCARD c4g_status_t c4g_co_sdo_take(c4g_co_sdo_client_t *c, c4g_co_frame_t *f,
                                            bool *have);
@@ -341,8 +341,8 @@ typedef struct c4g_co_node_cfg {
 
 typedef struct c4g_co_net_cfg {
     uint32_t bitrate;           /**< bit/s (10k..1M), informative for the library */
-    uint32_t sync_period_us;    /**< SYNC and TxPDO period, 500 us .. 1 s */
-    uint32_t sdo_timeout_us;    /**< per SDO request */
+    uint32_t sync_period_ns;    /**< SYNC and TxPDO period, 500 us .. 1 s (in ns) */
+    uint64_t sdo_timeout_ns;    /**< per SDO request, 1 ms .. 10 s */
     uint8_t sdo_retries;
     uint8_t n_nodes;            /**< 1..16 */
     uint8_t channel;            /**< 0..3 */
@@ -400,7 +400,7 @@ typedef enum c4g_co_event_kind {
 } c4g_co_event_kind_t;
 
 typedef struct c4g_co_event {
-    uint64_t t_us;
+    uint64_t t_ns;
     uint32_t value;
     uint16_t index;
     uint8_t sub;
@@ -430,9 +430,9 @@ typedef struct c4g_co_counters {
 
 /** Per node state, readable by the caller (read-only). */
 typedef struct c4g_co_node {
-    uint64_t last_seen_us;      /**< last heartbeat / guard reply */
-    uint64_t next_us;           /**< next guard request or recovery poll */
-    uint64_t started_us;        /**< when it was last started (NMT Start) */
+    uint64_t last_seen_ns;      /**< last heartbeat / guard reply */
+    uint64_t next_ns;           /**< next guard request or recovery poll */
+    uint64_t started_ns;        /**< when it was last started (NMT Start) */
     uint32_t devtype_read;      /**< last DeviceType read */
     uint32_t fail_value;        /**< abort code or wrong DeviceType */
     uint32_t rx_val[C4G_CO_MAX_PDO][C4G_CO_MAX_ENTRIES]; /**< from the node's TPDOs */
@@ -461,7 +461,7 @@ typedef struct c4g_co_master {
     c4g_co_node_t node[C4G_CO_MAX_NODES];
     c4g_co_sdo_client_t sdo;
     c4g_co_counters_t count;
-    uint64_t next_sync_us;
+    uint64_t next_sync_ns;
     uint8_t phase;          /**< 0 idle, 1 boot, 2 running */
     uint8_t cur;            /**< node (slot) whose SDO runs, 0xFF none */
     uint8_t user_sdo;       /**< 1: the running SDO is a user transfer */
@@ -477,11 +477,18 @@ typedef struct c4g_co_master {
 /** Checks @p cfg (c4g_co_net_check) and resets the master with a copy of it. */
 C4G_NODISCARD c4g_status_t c4g_co_master_init(c4g_co_master_t *m, const c4g_co_net_cfg_t *cfg);
 /** Boot-up: step 1 now, then steps 2-7 as c4g_co_master_poll / _rx run. */
-C4G_NODISCARD c4g_status_t c4g_co_master_start(c4g_co_master_t *m, uint64_t now_us);
-/** A received frame (its t_us is the reception time). */
+C4G_NODISCARD c4g_status_t c4g_co_master_start(c4g_co_master_t *m, uint64_t now_ns);
+/** A received frame (its t_ns is the reception time). */
 C4G_NODISCARD c4g_status_t c4g_co_master_rx(c4g_co_master_t *m, const c4g_co_frame_t *f);
-/** Timers: SDO timeouts, SYNC and TxPDOs, heartbeat/guard supervision, recovery polls. */
-C4G_NODISCARD c4g_status_t c4g_co_master_poll(c4g_co_master_t *m, uint64_t now_us);
+/**
+ * Timers: SDO timeouts, SYNC and TxPDOs, heartbeat/guard supervision, recovery polls; and the
+ * next instant at which they have work (@p next_ns; C4G_NO_DEADLINE: none). A caller sleeps
+ * until the next frame or @p next_ns; a received frame can make work due sooner (an SDO
+ * answered, a recovery poll free to start): poll again after c4g_co_master_rx.
+ * @return C4G_OK, C4G_ERR_NULL.
+ */
+C4G_NODISCARD c4g_status_t c4g_co_master_poll(c4g_co_master_t *m, uint64_t now_ns,
+                                              uint64_t *next_ns);
 C4G_NODISCARD c4g_status_t c4g_co_master_tx(c4g_co_master_t *m, c4g_co_frame_t *f, bool *have);
 C4G_NODISCARD c4g_status_t c4g_co_master_event(c4g_co_master_t *m, c4g_co_event_t *ev,
                                                bool *have);
@@ -499,7 +506,7 @@ C4G_NODISCARD c4g_status_t c4g_co_master_set(c4g_co_master_t *m, uint8_t node_id
  *  ends with a C4G_CO_EV_SDO_DONE event. C4G_ERR_STATE while another SDO runs. */
 C4G_NODISCARD c4g_status_t c4g_co_master_sdo(c4g_co_master_t *m, uint8_t node_id, bool upload,
                                              uint16_t index, uint8_t sub, uint32_t value,
-                                             uint8_t size, uint64_t now_us);
+                                             uint8_t size, uint64_t now_ns);
 /** Force an NMT command to one node (S_NMT), or to all with node 0. */
 C4G_NODISCARD c4g_status_t c4g_co_master_nmt(c4g_co_master_t *m, uint8_t node_id, uint8_t cmd);
 /**@}*/

@@ -10,7 +10,8 @@
  *   c4g_loop_rx(&lp, buf, n, t_rx, &from, &ev);      // decode, init, step
  *   if (ev.cmd != NULL) { fill ev.cmd->ax[i] for the modes it carries; requests on &lp.engine }
  *   if (c4g_loop_reply(&lp, out, sizeof out, &len, NULL) == C4G_OK) { sendto(); c4g_loop_sent(); }
- *   // when no datagram came for a while: c4g_loop_poll(&lp, now, &events)
+ *   // sleep until the next datagram or next_ns (c4g_loop_deadline), then at next_ns:
+ *   //   c4g_loop_poll(&lp, now, &events, &next_ns)
  * @endcode
  * c4g_loop_reply always runs the safety filter on a cyclic reply and answers neutral when
  * the reply cannot be encoded or the control engine has no step for it, so a program
@@ -112,8 +113,72 @@ C4G_NODISCARD c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t c
  *  statistics); after a sync or init reply nothing is timed. @return C4G_OK, C4G_ERR_NULL. */
 C4G_NODISCARD c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns);
 
-/** The silence and loss check when no datagram came (c4g_session_poll). */
-C4G_NODISCARD c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events);
+/**
+ * The silence and loss check (c4g_session_poll), and the next instant at which it has work:
+ * a caller sleeps until the next datagram or @p next_ns, whichever comes first, and polls
+ * again then (no fixed timer). The deadline follows from the last accepted datagram, the
+ * silence threshold and the loss timeout; C4G_NO_DEADLINE while nothing can time out
+ * (waiting for a first start-up, freezing, after the loss or 504).
+ * @param[out] events  C4G_EV_SILENCE, C4G_EV_LOST or 0
+ * @param[out] next_ns monotonic time of the next check due
+ * @return C4G_OK, C4G_ERR_NULL. O(1).
+ */
+C4G_NODISCARD c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events,
+                                         uint64_t *next_ns);
+
+/** The next deadline c4g_loop_poll would report, without polling (after a datagram: the
+ *  sleep until the next one is bounded by it). @return C4G_OK, C4G_ERR_NULL. O(1). */
+C4G_NODISCARD c4g_status_t c4g_loop_deadline(const c4g_loop_t *lp, uint64_t *next_ns);
+
+/** The last accepted initialization packet (all zero before the first one).
+ *  @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_init_packet(const c4g_loop_t *lp, const c4g_init_t **out);
+
+/** Its axis maps (n_axes 0 before the first accepted init packet).
+ *  @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_axis_map(const c4g_loop_t *lp, const c4g_axis_map_t **out);
+
+/** The session's counters and the loop's own (either pointer may be NULL, not both); they
+ *  stay valid and current for the loop's lifetime. @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_counters(const c4g_loop_t *lp, const c4g_counters_t **session,
+                                             const c4g_loop_counters_t **loop);
+
+/** Chapter 22 timing statistics (c4g_session_timing). @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_timing(const c4g_loop_t *lp, c4g_timing_t *out);
+
+/** The loop's state as a caller reads it (c4g_loop_state). */
+typedef struct c4g_loop_state {
+    c4g_phase_t phase;        /**< the session's phase */
+    bool locked;              /**< peer holds the controller's endpoint */
+    c4g_endpoint_t peer;      /**< the controller's endpoint, when locked */
+    int32_t last_num;         /**< NUM of the newest accepted packet, -1 none */
+    uint32_t drives;          /**< bit a set: arm a reports C4G_STS_MOVING */
+    uint64_t silence_ns;      /**< effective silence threshold */
+    uint64_t lost_timeout_ns; /**< effective loss timeout */
+    bool engine_ready;        /**< the control engine holds the accepted init packet */
+    c4g_status_t finish_status; /**< c4g_engine_finish of the last cyclic reply */
+} c4g_loop_state_t;
+
+/** A snapshot of the loop's state. @return C4G_OK, C4G_ERR_NULL. O(1). */
+C4G_NODISCARD c4g_status_t c4g_loop_state(const c4g_loop_t *lp, c4g_loop_state_t *out);
+
+/** The last cyclic reply prepared (as sent, after the filter or the fallback): valid until
+ *  the next c4g_loop_rx. @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_reply_packet(const c4g_loop_t *lp,
+                                                 const c4g_pc_packet_t **out);
+
+/** Whether @p from is the controller's endpoint, or none is locked yet (c4g_session_is_peer).
+ *  @return C4G_OK, C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_is_peer(const c4g_loop_t *lp, const c4g_endpoint_t *from,
+                                            bool *out);
+
+/** The control engine, for requests (c4g_engine_request_*) and queries (c4g_engine_anchor).
+ *  @return C4G_OK; C4G_ERR_STATE when it holds no accepted init packet (*out is still set:
+ *  requests then return its own errors); C4G_ERR_NULL. */
+C4G_NODISCARD c4g_status_t c4g_loop_engine(c4g_loop_t *lp, c4g_engine_t **out);
+
+/** The control engine, read-only (its kinematics, anchors); as c4g_loop_engine. */
+C4G_NODISCARD c4g_status_t c4g_loop_engine_view(const c4g_loop_t *lp, const c4g_engine_t **out);
 
 /**
  * Whether EXIT_FROM_OPEN is under way on @p arm: requested and being sent, or accepted and

@@ -23,8 +23,8 @@ int main(void)
     bool have = false;
     memset(&cfg, 0, sizeof cfg);
     cfg.bitrate = 500000;
-    cfg.sync_period_us = 10000;
-    cfg.sdo_timeout_us = 50000;
+    cfg.sync_period_ns = 10000000;  /* 10 ms: every time of the library is in ns */
+    cfg.sdo_timeout_ns = 50000000;
     cfg.n_nodes = 1;
     cfg.node[0].node_id = 1;
     cfg.node[0].station = 1;
@@ -50,7 +50,7 @@ int main(void)
     memset(&f, 0, sizeof f);
     f.id = 0x581;
     f.dlc = 8;
-    f.t_us = 1000;
+    f.t_ns = 1000000;
     memcpy(f.data, "\x43\x00\x10\x00\x92\x01\x02\x00", 8);
     if (c4g_co_master_rx(&m, &f) != C4G_OK) {
         return 1;

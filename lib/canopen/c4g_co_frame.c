@@ -11,7 +11,7 @@ bool c4g_co_node_ok(uint8_t node)
 void c4g_co_frame_clear(c4g_co_frame_t *f, uint16_t id, uint8_t dlc)
 {
     uint32_t i;
-    f->t_us = 0U;
+    f->t_ns = 0U;
     f->id = id;
     f->rtr = 0U;
     f->dlc = dlc;
@@ -232,7 +232,7 @@ c4g_status_t c4g_co_emcy_decode(const c4g_co_frame_t *f, uint8_t *node, c4g_co_e
     } else {
         uint32_t i;
         *node = (uint8_t)(f->id - C4G_CO_COB_EMCY);
-        e->t_us = f->t_us;
+        e->t_ns = f->t_ns;
         e->code = (uint16_t)c4g_co_get_le(f->data, 2U);
         e->reg = f->data[2];
         for (i = 0U; i < 5U; i++) {

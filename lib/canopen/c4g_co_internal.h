@@ -20,12 +20,12 @@ C4G_INTERNAL uint32_t c4g_co_get_le(const uint8_t *p, uint32_t bytes);
 
 C4G_INTERNAL void c4g_co_push_tx(c4g_co_master_t *m, const c4g_co_frame_t *f);
 C4G_INTERNAL void c4g_co_push_ev(c4g_co_master_t *m, const c4g_co_event_t *e);
-C4G_INTERNAL void c4g_co_push_event(c4g_co_master_t *m, uint8_t kind, uint8_t slot, uint64_t t_us);
-C4G_INTERNAL void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_us);
+C4G_INTERNAL void c4g_co_push_event(c4g_co_master_t *m, uint8_t kind, uint8_t slot, uint64_t t_ns);
+C4G_INTERNAL void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_ns);
 C4G_INTERNAL void c4g_co_run_rx(c4g_co_master_t *m, const c4g_co_frame_t *f, c4g_co_kind_t kind,
                    uint8_t slot, uint8_t pdo);
-C4G_INTERNAL void c4g_co_run_poll(c4g_co_master_t *m, uint64_t now_us);
+C4G_INTERNAL void c4g_co_run_poll(c4g_co_master_t *m, uint64_t now_ns);
 C4G_INTERNAL void c4g_co_sdo_answer(c4g_co_master_t *m, const c4g_co_frame_t *f);
-C4G_INTERNAL void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us);
+C4G_INTERNAL void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns);
 
 #endif /* C4G_CO_INTERNAL_H */

@@ -159,12 +159,12 @@ void c4g_co_push_ev(c4g_co_master_t *m, const c4g_co_event_t *e)
     }
 }
 
-void c4g_co_push_event(c4g_co_master_t *m, uint8_t kind, uint8_t slot, uint64_t t_us)
+void c4g_co_push_event(c4g_co_master_t *m, uint8_t kind, uint8_t slot, uint64_t t_ns)
 {
     const c4g_co_node_t *n = &m->node[slot];
     c4g_co_event_t e;
     (void)memset(&e, 0, sizeof e);
-    e.t_us = t_us;
+    e.t_ns = t_ns;
     e.kind = kind;
     e.node = m->cfg.node[slot].node_id;
     e.step = n->fail_step;
@@ -194,22 +194,22 @@ static void pump_sdo(c4g_co_master_t *m)
 
 /* ---- boot */
 
-static void net_started(c4g_co_master_t *m, uint64_t now_us)
+static void net_started(c4g_co_master_t *m, uint64_t now_ns)
 {
     uint32_t i;
     push_nmt(m, C4G_CO_NMT_START, 0U); /* step 6 */
     m->phase = C4G_CO_PHASE_RUN;
-    m->next_sync_us = now_us;
+    m->next_sync_ns = now_ns;
     for (i = 0U; i < m->cfg.n_nodes; i++) {
         if (m->node[i].boot == (uint8_t)C4G_CO_BOOT_READY) {
-            c4g_co_start_node(m, (uint8_t)i, now_us);
+            c4g_co_start_node(m, (uint8_t)i, now_ns);
         }
     }
-    c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NET_STARTED, 0U, now_us);
+    c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NET_STARTED, 0U, now_ns);
 }
 
 /* Starts operation op of node slot; false when its configuration has no more. */
-static bool issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static bool issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     co_op_t op;
     const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
@@ -219,17 +219,17 @@ static bool issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         m->cur = slot;
         c4g_co_put_le(buf, op.value, 4U);
         if (op.size == 0U) {
-            (void)c4g_co_sdo_upload(&m->sdo, nc->node_id, op.index, op.sub, now_us);
+            (void)c4g_co_sdo_upload(&m->sdo, nc->node_id, op.index, op.sub, now_ns);
         } else {
             (void)c4g_co_sdo_download(&m->sdo, nc->node_id, op.index, op.sub, buf, op.size,
-                                      now_us);
+                                      now_ns);
         }
     }
     return found;
 }
 
 /* Boot phase: the next node still waiting, or step 6. */
-static void next_node(c4g_co_master_t *m, uint64_t now_us)
+static void next_node(c4g_co_master_t *m, uint64_t now_ns)
 {
     uint32_t i = 0U;
     while ((i < m->cfg.n_nodes) && (m->node[i].boot != (uint8_t)C4G_CO_BOOT_WAIT)) {
@@ -238,13 +238,13 @@ static void next_node(c4g_co_master_t *m, uint64_t now_us)
     if (i < m->cfg.n_nodes) {
         m->node[i].boot = (uint8_t)C4G_CO_BOOT_CONFIG;
         m->node[i].op = 0U;
-        (void)issue_op(m, (uint8_t)i, now_us); /* operation 0 (step 2) always exists */
+        (void)issue_op(m, (uint8_t)i, now_ns); /* operation 0 (step 2) always exists */
     } else {
-        net_started(m, now_us);
+        net_started(m, now_ns);
     }
 }
 
-static void node_done(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static void node_done(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     m->cur = C4G_CO_NO_SLOT;
@@ -252,12 +252,12 @@ static void node_done(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         /* recovery: step 6 for this node alone */
         push_nmt(m, C4G_CO_NMT_START, m->cfg.node[slot].node_id);
         n->recovering = 0U;
-        c4g_co_start_node(m, slot, now_us);
-        c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_RECOVERED, slot, now_us);
+        c4g_co_start_node(m, slot, now_ns);
+        c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_RECOVERED, slot, now_ns);
     } else {
         n->boot = (uint8_t)C4G_CO_BOOT_READY;
-        c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_READY, slot, now_us);
-        next_node(m, now_us);
+        c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_READY, slot, now_ns);
+        next_node(m, now_ns);
     }
 }
 
@@ -284,18 +284,18 @@ static void record(c4g_co_node_t *n, const co_op_t *op, uint8_t cause, uint32_t 
 }
 
 /* The configuration of node slot is aborted (steps 2a, 3a, 4.i, 5a). */
-static void node_failed(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static void node_failed(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     const bool recovery = (m->cfg.node[slot].flags & C4G_CO_F_RECOVERY) != 0U;
     m->cur = C4G_CO_NO_SLOT;
     n->boot = recovery ? (uint8_t)C4G_CO_BOOT_LOST : (uint8_t)C4G_CO_BOOT_FAILED;
-    n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
-    c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_FAILED, slot, now_us);
+    n->next_ns = now_ns + C4G_CO_RECOVERY_POLL_NS;
+    c4g_co_push_event(m, (uint8_t)C4G_CO_EV_NODE_FAILED, slot, now_ns);
     if (n->recovering != 0U) {
         n->recovering = 0U;
     } else {
-        next_node(m, now_us);
+        next_node(m, now_ns);
     }
 }
 
@@ -315,7 +315,7 @@ static uint32_t step_flag(uint8_t step)
 }
 
 /* A configuration SDO of node slot ended: go on, bypass, or abort. */
-static void config_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static void config_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
@@ -342,16 +342,16 @@ static void config_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
     }
     if (go_on) {
         n->op++;
-        if (!issue_op(m, slot, now_us)) {
-            node_done(m, slot, now_us);
+        if (!issue_op(m, slot, now_ns)) {
+            node_done(m, slot, now_ns);
         }
     } else {
-        node_failed(m, slot, now_us);
+        node_failed(m, slot, now_ns);
     }
 }
 
 /* A recovery poll of DeviceType ended: a correct answer repeats steps 1-6 for the node. */
-static void poll_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static void poll_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
@@ -364,17 +364,17 @@ static void poll_result(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
         n->recovering = 1U;
         n->boot = (uint8_t)C4G_CO_BOOT_CONFIG;
         n->op = 0U;
-        (void)issue_op(m, slot, now_us); /* operation 0 (step 2) always exists */
+        (void)issue_op(m, slot, now_ns); /* operation 0 (step 2) always exists */
     }
     /* no or wrong answer: the next poll is due 2.5 s after this one began */
 }
 
-static void user_result(c4g_co_master_t *m, uint64_t now_us)
+static void user_result(c4g_co_master_t *m, uint64_t now_ns)
 {
     const uint8_t r = m->sdo.result;
     c4g_co_event_t e;
     (void)memset(&e, 0, sizeof e);
-    e.t_us = now_us;
+    e.t_ns = now_ns;
     e.kind = (uint8_t)C4G_CO_EV_SDO_DONE;
     e.node = m->cfg.node[m->cur].node_id;
     e.index = m->sdo.index;
@@ -392,17 +392,17 @@ static void user_result(c4g_co_master_t *m, uint64_t now_us)
 }
 
 /* After the SDO client ran: hand a finished transfer to its owner. */
-static void sdo_check(c4g_co_master_t *m, uint64_t now_us)
+static void sdo_check(c4g_co_master_t *m, uint64_t now_ns)
 {
     pump_sdo(m);
     if ((m->cur != C4G_CO_NO_SLOT) && !c4g_co_sdo_busy(&m->sdo)) {
         const uint8_t slot = m->cur;
         if (m->user_sdo != 0U) {
-            user_result(m, now_us);
+            user_result(m, now_ns);
         } else if (m->node[slot].boot == (uint8_t)C4G_CO_BOOT_LOST) {
-            poll_result(m, slot, now_us);
+            poll_result(m, slot, now_ns);
         } else {
-            config_result(m, slot, now_us);
+            config_result(m, slot, now_ns);
         }
         pump_sdo(m);
     }
@@ -416,20 +416,20 @@ void c4g_co_sdo_answer(c4g_co_master_t *m, const c4g_co_frame_t *f)
     if (!mine || (m->sdo.ignored != before)) {
         m->count.sdo_ignored++;
     }
-    sdo_check(m, f->t_us);
+    sdo_check(m, f->t_ns);
 }
 
 /* Run phase: the first lost node with the recovery flag whose poll is due. */
-static void recovery_poll(c4g_co_master_t *m, uint64_t now_us)
+static void recovery_poll(c4g_co_master_t *m, uint64_t now_ns)
 {
     uint32_t i;
     for (i = 0U; (i < m->cfg.n_nodes) && (m->cur == C4G_CO_NO_SLOT); i++) {
         c4g_co_node_t *n = &m->node[i];
-        if ((n->boot == (uint8_t)C4G_CO_BOOT_LOST) && (now_us >= n->next_us)) {
+        if ((n->boot == (uint8_t)C4G_CO_BOOT_LOST) && (now_ns >= n->next_ns)) {
             m->cur = (uint8_t)i;
-            n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
+            n->next_ns = now_ns + C4G_CO_RECOVERY_POLL_NS;
             (void)c4g_co_sdo_upload(&m->sdo, m->cfg.node[i].node_id, C4G_CO_OBJ_DEVICE_TYPE,
-                                    0U, now_us);
+                                    0U, now_ns);
         }
     }
     pump_sdo(m);
@@ -492,9 +492,9 @@ c4g_status_t c4g_co_net_check(const c4g_co_net_cfg_t *cfg, uint8_t *bad_node)
         *bad_node = C4G_CO_NO_SLOT;
         if ((cfg->n_nodes < 1U) || (cfg->n_nodes > C4G_CO_MAX_NODES) ||
             (cfg->channel >= C4G_CO_MAX_CHANNELS) || (cfg->bitrate < 10000U) ||
-            (cfg->bitrate > 1000000U) || (cfg->sync_period_us < 500U) ||
-            (cfg->sync_period_us > 1000000U) || (cfg->sdo_timeout_us < 1000U) ||
-            (cfg->sdo_timeout_us > 10000000U) || (cfg->sdo_retries > 5U)) {
+            (cfg->bitrate > 1000000U) || (cfg->sync_period_ns < 500000U) ||
+            (cfg->sync_period_ns > 1000000000U) || (cfg->sdo_timeout_ns < 1000000U) ||
+            (cfg->sdo_timeout_ns > 10000000000ULL) || (cfg->sdo_retries > 5U)) {
             st = C4G_ERR_RANGE;
         }
         for (i = 0U; (i < cfg->n_nodes) && (st == C4G_OK); i++) {
@@ -523,14 +523,14 @@ c4g_status_t c4g_co_master_init(c4g_co_master_t *m, const c4g_co_net_cfg_t *cfg)
         for (i = 0U; i < C4G_CO_MAX_NODES; i++) {
             m->node[i].nmt = C4G_CO_STATE_UNKNOWN;
         }
-        st = c4g_co_sdo_init(&m->sdo, cfg->sdo_timeout_us, cfg->sdo_retries);
+        st = c4g_co_sdo_init(&m->sdo, cfg->sdo_timeout_ns, cfg->sdo_retries);
     } else {
         /* st from the check */
     }
     return st;
 }
 
-c4g_status_t c4g_co_master_start(c4g_co_master_t *m, uint64_t now_us)
+c4g_status_t c4g_co_master_start(c4g_co_master_t *m, uint64_t now_ns)
 {
     c4g_status_t st = C4G_OK;
     if (m == NULL) {
@@ -540,7 +540,7 @@ c4g_status_t c4g_co_master_start(c4g_co_master_t *m, uint64_t now_us)
     } else {
         m->phase = C4G_CO_PHASE_BOOT;
         push_nmt(m, C4G_CO_NMT_PREOP, 0U); /* step 1 */
-        next_node(m, now_us);
+        next_node(m, now_ns);
         pump_sdo(m);
     }
     return st;
@@ -585,18 +585,67 @@ c4g_status_t c4g_co_master_rx(c4g_co_master_t *m, const c4g_co_frame_t *f)
     return st;
 }
 
-c4g_status_t c4g_co_master_poll(c4g_co_master_t *m, uint64_t now_us)
+/* t + d + 1 without wrapping: the supervision fires once the quiet time EXCEEDS d */
+static uint64_t co_after(uint64_t t, uint64_t d)
+{
+    const uint64_t room = C4G_NO_DEADLINE - t;
+    return (d < room) ? ((t + d) + 1U) : C4G_NO_DEADLINE;
+}
+
+static uint64_t co_min(uint64_t a, uint64_t b)
+{
+    return (a < b) ? a : b;
+}
+
+/* When c4g_co_master_poll next has work, from the same conditions as its timers: the SDO
+ * timeout, the SYNC, each running node's heartbeat / guard supervision and guard request,
+ * and the recovery poll of a lost node (while no SDO runs: one that runs ends first). */
+static uint64_t master_deadline(const c4g_co_master_t *m)
+{
+    uint64_t next = C4G_NO_DEADLINE;
+    if (c4g_co_sdo_busy(&m->sdo)) {
+        next = m->sdo.deadline_ns;
+    }
+    if (m->phase == C4G_CO_PHASE_RUN) {
+        uint32_t i;
+        next = co_min(next, m->next_sync_ns);
+        for (i = 0U; i < m->cfg.n_nodes; i++) {
+            const c4g_co_node_t *n = &m->node[i];
+            const c4g_co_node_cfg_t *nc = &m->cfg.node[i];
+            if (n->boot == (uint8_t)C4G_CO_BOOT_RUNNING) {
+                if (nc->watchdog == (uint8_t)C4G_CO_WD_HEARTBEAT) {
+                    next = co_min(next, co_after(n->last_seen_ns,
+                                                 1000000U * (uint64_t)nc->consumer_ms));
+                } else if (nc->watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD) {
+                    const uint64_t guard = 1000000U * (uint64_t)nc->guard_ms;
+                    next = co_min(next, co_after(n->last_seen_ns, guard * nc->life_factor));
+                    next = co_min(next, n->next_ns);
+                } else {
+                    /* no watchdog: nothing to supervise */
+                }
+            } else if ((n->boot == (uint8_t)C4G_CO_BOOT_LOST) && (m->cur == C4G_CO_NO_SLOT)) {
+                next = co_min(next, n->next_ns);
+            } else {
+                /* booting (its SDO's deadline counts), failed, or not started */
+            }
+        }
+    }
+    return next;
+}
+
+c4g_status_t c4g_co_master_poll(c4g_co_master_t *m, uint64_t now_ns, uint64_t *next_ns)
 {
     c4g_status_t st = C4G_OK;
-    if (m == NULL) {
+    if ((m == NULL) || (next_ns == NULL)) {
         st = C4G_ERR_NULL;
     } else {
-        (void)c4g_co_sdo_poll(&m->sdo, now_us);
-        sdo_check(m, now_us);
+        (void)c4g_co_sdo_poll(&m->sdo, now_ns);
+        sdo_check(m, now_ns);
         if (m->phase == C4G_CO_PHASE_RUN) {
-            c4g_co_run_poll(m, now_us);
-            recovery_poll(m, now_us);
+            c4g_co_run_poll(m, now_ns);
+            recovery_poll(m, now_ns);
         }
+        *next_ns = master_deadline(m);
     }
     return st;
 }
@@ -635,7 +684,7 @@ c4g_status_t c4g_co_master_event(c4g_co_master_t *m, c4g_co_event_t *ev, bool *h
 }
 
 c4g_status_t c4g_co_master_sdo(c4g_co_master_t *m, uint8_t node_id, bool upload, uint16_t index,
-                               uint8_t sub, uint32_t value, uint8_t size, uint64_t now_us)
+                               uint8_t sub, uint32_t value, uint8_t size, uint64_t now_ns)
 {
     uint8_t slot = 0U;
     c4g_status_t st = c4g_co_master_slot(m, node_id, &slot);
@@ -649,9 +698,9 @@ c4g_status_t c4g_co_master_sdo(c4g_co_master_t *m, uint8_t node_id, bool upload,
         uint8_t buf[4];
         c4g_co_put_le(buf, value, 4U);
         if (upload) {
-            st = c4g_co_sdo_upload(&m->sdo, node_id, index, sub, now_us);
+            st = c4g_co_sdo_upload(&m->sdo, node_id, index, sub, now_ns);
         } else {
-            st = c4g_co_sdo_download(&m->sdo, node_id, index, sub, buf, size, now_us);
+            st = c4g_co_sdo_download(&m->sdo, node_id, index, sub, buf, size, now_ns);
         }
         m->cur = slot;
         m->user_sdo = 1U;

@@ -4,13 +4,13 @@
 #include "c4gopen_canopen.h"
 #include "c4g_co_internal.h"
 
-void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     n->boot = (uint8_t)C4G_CO_BOOT_RUNNING;
-    n->last_seen_us = now_us;
-    n->next_us = now_us;
-    n->started_us = now_us;
+    n->last_seen_ns = now_ns;
+    n->next_ns = now_ns;
+    n->started_ns = now_ns;
     n->op_seen = 0U;
     /* the first guard reply sets the toggle: a node the recovery did not reset goes on
        with its own */
@@ -21,7 +21,7 @@ void c4g_co_start_node(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
    state it reported in value): it stops running, and is polled for recovery if its flag
    says so. */
 static void node_gone(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint32_t value,
-                      uint64_t now_us)
+                      uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     const bool recovery = (m->cfg.node[slot].flags & C4G_CO_F_RECOVERY) != 0U;
@@ -36,26 +36,26 @@ static void node_gone(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint32_t 
     n->fail_index = 0U;
     n->fail_sub = 0U;
     n->losses++;
-    n->next_us = now_us + C4G_CO_RECOVERY_POLL_US;
-    c4g_co_push_event(m, kind, slot, now_us);
+    n->next_ns = now_ns + C4G_CO_RECOVERY_POLL_NS;
+    c4g_co_push_event(m, kind, slot, now_ns);
 }
 
-void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_us)
+void c4g_co_node_lost(c4g_co_master_t *m, uint8_t slot, uint8_t cause, uint64_t now_ns)
 {
-    node_gone(m, slot, cause, 0U, now_us);
+    node_gone(m, slot, cause, 0U, now_ns);
 }
 
 /* How long after NMT Start a STOPPED or PRE-OPERATIONAL report may still be one the node
    sent before it took the Start (a frame already queued): one consumer time for a
    heartbeat, one guard period for lifeguarding, none without a watchdog. A report after
    the node was seen OPERATIONAL is never such a frame. */
-static uint64_t start_grace_us(const c4g_co_node_cfg_t *nc)
+static uint64_t start_grace_ns(const c4g_co_node_cfg_t *nc)
 {
     uint64_t g = 0U;
     if (nc->watchdog == (uint8_t)C4G_CO_WD_HEARTBEAT) {
-        g = 1000U * (uint64_t)nc->consumer_ms;
+        g = 1000000U * (uint64_t)nc->consumer_ms;
     } else if (nc->watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD) {
-        g = 1000U * (uint64_t)nc->guard_ms;
+        g = 1000000U * (uint64_t)nc->guard_ms;
     } else {
         /* no watchdog: no grace */
     }
@@ -64,16 +64,16 @@ static uint64_t start_grace_us(const c4g_co_node_cfg_t *nc)
 
 /* The NMT state of a running node: OPERATIONAL, or it left (the PDOs would go to a node
    that ignores them, and its TPDOs no longer come). */
-static void running_state(c4g_co_master_t *m, uint8_t slot, uint8_t state, uint64_t t_us)
+static void running_state(c4g_co_master_t *m, uint8_t slot, uint8_t state, uint64_t t_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     if (state == C4G_CO_STATE_OPERATIONAL) {
         n->op_seen = 1U;
     } else if ((state == C4G_CO_STATE_STOPPED) || (state == C4G_CO_STATE_PREOP)) {
-        const bool late = (t_us >= n->started_us) &&
-                          ((t_us - n->started_us) >= start_grace_us(&m->cfg.node[slot]));
+        const bool late = (t_ns >= n->started_ns) &&
+                          ((t_ns - n->started_ns) >= start_grace_ns(&m->cfg.node[slot]));
         if ((n->op_seen != 0U) || late) {
-            node_gone(m, slot, (uint8_t)C4G_CO_CAUSE_NMT_STATE, state, t_us);
+            node_gone(m, slot, (uint8_t)C4G_CO_CAUSE_NMT_STATE, state, t_ns);
         }
     } else {
         /* c4g_co_ec_decode accepts no other state */
@@ -96,18 +96,18 @@ static void rx_ec(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
     } else if (state == C4G_CO_STATE_BOOTUP) {
         n->nmt = C4G_CO_STATE_PREOP; /* a node enters pre-operational after boot-up */
         if (n->boot == (uint8_t)C4G_CO_BOOT_RUNNING) {
-            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_BOOTUP, f->t_us);
+            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_BOOTUP, f->t_ns);
         }
     } else if ((toggle != want) && (want <= 1U)) {
         m->count.bad_toggle++;
     } else {
         n->nmt = state;
-        n->last_seen_us = f->t_us;
+        n->last_seen_ns = f->t_ns;
         if (lg) {
             n->toggle = (uint8_t)(toggle ^ 1U);
         }
         if (n->boot == (uint8_t)C4G_CO_BOOT_RUNNING) {
-            running_state(m, slot, state, f->t_us);
+            running_state(m, slot, state, f->t_ns);
         }
     }
 }
@@ -127,7 +127,7 @@ static void rx_emcy(c4g_co_master_t *m, const c4g_co_frame_t *f, uint8_t slot)
             n->emcy_n++;
         }
         (void)memset(&ev, 0, sizeof ev);
-        ev.t_us = f->t_us;
+        ev.t_ns = f->t_ns;
         ev.kind = (uint8_t)C4G_CO_EV_EMCY;
         ev.node = node;
         ev.value = e.code;
@@ -170,7 +170,7 @@ void c4g_co_run_rx(c4g_co_master_t *m, const c4g_co_frame_t *f, c4g_co_kind_t ki
 }
 
 /* Step 7: the mapped TxPDOs of every running node, then SYNC. */
-static void sync_cycle(c4g_co_master_t *m, uint64_t now_us)
+static void sync_cycle(c4g_co_master_t *m, uint64_t now_ns)
 {
     uint32_t i;
     uint32_t p;
@@ -188,30 +188,30 @@ static void sync_cycle(c4g_co_master_t *m, uint64_t now_us)
     (void)c4g_co_sync_encode(&f);
     c4g_co_push_tx(m, &f);
     m->count.syncs++;
-    m->next_sync_us += m->cfg.sync_period_us;
-    if (m->next_sync_us <= now_us) {
-        m->next_sync_us = now_us + m->cfg.sync_period_us; /* late: no burst of SYNCs */
+    m->next_sync_ns += m->cfg.sync_period_ns;
+    if (m->next_sync_ns <= now_ns) {
+        m->next_sync_ns = now_ns + m->cfg.sync_period_ns; /* late: no burst of SYNCs */
     }
 }
 
-static void supervise(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
+static void supervise(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
 {
     c4g_co_node_t *n = &m->node[slot];
     const c4g_co_node_cfg_t *nc = &m->cfg.node[slot];
-    const uint64_t quiet = now_us - n->last_seen_us;
+    const uint64_t quiet = now_ns - n->last_seen_ns;
     if (nc->watchdog == (uint8_t)C4G_CO_WD_HEARTBEAT) {
-        if (quiet > (1000U * (uint64_t)nc->consumer_ms)) {
-            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_HEARTBEAT, now_us);
+        if (quiet > (1000000U * (uint64_t)nc->consumer_ms)) {
+            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_HEARTBEAT, now_ns);
         }
     } else if (nc->watchdog == (uint8_t)C4G_CO_WD_LIFEGUARD) {
-        const uint64_t guard = 1000U * (uint64_t)nc->guard_ms;
+        const uint64_t guard = 1000000U * (uint64_t)nc->guard_ms;
         if (quiet > (guard * nc->life_factor)) {
-            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_GUARD, now_us);
-        } else if (now_us >= n->next_us) {
+            c4g_co_node_lost(m, slot, (uint8_t)C4G_CO_CAUSE_GUARD, now_ns);
+        } else if (now_ns >= n->next_ns) {
             c4g_co_frame_t f;
             (void)c4g_co_guard_request(&f, nc->node_id);
             c4g_co_push_tx(m, &f);
-            n->next_us = now_us + guard;
+            n->next_ns = now_ns + guard;
         } else {
             /* next guard request not due */
         }
@@ -220,15 +220,15 @@ static void supervise(c4g_co_master_t *m, uint8_t slot, uint64_t now_us)
     }
 }
 
-void c4g_co_run_poll(c4g_co_master_t *m, uint64_t now_us)
+void c4g_co_run_poll(c4g_co_master_t *m, uint64_t now_ns)
 {
     uint32_t i;
-    if (now_us >= m->next_sync_us) {
-        sync_cycle(m, now_us);
+    if (now_ns >= m->next_sync_ns) {
+        sync_cycle(m, now_ns);
     }
     for (i = 0U; i < m->cfg.n_nodes; i++) {
-        if ((m->node[i].boot == (uint8_t)C4G_CO_BOOT_RUNNING) && (now_us >= m->node[i].last_seen_us)) {
-            supervise(m, (uint8_t)i, now_us);
+        if ((m->node[i].boot == (uint8_t)C4G_CO_BOOT_RUNNING) && (now_ns >= m->node[i].last_seen_ns)) {
+            supervise(m, (uint8_t)i, now_ns);
         }
     }
 }

@@ -74,16 +74,16 @@ c4g_status_t c4g_co_sdo_abort_encode(c4g_co_frame_t *f, uint16_t cob, uint16_t i
     return st;
 }
 
-c4g_status_t c4g_co_sdo_init(c4g_co_sdo_client_t *c, uint32_t timeout_us, uint8_t retries)
+c4g_status_t c4g_co_sdo_init(c4g_co_sdo_client_t *c, uint64_t timeout_ns, uint8_t retries)
 {
     c4g_status_t st = C4G_OK;
     if (c == NULL) {
         st = C4G_ERR_NULL;
-    } else if ((timeout_us < 1000U) || (timeout_us > 10000000U) || (retries > 5U)) {
+    } else if ((timeout_ns < 1000000U) || (timeout_ns > 10000000000ULL) || (retries > 5U)) {
         st = C4G_ERR_ARG;
     } else {
         (void)memset(c, 0, sizeof *c);
-        c->timeout_us = timeout_us;
+        c->timeout_ns = timeout_ns;
         c->retries = retries;
     }
     return st;
@@ -95,7 +95,7 @@ bool c4g_co_sdo_busy(const c4g_co_sdo_client_t *c)
 }
 
 /* The request of the current phase, with a fresh deadline. */
-static void send_request(c4g_co_sdo_client_t *c, uint64_t now_us)
+static void send_request(c4g_co_sdo_client_t *c, uint64_t now_ns)
 {
     c4g_co_frame_t *f = &c->out;
     c4g_co_frame_clear(f, (uint16_t)(C4G_CO_COB_SDO_RX + c->node), 8U);
@@ -126,7 +126,7 @@ static void send_request(c4g_co_sdo_client_t *c, uint64_t now_us)
         c4g_co_put_le(&f->data[1], c->index, 2U);
         f->data[3] = c->sub;
     }
-    c->deadline_us = now_us + c->timeout_us;
+    c->deadline_ns = now_ns + c->timeout_ns;
     c->out_ready = 1U;
 }
 
@@ -147,7 +147,7 @@ static void client_abort(c4g_co_sdo_client_t *c, uint8_t result, uint32_t code)
 }
 
 static c4g_status_t begin(c4g_co_sdo_client_t *c, uint8_t node, uint16_t index, uint8_t sub,
-                          uint8_t state, uint64_t now_us)
+                          uint8_t state, uint64_t now_ns)
 {
     c4g_status_t st = C4G_OK;
     if (!c4g_co_node_ok(node)) {
@@ -162,13 +162,13 @@ static c4g_status_t begin(c4g_co_sdo_client_t *c, uint8_t node, uint16_t index, 
         c->tries_left = c->retries;
         c->result = (uint8_t)C4G_CO_SDO_NONE;
         c->abort_code = 0U;
-        send_request(c, now_us);
+        send_request(c, now_ns);
     }
     return st;
 }
 
 c4g_status_t c4g_co_sdo_upload(c4g_co_sdo_client_t *c, uint8_t node, uint16_t index,
-                               uint8_t sub, uint64_t now_us)
+                               uint8_t sub, uint64_t now_ns)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if (c != NULL) {
@@ -176,14 +176,14 @@ c4g_status_t c4g_co_sdo_upload(c4g_co_sdo_client_t *c, uint8_t node, uint16_t in
         if (c->state != ST_IDLE) {
             st = C4G_ERR_STATE;
         } else {
-            st = begin(c, node, index, sub, ST_UP_INIT, now_us);
+            st = begin(c, node, index, sub, ST_UP_INIT, now_ns);
         }
     }
     return st;
 }
 
 c4g_status_t c4g_co_sdo_download(c4g_co_sdo_client_t *c, uint8_t node, uint16_t index,
-                                 uint8_t sub, const uint8_t *data, uint16_t len, uint64_t now_us)
+                                 uint8_t sub, const uint8_t *data, uint16_t len, uint64_t now_ns)
 {
     c4g_status_t st = C4G_OK;
     if ((c == NULL) || (data == NULL)) {
@@ -195,7 +195,7 @@ c4g_status_t c4g_co_sdo_download(c4g_co_sdo_client_t *c, uint8_t node, uint16_t 
     } else {
         (void)memcpy(c->data, data, len);
         c->len = len;
-        st = begin(c, node, index, sub, ST_DN_INIT, now_us);
+        st = begin(c, node, index, sub, ST_DN_INIT, now_ns);
     }
     return st;
 }
@@ -205,7 +205,7 @@ static bool same_object(const c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
     return (c4g_co_get_le(&f->data[1], 2U) == c->index) && (f->data[3] == c->sub);
 }
 
-static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
+static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_ns)
 {
     const uint32_t b = f->data[0];
     const uint32_t n = (b >> 2U) & 3U;
@@ -225,12 +225,12 @@ static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint
         } else {
             c->len = (uint16_t)size;
             c->state = ST_UP_SEG;
-            send_request(c, now_us);
+            send_request(c, now_ns);
         }
     }
 }
 
-static void rx_upload_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
+static void rx_upload_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_ns)
 {
     const uint32_t b = f->data[0];
     const uint32_t n = 7U - ((b >> 1U) & 7U);
@@ -246,12 +246,12 @@ static void rx_upload_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint6
             finish(c, (uint8_t)C4G_CO_SDO_OK, 0U);
         } else {
             c->toggle ^= 1U;
-            send_request(c, now_us);
+            send_request(c, now_ns);
         }
     }
 }
 
-static void rx_download_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_us)
+static void rx_download_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_ns)
 {
     const uint16_t left = (uint16_t)(c->len - c->pos);
     if ((((uint32_t)f->data[0] >> 4U) & 1U) != c->toggle) {
@@ -262,7 +262,7 @@ static void rx_download_seg(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uin
     } else {
         c->pos = (uint16_t)(c->pos + 7U);
         c->toggle ^= 1U;
-        send_request(c, now_us);
+        send_request(c, now_ns);
     }
 }
 
@@ -297,18 +297,18 @@ static void rx_answer(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
     } else if (init && !same_object(c, f)) {
         c->ignored++; /* a late answer to another request: not ours */
     } else if (c->state == ST_UP_INIT) {
-        rx_upload_init(c, f, f->t_us);
+        rx_upload_init(c, f, f->t_ns);
     } else if (c->state == ST_UP_SEG) {
-        rx_upload_seg(c, f, f->t_us);
+        rx_upload_seg(c, f, f->t_ns);
     } else if (c->state == ST_DN_INIT) {
         if (c->len <= 4U) {
             finish(c, (uint8_t)C4G_CO_SDO_OK, 0U);
         } else {
             c->state = ST_DN_SEG;
-            send_request(c, f->t_us);
+            send_request(c, f->t_ns);
         }
     } else {
-        rx_download_seg(c, f, f->t_us);
+        rx_download_seg(c, f, f->t_ns);
     }
 }
 
@@ -327,19 +327,19 @@ c4g_status_t c4g_co_sdo_rx(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
     return st;
 }
 
-c4g_status_t c4g_co_sdo_poll(c4g_co_sdo_client_t *c, uint64_t now_us)
+c4g_status_t c4g_co_sdo_poll(c4g_co_sdo_client_t *c, uint64_t now_ns)
 {
     c4g_status_t st = C4G_OK;
     if (c == NULL) {
         st = C4G_ERR_NULL;
-    } else if ((c->state != ST_IDLE) && (now_us >= c->deadline_us)) {
+    } else if ((c->state != ST_IDLE) && (now_ns >= c->deadline_ns)) {
         if (c->tries_left > 0U) {
             c->tries_left--;
             c->state = ((c->state == ST_UP_INIT) || (c->state == ST_UP_SEG)) ? ST_UP_INIT
                                                                               : ST_DN_INIT;
             c->pos = 0U;
             c->toggle = 0U;
-            send_request(c, now_us);
+            send_request(c, now_ns);
         } else {
             client_abort(c, (uint8_t)C4G_CO_SDO_TIMEOUT, C4G_CO_ABORT_TIMEOUT);
         }

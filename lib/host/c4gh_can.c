@@ -70,7 +70,7 @@ int c4gh_co_buslog_open(c4gh_co_buslog_t *l, const char *candump_path, const cha
 
 void c4gh_co_buslog_write(c4gh_co_buslog_t *l, const c4g_co_frame_t *f)
 {
-    const uint64_t wall = l->epoch_us + f->t_us;
+    const uint64_t wall = l->epoch_us + f->t_ns / 1000U; /* the logs show us */
     l->frames++;
     if (l->candump != NULL) {
         char line[96];
@@ -163,7 +163,7 @@ int c4gh_co_socketcan_send(int fd, const c4g_co_frame_t *f)
     return write(fd, &cf, sizeof cf) == (ssize_t)sizeof cf ? 0 : -1;
 }
 
-int c4gh_co_socketcan_recv(int fd, c4g_co_frame_t *f, uint64_t t_us)
+int c4gh_co_socketcan_recv(int fd, c4g_co_frame_t *f, uint64_t t_ns)
 {
     struct can_frame cf;
     const ssize_t n = read(fd, &cf, sizeof cf);
@@ -178,6 +178,6 @@ int c4gh_co_socketcan_recv(int fd, c4g_co_frame_t *f, uint64_t t_us)
     f->rtr = (cf.can_id & CAN_RTR_FLAG) ? 1 : 0;
     f->dlc = cf.can_dlc;
     memcpy(f->data, cf.data, 8);
-    f->t_us = t_us;
+    f->t_ns = t_ns;
     return 1;
 }

@@ -2,8 +2,8 @@
 /* CAN bus I/O of the tools: a bus log in candump's log format ("(sec.usec) iface ID#DATA",
  * readable by can-utils' canplayer/log2asc) and in pcap with the SocketCAN link type
  * (DLT_CAN_SOCKETCAN, for Wireshark's CANopen dissector), and a Linux SocketCAN raw socket
- * (interface by name). Frames carry their time in microseconds; the logs write it as the
- * wall-clock time of @p epoch_us + t_us. */
+ * (interface by name). Frames carry their time in nanoseconds (t_ns); the logs write it,
+ * in microseconds, as the wall-clock time of @p epoch_us + t_ns / 1000. */
 #ifndef C4GH_CAN_H
 #define C4GH_CAN_H
 
@@ -15,7 +15,7 @@ typedef struct c4gh_co_buslog {
     void *pcap;             /* pcap_t (libpcap), NULL: none */
     void *dumper;           /* pcap_dumper_t */
     char iface[16];
-    uint64_t epoch_us;      /* wall-clock time of t_us == 0 */
+    uint64_t epoch_us;      /* wall-clock time [us] of t_ns == 0 */
     uint64_t frames;
 } c4gh_co_buslog_t;
 
@@ -38,6 +38,6 @@ int c4gh_co_socketcan_open(const char *ifname, char *err, size_t errlen);
 int c4gh_co_socketcan_send(int fd, const c4g_co_frame_t *f);
 /* Receives one frame if one is waiting (non-blocking): 1 got one, 0 none, -1 error.
  * Extended (29-bit) and error frames are skipped (return 0). */
-int c4gh_co_socketcan_recv(int fd, c4g_co_frame_t *f, uint64_t t_us);
+int c4gh_co_socketcan_recv(int fd, c4g_co_frame_t *f, uint64_t t_ns);
 
 #endif /* C4GH_CAN_H */

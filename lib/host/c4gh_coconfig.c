@@ -102,10 +102,10 @@ static c4gh_tf_ini_rc_t on_channel(c4gh_co_config_t *c, const char *s, const cha
         c->net.bitrate = (uint32_t)v;
     } else if (strcasecmp(name, "sync_period_us") == 0) {
         rc = num(s, name, value, 500, 1000000, &v, msg, msglen);
-        c->net.sync_period_us = (uint32_t)v;
+        c->net.sync_period_ns = (uint32_t)v * 1000U; /* the key is in us, the library in ns */
     } else if (strcasecmp(name, "sdo_timeout_ms") == 0) {
         rc = num(s, name, value, 1, 10000, &v, msg, msglen);
-        c->net.sdo_timeout_us = (uint32_t)v * 1000u;
+        c->net.sdo_timeout_ns = (uint64_t)v * 1000000U;
     } else if (strcasecmp(name, "sdo_retries") == 0) {
         rc = num(s, name, value, 0, 5, &v, msg, msglen);
         c->net.sdo_retries = (uint8_t)v;
@@ -300,7 +300,7 @@ static c4gh_tf_ini_rc_t new_section(parse_ctx_t *p, const char *section, char *m
     n->consumer_ms = 250;
     n->guard_ms = 100;
     n->life_factor = 3;
-    n->cycle_period_us = c->net.sync_period_us;
+    n->cycle_period_us = c->net.sync_period_ns / 1000U; /* 0x1006 is in us */
     c->node_line[c->cur] = p->f->line;
     return C4GH_TF_INI_OK;
 }
@@ -329,8 +329,8 @@ int c4gh_co_config_parse(c4gh_co_config_t *c, c4gh_tf_file_t *f, char *err, size
     memset(c, 0, sizeof *c);
     c->cur = -1;
     c->net.bitrate = 500000;
-    c->net.sync_period_us = 2000;
-    c->net.sdo_timeout_us = 50000;
+    c->net.sync_period_ns = 2000000U;
+    c->net.sdo_timeout_ns = 50000000U;
     c->net.sdo_retries = 2;
     memset(&p, 0, sizeof p);
     p.c = c;

@@ -219,11 +219,153 @@ c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns)
     return st;
 }
 
-c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events)
+/* t + d + 1 without wrapping: the session's checks fire once the gap EXCEEDS d */
+static uint64_t after(uint64_t t, uint64_t d)
+{
+    const uint64_t room = C4G_NO_DEADLINE - t;
+    return (d < room) ? ((t + d) + 1U) : C4G_NO_DEADLINE;
+}
+
+/* The first instant at which the session's silence/loss check (c4g_session_poll) changes
+ * something, from the same conditions; C4G_NO_DEADLINE when only a datagram can. */
+static uint64_t session_deadline(const c4g_session_t *s)
+{
+    uint64_t next = C4G_NO_DEADLINE;
+    if ((s->phase == C4G_PHASE_REFUSED) ||
+        ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > 0U))) {
+        next = after(s->last_rx_ns, s->lost_timeout_ns);
+    } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
+               (s->frozen == 0U) && (s->frozen_active == 0U)) {
+        next = after(s->last_rx_ns, s->lost_timeout_ns);
+        if ((s->silent == 0U) && (s->silence_ns < s->lost_timeout_ns)) {
+            next = after(s->last_rx_ns, s->silence_ns);
+        }
+    } else {
+        /* no silence check in this phase */
+    }
+    return next;
+}
+
+c4g_status_t c4g_loop_deadline(const c4g_loop_t *lp, uint64_t *next_ns)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (next_ns != NULL)) {
+        *next_ns = session_deadline(&lp->session);
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_poll(c4g_loop_t *lp, uint64_t now_ns, uint32_t *events, uint64_t *next_ns)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (next_ns != NULL)) {
+        st = c4g_session_poll(&lp->session, now_ns, events);
+        *next_ns = session_deadline(&lp->session);
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_init_packet(const c4g_loop_t *lp, const c4g_init_t **out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = &lp->session.init;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_axis_map(const c4g_loop_t *lp, const c4g_axis_map_t **out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = &lp->session.map;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_counters(const c4g_loop_t *lp, const c4g_counters_t **session,
+                               const c4g_loop_counters_t **loop)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && ((session != NULL) || (loop != NULL))) {
+        if (session != NULL) {
+            *session = &lp->session.counters;
+        }
+        if (loop != NULL) {
+            *loop = &lp->counters;
+        }
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_timing(const c4g_loop_t *lp, c4g_timing_t *out)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if (lp != NULL) {
-        st = c4g_session_poll(&lp->session, now_ns, events);
+        st = c4g_session_timing(&lp->session, out);
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_state(const c4g_loop_t *lp, c4g_loop_state_t *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        const c4g_session_t *s = &lp->session;
+        out->phase = s->phase;
+        out->locked = (s->peer_locked != 0U);
+        out->peer = s->peer;
+        out->last_num = s->last_num;
+        out->drives = s->drives;
+        out->silence_ns = s->silence_ns;
+        out->lost_timeout_ns = s->lost_timeout_ns;
+        out->engine_ready = (lp->engine_ready != 0U);
+        out->finish_status = lp->finish_status;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_engine_view(const c4g_loop_t *lp, const c4g_engine_t **out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = &lp->engine;
+        st = (lp->engine_ready != 0U) ? C4G_OK : C4G_ERR_STATE;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_reply_packet(const c4g_loop_t *lp, const c4g_pc_packet_t **out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = &lp->tx;
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_is_peer(const c4g_loop_t *lp, const c4g_endpoint_t *from, bool *out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (from != NULL) && (out != NULL)) {
+        *out = c4g_session_is_peer(&lp->session, from);
+        st = C4G_OK;
+    }
+    return st;
+}
+
+c4g_status_t c4g_loop_engine(c4g_loop_t *lp, c4g_engine_t **out)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((lp != NULL) && (out != NULL)) {
+        *out = &lp->engine;
+        st = (lp->engine_ready != 0U) ? C4G_OK : C4G_ERR_STATE;
     }
     return st;
 }

@@ -193,7 +193,7 @@ static uint32_t object_write(c4gsim_slave_t *s, uint16_t index, uint32_t v)
     case 0x100DU: s->life_factor = (uint8_t)v; break;
     case 0x1017U:
         s->heartbeat_ms = (uint16_t)v;
-        s->next_hb_us = 0U;
+        s->next_hb_ns = 0U;
         break;
     case 0x6040U: set_controlword(s, (uint16_t)v); break;
     case 0x6060U: s->modes = (int8_t)(uint8_t)v; break;
@@ -520,18 +520,18 @@ static void node_dispatch(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_fra
 
 /* The heartbeat producer: the first one a period after it was configured, then one per
  * period (a late poll sends one and starts again from now). */
-static void heartbeat(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n)
+static void heartbeat(c4gsim_slave_t *s, uint64_t now_ns, c4g_co_frame_t *out, int *n)
 {
-    const uint64_t period = 1000ULL * (uint64_t)s->heartbeat_ms;
-    if (s->next_hb_us == 0U) {
-        s->next_hb_us = now_us + period;
-    } else if (now_us >= s->next_hb_us) {
+    const uint64_t period = 1000000ULL * (uint64_t)s->heartbeat_ms;
+    if (s->next_hb_ns == 0U) {
+        s->next_hb_ns = now_ns + period;
+    } else if (now_ns >= s->next_hb_ns) {
         c4g_co_frame_t f;
         (void)c4g_co_ec_encode(&f, s->node_id, s->nmt, 0U); /* valid node: cannot fail */
         emit(out, n, &f);
-        s->next_hb_us += period;
-        if (s->next_hb_us <= now_us) {
-            s->next_hb_us = now_us + period;
+        s->next_hb_ns += period;
+        if (s->next_hb_ns <= now_ns) {
+            s->next_hb_ns = now_ns + period;
         }
     } else {
         /* not due yet */
@@ -582,7 +582,7 @@ c4g_status_t c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_
     return st;
 }
 
-c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n)
+c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_ns, c4g_co_frame_t *out, int *n)
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((s != NULL) && (out != NULL) && (n != NULL)) {
@@ -595,9 +595,9 @@ c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_
             (void)c4g_co_ec_encode(&f, s->node_id, C4G_CO_STATE_BOOTUP, 0U); /* cannot fail */
             emit(out, n, &f);
             s->nmt = C4G_CO_STATE_PREOP;
-            s->next_hb_us = 0U;
+            s->next_hb_ns = 0U;
         } else if ((s->heartbeat_ms != 0U) && (!s->no_heartbeat)) {
-            heartbeat(s, now_us, out, n);
+            heartbeat(s, now_ns, out, n);
         } else {
             /* no heartbeat configured, or muted */
         }

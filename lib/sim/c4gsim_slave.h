@@ -22,7 +22,7 @@ typedef struct c4gsim_slave {
     uint32_t pdo_cob[8];      /* 0..3 TPDO 0x1800+k:01, 4..7 RPDO 0x1400+k:01 */
     c4g_co_pdo_map_t pdo[8];  /* 0x1A00+k / 0x1600+k and transmission types */
     uint8_t guard_toggle;
-    uint64_t next_hb_us;
+    uint64_t next_hb_ns;
     /* DS402 */
     c4g_co_ds402_t ds402;
     uint16_t controlword;
@@ -55,7 +55,7 @@ C4G_NODISCARD c4g_status_t c4gsim_slave_init(c4gsim_slave_t *s, uint8_t node_id,
 C4G_NODISCARD c4g_status_t c4gsim_slave_rx(c4gsim_slave_t *s, const c4g_co_frame_t *f, c4g_co_frame_t *out,
                                            int *n);
 /* Time passes: boot-up message, heartbeat (out as for c4gsim_slave_rx). */
-C4G_NODISCARD c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_us, c4g_co_frame_t *out, int *n);
+C4G_NODISCARD c4g_status_t c4gsim_slave_poll(c4gsim_slave_t *s, uint64_t now_ns, c4g_co_frame_t *out, int *n);
 /* Power cycle: boot-up state again with a fresh dictionary (a node that comes back). */
 C4G_NODISCARD c4g_status_t c4gsim_slave_reset(c4gsim_slave_t *s);
 /* Drive fault: EMCY (0x7300-style code, unless silent) and DS402 fault state. */

@@ -24,8 +24,8 @@ C4G_NODISCARD c4g_status_t c4gsim_vbus_init(c4gsim_vbus_t *b, c4g_co_master_t *m
 /* A node on the bus; C4G_ERR_CAPACITY past C4G_CO_MAX_NODES. */
 C4G_NODISCARD c4g_status_t c4gsim_vbus_add(c4gsim_vbus_t *b, c4gsim_slave_t *s);
 /* Puts a frame on the bus as if a node had sent it (injection, EMCY of a fault). */
-C4G_NODISCARD c4g_status_t c4gsim_vbus_inject(c4gsim_vbus_t *b, const c4g_co_frame_t *f, uint64_t now_us);
-/* Time passes to now_us: master timers, then every frame until the bus is quiet. */
-C4G_NODISCARD c4g_status_t c4gsim_vbus_step(c4gsim_vbus_t *b, uint64_t now_us);
+C4G_NODISCARD c4g_status_t c4gsim_vbus_inject(c4gsim_vbus_t *b, const c4g_co_frame_t *f, uint64_t now_ns);
+/* Time passes to now_ns: master timers, then every frame until the bus is quiet. */
+C4G_NODISCARD c4g_status_t c4gsim_vbus_step(c4gsim_vbus_t *b, uint64_t now_ns);
 
 #endif /* C4GSIM_VBUS_H */

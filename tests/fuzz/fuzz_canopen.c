@@ -47,8 +47,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     c4g_co_net_cfg_t cfg;
     memset(&cfg, 0, sizeof cfg);
     cfg.bitrate = 500000;
-    cfg.sync_period_us = 1000;
-    cfg.sdo_timeout_us = 5000;
+    cfg.sync_period_ns = 1000000U;
+    cfg.sdo_timeout_ns = 5000000U;
     cfg.sdo_retries = 1;
     cfg.n_nodes = 2;
     for (int i = 0; i < 2; i++) {
@@ -79,15 +79,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         f.rtr = (uint8_t)(data[off + 1] >> 7);
         f.dlc = data[off + 2] & 0x0F;
         memcpy(f.data, &data[off + 3], 8);
-        now += (uint64_t)data[off + 11] * 500u;
-        f.t_us = now;
+        now += (uint64_t)data[off + 11] * 500000u;
+        f.t_ns = now;
         check_codecs(&f);
         const uint32_t rx = m.count.rx;
         if (c4g_co_master_rx(&m, &f) != C4G_OK || m.count.rx != rx + 1) {
             abort();
         }
-        if (c4g_co_master_poll(&m, now) != C4G_OK) {
+        uint64_t next = 0U;
+        if (c4g_co_master_poll(&m, now, &next) != C4G_OK) {
             abort();
+        }
+        if (next <= now) {
+            abort(); /* a deadline already passed: a caller that sleeps until it would spin */
         }
         c4g_co_frame_t out;
         c4g_co_event_t ev;

@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     c4g_co_sdo_client_t c;
     uint8_t payload[C4G_CO_SDO_MAX];
     uint64_t now = 0;
-    if (size < 1 || c4g_co_sdo_init(&c, 10000, 2) != C4G_OK) {
+    if (size < 1 || c4g_co_sdo_init(&c, 10000000U, 2) != C4G_OK) {
         return 0;
     }
     for (size_t i = 0; i < sizeof payload; i++) {
@@ -51,7 +51,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     check(&c);
     for (size_t off = 1; off + 9 <= size; off += 9) {
-        now += (uint64_t)(data[off + 8] & 0x7F) * 1000u;
+        now += (uint64_t)(data[off + 8] & 0x7F) * 1000000u;
         if (data[off + 8] & 0x80) {
             if (c4g_co_sdo_poll(&c, now) != C4G_OK) {
                 abort();
@@ -61,7 +61,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             memset(&f, 0, sizeof f);
             f.id = 0x581;
             f.dlc = 8;
-            f.t_us = now;
+            f.t_ns = now;
             memcpy(f.data, &data[off], 8);
             if (c4g_co_sdo_rx(&c, &f) != C4G_OK) {
                 abort();

@@ -31,8 +31,8 @@ static void test_platform_file(void **state)
     const c4g_co_net_cfg_t *n = &cfg.net;
     assert_int_equal(n->channel, 0);
     assert_int_equal(n->bitrate, 500000);
-    assert_int_equal(n->sync_period_us, 10000);
-    assert_int_equal(n->sdo_timeout_us, 50000);
+    assert_int_equal(n->sync_period_ns, 10000000); /* sync_period_us = 10000 */
+    assert_int_equal(n->sdo_timeout_ns, 50000000); /* sdo_timeout_ms = 50 */
     assert_int_equal(n->sdo_retries, 2);
     assert_int_equal(n->n_nodes, 2);
     assert_int_equal(n->node[0].node_id, 1);

@@ -56,7 +56,7 @@ static void test_logs_read_back(void **state)
     assert_int_equal(c4gh_co_buslog_open(&l, cd, pc, "vcan0", 1000000, err, sizeof err), 0);
     c4g_co_frame_t a = fr(0x000, 2, "\x80\x00", 0);
     c4g_co_frame_t b = fr(0x702, 1, NULL, 1);
-    b.t_us = 2500;
+    b.t_ns = 2500000; /* the logs show it in us: 2500 */
     c4gh_co_buslog_cb(&l, &a);
     c4gh_co_buslog_write(&l, &b);
     assert_int_equal(l.frames, 2);
@@ -128,7 +128,7 @@ static void test_socketcan(void **state)
     assert_int_equal(g.id, 0x181);
     assert_int_equal(g.dlc, 6);
     assert_memory_equal(g.data, f.data, 6);
-    assert_int_equal(g.t_us, 7);
+    assert_int_equal(g.t_ns, 7);
     close(a);
     close(b);
 }

@@ -13,6 +13,9 @@
 
 #include "c4gopen.h"
 
+/* the tests count time in us; the library takes ns */
+#define US(x) ((uint64_t)(x) * 1000U)
+
 static c4g_co_frame_t fr(uint16_t id, uint8_t dlc, const uint8_t *d)
 {
     c4g_co_frame_t f;
@@ -161,12 +164,12 @@ static void test_emcy(void **state)
     assert_int_equal(f.id, 0x084);
     assert_int_equal(f.dlc, 8);
     assert_memory_equal(f.data, want, 8);
-    f.t_us = 77;
+    f.t_ns = 77;
     assert_int_equal(c4g_co_emcy_decode(&f, &node, &d), C4G_OK);
     assert_int_equal(node, 4);
     assert_int_equal(d.code, 0x7305);
     assert_int_equal(d.reg, 0x81);
-    assert_int_equal(d.t_us, 77);
+    assert_int_equal(d.t_ns, 77);
     assert_memory_equal(d.mfr, e.mfr, 5);
     assert_int_equal(c4g_co_emcy_encode(&f, 0, &e), C4G_ERR_ARG);
     assert_int_equal(c4g_co_emcy_encode(NULL, 1, &e), C4G_ERR_NULL);
@@ -297,7 +300,7 @@ static void no_frame(c4g_co_sdo_client_t *c)
 static void answer(c4g_co_sdo_client_t *c, uint16_t id, const uint8_t d[8], uint64_t t)
 {
     c4g_co_frame_t f = fr(id, 8, d);
-    f.t_us = t;
+    f.t_ns = US(t);
     assert_int_equal(c4g_co_sdo_rx(c, &f), C4G_OK);
 }
 
@@ -305,16 +308,16 @@ static void test_sdo_expedited(void **state)
 {
     (void)state;
     c4g_co_sdo_client_t c;
-    assert_int_equal(c4g_co_sdo_init(&c, 50000, 1), C4G_OK);
+    assert_int_equal(c4g_co_sdo_init(&c, US(50000), 1), C4G_OK);
     assert_false(c4g_co_sdo_busy(&c));
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, 100), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, US(100)), C4G_OK);
     assert_true(c4g_co_sdo_busy(&c));
     c4g_co_frame_t f = take(&c);
     const uint8_t req[8] = {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0};
     assert_int_equal(f.id, 0x602);
     assert_memory_equal(f.data, req, 8);
     no_frame(&c);
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, 100), C4G_ERR_STATE);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, US(100)), C4G_ERR_STATE);
     answer(&c, 0x582, (const uint8_t[]){0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00}, 200);
     assert_false(c4g_co_sdo_busy(&c));
     assert_int_equal(c.result, C4G_CO_SDO_OK);
@@ -322,50 +325,50 @@ static void test_sdo_expedited(void **state)
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_OK);
     assert_int_equal(v, 0x00020192);
     /* size not indicated: 4 bytes; size 1 */
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1001, 0, 300), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1001, 0, US(300)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x582, (const uint8_t[]){0x42, 0x01, 0x10, 0x00, 0x11, 0x22, 0x33, 0x44}, 301);
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_OK);
     assert_int_equal(v, 0x44332211);
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1001, 0, 300), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1001, 0, US(300)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x582, (const uint8_t[]){0x4F, 0x01, 0x10, 0x00, 0x7E, 0x22, 0x33, 0x44}, 301);
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_OK);
     assert_int_equal(v, 0x7E);
     /* download 2 bytes */
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1017, 0, (const uint8_t[]){0x64, 0x00}, 2, 400), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1017, 0, (const uint8_t[]){0x64, 0x00}, 2, US(400)), C4G_OK);
     f = take(&c);
     const uint8_t dl[8] = {0x2B, 0x17, 0x10, 0x00, 0x64, 0x00, 0, 0};
     assert_memory_equal(f.data, dl, 8);
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1017, 0, dl, 2, 400), C4G_ERR_STATE);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1017, 0, dl, 2, US(400)), C4G_ERR_STATE);
     answer(&c, 0x582, (const uint8_t[]){0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0}, 401);
     assert_int_equal(c.result, C4G_CO_SDO_OK);
     /* download 1 and 4 bytes */
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x100D, 0, (const uint8_t[]){3}, 1, 500), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x100D, 0, (const uint8_t[]){3}, 1, US(500)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x2F);
     answer(&c, 0x582, (const uint8_t[]){0x60, 0x0D, 0x10, 0x00, 0, 0, 0, 0}, 501);
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1006, 0, (const uint8_t[]){1, 2, 3, 4}, 4, 600), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1006, 0, (const uint8_t[]){1, 2, 3, 4}, 4, US(600)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x23);
     assert_int_equal(f.data[7], 4);
     answer(&c, 0x582, (const uint8_t[]){0x60, 0x06, 0x10, 0x00, 0, 0, 0, 0}, 601);
     assert_int_equal(c.result, C4G_CO_SDO_OK);
     /* argument errors */
-    assert_int_equal(c4g_co_sdo_init(NULL, 50000, 1), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_sdo_init(&c, 999, 1), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_sdo_init(&c, 10000001, 1), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_sdo_init(&c, 50000, 6), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_sdo_upload(NULL, 2, 0x1000, 0, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_sdo_upload(&c, 0, 0x1000, 0, 0), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_sdo_upload(&c, 128, 0x1000, 0, 0), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_sdo_download(NULL, 2, 0x1000, 0, dl, 1, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, NULL, 1, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, dl, 0, 0), C4G_ERR_LENGTH);
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, dl, C4G_CO_SDO_MAX + 1, 0), C4G_ERR_LENGTH);
+    assert_int_equal(c4g_co_sdo_init(NULL, US(50000), 1), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_sdo_init(&c, US(999), 1), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_sdo_init(&c, US(10000001), 1), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_sdo_init(&c, US(50000), 6), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_sdo_upload(NULL, 2, 0x1000, 0, US(0)), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_sdo_upload(&c, 0, 0x1000, 0, US(0)), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_sdo_upload(&c, 128, 0x1000, 0, US(0)), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_sdo_download(NULL, 2, 0x1000, 0, dl, 1, US(0)), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, NULL, 1, US(0)), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, dl, 0, US(0)), C4G_ERR_LENGTH);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1000, 0, dl, C4G_CO_SDO_MAX + 1, US(0)), C4G_ERR_LENGTH);
     assert_int_equal(c4g_co_sdo_rx(NULL, &f), C4G_ERR_NULL);
     assert_int_equal(c4g_co_sdo_rx(&c, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_sdo_poll(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_sdo_poll(NULL, US(0)), C4G_ERR_NULL);
     bool have;
     assert_int_equal(c4g_co_sdo_take(NULL, &f, &have), C4G_ERR_NULL);
     assert_int_equal(c4g_co_sdo_take(&c, NULL, &have), C4G_ERR_NULL);
@@ -379,9 +382,9 @@ static void test_sdo_segmented(void **state)
 {
     (void)state;
     c4g_co_sdo_client_t c;
-    assert_int_equal(c4g_co_sdo_init(&c, 50000, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_init(&c, US(50000), 0), C4G_OK);
     /* upload of "c4g-sim drive" (13 bytes) in two segments */
-    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 13, 0, 0, 0}, 10);
     c4g_co_frame_t f = take(&c);
@@ -397,7 +400,7 @@ static void test_sdo_segmented(void **state)
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_OK);
     assert_int_equal(v, 0x2D673463);
     /* size not indicated, wrong toggle: the client aborts */
-    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0}, 10);
     (void)take(&c);
@@ -415,7 +418,7 @@ static void test_sdo_segmented(void **state)
     answer(&c, 0x583, (const uint8_t[]){0x00, 'y', 0, 0, 0, 0, 0, 0}, 21);
     assert_int_equal(c.ignored, ign + 1);
     /* an empty object: no data, no value */
-    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 0, 0, 0, 0}, 10);
     (void)take(&c);
@@ -424,12 +427,12 @@ static void test_sdo_segmented(void **state)
     assert_int_equal(c.len, 0);
     assert_int_equal(c4g_co_sdo_value(&c, &v), C4G_ERR_STATE);
     /* announced size too large for the client */
-    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 0xFF, 0, 0, 0}, 10);
     assert_int_equal(c.abort_code, C4G_CO_ABORT_MEMORY);
     /* more data than announced */
-    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 3, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 3, 0, 0, 0}, 10);
     (void)take(&c);
@@ -438,7 +441,7 @@ static void test_sdo_segmented(void **state)
     /* segmented download of 16 bytes: 7 + 7 + 2 */
     uint8_t name[16];
     memcpy(name, "0123456789ABCDEF", 16);
-    assert_int_equal(c4g_co_sdo_download(&c, 3, 0x1008, 0, name, 16, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 3, 0x1008, 0, name, 16, US(0)), C4G_OK);
     f = take(&c);
     const uint8_t init[8] = {0x21, 0x08, 0x10, 0x00, 16, 0, 0, 0};
     assert_memory_equal(f.data, init, 8);
@@ -457,7 +460,7 @@ static void test_sdo_segmented(void **state)
     answer(&c, 0x583, (const uint8_t[]){0x20, 0, 0, 0, 0, 0, 0, 0}, 40);
     assert_int_equal(c.result, C4G_CO_SDO_OK);
     /* download segment acknowledged with the wrong toggle */
-    assert_int_equal(c4g_co_sdo_download(&c, 3, 0x1008, 0, name, 8, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 3, 0x1008, 0, name, 8, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x583, (const uint8_t[]){0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0}, 10);
     (void)take(&c);
@@ -470,11 +473,11 @@ static void test_sdo_hostile_and_timeouts(void **state)
 {
     (void)state;
     c4g_co_sdo_client_t c;
-    assert_int_equal(c4g_co_sdo_init(&c, 50000, 2), C4G_OK);
+    assert_int_equal(c4g_co_sdo_init(&c, US(50000), 2), C4G_OK);
     /* answer while idle, before any transfer: not for this client */
     answer(&c, 0x582, (const uint8_t[]){0x43, 0, 0x10, 0, 0, 0, 0, 0}, 0);
     assert_int_equal(c.ignored, 0);
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, 1000), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1000, 0, US(1000)), C4G_OK);
     (void)take(&c);
     /* another node's answer: ignored, not counted */
     answer(&c, 0x583, (const uint8_t[]){0x43, 0, 0x10, 0, 0, 0, 0, 0}, 1);
@@ -491,30 +494,30 @@ static void test_sdo_hostile_and_timeouts(void **state)
     assert_int_equal(c.ignored, 5);
     assert_true(c4g_co_sdo_busy(&c));
     /* timeout: two retries, each resends the request */
-    assert_int_equal(c4g_co_sdo_poll(&c, 50999), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(50999)), C4G_OK);
     no_frame(&c);
-    assert_int_equal(c4g_co_sdo_poll(&c, 51000), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(51000)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x40);
-    assert_int_equal(c4g_co_sdo_poll(&c, 101000), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(101000)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x40);
-    assert_int_equal(c4g_co_sdo_poll(&c, 151000), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(151000)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x80);
     assert_int_equal(f.data[7], 0x05);
     assert_int_equal(f.data[6], 0x04);
     assert_int_equal(c.result, C4G_CO_SDO_TIMEOUT);
     assert_int_equal(c.abort_code, C4G_CO_ABORT_TIMEOUT);
-    assert_int_equal(c4g_co_sdo_poll(&c, 999999), C4G_OK); /* idle: nothing */
+    assert_int_equal(c4g_co_sdo_poll(&c, US(999999)), C4G_OK); /* idle: nothing */
     no_frame(&c);
     /* timeout inside a segmented upload restarts from the initiate request */
-    assert_int_equal(c4g_co_sdo_init(&c, 50000, 1), C4G_OK);
-    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1008, 0, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_init(&c, US(50000), 1), C4G_OK);
+    assert_int_equal(c4g_co_sdo_upload(&c, 2, 0x1008, 0, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x582, (const uint8_t[]){0x41, 0x08, 0x10, 0x00, 9, 0, 0, 0}, 10);
     (void)take(&c);
-    assert_int_equal(c4g_co_sdo_poll(&c, 50010), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(50010)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x40);
     /* the server aborts */
@@ -523,11 +526,11 @@ static void test_sdo_hostile_and_timeouts(void **state)
     assert_int_equal(c.abort_code, 0x06020000);
     no_frame(&c);
     /* a download timing out in its segments restarts as a download */
-    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1008, 0, (const uint8_t *)"abcdefghij", 10, 0), C4G_OK);
+    assert_int_equal(c4g_co_sdo_download(&c, 2, 0x1008, 0, (const uint8_t *)"abcdefghij", 10, US(0)), C4G_OK);
     (void)take(&c);
     answer(&c, 0x582, (const uint8_t[]){0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0}, 10);
     (void)take(&c);
-    assert_int_equal(c4g_co_sdo_poll(&c, 60000), C4G_OK);
+    assert_int_equal(c4g_co_sdo_poll(&c, US(60000)), C4G_OK);
     f = take(&c);
     assert_int_equal(f.data[0], 0x21);
     /* wrong command specifier: the client aborts with 0x05040001 */

@@ -17,6 +17,9 @@
 #include "c4gsim_slave.h"
 #include "c4gsim_vbus.h"
 
+/* the rig counts time in us (its traces and expectations); the library takes ns */
+#define US(x) ((uint64_t)(x) * 1000U)
+#define T_US(ev) ((ev)->t_ns / 1000U)
 #define DEVTYPE 0x00020192u /* DS402 servo drive */
 #define TR_MAX 4096
 
@@ -54,7 +57,7 @@ static void log_fn(void *ctx, const c4g_co_frame_t *f)
     trace_t *tr = ctx;
     if (tr->n < TR_MAX) {
         fmt(tr->line[tr->n], f);
-        tr->t[tr->n] = f->t_us;
+        tr->t[tr->n] = f->t_ns / 1000U;
         tr->n++;
     }
 }
@@ -89,8 +92,8 @@ static void net_cfg(c4g_co_net_cfg_t *c, int n)
 {
     memset(c, 0, sizeof *c);
     c->bitrate = 500000;
-    c->sync_period_us = 10000;
-    c->sdo_timeout_us = 20000;
+    c->sync_period_ns = US(10000);
+    c->sdo_timeout_ns = US(20000);
     c->sdo_retries = 1;
     c->n_nodes = (uint8_t)n;
     for (int i = 0; i < n; i++) {
@@ -110,7 +113,7 @@ static void rig_init(rig_t *r)
     r->bus.log = log_fn;
     r->bus.log_ctx = &r->tr;
     r->now = 1000;
-    assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK); /* boot-up messages */
+    assert_int_equal(c4gsim_vbus_step(&r->bus, US(r->now)), C4G_OK); /* boot-up messages */
     r->tr.n = 0;
     r->nev = 0;
 }
@@ -131,7 +134,7 @@ static void run_until(rig_t *r, uint64_t until)
 {
     while (r->now < until) {
         r->now += 1000;
-        assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK);
+        assert_int_equal(c4gsim_vbus_step(&r->bus, US(r->now)), C4G_OK);
         drain_events(r);
     }
 }
@@ -157,8 +160,8 @@ static int count_ev(const rig_t *r, int kind)
 
 static void start(rig_t *r)
 {
-    assert_int_equal(c4g_co_master_start(&r->m, r->now), C4G_OK);
-    assert_int_equal(c4gsim_vbus_step(&r->bus, r->now), C4G_OK);
+    assert_int_equal(c4g_co_master_start(&r->m, US(r->now)), C4G_OK);
+    assert_int_equal(c4gsim_vbus_step(&r->bus, US(r->now)), C4G_OK);
     drain_events(r);
 }
 
@@ -323,7 +326,7 @@ static void test_boot_lifeguard_orders(void **state)
         const c4g_co_event_t *lost = find_ev(&r, C4G_CO_EV_NODE_LOST, 1);
         assert_non_null(lost);
         assert_int_equal(lost->cause, C4G_CO_CAUSE_GUARD);
-        assert_true(lost->t_us > t0 && lost->t_us <= t0 + 310000);
+        assert_true(T_US(lost) > t0 && T_US(lost) <= t0 + 310000);
         assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_FAILED); /* no recovery flag */
         /* a node without the recovery flag is never polled */
         from = r.tr.n;
@@ -444,9 +447,9 @@ static void test_boot_no_watchdog(void **state)
     /* a late poll: one SYNC, the next a full period later (no burst) */
     const uint32_t syncs = r.m.count.syncs;
     r.now += 55000;
-    assert_int_equal(c4gsim_vbus_step(&r.bus, r.now), C4G_OK);
+    assert_int_equal(c4gsim_vbus_step(&r.bus, US(r.now)), C4G_OK);
     assert_int_equal(r.m.count.syncs, syncs + 1);
-    assert_int_equal(r.m.next_sync_us, r.now + 10000);
+    assert_int_equal(r.m.next_sync_ns, US(r.now + 10000));
 }
 
 /* A wrong answer to a configuration SDO (bad command specifier): protocol failure. */
@@ -494,14 +497,14 @@ static void test_loss_and_recovery(void **state)
     const c4g_co_event_t *lost = find_ev(&r, C4G_CO_EV_NODE_LOST, 1);
     assert_non_null(lost);
     assert_int_equal(lost->cause, C4G_CO_CAUSE_HEARTBEAT);
-    assert_true(lost->t_us > t_off + 150000 && lost->t_us <= t_off + 251000);
+    assert_true(T_US(lost) > t_off + 150000 && T_US(lost) <= t_off + 251000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_LOST);
     assert_int_equal(r.m.node[0].losses, 1);
     /* polls of DeviceType every 2.5 s while it stays away; node 2 keeps running */
     const uint32_t syncs = r.m.count.syncs;
     const uint32_t pdos2 = r.m.node[1].rx_pdos;
     int from = r.tr.n;
-    run_until(&r, lost->t_us + 7600000);
+    run_until(&r, T_US(lost) + 7600000);
     uint64_t polls[8];
     int np = 0;
     for (int i = from; i < r.tr.n && np < 8; i++) {
@@ -511,7 +514,7 @@ static void test_loss_and_recovery(void **state)
         }
     }
     assert_int_equal(np, 3);
-    assert_int_equal(polls[0] - lost->t_us, 2500000);
+    assert_int_equal(polls[0] - T_US(lost), 2500000);
     assert_int_equal(polls[1] - polls[0], 2500000);
     assert_int_equal(polls[2] - polls[1], 2500000);
     assert_true(r.m.count.syncs - syncs >= 700);
@@ -559,20 +562,20 @@ static void test_bootup_and_failed_recovery(void **state)
     const c4g_co_event_t *lost = find_ev(&r, C4G_CO_EV_NODE_LOST, 1);
     assert_non_null(lost);
     assert_int_equal(lost->cause, C4G_CO_CAUSE_BOOTUP);
-    run_until(&r, lost->t_us + 2600000);
+    run_until(&r, T_US(lost) + 2600000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_LOST); /* wrong DeviceType: still lost */
     /* right device, but 0x1017 is refused: the recovery aborts, polling goes on */
     r.s[0].device_type = DEVTYPE;
     r.s[0].abort_index = 0x1017;
     r.s[0].abort_code = C4G_CO_ABORT_HARDWARE;
-    run_until(&r, lost->t_us + 5100000);
+    run_until(&r, T_US(lost) + 5100000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_LOST);
     const c4g_co_event_t *f = find_ev(&r, C4G_CO_EV_NODE_FAILED, 1);
     assert_non_null(f);
     assert_int_equal(f->step, C4G_CO_STEP_WATCHDOG);
     assert_int_equal(f->value, C4G_CO_ABORT_HARDWARE);
     r.s[0].abort_index = 0;
-    run_until(&r, lost->t_us + 7600000);
+    run_until(&r, T_US(lost) + 7600000);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     assert_non_null(find_ev(&r, C4G_CO_EV_NODE_RECOVERED, 1));
     /* with the ignore flag, a node that comes back as another device type recovers too */
@@ -635,7 +638,7 @@ static void test_ds402_over_pdos(void **state)
     for (int k = 0; k < 10; k++) {
         assert_int_equal(c4gsim_slave_fault(&r.s[0], (uint16_t)(0x7300 + k), out, &n), C4G_OK);
         assert_int_equal(n, 1);
-        assert_int_equal(c4gsim_vbus_inject(&r.bus, &out[0], r.now), C4G_OK);
+        assert_int_equal(c4gsim_vbus_inject(&r.bus, &out[0], US(r.now)), C4G_OK);
     }
     drain_events(&r);
     const c4g_co_node_t *nd = &r.m.node[0];
@@ -660,10 +663,10 @@ static void test_user_sdo_and_nmt(void **state)
     memset(&r, 0, sizeof r);
     net_cfg(&r.cfg, 1);
     rig_init(&r);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1000, 0, 0, 0, r.now), C4G_ERR_STATE);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1000, 0, 0, 0, US(r.now)), C4G_ERR_STATE);
     start(&r);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, r.now), C4G_OK);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, r.now), C4G_ERR_STATE);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, US(r.now)), C4G_OK);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, US(r.now)), C4G_ERR_STATE);
     run_until(&r, r.now + 2000);
     const c4g_co_event_t *d = find_ev(&r, C4G_CO_EV_SDO_DONE, 1);
     assert_non_null(d);
@@ -672,22 +675,22 @@ static void test_user_sdo_and_nmt(void **state)
     assert_int_equal(d->value, 100);
     /* write 0x6060 by SDO, then read it back */
     r.nev = 0;
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 1, r.now), C4G_OK);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 1, US(r.now)), C4G_OK);
     run_until(&r, r.now + 2000);
     assert_int_equal(r.s[0].modes, 8);
     assert_non_null(find_ev(&r, C4G_CO_EV_SDO_DONE, 1));
     /* an object the node does not have: the abort code comes back */
     r.nev = 0;
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x2000, 0, 0, 0, r.now), C4G_OK);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x2000, 0, 0, 0, US(r.now)), C4G_OK);
     run_until(&r, r.now + 2000);
     d = find_ev(&r, C4G_CO_EV_SDO_DONE, 1);
     assert_non_null(d);
     assert_int_equal(d->cause, C4G_CO_CAUSE_SDO_ABORT);
     assert_int_equal(d->value, C4G_CO_ABORT_NO_OBJECT);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 0, r.now), C4G_ERR_LENGTH);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 5, r.now), C4G_ERR_LENGTH);
-    assert_int_equal(c4g_co_master_sdo(&r.m, 9, true, 0x6060, 0, 0, 0, r.now), C4G_ERR_ARG);
-    assert_int_equal(c4g_co_master_sdo(NULL, 1, true, 0x6060, 0, 0, 0, r.now), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 0, US(r.now)), C4G_ERR_LENGTH);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, false, 0x6060, 0, 8, 5, US(r.now)), C4G_ERR_LENGTH);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 9, true, 0x6060, 0, 0, 0, US(r.now)), C4G_ERR_ARG);
+    assert_int_equal(c4g_co_master_sdo(NULL, 1, true, 0x6060, 0, 0, 0, US(r.now)), C4G_ERR_NULL);
     /* S_NMT: stop one node, then start all; the stopped node no longer runs (without the
        recovery flag it stays failed) */
     assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_STOP), C4G_OK);
@@ -697,7 +700,7 @@ static void test_user_sdo_and_nmt(void **state)
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_FAILED);
     /* a user SDO to a stopped node times out */
     r.nev = 0;
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1000, 0, 0, 0, r.now), C4G_OK);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1000, 0, 0, 0, US(r.now)), C4G_OK);
     run_until(&r, r.now + 50000);
     d = find_ev(&r, C4G_CO_EV_SDO_DONE, 1);
     assert_non_null(d);
@@ -759,7 +762,7 @@ static void test_nmt_state_not_running(void **state)
     assert_int_equal(r.m.node[0].rx_pdos, pdos);
     /* started again by NMT: the next DeviceType poll finds it, steps 1-6 run again */
     assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_START), C4G_OK);
-    run_until(&r, e->t_us + 2600000);
+    run_until(&r, T_US(e) + 2600000);
     assert_non_null(find_ev(&r, C4G_CO_EV_NODE_RECOVERED, 1));
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     /* lifeguarded node 2 sent to pre-operational: the guard reply says so */
@@ -799,6 +802,69 @@ static void test_nmt_state_not_running(void **state)
     assert_non_null(find_ev(&r, C4G_CO_EV_NODE_STATE, 1));
 }
 
+/* ---- the poll's next deadline */
+
+/* Frames the master queued (taken), 0 when none. */
+static int take_all(rig_t *r, int *syncs)
+{
+    c4g_co_frame_t f;
+    bool have = true;
+    int n = 0;
+    *syncs = 0;
+    while (c4g_co_master_tx(&r->m, &f, &have) == C4G_OK && have) {
+        n++;
+        *syncs += (f.id == 0x080);
+    }
+    return n;
+}
+
+/* A caller that sleeps until the deadline the poll gives misses nothing: one ns before it
+ * the poll has no work, at it the work is done (SYNC, guard request, loss, recovery poll). */
+static void test_poll_deadline(void **state)
+{
+    (void)state;
+    static rig_t r;
+    uint64_t next = 0U, next2 = 0U;
+    int syncs = 0;
+    memset(&r, 0, sizeof r);
+    net_cfg(&r.cfg, 2);
+    node_cfg(&r.cfg.node[1], 2, C4G_CO_WD_LIFEGUARD, 1);
+    r.cfg.node[0].flags = C4G_CO_F_RECOVERY;
+    rig_init(&r);
+    start(&r);
+    run_until(&r, r.now + 500000);
+    assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
+    assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_RUNNING);
+    /* running: the next SYNC or the next guard request, whichever is first */
+    assert_int_equal(c4g_co_master_poll(&r.m, US(r.now), &next), C4G_OK);
+    (void)take_all(&r, &syncs);
+    assert_true(next > US(r.now));
+    assert_true(next == (r.m.next_sync_ns < r.m.node[1].next_ns ? r.m.next_sync_ns
+                                                                  : r.m.node[1].next_ns));
+    assert_int_equal(c4g_co_master_poll(&r.m, next - 1U, &next2), C4G_OK);
+    assert_int_equal(take_all(&r, &syncs), 0);
+    assert_true(next2 == next);
+    assert_int_equal(c4g_co_master_poll(&r.m, next, &next2), C4G_OK);
+    assert_true(take_all(&r, &syncs) > 0);
+    assert_true(next2 > next);
+    /* node 1 goes silent; poll only at the deadlines given: the loss comes at its heartbeat
+     * deadline (250 ms after the last heartbeat), then its recovery poll 2.5 s later */
+    r.s[0].silent = 1;
+    {
+        const uint64_t seen = r.m.node[0].last_seen_ns;
+        uint64_t t = next2;
+        int k;
+        for (k = 0; k < 2000 && r.m.node[0].boot == C4G_CO_BOOT_RUNNING; k++) {
+            assert_true(t <= seen + US(250000) + 1U);
+            assert_int_equal(c4g_co_master_poll(&r.m, t, &t), C4G_OK);
+            (void)take_all(&r, &syncs);
+        }
+        assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_LOST);
+        assert_true(r.m.node[0].next_ns == seen + US(250000) + 1U + C4G_CO_RECOVERY_POLL_NS);
+        assert_true(t <= r.m.node[0].next_ns);
+    }
+}
+
 /* ---- hostile frames: counted, never trusted */
 
 static void inject(rig_t *r, uint16_t id, uint8_t dlc, int rtr, const uint8_t *d)
@@ -811,7 +877,7 @@ static void inject(rig_t *r, uint16_t id, uint8_t dlc, int rtr, const uint8_t *d
     if (d != NULL) {
         memcpy(f.data, d, 8);
     }
-    f.t_us = r->now;
+    f.t_ns = US(r->now);
     assert_int_equal(c4g_co_master_rx(&r->m, &f), C4G_OK);
 }
 
@@ -864,7 +930,7 @@ static void test_hostile_frames(void **state)
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     assert_int_equal(r.m.node[1].boot, C4G_CO_BOOT_RUNNING);
     /* during a user SDO: an answer for another object is not trusted */
-    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, r.now), C4G_OK);
+    assert_int_equal(c4g_co_master_sdo(&r.m, 1, true, 0x1017, 0, 0, 0, US(r.now)), C4G_OK);
     bool have = true;
     c4g_co_frame_t f;
     while (have) {
@@ -878,10 +944,11 @@ static void test_hostile_frames(void **state)
     assert_true(c4g_co_sdo_busy(&r.m.sdo));
     /* a heartbeat stamped after the poll's time: no underflow, the node stays */
     c4g_co_frame_t hb;
+    uint64_t next = 0U;
     assert_int_equal(c4g_co_ec_encode(&hb, 1, C4G_CO_STATE_OPERATIONAL, 0), C4G_OK);
-    hb.t_us = r.now + 500000;
+    hb.t_ns = US(r.now + 500000);
     assert_int_equal(c4g_co_master_rx(&r.m, &hb), C4G_OK);
-    assert_int_equal(c4g_co_master_poll(&r.m, r.now + 1000), C4G_OK);
+    assert_int_equal(c4g_co_master_poll(&r.m, US(r.now + 1000), &next), C4G_OK);
     assert_int_equal(r.m.node[0].boot, C4G_CO_BOOT_RUNNING);
     /* node 2's boot-up in pre-operational after a reset: lost */
     inject(&r, 0x702, 1, 0, z);
@@ -918,10 +985,10 @@ static void test_config_check(void **state)
     NET_BAD(c.channel = 4);
     NET_BAD(c.bitrate = 9999);
     NET_BAD(c.bitrate = 1000001);
-    NET_BAD(c.sync_period_us = 499);
-    NET_BAD(c.sync_period_us = 1000001);
-    NET_BAD(c.sdo_timeout_us = 999);
-    NET_BAD(c.sdo_timeout_us = 10000001);
+    NET_BAD(c.sync_period_ns = US(499));
+    NET_BAD(c.sync_period_ns = US(1000001));
+    NET_BAD(c.sdo_timeout_ns = US(999));
+    NET_BAD(c.sdo_timeout_ns = US(10000001));
     NET_BAD(c.sdo_retries = 6);
 #define NODE_BAD(slot, stmt)                                              \
     do {                                                                  \
@@ -968,10 +1035,12 @@ static void test_master_misuse_and_queues(void **state)
     c4g_co_event_t e;
     bool have;
     uint8_t slot;
+    uint64_t next = 0U;
     assert_int_equal(c4g_co_master_start(NULL, 0), C4G_ERR_NULL);
     assert_int_equal(c4g_co_master_rx(NULL, &f), C4G_ERR_NULL);
     assert_int_equal(c4g_co_master_rx(&r.m, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4g_co_master_poll(NULL, 0), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_master_poll(NULL, 0, &next), C4G_ERR_NULL);
+    assert_int_equal(c4g_co_master_poll(&r.m, 0, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_co_master_tx(NULL, &f, &have), C4G_ERR_NULL);
     assert_int_equal(c4g_co_master_tx(&r.m, NULL, &have), C4G_ERR_NULL);
     assert_int_equal(c4g_co_master_tx(&r.m, &f, NULL), C4G_ERR_NULL);
@@ -984,11 +1053,12 @@ static void test_master_misuse_and_queues(void **state)
     assert_int_equal(slot, 0);
     assert_int_equal(c4g_co_master_slot(&r.m, 2, &slot), C4G_ERR_ARG);
     /* poll before start: nothing happens */
-    assert_int_equal(c4g_co_master_poll(&r.m, 5000), C4G_OK);
+    assert_int_equal(c4g_co_master_poll(&r.m, US(5000), &next), C4G_OK);
+    assert_true(next == C4G_NO_DEADLINE); /* not started: nothing timed */
     assert_int_equal(c4g_co_master_tx(&r.m, &f, &have), C4G_OK);
     assert_false(have);
-    assert_int_equal(c4g_co_master_start(&r.m, 5000), C4G_OK);
-    assert_int_equal(c4g_co_master_start(&r.m, 5000), C4G_ERR_STATE);
+    assert_int_equal(c4g_co_master_start(&r.m, US(5000)), C4G_OK);
+    assert_int_equal(c4g_co_master_start(&r.m, US(5000)), C4G_ERR_STATE);
     /* transmit queue full: frames counted as dropped */
     for (int i = 0; i < (int)C4G_CO_TXQ_LEN + 5; i++) {
         assert_int_equal(c4g_co_master_nmt(&r.m, 1, C4G_CO_NMT_PREOP), C4G_OK);
@@ -1024,6 +1094,7 @@ int main(void)
         cmocka_unit_test(test_bootup_and_failed_recovery),
         cmocka_unit_test(test_ds402_over_pdos),
         cmocka_unit_test(test_user_sdo_and_nmt),
+        cmocka_unit_test(test_poll_deadline),
         cmocka_unit_test(test_nmt_state_not_running),
         cmocka_unit_test(test_hostile_frames),
         cmocka_unit_test(test_config_check),

@@ -216,6 +216,7 @@ static void test_foreign_and_misuse(void **state)
     uint8_t b[732];
     size_t len;
     uint32_t ev = 0;
+    uint64_t next = 0U;
     c4g_loop_config_t cfg;
     (void)state;
     cold_start(&f);
@@ -229,10 +230,11 @@ static void test_foreign_and_misuse(void **state)
     cyclic(&f, 13, C4G_MODE_0, 1.0f);
     assert_int_equal(c4g_loop_reply(&f.lp, f.out, 10U, &f.out_len, NULL), C4G_ERR_CAPACITY);
     answer(&f, C4G_CYCLIC_SIZE(6U));
-    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 1, &ev), C4G_OK);
+    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 1, &ev, &next), C4G_OK);
     assert_int_equal(ev, 0U);
-    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 2000 * MS, &ev), C4G_OK);
+    assert_int_equal(c4g_loop_poll(&f.lp, f.t + 2000 * MS, &ev, &next), C4G_OK);
     assert_true(ev & C4G_EV_LOST);
+    assert_true(next == C4G_NO_DEADLINE);
     /* NULL arguments */
     assert_int_equal(c4g_loop_init(NULL, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_rx(NULL, b, len, 0, NULL, &f.ev), C4G_ERR_NULL);
@@ -241,7 +243,10 @@ static void test_foreign_and_misuse(void **state)
     assert_int_equal(c4g_loop_reply(&f.lp, NULL, sizeof f.out, &f.out_len, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_reply(&f.lp, f.out, sizeof f.out, NULL, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_sent(NULL, 0), C4G_ERR_NULL);
-    assert_int_equal(c4g_loop_poll(NULL, 0, &ev), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_poll(NULL, 0, &ev, &next), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_poll(&f.lp, 0, &ev, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_deadline(NULL, &next), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_deadline(&f.lp, NULL), C4G_ERR_NULL);
     /* an explicit configuration */
     assert_int_equal(c4g_session_config_default(&cfg.session), C4G_OK);
     assert_int_equal(c4g_engine_config_default(&cfg.engine), C4G_OK);
@@ -449,6 +454,156 @@ static void test_injected_init_refused(void **state)
     }
     assert_int_equal(f.lp.session.phase, C4G_PHASE_REFUSED);
     assert_int_equal(f.lp.session.counters.tx, 10U); /* 9 syncs and the forged echo only */
+    /* refused: the next check is the loss timeout, after which a new start-up is served */
+    {
+        uint64_t next = 0U;
+        uint32_t ev = 0U;
+        assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
+        assert_true(next == f.t + f.lp.session.lost_timeout_ns + 1U);
+        assert_int_equal(c4g_loop_poll(&f.lp, next - 1U, &ev, &next), C4G_OK);
+        assert_int_equal(ev, 0U);
+        assert_int_equal(c4g_loop_poll(&f.lp, next, &ev, &next), C4G_OK);
+        assert_true(ev & C4G_EV_LOST);
+        assert_true(next == C4G_NO_DEADLINE);
+    }
+}
+
+/* c4g_loop_poll's next deadline is the first instant the silence or loss check has work:
+ * one ns earlier it finds nothing, at it the event comes; no deadline while only a datagram
+ * can change anything. */
+static void test_poll_deadline(void **state)
+{
+    fx_t f;
+    uint8_t b[732];
+    uint64_t next = 0U, t_last;
+    uint32_t ev = 0U;
+    c4g_loop_state_t ls;
+    (void)state;
+    memset(&f, 0, sizeof f);
+    f.ctl.addr_len = 4U;
+    f.ctl.addr[0] = 127U;
+    f.ctl.port = 3600U;
+    assert_int_equal(c4g_loop_init(&f.lp, NULL), C4G_OK);
+    /* nothing received: nothing can time out */
+    assert_int_equal(c4g_loop_poll(&f.lp, 5000 * MS, &ev, &next), C4G_OK);
+    assert_int_equal(ev, 0U);
+    assert_true(next == C4G_NO_DEADLINE);
+    /* a start-up under way: the loss timeout forgets it */
+    f.t = 1000 * MS;
+    memset(b, 0, sizeof b);
+    th_put_u32(b, 1U);
+    assert_int_equal(feed_from(&f, b, C4G_CYCLIC_SIZE(6U), &f.ctl), C4G_RX_SYNC);
+    answer(&f, 732U);
+    assert_int_equal(c4g_loop_state(&f.lp, &ls), C4G_OK);
+    assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
+    assert_true(next == f.t + ls.lost_timeout_ns + 1U);
+    /* cyclic: silence first, then the loss */
+    cold_start(&f);
+    t_last = f.t;
+    assert_int_equal(c4g_loop_state(&f.lp, &ls), C4G_OK);
+    assert_true(ls.silence_ns < ls.lost_timeout_ns);
+    assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
+    assert_true(next == t_last + ls.silence_ns + 1U);
+    assert_int_equal(c4g_loop_poll(&f.lp, next - 1U, &ev, &next), C4G_OK);
+    assert_int_equal(ev, 0U);
+    assert_true(next == t_last + ls.silence_ns + 1U);
+    assert_int_equal(c4g_loop_poll(&f.lp, next, &ev, &next), C4G_OK);
+    assert_int_equal(ev, C4G_EV_SILENCE);
+    assert_true(next == t_last + ls.lost_timeout_ns + 1U);
+    assert_int_equal(c4g_loop_poll(&f.lp, next - 1U, &ev, &next), C4G_OK);
+    assert_int_equal(ev, 0U);
+    assert_int_equal(c4g_loop_poll(&f.lp, next, &ev, &next), C4G_OK);
+    assert_int_equal(ev, C4G_EV_LOST);
+    assert_true(next == C4G_NO_DEADLINE);
+    /* a deadline past the end of the clock saturates instead of wrapping */
+    cold_start(&f);
+    f.lp.session.last_rx_ns = C4G_NO_DEADLINE - 10U;
+    assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
+    assert_true(next == C4G_NO_DEADLINE);
+    /* passive freezing suspends the checks */
+    cold_start(&f);
+    f.lp.session.frozen = 1U;
+    assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
+    assert_true(next == C4G_NO_DEADLINE);
+}
+
+/* The read accessors show the session and engine the loop holds. */
+static void test_accessors(void **state)
+{
+    fx_t f;
+    const c4g_init_t *ip = NULL;
+    const c4g_axis_map_t *m = NULL;
+    const c4g_counters_t *sc = NULL;
+    const c4g_loop_counters_t *lc = NULL;
+    const c4g_pc_packet_t *tx = NULL;
+    c4g_engine_t *e = NULL;
+    const c4g_engine_t *ev_ = NULL;
+    c4g_timing_t tm;
+    c4g_loop_state_t ls;
+    bool is = false;
+    c4g_endpoint_t other;
+    (void)state;
+    assert_int_equal(c4g_loop_init(&f.lp, NULL), C4G_OK);
+    assert_int_equal(c4g_loop_engine(&f.lp, &e), C4G_ERR_STATE);
+    assert_ptr_equal(e, &f.lp.engine);
+    assert_int_equal(c4g_loop_engine_view(&f.lp, &ev_), C4G_ERR_STATE);
+    assert_int_equal(c4g_loop_axis_map(&f.lp, &m), C4G_OK);
+    assert_int_equal(m->n_axes, 0U);
+    cold_start(&f);
+    assert_int_equal(c4g_loop_init_packet(&f.lp, &ip), C4G_OK);
+    assert_ptr_equal(ip, &f.lp.session.init);
+    assert_true(ip->period_ms > 0);
+    assert_int_equal(c4g_loop_axis_map(&f.lp, &m), C4G_OK);
+    assert_int_equal(m->n_axes, 6U);
+    assert_int_equal(c4g_loop_counters(&f.lp, &sc, &lc), C4G_OK);
+    assert_int_equal(sc->sync, 11U);
+    assert_int_equal(sc->init, 1U);
+    assert_int_equal(lc->neutral_replies, 0U);
+    sc = NULL;
+    assert_int_equal(c4g_loop_counters(&f.lp, &sc, NULL), C4G_OK);
+    assert_non_null(sc);
+    assert_int_equal(c4g_loop_counters(&f.lp, NULL, &lc), C4G_OK);
+    assert_int_equal(c4g_loop_timing(&f.lp, &tm), C4G_OK);
+    assert_true(tm.nominal_period_ns == (int64_t)ip->period_ms * 1000000);
+    assert_int_equal(c4g_loop_state(&f.lp, &ls), C4G_OK);
+    assert_int_equal(ls.phase, C4G_PHASE_CYCLIC);
+    assert_true(ls.locked);
+    assert_int_equal(ls.peer.port, 3600U);
+    assert_int_equal(ls.last_num, 12);
+    assert_true(ls.engine_ready);
+    assert_int_equal(ls.finish_status, C4G_OK);
+    assert_int_equal(c4g_loop_is_peer(&f.lp, &f.ctl, &is), C4G_OK);
+    assert_true(is);
+    other = f.ctl;
+    other.port = 3601U;
+    assert_int_equal(c4g_loop_is_peer(&f.lp, &other, &is), C4G_OK);
+    assert_false(is);
+    assert_int_equal(c4g_loop_engine(&f.lp, &e), C4G_OK);
+    assert_ptr_equal(e, &f.lp.engine);
+    assert_int_equal(c4g_loop_engine_view(&f.lp, &ev_), C4G_OK);
+    assert_ptr_equal(ev_, &f.lp.engine);
+    assert_int_equal(c4g_loop_reply_packet(&f.lp, &tx), C4G_OK);
+    assert_ptr_equal(tx, &f.lp.tx);
+    /* NULL arguments */
+    assert_int_equal(c4g_loop_init_packet(NULL, &ip), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_init_packet(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_axis_map(NULL, &m), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_axis_map(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_counters(NULL, &sc, &lc), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_counters(&f.lp, NULL, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_timing(NULL, &tm), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_timing(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_state(NULL, &ls), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_state(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_is_peer(NULL, &other, &is), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_is_peer(&f.lp, NULL, &is), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_is_peer(&f.lp, &other, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_engine(NULL, &e), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_engine(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_reply_packet(NULL, &tx), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_engine_view(NULL, &ev_), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_engine_view(&f.lp, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_loop_reply_packet(&f.lp, NULL), C4G_ERR_NULL);
 }
 
 int main(void)
@@ -464,6 +619,8 @@ int main(void)
         cmocka_unit_test(test_engine_refused),
         cmocka_unit_test(test_queries),
         cmocka_unit_test(test_injected_init_refused),
+        cmocka_unit_test(test_poll_deadline),
+        cmocka_unit_test(test_accessors),
     };
     return cmocka_run_group_tests_name("loop", tests, th_load_fig, NULL);
 }

@@ -6,6 +6,9 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
+
+/* the slave's times are in ns; the figures of the heartbeat test are written in us */
+#define US(x) ((uint64_t)(x) * 1000U)
 #include <cmocka.h>
 
 #include "c4gsim_slave.h"
@@ -123,36 +126,36 @@ static void test_bootup_and_heartbeat(void **state)
     assert_int_equal(c4gsim_slave_poll(NULL, 0, r.out, &r.n), C4G_ERR_NULL);
     assert_int_equal(c4gsim_slave_poll(&r.s, 0, NULL, &r.n), C4G_ERR_NULL);
     assert_int_equal(c4gsim_slave_poll(&r.s, 0, r.out, NULL), C4G_ERR_NULL);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 1000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(1000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 1); /* boot-up: 0x700 + node, state 0 */
     assert_int_equal(r.out[0].id, 0x705);
     assert_int_equal(r.out[0].dlc, 1);
     assert_int_equal(r.out[0].data[0], 0x00);
     assert_int_equal(r.s.nmt, C4G_CO_STATE_PREOP);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 2000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(2000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 0); /* no heartbeat configured */
     sdo(&r, 0x2B, 0x1017, 0, 100); /* 100 ms */
     expect_sdo(&r, 0x60);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 3000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(3000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 0); /* the first one a period from now */
-    assert_int_equal(r.s.next_hb_us, 103000);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 102999, r.out, &r.n), C4G_OK);
+    assert_int_equal(r.s.next_hb_ns, US(103000));
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(102999), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 0);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 103000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(103000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 1);
     assert_int_equal(r.out[0].id, 0x705);
     assert_int_equal(r.out[0].data[0], 0x7F); /* pre-operational */
-    assert_int_equal(r.s.next_hb_us, 203000);
+    assert_int_equal(r.s.next_hb_ns, US(203000));
     /* a late poll: one heartbeat, the next a period from now */
-    assert_int_equal(c4gsim_slave_poll(&r.s, 500000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(500000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 1);
-    assert_int_equal(r.s.next_hb_us, 600000);
+    assert_int_equal(r.s.next_hb_ns, US(600000));
     r.s.no_heartbeat = true;
-    assert_int_equal(c4gsim_slave_poll(&r.s, 700000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(700000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 0);
     r.s.no_heartbeat = false;
     r.s.silent = true;
-    assert_int_equal(c4gsim_slave_poll(&r.s, 700000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(700000), r.out, &r.n), C4G_OK);
     assert_int_equal(r.n, 0);
 }
 
@@ -377,7 +380,7 @@ static void test_sdo_ignored(void **state)
     assert_int_equal(c4gsim_slave_init(&r.s, NODE, DEVTYPE), C4G_OK);
     sdo(&r, 0x40, 0x1000, 0, 0); /* still in boot-up */
     assert_int_equal(r.n, 0);
-    assert_int_equal(c4gsim_slave_poll(&r.s, 1000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(1000), r.out, &r.n), C4G_OK);
     frame(&f, (uint16_t)(0x600U + NODE), 7, d); /* short */
     rx(&r, &f);
     assert_int_equal(r.n, 0);
@@ -465,7 +468,7 @@ static void test_guarding(void **state)
     f.rtr = 1;
     rx(&r, &f);
     assert_int_equal(r.n, 0); /* no answer before its boot-up */
-    assert_int_equal(c4gsim_slave_poll(&r.s, 1000, r.out, &r.n), C4G_OK);
+    assert_int_equal(c4gsim_slave_poll(&r.s, US(1000), r.out, &r.n), C4G_OK);
     rx(&r, &f);
     assert_int_equal(r.n, 1);
     assert_int_equal(r.out[0].id, 0x705);

@@ -73,7 +73,7 @@ static void test_nodes_alone(void **state)
     assert_int_equal(t.n, 2);
     assert_int_equal(t.f[0].id, 0x703);
     assert_int_equal(t.f[1].id, 0x709);
-    assert_true(t.f[0].t_us == 1234U && t.f[1].t_us == 1234U);
+    assert_true(t.f[0].t_ns == 1234U && t.f[1].t_ns == 1234U);
     assert_true(b.frames == 2U);
     assert_int_equal(c4gsim_vbus_step(&b, 2000), C4G_OK); /* quiet */
     assert_int_equal(t.n, 2);
@@ -84,8 +84,8 @@ static void test_nodes_alone(void **state)
     assert_int_equal(c4gsim_vbus_inject(&b, NULL, 5000), C4G_ERR_NULL);
     assert_int_equal(c4gsim_vbus_inject(&b, &f, 5000), C4G_OK);
     assert_int_equal(t.n, 3);
-    assert_true(t.f[2].id == 0x083 && t.f[2].t_us == 5000U && b.frames == 3U);
-    assert_true(f.t_us == 0U); /* the caller's frame is not touched */
+    assert_true(t.f[2].id == 0x083 && t.f[2].t_ns == 5000U && b.frames == 3U);
+    assert_true(f.t_ns == 0U); /* the caller's frame is not touched */
     b.log = NULL; /* no log: still counted */
     assert_int_equal(c4gsim_vbus_inject(&b, &f, 6000), C4G_OK);
     assert_true(b.frames == 4U && t.n == 3);
@@ -104,8 +104,8 @@ static void test_with_master(void **state)
     memset(&cfg, 0, sizeof cfg);
     memset(&t, 0, sizeof t);
     cfg.bitrate = 500000;
-    cfg.sync_period_us = 10000;
-    cfg.sdo_timeout_us = 20000;
+    cfg.sync_period_ns = 10000000U;
+    cfg.sdo_timeout_ns = 20000000U;
     cfg.sdo_retries = 1;
     cfg.n_nodes = 1;
     cfg.node[0].node_id = 4;
@@ -122,9 +122,9 @@ static void test_with_master(void **state)
     assert_int_equal(c4gsim_vbus_add(&b, &s), C4G_OK);
     b.log = log_fn;
     b.log_ctx = &t;
-    assert_int_equal(c4g_co_master_start(&m, 1000), C4G_OK);
+    assert_int_equal(c4g_co_master_start(&m, 1000000U), C4G_OK);
     for (k = 0; k < 20; k++) {
-        assert_int_equal(c4gsim_vbus_step(&b, 1000U + 1000U * (uint64_t)k), C4G_OK);
+        assert_int_equal(c4gsim_vbus_step(&b, 1000000U + 1000000U * (uint64_t)k), C4G_OK);
     }
     /* the boot-up message first; the master's first SDO request, then the node's answer */
     assert_true(t.n >= 3);
@@ -136,7 +136,7 @@ static void test_with_master(void **state)
     assert_int_equal(t.f[k].data[1] | (t.f[k].data[2] << 8), 0x1000);
     assert_int_equal(t.f[k + 1].id, 0x584);
     assert_int_equal(t.f[k + 1].data[0], 0x43);
-    assert_true(t.f[k + 1].t_us == t.f[k].t_us); /* answered within the same step */
+    assert_true(t.f[k + 1].t_ns == t.f[k].t_ns); /* answered within the same step */
     assert_true(s.sdo_requests >= 1U);
 }
 

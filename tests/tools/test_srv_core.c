@@ -188,10 +188,54 @@ static void test_handshake_and_cyclic_replies(void **state)
     /* mode 4: absolute targets from where the arm stood, moving away from it */
     assert_float_equal(reply_d1(&g_a.r[FIRST_CYCLIC + N_MODE0], 0U), 0.2, 1e-6);
     assert_true(reply_d1(&g_a.r[N_PKT - 1U], 0U) > 0.25f);
-    assert_int_equal(g_srv.loop.session.counters.cyclic, N_MODE0 + N_MODE4);
+    assert_int_equal(srv_counters(&g_srv)->cyclic, N_MODE0 + N_MODE4);
     assert_int_equal(g_srv.stats.inits, 1U);
     assert_int_equal(g_srv.stats.skipped, 0U);
+    assert_int_equal(g_srv.stats.neutral_replies, 0U);
+    assert_int_equal(g_srv.stats.encode_errors, 0U);
     assert_true(g_a.saw_init_line); /* log lines reach the caller's logger */
+}
+
+/* Replies the loop answers with its fallback (every axis holds) are neutral_replies, not
+ * encode_errors: the encoder refused none of them; and each counts, whether the loop
+ * prepared the fallback with the packet (no engine) or at the reply. The control engine is taken off after
+ * the init packet, as when it refuses one (the loop then answers every cyclic packet with
+ * the fallback). */
+static void test_neutral_replies_counted(void **state)
+{
+    static srv_config_t cfg;
+    c4g_endpoint_t ctl;
+    uint64_t t = 1000U * MS;
+    float last_target[N_AX];
+    uint32_t k, cyclic = 0U;
+    (void)state;
+    config(&cfg, "0.25,5", NULL);
+    for (k = 0U; k < N_AX; k++) {
+        last_target[k] = 0.2f;
+    }
+    memset(&ctl, 0, sizeof ctl);
+    ctl.addr_len = 4U;
+    ctl.addr[0] = 127U;
+    ctl.port = 3600U;
+    assert_int_equal(srv_init(&g_srv, &cfg, NULL, NULL), C4G_OK);
+    for (k = 0U; k < FIRST_CYCLIC + 20U; k++) {
+        uint8_t in[C4G_INIT_SIZE], out[C4G_INIT_SIZE];
+        size_t len = 0U;
+        srv_verdict_t v;
+        const size_t n = packet(k, last_target, in, sizeof in);
+        if (k == FIRST_CYCLIC) {
+            g_srv.loop.engine_ready = 0U; /* test hook: the engine holds no init packet */
+        }
+        t += 2U * MS;
+        assert_int_equal(srv_process(&g_srv, in, n, &ctl, t, out, sizeof out, &len, &v), C4G_OK);
+        assert_true(v.send);
+        srv_sent(&g_srv, t + 50000U);
+        cyclic += (v.kind == C4G_RX_CYCLIC) ? 1U : 0U;
+    }
+    assert_int_equal(cyclic, 20U);
+    assert_int_equal(g_srv.stats.neutral_replies, 20U);
+    assert_int_equal(g_srv.stats.encode_errors, 0U);
+    assert_int_equal(srv_loop_counters(&g_srv)->neutral_replies, 20U);
 }
 
 static void test_same_packets_same_replies(void **state)
@@ -363,6 +407,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_handshake_and_cyclic_replies),
+        cmocka_unit_test(test_neutral_replies_counted),
         cmocka_unit_test(test_same_packets_same_replies),
         cmocka_unit_test(test_amplitude_reaches_mode4_replies),
         cmocka_unit_test(test_skip_replies_not_sent),

@@ -4,12 +4,14 @@
  * and answers every packet with a per-arm behaviour passed through the PC-side safety
  * filter.
  *
- * The real-time loop: recvfrom -> srv_process (tools/c4g-server/srv_core.c: c4g_loop_rx,
+ * The real-time loop: wait for the next datagram or the core's next deadline (silence,
+ * loss, --idle-timeout, --max-seconds; no fixed timer) -> recvfrom -> srv_process (tools/c4g-server/srv_core.c: c4g_loop_rx,
  * controllers, c4g_loop_reply, counters; the same code c4g-replay rerun runs on a
  * capture) -> sendto -> srv_sent. This file holds only the I/O around it: socket,
  * clock, the active-freezing pause, outputs. Nothing on that path allocates or does file
  * I/O: logs, pcap and moni rows go through a lock-free ring (lib/host/c4gh_rtlog.h)
  * to a writer thread. */
+#define _GNU_SOURCE /* ppoll: the wait that unblocks SIGINT/SIGTERM atomically */
 #include "srv.h"
 #include "c4gh_pcap.h"
 #include "c4gh_udp.h"
@@ -18,6 +20,7 @@
 #include <errno.h>
 #include <math.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -30,6 +33,11 @@
 static srv_host_t g_host; /* static: large, and locked by mlockall */
 static srv_config_t g_cfg;
 static volatile sig_atomic_t g_stop;
+/* The signal mask inside the blocking wait: SIGINT and SIGTERM are blocked everywhere else
+ * (in every thread), so a signal that comes between the g_stop check and the wait still
+ * ends the wait (ppoll unblocks them atomically) instead of waiting for the next deadline,
+ * which may be none. */
+static sigset_t g_waitmask;
 
 static void on_signal(int sig)
 {
@@ -93,12 +101,6 @@ static int open_socket(srv_host_t *H)
         return -2;
     }
     (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
-    {
-        struct timeval tv;
-        tv.tv_sec = 0;
-        tv.tv_usec = 1000; /* the blocking wait wakes every 1 ms for the loss check */
-        (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    }
     if (bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
         const int e = errno;
         fprintf(stderr, "c4g-server: bind %s:%u: %s%s\n", cfg->bind_addr, cfg->port, strerror(e),
@@ -110,11 +112,26 @@ static int open_socket(srv_host_t *H)
     return fd;
 }
 
-/* Wait until the socket is readable or timeout_ns passed; 1 readable, 0 timeout. */
-static int wait_readable(const srv_t *S, int fd, uint64_t timeout_ns)
+/* A relative timeout until @p due (C4G_NO_DEADLINE: NULL, no timeout). */
+static struct timespec *until(uint64_t due, struct timespec *ts)
+{
+    uint64_t t, d;
+    if (due == C4G_NO_DEADLINE) {
+        return NULL;
+    }
+    t = now_ns();
+    d = (due > t) ? due - t : 0U;
+    ts->tv_sec = (time_t)(d / 1000000000ULL);
+    ts->tv_nsec = (long)(d % 1000000000ULL);
+    return ts;
+}
+
+/* Wait until the socket is readable or @p due (monotonic ns) came; 1 readable, 0 not (the
+ * deadline, a signal). --spin and --poll-us poll the socket; else one ppoll, woken by the
+ * datagram, the deadline or a signal. */
+static int wait_readable(const srv_t *S, int fd, uint64_t due)
 {
     if (S->cfg.spin || S->cfg.poll_us > 0U) {
-        const uint64_t end = now_ns() + timeout_ns;
         struct timespec next;
         char b;
         clock_gettime(CLOCK_MONOTONIC, &next);
@@ -123,7 +140,7 @@ static int wait_readable(const srv_t *S, int fd, uint64_t timeout_ns)
             if (n >= 0) {
                 return 1;
             }
-            if (g_stop || now_ns() >= end) {
+            if (g_stop || now_ns() >= due) {
                 return 0;
             }
             if (S->cfg.poll_us > 0U) {
@@ -137,23 +154,21 @@ static int wait_readable(const srv_t *S, int fd, uint64_t timeout_ns)
         }
     } else {
         struct pollfd p;
-        int ms = (int)(timeout_ns / 1000000ULL);
+        struct timespec ts;
         p.fd = fd;
         p.events = POLLIN;
         p.revents = 0;
-        if (ms < 1) {
-            ms = 1;
-        }
-        return (poll(&p, 1, ms) > 0) ? 1 : 0;
+        return (ppoll(&p, 1, until(due, &ts), &g_waitmask) > 0) ? 1 : 0;
     }
 }
 
+/* The active-freezing pause; a signal ends it. */
 static void pause_ms(double ms)
 {
+    const uint64_t due = now_ns() + (uint64_t)(ms * 1e6);
     struct timespec ts;
-    ts.tv_sec = (time_t)(ms / 1000.0);
-    ts.tv_nsec = (long)((ms - (double)ts.tv_sec * 1000.0) * 1e6);
-    while (nanosleep(&ts, &ts) != 0 && errno == EINTR && !g_stop) {
+    while (!g_stop && now_ns() < due) {
+        (void)ppoll(NULL, 0, until(due, &ts), &g_waitmask);
     }
 }
 
@@ -218,7 +233,7 @@ static int on_idle(srv_t *S, uint64_t start)
     if (code >= 0) {
         return code;
     }
-    if (S->loop.session.counters.rx == 0U && S->cfg.idle_timeout > 0.0 &&
+    if (srv_counters(S)->rx == 0U && S->cfg.idle_timeout > 0.0 &&
         (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
         return EXIT_TIMEOUT;
     }
@@ -265,9 +280,9 @@ static void drain_queue(srv_host_t *H, int fd, uint8_t *in, size_t cap, size_t *
     c4g_endpoint_t e;
     srv_t *S = &H->s;
     unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
-    int have;
+    bool have = false, is_peer = false;
     endpoint_of(peer, &e);
-    have = c4g_session_is_peer(&S->loop.session, &e);
+    (void)c4g_loop_is_peer(&S->loop, &e, &have);
     while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
                                                 (struct sockaddr *)&p2, &l2)) >= 0) {
         const uint64_t t = now_ns();
@@ -278,7 +293,8 @@ static void drain_queue(srv_host_t *H, int fd, uint8_t *in, size_t cap, size_t *
             n_foreign++;
             continue;
         }
-        if (!c4g_session_is_peer(&S->loop.session, &e)) {
+        (void)c4g_loop_is_peer(&S->loop, &e, &is_peer);
+        if (!is_peer) {
             srv_drop(S, other, k, &e, t); /* counted */
             n_foreign++;
             continue;
@@ -288,7 +304,7 @@ static void drain_queue(srv_host_t *H, int fd, uint8_t *in, size_t cap, size_t *
             endpoint_of(peer, &e0);
             srv_drop(S, in, *len, &e0, t);
             n_foreign++;
-            have = 1;
+            have = true;
         }
         n_ctrl++;
         memcpy(in, other, (k > cap) ? cap : k);
@@ -317,7 +333,7 @@ static uint8_t g_out[C4G_INIT_SIZE];
 static ssize_t recv_stamped(srv_host_t *H, int fd, dgram_t *d)
 {
     c4gh_udp_msg_t m;
-    const ssize_t n = c4gh_udp_recv_flags(fd, MSG_TRUNC, H->kstamp_off, g_in, sizeof g_in, &m);
+    const ssize_t n = c4gh_udp_recv_flags(fd, MSG_TRUNC | MSG_DONTWAIT, H->kstamp_off, g_in, sizeof g_in, &m);
     if (n >= 0) {
         d->peer = m.from;
         d->plen = sizeof d->peer;
@@ -326,13 +342,30 @@ static ssize_t recv_stamped(srv_host_t *H, int fd, dgram_t *d)
     return n;
 }
 
-/* Wait for one datagram of the controller's address into g_in. SRV_HAVE, SRV_NEXT (nothing
- * came, or another address's), or an exit code. After an active-freezing pause (the core's
- * thaw_due) only the newest queued datagram is answered. */
+/* The next instant the run has something to do without a datagram: the core's silence or
+ * loss check, --idle-timeout before the first datagram, --max-seconds. */
+static uint64_t next_due(const srv_t *S, uint64_t start)
+{
+    uint64_t due = srv_deadline(S);
+    if (srv_counters(S)->rx == 0U && S->cfg.idle_timeout > 0.0) {
+        const uint64_t t = start + (uint64_t)(S->cfg.idle_timeout * 1e9);
+        due = (t < due) ? t : due;
+    }
+    if (S->cfg.max_seconds > 0.0) {
+        const uint64_t t = start + (uint64_t)(S->cfg.max_seconds * 1e9);
+        due = (t < due) ? t : due;
+    }
+    return due;
+}
+
+/* Wait for one datagram of the controller's address into g_in, or for the next deadline.
+ * SRV_HAVE, SRV_NEXT (nothing came, or another address's), or an exit code. After an
+ * active-freezing pause (the core's thaw_due) only the newest queued datagram is answered. */
 static int receive(srv_host_t *H, int fd, uint64_t start, dgram_t *d)
 {
     srv_t *S = &H->s;
     ssize_t n;
+    uint64_t due;
     int code;
     if (g_stop) {
         return EXIT_SIGNAL;
@@ -340,28 +373,30 @@ static int receive(srv_host_t *H, int fd, uint64_t start, dgram_t *d)
     if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
         return EXIT_TIMEOUT;
     }
+    /* checked before every wait, not only when the socket is quiet: a stream from another
+     * address must not hold off the silence and loss checks */
+    due = next_due(S, start);
+    if (now_ns() >= due) {
+        code = on_idle(S, start);
+        return (code >= 0) ? code : SRV_NEXT;
+    }
+    if (!wait_readable(S, fd, due)) {
+        return SRV_NEXT; /* the deadline or a signal: checked above on the next call */
+    }
     d->plen = sizeof d->peer;
-    if ((S->cfg.spin || S->cfg.poll_us > 0U) && !wait_readable(S, fd, 1000000ULL)) {
-        n = -1;
-        errno = EAGAIN;
-    } else if (H->kstamp) {
+    if (H->kstamp) {
         n = recv_stamped(H, fd, d);
     } else {
-        /* default: one blocking recvfrom, woken by the packet (SO_RCVTIMEO 1 ms) */
-        n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC, (struct sockaddr *)&d->peer, &d->plen);
+        n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC | MSG_DONTWAIT, (struct sockaddr *)&d->peer,
+                     &d->plen);
     }
     d->t_rx = now_ns();
     d->t_cap = (H->kstamp && d->t_cap != 0U && d->t_cap <= d->t_rx) ? d->t_cap : d->t_rx;
     if (n < 0) {
-        /* a timeout runs the idle checks; EINTR or a transient error: go on */
-        code = (errno == EAGAIN || errno == EWOULDBLOCK) ? on_idle(S, start) : SRV_NEXT;
-        return (code >= 0) ? code : SRV_NEXT;
+        return SRV_NEXT; /* EAGAIN, EINTR or a transient error: go on */
     }
     if (foreign_address(H, &d->peer, n, d->t_rx)) {
-        /* a stream from another address keeps recvfrom from timing out: the silence
-         * and loss checks must not wait for a quiet socket */
-        code = on_idle(S, start);
-        return (code >= 0) ? code : SRV_NEXT;
+        return SRV_NEXT;
     }
     if ((size_t)n > sizeof g_in) {
         S->stats.oversize++;
@@ -405,7 +440,7 @@ static void send_reply(srv_host_t *H, int fd, const dgram_t *d, const srv_verdic
     }
     t_tx = now_ns();
     if (v->kind == C4G_RX_CYCLIC) {
-        log_moni(H, d->t_rx, v->pkt, &S->loop.tx); /* before srv_sent: a 504 may end the session */
+        log_moni(H, d->t_rx, v->pkt, srv_reply_packet(S)); /* before srv_sent: a 504 may end the session */
     }
     srv_sent(S, t_tx);
     log_datagram(H, LOG_PCAP_TX, H->kstamp ? sent_stamp(H, fd, t_tx) : t_tx, g_out, olen, &d->peer);
@@ -443,8 +478,9 @@ static int handle(srv_host_t *H, int fd, const dgram_t *d)
  * that the controller's next start-up is served from whatever port it uses. */
 static void peer_filter(srv_host_t *H, int fd)
 {
-    const c4g_session_t *s = &H->s.loop.session;
-    const int want = s->peer_locked != 0U && s->phase == C4G_PHASE_CYCLIC && s->peer.addr_len == 4U;
+    const c4g_loop_state_t ls = srv_state(&H->s);
+    const c4g_loop_state_t *s = &ls;
+    const int want = s->locked && s->phase == C4G_PHASE_CYCLIC && s->peer.addr_len == 4U;
     char a[INET_ADDRSTRLEN];
     if (want && (!H->connected || memcmp(&H->conn_peer, &s->peer, sizeof s->peer) != 0)) {
         struct sockaddr_in to;
@@ -529,6 +565,18 @@ static int start(srv_host_t *H, int *fd)
         close(*fd);
         return EXIT_SETUP;
     }
+    /* SIGINT and SIGTERM blocked from here in this thread and in the writer thread it
+     * starts: only the wait (ppoll with g_waitmask) takes them, so none is lost between
+     * the check of g_stop and the wait. --spin and --poll-us check g_stop as they poll. */
+    if (!cfg->spin && cfg->poll_us == 0U) {
+        sigset_t block;
+        sigemptyset(&block);
+        sigaddset(&block, SIGINT);
+        sigaddset(&block, SIGTERM);
+        (void)pthread_sigmask(SIG_BLOCK, &block, &g_waitmask);
+    } else {
+        (void)pthread_sigmask(SIG_BLOCK, NULL, &g_waitmask);
+    }
     c4gh_rtlog_init(&H->log, srv_sink, H);
     if (c4gh_rtlog_start(&H->log) != 0) {
         fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
@@ -562,7 +610,7 @@ static int finish(srv_host_t *H, int code)
     switch (code) {
     case EXIT_END: why = "504 from the controller (end of communication)"; break;
     case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
-    case EXIT_TIMEOUT: why = (S->loop.session.counters.rx == 0U) ? "idle timeout: no controller"
+    case EXIT_TIMEOUT: why = (srv_counters(S)->rx == 0U) ? "idle timeout: no controller"
                                                                  : "--max-seconds reached"; break;
     case EXIT_SIGNAL: why = "stopped by a signal"; break;
     default: why = "?"; break;

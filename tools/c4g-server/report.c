@@ -118,7 +118,7 @@ static void write_moni(srv_host_t *H, const c4gh_rtlog_rec_t *rec)
     c4g_ctrl_packet_t rx;
     c4g_pc_packet_t tx;
     const double t = (double)(rec->t_ns - S->t0_ns) * 1e-9;
-    const c4g_axis_map_t *m = &S->loop.session.map;
+    const c4g_axis_map_t *m = srv_map(S);
     uint32_t i;
     memcpy(&rx, rec->data, sizeof rx);
     memcpy(&tx, rec->data + sizeof rx, sizeof tx);
@@ -183,7 +183,7 @@ static const char *const mal_names[C4G_MAL_COUNT_] = {"length", "num", "mode", "
 static void counters_total(const srv_t *S, c4g_counters_t *tot)
 {
     *tot = S->done;
-    srv_counters_add(tot, &S->loop.session.counters);
+    srv_counters_add(tot, srv_counters(S));
 }
 
 void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
@@ -196,7 +196,7 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     const srv_safety_t *sf = &S->safety;
     uint32_t k;
     counters_total(S, &tot);
-    (void)c4g_session_timing(&S->loop.session, &t);
+    (void)c4g_loop_timing(&S->loop, &t);
     fprintf(out, "c4g-server: session ended: %s (exit code %d)\n", why, code);
     fprintf(out, "== Timing (manual chapter 22, PC point of view)\n");
     fprintf(out, "Nominal Inter-Packets Period = %.9f s\n", (double)t.nominal_period_ns * 1e-9);
@@ -237,9 +237,11 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
                 (unsigned long long)c->refused, (unsigned long long)c->new_peers,
                 (unsigned long long)c->end_unexpected, (unsigned long long)c->sync_excess);
     }
-    fprintf(out, "replies skipped %llu, send errors %llu, encode errors %llu, log records dropped %llu\n",
+    fprintf(out, "replies skipped %llu, send errors %llu, neutral replies %llu, encode errors %llu, "
+            "log records dropped %llu\n",
             (unsigned long long)st->skipped, (unsigned long long)st->send_errors,
-            (unsigned long long)st->encode_errors, (unsigned long long)H->log.dropped);
+            (unsigned long long)st->neutral_replies, (unsigned long long)st->encode_errors,
+            (unsigned long long)H->log.dropped);
     fprintf(out, "restarts (506) %llu, passive freezings %llu, active freezings %llu, drive-on ends %llu, "
             "mode changes %llu\n", (unsigned long long)st->restarts,
             (unsigned long long)st->frozen_passive, (unsigned long long)st->freezes,
@@ -284,7 +286,7 @@ static json_t *json_timing(const srv_t *S)
     json_t *o = json_object();
     c4g_timing_t t;
     memset(&t, 0, sizeof t);
-    (void)c4g_session_timing(&S->loop.session, &t);
+    (void)c4g_loop_timing(&S->loop, &t);
     put_i(o, "nominal_period_ns", (long long)t.nominal_period_ns);
     put_i(o, "worst_cycle_ns", (long long)t.worst_cycle_ns);
     put_i(o, "min_inter_ns", (long long)t.min_inter_ns);
@@ -346,6 +348,7 @@ static json_t *json_counters(const srv_host_t *H)
     put_u(o, "oversize", st->oversize);
     put_u(o, "skipped", st->skipped);
     put_u(o, "send_errors", st->send_errors);
+    put_u(o, "neutral_replies", st->neutral_replies);
     put_u(o, "encode_errors", st->encode_errors);
     put_u(o, "log_dropped", H->log.dropped);
     put_u(o, "restarts", st->restarts);
@@ -396,8 +399,8 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     json_object_set_new(o, "reason", json_string(why));
     json_object_set_new(o, "num_policy",
                         json_string(S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1"));
-    put_u(o, "axes", S->loop.session.map.n_axes);
-    put_i(o, "period_ms", (long long)S->loop.session.init.period_ms);
+    put_u(o, "axes", srv_map(S)->n_axes);
+    put_i(o, "period_ms", (long long)srv_init_packet(S)->period_ms);
     json_object_set_new(o, "timing", json_timing(S));
     json_object_set_new(o, "counters", json_counters(H));
     json_object_set_new(o, "safety", json_safety(&S->safety));

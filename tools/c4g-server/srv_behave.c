@@ -22,7 +22,7 @@ void srv_behave_reset(srv_t *S)
 
 static double period_s(const srv_t *S)
 {
-    const int32_t p = S->loop.session.init.period_ms;
+    const int32_t p = srv_init_packet(S)->period_ms;
     return (p > 0) ? (double)p * 1e-3 : 1e-3;
 }
 
@@ -38,12 +38,12 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     if (old >= 0) {
         S->stats.mode_changes++;
     }
-    if (old >= 0 && (S->cfg.verbose || S->loop.session.map.logical_of[i] == 0U)) {
+    if (old >= 0 && (S->cfg.verbose || srv_map(S)->logical_of[i] == 0U)) {
         srv_log(S, t_ns, "axis %u: mode %d -> %d", (unsigned)i + 1U, (int)old, (int)mode);
     }
     /* where the axis stood when this mode began (after a passive freezing or a stand-by:
      * where it stands now, not where it stood in mode 0) */
-    (void)c4g_engine_anchor(&S->loop.engine, i, &anchor);
+    (void)c4g_engine_anchor(srv_engine(S), i, &anchor);
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
 }
 
@@ -51,7 +51,7 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
  * not a refusal (the model's units are per second). Once per file and init packet. */
 static void ff_period_check(srv_t *S, uint64_t t_ns)
 {
-    const int32_t p = S->loop.session.init.period_ms;
+    const int32_t p = srv_init_packet(S)->period_ms;
     uint32_t warned = 0U;
     uint32_t a, l;
     for (a = 0U; a < C4G_ARMS; a++) {
@@ -73,13 +73,13 @@ static void ff_period_check(srv_t *S, uint64_t t_ns)
  * limits per axis. */
 void srv_behave_init(srv_t *S, uint64_t t_ns)
 {
-    const c4g_axis_map_t *m = &S->loop.session.map;
+    const c4g_axis_map_t *m = srv_map(S);
     uint32_t i;
     srv_behave_reset(S);
-    if (S->loop.engine_ready == 0U) {
+    if (!srv_state(S).engine_ready) {
         /* the loop keeps only the count: ask the engine again for the reason */
         static c4g_engine_t scratch;
-        const c4g_status_t st = c4g_engine_init(&scratch, &S->loop.session.init, &S->loop.engine_cfg);
+        const c4g_status_t st = c4g_engine_init(&scratch, srv_init_packet(S), &S->loop_cfg.engine);
         srv_log(S, t_ns, "engine refused the init packet: %s", c4g_strerror(st));
         return;
     }
@@ -95,7 +95,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
             lim.motor_min = (float)A->pos_min[lax];
             lim.motor_max = (float)A->pos_max[lax];
         }
-        st = c4g_engine_set_limits(&S->loop.engine, arm, lax, &lim);
+        st = c4g_engine_set_limits(srv_engine(S), arm, lax, &lim);
         if (st != C4G_OK) {
             srv_log(S, t_ns, "limits of arm %u axis %u refused: %s", (unsigned)arm + 1U,
                     (unsigned)lax + 1U, c4g_strerror(st));
@@ -107,15 +107,15 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
 /* The controller's inputs for OPEN axis i. */
 static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
 {
-    const c4g_session_t *s = &S->loop.session;
-    const uint32_t arm = s->map.arm_of[i];
-    const uint32_t lax = s->map.logical_of[i];
+    const c4g_axis_map_t *m = srv_map(S);
+    const uint32_t arm = m->arm_of[i];
+    const uint32_t lax = m->logical_of[i];
     in->cfg = &S->cfg.arm[arm];
     in->traj = &srv_traj[arm];
     in->ff = &S->cfg.ff[arm][lax];
     in->lax = lax;
     in->dt = period_s(S);
-    in->az_lim = (double)s->init.az_lim[arm][lax];
+    in->az_lim = (double)srv_init_packet(S)->az_lim[arm][lax];
     in->driven = ((S->cfg.arm[arm].axes >> lax) & 1U) != 0U;
     in->q_link = 0.0;
     in->have_q = 0;
@@ -134,12 +134,12 @@ typedef struct link_cache {
 static int link_ahead(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t arm,
                       double q[C4G_AXES_PER_ARM])
 {
-    const c4g_engine_t *E = &S->loop.engine;
-    const c4g_axis_map_t *m = &S->loop.session.map;
+    const c4g_engine_t *E = srv_engine_view(S);
+    const c4g_axis_map_t *m = srv_map(S);
     c4g_kin_t kin;
     double qm[C4G_AXES_PER_ARM];
     uint32_t l, n = 0U;
-    if (S->loop.engine_ready == 0U || E->kin_ok[arm] == 0U) {
+    if (!srv_state(S).engine_ready || E->kin_ok[arm] == 0U) {
         return -1;
     }
     kin = E->kin[arm];
@@ -160,7 +160,7 @@ static int link_ahead(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t arm,
 static void model_angle(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t i,
                         link_cache_t *lc, ctlr_in_t *in)
 {
-    const uint32_t arm = S->loop.session.map.arm_of[i];
+    const uint32_t arm = srv_map(S)->arm_of[i];
     if (lc->state[arm] == 0) {
         lc->state[arm] = (link_ahead(S, rx, arm, lc->q[arm]) == 0) ? 1 : -1;
     }
@@ -196,9 +196,9 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
         if (!ctlr_is_open_mode(r->mode) || r->mode == C4G_MODE_2) {
             continue;
         }
-        arm_open[S->loop.session.map.arm_of[i]] = 1U;
+        arm_open[srv_map(S)->arm_of[i]] = 1U;
         if (!done) {
-            arm_done[S->loop.session.map.arm_of[i]] = 0U;
+            arm_done[srv_map(S)->arm_of[i]] = 0U;
         } else if (!X->done) {
             X->done = 1;
             if (in.lax == 0U || S->cfg.verbose) {
@@ -220,7 +220,7 @@ static void request_exits(srv_t *S, const uint32_t arm_open[C4G_ARMS],
             c4g_loop_exit_pending(&S->loop, a, &pending) != C4G_OK || pending) {
             continue;
         }
-        if (c4g_engine_request_exit(&S->loop.engine, a) == C4G_OK) {
+        if (c4g_engine_request_exit(srv_engine(S), a) == C4G_OK) {
             srv_log(S, t_ns, "arm %u: EXIT_FROM_OPEN requested", (unsigned)a + 1U);
         }
     }
@@ -229,8 +229,8 @@ static void request_exits(srv_t *S, const uint32_t arm_open[C4G_ARMS],
 /* Test hooks: requests through the engine, like a user program would. */
 static void test_hooks(srv_t *S, uint64_t t_ns)
 {
-    const c4g_axis_map_t *m = &S->loop.session.map;
-    c4g_engine_t *ctl = &S->loop.engine;
+    const c4g_axis_map_t *m = srv_map(S);
+    c4g_engine_t *ctl = srv_engine(S);
     uint32_t a;
     c4g_status_t st;
     if (S->cfg.inject_at == S->cyc_k && S->cfg.inject_mode != 0) {
@@ -320,10 +320,11 @@ static void note_flags(srv_t *S, uint32_t i, uint32_t f, float fe, const c4g_pc_
 
 void srv_behave_done(srv_t *S, const c4g_engine_report_t *rep, uint64_t t_ns)
 {
-    const c4g_pc_packet_t *tx = &S->loop.tx;
+    const c4g_pc_packet_t *tx = srv_reply_packet(S);
     uint32_t i, a;
-    if (S->loop.finish_status != C4G_OK) {
-        srv_log(S, t_ns, "engine: %s", c4g_strerror(S->loop.finish_status));
+    const c4g_status_t fin = srv_state(S).finish_status;
+    if (fin != C4G_OK) {
+        srv_log(S, t_ns, "engine: %s", c4g_strerror(fin));
     }
     for (a = 0U; a < C4G_ARMS; a++) {
         if (c4g_arm_byte(tx->infpar, a) == C4G_EXIT_FROM_OPEN) {

@@ -87,7 +87,7 @@ static void settle(srv_t *S)
 {
     if (S->restart_due) {
         S->restart_due = 0;
-        srv_counters_add(&S->done, &S->loop.session.counters); /* the exit report adds every session */
+        srv_counters_add(&S->done, srv_counters(S)); /* the exit report adds every session */
         (void)c4g_loop_init(&S->loop, &S->loop_cfg);
     }
 }
@@ -116,7 +116,7 @@ static void endpoint_text(const c4g_endpoint_t *e, char *buf, size_t cap)
 
 static void log_foreign(srv_t *S, const c4g_endpoint_t *from, size_t len, uint64_t t)
 {
-    if (S->loop.session.counters.foreign_total <= 10U || S->cfg.verbose) {
+    if (srv_counters(S)->foreign_total <= 10U || S->cfg.verbose) {
         char a[64];
         endpoint_text(from, a, sizeof a);
         srv_log(S, t, "dropped %zu-byte datagram from %s: not the controller's endpoint", len, a);
@@ -136,13 +136,13 @@ void srv_drop(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t *fro
  * keeps the socket busy: the loss must not wait for a quiet moment). */
 static srv_stop_t time_events(srv_t *S, uint32_t ev, uint64_t t)
 {
-    const c4g_session_t *s = &S->loop.session;
+    const c4g_loop_state_t s = srv_state(S);
     if ((ev & C4G_EV_SILENCE) != 0U) {
         srv_log(S, t, "controller silent for more than %.1f ms: session kept",
-                (double)s->silence_ns * 1e-6);
+                (double)s.silence_ns * 1e-6);
     }
     if ((ev & C4G_EV_LOST) != 0U) {
-        srv_log(S, t, "controller lost: no packet for %.1f ms", (double)s->lost_timeout_ns * 1e-6);
+        srv_log(S, t, "controller lost: no packet for %.1f ms", (double)s.lost_timeout_ns * 1e-6);
         if (!S->cfg.persist) {
             return SRV_STOP_LOST;
         }
@@ -154,9 +154,20 @@ static srv_stop_t time_events(srv_t *S, uint32_t ev, uint64_t t)
 srv_stop_t srv_idle(srv_t *S, uint64_t t_ns)
 {
     uint32_t ev = 0U;
+    uint64_t next;
     settle(S);
-    (void)c4g_loop_poll(&S->loop, t_ns, &ev);
+    (void)c4g_loop_poll(&S->loop, t_ns, &ev, &next);
     return time_events(S, ev, t_ns);
+}
+
+uint64_t srv_deadline(const srv_t *S)
+{
+    uint64_t next = C4G_NO_DEADLINE;
+    if (S->restart_due) {
+        return 0U; /* settle() is due: poll now */
+    }
+    (void)c4g_loop_deadline(&S->loop, &next);
+    return next;
 }
 
 /* A diagnostic's raw value as text: the float of a float field, else the integer. */
@@ -195,7 +206,8 @@ static void diag_axis(const c4g_diag_t *d, char *buf, size_t cap)
 static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t,
                     const c4g_loop_event_t *ev, bool ceiling)
 {
-    const c4g_session_t *s = &S->loop.session;
+    const c4g_loop_state_t s = srv_state(S);
+    const c4g_counters_t *c = srv_counters(S);
     const uint32_t e = ev->events;
     char v[48], ax[40], a[64], p[64];
     diag_value(&ev->diag, v, sizeof v);
@@ -212,26 +224,26 @@ static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t
         srv_log(S, t, "ATTACK? init conflict: a second initialization packet differs from the "
                 "one accepted (%s%s: %s, offset %u): both refused; no reply until the "
                 "controller is silent for %.0f ms", c4g_field_name(ev->diag.field), ax, v,
-                (unsigned)ev->diag.offset, (double)s->lost_timeout_ns * 1e-6);
+                (unsigned)ev->diag.offset, (double)s.lost_timeout_ns * 1e-6);
         return 1;
     }
     if ((e & C4G_EV_CONTENDED) != 0U) {
         endpoint_text(from, a, sizeof a);
-        endpoint_text(&s->peer, p, sizeof p);
+        endpoint_text(&s.peer, p, sizeof p);
         srv_log(S, t, "ATTACK? start-up contended: a %zu-byte start-up packet from %s while "
                 "%s's start-up runs: both refused; no reply until the controller is silent "
-                "for %.0f ms", len, a, p, (double)s->lost_timeout_ns * 1e-6);
+                "for %.0f ms", len, a, p, (double)s.lost_timeout_ns * 1e-6);
         return 1;
     }
     if ((e & C4G_EV_SYNC_EXCESS) != 0U) {
-        if (s->counters.sync_excess <= 10U || S->cfg.verbose) {
+        if (c->sync_excess <= 10U || S->cfg.verbose) {
             srv_log(S, t, "dropped a %zu-byte sync: more than %u before an init packet, not "
                     "answered", len, (unsigned)C4G_SYNC_REPLY_BUDGET);
         }
         return 1;
     }
     if ((e & C4G_EV_REFUSED) != 0U) {
-        if (s->counters.refused <= 10U || S->cfg.verbose) {
+        if (c->refused <= 10U || S->cfg.verbose) {
             srv_log(S, t, "dropped a %zu-byte datagram: the session is refused", len);
         }
         return 1;
@@ -260,7 +272,7 @@ static int refused(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t
                                         : 0;
         srv_log(S, t, "dropped %s packet NUM %d (newest %d): not answered",
                 (e & C4G_EV_DUPLICATE) ? "duplicate" : "stale", (int)num,
-                (int)S->loop.session.last_num);
+                (int)srv_state(S).last_num);
         return 1;
     }
     if ((e & C4G_EV_MALFORMED) != 0U && ev->diag.status == C4G_ERR_STATE) {
@@ -280,19 +292,20 @@ static int refused(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t
 /* The session's events on a datagram that is answered. */
 static void session_events(srv_t *S, const c4g_loop_event_t *ev, uint64_t t)
 {
-    const c4g_session_t *s = &S->loop.session;
+    const c4g_loop_state_t s = srv_state(S);
+    const c4g_init_t *init = srv_init_packet(S);
     const uint32_t e = ev->events;
     if ((e & C4G_EV_LOST) != 0U && ev->kind == C4G_RX_CYCLIC) {
         S->stats.long_gaps++; /* a packet did come: a long gap, not a lost controller */
         srv_log(S, t, "long gap: more than %.1f ms without a packet",
-                (double)s->lost_timeout_ns * 1e-6);
+                (double)s.lost_timeout_ns * 1e-6);
     }
     if ((e & C4G_EV_INIT) != 0U) {
         S->stats.inits++;
         srv_behave_init(S, t);
         srv_log(S, t, "init packet: %u open axes, period %d ms, version %d.%d.%d",
-                (unsigned)s->map.n_axes, (int)s->init.period_ms, (int)s->init.version_major,
-                (int)s->init.version_minor, (int)s->init.version_build);
+                (unsigned)srv_map(S)->n_axes, (int)init->period_ms, (int)init->version_major,
+                (int)init->version_minor, (int)init->version_build);
     }
     if ((e & C4G_EV_RESTART) != 0U) {
         S->stats.restarts++;
@@ -306,7 +319,7 @@ static void session_events(srv_t *S, const c4g_loop_event_t *ev, uint64_t t)
         srv_log(S, t, "503: passive freezing over");
     }
     if ((e & C4G_EV_DRIVES) != 0U) {
-        srv_log(S, t, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s->drives);
+        srv_log(S, t, "drives: INFPAR MOVING mask now 0x%x", (unsigned)s.drives);
     }
     if ((e & C4G_EV_CYCLIC_START) != 0U) {
         srv_log(S, t, "cyclic communication started");
@@ -320,8 +333,7 @@ static void session_events(srv_t *S, const c4g_loop_event_t *ev, uint64_t t)
 static bool reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, uint8_t *out,
                          size_t cap, size_t *olen, srv_verdict_t *v)
 {
-    const uint64_t k = S->loop.session.counters.cyclic;
-    const uint64_t neutral0 = S->loop.counters.neutral_replies;
+    const uint64_t k = srv_counters(S)->cyclic;
     const bool skip = S->cfg.skip_at > 0U && k >= S->cfg.skip_at &&
                       k < S->cfg.skip_at + S->cfg.skip_count;
     c4g_engine_report_t rep;
@@ -333,7 +345,6 @@ static bool reply_cyclic(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, ui
         srv_behave(S, ev, t_rx);
     }
     st = c4g_loop_reply(&S->loop, out, skip ? 0U : cap, olen, &rep);
-    S->stats.encode_errors += S->loop.counters.neutral_replies - neutral0;
     if (ev->cmd != NULL) {
         srv_behave_done(S, &rep, t_rx);
     }
@@ -354,8 +365,8 @@ static void answer(srv_t *S, const c4g_loop_event_t *ev, uint64_t t_rx, uint8_t 
     } else if (ev->kind == C4G_RX_CYCLIC) {
         v->send = reply_cyclic(S, ev, t_rx, out, cap, olen, v);
         v->pkt = ev->pkt;
-        if (S->cfg.freeze_at == S->loop.session.counters.cyclic &&
-            S->loop.tx.ax[0].mode == C4G_MODE_FREEZING_A) {
+        if (S->cfg.freeze_at == srv_counters(S)->cyclic &&
+            srv_reply_packet(S)->ax[0].mode == C4G_MODE_FREEZING_A) {
             S->stats.freezes++;
             S->thaw_due = 1;
             v->freeze = true;
@@ -403,7 +414,7 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     c4g_loop_event_t ev;
     c4g_status_t st;
     c4g_endpoint_t old_peer;
-    uint64_t ceil0;
+    uint64_t ceil0, neutral0, refused0;
     int was_lost;
     if (S == NULL || out_len == NULL || v == NULL) {
         return C4G_ERR_NULL;
@@ -412,9 +423,13 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     *out_len = 0U;
     settle(S);
     S->last_kind = C4G_RX_DROPPED;
-    was_lost = (S->loop.session.phase == C4G_PHASE_LOST);
-    old_peer = S->loop.session.peer;
-    ceil0 = S->loop.session.counters.malformed[C4G_MAL_CEILING];
+    /* the loop prepares a fallback at c4g_loop_rx (no engine for the packet) or at
+     * c4g_loop_reply (the encoder refused): both count */
+    neutral0 = srv_loop_counters(S)->neutral_replies;
+    refused0 = srv_loop_counters(S)->encode_refused;
+    was_lost = (srv_state(S).phase == C4G_PHASE_LOST);
+    old_peer = srv_state(S).peer;
+    ceil0 = srv_counters(S)->malformed[C4G_MAL_CEILING];
     st = c4g_loop_rx(&S->loop, in, len, t_rx_ns, from, &ev);
     if (st != C4G_OK) {
         return st;
@@ -424,11 +439,13 @@ c4g_status_t srv_process(srv_t *S, const uint8_t *in, size_t len, const c4g_endp
     v->stop = rx_time_events(S, &ev, was_lost, from, &old_peer, t_rx_ns);
     if (v->stop != SRV_STOP_NONE ||
         refused(S, in, len, from, t_rx_ns, &ev,
-                S->loop.session.counters.malformed[C4G_MAL_CEILING] != ceil0)) {
+                srv_counters(S)->malformed[C4G_MAL_CEILING] != ceil0)) {
         return C4G_OK;
     }
     session_events(S, &ev, t_rx_ns);
     answer(S, &ev, t_rx_ns, out, cap, out_len, v);
+    S->stats.neutral_replies += srv_loop_counters(S)->neutral_replies - neutral0;
+    S->stats.encode_errors += srv_loop_counters(S)->encode_refused - refused0;
     if (!v->send) {
         *out_len = 0U;
     }

@@ -50,7 +50,10 @@ typedef struct srv_stats {
     uint64_t send_errors;
     uint64_t skipped;           /* replies deliberately not sent (--skip-replies) */
     uint64_t late;              /* replies later than --late-us after reception */
-    uint64_t encode_errors;
+    uint64_t neutral_replies;   /* cyclic replies answered by the loop's fallback (every axis
+                                   holds, 505 where the PC moves an axis): the filter could
+                                   not run on the reply, whatever the reason */
+    uint64_t encode_errors;     /* of those, replies the encoder refused (NaN, unknown mode) */
     uint64_t drive_on_end;      /* 501 -> other transitions (drive-on finished) */
     uint64_t restarts;          /* 506 seen */
     uint64_t inits;
@@ -145,7 +148,7 @@ typedef struct srv_verdict {
     bool freeze;                  /* active freezing: pause pause_ms after the send, then
                                      answer only the newest datagram queued meanwhile */
     double pause_ms;
-    const c4g_ctrl_packet_t *pkt; /* the cyclic packet answered (moni rows; with S->loop.tx,
+    const c4g_ctrl_packet_t *pkt; /* the cyclic packet answered (moni rows; with srv_reply_packet(),
                                      valid until srv_sent or the next call), else NULL */
 } srv_verdict_t;
 
@@ -173,6 +176,58 @@ srv_stop_t srv_idle(srv_t *S, uint64_t t_ns);
  * the session counts it as foreign. */
 void srv_drop(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t *from,
               uint64_t t_ns);
+/* The loop's read accessors under short names (the library's c4g_loop_* queries cannot
+ * fail on a loop the core owns). */
+static inline const c4g_axis_map_t *srv_map(const srv_t *S)
+{
+    const c4g_axis_map_t *m = NULL;
+    (void)c4g_loop_axis_map(&S->loop, &m);
+    return m;
+}
+static inline const c4g_init_t *srv_init_packet(const srv_t *S)
+{
+    const c4g_init_t *p = NULL;
+    (void)c4g_loop_init_packet(&S->loop, &p);
+    return p;
+}
+static inline const c4g_counters_t *srv_counters(const srv_t *S)
+{
+    const c4g_counters_t *c = NULL;
+    (void)c4g_loop_counters(&S->loop, &c, NULL);
+    return c;
+}
+static inline const c4g_loop_counters_t *srv_loop_counters(const srv_t *S)
+{
+    const c4g_loop_counters_t *c = NULL;
+    (void)c4g_loop_counters(&S->loop, NULL, &c);
+    return c;
+}
+static inline c4g_loop_state_t srv_state(const srv_t *S)
+{
+    c4g_loop_state_t st;
+    (void)c4g_loop_state(&S->loop, &st);
+    return st;
+}
+static inline const c4g_pc_packet_t *srv_reply_packet(const srv_t *S)
+{
+    const c4g_pc_packet_t *tx = NULL;
+    (void)c4g_loop_reply_packet(&S->loop, &tx);
+    return tx;
+}
+static inline c4g_engine_t *srv_engine(srv_t *S)
+{
+    c4g_engine_t *e = NULL;
+    (void)c4g_loop_engine(&S->loop, &e);
+    return e;
+}
+static inline const c4g_engine_t *srv_engine_view(const srv_t *S)
+{
+    const c4g_engine_t *e = NULL;
+    (void)c4g_loop_engine_view(&S->loop, &e);
+    return e;
+}
+/* The next instant srv_idle has work (C4G_NO_DEADLINE: only a datagram). */
+uint64_t srv_deadline(const srv_t *S);
 /* Counters of one more session added to @p sum (the longest silence is the longest). */
 void srv_counters_add(c4g_counters_t *sum, const c4g_counters_t *c);
 /* A log line through the caller's logger. */

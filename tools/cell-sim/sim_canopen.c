@@ -16,9 +16,10 @@
 #include <time.h>
 #include <unistd.h>
 
-static uint64_t bus_us(const sim_co_t *s, uint64_t now_ns)
+/* The bus's clock: ns since the simulator started (the library's unit) */
+static uint64_t bus_ns(const sim_co_t *s, uint64_t now_ns)
 {
-    return (now_ns - s->t0_ns) / 1000u;
+    return now_ns - s->t0_ns;
 }
 
 static uint64_t wall_us(void)
@@ -43,11 +44,14 @@ static void socketcan_step(sim_co_t *s, uint64_t t)
             (void)c4gh_co_socketcan_send(s->fd_nodes, &out[k]);
         }
     }
-    (void)c4g_co_master_poll(&s->m, t);
+    {
+        uint64_t next;
+        (void)c4g_co_master_poll(&s->m, t, &next);
+    }
     for (int round = 0; round < 64; round++) {
         int moved = 0;
         while (c4g_co_master_tx(&s->m, &f, &have) == C4G_OK && have) {
-            f.t_us = t;
+            f.t_ns = t;
             c4gh_co_buslog_write(&s->log, &f);
             (void)c4gh_co_socketcan_send(s->fd_master, &f);
             moved = 1;
@@ -76,7 +80,7 @@ static void socketcan_step(sim_co_t *s, uint64_t t)
 
 static void bus_step(sim_co_t *s, uint64_t now_ns)
 {
-    const uint64_t t = bus_us(s, now_ns);
+    const uint64_t t = bus_ns(s, now_ns);
     if (s->fd_master >= 0) {
         socketcan_step(s, t);
     } else {
@@ -513,7 +517,7 @@ static void sdo_start_queued(sim_co_t *s, uint64_t now_ns)
             continue;
         }
         st = c4g_co_master_sdo(&s->m, c->node, c->upload != 0, c->index, c->sub, c->value,
-                               c->size, bus_us(s, now_ns));
+                               c->size, bus_ns(s, now_ns));
         if (st == C4G_OK) {
             c->sdo = 2;
             s->sdo_owner = k;
@@ -620,7 +624,7 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
             if (s->fd_nodes >= 0) {
                 (void)c4gh_co_socketcan_send(s->fd_nodes, &f[k]);
             } else {
-                (void)c4gsim_vbus_inject(&s->bus, &f[k], bus_us(s, c4gh_cell_now_ns())); /* cannot fail */
+                (void)c4gsim_vbus_inject(&s->bus, &f[k], bus_ns(s, c4gh_cell_now_ns())); /* cannot fail */
             }
         }
         handle_events(s, s->platform);
