@@ -76,7 +76,7 @@ TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
 
 DEPS_STAMP := $(BUILD)/.deps-ok
 
-.PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps \
+.PHONY: e2e-helpers all lib tools man check demo bench coverage fuzz install uninstall clean deps \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
   e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
@@ -314,8 +314,21 @@ nodiscard: | $(DEPS_STAMP)
 static-analysis: cppcheck misra clang-tidy analyzer complexity nodiscard
 
 # ---- end-to-end tests (real processes, loopback) and doc examples
-e2e: all
+e2e: all e2e-helpers
 	@sh scripts/run-e2e.sh $(BUILD)
+# The e2e tests' C helpers (tests/e2e/helpers/*.c) against the static library, in $(BUILD)/e2e;
+# a few also take a tool's own reader or writer (their extra sources below).
+E2E_HELPER_SRCS := $(sort $(wildcard tests/e2e/helpers/*.c))
+E2E_HELPERS := $(patsubst tests/e2e/helpers/%.c,$(BUILD)/e2e/%,$(E2E_HELPER_SRCS))
+E2E_HELPER_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -Wall -Wextra -Werror \
+  -Iinclude -Itools/common -Itools/c4g-replay
+E2E_EXTRA_cap_payloads := tools/c4g-replay/capture.c -lpcap
+E2E_EXTRA_forge_capture := tools/common/c4g_pcap.c tools/common/c4g_fixtures.c -lpcap
+E2E_EXTRA_ctrl_stub := tools/common/c4g_fixtures.c
+e2e-helpers: $(E2E_HELPERS)
+$(BUILD)/e2e/%: tests/e2e/helpers/%.c $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(filter %.c,$(E2E_EXTRA_$*)) $(STATIC) $(filter -l%,$(E2E_EXTRA_$*)) -lm
 
 # ---- c4g-ident's accuracy against c4g-sim's axis model, in-process (tests/ident)
 IDENT_ACC := $(BUILD)/tests/ident-accuracy
