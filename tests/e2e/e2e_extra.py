@@ -55,3 +55,20 @@ def listening_tcp(port):
     import subprocess
     out = subprocess.run(["ss", "-Htln", "sport = :%d" % port], capture_output=True, text=True).stdout
     return "LISTEN" in out
+
+
+_ONCE = {}
+
+
+def once(key, make):
+    """make() run once per test session, its result (or its failure) given to every test that
+    asks for key: an expensive run (a capture, a long loop) shared by the tests of a module
+    without a fixture scope wider than the harness's fixtures."""
+    if key not in _ONCE:
+        try:
+            _ONCE[key] = (True, make())
+        except Exception as e:  # every test that needs it fails with the same reason
+            _ONCE[key] = (False, "%s: %s" % (type(e).__name__, e))
+    good, value = _ONCE[key]
+    assert good, "%s failed: %s" % (key, value)
+    return value

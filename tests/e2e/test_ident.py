@@ -10,15 +10,19 @@ import subprocess
 
 import pytest
 
-from e2e_extra import Checks
+from e2e_extra import Checks, once
 from e2elib import read_json
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture
 def loop(build, ports, tmp_path_factory):
-    """the loop's output directory (a session the host disturbed is run again inside it)"""
-    out = tmp_path_factory.mktemp("ident") / "loop"
-    r = subprocess.run(["sh", "scripts/ident-loop.sh", str(build), str(out), str(ports.udp())],
+    """the loop's output directory, made once for the module's tests (a session the host
+    disturbed is run again inside it)"""
+    return once("ident loop", lambda: run_loop(build, ports.udp(), tmp_path_factory.mktemp("ident") / "loop"))
+
+
+def run_loop(build, port, out):
+    r = subprocess.run(["sh", "scripts/ident-loop.sh", str(build), str(out), str(port)],
                        capture_output=True, text=True, timeout=480)
     text = r.stdout + r.stderr
     # the figures the loop printed, in the test's output
