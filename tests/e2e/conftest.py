@@ -2,14 +2,11 @@
 """Stand-in of the e2e harness's fixtures (same API): build, bins, ports, procs, load."""
 import os
 import pathlib
-import signal
 import socket
 import subprocess
-import time
 
 import pytest
 
-import e2elib
 
 
 def pytest_addoption(parser):

@@ -72,3 +72,8 @@ def once(key, make):
     good, value = _ONCE[key]
     assert good, "%s failed: %s" % (key, value)
     return value
+
+
+def forget(key):
+    """the next once(key, ...) makes its run again (the one kept was disturbed)"""
+    _ONCE.pop(key, None)

@@ -2,7 +2,6 @@
 """Helpers the e2e tests share (stand-in of the harness's library: same API)."""
 import csv
 import json
-import socket
 import subprocess
 import time
 

@@ -4,7 +4,6 @@ shared) and run; the README's compile line on the shipped example; man pages and
 completions installed; make uninstall removes every installed file."""
 import os
 import re
-import shlex
 import shutil
 import subprocess
 

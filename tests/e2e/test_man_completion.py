@@ -3,6 +3,7 @@
 warning, has its sections, and names every long option of its tool's --help (each command's
 for c4g-replay and c4g-ident); the completion script offers each tool's options, c4g-replay's
 and c4g-ident's commands, files for FILE options and cell-cli's words."""
+import functools
 import os
 import re
 import subprocess
@@ -13,7 +14,9 @@ PAGES = ["c4g-server.1", "c4g-sim.1", "c4g-replay.1", "c4g-ident.1", "cell-cli.1
 ENV = dict(os.environ, LC_ALL="C", MANWIDTH="100")
 
 
+@functools.lru_cache(maxsize=None)
 def render(build, page):
+    """man -l of a page of the build (each page rendered once for the module's tests)"""
     return subprocess.run(["man", "-l", str(build / "man" / page)], capture_output=True, text=True, env=ENV)
 
 

@@ -39,7 +39,6 @@ import re
 import signal
 import struct
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from concurrent.futures import ThreadPoolExecutor
 
