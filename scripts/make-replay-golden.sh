@@ -1,7 +1,7 @@
 #!/bin/sh
 # Writes fixtures/replay/golden/NAME.json: `c4g-replay summary --json` of every capture in
 # fixtures/replay (options from fixtures/replay/golden/OPTIONS), without the "tool" key
-# (it carries the version). The e2e test tests/e2e/replay.sh compares against these files;
+# (it carries the version). The e2e test tests/e2e/test_replay.py makes the same comparison;
 # review the diff (git diff fixtures/replay/golden) before committing new ones.
 #   sh scripts/make-replay-golden.sh BUILD_DIR [--check]
 # --check: compare instead of writing; exit 1 on any difference.

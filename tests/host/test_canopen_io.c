@@ -106,7 +106,7 @@ static void test_socketcan(void **state)
     assert_non_null(strstr(err, "nosuchcan9"));
     assert_int_equal(c4gh_co_socketcan_open("a-very-long-interface-name", err, sizeof err), -1);
     assert_non_null(strstr(err, "interface name too long"));
-    /* a real round trip where a vcan interface exists (tests/e2e/canopen.sh creates one
+    /* a real round trip where a vcan interface exists (tests/e2e/test_canopen.py creates one
        when it can); otherwise say why it is skipped */
     int a = c4gh_co_socketcan_open("vcan0", err, sizeof err);
     if (a < 0) {

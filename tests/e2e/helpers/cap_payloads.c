@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Prints "FRAME HEX" for every UDP datagram c4g-replay's capture reader delivers (the oracle
  * test compares them with tshark's udp.payload), and "FRAME bad" for a damaged frame.
- * Built by tests/e2e/replay.sh with lib/host/c4gh_capture.c and libpcap. */
+ * Built by `make e2e-helpers` with the host archive's capture reader and libpcap. */
 #include "c4gh_capture.h"
 
 #include <stdio.h>

@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Checks the Wireshark dissector (tools/wireshark/c4gopen.lua) under real tshark against an
-independent decode of the same capture (run by tests/e2e/wireshark.sh).
+independent decode of the same captures.
 
 Two readings of one capture, compared packet by packet:
 - independent: `tshark -T fields -e frame.number -e udp.payload ...` (tshark's UDP layer
@@ -24,9 +23,12 @@ and its reply one the controller accepts (it decodes: NUM in range, known modes,
 floats, the packet's length), while the dissector links by NUM and flags the rest with
 expert info.
 
-Usage: wireshark_check.py --lua FILE [--tmp DIR] {capture,crafted,export-compare} ...
-(see main()).
-Prints one PASS/FAIL line per check; exit status 0 when all pass.
+The captures: fixtures/wireshark/mode4-short.pcap (c4g-server --sine 0.25,2,0.5 against
+c4g-sim -S fixtures/server/sim_mode4.scn, PC on port 31000), also with Decode As only and
+from a mid-stream cut; crafted datagrams on the default port 1000 (expert info, every mode
+code of C4G_MODE_TABLE, late sync replies); a fresh two-arm capture (c4g-sim -c
+fixtures/sim/two-arms.ini, 1 ms period, 9 axes); and c4g-replay fixtures chosen for what they
+add to the export comparison.
 """
 import argparse
 import csv
@@ -34,11 +36,13 @@ import io
 import math
 import os
 import re
+import signal
 import struct
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from concurrent.futures import ThreadPoolExecutor
+
+from e2elib import wait_until
 
 HEADER = 12
 AXIS = 36
@@ -917,38 +921,76 @@ def cmd_crafted(rep, args):
               % len(codes), probs)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--lua", required=True)
-    ap.add_argument("--tmp", default="/tmp")
-    sub = ap.add_subparsers(dest="cmd", required=True)
-    c = sub.add_parser("capture", help="full comparison of a capture")
-    c.add_argument("pcap")
-    c.add_argument("--pc-port", type=int, required=True)
-    c.add_argument("--name", default="capture")
-    c.add_argument("--filters", action="store_true", help="also check display filters")
-    c.add_argument("--direction", action="store_true",
-                   help="also check the sender without the port preference")
-    c.add_argument("--replay", help="also compare `c4g-replay export` (this binary)")
-    e = sub.add_parser("crafted", help="crafted datagrams: expert info and mode names")
-    e.add_argument("--init-bin", required=True, help="a valid 1200-byte init packet")
-    e.add_argument("--header", required=True, help="include/c4gopen_wire.h")
-    x = sub.add_parser("export-compare",
-                       help="c4g-replay export against the dissector, tick by tick")
-    x.add_argument("pcap", nargs="+", help="FILE or FILE:PORTS (the PC's ports)")
-    x.add_argument("--replay", required=True, help="the c4g-replay binary")
-    x.add_argument("--pc-port", help="PC port(s) of a FILE without :PORTS, e.g. 46104 or "
-                   "46117,46118")
-    x.add_argument("--name", help="name in the report (one capture; default the file name)")
-    args = ap.parse_args()
-    rep = Report()
+# ------------------------------------------------------------------ the tests
+LUA = "tools/wireshark/c4gopen.lua"
+
+
+class Rep(Report):
+    """Report whose failed checks fail the test, all of them listed."""
+
+    def __init__(self):
+        super().__init__()
+        self.failed = []
+
+    def check(self, what, problems):
+        super().check(what, problems)
+        if problems:
+            self.failed.append("%s: %d problem(s); first: %s" % (what, len(problems), "; ".join(problems[:3])))
+
+    def done(self):
+        assert not self.failed, "%d check(s) failed:\n  " % len(self.failed) + "\n  ".join(self.failed)
+
+
+def run_cmd(cmd, **kw):
+    rep = Rep()
+    args = argparse.Namespace(lua=LUA, **kw)
     try:
-        {"capture": cmd_capture, "crafted": cmd_crafted,
-         "export-compare": cmd_export_compare}[args.cmd](rep, args)
+        cmd(rep, args)
     except (DissectorError, RuntimeError) as err:
-        rep.check(args.cmd, [str(err)])
-    return 0 if rep.fails == 0 else 1
+        rep.check(cmd.__name__, [str(err)])
+    rep.done()
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+def test_mode4_capture(bins, tmp_path):
+    """sender, type, NUM, INFPAR, CMD, modes, D1..D5 and EXT1..EXT3 as exact float32 of every
+    packet, all 300 fields of the init packet and its echo, reply links, display filters; the
+    sender again with Decode As only and from a cut that starts in mid-stream on a PC packet;
+    c4g-replay export on the same dissection"""
+    run_cmd(cmd_capture, tmp=str(tmp_path), pcap="fixtures/wireshark/mode4-short.pcap", pc_port=31000,
+            name="mode4-short", filters=True, direction=True, replay=str(bins.replay))
+
+
+def test_export_compare(bins):
+    """c4g-replay export against the dissector, tick by tick: two arms with their own INFPAR
+    and EXIT_FROM_OPEN, a plus-one reply late past the next packet, duplicated controller
+    packets (no new tick), NaN from the controller (unanswered), infinity from the PC (a reply
+    the controller refuses), and two more link layers"""
+    f = "fixtures/replay/"
+    run_cmd(cmd_export_compare, replay=str(bins.replay), pc_port=None, name=None,
+            pcap=[f + "two-arms.pcap:46116", f + "fault-late.pcap:46123", f + "fault-duplicate.pcap:46127",
+                  f + "data-nan-ctrl-d3.pcap:46204", f + "data-inf-pc-d1.pcap:46205", f + "fmt-vlan.pcap:46300",
+                  f + "fmt-sll2.pcap:46300"])
+
+
+def test_crafted(tmp_path):
+    """NaN and infinity, unknown mode 77, 13 and 733 bytes, NUM out of range, an init packet
+    out of range: their expert info; every mode code of the header's C4G_MODE_TABLE named as
+    the table names it; sync packets whose replies come late, each still a sync reply"""
+    run_cmd(cmd_crafted, tmp=str(tmp_path), init_bin="fixtures/vectors/init-fig10-1.bin",
+            header="include/c4gopen_wire.h")
+
+
+def test_two_arm_capture(bins, procs, ports, tmp_path):
+    """a fresh capture: two arms, 1 ms period; the simulator records both directions"""
+    port = ports.udp()
+    srv = procs.start([bins.server, "-p", port, "-c", "127.0.0.1", "--max-seconds", "30", "--lost-timeout-ms", "2000"],
+                      name="server")
+    wait_until(lambda: "listening on" in srv.out() or not srv.running(), 30, "c4g-server listening")
+    pcap = tmp_path / "two.pcap"
+    r = procs.run([bins.sim, "--bind", "127.0.0.1", "-p", port, "-c", "fixtures/sim/two-arms.ini", "-n", "150",
+                   "--max-miss", "500", "-q", "--pcap", pcap], timeout=30)
+    srv.signal(signal.SIGTERM)
+    srv.wait(10)
+    assert pcap.exists() and pcap.stat().st_size > 0, "no two-arm capture: %s %s %s" % (r.stdout, r.stderr, srv.out())
+    run_cmd(cmd_capture, tmp=str(tmp_path), pcap=str(pcap), pc_port=port, name="two-arms", filters=False,
+            direction=False, replay=str(bins.replay))

@@ -1,0 +1,229 @@
+# SPDX-License-Identifier: MIT
+"""c4g-ident end to end on loopback (scripts/ident-loop.sh): excitation trajectory, a real
+c4g-server + c4g-sim identification run captured, the fit against c4g-sim's truth, the
+parameter file applied by c4g-server's mode 9 on a fast move (against mode 0 and a wrong
+file); then the same fit from the server's moni CSV and c4g-replay's export CSV, plots, a
+still axis, and hostile inputs."""
+import json
+import re
+import subprocess
+
+import pytest
+
+from e2e_extra import Checks, forget, once
+from e2elib import host_disturbed, read_json
+
+
+@pytest.fixture
+def loop(build, ports, tmp_path_factory):
+    """the loop's output directory, made once for the module's tests (a session the host
+    disturbed is run again inside it)"""
+    return once("ident loop", lambda: run_loop(build, ports.udp(), tmp_path_factory.mktemp("ident") / "loop"))
+
+
+def run_loop(build, port, out):
+    r = subprocess.run(["sh", "scripts/ident-loop.sh", str(build), str(out), str(port)],
+                       capture_output=True, text=True, timeout=480)
+    text = r.stdout + r.stderr
+    # the figures the loop printed, and the sessions it ran again, in the test's output
+    print("\n".join(l for l in text.splitlines() if l.startswith("ident-loop:")))
+    print(text[text.find("== fit against"):] if "== fit against" in text else text)
+    assert r.returncode == 0, "ident-loop: exit %d:\n%s" % (r.returncode, text[-3000:])
+    (out / "loop.out").write_text(text)
+    return out
+
+
+def fit(build, *args):
+    r = subprocess.run([str(build / "bin" / "c4g-ident"), "fit"] + [str(a) for a in args],
+                       capture_output=True, text=True, timeout=120)
+    return r
+
+
+def fit_json(build, *args):
+    r = fit(build, *args, "--json")
+    assert r.returncode == 0, "c4g-ident fit %s: exit %d: %s" % (args, r.returncode, r.stderr)
+    return json.loads(r.stdout)
+
+
+def test_fit_and_feedforward(loop):
+    """fit within limits of the truth, variants chosen, mode-9 feedforward cuts the following
+    error 5x or more"""
+    L, F = read_json(loop / "loop.json"), read_json(loop / "fit.json")
+    ck = Checks()
+    # one run on loopback, possibly beside busy loops that disturb its sessions: the gross
+    # limits here; the accuracy figures come from the in-process harness (tests/ident/accuracy.cpp)
+    lim = {"Ja": 5.0, "gb": 2.0}
+    for ax in L["axes"]:
+        for k, p in ax["parameters"].items():
+            if k in lim:
+                ck.ok("axis %d %s error %.3f %% within %.1f %%" % (ax["axis"], k, p["error_pct"], lim[k]),
+                      abs(p["error_pct"]) <= lim[k])
+        vx = ax["validation_x_noise"]
+        ck.ok("axis %d held-out RMS %s x noise <= 1.5" % (ax["axis"], vx), vx is not None and vx <= 1.5)
+    # the loop measures a mode-9 move again while the host disturbs it (late replies, or a
+    # move that follows less than 5x better than mode 0), 6 times at most, then keeps the
+    # last one and says so: such a move measured the host, not the feedforward
+    kept = [l for l in (loop / "loop.out").read_text().splitlines() if l.startswith("ident-loop:") and "kept" in l]
+    if kept and (L["follow_ratio"] < 5.0 or L["dsa_ratio"] < 5.0):
+        forget("ident loop")
+        host_disturbed(True, "following error ratio %.2f, DSA ratio %.2f after: %s"
+                       % (L["follow_ratio"], L["dsa_ratio"], "; ".join(kept)))
+    v = {a["axis"]: a["variant"] for a in F["axes"]}
+    ck.ok("axis 2 variant %s is a gravity variant" % v.get(2), "gravity" in (v.get(2) or ""))
+    m = L["moves"]
+    ck.ge("following error mode 0 / mode 9", L["follow_ratio"], 5.0)
+    ck.ge("DSA current mode 0 / mode 9", L["dsa_ratio"], 5.0)
+    ck.ok("the wrong file follows worse (2x)", m["wrong9"]["follow_rms"] >= 2.0 * m["move9"]["follow_rms"],
+          "%s vs %s" % (m["wrong9"], m["move9"]))
+    ck.ok("the wrong file's DSA current is worse (2x)",
+          m["wrong9"]["dsa_current_rms"] >= 2.0 * m["move9"]["dsa_current_rms"], "%s vs %s" % (m["wrong9"], m["move9"]))
+    # the server applied the file: its summary counts identified-model ticks
+    ck.has("c4g-server applied arm1.ini", (loop / "move9.srv.out").read_text(), "mode-9 identified model: [1-9]")
+    ck.done()
+
+
+def test_csv_fits(build, loop, tmp_path):
+    """the same run from c4g-replay's export and from the moni CSV: the same Ja on axis 1.
+    The export carries each reply's latency, so its fit drops the ticks after a late reply as
+    the capture's does; the moni CSV does not say when the controller got a reply, so it is
+    held against the capture fitted with --keep-late. A busy host makes late replies, and the
+    two comparisons stay exact however many there are."""
+    exp = fit_json(build, loop / "ident.csv", "--axes", 1)
+    moni = fit_json(build, loop / "ident.moni.csv", "--axes", 1)
+    keep = fit_json(build, loop / "ident.pcap", "--axes", 1, "--keep-late")
+    # A CSV does not carry the current limit (AzLim) the capture's init packet gives: without
+    # it the ticks at the limit stay in (on a loaded host, a stall drives the current there).
+    # --az-lim gives it; the moni fit then drops what the capture's fit drops.
+    az_cap = keep["axes"][0]["az_lim"]
+    moni_az = fit_json(build, loop / "ident.moni.csv", "--axes", 1, "--az-lim", "1:%s" % az_cap)
+    # one reply taken out of the export, in the middle of 61 ticks of axis 1 in motion whose
+    # replies all came in time (else its neighbours may be dropped already): that tick and its
+    # neighbours leave the fit
+    rows = (loop / "ident.csv").read_text().split("\n")
+    hdr = rows[0].split(",")
+    pf, lu, vi = hdr.index("pc_frame"), hdr.index("latency_us"), hdr.index("c1_d4")
+    f = [r.split(",") for r in rows[1:] if r]
+    good = [x[pf] != "" and float(x[lu]) <= 2000.0 and abs(float(x[vi])) > 0.002 for x in f]
+    k = next((k for k in range(len(f) // 2, len(f) - 30) if all(good[k - 30:k + 31])), None)
+    assert k is not None, "no stretch of replies in time to take one out of"
+    f[k][pf] = f[k][lu] = ""
+    (tmp_path / "lost1.csv").write_text("\n".join([rows[0]] + [",".join(x) for x in f]) + "\n")
+    lost1 = fit_json(build, tmp_path / "lost1.csv", "--axes", 1)
+    cap = read_json(loop / "fit.json")
+    # the server's log ring may drop rows when its writer is held up: the moni CSV then lacks them
+    m = re.search(r"log records dropped (\d+)", (loop / "ident.srv.out").read_text())
+    drops = int(m.group(1)) if m else 0
+
+    def ja(d):
+        return d["axes"][0]["parameters"]["Ja"]["value"]
+
+    def late(d):
+        return d["axes"][0]["ticks"]["late_reply"]
+
+    def sat(d):
+        return d["axes"][0]["ticks"]["saturated"]
+
+    def az(d):
+        return (d["axes"][0]["az_lim"], d["axes"][0]["az_lim_from"])
+
+    ck = Checks()
+    ck.ok("current limits: capture from the init packet, moni none, moni --az-lim the capture's",
+          az(cap)[1] == "init packet" and az(moni) == (None, "none") and az(moni_az) == (az(cap)[0], "--az-lim"),
+          "capture %s, moni %s, moni --az-lim %s" % (az(cap), az(moni), az(moni_az)))
+    if drops == 0:
+        ck.eq("saturated ticks: moni --az-lim = capture --keep-late", sat(moni_az), sat(keep))
+    ck.ok("export CSV Ja = capture's (0.5 %)", abs(ja(exp) - ja(cap)) <= 5e-3 * abs(ja(cap)),
+          "export %s, capture %s" % (ja(exp), ja(cap)))
+    # the export carries no AzLim: the capture's saturated ticks count there as other drops
+    ck.ok("ticks dropped after a late reply: export = capture (+ saturated + 5)",
+          abs(late(exp) - late(cap)) <= cap["axes"][0]["ticks"]["saturated"] + 5,
+          "export %d, capture %d" % (late(exp), late(cap)))
+    # 2 %: the moni CSV is the server's own record, and one loaded run differed from the
+    # capture by 0.9 % even with the late ticks kept in both (cause not yet found)
+    # (the saturated ticks the CSV kept are one candidate: --az-lim now drops them)
+    ck.ok("moni CSV --az-lim Ja = capture --keep-late (2 %), no late ticks in either",
+          abs(ja(moni_az) - ja(keep)) <= 2e-2 * abs(ja(keep)) and late(moni_az) == 0 and late(keep) == 0,
+          "moni %s (late %d), capture --keep-late %s (late %d)" % (ja(moni_az), late(moni_az), ja(keep), late(keep)))
+    ck.ok("reply_times: none in the moni CSV, some in the export",
+          not moni["inputs"][0]["reply_times"] and exp["inputs"][0]["reply_times"],
+          (moni["inputs"][0]["reply_times"], exp["inputs"][0]["reply_times"]))
+    ck.ok("a reply taken out of the export drops ticks", late(lost1) > late(exp), (late(lost1), late(exp)))
+    print("Ja from the capture %s = export CSV %s (%d vs %d ticks after late replies dropped); moni CSV --az-lim %s "
+          "(without: %s) = capture --keep-late %s, %d saturated ticks dropped in both; a missing reply drops %d more"
+          % (ja(cap), ja(exp), late(cap), late(exp), ja(moni_az), ja(moni), ja(keep), sat(keep), late(lost1) - late(exp)))
+    ck.done()
+
+
+@pytest.mark.parametrize("arg,why", [("1:0", "'0' is not a current limit in A (0..1000)"),
+                                     ("x", "'x' is not a current limit"), ("nan", "'nan' is not a current limit"),
+                                     ("11:3", "'11' is not a logical axis 1..10"),
+                                     ("1:2,3", "'3': want A for every axis, or AXIS:A pairs")])
+def test_az_lim_refused(build, loop, arg, why):
+    r = fit(build, loop / "ident.moni.csv", "--az-lim", arg)
+    assert r.returncode == 2 and ("c4g-ident fit: --az-lim: bad value '%s' (%s" % (arg, why)) in r.stderr, \
+        (r.returncode, r.stderr)
+
+
+def test_plots_and_samples(build, loop, tmp_path):
+    ck = Checks()
+    # plots: PNG and SVG of each axis
+    for f in ("current", "residual", "friction"):
+        for e in ("png", "svg"):
+            p = loop / "plots" / ("arm1_axis1_%s.%s" % (f, e))
+            ck.ok("plot %s.%s written" % (f, e), p.exists() and p.stat().st_size > 0)
+    ck.eq("a PNG", (loop / "plots" / "arm1_axis2_current.png").read_bytes()[1:4], b"PNG")
+    # --samples: one CSV per axis, as many rows as the report's kept ticks
+    a = fit_json(build, loop / "ident.pcap", "--axes", 1, "--samples", tmp_path / "smp")["axes"][0]
+    rows = (tmp_path / "smp" / "arm1_axis1.csv").read_text().splitlines()
+    ck.ok("--samples: its header names the axis and variant",
+          rows[0].startswith("# c4g-ident samples: arm 1 axis 1 variant " + a["variant"]), rows[0])
+    ck.eq("--samples: the columns", rows[1], "v,a,i,cos_q,sin_q")
+    ck.eq("--samples: one row per kept tick", len(rows) - 2, a["ticks"]["kept"])
+    ck.ok("--samples: five values a row", all(len(r.split(",")) == 5 for r in rows[2:]))
+    # a still axis (4 never moved): reported unidentifiable, exit 3, nothing fitted
+    r = fit(build, loop / "ident.pcap", "--axes", 4)
+    ck.ok("still axis unidentifiable (exit 3)", r.returncode == 3 and "UNIDENTIFIABLE: the axis hardly moved" in
+          r.stdout + r.stderr, (r.returncode, r.stdout + r.stderr))
+    ck.done()
+
+
+def test_hostile_inputs(build, bins, ports, loop, tmp_path):
+    """exit 2, one line naming the file and what was wrong"""
+    ck = Checks()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t_s,num,axis,arm,logical,rx_mode,rx_d1,rx_d2,rx_d3,rx_d4,rx_d5,rx_e1,rx_e2,rx_e3,tx_infpar,tx_mode,"
+                   "tx_d1,tx_d2,tx_d3,tx_d4,tx_d5\n0.002,1,1,1,1,0,1,2,3,4,zz,0,0,0,0,0,0,0,0,0,0\n")
+    r = fit(build, bad)
+    ck.ok("bad CSV value named", r.returncode == 2 and "bad.csv:2: field 11 (rx_d5): 'zz' is not a number" in r.stderr,
+          (r.returncode, r.stderr))
+    lines = (loop / "ident.csv").read_text().split("\n")
+    f = lines[2].split(",")
+    f[7] = "1e"
+    lines[2] = ",".join(f)
+    (tmp_path / "badlat.csv").write_text("\n".join(lines))
+    r = fit(build, tmp_path / "badlat.csv")
+    ck.ok("bad latency in an export named",
+          r.returncode == 2 and "badlat.csv:3: field latency_us: '1e' is not a number" in r.stderr, (r.returncode, r.stderr))
+    (tmp_path / "junk.txt").write_text("hello\n")
+    r = fit(build, tmp_path / "junk.txt")
+    ck.ok("junk refused", r.returncode == 2 and "junk.txt:1: not a capture" in r.stderr, (r.returncode, r.stderr))
+    r = fit(build, tmp_path / "nonexistent.pcap")
+    ck.ok("missing file named", r.returncode == 2 and "nonexistent.pcap" in r.stderr, (r.returncode, r.stderr))
+    (tmp_path / "cut.pcap").write_bytes((loop / "ident.pcap").read_bytes()[:3000])
+    r = fit(build, tmp_path / "cut.pcap")
+    ck.ok("cut capture: an error exit, no crash", r.returncode not in (0, 139) and r.returncode > 0,
+          (r.returncode, r.stderr))
+    r = subprocess.run([str(bins.ident), "excite", "--duration", "100", "-o", str(tmp_path / "x.csv")],
+                       capture_output=True, text=True)
+    ck.ok("excite refuses more rows than --traj reads", r.returncode == 2 and "at most 20000" in r.stderr,
+          (r.returncode, r.stderr))
+    r = fit(build, "--bogus", "x")
+    ck.eq("bad option exit", r.returncode, 2)
+    # an edited parameter file: c4g-server refuses it at start-up
+    text = (loop / "arm1.ini").read_text()
+    (tmp_path / "edited.ini").write_text(re.sub(r"(?m)^Ja = ", "Ja = 1", text))
+    r = subprocess.run([str(bins.server), "-p", str(ports.udp()), "--ff", str(tmp_path / "edited.ini"),
+                        "--max-seconds", "1"], capture_output=True, text=True, timeout=30)
+    ck.ok("edited parameter file refused by c4g-server", r.returncode != 0 and "checksum" in r.stderr,
+          (r.returncode, r.stderr))
+    ck.done()

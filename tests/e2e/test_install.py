@@ -1,0 +1,83 @@
+# SPDX-License-Identifier: MIT
+"""make install into a DESTDIR, a program built against it with pkg-config (static and
+shared) and run; the README's compile line on the shipped example; man pages and bash
+completions installed; make uninstall removes every installed file."""
+import os
+import re
+import shutil
+import subprocess
+
+APP = r'''#include <c4gopen.h>
+#include <stdio.h>
+int main(void)
+{
+    c4g_loop_t lp;
+    c4g_loop_config_t cfg;
+    c4g_pc_packet_t neutral = {0};
+    unsigned char buf[C4G_MAX_CYCLIC_SIZE];
+    size_t n = 0;
+    neutral.n_axes = 6;
+    if (c4g_session_config_default(&cfg.session) != C4G_OK ||
+        c4g_engine_config_default(&cfg.engine) != C4G_OK || c4g_loop_init(&lp, &cfg) != C4G_OK ||
+        c4g_pc_encode(&neutral, buf, sizeof buf, &n) != C4G_OK)
+        return 1;
+    printf("%s %u %s\n", C4G_VERSION_STRING, (unsigned)n, c4g_strerror(C4G_ERR_CELL_HEAD));
+    return n == C4G_CYCLIC_SIZE(6) ? 0 : 1;
+}
+'''
+
+
+def sh(args, **kw):
+    r = subprocess.run([str(a) for a in args], capture_output=True, text=True, timeout=300, **kw)
+    assert r.returncode == 0, "%s: exit %d: %s%s" % (" ".join(map(str, args)), r.returncode, r.stdout, r.stderr)
+    return r.stdout
+
+
+def test_install_uninstall(build, tmp_path):
+    root = tmp_path / "root"
+    pre = root / "opt" / "c4g"
+    sh(["make", "-s", "BUILD=%s" % build, "install", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
+    assert (pre / "include" / "c4gopen.h").is_file()
+    assert (pre / "lib" / "libc4gopen.a").is_file()
+    soname = re.search(r"SONAME.*\[(.*)\]", sh(["readelf", "-d", pre / "lib" / "libc4gopen.so"])).group(1)
+    assert soname == "libc4gopen.so.2", soname
+    env = dict(os.environ, PKG_CONFIG_PATH=str(pre / "lib" / "pkgconfig"), PKG_CONFIG_SYSROOT_DIR=str(root))
+    flags = sh(["pkg-config", "--cflags", "--libs", "c4gopen"], env=env).split()
+    app = root / "app.c"
+    app.write_text(APP)
+    run_env = dict(os.environ, LD_LIBRARY_PATH=str(pre / "lib"))
+    sh(["cc", "-std=c99", "-o", root / "app_shared", app] + flags)
+    out = sh([root / "app_shared"], env=run_env)
+    # the version of the SONAME's major, a 6-axis cyclic packet's 228 bytes, a status named
+    assert re.match(r"^2\.\d+\.\d+ 228 cell: \S", out), out
+    sh(["cc", "-std=c99", "-o", root / "app_static", app] + sh(["pkg-config", "--cflags", "c4gopen"], env=env).split()
+       + [pre / "lib" / "libc4gopen.a"])
+    assert sh([root / "app_static"]) == out
+    # the README's compile line, verbatim, on the shipped example; then its --help
+    line = re.search(r"(?m)^cc -o mode4_loop examples/mode4_loop\.c .*$", open("README.md").read())
+    assert line, "no compile line for examples/mode4_loop.c in README.md"
+    src = root / "src"
+    src.mkdir()
+    shutil.copytree("examples", src / "examples")
+    r = subprocess.run(["sh", "-c", line.group(0)], cwd=src, capture_output=True, text=True, env=env)
+    assert r.returncode == 0, "the README's compile line failed: " + r.stderr
+    r = subprocess.run([src / "mode4_loop", "--help"], capture_output=True, text=True, env=run_env)
+    assert re.search(r"(?m)^Usage: mode4_loop \[-p PORT\]", r.stdout), r.stdout
+    r = subprocess.run([src / "mode4_loop", "-p", "nope"], capture_output=True, text=True, env=run_env)
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    # static: pkg-config --static carries Libs.private (-lm)
+    assert "-lm" in sh(["pkg-config", "--static", "--libs", "c4gopen"], env=env).split()
+    # man pages and bash completion installed; the pages render
+    for p in ("man1/c4g-server.1", "man1/c4g-sim.1", "man1/c4g-replay.1", "man1/c4g-ident.1", "man1/cell-cli.1",
+              "man1/cell-sim.1", "man3/c4gopen.3"):
+        f = pre / "share" / "man" / p
+        assert f.is_file() and f.stat().st_size > 0, "not installed: " + p
+    assert "c4g_loop_rx" in sh(["man", "-l", pre / "share" / "man" / "man3" / "c4gopen.3"],
+                               env=dict(os.environ, MANWIDTH="80"))
+    comp = pre / "share" / "bash-completion" / "completions"
+    for t in ("c4g-server", "c4g-sim", "c4g-replay", "c4g-ident", "cell-cli", "cell-sim"):
+        assert os.access(comp / t, os.R_OK), "no completion for " + t
+    assert "complete -F _c4gopen" in (comp / "cell-cli").read_text()
+    sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
+    left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
+    assert left == [], "files left after uninstall: %s" % left

@@ -1,0 +1,81 @@
+# SPDX-License-Identifier: MIT
+"""Man pages and bash completion: every page the build made renders with man -l without a
+warning, has its sections, and names every long option of its tool's --help (each command's
+for c4g-replay and c4g-ident); the completion script offers each tool's options, c4g-replay's
+and c4g-ident's commands, files for FILE options and cell-cli's words."""
+import functools
+import os
+import re
+import subprocess
+
+import pytest
+
+PAGES = ["c4g-server.1", "c4g-sim.1", "c4g-replay.1", "c4g-ident.1", "cell-cli.1", "cell-sim.1", "c4gopen.3"]
+ENV = dict(os.environ, LC_ALL="C", MANWIDTH="100")
+
+
+@functools.lru_cache(maxsize=None)
+def render(build, page):
+    """man -l of a page of the build (each page rendered once for the module's tests)"""
+    return subprocess.run(["man", "-l", str(build / "man" / page)], capture_output=True, text=True, env=ENV)
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_page_renders(build, page):
+    assert (build / "man" / page).stat().st_size > 0, page + " was not built"
+    r = render(build, page)
+    assert r.returncode == 0 and r.stderr == "", "%s: man -l exit %d: %s" % (page, r.returncode, r.stderr[:300])
+    assert re.search("^NAME", r.stdout, re.M) and re.search("^SEE ALSO", r.stdout, re.M), page + ": NAME or SEE ALSO"
+    if page.endswith(".1"):
+        src = (build / "man" / page).read_text()
+        assert re.search("^EXIT STATUS", src, re.M) or re.search("^EXIT STATUS", r.stdout, re.M), page + ": EXIT STATUS"
+    else:
+        assert "c4g_loop_rx" in r.stdout and "pkg-config" in r.stdout, "c4gopen(3): the loop and the linking"
+
+
+def options_of(argv):
+    out = subprocess.run([str(a) for a in argv] + ["--help"], capture_output=True, text=True, env=ENV).stdout
+    return sorted({m.group(2) for m in re.finditer(r"(?m)^ +(-[A-Za-z0-9], )?(--[a-z0-9-]*)", out)})
+
+
+@pytest.mark.parametrize("page,tool,cmd", [(t + ".1", t, None) for t in ("c4g-server", "c4g-sim", "cell-cli", "cell-sim")]
+                         + [("c4g-replay.1", "c4g-replay", c) for c in ("summary", "check", "export", "rerun", "live", "plot")]
+                         + [("c4g-ident.1", "c4g-ident", c) for c in ("fit", "excite")])
+def test_page_names_every_option(build, page, tool, cmd):
+    text = render(build, page).stdout
+    opts = options_of([build / "bin" / tool] + ([cmd] if cmd else []))
+    missing = [o for o in opts if not re.search(re.escape(o) + r"\b", text)]
+    assert len(opts) > 2 and not missing, "%s: %d options, missing: %s" % (page, len(opts), missing)
+
+
+COMPLETIONS = [
+    ("--json", ["c4g-server", "--js"]),
+    ("--moni --moni-type", ["c4g-server", "--mon"]),
+    ("--json", ["c4g-sim", "--js"]),
+    ("--csv", ["c4g-sim", "--cs"]),
+    ("summary", ["c4g-replay", "su"]),
+    ("--allow", ["c4g-replay", "check", "--al"]),
+    ("--plot", ["c4g-ident", "fit", "--pl"]),
+    ("fit", ["c4g-ident", "f"]),
+    ("--workspace", ["cell-sim", "--works"]),
+    ("--no-raw --no-history --no-hints", ["cell-cli", "--no-"]),
+    ("robot", ["cell-cli", "rob"]),
+    ("abs rel", ["cell-cli", "robot", "mov", ""]),
+    ("fixtures/server/traj_example.csv", ["c4g-server", "--traj", "fixtures/server/traj_ex"]),
+    ("", ["c4g-server", "--port", ""]),
+]
+
+
+@pytest.mark.parametrize("want,words", COMPLETIONS, ids=[" ".join(w) for _, w in COMPLETIONS])
+def test_completion(build, want, words):
+    """the completions of the last word"""
+    script = ('. scripts/completion/c4gopen.bash\n'
+              'COMP_WORDS=("$@"); COMP_CWORD=$((${#COMP_WORDS[@]} - 1)); _c4gopen; echo "${COMPREPLY[*]}"\n')
+    env = dict(ENV, PATH=str(build / "bin") + os.pathsep + os.environ["PATH"])
+    r = subprocess.run(["bash", "-c", script, "t"] + words, capture_output=True, text=True, env=env)
+    assert r.stdout.rstrip("\n") == want, "complete %r -> %r, want %r" % (words, r.stdout, want)
+
+
+def test_completion_parses():
+    r = subprocess.run(["bash", "-n", "scripts/completion/c4gopen.bash"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
