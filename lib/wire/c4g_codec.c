@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Cyclic packet codec (both directions), per-arm bytes, reply NUM, neutral reply. */
+/* Cyclic packet codec (both directions), per-arm bytes, neutral reply. */
 #include "../c4g_internal.h"
 #include "c4g_wire_hot.h"
 
@@ -26,16 +26,6 @@ uint32_t c4g_arm_byte_set(uint32_t word, uint32_t arm, uint8_t value)
         w = (w & ~(0xFFU * place)) | ((uint32_t)value * place);
     }
     return w;
-}
-
-int32_t c4g_reply_num(int32_t num, c4g_num_policy_t policy)
-{
-    int32_t r = num;
-    if (policy == C4G_NUM_PLUS_ONE) {
-        /* Field library: NUM + 1, 0x7FFF wraps to 1 (never 0). */
-        r = ((num >= C4G_NUM_MAX) || (num < 0)) ? 1 : (num + 1);
-    }
-    return r;
 }
 
 /* Axis count implied by a datagram length, 0 if no valid count fits. */

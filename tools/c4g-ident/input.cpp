@@ -129,7 +129,7 @@ struct CapCtx {
 void on_exchange(void *vp, const c4gh_an_exchange_t *x)
 {
     CapCtx *c = static_cast<CapCtx *>(vp);
-    if (x->kind != C4GH_CS_CYCLIC || x->rx == nullptr) return;
+    if (x->kind != C4G_PKT_CYCLIC || x->rx == nullptr) return;
     const c4gh_an_session_t *s = x->s;
     if (c->col->sel.session != 0 && s->id != c->col->sel.session) return;
     const uint32_t arm = c->col->sel.arm - 1U;

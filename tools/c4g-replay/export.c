@@ -168,8 +168,8 @@ static void json_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
         json_object_set_new(o, "pc_frame", json_null());
         json_object_set_new(o, "latency_us", json_null());
     }
-    json_object_set_new(o, "verdict", json_string(x->verdict == C4GH_CS_J_OK ? (x->late ? "late" : "ok")
-                                                  : (x->verdict == C4GH_CS_J_MISSING ? "missing"
+    json_object_set_new(o, "verdict", json_string(x->verdict == C4G_CTRL_J_OK ? (x->late ? "late" : "ok")
+                                                  : (x->verdict == C4G_CTRL_J_MISSING ? "missing"
                                                                                 : "unjudged")));
     json_object_set_new(o, "ctrl", json_side(e, x->ctrl, x->ctrl_len));
     json_object_set_new(o, "pc", json_side(e, x->reply, x->reply_len));
@@ -231,7 +231,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 {
     ex_ctx_t *e = ctx;
     const double t = (double)(x->ctrl_ns - x->s->first_ns) * 1e-9;
-    if (x->kind != C4GH_CS_CYCLIC || axes_in(x->ctrl_len) == 0U) {
+    if (x->kind != C4G_PKT_CYCLIC || axes_in(x->ctrl_len) == 0U) {
         return;
     }
     if ((e->session != 0U && x->s->id != e->session) || t < e->from_s || (e->to_s >= 0.0 && t > e->to_s)) {

@@ -71,13 +71,7 @@ static int opt_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char 
 {
     lv_t *L = ctx;
     (void)row;
-    if (strcmp(v, "plus-one") == 0) {
-        L->policy = C4GH_CS_NUM_PLUS_ONE;
-    } else if (strcmp(v, "echo") == 0) {
-        L->policy = C4GH_CS_NUM_ECHO;
-    } else if (strcmp(v, "either") == 0) {
-        L->policy = C4GH_CS_NUM_EITHER;
-    } else {
+    if (c4g_num_policy_parse(v, &L->policy) != C4G_OK) {
         (void)snprintf(why, whylen, "want plus-one, echo or either");
         return -1;
     }
@@ -112,9 +106,9 @@ static void on_scan(void *ctx, const c4gh_an_exchange_t *x)
         sc->first_kind = (int)x->kind;
         sc->first_ns = x->ctrl_ns;
     }
-    sc->sync += (x->kind == C4GH_CS_SYNC);
-    sc->init += (x->kind == C4GH_CS_INIT);
-    sc->cyclic += (x->kind == C4GH_CS_CYCLIC);
+    sc->sync += (x->kind == C4G_PKT_SYNC);
+    sc->init += (x->kind == C4G_PKT_INIT);
+    sc->cyclic += (x->kind == C4G_PKT_CYCLIC);
     sc->last_ns = x->ctrl_ns;
     last = x->ctrl_frame;
     if (x->reply != NULL && x->reply_frame > last) {
@@ -156,7 +150,7 @@ static int choose(lv_t *L)
         fprintf(stderr, RP_TOOL ": live: --session %u: the session starts at a %s packet without "
                 "its start-up (no initialization packet): a PC server cannot take it up in the "
                 "middle; 'c4g-replay rerun' replays it through c4g-server's code\n", L->session,
-                sc->first_kind == C4GH_CS_SYNC ? "synchronization" : "cyclic");
+                sc->first_kind == C4G_PKT_SYNC ? "synchronization" : "cyclic");
         return RP_EXIT_UNREADABLE;
     }
     L->chosen = L->session;
@@ -191,17 +185,19 @@ static void drain(lv_t *L)
         const uint64_t now = c4gh_udp_now_ns();
         const uint64_t t = (m.stamp_ns != 0U && m.stamp_ns <= now) ? m.stamp_ns : now;
         if (m.from.sin_addr.s_addr != L->to.sin_addr.s_addr || m.from.sin_port != L->to.sin_port) {
-            c4gh_cs_foreign(&L->cs);
+            (void)c4g_ctrl_foreign(&L->cs);
             continue;
         }
-        if (c4gh_cs_reply(&L->cs, buf, (size_t)n, t) == C4GH_CS_RX_ACCEPTED) {
+        c4g_ctrl_rx_t r;
+        (void)c4g_ctrl_reply(&L->cs, buf, (size_t)n, t, &r); /* never NULL: C4G_OK */
+        if (r == C4G_CTRL_RX_ACCEPTED) {
             L->live_len = ((size_t)n <= sizeof L->live_raw) ? (size_t)n : sizeof L->live_raw;
             memcpy(L->live_raw, buf, L->live_len);
         }
     }
     while (L->kstamp && c4gh_udp_recv(L->fd, 1, off, buf, sizeof buf, &m) >= 0) {
         if (m.has_key && L->has_key && m.key == L->tx_key) {
-            (void)c4gh_cs_sent_stamp(&L->cs, m.stamp_ns, c4gh_udp_now_ns());
+            (void)c4g_ctrl_sent_stamp(&L->cs, m.stamp_ns, c4gh_udp_now_ns());
         }
     }
 }
@@ -322,7 +318,7 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
     L->compared++;
     if (!P->has_rec) {
         divergence(L, &nd, LV_F_REPLY, 0U, "none", "a valid reply");
-    } else if (P->kind != C4GH_CS_CYCLIC) {
+    } else if (P->kind != C4G_PKT_CYCLIC) {
         cmp_int(L, &nd, LV_F_NUM, 0U, c4gh_an_le_i32(P->rec_raw), c4gh_an_le_i32(L->live_raw), 0);
         if (P->rec_len != L->live_len || memcmp(P->rec_raw + 4, L->live_raw + 4, P->rec_len - 4U) != 0) {
             char a[24], b[24];
@@ -367,18 +363,18 @@ static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d,
     lv_t *L = ctx;
     lv_pending_t *P = &L->pend;
     const int32_t num = (len >= 4U) ? c4gh_an_le_i32(d) : -1;
-    const int pol = (s->cs.detected >= 0) ? s->cs.detected : C4GH_CS_NUM_PLUS_ONE;
+    const c4g_num_policy_t pol = (s->cs.detected >= 0) ? (c4g_num_policy_t)s->cs.detected : C4G_NUM_PLUS_ONE;
     (void)ns;
     (void)frame;
     if (!P->active || P->has_rec || len > sizeof P->rec_raw ||
-        c4g_reply_num(P->num, pol == C4GH_CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+        c4g_reply_num(P->num, pol) != num) {
         return;
     }
     P->has_rec = 1;
     P->rec_late = 1;
     P->rec_len = len;
     memcpy(P->rec_raw, d, len);
-    if (P->kind == C4GH_CS_CYCLIC) {
+    if (P->kind == C4G_PKT_CYCLIC) {
         P->rec_decoded = (c4g_pc_decode(d, len, s->cs.cfg.n_axes, &P->rec, NULL) == C4G_OK);
     }
 }
@@ -389,23 +385,26 @@ static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d,
 static void judge(lv_t *L, uint64_t deadline, int own_short)
 {
     lv_pending_t *P = &L->pend;
-    c4gh_cs_verdict_t v;
+    c4g_ctrl_verdict_t v;
     uint64_t woke = c4gh_udp_now_ns();
     /* We sent the packet so late that the PC had less than its period: judged as our own
-     * lateness (c4gh_cs_judge): a reply that is there counts, none is unjudged, not missing. */
+     * lateness (c4g_ctrl_judge): a reply that is there counts, none is unjudged, not missing. */
     if (own_short && woke <= deadline + L->tol_ns) {
         woke = deadline + L->tol_ns + 1U;
     }
-    c4gh_cs_set_deadline(&L->cs, deadline);
-    v = c4gh_cs_judge(&L->cs, woke, P->suspended);
+    (void)c4g_ctrl_set_deadline(&L->cs, deadline); /* C4G_ERR_STATE: nothing outstanding */
+    (void)c4g_ctrl_judge(&L->cs, woke, P->suspended != 0, &v); /* C4G_OK */
     if (!L->topspeed) {
         /* the kernel's send time when it came back, else the clock read before sendto */
         const uint64_t sent = L->cs.out.sent_ns;
         c4gh_hist_add(&L->err, (int64_t)(sent - P->sched_ns));
         L->drift_ns = (int64_t)(sent - P->sched_ns);
     }
-    if (v == C4GH_CS_J_OK) {
-        compare(L, c4gh_cs_take_reply(&L->cs));
+    if (v == C4G_CTRL_J_OK) {
+        const c4g_pc_packet_t *rep = NULL;
+        c4gh_hist_add(&L->pass_lat, (int64_t)L->cs.last_lat_ns);
+        (void)c4g_ctrl_take_reply(&L->cs, &rep); /* C4G_ERR_STATE: not cyclic, rep NULL */
+        compare(L, rep);
     }
     P->active = 0;
 }
@@ -459,7 +458,7 @@ static void send_packet(lv_t *L, const c4gh_an_exchange_t *x, uint64_t sched)
     }
     L->live_len = 0U;
     t = c4gh_udp_now_ns();
-    c4gh_cs_emit(&L->cs, x->kind, num, x->ctrl, x->ctrl_len, check, t);
+    (void)c4g_ctrl_emit(&L->cs, x->kind, num, x->ctrl, x->ctrl_len, check != 0, t); /* a known kind */
     n = sendto(L->fd, x->ctrl, x->ctrl_len, 0, (const struct sockaddr *)&L->to, sizeof L->to);
     L->has_key = (n >= 0);
     if (n >= 0) {
@@ -540,21 +539,22 @@ static int play_pass(lv_t *L)
 {
     const lv_scan_t *sc = &L->scan[L->chosen - 1U];
     c4gh_an_options_t o = L->c.an;
-    c4gh_cs_config_t cfg;
+    c4g_ctrl_config_t cfg;
     char err[390];
     c4gh_an_t a;
     c4gh_cap_t *c;
     c4gh_cap_pkt_t p;
     int ended = 0;
     memset(&cfg, 0, sizeof cfg);
-    cfg.policy = (c4gh_cs_policy_t)L->policy;
+    cfg.policy = L->policy;
     cfg.n_axes = sc->n_axes;
     cfg.t_cycle1_ns = L->c.an.t_cycle1_ns;
     cfg.tol_ns = L->tol_ns;
     cfg.max_miss = 10U;
     cfg.sync_before = 9U;
     cfg.sync_after = 2U;
-    c4gh_cs_init(&L->cs, &cfg);
+    (void)c4g_ctrl_init(&L->cs, &cfg); /* n_axes from the analysis (<= 20): C4G_OK */
+    memset(&L->pass_lat, 0, sizeof L->pass_lat);
     L->started = 0;
     L->pass_done = 0;
     L->pend.active = 0;
@@ -607,7 +607,8 @@ static int play_pass(lv_t *L)
 }
 
 /* Add one pass's counters to the totals. */
-static void add_counters(c4gh_cs_counters_t *t, const c4gh_cs_counters_t *n)
+static void add_counters(c4g_ctrl_counters_t *t, const c4g_ctrl_counters_t *n, c4gh_hist_t *t_lat,
+                         const c4gh_hist_t *n_lat)
 {
     if (n->replies_ok > 0U && (t->replies_ok == 0U || n->lat_min < t->lat_min)) {
         t->lat_min = n->lat_min;
@@ -633,7 +634,7 @@ static void add_counters(c4gh_cs_counters_t *t, const c4gh_cs_counters_t *n)
     t->stale += n->stale;
     t->unexpected += n->unexpected;
     t->lat_sum += n->lat_sum;
-    c4gh_hist_merge(&t->lat, &n->lat);
+    c4gh_hist_merge(t_lat, n_lat);
 }
 
 static int play(lv_t *L)
@@ -670,7 +671,7 @@ static int play(lv_t *L)
             L->read_failed = 1;
             break;
         }
-        add_counters(&L->n, &L->cs.n);
+        add_counters(&L->n, &L->cs.n, &L->lat, &L->pass_lat);
         if (!g_stop) {
             L->passes_done++;
         }
@@ -741,7 +742,7 @@ int rp_cmd_live(int argc, char **argv)
             {"json", 'j', C4GH_CLI_FLAG, NULL, "the report as one JSON object", &L->c.json, 0, 0, 0, NULL, 0},
         };
         rp_common_default(&L->c);
-        L->policy = C4GH_CS_NUM_EITHER;
+        L->policy = C4G_NUM_EITHER;
         L->loops = 1U;
         L->spin_us = 100U;
         L->fd = -1;

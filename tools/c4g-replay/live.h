@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-replay live: the controller's side of a recorded session played to a running PC
- * server over UDP, its replies judged by the controller's checks (lib/host/c4gh_ctrlside,
+ * server over UDP, its replies judged by the controller's checks (the library's controller end, c4gopen_ctrl.h,
  * the code c4g-sim runs) and compared field by field with the recorded ones. live.c plays,
  * live_report.c prints what came of it. */
 #ifndef C4G_REPLAY_LIVE_H
@@ -31,7 +31,7 @@ const char *lv_field_name(lv_field_t f);
 typedef struct lv_first {
     int set;
     unsigned pass;
-    c4gh_cs_kind_t kind;
+    c4g_pkt_kind_t kind;
     uint64_t tick;           /* cyclic packets of the session before this one */
     int32_t num;             /* the controller packet's NUM */
     unsigned axis;           /* OPEN index, 1-based; 0 for the header fields */
@@ -43,7 +43,7 @@ typedef struct lv_first {
 /* What pass 1 found of each session. */
 typedef struct lv_scan {
     uint64_t exchanges, sync, init, cyclic;
-    int first_kind;          /* c4gh_cs_kind_t of its first packet */
+    int first_kind;          /* c4g_pkt_kind_t of its first packet */
     uint64_t stop_frame;     /* its last packet and the recorded reply are read by then */
     uint32_t n_axes;
     int32_t period_ms;       /* from the init packet; 0 unknown */
@@ -54,7 +54,7 @@ typedef struct lv_scan {
 /* The packet sent last, waiting for its judgement. */
 typedef struct lv_pending {
     int active;
-    c4gh_cs_kind_t kind;
+    c4g_pkt_kind_t kind;
     uint64_t tick;
     int32_t num;
     int check, suspended;
@@ -77,7 +77,7 @@ typedef struct lv {
     char to_text[300];
     struct sockaddr_in to;
     int have_to;
-    int policy;
+    c4g_num_policy_t policy;
     double speed;             /* 0: not given (1) */
     int topspeed;
     unsigned loops;
@@ -97,7 +97,7 @@ typedef struct lv {
     uint32_t tx_seq, tx_key;
     int has_key;
     /* one pass */
-    c4gh_cs_t cs;
+    c4g_ctrl_t cs;
     unsigned pass;            /* 1-based */
     int started, pass_done;
     int64_t first_rec_ns;
@@ -106,10 +106,12 @@ typedef struct lv {
     uint64_t tol_ns;          /* own lateness counted as an overrun (c4g-sim's margin) */
     uint64_t window_ns;       /* the least time a packet's reply is waited for */
     lv_pending_t pend;
-    uint8_t live_raw[C4G_INIT_SIZE]; /* the reply c4gh_cs_reply accepted for the pending packet */
+    uint8_t live_raw[C4G_INIT_SIZE]; /* the reply c4g_ctrl_reply accepted for the pending packet */
     size_t live_len;
     /* totals */
-    c4gh_cs_counters_t n;          /* every pass's c4gh_cs_t counters added up */
+    c4gh_hist_t pass_lat;     /* this pass's reply latencies judged ok */
+    c4g_ctrl_counters_t n;          /* every pass's c4g_ctrl_t counters added up */
+    c4gh_hist_t lat;          /* and their latencies */
     unsigned passes_done;
     int interrupted;
     int read_failed;          /* a pass could not read the file again */

@@ -16,14 +16,14 @@ const char *lv_field_name(lv_field_t f) { return (f < LV_F_COUNT) ? field_names[
  * unjudged. */
 static uint64_t sum_findings(const lv_t *L)
 {
-    const c4gh_cs_counters_t *n = &L->n;
+    const c4g_ctrl_counters_t *n = &L->n;
     return n->late + n->missing + n->unjudged + n->wrong_num + n->malformed + n->duplicates +
            L->send_errors + L->differing;
 }
 
 static void list_findings(FILE *out, const lv_t *L)
 {
-    const c4gh_cs_counters_t *n = &L->n;
+    const c4g_ctrl_counters_t *n = &L->n;
     const struct { uint64_t v; const char *what; } f[] = {
         {n->late, "late"}, {n->missing, "missing"}, {n->unjudged, "unjudged"},
         {n->wrong_num, "wrong NUM"}, {n->malformed, "malformed"}, {n->duplicates, "duplicates"},
@@ -50,16 +50,16 @@ int lv_findings(const lv_t *L)
     return sum_findings(L) > 0U || L->interrupted || L->read_failed || L->passes_done < L->loops;
 }
 
-static const char *kind_name(c4gh_cs_kind_t k)
+static const char *kind_name(c4g_pkt_kind_t k)
 {
-    return (k == C4GH_CS_SYNC) ? "sync" : (k == C4GH_CS_INIT ? "init" : "cyclic");
+    return (k == C4G_PKT_SYNC) ? "sync" : (k == C4G_PKT_INIT ? "init" : "cyclic");
 }
 
 static const lv_scan_t *chosen(const lv_t *L) { return &L->scan[L->chosen - 1U]; }
 
 void lv_report_text(FILE *out, const lv_t *L)
 {
-    const c4gh_cs_counters_t *n = &L->n;
+    const c4g_ctrl_counters_t *n = &L->n;
     const lv_scan_t *sc = chosen(L);
     unsigned f, shown = 0U;
     fprintf(out, "live: session %u of %s to %s: %u of %u pass%s, ", L->chosen, L->path, L->to_text,
@@ -72,14 +72,14 @@ void lv_report_text(FILE *out, const lv_t *L)
     fprintf(out, ", recorded %.3f s, played in %.3f s%s\n", (double)(sc->last_ns - sc->first_ns) * 1e-9,
             (double)L->elapsed_ns * 1e-9, L->interrupted ? " (interrupted)" : "");
     fprintf(out, "sent: %llu packets (%llu sync, %llu init, %llu cyclic)", (unsigned long long)L->sent,
-            (unsigned long long)L->sent_kind[C4GH_CS_SYNC], (unsigned long long)L->sent_kind[C4GH_CS_INIT],
-            (unsigned long long)L->sent_kind[C4GH_CS_CYCLIC]);
+            (unsigned long long)L->sent_kind[C4G_PKT_SYNC], (unsigned long long)L->sent_kind[C4G_PKT_INIT],
+            (unsigned long long)L->sent_kind[C4G_PKT_CYCLIC]);
     if (L->send_errors > 0U) {
         fprintf(out, "; %llu not sent (first: %s)", (unsigned long long)L->send_errors, L->send_error);
     }
-    fprintf(out, "\nreplies (NUM policy %s", c4gh_cs_policy_name(L->policy));
-    if (L->policy == C4GH_CS_NUM_EITHER) {
-        fprintf(out, ", server %s", c4gh_cs_policy_name(L->cs.detected));
+    fprintf(out, "\nreplies (NUM policy %s", c4g_num_policy_name(L->policy));
+    if (L->policy == C4G_NUM_EITHER) {
+        fprintf(out, ", server %s", c4g_num_policy_name(L->cs.detected));
     }
     fprintf(out, "; t-cycle1 %.0f us): %lu ok, %lu late, "
             "%lu missing, %lu unjudged, %lu wrong NUM, %lu malformed, %lu duplicates, %lu stale\n",
@@ -95,8 +95,8 @@ void lv_report_text(FILE *out, const lv_t *L)
                 "%lu from other addresses\n", n->unexpected, n->foreign);
     }
     if (n->replies_ok > 0U) {
-        fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", c4gh_cs_lat_percentile(n, 0.5),
-                c4gh_cs_lat_percentile(n, 0.99), (double)n->lat_max * 1e-3);
+        fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", c4gh_hist_us(&L->lat, 0.5),
+                c4gh_hist_us(&L->lat, 0.99), (double)n->lat_max * 1e-3);
     } else {
         fprintf(out, "latency: no reply judged ok\n");
     }
@@ -147,7 +147,7 @@ void lv_report_text(FILE *out, const lv_t *L)
 
 void lv_report_json(FILE *out, const lv_t *L)
 {
-    const c4gh_cs_counters_t *n = &L->n;
+    const c4g_ctrl_counters_t *n = &L->n;
     const lv_scan_t *sc = chosen(L);
     json_t *o, *fields, *first = json_null(), *timing = json_null();
     unsigned f;
@@ -179,9 +179,9 @@ void lv_report_json(FILE *out, const lv_t *L)
                   "recorded_s", (double)(sc->last_ns - sc->first_ns) * 1e-9, "elapsed_s",
                   (double)L->elapsed_ns * 1e-9);
     (void)json_object_set_new(o, "packets", json_pack("{s:I, s:I, s:I, s:I, s:I}", "sent", (json_int_t)L->sent,
-                                                      "sync", (json_int_t)L->sent_kind[C4GH_CS_SYNC], "init",
-                                                      (json_int_t)L->sent_kind[C4GH_CS_INIT], "cyclic",
-                                                      (json_int_t)L->sent_kind[C4GH_CS_CYCLIC], "send_errors",
+                                                      "sync", (json_int_t)L->sent_kind[C4G_PKT_SYNC], "init",
+                                                      (json_int_t)L->sent_kind[C4G_PKT_INIT], "cyclic",
+                                                      (json_int_t)L->sent_kind[C4G_PKT_CYCLIC], "send_errors",
                                                       (json_int_t)L->send_errors));
     (void)json_object_set_new(
         o, "replies",
@@ -192,10 +192,10 @@ void lv_report_json(FILE *out, const lv_t *L)
                   (json_int_t)n->duplicates, "stale", (json_int_t)n->stale, "unexpected",
                   (json_int_t)n->unexpected, "max_consecutive_missing", (json_int_t)n->max_consecutive,
                   "err_c4gopen_udp", n->max_consecutive >= 10U, "latency_us", "p50",
-                  c4gh_cs_lat_percentile(n, 0.5), "p99", c4gh_cs_lat_percentile(n, 0.99), "max",
+                  c4gh_hist_us(&L->lat, 0.5), "p99", c4gh_hist_us(&L->lat, 0.99), "max",
                   (double)n->lat_max * 1e-3));
-    (void)json_object_set_new(o, "num_policy", json_string(c4gh_cs_policy_name(L->policy)));
-    (void)json_object_set_new(o, "pc_policy", json_string(c4gh_cs_policy_name(L->cs.detected)));
+    (void)json_object_set_new(o, "num_policy", json_string(c4g_num_policy_name(L->policy)));
+    (void)json_object_set_new(o, "pc_policy", json_string(c4g_num_policy_name(L->cs.detected)));
     (void)json_object_set_new(o, "t_cycle1_us", json_real((double)L->c.an.t_cycle1_ns * 1e-3));
     (void)json_object_set_new(o, "divergences",
                               json_pack("{s:I, s:I, s:f, s:o, s:o}", "compared", (json_int_t)L->compared,

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-sim the process: the controller model (sim.h) and the controller side of the
- * protocol (c4g_ctrlside.h) wired to a socket, a clock, fault injection and output files.
+ * protocol (the library's controller end, c4gopen_ctrl.h) wired to a socket, a clock, fault injection and output files.
  * options.c: command line; net.c: socket and timestamps; faults.c: fault injection;
  * run.c: the tick loop; report.c: summary and CSV; main.c: the steps in order. */
 #ifndef SIM_APP_H
@@ -11,7 +11,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "c4gh_ctrlside.h"
+#include "c4gopen.h"
+#include "c4gh_hist.h"
 #include "c4gh_pcap.h"
 #include "sim.h"
 
@@ -50,7 +51,7 @@ typedef struct app_opts {
     int entry_fault; /* --entry-fault: 0 none, 1 drop, 2 truncate */
 } app_opts_t;
 
-/* The simulator's own counters (the protocol's are in c4gh_cs_t). */
+/* The simulator's own counters (the protocol's are in c4g_ctrl_t). */
 typedef struct app_stats {
     unsigned long sent;
     unsigned long fault[F_COUNT];
@@ -64,7 +65,8 @@ typedef struct app {
     sim_config_t cfg;
     sim_t sim;
     scn_t scn;
-    c4gh_cs_t cs;
+    c4g_ctrl_t cs;
+    c4gh_hist_t lat;         /* reply latencies the controller end judged ok */
     int fd;
     struct sockaddr_in srv;
     struct sockaddr_in local;

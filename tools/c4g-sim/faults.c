@@ -52,7 +52,7 @@ static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
 /* --entry-fault and --drop: 1 if the packet is lost; the entry fault may cut *len. */
 static int lost(app_t *a, const uint8_t *pkt, size_t *len)
 {
-    if (a->cs.out.kind == C4GH_CS_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
+    if (a->cs.out.kind == C4G_PKT_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
         /* the packet that opens a mode is lost or cut: the PC must not anchor on it */
         if (a->o.entry_fault == 1) {
             a->st.fault[F_DROP]++;
@@ -117,7 +117,7 @@ int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key)
     a->st.sent++;
     if (!lost(a, pkt, &len)) {
         damage(a, buf, &len);
-        if (a->cs.out.kind == C4GH_CS_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
+        if (a->cs.out.kind == C4G_PKT_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
             /* the PC echoes what went on the wire: a --corrupt byte is not a PC's own limit */
             memcpy(a->cs.out.raw, buf, C4G_INIT_SIZE);
         }

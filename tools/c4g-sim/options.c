@@ -356,7 +356,7 @@ int app_prepare(app_t *a)
     const sim_config_t *c = &a->cfg;
     const uint64_t p = (uint64_t)c->period_ms * 1000000U;
     const uint64_t b = (uint64_t)c->t_cycle1_us * 1000U;
-    c4gh_cs_config_t cc;
+    c4g_ctrl_config_t cc;
     if (parse_addr("server", c->server, c->port, &a->srv) != 0 ||
         parse_addr("bind", c->bind_addr, c->local_port, &a->local) != 0) {
         return EXIT_USAGE;
@@ -373,14 +373,18 @@ int app_prepare(app_t *a)
      * within t-cycle1 before the next tick */
     a->tol_ns = (b < p) ? ((b < p - b) ? b : p - b) : p / 2U;
     memset(&cc, 0, sizeof cc);
-    cc.policy = (c->policy == SIM_NUM_ECHO) ? C4GH_CS_NUM_ECHO
-                : (c->policy == SIM_NUM_PLUS_ONE) ? C4GH_CS_NUM_PLUS_ONE : C4GH_CS_NUM_EITHER;
+    cc.policy = (c->policy == SIM_NUM_ECHO) ? C4G_NUM_ECHO
+                : (c->policy == SIM_NUM_PLUS_ONE) ? C4G_NUM_PLUS_ONE : C4G_NUM_EITHER;
     cc.n_axes = (uint32_t)a->sim.n_axes;
     cc.t_cycle1_ns = b;
     cc.tol_ns = a->tol_ns;
     cc.max_miss = c->max_miss;
     cc.sync_before = c->sync_before;
     cc.sync_after = c->sync_after;
-    c4gh_cs_init(&a->cs, &cc);
+    if (c4g_ctrl_init(&a->cs, &cc) != C4G_OK) {
+        fprintf(stderr, "c4g-sim: %u axes: the controller end refuses them\n", (unsigned)cc.n_axes);
+        return EXIT_USAGE;
+    }
+    memset(&a->lat, 0, sizeof a->lat);
     return EXIT_OK;
 }
