@@ -166,15 +166,17 @@ c4g_num_policy_t c4g_ctrl_policy(const c4g_ctrl_t *c);
 
 /**
  * At a tick (the caller woke at @p woke_ns and passed everything that arrived): judge the
- * outstanding packet. @p suspended: replies are not checked now (active freezing). On
- * C4G_CTRL_J_OK last_lat_ns is the reply's latency.
+ * outstanding packet. @p suspended: replies are not checked now (active freezing): the
+ * verdict is C4G_CTRL_J_NONE and nothing is counted, but a valid reply is still handed over
+ * (c4g_ctrl_take_reply), since the one that ends the freezing (EXIT_FROM_OPEN) comes while
+ * the checks are suspended. On C4G_CTRL_J_OK last_lat_ns is the reply's latency.
  * @return C4G_OK, C4G_ERR_NULL.
  */
 C4G_NODISCARD c4g_status_t c4g_ctrl_judge(c4g_ctrl_t *c, uint64_t woke_ns, bool suspended,
                                           c4g_ctrl_verdict_t *out);
 /**
- * The reply judged ok at the last c4g_ctrl_judge, if the packet was cyclic; handed over
- * once. @return C4G_OK (*reply set), C4G_ERR_NULL, C4G_ERR_STATE (none: *reply NULL).
+ * The reply judged ok (or, suspended, received) at the last c4g_ctrl_judge, if the packet
+ * was cyclic; handed over once. @return C4G_OK (*reply set), C4G_ERR_NULL, C4G_ERR_STATE (none: *reply NULL).
  */
 C4G_NODISCARD c4g_status_t c4g_ctrl_take_reply(c4g_ctrl_t *c, const c4g_pc_packet_t **reply);
 

@@ -322,7 +322,11 @@ static c4g_ctrl_verdict_t judge(c4g_ctrl_t *c, uint64_t woke_ns, bool suspended)
     c4g_ctrl_verdict_t v = C4G_CTRL_J_NONE;
     if (o->active != 0U) {
         o->active = 0U;
-        if ((o->check != 0U) && !suspended) {
+        if (suspended && (o->got != 0U)) {
+            /* not checked, not counted, yet handed over: the reply that ends an active
+             * freezing (EXIT_FROM_OPEN) comes while the checks are suspended */
+            o->answered = 1U;
+        } else if ((o->check != 0U) && !suspended) {
             /* Woken past the deadline, the caller could not see it pass: a reply that was
              * there when it looked counts, and no reply is not the PC's fault alone (the
              * whole host may have stalled). */

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "c4gopen.h"
+#include "c4gsim_fixtures.h"
 
 #define MS 1000000ULL
 #define US 1000ULL
@@ -408,13 +409,24 @@ static void test_not_judged(void **st)
     emit_pkt(&c, C4G_PKT_CYCLIC, 50, 0, 2 * MS);
     assert_int_equal(cs_judge(&c, 9 * MS, 1), C4G_CTRL_J_NONE);
     assert_int_equal(c.n.missing + c.n.unjudged + c.n.replies_ok, 0);
+    assert_null(cs_take_reply(&c));
+    /* a reply that came while suspended is not counted, yet handed over: the PC's
+     * EXIT_FROM_OPEN that ends the freezing is in one (before: never handed over, so a
+     * controller taking its requests from c4g_ctrl_take_reply stayed frozen) */
+    len = pc_reply(b, sizeof b, 52);
+    emit_pkt(&c, C4G_PKT_CYCLIC, 52, 0, 2 * MS);
+    assert_int_equal(cs_reply(&c, b, len, 8 * MS), C4G_CTRL_RX_ACCEPTED);
+    assert_int_equal(cs_judge(&c, 9 * MS, 1), C4G_CTRL_J_NONE);
+    assert_int_equal(c.n.missing + c.n.unjudged + c.n.replies_ok + c.n.late + c.n.stale, 0);
+    assert_non_null(cs_take_reply(&c));
+    assert_null(cs_take_reply(&c)); /* once */
     /* 504: no reply is checked */
     len = pc_reply(b, sizeof b, 51);
     cs_emit(&c, C4G_PKT_CYCLIC, 51, b, len, 0, 2 * MS);
     assert_int_equal(cs_reply(&c, b, len, 2 * MS + 1), C4G_CTRL_RX_UNEXPECTED);
     assert_int_equal(cs_judge(&c, 9 * MS, 0), C4G_CTRL_J_NONE);
     assert_int_equal(c.n.missing, 0);
-    assert_int_equal(c.n.cyclic_sent, 2);
+    assert_int_equal(c.n.cyclic_sent, 3);
 }
 
 static void test_max_miss_is_fatal(void **st)
@@ -451,9 +463,143 @@ static void test_send_stamp(void **st)
     assert_int_equal(c.out.sent_ns, 800 * US);
 }
 
+/* ---- argument checks ---- */
+
+static void test_ctrl_arguments(void **st)
+{
+    c4g_ctrl_config_t cfg = config(C4G_NUM_EITHER);
+    c4g_ctrl_t c;
+    c4g_ctrl_rx_t r;
+    c4g_ctrl_verdict_t v;
+    const c4g_pc_packet_t *p = NULL;
+    uint8_t b[8] = {0};
+    (void)st;
+    assert_int_equal(c4g_ctrl_init(NULL, &cfg), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_init(&c, NULL), C4G_ERR_NULL);
+    cfg.n_axes = C4G_MAX_AXES + 1U;
+    assert_int_equal(c4g_ctrl_init(&c, &cfg), C4G_ERR_ARG);
+    cfg.n_axes = 2U;
+    cfg.policy = (c4g_num_policy_t)3;
+    assert_int_equal(c4g_ctrl_init(&c, &cfg), C4G_ERR_ARG);
+    cfg.policy = C4G_NUM_EITHER;
+    cfg.sync_before = 0U; /* no sync packets: the init packet comes first */
+    cs_init(&c, &cfg);
+    assert_int_equal(c4g_ctrl_next_kind(&c), C4G_PKT_INIT);
+    assert_int_equal(c4g_ctrl_advance(NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_restart(NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_emit(NULL, C4G_PKT_SYNC, 1, b, 8U, true, 0U), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_emit(&c, C4G_PKT_SYNC, 1, NULL, 8U, true, 0U), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_emit(&c, C4G_PKT_FOREIGN, 1, b, 8U, true, 0U), C4G_ERR_ARG);
+    assert_int_equal(c.out.active, 0);
+    assert_int_equal(c4g_ctrl_set_deadline(NULL, 1U), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_set_deadline(&c, 1U), C4G_ERR_STATE); /* nothing outstanding */
+    assert_int_equal(c4g_ctrl_sent_stamp(NULL, 1U, 1U), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_sent_stamp(&c, 1U, 1U), C4G_ERR_STATE);
+    assert_int_equal(c4g_ctrl_emit(&c, C4G_PKT_SYNC, 1, NULL, 0U, true, 5U), C4G_OK); /* no bytes */
+    assert_int_equal(c.out.len, 0);
+    assert_int_equal(c4g_ctrl_reply(NULL, b, 8U, 0U, &r), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_reply(&c, b, 8U, 0U, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_reply(&c, NULL, 8U, 0U, &r), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_foreign(NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_judge(NULL, 0U, false, &v), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_judge(&c, 0U, false, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_take_reply(NULL, &p), C4G_ERR_NULL);
+    assert_int_equal(c4g_ctrl_take_reply(&c, NULL), C4G_ERR_NULL);
+    assert_int_equal(c.n.rx_total, 0);
+}
+
+/* ---- NUM arithmetic and policy names ---- */
+
+static void test_num_module(void **st)
+{
+    c4g_num_policy_t p = C4G_NUM_ECHO;
+    (void)st;
+    assert_int_equal(c4g_num_next(C4G_NUM_MAX), 0);
+    assert_int_equal(c4g_num_next(-1), 0);
+    assert_int_equal(c4g_num_delta(C4G_NUM_MAX, 0), 1);
+    assert_int_equal(c4g_num_delta(0, C4G_NUM_MAX), C4G_NUM_MAX); /* one behind */
+    assert_int_equal(c4g_num_delta(5, 5), 0);
+    assert_int_equal(c4g_num_delta(INT32_MIN, INT32_MAX), C4G_NUM_MAX); /* raw fields */
+    assert_int_equal(c4g_reply_num(C4G_NUM_MAX, C4G_NUM_PLUS_ONE), 1);
+    assert_int_equal(c4g_reply_num(-3, C4G_NUM_PLUS_ONE), 1);
+    assert_int_equal(c4g_reply_num(7, C4G_NUM_ECHO), 7);
+    assert_int_equal(c4g_reply_num(7, C4G_NUM_EITHER), 7);
+    assert_true(c4g_num_accepts(C4G_NUM_PLUS_ONE, C4G_NUM_MAX, 1));
+    assert_false(c4g_num_accepts(C4G_NUM_PLUS_ONE, C4G_NUM_MAX, 0));
+    assert_true(c4g_num_accepts(C4G_NUM_EITHER, 9, 9));
+    assert_true(c4g_num_accepts(C4G_NUM_EITHER, 9, 10));
+    assert_false(c4g_num_accepts(C4G_NUM_EITHER, 9, 11));
+    /* a reply to the packet before, under each policy; across the wrap */
+    assert_true(c4g_num_answers_recent(C4G_NUM_ECHO, 0, C4G_NUM_MAX, 1));
+    assert_false(c4g_num_answers_recent(C4G_NUM_PLUS_ONE, 0, C4G_NUM_MAX, 1));
+    assert_true(c4g_num_answers_recent(C4G_NUM_PLUS_ONE, 1, 1, 1));
+    assert_false(c4g_num_answers_recent(C4G_NUM_ECHO, 1, 1, 1));
+    assert_true(c4g_num_answers_recent(C4G_NUM_EITHER, 1, 1, 1));
+    assert_false(c4g_num_answers_recent(C4G_NUM_EITHER, 100, 50, 10));
+    assert_string_equal(c4g_num_policy_name(C4G_NUM_EITHER), "either");
+    assert_string_equal(c4g_num_policy_name(3), "unknown");
+    assert_int_equal(c4g_num_policy_parse("plus-one", &p), C4G_OK);
+    assert_int_equal(p, C4G_NUM_PLUS_ONE);
+    assert_int_equal(c4g_num_policy_parse("either", &p), C4G_OK);
+    assert_int_equal(p, C4G_NUM_EITHER);
+    assert_int_equal(c4g_num_policy_parse("echoes", &p), C4G_ERR_ARG);
+    assert_int_equal(c4g_num_policy_parse("ech", &p), C4G_ERR_ARG);
+    assert_int_equal(c4g_num_policy_parse("", &p), C4G_ERR_ARG);
+    assert_int_equal(p, C4G_NUM_EITHER);
+    assert_int_equal(c4g_num_policy_parse(NULL, &p), C4G_ERR_NULL);
+    assert_int_equal(c4g_num_policy_parse("echo", NULL), C4G_ERR_NULL);
+}
+
+/* ---- the datagram classifier ---- */
+
+static void test_peek(void **st)
+{
+    uint8_t b[C4G_INIT_SIZE];
+    c4g_peek_t k;
+    c4g_init_t init;
+    size_t len = 0U;
+    (void)st;
+    assert_int_equal(c4gsim_fig10_1(&init), C4G_OK);
+    assert_int_equal(c4g_init_encode(&init, b, sizeof b, &len), C4G_OK);
+    assert_int_equal(c4g_peek(b, len, false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_INIT);
+    assert_int_equal(k.num, C4G_INIT_NUM);
+    assert_int_equal(k.n_axes, 0);
+    b[4] = 4U; /* nFieldPck 4: 1200 bytes, not an init packet, not a cyclic size */
+    assert_int_equal(c4g_peek(b, len, true, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    b[4] = 3U;
+    b[8] = 8U; /* nFieldAx */
+    assert_int_equal(c4g_peek(b, len, true, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    dgram(b, C4G_CYCLIC_SIZE(6U), 77);
+    assert_int_equal(c4g_peek(b, C4G_CYCLIC_SIZE(6U), true, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_SYNC);
+    assert_int_equal(k.n_axes, 6);
+    assert_int_equal(k.num, 77);
+    assert_int_equal(c4g_peek(b, C4G_CYCLIC_SIZE(20U), false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_CYCLIC);
+    assert_int_equal(k.n_axes, 20);
+    assert_int_equal(c4g_peek(b, C4G_CYCLIC_SIZE(6U) + 1U, false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    assert_int_equal(c4g_peek(b, C4G_HEADER_SIZE, false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    assert_int_equal(c4g_peek(b, C4G_CYCLIC_SIZE(21U), false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    assert_int_equal(c4g_peek(b, 3U, false, &k), C4G_OK);
+    assert_int_equal(k.num, -1);
+    assert_int_equal(c4g_peek(NULL, 0U, false, &k), C4G_OK);
+    assert_int_equal(k.kind, C4G_PKT_FOREIGN);
+    assert_int_equal(c4g_peek(NULL, 4U, false, &k), C4G_ERR_NULL);
+    assert_int_equal(c4g_peek(b, 4U, false, NULL), C4G_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ctrl_arguments),
+        cmocka_unit_test(test_num_module),
+        cmocka_unit_test(test_peek),
         cmocka_unit_test(test_handshake_start_and_restart),
         cmocka_unit_test(test_handshake_no_syncs_and_wrap),
         cmocka_unit_test(test_num_policies),
