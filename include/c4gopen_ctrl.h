@@ -72,12 +72,25 @@ typedef struct c4g_ctrl_config {
 
 /** Controller end counters: readable at any time. */
 typedef struct c4g_ctrl_counters {
-    uint64_t sync_sent, init_sent, cyclic_sent;
+    uint64_t sync_sent;      /**< packets emitted, by kind */
+    uint64_t init_sent;
+    uint64_t cyclic_sent;
     uint64_t rx_total;       /**< datagrams handed to c4g_ctrl_reply / c4g_ctrl_foreign */
-    uint64_t replies_ok, missing, late, unjudged;
-    uint64_t wrong_num, malformed, foreign, duplicates, stale, unexpected;
-    uint64_t consecutive, max_consecutive; /**< packets without a reply in a row */
-    uint64_t lat_min, lat_max, lat_sum;    /**< ns, over the replies judged ok */
+    uint64_t replies_ok;     /**< packets whose reply came by the deadline */
+    uint64_t missing;        /**< ... whose reply did not: the PC's fault */
+    uint64_t late;           /**< replies ok but later than t_cycle1 */
+    uint64_t unjudged;       /**< no reply by a deadline the caller itself woke past */
+    uint64_t wrong_num;      /**< datagrams by what c4g_ctrl_reply found (c4g_ctrl_rx_t) */
+    uint64_t malformed;
+    uint64_t foreign;
+    uint64_t duplicates;
+    uint64_t stale;          /**< stale NUMs, and replies that came after their deadline */
+    uint64_t unexpected;
+    uint64_t consecutive;    /**< packets without a reply in a row, now */
+    uint64_t max_consecutive;/**< and at most */
+    uint64_t lat_min;        /**< ns, over the replies judged ok */
+    uint64_t lat_max;
+    uint64_t lat_sum;
 } c4g_ctrl_counters_t;
 
 /** The packet whose reply is awaited. */
@@ -138,7 +151,8 @@ C4G_NODISCARD c4g_status_t c4g_ctrl_restart(c4g_ctrl_t *c);
  * Packet NUM @p num left at @p sent_ns: its reply is awaited (@p check 0: not checked, as
  * after 504). Counts it. @p buf is the packet as encoded (the init echo is compared with
  * it; bytes beyond C4G_INIT_SIZE are not kept).
- * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (kind is not sync, init or cyclic).
+ * @return C4G_OK, C4G_ERR_NULL (no c or buf), C4G_ERR_ARG (kind is not sync, init or
+ *         cyclic: nothing changes).
  */
 C4G_NODISCARD c4g_status_t c4g_ctrl_emit(c4g_ctrl_t *c, c4g_pkt_kind_t kind, int32_t num,
                                          const uint8_t *buf, size_t len, bool check,

@@ -110,6 +110,16 @@ typedef struct c4g_pc_packet {
     c4g_pc_axis_t ax[C4G_MAX_AXES];
 } c4g_pc_packet_t;
 
+/** @name The wire's little-endian 32-bit words (every field of a datagram is one) */
+/**@{*/
+/** The unsigned word at @p p (4 bytes are read). */
+uint32_t c4g_le_u32(const uint8_t *p);
+/** The signed word at @p p (NUM, SMax, the init packet's integers). */
+int32_t c4g_le_i32(const uint8_t *p);
+/** The IEEE 754 single at @p p (D1..D5, EXT, the init packet's floats), bit for bit. */
+float c4g_le_f32(const uint8_t *p);
+/**@}*/
+
 /** The per-arm byte @p arm (0..3) of an INFPAR or CMD word; 0 for arm > 3. */
 uint8_t c4g_arm_byte(uint32_t word, uint32_t arm);
 /** @p word with the byte of @p arm (0..3) replaced by @p value; unchanged for arm > 3. */

@@ -79,16 +79,28 @@ void c4gh_an_free(c4gh_an_t *a)
 
 /* ---- helpers ------------------------------------------------------------- */
 
-static int is_cyclic_size(size_t len)
+/* The shape of a datagram, by the library's classifier. */
+static c4g_peek_t peek(const uint8_t *d, size_t len)
 {
-    return len >= C4G_CYCLIC_SIZE(1U) && len <= C4G_MAX_CYCLIC_SIZE &&
-           (len - C4G_HEADER_SIZE) % C4G_AXIS_SIZE == 0U;
+    c4g_peek_t k;
+    if (c4g_peek(d, len, false, &k) != C4G_OK) {
+        k.kind = C4G_PKT_FOREIGN; /* no bytes */
+        k.num = -1;
+        k.n_axes = 0U;
+    }
+    return k;
 }
 
+static int is_cyclic_size(const uint8_t *d, size_t len)
+{
+    return peek(d, len).kind == C4G_PKT_CYCLIC;
+}
+
+/* An initialization packet (NUM 10) or its echo (11). */
 static int looks_init(const uint8_t *d, size_t len)
 {
-    return len == C4G_INIT_SIZE && (c4gh_an_le_i32(d) == 10 || c4gh_an_le_i32(d) == 11) && c4gh_an_le_i32(d + 4) == 3 &&
-           c4gh_an_le_i32(d + 8) == 9;
+    const c4g_peek_t k = peek(d, len);
+    return k.kind == C4G_PKT_INIT && (k.num == C4G_INIT_NUM || k.num == C4G_INIT_NUM + 1);
 }
 
 static int zero_body(const uint8_t *d, size_t len)
@@ -449,7 +461,7 @@ static void ctrl_data(c4gh_an_session_t *s, const c4g_ctrl_packet_t *rx, const c
 static void diag_finding(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, const char *who, c4g_status_t st,
                          const c4g_diag_t *d)
 {
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     c4gh_an_kind_t k = AN_K_MALFORMED;
     char axis[32] = "";
     if (st == C4G_ERR_NONFINITE) {
@@ -470,7 +482,7 @@ static void diag_finding(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, const ch
 static void new_controller_tick(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, c4g_pkt_kind_t kind,
                                 int check)
 {
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     const size_t n = (p->len <= sizeof s->ctrl_raw) ? p->len : sizeof s->ctrl_raw;
     memcpy(s->ctrl_raw, p->payload, n);
     s->ctrl_len = n;
@@ -513,7 +525,7 @@ static void ctrl_cyclic(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
 {
     c4g_diag_t d;
     c4g_status_t st;
-    const int32_t num = c4gh_an_le_i32(p->payload);
+    const int32_t num = c4g_le_i32(p->payload);
     int repeat;
     ctrl_num_seq(s, p, num, &repeat);
     if (repeat) {
@@ -525,13 +537,13 @@ static void ctrl_cyclic(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
         finding(s, AN_K_SILENCE, p, num, (double)(p->ts_ns - s->ctrl_ns) * 1e-9,
                 "no controller packet for %.3f s before NUM %d (after NUM %d, frame %llu)",
                 (double)(p->ts_ns - s->ctrl_ns) * 1e-9, (int)num,
-                (s->ctrl_len >= 4U) ? (int)c4gh_an_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
+                (s->ctrl_len >= 4U) ? (int)c4g_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
     }
     judge(a, s, p->ts_ns, p, 0);
     s->ctrl_cyclic++;
     s->cyclic_started = 1;
     if (s->n_axes == 0U) {
-        s->n_axes = (uint32_t)((p->len - C4G_HEADER_SIZE) / C4G_AXIS_SIZE);
+        s->n_axes = peek(p->payload, p->len).n_axes;
         synthetic_map(s, s->n_axes);
         arms_setup(s);
         s->cs.cfg.n_axes = s->n_axes;
@@ -588,7 +600,7 @@ static void ctrl_sync(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *
     if (s->post_sync > 0U) {
         s->post_sync--;
     }
-    s->ctrl_num = c4gh_an_le_i32(p->payload);
+    s->ctrl_num = c4g_le_i32(p->payload);
     new_controller_tick(s, p, C4G_PKT_SYNC, 1);
 }
 
@@ -605,9 +617,9 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
 {
     c4gh_an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
     const int init = (p->len == C4G_INIT_SIZE);
-    const int cyc = is_cyclic_size(p->len);
+    const int cyc = is_cyclic_size(p->payload, p->len);
     const int sync = cyc && zero_body(p->payload, p->len);
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     /* the controller counts NUM 0..0x7FFF: anything else is not a packet of the session
      * (no tick, no restart, no NUM arithmetic on it) */
     const int num_bad = (init || cyc) && (num < 0 || num > 0x7FFF);
@@ -617,7 +629,7 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
         if (init && (s->have_init || s->cyclic_started)) {
             session_close(a, s, p, s->cyclic_started ? "506 restart" : "init repeated");
             s = NULL;
-        } else if (sync && s->cyclic_started && c4gh_an_le_i32(p->payload) <= 9) {
+        } else if (sync && s->cyclic_started && c4g_le_i32(p->payload) <= 9) {
             session_close(a, s, p, "cold restart");
             s = NULL;
         } else {
@@ -644,7 +656,7 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
         ctrl_cyclic(a, s, p);
     } else {
         s->ctrl_other++;
-        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1, (double)p->len,
+        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? c4g_le_i32(p->payload) : -1, (double)p->len,
                 "controller datagram of %u bytes: not 12 + 36 n, not 1200", (unsigned)p->len);
     }
 }
@@ -815,7 +827,7 @@ static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4
 {
     c4gh_an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
     c4g_ctrl_rx_t r;
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     if (s == NULL) {
         s = session_new(a, fl, file, p);
         if (s == NULL) {
@@ -931,7 +943,7 @@ static void dispatch(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c
         c4gh_cap_pkt_t q = *p;
         a->step_pending = 0;
         q.frame = a->step_frame;
-        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1,
+        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? c4g_le_i32(p->payload) : -1,
                 (double)a->step_ns * 1e-9,
                 "frame %llu is stamped %.6f s before the frame ahead of it (the capture's clock "
                 "went back): analysed in capture order, its time and every later one moved %.6f s "
@@ -968,12 +980,12 @@ static int decide(const c4gh_an_t *a, const c4gh_an_flow_t *fl, int final)
         /* the initialization packet (NUM 10) comes from the controller; its plus-one echo
          * (NUM 11) from the PC */
         if (looks_init(h->data, h->p.len)) {
-            const int from_ctrl = (c4gh_an_le_i32(h->data) == C4G_INIT_NUM);
+            const int from_ctrl = (c4g_le_i32(h->data) == C4G_INIT_NUM);
             return (side == 0) == from_ctrl ? 1 : 0;
         }
         /* a 732-byte answer to a shorter cyclic-shaped packet is the PC's sync reply */
         if (h->p.len == C4G_SYNC_REPLY_SIZE && i > 0U && last[1 - side] >= 0 &&
-            fl->held[i - 1U].p.len < C4G_SYNC_REPLY_SIZE && is_cyclic_size(fl->held[i - 1U].p.len)) {
+            fl->held[i - 1U].p.len < C4G_SYNC_REPLY_SIZE && is_cyclic_size(fl->held[i - 1U].data, fl->held[i - 1U].p.len)) {
             return side == 0 ? 0 : 1;
         }
         if (last[1 - side] >= 0) {
@@ -1090,10 +1102,10 @@ static int c4g_shaped(const c4gh_an_t *a, const c4gh_cap_pkt_t *p)
         if (h->used || (!fwd && !back)) {
             continue;
         }
-        if (!is_cyclic_size(h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
+        if (!is_cyclic_size(h->data, h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
             return 0;
         }
-        num = c4gh_an_le_i32(h->data);
+        num = c4g_le_i32(h->data);
         if (num < 0 || num > 0x7FFF) {
             return 0;
         }
@@ -1140,7 +1152,7 @@ static void datagram(c4gh_an_t *a, const char *file, const c4gh_cap_pkt_t *p)
         if (!port_listed(a, p->src_port) && !port_listed(a, p->dst_port) && !init) {
             a->other_udp++;
             remember(a, p);
-            if (!is_cyclic_size(p->len) || !c4g_shaped(a, p) || a->n_flows >= C4GH_AN_MAX_FLOWS) {
+            if (!is_cyclic_size(p->payload, p->len) || !c4g_shaped(a, p) || a->n_flows >= C4GH_AN_MAX_FLOWS) {
                 return;
             }
             /* found by its shape: the datagrams in the ring (this one the last) are its start */
@@ -1157,7 +1169,7 @@ static void datagram(c4gh_an_t *a, const char *file, const c4gh_cap_pkt_t *p)
             /* the initialization packet comes from the controller; a first one carrying
              * NUM 11 is the PC's plus-one echo of an init packet the capture lost (a
              * fragment, a drop): its receiver is the controller */
-            fl->ctrl_is_a = (c4gh_an_le_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
+            fl->ctrl_is_a = (c4g_le_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
             take_recent(a, fl, file);
         }
     }

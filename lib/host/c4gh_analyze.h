@@ -26,19 +26,13 @@
 #define C4GH_AN_RECENT 64U        /* other UDP datagrams remembered: a flow found by its init
                               * packet takes the synchronization packets before it */
 
-/* The wire's little-endian words (every field of a C4G Open datagram is 32 bits). */
-static inline uint32_t c4gh_an_le_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
-static inline int32_t c4gh_an_le_i32(const uint8_t *p) { return (int32_t)c4gh_an_le_u32(p); }
+/* A float from its bits (words read with c4g_le_u32). */
 static inline float c4gh_an_f32_bits(uint32_t u)
 {
     float f;
     memcpy(&f, &u, sizeof f);
     return f;
 }
-static inline float c4gh_an_le_f32(const uint8_t *p) { return c4gh_an_f32_bits(c4gh_an_le_u32(p)); }
 
 /* Kinds of finding: the names are what --allow takes. */
 #define C4GH_AN_KINDS(X)                                                                          \

@@ -1,7 +1,22 @@
 /* SPDX-License-Identifier: MIT */
-/* Cyclic packet codec (both directions), per-arm bytes, neutral reply. */
+/* Cyclic packet codec (both directions), the wire's words, per-arm bytes, neutral reply. */
 #include "../c4g_internal.h"
 #include "c4g_wire_hot.h"
+
+uint32_t c4g_le_u32(const uint8_t *p)
+{
+    return c4g_get_u32le(p);
+}
+
+int32_t c4g_le_i32(const uint8_t *p)
+{
+    return c4g_get_i32le(p);
+}
+
+float c4g_le_f32(const uint8_t *p)
+{
+    return c4g_f32_from_bits(c4g_get_u32le(p));
+}
 
 #define AXIS_FLOATS 8U
 

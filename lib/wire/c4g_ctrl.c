@@ -104,7 +104,7 @@ c4g_status_t c4g_ctrl_emit(c4g_ctrl_t *c, c4g_pkt_kind_t kind, int32_t num, cons
                            size_t len, bool check, uint64_t sent_ns)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((c != NULL) && ((buf != NULL) || (len == 0U))) {
+    if ((c != NULL) && (buf != NULL)) {
         c4g_ctrl_outstanding_t *o = &c->out;
         st = C4G_OK;
         if (kind == C4G_PKT_SYNC) {
@@ -125,9 +125,7 @@ c4g_status_t c4g_ctrl_emit(c4g_ctrl_t *c, c4g_pkt_kind_t kind, int32_t num, cons
             o->got = 0U;
             o->deadline_ns = UINT64_MAX; /* the caller sets it once the next tick is known */
             o->len = (len <= sizeof o->raw) ? len : sizeof o->raw;
-            if (o->len > 0U) {
-                (void)memcpy(o->raw, buf, o->len);
-            }
+            (void)memcpy(o->raw, buf, o->len);
             o->sent_ns = sent_ns;
         }
     }
@@ -338,6 +336,8 @@ static c4g_ctrl_verdict_t judge(c4g_ctrl_t *c, uint64_t woke_ns, bool suspended)
             } else {
                 v = count_none(c, own_late);
             }
+        } else {
+            /* not checked (504), or suspended without a reply */
         }
     }
     return v;

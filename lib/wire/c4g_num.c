@@ -47,7 +47,8 @@ bool c4g_num_answers_recent(c4g_num_policy_t policy, int32_t cur, int32_t got, i
 {
     /* echo: got answers packet got; plus-one: packet got - 1 (one further back) */
     const int32_t d_echo = c4g_num_delta(got, cur);
-    const int32_t d_plus = (int32_t)(((uint32_t)d_echo + 1U) & NUM_MASK);
+    const uint32_t plus_u = ((uint32_t)d_echo + 1U) & NUM_MASK;
+    const int32_t d_plus = (int32_t)plus_u;
     const bool echo = (policy != C4G_NUM_PLUS_ONE) && (d_echo >= 1) && (d_echo <= window);
     const bool plus = (policy != C4G_NUM_ECHO) && (d_plus >= 1) && (d_plus <= window);
     return echo || plus;

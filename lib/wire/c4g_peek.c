@@ -7,8 +7,12 @@ c4g_status_t c4g_peek(const uint8_t *buf, size_t len, bool startup, c4g_peek_t *
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((out != NULL) && ((buf != NULL) || (len == 0U))) {
-        const size_t body = (len >= C4G_HEADER_SIZE) ? (len - C4G_HEADER_SIZE) : 0U;
-        const size_t n = body / C4G_AXIS_SIZE;
+        size_t body = 0U;
+        size_t n;
+        if (len >= C4G_HEADER_SIZE) {
+            body = len - C4G_HEADER_SIZE;
+        }
+        n = body / C4G_AXIS_SIZE;
         out->kind = C4G_PKT_FOREIGN;
         out->num = (len >= 4U) ? c4g_get_i32le(buf) : -1;
         out->n_axes = 0U;

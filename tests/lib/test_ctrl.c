@@ -495,8 +495,10 @@ static void test_ctrl_arguments(void **st)
     assert_int_equal(c4g_ctrl_set_deadline(&c, 1U), C4G_ERR_STATE); /* nothing outstanding */
     assert_int_equal(c4g_ctrl_sent_stamp(NULL, 1U, 1U), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_sent_stamp(&c, 1U, 1U), C4G_ERR_STATE);
-    assert_int_equal(c4g_ctrl_emit(&c, C4G_PKT_SYNC, 1, NULL, 0U, true, 5U), C4G_OK); /* no bytes */
+    assert_int_equal(c4g_ctrl_emit(&c, C4G_PKT_SYNC, 1, b, 0U, true, 5U), C4G_OK); /* no bytes */
     assert_int_equal(c.out.len, 0);
+    assert_int_equal(c4g_ctrl_reply(&c, NULL, 0U, 6U, &r), C4G_OK);
+    assert_int_equal(r, C4G_CTRL_RX_SHORT);
     assert_int_equal(c4g_ctrl_reply(NULL, b, 8U, 0U, &r), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_reply(&c, b, 8U, 0U, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_reply(&c, NULL, 8U, 0U, &r), C4G_ERR_NULL);
@@ -505,7 +507,7 @@ static void test_ctrl_arguments(void **st)
     assert_int_equal(c4g_ctrl_judge(&c, 0U, false, NULL), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_take_reply(NULL, &p), C4G_ERR_NULL);
     assert_int_equal(c4g_ctrl_take_reply(&c, NULL), C4G_ERR_NULL);
-    assert_int_equal(c.n.rx_total, 0);
+    assert_int_equal(c.n.rx_total, 1);
 }
 
 /* ---- NUM arithmetic and policy names ---- */
@@ -592,6 +594,18 @@ static void test_peek(void **st)
     assert_int_equal(k.kind, C4G_PKT_FOREIGN);
     assert_int_equal(c4g_peek(NULL, 4U, false, &k), C4G_ERR_NULL);
     assert_int_equal(c4g_peek(b, 4U, false, NULL), C4G_ERR_NULL);
+    /* the wire's words, as the tools read them */
+    b[0] = 0x78U;
+    b[1] = 0x56U;
+    b[2] = 0x34U;
+    b[3] = 0x92U;
+    assert_int_equal(c4g_le_u32(b), 0x92345678U);
+    assert_int_equal(c4g_le_i32(b), (int32_t)0x92345678U);
+    b[0] = 0x00U;
+    b[1] = 0x00U;
+    b[2] = 0xC0U;
+    b[3] = 0x3FU;
+    assert_true(c4g_le_f32(b) == 1.5F);
 }
 
 int main(void)

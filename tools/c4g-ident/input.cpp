@@ -42,7 +42,7 @@ bool is_capture(const std::string &path)
     const size_t n = std::fread(m, 1, 4, f);
     std::fclose(f);
     if (n < 4) return false;
-    const uint32_t le = m[0] | (m[1] << 8) | (m[2] << 16) | (static_cast<uint32_t>(m[3]) << 24);
+    const uint32_t le = c4g_le_u32(m);
     return le == 0xa1b2c3d4U || le == 0xd4c3b2a1U || le == 0xa1b23c4dU || le == 0x4d3cb2a1U || le == 0x0a0d0d0aU;
 }
 

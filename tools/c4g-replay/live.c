@@ -319,7 +319,7 @@ static void compare(lv_t *L, const c4g_pc_packet_t *live)
     if (!P->has_rec) {
         divergence(L, &nd, LV_F_REPLY, 0U, "none", "a valid reply");
     } else if (P->kind != C4G_PKT_CYCLIC) {
-        cmp_int(L, &nd, LV_F_NUM, 0U, c4gh_an_le_i32(P->rec_raw), c4gh_an_le_i32(L->live_raw), 0);
+        cmp_int(L, &nd, LV_F_NUM, 0U, c4g_le_i32(P->rec_raw), c4g_le_i32(L->live_raw), 0);
         if (P->rec_len != L->live_len || memcmp(P->rec_raw + 4, L->live_raw + 4, P->rec_len - 4U) != 0) {
             char a[24], b[24];
             (void)snprintf(a, sizeof a, "%u bytes", (unsigned)P->rec_len);
@@ -362,7 +362,7 @@ static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d,
 {
     lv_t *L = ctx;
     lv_pending_t *P = &L->pend;
-    const int32_t num = (len >= 4U) ? c4gh_an_le_i32(d) : -1;
+    const int32_t num = (len >= 4U) ? c4g_le_i32(d) : -1;
     const c4g_num_policy_t pol = (s->cs.detected >= 0) ? (c4g_num_policy_t)s->cs.detected : C4G_NUM_PLUS_ONE;
     (void)ns;
     (void)frame;
@@ -449,7 +449,7 @@ static void send_packet(lv_t *L, const c4gh_an_exchange_t *x, uint64_t sched)
     uint32_t i;
     uint64_t t;
     ssize_t n;
-    const int32_t num = c4gh_an_le_i32(x->ctrl);
+    const int32_t num = c4g_le_i32(x->ctrl);
     /* the controller does not wait for the reply to 504 (the analysis' rule) */
     for (i = 0U; x->rx != NULL && i < x->rx->n_axes; i++) {
         if (x->rx->ax[i].mode == C4G_MODE_EXIT_OPEN) {

@@ -62,7 +62,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
             fprintf(p->data, " NaN");
             continue;
         }
-        v = (p->field_k[k] == 0U) ? (double)c4gh_an_le_i32(d + off) : (double)c4gh_an_le_f32(d + off);
+        v = (p->field_k[k] == 0U) ? (double)c4g_le_i32(d + off) : (double)c4g_le_f32(d + off);
         if (isfinite(v)) {
             fprintf(p->data, " %.9g", v);
         } else {

@@ -190,7 +190,7 @@ static void div_where(rr_div_t *d, const rr_pkt_t *p)
     d->session = p->session;
     d->tick = p->tick;
     d->kind = p->kind;
-    d->num = (p->ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(p->ctrl) : -1;
+    d->num = (p->ctrl_len >= 4U) ? (int32_t)c4g_le_u32(p->ctrl) : -1;
     d->frame = p->ctrl_frame;
     d->t_s = (double)(p->ctrl_ns - p->s->first_ns) * 1e-9;
 }
@@ -280,7 +280,7 @@ static int compare_words(rr_t *R, const rr_pkt_t *p, const uint8_t *rec, const u
     unsigned w;
     int diverged = 0;
     for (w = 0U; w < (unsigned)(n / 4U); w++) {
-        const uint32_t a = c4gh_an_le_u32(rec + 4U * w), b = c4gh_an_le_u32(out + 4U * w);
+        const uint32_t a = c4g_le_u32(rec + 4U * w), b = c4g_le_u32(out + 4U * w);
         rr_div_t d;
         int axis = -1;
         rr_field_t f;
@@ -415,7 +415,7 @@ static void on_late(void *ctx, const c4gh_an_session_t *s, const uint8_t *d, siz
                     uint64_t frame)
 {
     rr_t *R = ctx;
-    const int32_t num = (len >= 4U) ? (int32_t)c4gh_an_le_u32(d) : -1;
+    const int32_t num = (len >= 4U) ? (int32_t)c4g_le_u32(d) : -1;
     const int policy = (s->cs.detected >= 0) ? s->cs.detected
                                               : ((R->c.an.num_policy == C4G_NUM_ECHO) ? C4G_NUM_ECHO
                                                                                       : C4G_NUM_PLUS_ONE);
@@ -424,7 +424,7 @@ static void on_late(void *ctx, const c4gh_an_session_t *s, const uint8_t *d, siz
     (void)frame;
     for (k = 0U; k < RR_PENDING; k++) {
         rr_pending_t *e = &R->pending[(R->pend_next + RR_PENDING - 1U - k) % RR_PENDING];
-        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(e->p.ctrl) : -1;
+        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)c4g_le_u32(e->p.ctrl) : -1;
         rr_sess_t *ss;
         int diverged = 0;
         if (!e->used || e->p.s != s ||
