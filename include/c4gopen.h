@@ -11,7 +11,9 @@
  *
  * LAYERS (one header each; this umbrella includes them all)
  *   c4gopen_base.h     version, the one status type, c4g_strerror
- *   c4gopen_wire.h     packets, initialization packet, mode vocabulary, session
+ *   c4gopen_wire.h     packets, initialization packet, mode vocabulary, NUM policy,
+ *                      datagram classifier, session (the PC end)
+ *   c4gopen_ctrl.h     the controller end: handshake driver, reply checks, deadlines
  *   c4gopen_engine.h   engine: mode state machines, packet rules, safety
  *                      filter, kinematics, soft control switching, monitoring
  *   c4gopen_loop.h     the PC-side loop object: session + engine in one
@@ -39,6 +41,7 @@
 
 #include "c4gopen_base.h"
 #include "c4gopen_wire.h"
+#include "c4gopen_ctrl.h"
 #include "c4gopen_engine.h"
 #include "c4gopen_loop.h"
 #include "c4gopen_cell.h"

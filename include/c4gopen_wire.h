@@ -110,6 +110,16 @@ typedef struct c4g_pc_packet {
     c4g_pc_axis_t ax[C4G_MAX_AXES];
 } c4g_pc_packet_t;
 
+/** @name The wire's little-endian 32-bit words (every field of a datagram is one) */
+/**@{*/
+/** The unsigned word at @p p (4 bytes are read). */
+uint32_t c4g_le_u32(const uint8_t *p);
+/** The signed word at @p p (NUM, SMax, the init packet's integers). */
+int32_t c4g_le_i32(const uint8_t *p);
+/** The IEEE 754 single at @p p (D1..D5, EXT, the init packet's floats), bit for bit. */
+float c4g_le_f32(const uint8_t *p);
+/**@}*/
+
 /** The per-arm byte @p arm (0..3) of an INFPAR or CMD word; 0 for arm > 3. */
 uint8_t c4g_arm_byte(uint32_t word, uint32_t arm);
 /** @p word with the byte of @p arm (0..3) replaced by @p value; unchanged for arm > 3. */
@@ -215,14 +225,74 @@ typedef struct c4g_axis_map {
 C4G_NODISCARD c4g_status_t c4g_axis_map_build(const c4g_init_t *init, c4g_axis_map_t *map,
                                 c4g_diag_t *diag);
 
-/** Reply sequence-number policy. */
+/* ====================================================================== peek */
+
+/** What a datagram is, by its length and content (c4g_peek). */
+typedef enum c4g_pkt_kind {
+    C4G_PKT_SYNC = 0,   /**< a synchronization packet, or the PC's reply to one */
+    C4G_PKT_INIT = 1,   /**< the 1200-byte initialization packet, or its echo */
+    C4G_PKT_CYCLIC = 2, /**< a cyclic packet of 1..20 axes (12 + 36 n bytes) */
+    C4G_PKT_FOREIGN = 3 /**< none of these: not C4G Open */
+} c4g_pkt_kind_t;
+
+/** c4g_peek's findings. */
+typedef struct c4g_peek {
+    c4g_pkt_kind_t kind;
+    int32_t num;        /**< the NUM word, -1 under 4 bytes */
+    uint32_t n_axes;    /**< SYNC, CYCLIC: axes implied by the length; else 0 */
+} c4g_peek_t;
+
+/**
+ * Classify a datagram without decoding it: 1200 bytes with nFieldPck 3 and nFieldAx 9 is
+ * INIT; 12 + 36 n bytes (n 1..20) is SYNC while @p startup (before the initialization
+ * packet, as the field library treats every other datagram then), else CYCLIC; anything
+ * else is FOREIGN. The reader still decodes (and may refuse) what it keeps.
+ * @return C4G_OK, C4G_ERR_NULL.
+ */
+C4G_NODISCARD c4g_status_t c4g_peek(const uint8_t *buf, size_t len, bool startup, c4g_peek_t *out);
+
+/* ====================================================================== NUM */
+
+/**
+ * Reply sequence-number policy: the one vocabulary of the PC end (which NUM it answers
+ * with), the controller end (which NUM it accepts) and the capture analysis.
+ */
 typedef enum c4g_num_policy {
     C4G_NUM_PLUS_ONE = 0, /**< field behaviour (default): NUM + 1, 0x7FFF wraps to 1 */
-    C4G_NUM_ECHO = 1      /**< manual text: reply with the same NUM */
+    C4G_NUM_ECHO = 1,     /**< manual text: reply with the same NUM */
+    C4G_NUM_EITHER = 2    /**< controller end only: either one, the PC's echo of the init
+                               packet decides which (a PC end cannot answer "either") */
 } c4g_num_policy_t;
 
-/** NUM the PC puts in its reply to a packet carrying @p num, under @p policy. */
+/** The NUM counter's modulus: SMP+ counts 0..0x7FFF, then 0. */
+#define C4G_NUM_MODULO 0x8000
+
+/**
+ * NUM the PC puts in its reply to a packet carrying @p num, under @p policy (PLUS_ONE:
+ * num + 1, 0x7FFF and out-of-range values answered with 1; ECHO and EITHER: @p num).
+ */
 int32_t c4g_reply_num(int32_t num, c4g_num_policy_t policy);
+/** NUM of the controller's packet after one carrying @p num: num + 1, 0 after 0x7FFF. */
+int32_t c4g_num_next(int32_t num);
+/**
+ * How far @p to is ahead of @p from on the 15-bit counter: 0..0x7FFF (0: the same NUM,
+ * 0x7FFF: one behind). Any int32 values (raw, unvalidated fields) are taken.
+ */
+int32_t c4g_num_delta(int32_t from, int32_t to);
+/** true if a reply carrying @p got answers the packet carrying @p sent under @p policy. */
+bool c4g_num_accepts(c4g_num_policy_t policy, int32_t sent, int32_t got);
+/**
+ * true if a reply carrying @p got answers one of the @p window packets before the one
+ * carrying @p cur under @p policy: a late reply, not a wrong one.
+ */
+bool c4g_num_answers_recent(c4g_num_policy_t policy, int32_t cur, int32_t got, int32_t window);
+/** "plus-one", "echo", "either"; "unknown" for any other value. */
+const char *c4g_num_policy_name(int policy);
+/**
+ * The policy named @p name: "plus-one", "echo" or "either" (the tools' spellings).
+ * @return C4G_OK, C4G_ERR_NULL, C4G_ERR_ARG (unknown name).
+ */
+C4G_NODISCARD c4g_status_t c4g_num_policy_parse(const char *name, c4g_num_policy_t *out);
 
 /** Session phase (PC side). */
 typedef enum c4g_phase {

@@ -25,6 +25,26 @@ static inline uint32_t c4g_flag(bool b)
     return r;
 }
 
+/* The one little-endian helper set of the library: the wire's 32-bit words below, and
+ * words of 1..4 bytes (CANopen's object dictionary) here. */
+static inline void c4g_put_le(uint8_t *p, uint32_t v, uint32_t bytes)
+{
+    uint32_t i;
+    for (i = 0U; i < bytes; i++) {
+        p[i] = (uint8_t)((v >> (8U * i)) & 0xFFU);
+    }
+}
+
+static inline uint32_t c4g_get_le(const uint8_t *p, uint32_t bytes)
+{
+    uint32_t v = 0U;
+    uint32_t i;
+    for (i = 0U; i < bytes; i++) {
+        v |= ((uint32_t)p[i]) << (8U * i);
+    }
+    return v;
+}
+
 static inline uint32_t c4g_get_u32le(const uint8_t *p)
 {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8U) | ((uint32_t)p[2] << 16U) |

@@ -20,24 +20,6 @@ void c4g_co_frame_clear(c4g_co_frame_t *f, uint16_t id, uint8_t dlc)
     }
 }
 
-void c4g_co_put_le(uint8_t *p, uint32_t v, uint32_t bytes)
-{
-    uint32_t i;
-    for (i = 0U; i < bytes; i++) {
-        p[i] = (uint8_t)((v >> (8U * i)) & 0xFFU);
-    }
-}
-
-uint32_t c4g_co_get_le(const uint8_t *p, uint32_t bytes)
-{
-    uint32_t v = 0U;
-    uint32_t i;
-    for (i = 0U; i < bytes; i++) {
-        v |= ((uint32_t)p[i]) << (8U * i);
-    }
-    return v;
-}
-
 /* Function code (id >> 7) to kind; node-addressed codes need node 1..127. */
 static c4g_co_kind_t kind_of(uint16_t fc, uint8_t node, uint8_t *pdo)
 {
@@ -211,7 +193,7 @@ c4g_status_t c4g_co_emcy_encode(c4g_co_frame_t *f, uint8_t node, const c4g_co_em
     } else {
         uint32_t i;
         c4g_co_frame_clear(f, (uint16_t)((uint16_t)C4G_CO_COB_EMCY + node), 8U);
-        c4g_co_put_le(f->data, e->code, 2U);
+        c4g_put_le(f->data, e->code, 2U);
         f->data[2] = e->reg;
         for (i = 0U; i < 5U; i++) {
             f->data[3U + i] = e->mfr[i];
@@ -233,7 +215,7 @@ c4g_status_t c4g_co_emcy_decode(const c4g_co_frame_t *f, uint8_t *node, c4g_co_e
         uint32_t i;
         *node = (uint8_t)(f->id - C4G_CO_COB_EMCY);
         e->t_ns = f->t_ns;
-        e->code = (uint16_t)c4g_co_get_le(f->data, 2U);
+        e->code = (uint16_t)c4g_get_le(f->data, 2U);
         e->reg = f->data[2];
         for (i = 0U; i < 5U; i++) {
             e->mfr[i] = f->data[3U + i];
@@ -284,7 +266,7 @@ c4g_status_t c4g_co_pdo_pack(const c4g_co_pdo_map_t *map, uint16_t cob, const ui
         c4g_co_frame_clear(f, cob, len);
         for (i = 0U; i < map->n; i++) {
             const uint32_t b = (map->entry[i] & 0xFFU) / 8U;
-            c4g_co_put_le(&f->data[off], vals[i], b);
+            c4g_put_le(&f->data[off], vals[i], b);
             off += b;
         }
     } else {
@@ -307,7 +289,7 @@ c4g_status_t c4g_co_pdo_unpack(const c4g_co_pdo_map_t *map, const c4g_co_frame_t
         uint32_t i;
         for (i = 0U; i < map->n; i++) {
             const uint32_t b = (map->entry[i] & 0xFFU) / 8U;
-            vals[i] = c4g_co_get_le(&f->data[off], b);
+            vals[i] = c4g_get_le(&f->data[off], b);
             off += b;
         }
     } else {

@@ -9,8 +9,6 @@
 
 C4G_INTERNAL bool c4g_co_node_ok(uint8_t node);
 C4G_INTERNAL void c4g_co_frame_clear(c4g_co_frame_t *f, uint16_t id, uint8_t dlc);
-C4G_INTERNAL void c4g_co_put_le(uint8_t *p, uint32_t v, uint32_t bytes);
-C4G_INTERNAL uint32_t c4g_co_get_le(const uint8_t *p, uint32_t bytes);
 
 /* Master internals (c4g_co_master.c / c4g_co_run.c). */
 #define C4G_CO_PHASE_IDLE 0U

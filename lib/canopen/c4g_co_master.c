@@ -217,7 +217,7 @@ static bool issue_op(c4g_co_master_t *m, uint8_t slot, uint64_t now_ns)
     if (found) {
         uint8_t buf[4];
         m->cur = slot;
-        c4g_co_put_le(buf, op.value, 4U);
+        c4g_put_le(buf, op.value, 4U);
         if (op.size == 0U) {
             (void)c4g_co_sdo_upload(&m->sdo, nc->node_id, op.index, op.sub, now_ns);
         } else {
@@ -696,7 +696,7 @@ c4g_status_t c4g_co_master_sdo(c4g_co_master_t *m, uint8_t node_id, bool upload,
         st = C4G_ERR_STATE;
     } else {
         uint8_t buf[4];
-        c4g_co_put_le(buf, value, 4U);
+        c4g_put_le(buf, value, 4U);
         if (upload) {
             st = c4g_co_sdo_upload(&m->sdo, node_id, index, sub, now_ns);
         } else {

@@ -67,9 +67,9 @@ c4g_status_t c4g_co_sdo_abort_encode(c4g_co_frame_t *f, uint16_t cob, uint16_t i
     } else {
         c4g_co_frame_clear(f, cob, 8U);
         f->data[0] = 0x80U;
-        c4g_co_put_le(&f->data[1], index, 2U);
+        c4g_put_le(&f->data[1], index, 2U);
         f->data[3] = sub;
-        c4g_co_put_le(&f->data[4], code, 4U);
+        c4g_put_le(&f->data[4], code, 4U);
     }
     return st;
 }
@@ -106,10 +106,10 @@ static void send_request(c4g_co_sdo_client_t *c, uint64_t now_ns)
     } else if (c->state == ST_DN_INIT) {
         if (c->len <= 4U) {
             f->data[0] = (uint8_t)(0x23U | ((4U - (uint32_t)c->len) << 2U));
-            c4g_co_put_le(&f->data[4], c4g_co_get_le(c->data, c->len), c->len);
+            c4g_put_le(&f->data[4], c4g_get_le(c->data, c->len), c->len);
         } else {
             f->data[0] = 0x21U;
-            c4g_co_put_le(&f->data[4], c->len, 4U);
+            c4g_put_le(&f->data[4], c->len, 4U);
         }
     } else {
         uint32_t i;
@@ -123,7 +123,7 @@ static void send_request(c4g_co_sdo_client_t *c, uint64_t now_ns)
         f->data[0] = (uint8_t)(((uint32_t)c->toggle << 4U) | ((7U - i) << 1U) | last);
     }
     if ((c->state == ST_UP_INIT) || (c->state == ST_DN_INIT)) {
-        c4g_co_put_le(&f->data[1], c->index, 2U);
+        c4g_put_le(&f->data[1], c->index, 2U);
         f->data[3] = c->sub;
     }
     c->deadline_ns = now_ns + c->timeout_ns;
@@ -202,7 +202,7 @@ c4g_status_t c4g_co_sdo_download(c4g_co_sdo_client_t *c, uint8_t node, uint16_t 
 
 static bool same_object(const c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
 {
-    return (c4g_co_get_le(&f->data[1], 2U) == c->index) && (f->data[3] == c->sub);
+    return (c4g_get_le(&f->data[1], 2U) == c->index) && (f->data[3] == c->sub);
 }
 
 static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint64_t now_ns)
@@ -218,7 +218,7 @@ static void rx_upload_init(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f, uint
         (void)memcpy(c->data, &f->data[4], c->len);
         finish(c, (uint8_t)C4G_CO_SDO_OK, 0U);
     } else {
-        const uint32_t size = ((b & 0x01U) != 0U) ? c4g_co_get_le(&f->data[4], 4U)
+        const uint32_t size = ((b & 0x01U) != 0U) ? c4g_get_le(&f->data[4], 4U)
                                                    : C4G_CO_SDO_MAX;
         if (size > C4G_CO_SDO_MAX) {
             client_abort(c, (uint8_t)C4G_CO_SDO_PROTOCOL, C4G_CO_ABORT_MEMORY);
@@ -288,7 +288,7 @@ static void rx_answer(c4g_co_sdo_client_t *c, const c4g_co_frame_t *f)
     const bool init = (c->state == ST_UP_INIT) || (c->state == ST_DN_INIT);
     if (scs == SCS_ABORT) {
         if (same_object(c, f)) {
-            finish(c, (uint8_t)C4G_CO_SDO_ABORTED, c4g_co_get_le(&f->data[4], 4U));
+            finish(c, (uint8_t)C4G_CO_SDO_ABORTED, c4g_get_le(&f->data[4], 4U));
         } else {
             c->ignored++;
         }
@@ -372,7 +372,7 @@ c4g_status_t c4g_co_sdo_value(const c4g_co_sdo_client_t *c, uint32_t *value)
     } else if ((c->result != (uint8_t)C4G_CO_SDO_OK) || (c->len == 0U)) {
         st = C4G_ERR_STATE;
     } else {
-        *value = c4g_co_get_le(c->data, (c->len < 4U) ? c->len : 4U);
+        *value = c4g_get_le(c->data, (c->len < 4U) ? c->len : 4U);
     }
     return st;
 }

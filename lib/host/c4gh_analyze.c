@@ -50,7 +50,7 @@ void c4gh_an_options_default(c4gh_an_options_t *o)
     o->ports[1] = 1001U;
     o->n_ports = 2U;
     o->t_cycle1_ns = 500000U;
-    o->num_policy = C4GH_CS_NUM_EITHER;
+    o->num_policy = C4G_NUM_EITHER;
 }
 
 int c4gh_an_init(c4gh_an_t *a, const c4gh_an_options_t *o)
@@ -79,16 +79,28 @@ void c4gh_an_free(c4gh_an_t *a)
 
 /* ---- helpers ------------------------------------------------------------- */
 
-static int is_cyclic_size(size_t len)
+/* The shape of a datagram, by the library's classifier. */
+static c4g_peek_t peek(const uint8_t *d, size_t len)
 {
-    return len >= C4G_CYCLIC_SIZE(1U) && len <= C4G_MAX_CYCLIC_SIZE &&
-           (len - C4G_HEADER_SIZE) % C4G_AXIS_SIZE == 0U;
+    c4g_peek_t k;
+    if (c4g_peek(d, len, false, &k) != C4G_OK) {
+        k.kind = C4G_PKT_FOREIGN; /* no bytes */
+        k.num = -1;
+        k.n_axes = 0U;
+    }
+    return k;
 }
 
+static int is_cyclic_size(const uint8_t *d, size_t len)
+{
+    return peek(d, len).kind == C4G_PKT_CYCLIC;
+}
+
+/* An initialization packet (NUM 10) or its echo (11). */
 static int looks_init(const uint8_t *d, size_t len)
 {
-    return len == C4G_INIT_SIZE && (c4gh_an_le_i32(d) == 10 || c4gh_an_le_i32(d) == 11) && c4gh_an_le_i32(d + 4) == 3 &&
-           c4gh_an_le_i32(d + 8) == 9;
+    const c4g_peek_t k = peek(d, len);
+    return k.kind == C4G_PKT_INIT && (k.num == C4G_INIT_NUM || k.num == C4G_INIT_NUM + 1);
 }
 
 static int zero_body(const uint8_t *d, size_t len)
@@ -158,16 +170,17 @@ static void event(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, int32_t num, ui
 
 static void cs_setup(c4gh_an_t *a, c4gh_an_session_t *s, uint32_t n_axes)
 {
-    c4gh_cs_config_t cfg;
+    c4g_ctrl_config_t cfg;
     memset(&cfg, 0, sizeof cfg);
-    cfg.policy = (c4gh_cs_policy_t)a->opt.num_policy;
+    cfg.policy = a->opt.num_policy;
     cfg.n_axes = n_axes;
     cfg.t_cycle1_ns = a->opt.t_cycle1_ns;
     cfg.tol_ns = UINT64_MAX; /* the capture is the controller's clock: never late itself */
     cfg.max_miss = 10U;
     cfg.sync_before = 9U;
     cfg.sync_after = 2U;
-    c4gh_cs_init(&s->cs, &cfg);
+    memset(&s->lat, 0, sizeof s->lat);
+    (void)c4g_ctrl_init(&s->cs, &cfg); /* n_axes <= 20 and a known policy: always C4G_OK */
 }
 
 /* Arms from the packet length when the capture has no init packet: 10 axes per arm. */
@@ -226,7 +239,7 @@ static c4gh_an_session_t *session_new(c4gh_an_t *a, c4gh_an_flow_t *fl, const ch
     return s;
 }
 
-static void deliver(c4gh_an_t *a, c4gh_an_session_t *s, c4gh_cs_verdict_t v, int64_t next_ns)
+static void deliver(c4gh_an_t *a, c4gh_an_session_t *s, c4g_ctrl_verdict_t v, int64_t next_ns)
 {
     c4gh_an_exchange_t x;
     if (a->opt.on_exchange == NULL) {
@@ -240,13 +253,13 @@ static void deliver(c4gh_an_t *a, c4gh_an_session_t *s, c4gh_cs_verdict_t v, int
     x.ctrl_len = s->ctrl_len;
     x.ctrl_frame = s->ctrl_frame;
     x.ctrl_ns = s->ctrl_ns;
-    x.rx = (x.kind == C4GH_CS_CYCLIC && s->rx_ok) ? &s->rx : NULL;
+    x.rx = (x.kind == C4G_PKT_CYCLIC && s->rx_ok) ? &s->rx : NULL;
     if (s->reply_len > 0U) {
         x.reply = s->reply_raw;
         x.reply_len = s->reply_len;
         x.reply_frame = s->reply_frame;
         x.reply_ns = s->reply_ns;
-        x.tx = (x.kind == C4GH_CS_CYCLIC && s->cs.out.got) ? &s->cs.out.reply : NULL;
+        x.tx = (x.kind == C4G_PKT_CYCLIC && s->cs.out.got) ? &s->cs.out.reply : NULL;
     }
     if (s->other_len > 0U) {
         x.other = s->other_raw;
@@ -264,9 +277,9 @@ static void deliver(c4gh_an_t *a, c4gh_an_session_t *s, c4gh_cs_verdict_t v, int
  * time plus one period when the next packet came much later (lost ones in between). */
 static void judge(c4gh_an_t *a, c4gh_an_session_t *s, int64_t t_next, const c4gh_cap_pkt_t *p, int at_end)
 {
-    c4gh_cs_outstanding_t *o = &s->cs.out;
+    c4g_ctrl_outstanding_t *o = &s->cs.out;
     uint64_t deadline = (uint64_t)t_next;
-    c4gh_cs_verdict_t v;
+    c4g_ctrl_verdict_t v;
     if (!o->active) {
         return;
     }
@@ -278,24 +291,25 @@ static void judge(c4gh_an_t *a, c4gh_an_session_t *s, int64_t t_next, const c4gh
     }
     if (at_end && !o->got) {
         o->active = 0; /* the capture ended before its deadline was seen */
-        deliver(a, s, C4GH_CS_J_NONE, 0);
+        deliver(a, s, C4G_CTRL_J_NONE, 0);
         return;
     }
-    c4gh_cs_set_deadline(&s->cs, deadline);
-    v = c4gh_cs_judge(&s->cs, deadline, s->frozen);
-    s->prev_in_time = (v == C4GH_CS_J_OK && o->kind == C4GH_CS_CYCLIC);
-    if (v == C4GH_CS_J_OK) {
+    (void)c4g_ctrl_set_deadline(&s->cs, deadline); /* o->active: C4G_OK */
+    (void)c4g_ctrl_judge(&s->cs, deadline, s->frozen != 0, &v);
+    s->prev_in_time = (v == C4G_CTRL_J_OK && o->kind == C4G_PKT_CYCLIC);
+    if (v == C4G_CTRL_J_OK) {
+        c4gh_hist_add(&s->lat, (int64_t)s->cs.last_lat_ns);
         s->run = 0U;
         if (s->cs.last_late) {
             finding(s, AN_K_LATE, p, o->num, (double)(o->got_ns - o->sent_ns) * 1e-3,
                     "reply to NUM %d came %.0f us after the packet (T_CYCLE1 %.0f us)", (int)o->num,
                     (double)(o->got_ns - o->sent_ns) * 1e-3, (double)a->opt.t_cycle1_ns * 1e-3);
         }
-        if (o->kind == C4GH_CS_CYCLIC) {
+        if (o->kind == C4G_PKT_CYCLIC) {
             s->last_tx = o->reply;
             s->have_last_tx = 1;
         }
-    } else if (v == C4GH_CS_J_MISSING) {
+    } else if (v == C4G_CTRL_J_MISSING) {
         if (s->run++ == 0U) {
             s->run_start_ns = rel(s, (int64_t)o->sent_ns);
             s->run_start_num = o->num;
@@ -447,7 +461,7 @@ static void ctrl_data(c4gh_an_session_t *s, const c4g_ctrl_packet_t *rx, const c
 static void diag_finding(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, const char *who, c4g_status_t st,
                          const c4g_diag_t *d)
 {
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     c4gh_an_kind_t k = AN_K_MALFORMED;
     char axis[32] = "";
     if (st == C4G_ERR_NONFINITE) {
@@ -465,10 +479,10 @@ static void diag_finding(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, const ch
             (unsigned)d->offset, (long long)d->value);
 }
 
-static void new_controller_tick(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, c4gh_cs_kind_t kind,
+static void new_controller_tick(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, c4g_pkt_kind_t kind,
                                 int check)
 {
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     const size_t n = (p->len <= sizeof s->ctrl_raw) ? p->len : sizeof s->ctrl_raw;
     memcpy(s->ctrl_raw, p->payload, n);
     s->ctrl_len = n;
@@ -476,15 +490,15 @@ static void new_controller_tick(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, c
     s->ctrl_ns = p->ts_ns;
     s->reply_len = 0U;
     s->other_len = 0U;
-    c4gh_cs_emit(&s->cs, kind, num, p->payload, n, check, (uint64_t)p->ts_ns);
+    (void)c4g_ctrl_emit(&s->cs, kind, num, p->payload, n, check != 0, (uint64_t)p->ts_ns);
 }
 
 static void ctrl_num_seq(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, int32_t num, int *repeat)
 {
     *repeat = 0;
     if (s->ctrl_num >= 0 && num >= 0) {
-        const int32_t want = c4gh_cs_num_after(s->ctrl_num);
-        if (num == s->ctrl_num || c4gh_cs_is_stale(&s->cs, s->ctrl_num, num)) {
+        const int32_t want = c4g_num_next(s->ctrl_num);
+        if (num == s->ctrl_num || c4g_num_answers_recent(c4g_ctrl_policy(&s->cs), s->ctrl_num, num, C4G_CTRL_STALE_WINDOW)) {
             *repeat = 1;
             if (num == s->ctrl_num) {
                 s->ctrl_dups++;
@@ -496,7 +510,7 @@ static void ctrl_num_seq(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, int32_t 
             return;
         }
         if (num != want) {
-            const int32_t skipped = (num - want + 0x8000) % 0x8000;
+            const int32_t skipped = c4g_num_delta(want, num);
             s->ctrl_gaps++;
             s->ctrl_skipped += (uint64_t)skipped;
             finding(s, AN_K_CTRL_GAP, p, num, (double)skipped,
@@ -511,7 +525,7 @@ static void ctrl_cyclic(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
 {
     c4g_diag_t d;
     c4g_status_t st;
-    const int32_t num = c4gh_an_le_i32(p->payload);
+    const int32_t num = c4g_le_i32(p->payload);
     int repeat;
     ctrl_num_seq(s, p, num, &repeat);
     if (repeat) {
@@ -523,13 +537,13 @@ static void ctrl_cyclic(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
         finding(s, AN_K_SILENCE, p, num, (double)(p->ts_ns - s->ctrl_ns) * 1e-9,
                 "no controller packet for %.3f s before NUM %d (after NUM %d, frame %llu)",
                 (double)(p->ts_ns - s->ctrl_ns) * 1e-9, (int)num,
-                (s->ctrl_len >= 4U) ? (int)c4gh_an_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
+                (s->ctrl_len >= 4U) ? (int)c4g_le_i32(s->ctrl_raw) : -1, (unsigned long long)s->ctrl_frame);
     }
     judge(a, s, p->ts_ns, p, 0);
     s->ctrl_cyclic++;
     s->cyclic_started = 1;
     if (s->n_axes == 0U) {
-        s->n_axes = (uint32_t)((p->len - C4G_HEADER_SIZE) / C4G_AXIS_SIZE);
+        s->n_axes = peek(p->payload, p->len).n_axes;
         synthetic_map(s, s->n_axes);
         arms_setup(s);
         s->cs.cfg.n_axes = s->n_axes;
@@ -551,7 +565,7 @@ static void ctrl_cyclic(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
                 check = 0; /* the controller does not wait for the reply to 504 */
             }
         }
-        new_controller_tick(s, p, C4GH_CS_CYCLIC, check);
+        new_controller_tick(s, p, C4G_PKT_CYCLIC, check);
     }
 }
 
@@ -575,7 +589,7 @@ static void ctrl_init(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *
     }
     s->post_sync = s->cold ? 2U : 0U;
     s->ctrl_num = C4G_INIT_NUM;
-    new_controller_tick(s, p, C4GH_CS_INIT, 1);
+    new_controller_tick(s, p, C4G_PKT_INIT, 1);
 }
 
 static void ctrl_sync(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *p)
@@ -586,8 +600,8 @@ static void ctrl_sync(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *
     if (s->post_sync > 0U) {
         s->post_sync--;
     }
-    s->ctrl_num = c4gh_an_le_i32(p->payload);
-    new_controller_tick(s, p, C4GH_CS_SYNC, 1);
+    s->ctrl_num = c4g_le_i32(p->payload);
+    new_controller_tick(s, p, C4G_PKT_SYNC, 1);
 }
 
 static void session_close(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, const char *why)
@@ -603,9 +617,9 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
 {
     c4gh_an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
     const int init = (p->len == C4G_INIT_SIZE);
-    const int cyc = is_cyclic_size(p->len);
+    const int cyc = is_cyclic_size(p->payload, p->len);
     const int sync = cyc && zero_body(p->payload, p->len);
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     /* the controller counts NUM 0..0x7FFF: anything else is not a packet of the session
      * (no tick, no restart, no NUM arithmetic on it) */
     const int num_bad = (init || cyc) && (num < 0 || num > 0x7FFF);
@@ -615,7 +629,7 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
         if (init && (s->have_init || s->cyclic_started)) {
             session_close(a, s, p, s->cyclic_started ? "506 restart" : "init repeated");
             s = NULL;
-        } else if (sync && s->cyclic_started && c4gh_an_le_i32(p->payload) <= 9) {
+        } else if (sync && s->cyclic_started && c4g_le_i32(p->payload) <= 9) {
             session_close(a, s, p, "cold restart");
             s = NULL;
         } else {
@@ -642,7 +656,7 @@ static void from_controller(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, 
         ctrl_cyclic(a, s, p);
     } else {
         s->ctrl_other++;
-        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1, (double)p->len,
+        finding(s, AN_K_MALFORMED, p, (p->len >= 4U) ? c4g_le_i32(p->payload) : -1, (double)p->len,
                 "controller datagram of %u bytes: not 12 + 36 n, not 1200", (unsigned)p->len);
     }
 }
@@ -729,14 +743,14 @@ static void pc_data(c4gh_an_t *a, c4gh_an_session_t *s, const c4g_pc_packet_t *t
     }
 }
 
-/* The reply to 504 is not checked by the controller (c4gh_cs_reply: unexpected), yet the PC sends
+/* The reply to 504 is not checked by the controller (c4g_ctrl_reply: unexpected), yet the PC sends
  * it: the tick's reply if its NUM answers under the policy and it decodes, so the export
  * shows it like any other (the counters do not change). */
 static void keep_unchecked_reply(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, int32_t num)
 {
     c4g_pc_packet_t pkt;
     if (s->reply_len != 0U || p->len > sizeof s->reply_raw ||
-        !c4gh_cs_num_ok(&s->cs, s->cs.out.num, num) ||
+        !c4g_num_accepts(c4g_ctrl_policy(&s->cs), s->cs.out.num, num) ||
         c4g_pc_decode(p->payload, p->len, s->cs.cfg.n_axes, &pkt, NULL) != C4G_OK) {
         return;
     }
@@ -751,19 +765,12 @@ static void keep_unchecked_reply(c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, 
 
 /* A cyclic reply whose NUM answers the packet after the outstanding one under the policy in
  * force (either one while it is unknown). */
-static int answers_unseen(const c4gh_an_t *a, const c4gh_an_session_t *s, int32_t num)
+static int answers_unseen(const c4gh_an_session_t *s, int32_t num)
 {
-    const int32_t next = c4gh_cs_num_after(s->cs.out.num);
-    const int pol = (a->opt.num_policy != C4GH_CS_NUM_EITHER) ? a->opt.num_policy : s->cs.detected;
-    if (s->cs.out.kind != C4GH_CS_CYCLIC || !s->cs.out.active) {
+    if (s->cs.out.kind != C4G_PKT_CYCLIC || !s->cs.out.active) {
         return 0;
     }
-    if (pol == C4GH_CS_NUM_PLUS_ONE || pol < 0) {
-        if (num == c4g_reply_num(next, C4G_NUM_PLUS_ONE)) {
-            return 1;
-        }
-    }
-    return (pol == C4GH_CS_NUM_ECHO || pol < 0) && num == next;
+    return c4g_num_accepts(c4g_ctrl_policy(&s->cs), c4g_num_next(s->cs.out.num), num);
 }
 
 /* Policy "either" without an init echo in time (a late echo, a capture started mid-session):
@@ -772,15 +779,15 @@ static int answers_unseen(const c4gh_an_t *a, const c4gh_an_session_t *s, int32_
  * before had its reply in time (else it may be that packet's late plus-one reply). */
 static void learn_policy(const c4gh_an_t *a, c4gh_an_session_t *s, int32_t num)
 {
-    const c4gh_cs_outstanding_t *o = &s->cs.out;
-    if (a->opt.num_policy != C4GH_CS_NUM_EITHER || s->cs.detected >= 0 || !o->active || !o->check ||
-        o->kind != C4GH_CS_CYCLIC || o->got) {
+    const c4g_ctrl_outstanding_t *o = &s->cs.out;
+    if (a->opt.num_policy != C4G_NUM_EITHER || s->cs.detected >= 0 || !o->active || !o->check ||
+        o->kind != C4G_PKT_CYCLIC || o->got) {
         return;
     }
     if (num == c4g_reply_num(o->num, C4G_NUM_PLUS_ONE) && num != o->num) {
-        s->cs.detected = C4GH_CS_NUM_PLUS_ONE;
+        s->cs.detected = C4G_NUM_PLUS_ONE;
     } else if (num == o->num && s->prev_in_time) {
-        s->cs.detected = C4GH_CS_NUM_ECHO;
+        s->cs.detected = C4G_NUM_ECHO;
     } else {
         return;
     }
@@ -791,15 +798,15 @@ static void learn_policy(const c4gh_an_t *a, c4gh_an_session_t *s, int32_t num)
 /* A reply the conversation accepted: kept, counted by kind, its requests and data judged. */
 static void pc_accepted(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t *p, int32_t num)
 {
-    const c4gh_cs_outstanding_t *o = &s->cs.out;
+    const c4g_ctrl_outstanding_t *o = &s->cs.out;
     const size_t n = (p->len <= sizeof s->reply_raw) ? p->len : sizeof s->reply_raw;
     memcpy(s->reply_raw, p->payload, n);
     s->reply_len = n;
     s->reply_ns = p->ts_ns;
     s->reply_frame = p->frame;
-    if (o->kind == C4GH_CS_SYNC) {
+    if (o->kind == C4G_PKT_SYNC) {
         s->pc_sync++;
-    } else if (o->kind == C4GH_CS_INIT) {
+    } else if (o->kind == C4G_PKT_INIT) {
         s->pc_init++;
         s->policy = s->cs.detected;
     } else {
@@ -819,8 +826,8 @@ static void pc_accepted(c4gh_an_t *a, c4gh_an_session_t *s, const c4gh_cap_pkt_t
 static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4gh_cap_pkt_t *p)
 {
     c4gh_an_session_t *s = (fl->sess >= 0) ? &a->sess[fl->sess] : NULL;
-    c4gh_cs_rx_t r;
-    const int32_t num = (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1;
+    c4g_ctrl_rx_t r;
+    const int32_t num = (p->len >= 4U) ? c4g_le_i32(p->payload) : -1;
     if (s == NULL) {
         s = session_new(a, fl, file, p);
         if (s == NULL) {
@@ -830,8 +837,8 @@ static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4
     s->last_ns = p->ts_ns;
     s->last_frame = p->frame;
     learn_policy(a, s, num);
-    r = c4gh_cs_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns);
-    if (r != C4GH_CS_RX_ACCEPTED && r != C4GH_CS_RX_STALE && r != C4GH_CS_RX_DUPLICATE && s->reply_len == 0U &&
+    (void)c4g_ctrl_reply(&s->cs, p->payload, p->len, (uint64_t)p->ts_ns, &r); /* never NULL */
+    if (r != C4G_CTRL_RX_ACCEPTED && r != C4G_CTRL_RX_STALE && r != C4G_CTRL_RX_DUPLICATE && s->reply_len == 0U &&
         s->other_len == 0U && p->len > 0U) {
         const size_t n = (p->len <= sizeof s->other_raw) ? p->len : sizeof s->other_raw;
         memcpy(s->other_raw, p->payload, n);
@@ -840,18 +847,18 @@ static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4
         s->other_frame = p->frame;
     }
     switch (r) {
-    case C4GH_CS_RX_ACCEPTED:
+    case C4G_CTRL_RX_ACCEPTED:
         pc_accepted(a, s, p, num);
         break;
-    case C4GH_CS_RX_WRONG_NUM:
+    case C4G_CTRL_RX_WRONG_NUM:
         s->pc_other++;
-        if (looks_init(p->payload, p->len) && num == C4G_INIT_NUM + 1 && s->cs.out.kind != C4GH_CS_INIT) {
+        if (looks_init(p->payload, p->len) && num == C4G_INIT_NUM + 1 && s->cs.out.kind != C4G_PKT_INIT) {
             finding(s, AN_K_CTRL_GAP, p, num, 1.0,
                     "an initialization echo (NUM %d) with no initialization packet before it: the "
                     "controller's packet is missing from the capture", (int)num);
             break;
         }
-        if (answers_unseen(a, s, num)) {
+        if (answers_unseen(s, num)) {
             /* the reply to the controller's next packet, which the capture lost (not the
              * wire: the PC answered it): the ctrl-gap at the next packet explains it */
             s->pc_unseen++;
@@ -863,22 +870,22 @@ static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4
         finding(s, AN_K_NUM, p, num, 1.0, "reply NUM %d to controller NUM %d breaks the NUM policy",
                 (int)num, (int)s->cs.out.num);
         break;
-    case C4GH_CS_RX_DUPLICATE:
+    case C4G_CTRL_RX_DUPLICATE:
         s->pc_other++;
         finding(s, AN_K_DUPLICATE, p, num, 1.0, "a second reply (NUM %d) to controller NUM %d",
                 (int)num, (int)s->cs.out.num);
         break;
-    case C4GH_CS_RX_STALE:
+    case C4G_CTRL_RX_STALE:
         s->pc_other++; /* counted at the judgement of its packet (missing, it came later) */
         if (a->opt.on_late != NULL) {
             a->opt.on_late(a->opt.ctx, s, p->payload, p->len, p->ts_ns, p->frame);
         }
         break;
-    case C4GH_CS_RX_BAD_DECODE:
+    case C4G_CTRL_RX_BAD_DECODE:
         s->pc_other++;
         diag_finding(s, p, "PC", s->cs.last_diag.status, &s->cs.last_diag);
         break;
-    case C4GH_CS_RX_UNEXPECTED:
+    case C4G_CTRL_RX_UNEXPECTED:
         if (s->cs.out.active && !s->cs.out.check) {
             s->pc_cyclic++; /* the reply to 504, which the controller does not check */
             keep_unchecked_reply(s, p, num);
@@ -895,7 +902,7 @@ static void from_pc(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c4
         s->pc_other++;
         finding(s, AN_K_MALFORMED, p, num, (double)p->len,
                 "PC datagram of %u bytes (NUM %d) is not a valid reply to a %s packet", (unsigned)p->len,
-                (int)num, s->cs.out.kind == C4GH_CS_SYNC ? "sync" : (s->cs.out.kind == C4GH_CS_INIT ? "init" : "cyclic"));
+                (int)num, s->cs.out.kind == C4G_PKT_SYNC ? "sync" : (s->cs.out.kind == C4G_PKT_INIT ? "init" : "cyclic"));
         break;
     }
 }
@@ -936,7 +943,7 @@ static void dispatch(c4gh_an_t *a, c4gh_an_flow_t *fl, const char *file, const c
         c4gh_cap_pkt_t q = *p;
         a->step_pending = 0;
         q.frame = a->step_frame;
-        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? c4gh_an_le_i32(p->payload) : -1,
+        finding(s, AN_K_CLOCK_STEP, &q, (p->len >= 4U) ? c4g_le_i32(p->payload) : -1,
                 (double)a->step_ns * 1e-9,
                 "frame %llu is stamped %.6f s before the frame ahead of it (the capture's clock "
                 "went back): analysed in capture order, its time and every later one moved %.6f s "
@@ -973,12 +980,12 @@ static int decide(const c4gh_an_t *a, const c4gh_an_flow_t *fl, int final)
         /* the initialization packet (NUM 10) comes from the controller; its plus-one echo
          * (NUM 11) from the PC */
         if (looks_init(h->data, h->p.len)) {
-            const int from_ctrl = (c4gh_an_le_i32(h->data) == C4G_INIT_NUM);
+            const int from_ctrl = (c4g_le_i32(h->data) == C4G_INIT_NUM);
             return (side == 0) == from_ctrl ? 1 : 0;
         }
         /* a 732-byte answer to a shorter cyclic-shaped packet is the PC's sync reply */
         if (h->p.len == C4G_SYNC_REPLY_SIZE && i > 0U && last[1 - side] >= 0 &&
-            fl->held[i - 1U].p.len < C4G_SYNC_REPLY_SIZE && is_cyclic_size(fl->held[i - 1U].p.len)) {
+            fl->held[i - 1U].p.len < C4G_SYNC_REPLY_SIZE && is_cyclic_size(fl->held[i - 1U].data, fl->held[i - 1U].p.len)) {
             return side == 0 ? 0 : 1;
         }
         if (last[1 - side] >= 0) {
@@ -1095,10 +1102,10 @@ static int c4g_shaped(const c4gh_an_t *a, const c4gh_cap_pkt_t *p)
         if (h->used || (!fwd && !back)) {
             continue;
         }
-        if (!is_cyclic_size(h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
+        if (!is_cyclic_size(h->data, h->p.len) && h->p.len != C4G_SYNC_REPLY_SIZE) {
             return 0;
         }
-        num = c4gh_an_le_i32(h->data);
+        num = c4g_le_i32(h->data);
         if (num < 0 || num > 0x7FFF) {
             return 0;
         }
@@ -1109,7 +1116,7 @@ static int c4g_shaped(const c4gh_an_t *a, const c4gh_cap_pkt_t *p)
             len[side] = h->p.len;
         }
         /* newest first: the side's previous datagram carries NUM - 1 */
-        if (last_num[side] >= 0 && c4gh_cs_num_after(num) == last_num[side]) {
+        if (last_num[side] >= 0 && c4g_num_next(num) == last_num[side]) {
             steps++;
         }
         last_num[side] = num;
@@ -1145,7 +1152,7 @@ static void datagram(c4gh_an_t *a, const char *file, const c4gh_cap_pkt_t *p)
         if (!port_listed(a, p->src_port) && !port_listed(a, p->dst_port) && !init) {
             a->other_udp++;
             remember(a, p);
-            if (!is_cyclic_size(p->len) || !c4g_shaped(a, p) || a->n_flows >= C4GH_AN_MAX_FLOWS) {
+            if (!is_cyclic_size(p->payload, p->len) || !c4g_shaped(a, p) || a->n_flows >= C4GH_AN_MAX_FLOWS) {
                 return;
             }
             /* found by its shape: the datagrams in the ring (this one the last) are its start */
@@ -1162,7 +1169,7 @@ static void datagram(c4gh_an_t *a, const char *file, const c4gh_cap_pkt_t *p)
             /* the initialization packet comes from the controller; a first one carrying
              * NUM 11 is the PC's plus-one echo of an init packet the capture lost (a
              * fragment, a drop): its receiver is the controller */
-            fl->ctrl_is_a = (c4gh_an_le_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
+            fl->ctrl_is_a = (c4g_le_i32(p->payload) == C4G_INIT_NUM) ? 1 : 0;
             take_recent(a, fl, file);
         }
     }
@@ -1243,7 +1250,7 @@ void c4gh_an_file_end(c4gh_an_t *a, const char *file)
 
 double c4gh_an_latency_us(const c4gh_an_session_t *s, double q)
 {
-    return c4gh_cs_lat_percentile(&s->cs.n, q);
+    return c4gh_hist_us(&s->lat, q);
 }
 
 unsigned c4gh_an_findings(const c4gh_an_session_t *s, uint32_t allow)

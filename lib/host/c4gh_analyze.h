@@ -2,14 +2,14 @@
 /* The analysis of a capture, one datagram at a time: C4G Open flows found by themselves
  * (the 1200-byte initialization packet, or the PC ports), which side is the controller
  * decided from the protocol, sessions kept apart (a 506 restart, a cold restart, two
- * controllers), every reply judged as the controller judges it (lib/host/c4gh_ctrlside,
+ * controllers), every reply judged as the controller judges it (the library's controller end, c4gopen_ctrl.h,
  * the code c4g-sim runs), the mode timeline per arm (the library's arm state machine) and
  * the safety findings in the data. Memory is fixed: counters, a latency histogram and
  * bounded timelines per session, whatever the file's length. */
 #ifndef C4GH_ANALYZE_H
 #define C4GH_ANALYZE_H
 
-#include "c4gh_ctrlside.h"
+#include "c4gh_hist.h"
 #include "c4gopen.h"
 #include "c4gh_capture.h"
 
@@ -26,19 +26,13 @@
 #define C4GH_AN_RECENT 64U        /* other UDP datagrams remembered: a flow found by its init
                               * packet takes the synchronization packets before it */
 
-/* The wire's little-endian words (every field of a C4G Open datagram is 32 bits). */
-static inline uint32_t c4gh_an_le_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
-static inline int32_t c4gh_an_le_i32(const uint8_t *p) { return (int32_t)c4gh_an_le_u32(p); }
+/* A float from its bits (words read with c4g_le_u32). */
 static inline float c4gh_an_f32_bits(uint32_t u)
 {
     float f;
     memcpy(&f, &u, sizeof f);
     return f;
 }
-static inline float c4gh_an_le_f32(const uint8_t *p) { return c4gh_an_f32_bits(c4gh_an_le_u32(p)); }
 
 /* Kinds of finding: the names are what --allow takes. */
 #define C4GH_AN_KINDS(X)                                                                          \
@@ -117,8 +111,9 @@ typedef struct c4gh_an_session {
     uint64_t ctrl_sync, ctrl_init, ctrl_cyclic, ctrl_other;
     uint64_t pc_sync, pc_init, pc_cyclic, pc_other;
     /* replies, judged as the controller judges them */
-    c4gh_cs_t cs;
-    int policy;                 /* C4GH_CS_NUM_PLUS_ONE / C4GH_CS_NUM_ECHO seen, -1 unknown */
+    c4g_ctrl_t cs;
+    c4gh_hist_t lat;            /* the latencies of the replies judged ok */
+    int policy;                 /* C4G_NUM_PLUS_ONE / C4G_NUM_ECHO seen, -1 unknown */
     uint64_t run, run_longest;  /* missing replies in a row */
     int64_t run_start_ns, longest_start_ns;
     int32_t run_start_num, longest_start_num;
@@ -169,7 +164,7 @@ typedef struct c4gh_an_session {
  * controller packet of the session, or at its end). */
 typedef struct c4gh_an_exchange {
     const c4gh_an_session_t *s;
-    c4gh_cs_kind_t kind;
+    c4g_pkt_kind_t kind;
     uint64_t tick;              /* cyclic: its number in the session (1 = the first); else the
                                  * cyclic packets before it */
     const uint8_t *ctrl;        /* the controller's datagram */
@@ -189,7 +184,7 @@ typedef struct c4gh_an_exchange {
     size_t other_len;
     uint64_t other_frame;
     int64_t other_ns;
-    c4gh_cs_verdict_t verdict;
+    c4g_ctrl_verdict_t verdict;
     int late;                   /* verdict OK but later than T_CYCLE1 */
     int64_t next_ns;            /* the session's next controller packet, 0 at the end */
 } c4gh_an_exchange_t;
@@ -204,8 +199,8 @@ typedef struct c4gh_an_options {
     unsigned n_ports;
     uint64_t t_cycle1_ns;         /* 500 us */
     double max_step;              /* position step per tick over which a reply is flagged; 0 off */
-    int num_policy;               /* the controller's: C4GH_CS_NUM_EITHER (learnt from the
-                                   * init echo, default), C4GH_CS_NUM_PLUS_ONE or C4GH_CS_NUM_ECHO */
+    c4g_num_policy_t num_policy;  /* the controller's: C4G_NUM_EITHER (learnt from the
+                                   * init echo, default), C4G_NUM_PLUS_ONE or C4G_NUM_ECHO */
     c4gh_an_exchange_fn on_exchange;   /* may be NULL */
     c4gh_an_late_fn on_late;           /* may be NULL */
     void *ctx;

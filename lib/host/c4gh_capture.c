@@ -4,6 +4,7 @@
  * bytes actually captured before a byte is read). */
 #define _GNU_SOURCE /* fopencookie: a pipe read after its first bytes were looked at */
 #include "c4gh_capture.h"
+#include "c4gopen.h"
 
 #include <errno.h>
 #include <pcap/pcap.h>
@@ -93,8 +94,7 @@ static int sniff(const char *path, uint64_t *size, char *err, size_t errlen)
 
 static int known_magic(const uint8_t m[4], int *ng, int *nano)
 {
-    const uint32_t le = (uint32_t)m[0] | ((uint32_t)m[1] << 8) | ((uint32_t)m[2] << 16) |
-                        ((uint32_t)m[3] << 24);
+    const uint32_t le = c4g_le_u32(m);
     *ng = 0;
     *nano = 0;
     switch (le) {

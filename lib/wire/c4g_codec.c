@@ -1,7 +1,22 @@
 /* SPDX-License-Identifier: MIT */
-/* Cyclic packet codec (both directions), per-arm bytes, reply NUM, neutral reply. */
+/* Cyclic packet codec (both directions), the wire's words, per-arm bytes, neutral reply. */
 #include "../c4g_internal.h"
 #include "c4g_wire_hot.h"
+
+uint32_t c4g_le_u32(const uint8_t *p)
+{
+    return c4g_get_u32le(p);
+}
+
+int32_t c4g_le_i32(const uint8_t *p)
+{
+    return c4g_get_i32le(p);
+}
+
+float c4g_le_f32(const uint8_t *p)
+{
+    return c4g_f32_from_bits(c4g_get_u32le(p));
+}
 
 #define AXIS_FLOATS 8U
 
@@ -26,16 +41,6 @@ uint32_t c4g_arm_byte_set(uint32_t word, uint32_t arm, uint8_t value)
         w = (w & ~(0xFFU * place)) | ((uint32_t)value * place);
     }
     return w;
-}
-
-int32_t c4g_reply_num(int32_t num, c4g_num_policy_t policy)
-{
-    int32_t r = num;
-    if (policy == C4G_NUM_PLUS_ONE) {
-        /* Field library: NUM + 1, 0x7FFF wraps to 1 (never 0). */
-        r = ((num >= C4G_NUM_MAX) || (num < 0)) ? 1 : (num + 1);
-    }
-    return r;
 }
 
 /* Axis count implied by a datagram length, 0 if no valid count fits. */

@@ -8,7 +8,6 @@
 #define SILENCE_PERIODS 10U         /* the controller itself gives up after 10 missed replies */
 #define LOST_DEFAULT_NS 1000000000U /* the field library's real-time wait in the cyclic phase */
 #define NS_PER_MS 1000000U
-#define NUM_MODULO 0x8000
 #define NUM_HALF 0x4000
 #define MAX_POST_INIT_SYNC 100U
 #define INIT_BLOCKS 14U /* the init packet's fields and blocks of 40, in their order */
@@ -87,9 +86,7 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
 /* How far @p num is ahead of the newest NUM, modulo the SMP+ counter (0: the same). */
 static int32_t num_delta(const c4g_session_t *s, int32_t num)
 {
-    /* in unsigned arithmetic: @p num may be a raw, unvalidated field */
-    const uint32_t d = ((uint32_t)num - (uint32_t)s->last_num) & ((uint32_t)NUM_MODULO - 1U);
-    return (int32_t)d;
+    return c4g_num_delta(s->last_num, num);
 }
 
 /* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is

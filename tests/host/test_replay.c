@@ -19,7 +19,7 @@
 #include "test_helpers.h"
 
 #include "c4gh_hist.h"
-#include "c4gh_ctrlside.h"
+#include "c4gh_hist.h"
 #include "c4gh_analyze.h"
 /* intrusive: the link-type table (LT_*) is private to the capture reader */
 #include "../../lib/host/c4gh_capture.c"
@@ -398,11 +398,11 @@ static void write_session(writer_t *w, const sess_plan_t *pl, int32_t mode, int 
         n = ctrl_packet(num, k, pl, b, m);
         w_udp(w, &o, t, IP_CTRL, 3600, IP_PC, pl->pc_port, b, n);
         if (!(k >= pl->skip_from && k < pl->skip_from + pl->skip_n)) {
-            const int32_t rn = (k == pl->wrong_num_at) ? num + 5 : c4gh_cs_num_after(num);
+            const int32_t rn = (k == pl->wrong_num_at) ? num + 5 : c4g_num_next(num);
             const size_t rl = pc_packet(b, n, rn, k, pl, r);
             w_udp(w, &o, t + (k == pl->late_at ? 600000 : 200000), IP_PC, pl->pc_port, IP_CTRL, 3600, r, rl);
         }
-        num = c4gh_cs_num_after(num);
+        num = c4g_num_next(num);
         t += 2000000;
     }
 }
@@ -414,7 +414,7 @@ typedef struct collect {
 static void on_x(void *ctx, const c4gh_an_exchange_t *x)
 {
     collect_t *c = ctx;
-    if (x->kind == C4GH_CS_CYCLIC) {
+    if (x->kind == C4G_PKT_CYCLIC) {
         c->cyclic++;
         if (x->reply != NULL && x->tx != NULL) {
             c->with_reply++;
@@ -475,7 +475,7 @@ static void test_session_findings(void **state)
     assert_int_equal(s->ctrl_init, 1);
     assert_int_equal(s->pc_init, 1);
     assert_int_equal(s->ctrl_cyclic, 100);
-    assert_int_equal(s->policy, C4GH_CS_NUM_PLUS_ONE);
+    assert_int_equal(s->policy, C4G_NUM_PLUS_ONE);
     assert_true(s->have_init);
     assert_int_equal(s->n_axes, 6);
     /* 12 skipped + the wrong NUM one: 13 missing, the longest run 12 from tick 20 */
@@ -591,7 +591,7 @@ typedef struct times {
 static void on_time(void *ctx, const c4gh_an_exchange_t *x)
 {
     times_t *t = ctx;
-    if (x->kind == C4GH_CS_CYCLIC) {
+    if (x->kind == C4G_PKT_CYCLIC) {
         t->back |= (t->n > 0U && x->ctrl_ns < t->last);
         t->last = x->ctrl_ns;
         t->n++;

@@ -114,7 +114,7 @@ static void test_live_argv_read_back_by_c4g_sim(void **state)
     assert_int_equal(g_app.o.cap.session, 3);
     assert_true(g_app.o.cap.tolerance == 1e-6);
     assert_int_equal(g_app.cfg.t_cycle1_us, 400);
-    assert_int_equal(g_app.cfg.policy, SIM_NUM_ECHO);
+    assert_int_equal(g_app.cfg.policy, C4G_NUM_ECHO);
     assert_int_equal(g_app.o.cap.n_ports, 2);
     assert_int_equal(g_app.o.cap.ports[0], 46104);
     assert_int_equal(g_app.o.cap.ports[1], 1000);

@@ -42,7 +42,7 @@ bool is_capture(const std::string &path)
     const size_t n = std::fread(m, 1, 4, f);
     std::fclose(f);
     if (n < 4) return false;
-    const uint32_t le = m[0] | (m[1] << 8) | (m[2] << 16) | (static_cast<uint32_t>(m[3]) << 24);
+    const uint32_t le = c4g_le_u32(m);
     return le == 0xa1b2c3d4U || le == 0xd4c3b2a1U || le == 0xa1b23c4dU || le == 0x4d3cb2a1U || le == 0x0a0d0d0aU;
 }
 
@@ -129,7 +129,7 @@ struct CapCtx {
 void on_exchange(void *vp, const c4gh_an_exchange_t *x)
 {
     CapCtx *c = static_cast<CapCtx *>(vp);
-    if (x->kind != C4GH_CS_CYCLIC || x->rx == nullptr) return;
+    if (x->kind != C4G_PKT_CYCLIC || x->rx == nullptr) return;
     const c4gh_an_session_t *s = x->s;
     if (c->col->sel.session != 0 && s->id != c->col->sel.session) return;
     const uint32_t arm = c->col->sel.arm - 1U;

@@ -72,9 +72,9 @@ static void csv_side(ex_ctx_t *e, const uint8_t *d, size_t len, unsigned n)
             fprintf(e->out, ",,,,,,,,,");
             continue;
         }
-        fprintf(e->out, ",%d", (int)c4gh_an_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
+        fprintf(e->out, ",%d", (int)c4g_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",%.9g", (double)c4gh_an_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
+            fprintf(e->out, ",%.9g", (double)c4g_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
         }
     }
 }
@@ -92,15 +92,15 @@ static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
     if (x->reply != NULL) {
         fprintf(e->out, "%llu", (unsigned long long)x->reply_frame);
     }
-    fprintf(e->out, ",%d,", (int)c4gh_an_le_i32(x->ctrl));
+    fprintf(e->out, ",%d,", (int)c4g_le_i32(x->ctrl));
     if (x->reply != NULL && x->reply_len >= 4U) {
-        fprintf(e->out, "%d,%.3f", (int)c4gh_an_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        fprintf(e->out, "%d,%.3f", (int)c4g_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
         fputc(',', e->out);
     }
-    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)c4gh_an_le_u32(x->ctrl + 4), (unsigned)c4gh_an_le_u32(x->ctrl + 8));
+    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)c4g_le_u32(x->ctrl + 4), (unsigned)c4g_le_u32(x->ctrl + 8));
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        fprintf(e->out, "0x%08x,0x%08x", (unsigned)c4gh_an_le_u32(x->reply + 4), (unsigned)c4gh_an_le_u32(x->reply + 8));
+        fprintf(e->out, "0x%08x,0x%08x", (unsigned)c4g_le_u32(x->reply + 4), (unsigned)c4g_le_u32(x->reply + 8));
     } else {
         fputc(',', e->out);
     }
@@ -131,9 +131,9 @@ static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
     }
     o = json_object();
     axes = json_array();
-    json_object_set_new(o, "num", json_integer(c4gh_an_le_i32(d)));
-    json_object_set_new(o, "infpar", json_integer(c4gh_an_le_u32(d + 4)));
-    json_object_set_new(o, "cmd", json_integer(c4gh_an_le_u32(d + 8)));
+    json_object_set_new(o, "num", json_integer(c4g_le_i32(d)));
+    json_object_set_new(o, "infpar", json_integer(c4g_le_u32(d + 4)));
+    json_object_set_new(o, "cmd", json_integer(c4g_le_u32(d + 8)));
     for (i = 0U; i < n; i++) {
         const uint8_t *a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
         json_t *ax;
@@ -142,9 +142,9 @@ static json_t *json_side(const ex_ctx_t *e, const uint8_t *d, size_t len)
         }
         ax = json_object();
         json_object_set_new(ax, "axis", json_integer(i + 1U));
-        json_object_set_new(ax, "mode", json_integer(c4gh_an_le_i32(a)));
+        json_object_set_new(ax, "mode", json_integer(c4g_le_i32(a)));
         for (k = 0U; k < 8U; k++) {
-            json_object_set_new(ax, fnames[k], json_float(c4gh_an_le_f32(a + 4U + 4U * k)));
+            json_object_set_new(ax, fnames[k], json_float(c4g_le_f32(a + 4U + 4U * k)));
         }
         json_array_append_new(axes, ax);
     }
@@ -168,8 +168,8 @@ static void json_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
         json_object_set_new(o, "pc_frame", json_null());
         json_object_set_new(o, "latency_us", json_null());
     }
-    json_object_set_new(o, "verdict", json_string(x->verdict == C4GH_CS_J_OK ? (x->late ? "late" : "ok")
-                                                  : (x->verdict == C4GH_CS_J_MISSING ? "missing"
+    json_object_set_new(o, "verdict", json_string(x->verdict == C4G_CTRL_J_OK ? (x->late ? "late" : "ok")
+                                                  : (x->verdict == C4G_CTRL_J_MISSING ? "missing"
                                                                                 : "unjudged")));
     json_object_set_new(o, "ctrl", json_side(e, x->ctrl, x->ctrl_len));
     json_object_set_new(o, "pc", json_side(e, x->reply, x->reply_len));
@@ -231,7 +231,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 {
     ex_ctx_t *e = ctx;
     const double t = (double)(x->ctrl_ns - x->s->first_ns) * 1e-9;
-    if (x->kind != C4GH_CS_CYCLIC || axes_in(x->ctrl_len) == 0U) {
+    if (x->kind != C4G_PKT_CYCLIC || axes_in(x->ctrl_len) == 0U) {
         return;
     }
     if ((e->session != 0U && x->s->id != e->session) || t < e->from_s || (e->to_s >= 0.0 && t > e->to_s)) {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-replay live: a front end of c4g-sim, the one controller host. c4g-sim --capture plays
  * a recorded session's controller packets to a PC server, judges the replies with the
- * controller side (c4gh_cs_*) and compares them with the recorded ones (docs/c4g-sim.md).
+ * library's controller end (c4g_ctrl_*) and compares them with the recorded ones (docs/c4g-sim.md).
  * This command keeps its own option table (its --help, its man page, its usage errors),
  * then runs c4g-sim with the same request: found beside this executable, then on PATH. */
 #include "replay.h"

@@ -33,7 +33,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
     size_t len, off;
     double v;
     unsigned k;
-    if (x->kind != C4GH_CS_CYCLIC) {
+    if (x->kind != C4G_PKT_CYCLIC) {
         return;
     }
     if (p->chosen == 0U && (p->session == 0U || p->session == x->s->id)) {
@@ -44,7 +44,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
     }
     if (p->latency) {
         /* the replies the controller used (judged in time): a stale one is no latency */
-        if (x->reply != NULL && x->verdict == C4GH_CS_J_OK) {
+        if (x->reply != NULL && x->verdict == C4G_CTRL_J_OK) {
             fprintf(p->data, "%.3f\n", (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
             p->points++;
         }
@@ -62,7 +62,7 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
             fprintf(p->data, " NaN");
             continue;
         }
-        v = (p->field_k[k] == 0U) ? (double)c4gh_an_le_i32(d + off) : (double)c4gh_an_le_f32(d + off);
+        v = (p->field_k[k] == 0U) ? (double)c4g_le_i32(d + off) : (double)c4g_le_f32(d + off);
         if (isfinite(v)) {
             fprintf(p->data, " %.9g", v);
         } else {

@@ -75,11 +75,11 @@ int rp_opt_num_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char 
     rp_common_t *c = ctx;
     (void)row;
     if (strcmp(v, "auto") == 0) {
-        c->an.num_policy = C4GH_CS_NUM_EITHER;
+        c->an.num_policy = C4G_NUM_EITHER;
     } else if (strcmp(v, "plus-one") == 0) {
-        c->an.num_policy = C4GH_CS_NUM_PLUS_ONE;
+        c->an.num_policy = C4G_NUM_PLUS_ONE;
     } else if (strcmp(v, "echo") == 0) {
-        c->an.num_policy = C4GH_CS_NUM_ECHO;
+        c->an.num_policy = C4G_NUM_ECHO;
     } else {
         (void)snprintf(why, whylen, "want auto, plus-one or echo");
         return -1;

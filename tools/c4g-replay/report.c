@@ -17,8 +17,8 @@ static const char *ep(const c4gh_an_endpoint_t *e, char buf[32])
 
 static const char *policy_name(const c4gh_an_session_t *s)
 {
-    if (s->policy == C4GH_CS_NUM_PLUS_ONE || s->policy == C4GH_CS_NUM_ECHO) {
-        return c4gh_cs_policy_name(s->policy);
+    if (s->policy == C4G_NUM_PLUS_ONE || s->policy == C4G_NUM_ECHO) {
+        return c4g_num_policy_name(s->policy);
     }
     if (s->policy_plus > 0U && s->policy_echo > 0U) {
         return "mixed";
@@ -162,7 +162,7 @@ static void text_modes(FILE *out, const c4gh_an_session_t *s)
 static void text_session(FILE *out, const c4gh_an_session_t *s, uint32_t allow)
 {
     char b1[32], b2[32];
-    const c4gh_cs_counters_t *n = &s->cs.n;
+    const c4g_ctrl_counters_t *n = &s->cs.n;
     unsigned k, nf;
     fprintf(out, "session %u: %s, controller %s -> PC %s, %.3f s, frames %llu..%llu, ended by %s\n", s->id,
             s->file, ep(&s->ctrl, b1), ep(&s->pc, b2), sec(s->last_ns - s->first_ns),
@@ -398,7 +398,7 @@ static json_t *j_findings(const c4gh_an_session_t *s, uint32_t allow)
 
 static json_t *j_session(const c4gh_an_session_t *s, uint32_t allow)
 {
-    const c4gh_cs_counters_t *n = &s->cs.n;
+    const c4g_ctrl_counters_t *n = &s->cs.n;
     json_t *special = json_object();
     json_t *o;
     unsigned k;

@@ -57,7 +57,7 @@ typedef enum rr_behaviour { RR_SERVER = 0, RR_ECHO } rr_behaviour_t;
 typedef struct rr_div {
     unsigned session;
     uint64_t tick;           /* the cyclic packet's number in its session (1 = the first) */
-    int kind;                /* C4GH_CS_SYNC / C4GH_CS_INIT / C4GH_CS_CYCLIC */
+    int kind;                /* C4G_PKT_SYNC / C4G_PKT_INIT / C4G_PKT_CYCLIC */
     int32_t num;             /* the controller packet's NUM */
     uint64_t frame;          /* its frame in the capture */
     double t_s;              /* since the session's first packet */
@@ -190,20 +190,20 @@ static void div_where(rr_div_t *d, const rr_pkt_t *p)
     d->session = p->session;
     d->tick = p->tick;
     d->kind = p->kind;
-    d->num = (p->ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(p->ctrl) : -1;
+    d->num = (p->ctrl_len >= 4U) ? (int32_t)c4g_le_u32(p->ctrl) : -1;
     d->frame = p->ctrl_frame;
     d->t_s = (double)(p->ctrl_ns - p->s->first_ns) * 1e-9;
 }
 
 static const char *kind_name(int kind)
 {
-    return (kind == C4GH_CS_SYNC) ? "sync" : ((kind == C4GH_CS_INIT) ? "init" : "cyclic");
+    return (kind == C4G_PKT_SYNC) ? "sync" : ((kind == C4G_PKT_INIT) ? "init" : "cyclic");
 }
 
 static void print_div(FILE *out, const rr_div_t *d)
 {
     fprintf(out, "session %u ", d->session);
-    if (d->kind == C4GH_CS_CYCLIC) {
+    if (d->kind == C4G_PKT_CYCLIC) {
         fprintf(out, "tick %llu", (unsigned long long)d->tick);
     } else {
         fprintf(out, "%s packet", kind_name(d->kind));
@@ -280,20 +280,20 @@ static int compare_words(rr_t *R, const rr_pkt_t *p, const uint8_t *rec, const u
     unsigned w;
     int diverged = 0;
     for (w = 0U; w < (unsigned)(n / 4U); w++) {
-        const uint32_t a = c4gh_an_le_u32(rec + 4U * w), b = c4gh_an_le_u32(out + 4U * w);
+        const uint32_t a = c4g_le_u32(rec + 4U * w), b = c4g_le_u32(out + 4U * w);
         rr_div_t d;
         int axis = -1;
         rr_field_t f;
         if (a == b) {
             continue;
         }
-        if (p->kind == C4GH_CS_CYCLIC) {
+        if (p->kind == C4G_PKT_CYCLIC) {
             f = cyclic_field(w, &axis);
             if (f >= RR_F_D1 && float_equal(R, a, b)) {
                 continue;
             }
         } else {
-            f = (p->kind == C4GH_CS_SYNC) ? RR_F_SYNC : RR_F_INIT;
+            f = (p->kind == C4G_PKT_SYNC) ? RR_F_SYNC : RR_F_INIT;
         }
         div_where(&d, p);
         d.field = f;
@@ -415,20 +415,20 @@ static void on_late(void *ctx, const c4gh_an_session_t *s, const uint8_t *d, siz
                     uint64_t frame)
 {
     rr_t *R = ctx;
-    const int32_t num = (len >= 4U) ? (int32_t)c4gh_an_le_u32(d) : -1;
+    const int32_t num = (len >= 4U) ? (int32_t)c4g_le_u32(d) : -1;
     const int policy = (s->cs.detected >= 0) ? s->cs.detected
-                                              : ((R->c.an.num_policy == C4GH_CS_NUM_ECHO) ? C4GH_CS_NUM_ECHO
-                                                                                      : C4GH_CS_NUM_PLUS_ONE);
+                                              : ((R->c.an.num_policy == C4G_NUM_ECHO) ? C4G_NUM_ECHO
+                                                                                      : C4G_NUM_PLUS_ONE);
     unsigned k;
     (void)ns;
     (void)frame;
     for (k = 0U; k < RR_PENDING; k++) {
         rr_pending_t *e = &R->pending[(R->pend_next + RR_PENDING - 1U - k) % RR_PENDING];
-        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)c4gh_an_le_u32(e->p.ctrl) : -1;
+        const int32_t sent = (e->p.ctrl_len >= 4U) ? (int32_t)c4g_le_u32(e->p.ctrl) : -1;
         rr_sess_t *ss;
         int diverged = 0;
         if (!e->used || e->p.s != s ||
-            c4g_reply_num(sent, policy == C4GH_CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+            c4g_reply_num(sent, policy == C4G_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
             continue;
         }
         e->used = 0;
@@ -506,7 +506,7 @@ static void feed(rr_t *R, const rr_pkt_t *p, uint64_t t_rx, int after_pause)
         }
         g_srv.t0_ns = t_rx;
     }
-    if (ss != NULL && p->kind >= C4GH_CS_SYNC && p->kind <= C4GH_CS_CYCLIC) {
+    if (ss != NULL && p->kind >= C4G_PKT_SYNC && p->kind <= C4G_PKT_CYCLIC) {
         ss->fed[p->kind]++;
     }
     endpoint_of(&p->s->ctrl, &from);
@@ -623,7 +623,7 @@ static void drop_held(rr_t *R)
     srv_drop(&g_srv, R->held.ctrl, R->held.ctrl_len, &from, (uint64_t)R->freeze_until);
     if (ss != NULL) {
         ss->held_dropped++;
-        if (R->held.kind >= C4GH_CS_SYNC && R->held.kind <= C4GH_CS_CYCLIC) {
+        if (R->held.kind >= C4G_PKT_SYNC && R->held.kind <= C4G_PKT_CYCLIC) {
             ss->fed[R->held.kind]++;
         }
     }
@@ -683,9 +683,9 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
         p.rec_len = x->other_len;
         p.rec_ns = x->other_ns;
     }
-    if (!x->s->have_init && x->kind == C4GH_CS_CYCLIC && x->ctrl_len >= C4G_CYCLIC_SIZE(1U)) {
+    if (!x->s->have_init && x->kind == C4G_PKT_CYCLIC && x->ctrl_len >= C4G_CYCLIC_SIZE(1U)) {
         rr_sess_t *ss = sess_of(R, x->s);
-        if (ss != NULL && ss->fed[C4GH_CS_SYNC] + ss->fed[C4GH_CS_INIT] + ss->fed[C4GH_CS_CYCLIC] == 0U) {
+        if (ss != NULL && ss->fed[C4G_PKT_SYNC] + ss->fed[C4G_PKT_INIT] + ss->fed[C4G_PKT_CYCLIC] == 0U) {
             prime(R, ss, x);
         }
     }
@@ -733,8 +733,8 @@ static void report_text(const rr_t *R, const char *path)
         char a[32], b[32];
         printf("session %u  controller %s  PC %s\n", s->id, ep_text(&s->ctrl, a, sizeof a),
                ep_text(&s->pc, b, sizeof b));
-        printf("  fed %llu sync, %llu init, %llu cyclic packets", (unsigned long long)s->fed[C4GH_CS_SYNC],
-               (unsigned long long)s->fed[C4GH_CS_INIT], (unsigned long long)s->fed[C4GH_CS_CYCLIC]);
+        printf("  fed %llu sync, %llu init, %llu cyclic packets", (unsigned long long)s->fed[C4G_PKT_SYNC],
+               (unsigned long long)s->fed[C4G_PKT_INIT], (unsigned long long)s->fed[C4G_PKT_CYCLIC]);
         if (s->held_dropped > 0U) {
             printf(" (%llu dropped unanswered after an active-freezing pause)",
                    (unsigned long long)s->held_dropped);
@@ -833,8 +833,8 @@ static int report_json(const rr_t *R, const char *path)
             sessions,
             json_pack("{s:i, s:s, s:s, s:{s:I, s:I, s:I}, s:I, s:I, s:I, s:I, s:I}", "id", (json_int_t)s->id,
                       "controller", ep_text(&s->ctrl, a, sizeof a), "pc", ep_text(&s->pc, b, sizeof b), "fed",
-                      "sync", (json_int_t)s->fed[C4GH_CS_SYNC], "init", (json_int_t)s->fed[C4GH_CS_INIT], "cyclic",
-                      (json_int_t)s->fed[C4GH_CS_CYCLIC], "compared", (json_int_t)s->compared, "equal",
+                      "sync", (json_int_t)s->fed[C4G_PKT_SYNC], "init", (json_int_t)s->fed[C4G_PKT_INIT], "cyclic",
+                      (json_int_t)s->fed[C4G_PKT_CYCLIC], "compared", (json_int_t)s->compared, "equal",
                       (json_int_t)(s->compared - s->divergent), "divergent", (json_int_t)s->divergent,
                       "recorded_missing", (json_int_t)s->recorded_missing, "dropped_after_pause",
                       (json_int_t)s->held_dropped));

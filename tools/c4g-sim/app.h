@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-sim the process: the controller model (sim.h) and the controller side of the
- * protocol (c4g_ctrlside.h) wired to a socket, a clock, fault injection and output files.
+ * protocol (the library's controller end, c4gopen_ctrl.h) wired to a socket, a clock, fault injection and output files.
  * options.c: command line; net.c: socket and timestamps; faults.c: fault injection;
  * run.c: the tick loop; report.c: summary and CSV; main.c: the steps in order. */
 #ifndef SIM_APP_H
@@ -12,7 +12,8 @@
 #include <stdio.h>
 
 #include "c4gh_analyze.h"
-#include "c4gh_ctrlside.h"
+#include "c4gh_hist.h"
+#include "c4gopen.h"
 #include "c4gh_pcap.h"
 #include "sim.h"
 
@@ -69,7 +70,7 @@ typedef struct app_opts {
     cap_opts_t cap;  /* --capture and its options */
 } app_opts_t;
 
-/* The simulator's own counters (the protocol's are in c4gh_cs_t). */
+/* The simulator's own counters (the protocol's are in c4g_ctrl_t). */
 typedef struct app_stats {
     unsigned long sent;
     unsigned long fault[F_COUNT];
@@ -83,7 +84,8 @@ typedef struct app {
     sim_config_t cfg;
     sim_t sim;
     scn_t scn;
-    c4gh_cs_t cs;
+    c4g_ctrl_t cs;
+    c4gh_hist_t lat;         /* reply latencies the controller end judged ok */
     int fd;
     struct sockaddr_in srv;
     struct sockaddr_in local;
@@ -103,7 +105,7 @@ typedef struct app {
     uint32_t tx_key;
     uint64_t tol_ns;         /* own lateness beyond which a tick is an overrun */
     struct cap *cap;         /* --capture: the player (capture.h); NULL: the model plays */
-    uint8_t rx_raw[C4G_INIT_SIZE]; /* the reply c4gh_cs_reply accepted last, its bytes */
+    uint8_t rx_raw[C4G_INIT_SIZE]; /* the reply c4g_ctrl_reply accepted last, its bytes */
     size_t rx_len;
 } app_t;
 

@@ -5,7 +5,7 @@
  * hands over a controller packet once the next one is read, which is ahead of real time:
  * the player sleeps in it until the packet is due, so memory stays bounded whatever the
  * capture's length. Sending, receiving, the foreign filter and the kernel timestamps are
- * c4g-sim's (net.c, handle_rx); the judgement is the controller side's (c4gh_cs_*). */
+ * c4g-sim's (net.c, handle_rx); the judgement is the library's controller end (c4g_ctrl_*). */
 #include "capture.h"
 
 #include "c4gh_udp.h"
@@ -46,9 +46,9 @@ static void on_scan(void *ctx, const c4gh_an_exchange_t *x)
         sc->first_kind = (int)x->kind;
         sc->first_ns = x->ctrl_ns;
     }
-    sc->sync += (x->kind == C4GH_CS_SYNC);
-    sc->init += (x->kind == C4GH_CS_INIT);
-    sc->cyclic += (x->kind == C4GH_CS_CYCLIC);
+    sc->sync += (x->kind == C4G_PKT_SYNC);
+    sc->init += (x->kind == C4G_PKT_INIT);
+    sc->cyclic += (x->kind == C4G_PKT_CYCLIC);
     sc->last_ns = x->ctrl_ns;
     last = x->ctrl_frame;
     if (x->reply != NULL && x->reply_frame > last) {
@@ -92,7 +92,7 @@ static int choose(cap_t *C)
                 "its start-up (no initialization packet): a PC server cannot take it up in the "
                 "middle; 'c4g-replay rerun' replays it through c4g-server's code\n", C->tool, C->cmd,
                 C->o.session,
-                sc->first_kind == C4GH_CS_SYNC ? "synchronization" : "cyclic");
+                sc->first_kind == C4G_PKT_SYNC ? "synchronization" : "cyclic");
         return EXIT_USAGE;
     }
     C->chosen = C->o.session;
@@ -217,8 +217,8 @@ static void compare(cap_t *C, const c4g_pc_packet_t *live)
     C->compared++;
     if (!P->has_rec) {
         divergence(C, &nd, CAP_F_REPLY, 0U, "none", "a valid reply");
-    } else if (P->kind != C4GH_CS_CYCLIC) {
-        cmp_int(C, &nd, CAP_F_NUM, 0U, c4gh_an_le_i32(P->rec_raw), c4gh_an_le_i32(C->app->rx_raw), 0);
+    } else if (P->kind != C4G_PKT_CYCLIC) {
+        cmp_int(C, &nd, CAP_F_NUM, 0U, c4g_le_i32(P->rec_raw), c4g_le_i32(C->app->rx_raw), 0);
         if (P->rec_len != C->app->rx_len || memcmp(P->rec_raw + 4, C->app->rx_raw + 4, P->rec_len - 4U) != 0) {
             char a[24], b[24];
             (void)snprintf(a, sizeof a, "%u bytes", (unsigned)P->rec_len);
@@ -261,19 +261,19 @@ static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d,
 {
     cap_t *C = ctx;
     cap_pending_t *P = &C->pend;
-    const int32_t num = (len >= 4U) ? c4gh_an_le_i32(d) : -1;
-    const int pol = (s->cs.detected >= 0) ? s->cs.detected : C4GH_CS_NUM_PLUS_ONE;
+    const int32_t num = (len >= 4U) ? c4g_le_i32(d) : -1;
+    const int pol = (s->cs.detected >= 0) ? s->cs.detected : C4G_NUM_PLUS_ONE;
     (void)ns;
     (void)frame;
     if (!P->active || P->has_rec || len > sizeof P->rec_raw ||
-        c4g_reply_num(P->num, pol == C4GH_CS_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
+        c4g_reply_num(P->num, pol == C4G_NUM_ECHO ? C4G_NUM_ECHO : C4G_NUM_PLUS_ONE) != num) {
         return;
     }
     P->has_rec = 1;
     P->rec_late = 1;
     P->rec_len = len;
     memcpy(P->rec_raw, d, len);
-    if (P->kind == C4GH_CS_CYCLIC) {
+    if (P->kind == C4G_PKT_CYCLIC) {
         P->rec_decoded = (c4g_pc_decode(d, len, s->cs.cfg.n_axes, &P->rec, NULL) == C4G_OK);
     }
 }
@@ -284,23 +284,26 @@ static void on_late_rec(void *ctx, const c4gh_an_session_t *s, const uint8_t *d,
 static void cap_judge(cap_t *C, uint64_t deadline, int own_short)
 {
     cap_pending_t *P = &C->pend;
-    c4gh_cs_verdict_t v;
+    c4g_ctrl_verdict_t v;
     uint64_t woke = c4gh_udp_now_ns();
     /* We sent the packet so late that the PC had less than its period: judged as our own
-     * lateness (c4gh_cs_judge): a reply that is there counts, none is unjudged, not missing. */
+     * lateness (c4g_ctrl_judge): a reply that is there counts, none is unjudged, not missing. */
     if (own_short && woke <= deadline + C->tol_ns) {
         woke = deadline + C->tol_ns + 1U;
     }
-    c4gh_cs_set_deadline(&C->app->cs, deadline);
-    v = c4gh_cs_judge(&C->app->cs, woke, P->suspended);
+    (void)c4g_ctrl_set_deadline(&C->app->cs, deadline);
+    (void)c4g_ctrl_judge(&C->app->cs, woke, P->suspended != 0, &v);
     if (!C->o.topspeed) {
         /* the kernel's send time when it came back, else the clock read before sendto */
         const uint64_t sent = C->app->cs.out.sent_ns;
         c4gh_hist_add(&C->err, (int64_t)(sent - P->sched_ns));
         C->drift_ns = (int64_t)(sent - P->sched_ns);
     }
-    if (v == C4GH_CS_J_OK) {
-        compare(C, c4gh_cs_take_reply(&C->app->cs));
+    if (v == C4G_CTRL_J_OK) {
+        const c4g_pc_packet_t *reply = NULL;
+        c4gh_hist_add(&C->app->lat, (int64_t)C->app->cs.last_lat_ns);
+        (void)c4g_ctrl_take_reply(&C->app->cs, &reply);
+        compare(C, reply);
     }
     P->active = 0;
 }
@@ -345,7 +348,7 @@ static void cap_send(cap_t *C, const c4gh_an_exchange_t *x, uint64_t sched)
     uint32_t i;
     uint64_t t;
     long n;
-    const int32_t num = c4gh_an_le_i32(x->ctrl);
+    const int32_t num = c4g_le_i32(x->ctrl);
     /* the controller does not wait for the reply to 504 (the analysis' rule) */
     for (i = 0U; x->rx != NULL && i < x->rx->n_axes; i++) {
         if (x->rx->ax[i].mode == C4G_MODE_EXIT_OPEN) {
@@ -354,7 +357,7 @@ static void cap_send(cap_t *C, const c4gh_an_exchange_t *x, uint64_t sched)
     }
     C->app->rx_len = 0U;
     t = c4gh_udp_now_ns();
-    c4gh_cs_emit(&C->app->cs, x->kind, num, x->ctrl, x->ctrl_len, check, t);
+    (void)c4g_ctrl_emit(&C->app->cs, x->kind, num, x->ctrl, x->ctrl_len, check != 0, t);
     n = net_sendto(C->app, x->ctrl, x->ctrl_len, &C->app->tx_key);
     C->app->has_key = (n >= 0);
     if (n < 0 && C->send_errors++ == 0U) {
@@ -433,7 +436,7 @@ static int play_pass(cap_t *C)
 {
     const cap_scan_t *sc = &C->scan[C->chosen - 1U];
     c4gh_an_options_t o = C->an;
-    c4gh_cs_config_t cfg;
+    c4g_ctrl_config_t cfg;
     char err[390];
     c4gh_an_t a;
     c4gh_cap_t *c;
@@ -447,7 +450,7 @@ static int play_pass(cap_t *C)
     cfg.max_miss = 10U;
     cfg.sync_before = 9U;
     cfg.sync_after = 2U;
-    c4gh_cs_init(&C->app->cs, &cfg);
+    (void)c4g_ctrl_init(&C->app->cs, &cfg);
     C->started = 0;
     C->pass_done = 0;
     C->pend.active = 0;
@@ -500,7 +503,7 @@ static int play_pass(cap_t *C)
 }
 
 /* Add one pass's counters to the totals. */
-static void add_counters(c4gh_cs_counters_t *t, const c4gh_cs_counters_t *n)
+static void add_counters(c4g_ctrl_counters_t *t, const c4g_ctrl_counters_t *n)
 {
     if (n->replies_ok > 0U && (t->replies_ok == 0U || n->lat_min < t->lat_min)) {
         t->lat_min = n->lat_min;
@@ -526,7 +529,6 @@ static void add_counters(c4gh_cs_counters_t *t, const c4gh_cs_counters_t *n)
     t->stale += n->stale;
     t->unexpected += n->unexpected;
     t->lat_sum += n->lat_sum;
-    c4gh_hist_merge(&t->lat, &n->lat);
 }
 
 static void play(cap_t *C)
@@ -684,9 +686,7 @@ static int cap_setup(cap_t *C, app_t *a)
         C->o.spin_us = 100U;
     }
     C->spin_ns = (uint64_t)C->o.spin_us * 1000U;
-    C->policy = (cfg->policy == SIM_NUM_ECHO)       ? C4GH_CS_NUM_ECHO
-                : (cfg->policy == SIM_NUM_PLUS_ONE) ? C4GH_CS_NUM_PLUS_ONE
-                                                    : C4GH_CS_NUM_EITHER;
+    C->policy = cfg->policy;
     (void)snprintf(C->to_text, sizeof C->to_text, "%s:%u", cfg->server, cfg->port);
     c4gh_an_options_default(&C->an);
     if (C->o.n_ports > 0U) {

@@ -2,7 +2,7 @@
 /* c4g-sim --capture: the controller played from a recorded session instead of the model.
  * The controller packets of one session leave at their recorded times through c4g-sim's
  * socket (net.c: the same foreign filter and kernel timestamps), each reply is judged by
- * the controller side (c4gh_cs_*) as the model's are, and each reply judged ok is compared
+s * the library's controller end (c4g_ctrl_*) as the model's are, and each reply judged ok is compared
  * field by field with the reply the recorded PC gave. capture.c plays, capture_report.c
  * prints what came of it. c4g-replay live is a front end that runs this. */
 #ifndef SIM_CAPTURE_H
@@ -29,7 +29,7 @@ const char *cap_field_name(cap_field_t f);
 typedef struct cap_first {
     int set;
     unsigned pass;
-    c4gh_cs_kind_t kind;
+    c4g_pkt_kind_t kind;
     uint64_t tick;           /* cyclic packets of the session before this one */
     int32_t num;             /* the controller packet's NUM */
     unsigned axis;           /* OPEN index, 1-based; 0 for the header fields */
@@ -41,7 +41,7 @@ typedef struct cap_first {
 /* What the first reading found of each session. */
 typedef struct cap_scan {
     uint64_t exchanges, sync, init, cyclic;
-    int first_kind;          /* c4gh_cs_kind_t of its first packet */
+    int first_kind;          /* c4g_pkt_kind_t of its first packet */
     uint64_t stop_frame;     /* its last packet and the recorded reply are read by then */
     uint32_t n_axes;
     int32_t period_ms;       /* from the init packet; 0 unknown */
@@ -51,7 +51,7 @@ typedef struct cap_scan {
 /* The packet sent last, waiting for its judgement. */
 typedef struct cap_pending {
     int active;
-    c4gh_cs_kind_t kind;
+    c4g_pkt_kind_t kind;
     uint64_t tick;
     int32_t num;
     int check, suspended;
@@ -73,7 +73,7 @@ typedef struct cap {
     app_t *app;               /* the socket, its timestamps and the controller side */
     cap_opts_t o;
     const char *tool, *cmd;   /* in messages and the report */
-    c4gh_cs_policy_t policy;  /* --num-policy */
+    c4g_num_policy_t policy;  /* --num-policy */
     char to_text[96];
     c4gh_an_options_t an;
     uint64_t spin_ns;
@@ -91,7 +91,7 @@ typedef struct cap {
     uint64_t window_ns;       /* the least time a packet's reply is waited for */
     cap_pending_t pend;
     /* totals */
-    c4gh_cs_counters_t n;     /* every pass's c4gh_cs_t counters added up */
+    c4g_ctrl_counters_t n;     /* every pass's c4g_ctrl_t counters added up */
     unsigned passes_done;
     int interrupted;
     int read_failed;          /* a pass could not read the file again */

@@ -17,14 +17,14 @@ const char *cap_field_name(cap_field_t f) { return (f < CAP_F_COUNT) ? field_nam
  * unjudged. */
 static uint64_t sum_findings(const cap_t *C)
 {
-    const c4gh_cs_counters_t *n = &C->n;
+    const c4g_ctrl_counters_t *n = &C->n;
     return n->late + n->missing + n->unjudged + n->wrong_num + n->malformed + n->duplicates +
            C->send_errors + C->differing;
 }
 
 static void list_findings(FILE *out, const cap_t *C)
 {
-    const c4gh_cs_counters_t *n = &C->n;
+    const c4g_ctrl_counters_t *n = &C->n;
     const struct { uint64_t v; const char *what; } f[] = {
         {n->late, "late"}, {n->missing, "missing"}, {n->unjudged, "unjudged"},
         {n->wrong_num, "wrong NUM"}, {n->malformed, "malformed"}, {n->duplicates, "duplicates"},
@@ -51,16 +51,16 @@ int cap_findings(const cap_t *C)
     return sum_findings(C) > 0U || C->interrupted || C->read_failed || C->passes_done < C->o.loops;
 }
 
-static const char *kind_name(c4gh_cs_kind_t k)
+static const char *kind_name(c4g_pkt_kind_t k)
 {
-    return (k == C4GH_CS_SYNC) ? "sync" : (k == C4GH_CS_INIT ? "init" : "cyclic");
+    return (k == C4G_PKT_SYNC) ? "sync" : (k == C4G_PKT_INIT ? "init" : "cyclic");
 }
 
 static const cap_scan_t *chosen(const cap_t *C) { return &C->scan[C->chosen - 1U]; }
 
 void cap_report_text(FILE *out, const cap_t *C)
 {
-    const c4gh_cs_counters_t *n = &C->n;
+    const c4g_ctrl_counters_t *n = &C->n;
     const cap_scan_t *sc = chosen(C);
     unsigned f, shown = 0U;
     fprintf(out, "%s: session %u of %s to %s: %u of %u pass%s, ", C->cmd, C->chosen, C->o.path, C->to_text,
@@ -73,14 +73,14 @@ void cap_report_text(FILE *out, const cap_t *C)
     fprintf(out, ", recorded %.3f s, played in %.3f s%s\n", (double)(sc->last_ns - sc->first_ns) * 1e-9,
             (double)C->elapsed_ns * 1e-9, C->interrupted ? " (interrupted)" : "");
     fprintf(out, "sent: %llu packets (%llu sync, %llu init, %llu cyclic)", (unsigned long long)C->sent,
-            (unsigned long long)C->sent_kind[C4GH_CS_SYNC], (unsigned long long)C->sent_kind[C4GH_CS_INIT],
-            (unsigned long long)C->sent_kind[C4GH_CS_CYCLIC]);
+            (unsigned long long)C->sent_kind[C4G_PKT_SYNC], (unsigned long long)C->sent_kind[C4G_PKT_INIT],
+            (unsigned long long)C->sent_kind[C4G_PKT_CYCLIC]);
     if (C->send_errors > 0U) {
         fprintf(out, "; %llu not sent (first: %s)", (unsigned long long)C->send_errors, C->send_error);
     }
-    fprintf(out, "\nreplies (NUM policy %s", c4gh_cs_policy_name(C->policy));
-    if (C->policy == C4GH_CS_NUM_EITHER) {
-        fprintf(out, ", server %s", c4gh_cs_policy_name(C->app->cs.detected));
+    fprintf(out, "\nreplies (NUM policy %s", c4g_num_policy_name(C->policy));
+    if (C->policy == C4G_NUM_EITHER) {
+        fprintf(out, ", server %s", c4g_num_policy_name(C->app->cs.detected));
     }
     fprintf(out, "; t-cycle1 %.0f us): %lu ok, %lu late, "
             "%lu missing, %lu unjudged, %lu wrong NUM, %lu malformed, %lu duplicates, %lu stale\n",
@@ -96,8 +96,8 @@ void cap_report_text(FILE *out, const cap_t *C)
                 "%lu from other addresses\n", n->unexpected, n->foreign);
     }
     if (n->replies_ok > 0U) {
-        fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", c4gh_cs_lat_percentile(n, 0.5),
-                c4gh_cs_lat_percentile(n, 0.99), (double)n->lat_max * 1e-3);
+        fprintf(out, "latency: p50 %.0f us, p99 %.0f us, max %.1f us\n", c4gh_hist_us(&C->app->lat, 0.5),
+                c4gh_hist_us(&C->app->lat, 0.99), (double)n->lat_max * 1e-3);
     } else {
         fprintf(out, "latency: no reply judged ok\n");
     }
@@ -148,7 +148,7 @@ void cap_report_text(FILE *out, const cap_t *C)
 
 void cap_report_json(FILE *out, const cap_t *C)
 {
-    const c4gh_cs_counters_t *n = &C->n;
+    const c4g_ctrl_counters_t *n = &C->n;
     const cap_scan_t *sc = chosen(C);
     json_t *o, *fields, *first = json_null(), *timing = json_null();
     unsigned f;
@@ -180,9 +180,9 @@ void cap_report_json(FILE *out, const cap_t *C)
                   "recorded_s", (double)(sc->last_ns - sc->first_ns) * 1e-9, "elapsed_s",
                   (double)C->elapsed_ns * 1e-9);
     (void)json_object_set_new(o, "packets", json_pack("{s:I, s:I, s:I, s:I, s:I}", "sent", (json_int_t)C->sent,
-                                                      "sync", (json_int_t)C->sent_kind[C4GH_CS_SYNC], "init",
-                                                      (json_int_t)C->sent_kind[C4GH_CS_INIT], "cyclic",
-                                                      (json_int_t)C->sent_kind[C4GH_CS_CYCLIC], "send_errors",
+                                                      "sync", (json_int_t)C->sent_kind[C4G_PKT_SYNC], "init",
+                                                      (json_int_t)C->sent_kind[C4G_PKT_INIT], "cyclic",
+                                                      (json_int_t)C->sent_kind[C4G_PKT_CYCLIC], "send_errors",
                                                       (json_int_t)C->send_errors));
     (void)json_object_set_new(
         o, "replies",
@@ -193,10 +193,10 @@ void cap_report_json(FILE *out, const cap_t *C)
                   (json_int_t)n->duplicates, "stale", (json_int_t)n->stale, "unexpected",
                   (json_int_t)n->unexpected, "max_consecutive_missing", (json_int_t)n->max_consecutive,
                   "err_c4gopen_udp", n->max_consecutive >= 10U, "latency_us", "p50",
-                  c4gh_cs_lat_percentile(n, 0.5), "p99", c4gh_cs_lat_percentile(n, 0.99), "max",
+                  c4gh_hist_us(&C->app->lat, 0.5), "p99", c4gh_hist_us(&C->app->lat, 0.99), "max",
                   (double)n->lat_max * 1e-3));
-    (void)json_object_set_new(o, "num_policy", json_string(c4gh_cs_policy_name(C->policy)));
-    (void)json_object_set_new(o, "pc_policy", json_string(c4gh_cs_policy_name(C->app->cs.detected)));
+    (void)json_object_set_new(o, "num_policy", json_string(c4g_num_policy_name(C->policy)));
+    (void)json_object_set_new(o, "pc_policy", json_string(c4g_num_policy_name(C->app->cs.detected)));
     (void)json_object_set_new(o, "t_cycle1_us", json_real((double)C->an.t_cycle1_ns * 1e-3));
     (void)json_object_set_new(o, "divergences",
                               json_pack("{s:I, s:I, s:f, s:o, s:o}", "compared", (json_int_t)C->compared,

@@ -20,7 +20,7 @@ void sim_config_default(sim_config_t *c)
     strcpy(c->bind_addr, "0.0.0.0");
     c->period_ms = 2;
     c->t_cycle1_us = 500U;
-    c->policy = SIM_NUM_EITHER;
+    c->policy = C4G_NUM_EITHER;
     c->max_miss = 10U;
     c->seed = 1U;
     c->sync_before = 9U;
@@ -213,14 +213,7 @@ static int seed_key(sim_config_t *c, const kv_t *k)
 /* [sim] num_policy */
 static int policy_key(sim_config_t *c, const kv_t *k)
 {
-    const char *value = k->value;
-    if (strcmp(value, "plus-one") == 0) {
-        c->policy = SIM_NUM_PLUS_ONE;
-    } else if (strcmp(value, "echo") == 0) {
-        c->policy = SIM_NUM_ECHO;
-    } else if (strcmp(value, "either") == 0) {
-        c->policy = SIM_NUM_EITHER;
-    } else {
+    if (c4g_num_policy_parse(k->value, &c->policy) != C4G_OK) {
         return bad_text(k, "plus-one, echo or either");
     }
     return 0;

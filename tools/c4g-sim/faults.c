@@ -41,19 +41,13 @@ static void queue_pending(app_t *a, const uint8_t *buf, size_t len, uint64_t due
     (void)raw_send(a, buf, len, NULL); /* queue full: send now */
 }
 
-static int32_t le32(const uint8_t *b)
-{
-    return (int32_t)((uint32_t)b[0] | ((uint32_t)b[1] << 8) | ((uint32_t)b[2] << 16) |
-                     ((uint32_t)b[3] << 24));
-}
-
 /* 1 if this cyclic packet is the first to carry a new mode on some axis. */
 static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
 {
     int entry = 0;
     size_t i;
     for (i = 0; i < C4G_MAX_AXES && C4G_CYCLIC_SIZE(i + 1U) <= len; i++) {
-        const int32_t m = le32(&pkt[C4G_HEADER_SIZE + C4G_AXIS_SIZE * i]);
+        const int32_t m = c4g_le_i32(&pkt[C4G_HEADER_SIZE + C4G_AXIS_SIZE * i]);
         if (m != a->sent_modes[i]) {
             entry = 1;
             a->sent_modes[i] = m;
@@ -65,7 +59,7 @@ static int mode_entry(app_t *a, const uint8_t *pkt, size_t len)
 /* --entry-fault and --drop: 1 if the packet is lost; the entry fault may cut *len. */
 static int lost(app_t *a, const uint8_t *pkt, size_t *len)
 {
-    if (a->cs.out.kind == C4GH_CS_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
+    if (a->cs.out.kind == C4G_PKT_CYCLIC && mode_entry(a, pkt, *len) && a->o.entry_fault != 0) {
         /* the packet that opens a mode is lost or cut: the PC must not anchor on it */
         if (a->o.entry_fault == 1) {
             a->st.fault[F_DROP]++;
@@ -130,7 +124,7 @@ int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key)
     a->st.sent++;
     if (!lost(a, pkt, &len)) {
         damage(a, buf, &len);
-        if (a->cs.out.kind == C4GH_CS_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
+        if (a->cs.out.kind == C4G_PKT_INIT && len == C4G_INIT_SIZE && a->cs.out.len == C4G_INIT_SIZE) {
             /* the PC echoes what went on the wire: a --corrupt byte is not a PC's own limit */
             memcpy(a->cs.out.raw, buf, C4G_INIT_SIZE);
         }

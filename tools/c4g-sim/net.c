@@ -125,7 +125,7 @@ static int read_one(app_t *a, int errq, uint64_t off)
     if (errq) {
         /* the send happened after the clock read in emit and before now */
         if (m.has_key && a->has_key && m.key == a->tx_key) {
-            (void)c4gh_cs_sent_stamp(&a->cs, t, now);
+            (void)c4g_ctrl_sent_stamp(&a->cs, t, now);
         }
         return 1;
     }

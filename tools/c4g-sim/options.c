@@ -42,15 +42,9 @@ static int opt_int(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *wh
 
 static int opt_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
-    static const char *const names[] = {"plus-one", "echo", "either"};
-    static const sim_policy_t pol[] = {SIM_NUM_PLUS_ONE, SIM_NUM_ECHO, SIM_NUM_EITHER};
-    size_t i;
     (void)row;
-    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
-        if (strcmp(v, names[i]) == 0) {
-            ((app_t *)ctx)->cfg.policy = pol[i];
-            return 0;
-        }
+    if (c4g_num_policy_parse(v, &((app_t *)ctx)->cfg.policy) == C4G_OK) {
+        return 0;
     }
     snprintf(why, wl, "not plus-one, echo or either");
     return -1;
@@ -449,7 +443,7 @@ int app_prepare(app_t *a)
     const sim_config_t *c = &a->cfg;
     const uint64_t p = (uint64_t)c->period_ms * 1000000U;
     const uint64_t b = (uint64_t)c->t_cycle1_us * 1000U;
-    c4gh_cs_config_t cc;
+    c4g_ctrl_config_t cc;
     if (app_addresses(a) != EXIT_OK) {
         return EXIT_USAGE;
     }
@@ -465,14 +459,17 @@ int app_prepare(app_t *a)
      * within t-cycle1 before the next tick */
     a->tol_ns = (b < p) ? ((b < p - b) ? b : p - b) : p / 2U;
     memset(&cc, 0, sizeof cc);
-    cc.policy = (c->policy == SIM_NUM_ECHO) ? C4GH_CS_NUM_ECHO
-                : (c->policy == SIM_NUM_PLUS_ONE) ? C4GH_CS_NUM_PLUS_ONE : C4GH_CS_NUM_EITHER;
+    cc.policy = c->policy;
     cc.n_axes = (uint32_t)a->sim.n_axes;
     cc.t_cycle1_ns = b;
     cc.tol_ns = a->tol_ns;
     cc.max_miss = c->max_miss;
     cc.sync_before = c->sync_before;
     cc.sync_after = c->sync_after;
-    c4gh_cs_init(&a->cs, &cc);
+    if (c4g_ctrl_init(&a->cs, &cc) != C4G_OK) {
+        fprintf(stderr, "c4g-sim: %u axes: the controller end refuses them\n", (unsigned)cc.n_axes);
+        return EXIT_USAGE;
+    }
+    memset(&a->lat, 0, sizeof a->lat);
     return EXIT_OK;
 }

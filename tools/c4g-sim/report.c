@@ -89,13 +89,13 @@ typedef struct figures {
 
 static figures_t figures(const app_t *a, double cpu_s)
 {
-    const c4gh_cs_counters_t *n = &a->cs.n;
+    const c4g_ctrl_counters_t *n = &a->cs.n;
     figures_t f;
     f.per_packet_ns = (a->st.sent > 0U) ? cpu_s * 1e9 / (double)a->st.sent : 0.0;
     f.lat_avg = (n->replies_ok > 0U) ? (double)n->lat_sum / (double)n->replies_ok / 1000.0 : 0.0;
-    f.p50 = c4gh_cs_lat_percentile(n, 0.5);
-    f.p99 = c4gh_cs_lat_percentile(n, 0.99);
-    f.p999 = c4gh_cs_lat_percentile(n, 0.999);
+    f.p50 = c4gh_hist_us(&a->lat, 0.5);
+    f.p99 = c4gh_hist_us(&a->lat, 0.99);
+    f.p999 = c4gh_hist_us(&a->lat, 0.999);
     f.lat_min = (double)n->lat_min / 1000.0;
     f.lat_max = (double)n->lat_max / 1000.0;
     return f;
@@ -113,7 +113,7 @@ static void put_f(json_t *o, const char *key, double v)
 
 static json_t *json_replies(const app_t *a, const figures_t *g)
 {
-    const c4gh_cs_counters_t *n = &a->cs.n;
+    const c4g_ctrl_counters_t *n = &a->cs.n;
     json_t *o = json_object();
     json_t *l = json_object();
     put_u(o, "ok", n->replies_ok);
@@ -143,8 +143,8 @@ static void json_faults_errors(json_t *o, const app_t *a)
     json_t *faults = json_object();
     json_t *errors = json_array();
     int i;
-    json_object_set_new(o, "num_policy", json_string(c4gh_cs_policy_name((int)a->cs.cfg.policy)));
-    json_object_set_new(o, "pc_policy", json_string(c4gh_cs_policy_name(a->cs.detected)));
+    json_object_set_new(o, "num_policy", json_string(c4g_num_policy_name((int)a->cs.cfg.policy)));
+    json_object_set_new(o, "pc_policy", json_string(c4g_num_policy_name(a->cs.detected)));
     put_u(o, "udp_debug", s->udp_debug);
     put_u(o, "overruns", a->st.overruns);
     put_f(o, "overrun_max_us", (double)a->st.overrun_max / 1000.0);
@@ -191,7 +191,7 @@ static void json_scenario_robot(json_t *o, const sim_t *s)
 static void summary_json(const app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
-    const c4gh_cs_counters_t *n = &a->cs.n;
+    const c4g_ctrl_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
     json_t *o = json_object();
     json_object_set_new(o, "tool", json_string("c4g-sim"));
@@ -248,7 +248,7 @@ static void text_errors_robot(const sim_t *s)
 static void summary_text(const app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
-    const c4gh_cs_counters_t *n = &a->cs.n;
+    const c4g_ctrl_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
     int i;
     printf("c4g-sim %s: %s (exit %d)\n", C4G_VERSION_STRING, result, code);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-sim's tick loop: at each tick, read what arrived, judge the previous packet's reply
- * (lib/host/c4gh_ctrlside.c), send the packet the handshake driver asks for, then
+ * (the library's controller end, lib/wire/c4g_ctrl.c), send the packet the handshake driver asks for, then
  * wait on an absolute grid for the next tick. */
 #include <arpa/inet.h>
 #include <string.h>
@@ -13,13 +13,13 @@ volatile sig_atomic_t g_stop;
 
 /* ---- replies ------------------------------------------------------------- */
 
-static void log_refused(const app_t *a, c4gh_cs_rx_t r, size_t len)
+static void log_refused(const app_t *a, c4g_ctrl_rx_t r, size_t len)
 {
-    const c4gh_cs_t *c = &a->cs;
-    if (r == C4GH_CS_RX_WRONG_NUM) {
+    const c4g_ctrl_t *c = &a->cs;
+    if (r == C4G_CTRL_RX_WRONG_NUM) {
         fprintf(stderr, "c4g-sim: reply NUM %d to packet NUM %d violates the %s policy\n",
-                c->last_num, c->out.num, c4gh_cs_policy_name((int)c->cfg.policy));
-    } else if (r == C4GH_CS_RX_BAD_DECODE) {
+                c->last_num, c->out.num, c4g_num_policy_name((int)c->cfg.policy));
+    } else if (r == C4G_CTRL_RX_BAD_DECODE) {
         fprintf(stderr, "c4g-sim: bad reply (%u bytes): %s, field %s, axis %d, value %lld\n",
                 (unsigned)len, c4g_strerror(c->last_diag.status), c4g_field_name(c->last_diag.field),
                 c->last_diag.axis, (long long)c->last_diag.value);
@@ -60,13 +60,13 @@ static const char *init_field_name(uint32_t off)
  * the PC sends from here can be trusted to respect this controller's limits. */
 static void bad_init_echo(app_t *a, const uint8_t *buf)
 {
-    const c4gh_cs_outstanding_t *o = &a->cs.out;
+    const c4g_ctrl_outstanding_t *o = &a->cs.out;
     uint32_t off = 4U;
     while (off < C4G_INIT_SIZE && buf[off] == o->raw[off]) {
         off++;
     }
     {
-        /* (off < 1200: c4gh_cs_reply found a difference) */
+        /* (off < 1200: c4g_ctrl_reply found a difference) */
         const uint32_t w = ((off < C4G_INIT_SIZE) ? off : C4G_INIT_SIZE - 1U) & ~3U;
         fprintf(stderr, "c4g-sim: the PC's init echo differs from the init packet sent at byte "
                 "offset %u (field %s: sent 0x%02x%02x%02x%02x, echoed 0x%02x%02x%02x%02x, "
@@ -83,9 +83,9 @@ static void bad_init_echo(app_t *a, const uint8_t *buf)
 void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_in *from,
                uint64_t t)
 {
-    c4gh_cs_rx_t r;
+    c4g_ctrl_rx_t r;
     if (from->sin_addr.s_addr != a->srv.sin_addr.s_addr || from->sin_port != a->srv.sin_port) {
-        c4gh_cs_foreign(&a->cs);
+        (void)c4g_ctrl_foreign(&a->cs);
         if (a->o.verbose) {
             char ip[INET_ADDRSTRLEN];
             inet_ntop(AF_INET, &from->sin_addr, ip, sizeof ip);
@@ -93,8 +93,8 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
         }
         return;
     }
-    r = c4gh_cs_reply(&a->cs, buf, len, t);
-    if (r == C4GH_CS_RX_ACCEPTED) {
+    (void)c4g_ctrl_reply(&a->cs, buf, len, t, &r); /* never NULL: C4G_OK */
+    if (r == C4G_CTRL_RX_ACCEPTED) {
         /* --capture compares the reply's bytes with the recorded ones */
         a->rx_len = (len <= sizeof a->rx_raw) ? len : sizeof a->rx_raw;
         memcpy(a->rx_raw, buf, a->rx_len);
@@ -103,7 +103,7 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
      * "either"): counted as malformed, as before; 1200 other bytes are the PC's limits (a
      * played capture's init packet is the recording's: an echo of other bytes is only a
      * malformed reply there, the model is not running) */
-    if (r == C4GH_CS_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal && a->cap == NULL) {
+    if (r == C4G_CTRL_RX_BAD_INIT && len == C4G_INIT_SIZE && !a->sim.fatal && a->cap == NULL) {
         bad_init_echo(a, buf);
     }
     if (a->o.verbose) {
@@ -111,11 +111,11 @@ void handle_rx(app_t *a, const uint8_t *buf, size_t len, const struct sockaddr_i
     }
 }
 
-static void log_miss(const app_t *a, c4gh_cs_verdict_t v, uint64_t woke)
+static void log_miss(const app_t *a, c4g_ctrl_verdict_t v, uint64_t woke)
 {
-    const c4gh_cs_outstanding_t *o = &a->cs.out;
+    const c4g_ctrl_outstanding_t *o = &a->cs.out;
     const unsigned long row = a->cs.n.consecutive;
-    if (v == C4GH_CS_J_UNJUDGED) {
+    if (v == C4G_CTRL_J_UNJUDGED) {
         fprintf(stderr, "c4g-sim: no reply to NUM %d by a deadline the simulator overran "
                         "itself (%.1f ms late; %lu in a row)\n", o->num,
                 (double)(woke - o->deadline_ns) / 1e6, row);
@@ -135,11 +135,15 @@ static void log_miss(const app_t *a, c4gh_cs_verdict_t v, uint64_t woke)
  * to the outstanding packet arrive by its deadline? */
 void judge(app_t *a, uint64_t woke)
 {
-    const c4gh_cs_verdict_t v = c4gh_cs_judge(&a->cs, woke, sim_checks_suspended(&a->sim));
-    if (v == C4GH_CS_J_MISSING) {
+    c4g_ctrl_verdict_t v;
+    (void)c4g_ctrl_judge(&a->cs, woke, sim_checks_suspended(&a->sim) != 0, &v); /* C4G_OK */
+    if (v == C4G_CTRL_J_OK) {
+        c4gh_hist_add(&a->lat, (int64_t)a->cs.last_lat_ns);
+    }
+    if (v == C4G_CTRL_J_MISSING) {
         a->sim.udp_debug++; /* ERR_C4GOPEN_UDP_DEBUG: not fatal, not listed among the errors */
     }
-    if ((v == C4GH_CS_J_MISSING || v == C4GH_CS_J_UNJUDGED) && a->o.verbose) {
+    if ((v == C4G_CTRL_J_MISSING || v == C4G_CTRL_J_UNJUDGED) && a->o.verbose) {
         log_miss(a, v, woke);
     }
     if (a->cs.fatal) {
@@ -149,9 +153,9 @@ void judge(app_t *a, uint64_t woke)
     }
 }
 
-static void emit(app_t *a, c4gh_cs_kind_t kind, int32_t num, const uint8_t *buf, size_t len, int check)
+static void emit(app_t *a, c4g_pkt_kind_t kind, int32_t num, const uint8_t *buf, size_t len, int check)
 {
-    c4gh_cs_emit(&a->cs, kind, num, buf, len, check, now_ns());
+    (void)c4g_ctrl_emit(&a->cs, kind, num, buf, len, check != 0, now_ns()); /* kind is one of three */
     a->has_key = send_packet(a, buf, len, &a->tx_key);
 }
 
@@ -171,11 +175,11 @@ static void tick_sync(app_t *a)
     size_t len = 0;
     c4g_ctrl_packet_t pkt;
     memset(&pkt, 0, sizeof pkt);
-    pkt.num = c4gh_cs_next_num(&a->cs);
+    pkt.num = c4g_ctrl_next_num(&a->cs);
     pkt.n_axes = (uint32_t)a->sim.n_axes;
     (void)c4g_ctrl_encode(&pkt, buf, sizeof buf, &len);
-    emit(a, C4GH_CS_SYNC, pkt.num, buf, len, 1);
-    c4gh_cs_advance(&a->cs);
+    emit(a, C4G_PKT_SYNC, pkt.num, buf, len, 1);
+    (void)c4g_ctrl_advance(&a->cs);
 }
 
 static void tick_init(app_t *a)
@@ -184,8 +188,8 @@ static void tick_init(app_t *a)
     size_t len = 0;
     a->sim.init.num = C4G_INIT_NUM;
     (void)c4g_init_encode(&a->sim.init, buf, sizeof buf, &len);
-    emit(a, C4GH_CS_INIT, C4G_INIT_NUM, buf, len, 1);
-    c4gh_cs_advance(&a->cs);
+    emit(a, C4G_PKT_INIT, C4G_INIT_NUM, buf, len, 1);
+    (void)c4g_ctrl_advance(&a->cs);
     a->sim.restart_req = 0;
 }
 
@@ -216,8 +220,8 @@ static int tick_send(app_t *a, c4g_ctrl_packet_t *pkt)
         fprintf(stderr, "c4g-sim: internal: packet not encodable\n");
         return 0;
     }
-    emit(a, C4GH_CS_CYCLIC, pkt->num, buf, len, !a->sim.exit_open_req);
-    c4gh_cs_advance(&a->cs);
+    emit(a, C4G_PKT_CYCLIC, pkt->num, buf, len, !a->sim.exit_open_req);
+    (void)c4g_ctrl_advance(&a->cs);
     return 1;
 }
 
@@ -236,9 +240,10 @@ static int run_over(const app_t *a, const loop_t *L)
 
 static void tick_cyclic(app_t *a, loop_t *L)
 {
-    const c4g_pc_packet_t *rep = c4gh_cs_take_reply(&a->cs);
+    const c4g_pc_packet_t *rep = NULL;
     c4g_ctrl_packet_t pkt;
     int send;
+    (void)c4g_ctrl_take_reply(&a->cs, &rep); /* C4G_ERR_STATE: none, rep NULL */
     if (a->o.pause_len > 0U && L->cyclic_ticks == a->o.pause_at) {
         L->pause_left = a->o.pause_len;
         a->o.pause_len = 0;
@@ -249,13 +254,13 @@ static void tick_cyclic(app_t *a, loop_t *L)
     sim_tick(&a->sim, rep, &pkt);
     L->cyclic_ticks++;
     send = tick_silence(a, L);
-    pkt.num = c4gh_cs_next_num(&a->cs);
+    pkt.num = c4g_ctrl_next_num(&a->cs);
     if (send) {
         send = tick_send(a, &pkt);
     }
     csv_row(a, &pkt, rep, send);
     if (!a->sim.exit_open_req && a->sim.restart_req && send) {
-        c4gh_cs_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
+        (void)c4g_ctrl_restart(&a->cs); /* 506 sent: the init packet follows, no sync packets */
         return;
     }
     L->ended = run_over(a, L);
@@ -311,14 +316,14 @@ void app_run(app_t *a)
         if (a->sim.fatal) {
             break;
         }
-        switch (c4gh_cs_next_kind(&a->cs)) {
-        case C4GH_CS_SYNC:
+        switch (c4g_ctrl_next_kind(&a->cs)) {
+        case C4G_PKT_SYNC:
             tick_sync(a);
             break;
-        case C4GH_CS_INIT:
+        case C4G_PKT_INIT:
             tick_init(a);
             break;
-        case C4GH_CS_CYCLIC:
+        case C4G_PKT_CYCLIC:
         default:
             tick_cyclic(a, &L);
             break;
@@ -328,7 +333,7 @@ void app_run(app_t *a)
             progress(a, &L, &shown);
         }
         L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
-        c4gh_cs_set_deadline(&a->cs, L.deadline);
+        (void)c4g_ctrl_set_deadline(&a->cs, L.deadline); /* C4G_ERR_STATE: nothing outstanding */
         window(a, L.deadline);
         c4gh_udp_sleep_until(L.deadline, &g_stop);
     }

@@ -14,8 +14,6 @@
 #define SIM_MAX_ERRORS 64
 #define SIM_DSA_HZ 2000.0
 
-typedef enum sim_policy { SIM_NUM_PLUS_ONE = 0, SIM_NUM_ECHO = 1, SIM_NUM_EITHER = 2 } sim_policy_t;
-
 /** Everything configurable (command line and INI file). */
 typedef struct sim_config {
     char server[64];
@@ -24,7 +22,7 @@ typedef struct sim_config {
     unsigned local_port;
     int period_ms;              /* 1 or 2 */
     unsigned t_cycle1_us;       /* reply budget counted as "late" */
-    sim_policy_t policy;
+    c4g_num_policy_t policy;
     unsigned max_miss;          /* consecutive missing/wrong replies -> ERR_C4GOPEN_UDP */
     uint64_t seed;
     unsigned long ticks;        /* cyclic ticks to run at most, 0 = no limit */
