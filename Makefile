@@ -376,10 +376,10 @@ IDENT_OBJS := $(BUILD)/tests/ident-obj/accuracy.o $(BUILD)/tests/ident-obj/simge
 $(BUILD)/tests/ident-obj/%.o: tests/ident/%.cpp tests/ident/simgen.hpp tools/c4g-ident/ident.hpp \
   tools/c4g-ident/excite.hpp lib/sim/c4gsim_model.h | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident -Ilib/sim -O2 -g -c $< -o $@
+	$(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident $(ARCH_INC) -O2 -g -c $< -o $@
 $(BUILD)/tests/ident-obj/model.o: lib/sim/c4gsim_model.c lib/sim/c4gsim_model.h | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	$(CC) $(TOOL_CFLAGS) -Ilib/sim -O2 -c $< -o $@
+	$(CC) $(TOOL_CFLAGS) $(ARCH_INC) -O2 -c $< -o $@
 $(IDENT_ACC): $(IDENT_OBJS) $(IDENT_TOOL_OBJS)
 	$(CXX) -o $@ $^ -lceres -lglog -lpthread -lm
 ident-accuracy: $(IDENT_ACC)

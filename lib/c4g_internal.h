@@ -27,6 +27,15 @@ static inline uint32_t c4g_flag(bool b)
 
 /* The one little-endian helper set of the library: the wire's 32-bit words below, and
  * words of 1..4 bytes (CANopen's object dictionary) here. */
+/* NUM distance from @p from to @p to modulo 2^15 (0..0x7FFF), inline for the per-datagram
+ * path; c4g_num_delta is the public form. Unsigned arithmetic: either value may be a raw,
+ * unvalidated field, and 2^32 is a multiple of the modulus. */
+static inline int32_t c4g_num_wrap_delta(int32_t from, int32_t to)
+{
+    const uint32_t d = ((uint32_t)to - (uint32_t)from) & ((uint32_t)C4G_NUM_MODULO - 1U);
+    return (int32_t)d;
+}
+
 static inline void c4g_put_le(uint8_t *p, uint32_t v, uint32_t bytes)
 {
     uint32_t i;

@@ -22,10 +22,7 @@ int32_t c4g_num_next(int32_t num)
 
 int32_t c4g_num_delta(int32_t from, int32_t to)
 {
-    /* in unsigned arithmetic: either value may be a raw, unvalidated field; 2^32 is a
-     * multiple of the modulus, so the wrap of the subtraction is harmless */
-    const uint32_t d = ((uint32_t)to - (uint32_t)from) & NUM_MASK;
-    return (int32_t)d;
+    return c4g_num_wrap_delta(from, to);
 }
 
 bool c4g_num_accepts(c4g_num_policy_t policy, int32_t sent, int32_t got)

@@ -86,7 +86,7 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
 /* How far @p num is ahead of the newest NUM, modulo the SMP+ counter (0: the same). */
 static int32_t num_delta(const c4g_session_t *s, int32_t num)
 {
-    return c4g_num_delta(s->last_num, num);
+    return c4g_num_wrap_delta(s->last_num, num);
 }
 
 /* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is
