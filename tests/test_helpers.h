@@ -106,4 +106,27 @@ static inline size_t th_ctrl_bytes(uint8_t *buf, size_t cap, int32_t num, uint32
     return len;
 }
 
+/* A controller packet and a reply with distinct values on axis 2 (moni records, their CSV). */
+static inline void moni_packets(c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx)
+{
+    memset(rx, 0, sizeof *rx);
+    memset(tx, 0, sizeof *tx);
+    rx->num = 321;
+    rx->n_axes = tx->n_axes = 2;
+    rx->ax[1].mode = 9;
+    rx->ax[1].target_pos = 1.0f;
+    rx->ax[1].target_vel = 2.0f;
+    rx->ax[1].actual_pos = 3.0f;
+    rx->ax[1].actual_vel = 4.0f;
+    rx->ax[1].current_ref = 5.0f;
+    rx->ax[1].ext[0] = 6.0f;
+    rx->ax[1].ext[1] = 7.0f;
+    tx->ax[1].mode = 9;
+    tx->ax[1].target_pos = 11.0f;
+    tx->ax[1].target_vel = 12.0f;
+    tx->ax[1].measure = 13.0f;
+    tx->ax[1].vel_add = 14.0f;
+    tx->ax[1].current_add = 15.0f;
+}
+
 #endif

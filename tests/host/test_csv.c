@@ -5,28 +5,6 @@
 
 #include "c4gh_csv.h"
 
-static void packets(c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx)
-{
-    memset(rx, 0, sizeof *rx);
-    memset(tx, 0, sizeof *tx);
-    rx->num = 321;
-    rx->n_axes = tx->n_axes = 2;
-    rx->ax[1].mode = 9;
-    rx->ax[1].target_pos = 1.0f;
-    rx->ax[1].target_vel = 2.0f;
-    rx->ax[1].actual_pos = 3.0f;
-    rx->ax[1].actual_vel = 4.0f;
-    rx->ax[1].current_ref = 5.0f;
-    rx->ax[1].ext[0] = 6.0f;
-    rx->ax[1].ext[1] = 7.0f;
-    tx->ax[1].mode = 9;
-    tx->ax[1].target_pos = 11.0f;
-    tx->ax[1].target_vel = 12.0f;
-    tx->ax[1].measure = 13.0f;
-    tx->ax[1].vel_add = 14.0f;
-    tx->ax[1].current_add = 15.0f;
-}
-
 static const char *fmt(float v)
 {
     static char buf[64];
@@ -75,7 +53,7 @@ static void test_csv(void **state)
     size_t len = 0;
     uint32_t t;
     (void)state;
-    packets(&rx, &tx);
+    moni_packets(&rx, &tx);
     assert_int_equal(c4gh_moni_csv_header(21, buf, sizeof buf, &len), C4G_OK);
     assert_string_equal(buf, "type,num,axis,mode,pc_d1,pc_d2,smp_d1,smp_d3,smp_d5\n");
     assert_int_equal(len, strlen(buf));

@@ -3,28 +3,6 @@
 #include "test_helpers.h"
 #include <math.h>
 
-static void packets(c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx)
-{
-    memset(rx, 0, sizeof *rx);
-    memset(tx, 0, sizeof *tx);
-    rx->num = 321;
-    rx->n_axes = tx->n_axes = 2;
-    rx->ax[1].mode = 9;
-    rx->ax[1].target_pos = 1.0f;
-    rx->ax[1].target_vel = 2.0f;
-    rx->ax[1].actual_pos = 3.0f;
-    rx->ax[1].actual_vel = 4.0f;
-    rx->ax[1].current_ref = 5.0f;
-    rx->ax[1].ext[0] = 6.0f;
-    rx->ax[1].ext[1] = 7.0f;
-    tx->ax[1].mode = 9;
-    tx->ax[1].target_pos = 11.0f;
-    tx->ax[1].target_vel = 12.0f;
-    tx->ax[1].measure = 13.0f;
-    tx->ax[1].vel_add = 14.0f;
-    tx->ax[1].current_add = 15.0f;
-}
-
 static void test_records(void **state)
 {
     static const float want[6][5] = {
@@ -36,7 +14,7 @@ static void test_records(void **state)
     c4g_moni_rec_t r;
     uint32_t t, k;
     (void)state;
-    packets(&rx, &tx);
+    moni_packets(&rx, &tx);
     for (t = 19; t <= 24; t++) {
         assert_int_equal(c4g_moni_record(t, &rx, &tx, 1, &r), C4G_OK);
         assert_int_equal(r.type, t);

@@ -6,7 +6,6 @@
 #include "replay.h"
 
 #include "c4gh_csv.h"
-#include "c4gh_csv.h"
 #include "c4gh_textfile.h"
 
 #include <jansson.h>

@@ -5,7 +5,6 @@
 #include "srv.h"
 #include "c4gh_pcap.h"
 #include "c4gh_csv.h"
-#include "c4gh_csv.h"
 
 #include <jansson.h>
 
