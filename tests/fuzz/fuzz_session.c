@@ -92,7 +92,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         if (r.kind == C4G_RX_CYCLIC) {
             c4g_pc_packet_t tx;
-            if ((r.pkt == NULL) || (c4g_pc_reply_neutral(r.pkt, &tx) != C4G_OK) ||
+            /* the session's neutral reply (held current bounded by AzLim), as the twin sends */
+            if ((r.pkt == NULL) || (c4g_session_neutral(&s, r.pkt, &tx) != C4G_OK) ||
                 (c4g_session_reply(&s, &tx, out, sizeof out, &n) != C4G_OK) ||
                 (n != C4G_CYCLIC_SIZE(s.map.n_axes)) || (c4g_session_sent(&s, t + 1000U) != C4G_OK)) {
                 abort();
