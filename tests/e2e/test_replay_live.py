@@ -254,11 +254,12 @@ FAULTS = {"wrong-num": ["--wrong-num"], "no-reply": ["--no-reply"], "drop-nth": 
 def fault_disturbed(reflog, d):
     """the host disturbed a run: a reply came after the next packet or close to it: ref_pc
     sent one more than 1500 us after its packet came (its log), or the controller side saw a
-    reply late, stale, unexpected or twice"""
+    reply late, stale, unexpected or twice. Also returns how many replies the controller side
+    saw so disturbed: the bound on the replies the host, not the fault, may have cost."""
     w = float(refstat(reflog, "worst") or 0)
     n = d.get("replies.late", 0) + d.get("replies.stale", 0) + d.get("replies.unexpected", 0) + \
         d.get("replies.duplicates", 0)
-    return w > 1500 or n > 0, "ref_pc worst %s us, %d replies late, stale, unexpected or twice" % (w, n)
+    return w > 1500 or n > 0, "ref_pc worst %s us, %d replies late, stale, unexpected or twice" % (w, n), n
 
 
 @pytest.mark.parametrize("fault", list(FAULTS))
@@ -288,13 +289,23 @@ def test_fault(bins, procs, ports, tmp_path_factory, tmp_path, fault):
     print("       %s: lost:wrong NUM c4g-sim %s, live %s (ERR_C4GOPEN_UDP %s), want %s (%s); ref_pc worst %s / %s us"
           % (fault, got(s), got(j), j.get("replies.err_c4gopen_udp"), want, want_err, refstat(slog, "worst"),
              refstat(llog, "worst")))
-    if not (got(s) == want and got(j) == want and j.get("replies.err_c4gopen_udp") == want_err):
-        ds, es = fault_disturbed(slog, s)
-        dj, ej = fault_disturbed(llog, j)
-        host_disturbed(ds or dj, "%s: c4g-sim run: %s; live run: %s" % (fault, es, ej))
+    def explained(d, n):
+        """the fault's losses, plus at most one per reply the host was seen to disturb"""
+        return d.get("replies.wrong_num") == want[1] and want[0] <= lost(d) <= want[0] + n
+
+    exact = got(s) == want and got(j) == want
+    if not exact or j.get("replies.err_c4gopen_udp") != want_err:
+        ds, es, ns = fault_disturbed(slog, s)
+        dj, ej, nj = fault_disturbed(llog, j)
+        if j.get("replies.err_c4gopen_udp") == want_err and explained(s, ns) and explained(j, nj):
+            print("       %s: losses beyond the fault, each explained by a disturbed reply: c4g-sim run: %s;"
+                  " live run: %s" % (fault, es, ej))
+        else:
+            host_disturbed(ds or dj, "%s: c4g-sim run: %s; live run: %s" % (fault, es, ej))
     ck = Checks()
     ck.eq("%s: same packets sent" % fault, j.get("packets.sent"), s.get("packets.sent"))
-    ck.eq("%s: live loses the replies c4g-sim loses" % fault, lost(j), lost(s))
+    if exact:
+        ck.eq("%s: live loses the replies c4g-sim loses" % fault, lost(j), lost(s))
     ck.eq("%s: live counts the wrong NUMs c4g-sim counts" % fault, j.get("replies.wrong_num"), s.get("replies.wrong_num"))
     ck.eq("%s: exit 1" % fault, rc, 1)
     if fault == "wrong-num":
@@ -304,7 +315,8 @@ def test_fault(bins, procs, ports, tmp_path_factory, tmp_path, fault):
         ck.eq("no-reply: the controller would raise ERR_C4GOPEN_UDP", j.get("replies.err_c4gopen_udp"), True)
     else:
         ck.eq("drop-nth: the PC's NUM policy seen (plus-one, under the default either)", j.get("pc_policy"), "plus-one")
-        ck.eq("drop-nth: one reply lost", lost(j), 1)
+        if exact:
+            ck.eq("drop-nth: one reply lost", lost(j), 1)
         ck.eq("drop-nth: 9 in a row or fewer: no ERR_C4GOPEN_UDP", j.get("replies.err_c4gopen_udp"), False)
     ck.done()
 
