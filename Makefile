@@ -284,6 +284,9 @@ audit: $(STATIC) $(SIM_LIB) $(HOST_LIB)
 	@sh scripts/check-symbols.sh nm $(STATIC) c4g_ pure include/*.h
 	@sh scripts/check-symbols.sh nm $(SIM_LIB) c4gsim_ pure lib/sim/*.h
 	@sh scripts/check-symbols.sh nm $(HOST_LIB) c4gh_ host lib/host/*.h
+	@if grep -rnE '(\.|->)priv\.' tools lib/host lib/sim examples bench --include='*.c' --include='*.cpp' --include='*.h'; then \
+	  echo "audit: the lines above reach a library struct's priv member: use the accessors" >&2; exit 1; \
+	 else echo "audit: no tool, host or example code reaches a library struct's priv member"; fi
 
 ARM_FLAGS := -std=c99 -pedantic-errors $(WARN_LIB) -Iinclude -Ilib/sim -Os -ffreestanding
 cross: | $(DEPS_STAMP)

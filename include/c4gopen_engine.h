@@ -281,7 +281,23 @@ typedef struct c4g_engine_report {
     uint32_t n_filtered;                /**< axes the filter changed */
 } c4g_engine_report_t;
 
-/** PC-side control context: one per session. Members are read-only for the caller. */
+/** The engine's own state: read and written by the library only; its layout may change in
+ *  any release. */
+typedef struct c4g_engine_priv {
+    uint32_t joint_on[C4G_ARMS];        /**< some joint stroke end set on the arm */
+    uint32_t n_joint[C4G_ARMS];         /**< logical axes in the arm's joint check */
+    int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_engine_step prepared per axis */
+    uint32_t prep_rules[C4G_MAX_AXES];  /**< what the filter does with that mode */
+    c4g_pc_axis_t prep_tx[C4G_MAX_AXES];/**< reply data prepared for that mode */
+    uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
+    float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_engine_anchor) */
+    uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
+    uint32_t stepped;                   /**< step done, finish expected */
+    int32_t step_num;                   /**< NUM of the stepped packet */
+} c4g_engine_priv_t;
+
+/** PC-side control context: one per session. The public members are read-only for the
+ *  caller. */
 typedef struct c4g_engine {
     c4g_engine_config_t cfg;
     c4g_axis_map_t map;
@@ -290,17 +306,8 @@ typedef struct c4g_engine {
     c4g_axis_limits_t lim[C4G_MAX_AXES];/**< effective limits by OPEN index */
     float ctrl_fe[C4G_MAX_AXES];         /**< FollowError of the init packet, by OPEN index */
     float ctrl_az[C4G_MAX_AXES];         /**< AzLim of the init packet, by OPEN index */
-    uint32_t joint_on[C4G_ARMS];        /**< some joint stroke end set on the arm */
-    uint32_t n_joint[C4G_ARMS];         /**< logical axes in the arm's joint check */
     c4g_arm_sm_t arm[C4G_ARMS];
-    int32_t prep_mode[C4G_MAX_AXES];    /**< mode c4g_engine_step prepared per axis */
-    uint32_t prep_rules[C4G_MAX_AXES];  /**< internal: what the filter does with that mode */
-    c4g_pc_axis_t prep_tx[C4G_MAX_AXES];/**< internal: reply data prepared for that mode */
-    uint32_t fe_latch[C4G_MAX_AXES];    /**< axis latched to 508 by the filter */
-    float anchor[C4G_MAX_AXES];         /**< SMP+ target while in mode 0 / 0' (c4g_engine_anchor) */
-    uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
-    uint32_t stepped;                   /**< step done, finish expected */
-    int32_t step_num;                   /**< NUM of the stepped packet */
+    c4g_engine_priv_t priv;             /**< internal */
 } c4g_engine_t;
 
 /**

@@ -46,24 +46,30 @@ typedef struct c4g_loop_counters {
                                      user limits of an open axis (the engine stays off) */
 } c4g_loop_counters_t;
 
-/** The PC-side loop. Members are read-only for the caller except through the API; the
- *  control engine `engine` takes requests (c4g_engine_request_*) and limits (c4g_engine_set_limits). */
-typedef struct c4g_loop {
-    c4g_session_t session;
-    c4g_engine_t engine;
+/** The loop's own state: read and written by the library only; its layout may change in
+ *  any release. */
+typedef struct c4g_loop_priv {
     c4g_engine_config_t engine_cfg;
-    c4g_loop_counters_t counters;
     c4g_pc_packet_t tx;            /**< the cyclic reply being prepared */
     const c4g_ctrl_packet_t *rx;   /**< the cyclic packet it answers, NULL if none */
-    c4g_engine_report_t report;       /**< of the last step and finish */
-    c4g_status_t finish_status;    /**< c4g_safety_filter of the last cyclic reply (505 sent on
-                                        C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE) */
-    uint32_t engine_ready;            /**< the control engine holds the accepted init packet */
     uint32_t prepared;             /**< tx was prepared by c4g_engine_step for rx */
     uint32_t timed;                /**< a cyclic reply was encoded, its send time is due */
     uint32_t due;                  /**< a reply is due (C4G_RX_SYNC, _INIT or _CYCLIC) */
     c4g_axis_limits_t user_lim[C4G_ARMS][C4G_AXES_PER_ARM]; /**< c4g_loop_set_limits */
     uint32_t user_set[C4G_ARMS];   /**< bit j: user_lim[arm][j] is set */
+} c4g_loop_priv_t;
+
+/** The PC-side loop. Members are read-only for the caller except through the API; the
+ *  control engine `engine` takes requests (c4g_engine_request_*) and limits (c4g_engine_set_limits). */
+typedef struct c4g_loop {
+    c4g_session_t session;
+    c4g_engine_t engine;
+    c4g_loop_counters_t counters;
+    c4g_engine_report_t report;       /**< of the last step and finish */
+    c4g_status_t finish_status;    /**< c4g_safety_filter of the last cyclic reply (505 sent on
+                                        C4G_ERR_MISSING_DATA or C4G_ERR_NONFINITE) */
+    uint32_t engine_ready;            /**< the control engine holds the accepted init packet */
+    c4g_loop_priv_t priv;          /**< internal */
 } c4g_loop_t;
 
 /** What one received datagram meant. */

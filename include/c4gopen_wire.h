@@ -456,14 +456,10 @@ typedef struct c4g_timing {
     double max_jitter_pct;
 } c4g_timing_t;
 
-/** PC-side session context. Members are read-only for the caller. */
-typedef struct c4g_session {
-    c4g_session_config_t cfg;
-    c4g_phase_t phase;
-    c4g_init_t init;             /**< last accepted initialization packet */
-    c4g_axis_map_t map;          /**< its axis maps */
-    c4g_counters_t counters;
-    c4g_timing_t timing;
+/** The library's own state of a session: read and written by the library only. Its layout
+ *  may change in any release; read what a caller needs through the public members above
+ *  it and the c4g_session_* functions. */
+typedef struct c4g_session_priv {
     c4g_ctrl_packet_t rx[2];     /**< decode double buffer; rx[cur] is the last accepted */
     uint32_t cur;                /**< index of the last accepted cyclic packet in rx[] */
     uint32_t rx_mixed_modes;     /**< rx[cur]'s axes do not all carry one mode */
@@ -481,20 +477,32 @@ typedef struct c4g_session {
     uint32_t restart_pending;    /**< 506 seen, init packet expected without sync */
     uint32_t frozen;             /**< passive freezing (502 .. 503) */
     uint32_t frozen_active;      /**< active freezing: PC sent 500, until its EXIT_FROM_OPEN */
-    uint32_t drives;             /**< bit a set: arm a reports C4G_STS_MOVING */
     uint64_t last_rx_ns;         /**< time of the newest accepted datagram */
     uint64_t last_cyclic_ns;     /**< time of the previous cyclic packet */
     uint64_t pending_rx_ns;      /**< receive time of the packet being answered */
-    uint64_t lost_timeout_ns;    /**< effective loss timeout */
-    uint64_t silence_ns;         /**< effective silence threshold */
     uint32_t have_cyclic_time;
     uint32_t silent;             /**< a silence is under way (C4G_EV_SILENCE reported) */
-    uint32_t peer_locked;        /**< peer holds the controller's endpoint */
-    c4g_endpoint_t peer;         /**< the controller's endpoint (address and port) */
     uint32_t neutral_n;          /**< axes in neutral_axes, 0 none */
     int32_t neutral_mode;        /**< the mode of every axis in neutral_axes */
     uint32_t neutral_data;       /**< that mode's hold carries data (not the template's) */
     uint8_t neutral_axes[C4G_MAX_AXES * C4G_AXIS_SIZE]; /**< the axes of a neutral reply */
+} c4g_session_priv_t;
+
+/** A PC-side session. Caller-owned storage; the public members are read-only for the
+ *  caller (c4g_session_* functions write them). */
+typedef struct c4g_session {
+    c4g_session_config_t cfg;
+    c4g_phase_t phase;
+    c4g_init_t init;             /**< last accepted initialization packet */
+    c4g_axis_map_t map;          /**< its axis maps */
+    c4g_counters_t counters;
+    c4g_timing_t timing;
+    uint32_t drives;             /**< bit a set: arm a reports C4G_STS_MOVING */
+    uint64_t lost_timeout_ns;    /**< effective loss timeout */
+    uint64_t silence_ns;         /**< effective silence threshold */
+    uint32_t peer_locked;        /**< peer holds the controller's endpoint */
+    c4g_endpoint_t peer;         /**< the controller's endpoint (address and port) */
+    c4g_session_priv_t priv;     /**< internal */
 } c4g_session_t;
 
 /** Result of one c4g_session_rx call. */

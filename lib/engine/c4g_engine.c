@@ -152,14 +152,14 @@ c4g_status_t c4g_engine_set_limits(c4g_engine_t *eng, uint32_t arm, uint32_t axi
             eng->lim[idx] = *lim;
             eng->lim[idx].follow_error = tighter(eng->ctrl_fe[idx], lim->follow_error);
             eng->lim[idx].current_max = tighter(eng->ctrl_az[idx], lim->current_max);
-            eng->joint_on[arm] = 0U;
+            eng->priv.joint_on[arm] = 0U;
             for (i = 0U; i < eng->map.n_axes; i++) {
                 if ((eng->map.arm_of[i] == arm) && (eng->lim[i].joint_min < eng->lim[i].joint_max)) {
-                    eng->joint_on[arm] = 1U;
+                    eng->priv.joint_on[arm] = 1U;
                 }
             }
             if (n > 0U) {
-                eng->n_joint[arm] = n;
+                eng->priv.n_joint[arm] = n;
             }
         }
     }
@@ -180,7 +180,7 @@ static CTL_COLD c4g_status_t check_rx(const c4g_engine_t *eng, const c4g_ctrl_pa
                              eng_nonfinite_bit(a->current_ref) | eng_nonfinite_bit(a->ext[0]) |
                              eng_nonfinite_bit(a->ext[1]) | eng_nonfinite_bit(a->ext[2]);
         /* the mode prepared last tick is known: skip the lookup when it repeats */
-        if ((a->mode != eng->prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
+        if ((a->mode != eng->priv.prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
             st = C4G_ERR_MODE;
         } else if (bad != 0U) {
             st = C4G_ERR_NONFINITE;
@@ -249,7 +249,7 @@ static uint32_t rx_scan(const c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
         if (check != 0U) {
             carry |= rx_axis_carry(a);
             /* the mode prepared last tick is known: skip the lookup when it repeats */
-            if ((am != eng->prep_mode[i]) && (!c4g_mode_is_known(am))) {
+            if ((am != eng->priv.prep_mode[i]) && (!c4g_mode_is_known(am))) {
                 unknown = 1U;
             }
         }
@@ -294,27 +294,27 @@ static inline void prepare_axis(c4g_engine_t *eng, const int32_t over[C4G_ARMS],
     /* The anchor: the controller's reference where the axis's current mode began (every
      * packet of mode 0 or 0'), whichever packet of the mode arrives first. After a passive
      * freezing or a stand-by the mode begins again where the axis stands, not in mode 0. */
-    if ((mode != eng->prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
-        (eng->anchor_set[i] == 0U)) {
-        eng->anchor[i] = rx->target_pos;
-        eng->anchor_set[i] = 1U;
+    if ((mode != eng->priv.prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
+        (eng->priv.anchor_set[i] == 0U)) {
+        eng->priv.anchor[i] = rx->target_pos;
+        eng->priv.anchor_set[i] = 1U;
     }
     /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
      * look up on change only */
-    if (mode != eng->prep_mode[i]) {
-        eng->prep_mode[i] = mode;
-        eng->prep_rules[i] = mode_rules(mode);
-        prep_template(eng->prep_rules[i], mode, &eng->prep_tx[i]);
+    if (mode != eng->priv.prep_mode[i]) {
+        eng->priv.prep_mode[i] = mode;
+        eng->priv.prep_rules[i] = mode_rules(mode);
+        prep_template(eng->priv.prep_rules[i], mode, &eng->priv.prep_tx[i]);
     }
     shown = (some != 0U) ? overlay_mode(eng, over, i, mode) : mode;
     if (shown != mode) {
         /* hold while a safety request goes out: what the controller applied, nothing new */
-        hold_axis(eng->prep_rules[i], rx, eng->lim[i].current_max, tx);
-    } else if ((eng->prep_rules[i] & C4G_MR_COPY) != 0U) {
+        hold_axis(eng->priv.prep_rules[i], rx, eng->lim[i].current_max, tx);
+    } else if ((eng->priv.prep_rules[i] & C4G_MR_COPY) != 0U) {
         (void)memset(tx, 0, sizeof *tx);
         copy_back(rx, tx);
     } else {
-        *tx = eng->prep_tx[i]; /* required fields unset, the others zero */
+        *tx = eng->priv.prep_tx[i]; /* required fields unset, the others zero */
     }
     tx->mode = shown;
 }
@@ -333,7 +333,7 @@ static void step_arms(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, const arm_
                                     c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns, &ev);
             if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
                 for (i = 0U; i < eng->map.n_axes; i++) {
-                    eng->fe_latch[i] = (eng->map.arm_of[i] == a) ? 0U : eng->fe_latch[i];
+                    eng->priv.fe_latch[i] = (eng->map.arm_of[i] == a) ? 0U : eng->priv.fe_latch[i];
                 }
             }
             r->arm_events[a] = ev;
@@ -358,8 +358,8 @@ static inline void step_prepare(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
     for (i = 0U; i < n; i++) {
         prepare_axis(eng, over, some, &rx->ax[i], i, &tx->ax[i]);
     }
-    eng->stepped = 1U;
-    eng->step_num = rx->num;
+    eng->priv.stepped = 1U;
+    eng->priv.step_num = rx->num;
 }
 
 static c4g_status_t engine_step(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, uint64_t now_ns,
@@ -432,8 +432,8 @@ c4g_status_t c4g_engine_anchor(const c4g_engine_t *eng, uint32_t axis, float *po
         st = C4G_ERR_ARG;
         if ((axis < eng->map.n_axes) && (axis < C4G_MAX_AXES)) {
             st = C4G_ERR_STATE;
-            if (eng->anchor_set[axis] != 0U) {
-                *pos = eng->anchor[axis];
+            if (eng->priv.anchor_set[axis] != 0U) {
+                *pos = eng->priv.anchor[axis];
                 st = C4G_OK;
             }
         }

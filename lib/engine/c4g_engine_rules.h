@@ -97,7 +97,7 @@ static inline int32_t overlay_mode(const c4g_engine_t *eng, const int32_t over[C
                             int32_t base)
 {
     int32_t m = base;
-    if (eng->fe_latch[i] != 0U) {
+    if (eng->priv.fe_latch[i] != 0U) {
         m = C4G_MODE_FOLLOW_ERROR;
     } else if (over[eng->map.arm_of[i]] != 0) {
         m = over[eng->map.arm_of[i]];
@@ -122,7 +122,7 @@ static inline uint32_t arm_overlays(const c4g_engine_t *eng, int32_t over[C4G_AR
     }
     /* the whole array (zero past the open axes): a fixed count the compiler can vectorize */
     for (i = 0U; i < C4G_MAX_AXES; i++) {
-        some |= eng->fe_latch[i];
+        some |= eng->priv.fe_latch[i];
     }
     return (some != 0U) ? 1U : 0U;
 }

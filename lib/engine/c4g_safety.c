@@ -158,7 +158,7 @@ static inline uint32_t filter_fe(c4g_engine_t *eng, uint32_t i, uint32_t rules,
         const float ref = ((rules & C4G_MR_ABS) != 0U) ? tx->target_pos : rx->target_pos;
         f = sfc_follow_error(ref, rx->actual_pos, eng->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
-            eng->fe_latch[i] = 1U;
+            eng->priv.fe_latch[i] = 1U;
             eng->arm[eng->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
         }
     }
@@ -173,9 +173,9 @@ static void joint_motion(const c4g_engine_t *eng, uint32_t arm, const c4g_ctrl_p
                          double d[C4G_AXES_PER_ARM])
 {
     uint32_t j;
-    for (j = 0U; j < eng->n_joint[arm]; j++) {
+    for (j = 0U; j < eng->priv.n_joint[arm]; j++) {
         const uint32_t i = eng->map.open_of[arm][j];
-        const uint32_t rules = eng->prep_rules[i];
+        const uint32_t rules = eng->priv.prep_rules[i];
         const c4g_ctrl_axis_t *r = &rx->ax[i];
         if ((rules & C4G_MR_ABS) != 0U) {
             base[j] = (double)r->target_pos;
@@ -195,7 +195,7 @@ static double joint_share(const c4g_engine_t *eng, uint32_t arm, const double q0
 {
     double a = 1.0;
     uint32_t j;
-    for (j = 0U; j < eng->n_joint[arm]; j++) {
+    for (j = 0U; j < eng->priv.n_joint[arm]; j++) {
         const c4g_axis_limits_t *l = &eng->lim[eng->map.open_of[arm][j]];
         const double lo = (double)l->joint_min;
         const double hi = (double)l->joint_max;
@@ -222,7 +222,7 @@ static double joint_share(const c4g_engine_t *eng, uint32_t arm, const double q0
 static CTL_COLD void filter_joints(c4g_engine_t *eng, uint32_t arm, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r)
 {
-    const uint32_t n = eng->n_joint[arm];
+    const uint32_t n = eng->priv.n_joint[arm];
     double base[C4G_AXES_PER_ARM];
     double d[C4G_AXES_PER_ARM];
     double m1[C4G_AXES_PER_ARM];
@@ -241,7 +241,7 @@ static CTL_COLD void filter_joints(c4g_engine_t *eng, uint32_t arm, const c4g_ct
     if (a < 1.0) {
         for (j = 0U; j < n; j++) {
             const uint32_t i = eng->map.open_of[arm][j];
-            const uint32_t rules = eng->prep_rules[i];
+            const uint32_t rules = eng->priv.prep_rules[i];
             c4g_pc_axis_t *o = &tx->ax[i];
             if ((d[j] > 0.0) || (d[j] < 0.0)) {
                 const double moved = a * d[j];
@@ -302,7 +302,7 @@ static CTL_COLD c4g_status_t arm_faults(c4g_engine_t *eng, const c4g_ctrl_packet
             } else {
                 /* keep the missing-data status */
             }
-            hold_axis(eng->prep_rules[i], &rx->ax[i], eng->lim[i].current_max, &tx->ax[i]);
+            hold_axis(eng->priv.prep_rules[i], &rx->ax[i], eng->lim[i].current_max, &tx->ax[i]);
             r->axis_flags[i] |= C4G_SF_HELD;
         }
         if ((f & C4G_SF_NO_RULE) != 0U) {
@@ -323,7 +323,7 @@ static uint32_t finish_fe(c4g_engine_t *eng, uint32_t i, const c4g_ctrl_axis_t *
 {
     uint32_t f = rewritten_check(tx);
     if (f == 0U) {
-        f = filter_fe(eng, i, eng->prep_rules[i], rx, tx, fe_out);
+        f = filter_fe(eng, i, eng->priv.prep_rules[i], rx, tx, fe_out);
     }
     return f;
 }
@@ -345,8 +345,8 @@ static inline uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
 static inline uint32_t finish_axis(c4g_engine_t *eng, uint32_t i, int32_t shown,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
 {
-    const int32_t m = eng->prep_mode[i];
-    const uint32_t rules = eng->prep_rules[i];
+    const int32_t m = eng->priv.prep_mode[i];
+    const uint32_t rules = eng->priv.prep_rules[i];
     uint32_t f = 0U;
     if ((tx->mode != m) && (tx->mode != shown)) {
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
@@ -367,7 +367,7 @@ static inline uint32_t finish_axis(c4g_engine_t *eng, uint32_t i, int32_t shown,
         f |= clamps;
         /* without a joint check on the arm the targets are final here; values a clamp
          * rewrote are checked again (an overflow is never sent) */
-        if ((eng->joint_on[eng->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
+        if ((eng->priv.joint_on[eng->map.arm_of[i]] == 0U) && ((f & C4G_SF_NONFINITE) == 0U)) {
             uint32_t g = 0U;
             if (clamps != 0U) {
                 g = rewritten_check(tx);
@@ -424,7 +424,7 @@ static CTL_COLD void finish_record(const c4g_engine_t *eng, const int32_t over[C
 {
     uint32_t i;
     for (i = 0U; i < tx->n_axes; i++) {
-        record_axis(eng, i, overlay_mode(eng, over, i, eng->prep_mode[i]), &tx->ax[i], r);
+        record_axis(eng, i, overlay_mode(eng, over, i, eng->priv.prep_mode[i]), &tx->ax[i], r);
     }
 }
 
@@ -456,8 +456,8 @@ static inline uint32_t finish_axes(c4g_engine_t *eng, const c4g_ctrl_packet_t *r
     uint32_t any = 0U;
     uint32_t i;
     for (i = 0U; i < n; i++) {
-        const int32_t shown = (some != 0U) ? overlay_mode(eng, over, i, eng->prep_mode[i])
-                                           : eng->prep_mode[i];
+        const int32_t shown = (some != 0U) ? overlay_mode(eng, over, i, eng->priv.prep_mode[i])
+                                           : eng->priv.prep_mode[i];
         c4g_pc_axis_t d;
         keep_axis(&d, &tx->ax[i]);
         r->follow_err[i] = 0.0F;
@@ -483,12 +483,12 @@ static CTL_COLD uint32_t finish_joints(c4g_engine_t *eng, const c4g_ctrl_packet_
     uint32_t a;
     uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
-        if (eng->joint_on[a] != 0U) { /* set only on arms with open axes */
+        if (eng->priv.joint_on[a] != 0U) { /* set only on arms with open axes */
             filter_joints(eng, a, rx, tx, r);
         }
     }
     for (i = 0U; i < tx->n_axes; i++) {
-        if ((eng->joint_on[eng->map.arm_of[i]] != 0U) &&
+        if ((eng->priv.joint_on[eng->map.arm_of[i]] != 0U) &&
             ((r->axis_flags[i] & (C4G_SF_MISSING | C4G_SF_NONFINITE)) == 0U)) {
             r->axis_flags[i] |= finish_fe(eng, i, &rx->ax[i], &tx->ax[i], &r->follow_err[i]);
             any |= r->axis_flags[i];
@@ -533,8 +533,8 @@ static c4g_status_t finish_packet(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx
     /* Each axis is recorded as soon as it is filtered while nothing can change the
      * overlays of the axes before it (no joint check, no fault, no following error);
      * otherwise every axis is recorded again once the overlays are final. */
-    uint32_t rec = c4g_flag((eng->joint_on[0] | eng->joint_on[1] | eng->joint_on[2] |
-                             eng->joint_on[3]) == 0U);
+    uint32_t rec = c4g_flag((eng->priv.joint_on[0] | eng->priv.joint_on[1] | eng->priv.joint_on[2] |
+                             eng->priv.joint_on[3]) == 0U);
     tx->infpar = exit_bytes(eng, r);
     any = finish_axes(eng, rx, tx, r, n, &rec);
     if (rec == 0U) {
@@ -549,7 +549,7 @@ static c4g_status_t finish_packet(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx
         st = C4G_ERR_MODE_RESTORED; /* a fault's status comes first */
     }
     latches_sent(eng);
-    eng->stepped = 0U;
+    eng->priv.stepped = 0U;
     return st;
 }
 
@@ -565,7 +565,7 @@ c4g_status_t c4g_safety_filter(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, c
             r = &local;
         }
         st = C4G_ERR_STATE;
-        if ((eng->stepped != 0U) && (rx->num == eng->step_num) &&
+        if ((eng->priv.stepped != 0U) && (rx->num == eng->priv.step_num) &&
             (rx->n_axes == eng->map.n_axes) && (tx->n_axes == rx->n_axes)) {
             st = finish_packet(eng, rx, tx, r);
         }

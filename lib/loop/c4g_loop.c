@@ -11,7 +11,7 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
     if (lp != NULL) {
         (void)memset(lp, 0, sizeof *lp);
         if (cfg != NULL) {
-            lp->engine_cfg = cfg->engine;
+            lp->priv.engine_cfg = cfg->engine;
             /* an engine configuration refused now, not at every init packet (which would
              * leave every reply to the fallback) */
             st = c4g_engine_config_check(&cfg->engine);
@@ -19,7 +19,7 @@ c4g_status_t c4g_loop_init(c4g_loop_t *lp, const c4g_loop_config_t *cfg)
                 st = c4g_session_init(&lp->session, &cfg->session);
             }
         } else {
-            (void)c4g_engine_config_default(&lp->engine_cfg);
+            (void)c4g_engine_config_default(&lp->priv.engine_cfg);
             st = c4g_session_init(&lp->session, NULL);
         }
     }
@@ -37,17 +37,17 @@ static void loop_fallback(c4g_loop_t *lp)
     uint32_t i;
     lp->counters.neutral_replies++;
     /* cannot fail: the session decoded rx for its own axis map */
-    (void)c4g_session_neutral(&lp->session, lp->rx, &lp->tx);
-    for (i = 0U; (i < lp->tx.n_axes) && (i < C4G_MAX_AXES); i++) {
-        if ((c4g_mode_rules(lp->tx.ax[i].mode) & pc_moves) != 0U) {
+    (void)c4g_session_neutral(&lp->session, lp->priv.rx, &lp->priv.tx);
+    for (i = 0U; (i < lp->priv.tx.n_axes) && (i < C4G_MAX_AXES); i++) {
+        if ((c4g_mode_rules(lp->priv.tx.ax[i].mode) & pc_moves) != 0U) {
             stop |= 1U << (lp->session.map.arm_of[i] & 3U);
         }
     }
     if (stop != 0U) {
         lp->counters.fallback_drive_off++;
-        for (i = 0U; (i < lp->tx.n_axes) && (i < C4G_MAX_AXES); i++) {
+        for (i = 0U; (i < lp->priv.tx.n_axes) && (i < C4G_MAX_AXES); i++) {
             if (((stop >> (lp->session.map.arm_of[i] & 3U)) & 1U) != 0U) {
-                lp->tx.ax[i].mode = C4G_MODE_DRIVE_OFF;
+                lp->priv.tx.ax[i].mode = C4G_MODE_DRIVE_OFF;
             }
         }
     }
@@ -58,15 +58,15 @@ static void loop_step(c4g_loop_t *lp, const c4g_ctrl_packet_t *pkt, uint64_t now
                       c4g_loop_event_t *ev)
 {
     c4g_status_t st = C4G_ERR_STATE;
-    lp->rx = pkt;
-    lp->prepared = 0U;
+    lp->priv.rx = pkt;
+    lp->priv.prepared = 0U;
     if (lp->engine_ready != 0U) {
         /* clears report; pkt comes from the session's decoder, which checked it */
-        st = c4g_engine_step_decoded(&lp->engine, pkt, now_ns, &lp->tx, &lp->report);
+        st = c4g_engine_step_decoded(&lp->engine, pkt, now_ns, &lp->priv.tx, &lp->report);
     }
     if (st == C4G_OK) {
-        lp->prepared = 1U;
-        ev->cmd = &lp->tx;
+        lp->priv.prepared = 1U;
+        ev->cmd = &lp->priv.tx;
         ev->engine_events = lp->report.events;
     } else {
         /* no engine for this packet: only the fallback is safe */
@@ -84,9 +84,9 @@ static uint32_t apply_user_limits(c4g_loop_t *lp)
     uint32_t j;
     for (a = 0U; a < C4G_ARMS; a++) {
         for (j = 0U; j < C4G_AXES_PER_ARM; j++) {
-            if ((((lp->user_set[a] >> j) & 1U) != 0U) &&
+            if ((((lp->priv.user_set[a] >> j) & 1U) != 0U) &&
                 (lp->engine.map.open_of[a][j] != 0xFFU) &&
-                (c4g_engine_set_limits(&lp->engine, a, j, &lp->user_lim[a][j]) != C4G_OK)) {
+                (c4g_engine_set_limits(&lp->engine, a, j, &lp->priv.user_lim[a][j]) != C4G_OK)) {
                 ok = 0U;
             }
         }
@@ -98,7 +98,7 @@ static uint32_t apply_user_limits(c4g_loop_t *lp)
 static void loop_engine_init(c4g_loop_t *lp)
 {
     lp->engine_ready = 0U;
-    if (c4g_engine_init(&lp->engine, &lp->session.init, &lp->engine_cfg) != C4G_OK) {
+    if (c4g_engine_init(&lp->engine, &lp->session.init, &lp->priv.engine_cfg) != C4G_OK) {
         lp->counters.engine_init_refused++;
     } else if (apply_user_limits(lp) == 0U) {
         lp->counters.limits_refused++;
@@ -120,8 +120,8 @@ c4g_status_t c4g_loop_set_limits(c4g_loop_t *lp, uint32_t arm, uint32_t axis,
             }
         }
         if (st == C4G_OK) {
-            lp->user_lim[arm][axis] = *lim;
-            lp->user_set[arm] |= (uint32_t)1U << axis;
+            lp->priv.user_lim[arm][axis] = *lim;
+            lp->priv.user_set[arm] |= (uint32_t)1U << axis;
         }
     }
     return st;
@@ -134,8 +134,8 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
     if ((lp != NULL) && (ev != NULL)) {
         c4g_rx_result_t res;
         (void)memset(ev, 0, sizeof *ev);
-        lp->due = 0U;
-        lp->rx = NULL;
+        lp->priv.due = 0U;
+        lp->priv.rx = NULL;
         st = c4g_session_rx_from(&lp->session, buf, len, now_ns, from, &res);
         if (st == C4G_OK) {
             ev->kind = res.kind;
@@ -150,7 +150,7 @@ c4g_status_t c4g_loop_rx(c4g_loop_t *lp, const uint8_t *buf, size_t len, uint64_
                 loop_step(lp, res.pkt, now_ns, ev);
             }
             if (res.kind != C4G_RX_DROPPED) {
-                lp->due = 1U;
+                lp->priv.due = 1U;
             }
         }
     }
@@ -163,22 +163,22 @@ static c4g_status_t loop_cyclic_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, 
 {
     c4g_status_t st;
     lp->finish_status = C4G_OK;
-    if (lp->prepared != 0U) {
+    if (lp->priv.prepared != 0U) {
         /* after any other status the filtered reply is safe and must be sent (an arm may
          * carry 505): only a refused call (the caller changed the reply's axis count or
          * header) falls back */
-        lp->finish_status = c4g_safety_filter(&lp->engine, lp->rx, &lp->tx, &lp->report);
+        lp->finish_status = c4g_safety_filter(&lp->engine, lp->priv.rx, &lp->priv.tx, &lp->report);
         if (lp->finish_status == C4G_ERR_STATE) {
             loop_fallback(lp);
         }
-        lp->prepared = 0U;
+        lp->priv.prepared = 0U;
     } /* else the fallback was prepared with the packet */
-    st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+    st = c4g_session_reply(&lp->session, &lp->priv.tx, buf, cap, out_len);
     if ((st != C4G_OK) && (st != C4G_ERR_CAPACITY)) {
         /* the encoder refused the reply: not reached after the filter, kept as a guard */
         lp->counters.encode_refused++;
         loop_fallback(lp);
-        st = c4g_session_reply(&lp->session, &lp->tx, buf, cap, out_len);
+        st = c4g_session_reply(&lp->session, &lp->priv.tx, buf, cap, out_len);
     }
     return st;
 }
@@ -188,9 +188,9 @@ c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *ou
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((lp != NULL) && (buf != NULL) && (out_len != NULL)) {
-        if (lp->due == 0U) {
+        if (lp->priv.due == 0U) {
             st = C4G_ERR_STATE;
-        } else if (lp->rx == NULL) {
+        } else if (lp->priv.rx == NULL) {
             st = c4g_session_reply(&lp->session, NULL, buf, cap, out_len);
         } else {
             st = loop_cyclic_reply(lp, buf, cap, out_len);
@@ -199,8 +199,8 @@ c4g_status_t c4g_loop_reply(c4g_loop_t *lp, uint8_t *buf, size_t cap, size_t *ou
             }
         }
         if (st == C4G_OK) {
-            lp->due = 0U;
-            lp->timed = c4g_flag(lp->rx != NULL);
+            lp->priv.due = 0U;
+            lp->priv.timed = c4g_flag(lp->priv.rx != NULL);
         }
     }
     return st;
@@ -211,8 +211,8 @@ c4g_status_t c4g_loop_sent(c4g_loop_t *lp, uint64_t now_ns)
     c4g_status_t st = C4G_ERR_NULL;
     if (lp != NULL) {
         st = C4G_OK;
-        if (lp->timed != 0U) {
-            lp->timed = 0U;
+        if (lp->priv.timed != 0U) {
+            lp->priv.timed = 0U;
             st = c4g_session_sent(&lp->session, now_ns);
         }
     }
@@ -232,13 +232,13 @@ static uint64_t session_deadline(const c4g_session_t *s)
 {
     uint64_t next = C4G_NO_DEADLINE;
     if ((s->phase == C4G_PHASE_REFUSED) ||
-        ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > 0U))) {
-        next = after(s->last_rx_ns, s->lost_timeout_ns);
+        ((s->phase == C4G_PHASE_WAIT_INIT) && (s->priv.sync_seen > 0U))) {
+        next = after(s->priv.last_rx_ns, s->lost_timeout_ns);
     } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
-               (s->frozen == 0U) && (s->frozen_active == 0U)) {
-        next = after(s->last_rx_ns, s->lost_timeout_ns);
-        if ((s->silent == 0U) && (s->silence_ns < s->lost_timeout_ns)) {
-            next = after(s->last_rx_ns, s->silence_ns);
+               (s->priv.frozen == 0U) && (s->priv.frozen_active == 0U)) {
+        next = after(s->priv.last_rx_ns, s->lost_timeout_ns);
+        if ((s->priv.silent == 0U) && (s->silence_ns < s->lost_timeout_ns)) {
+            next = after(s->priv.last_rx_ns, s->silence_ns);
         }
     } else {
         /* no silence check in this phase */
@@ -319,7 +319,7 @@ c4g_status_t c4g_loop_state(const c4g_loop_t *lp, c4g_loop_state_t *out)
         out->phase = s->phase;
         out->locked = (s->peer_locked != 0U);
         out->peer = s->peer;
-        out->last_num = s->last_num;
+        out->last_num = s->priv.last_num;
         out->drives = s->drives;
         out->silence_ns = s->silence_ns;
         out->lost_timeout_ns = s->lost_timeout_ns;
@@ -344,7 +344,7 @@ c4g_status_t c4g_loop_reply_packet(const c4g_loop_t *lp, const c4g_pc_packet_t *
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((lp != NULL) && (out != NULL)) {
-        *out = &lp->tx;
+        *out = &lp->priv.tx;
         st = C4G_OK;
     }
     return st;

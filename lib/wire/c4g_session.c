@@ -52,9 +52,9 @@ c4g_status_t c4g_session_init(c4g_session_t *s, const c4g_session_config_t *cfg)
             (void)memset(s, 0, sizeof *s);
             s->cfg = c;
             s->phase = C4G_PHASE_WAIT_INIT;
-            s->last_num = -1;
-            s->pending_num = -1;
-            s->pending_kind = C4G_RX_DROPPED;
+            s->priv.last_num = -1;
+            s->priv.pending_num = -1;
+            s->priv.pending_kind = C4G_RX_DROPPED;
             /* effective from the start: a REFUSED start-up ends on it too */
             s->lost_timeout_ns =
                 (c.lost_timeout_ns != 0U) ? c.lost_timeout_ns : (uint64_t)LOST_DEFAULT_NS;
@@ -86,7 +86,7 @@ static void count_malformed(c4g_session_t *s, c4g_status_t st, c4g_rx_result_t *
 /* How far @p num is ahead of the newest NUM, modulo the SMP+ counter (0: the same). */
 static int32_t num_delta(const c4g_session_t *s, int32_t num)
 {
-    return c4g_num_wrap_delta(s->last_num, num);
+    return c4g_num_wrap_delta(s->priv.last_num, num);
 }
 
 /* A duplicate (delta 0) or an older NUM (delta in the back half of the counter) is
@@ -117,23 +117,23 @@ static void track_num(c4g_session_t *s, int32_t num, c4g_rx_result_t *res)
         s->counters.missed += (uint64_t)delta - 1U;
         res->events |= C4G_EV_GAP;
     }
-    s->last_num = num;
+    s->priv.last_num = num;
 }
 
 static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const uint8_t *buf,
                       size_t len, uint64_t now_ns)
 {
-    s->pending_kind = kind;
-    s->pending_num = num;
-    s->pending_rx_ns = now_ns;
-    s->pending_len = 0U;
+    s->priv.pending_kind = kind;
+    s->priv.pending_num = num;
+    s->priv.pending_rx_ns = now_ns;
+    s->priv.pending_len = 0U;
     if ((kind != C4G_RX_CYCLIC) && (buf != NULL)) { /* (a decoded datagram has bytes) */
         /* Sync replies echo at most 732 bytes; the init echo is the full 1200. */
         const size_t keep = (kind == C4G_RX_INIT) ? C4G_INIT_SIZE
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
-        (void)memcpy(s->pending_raw, buf, keep);
-        s->pending_len = (uint32_t)keep;
-        s->pending_reply_len = (kind == C4G_RX_INIT) ? (uint32_t)C4G_INIT_SIZE
+        (void)memcpy(s->priv.pending_raw, buf, keep);
+        s->priv.pending_len = (uint32_t)keep;
+        s->priv.pending_reply_len = (kind == C4G_RX_INIT) ? (uint32_t)C4G_INIT_SIZE
                                                      : (uint32_t)C4G_SYNC_REPLY_SIZE;
     }
 }
@@ -210,12 +210,12 @@ static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in,
 static void refuse(c4g_session_t *s, uint64_t now_ns, c4g_rx_result_t *res)
 {
     s->phase = C4G_PHASE_REFUSED;
-    s->pending_num = -1;
-    s->startup_init = 0U;
-    s->restart_pending = 0U;
-    s->frozen = 0U;
-    s->frozen_active = 0U;
-    s->last_rx_ns = now_ns;
+    s->priv.pending_num = -1;
+    s->priv.startup_init = 0U;
+    s->priv.restart_pending = 0U;
+    s->priv.frozen = 0U;
+    s->priv.frozen_active = 0U;
+    s->priv.last_rx_ns = now_ns;
     res->kind = C4G_RX_DROPPED;
 }
 
@@ -230,7 +230,7 @@ static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
     int r = 0;
     /* from NUM on: the decoder has checked NUM (10) already */
     for (i = C4G_INIT_SIZE; i > 4U; i--) {
-        if (buf[i - 1U] != s->init_raw[i - 1U]) {
+        if (buf[i - 1U] != s->priv.init_raw[i - 1U]) {
             off = i - 1U;
         }
     }
@@ -245,7 +245,7 @@ static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
         res->events |= C4G_EV_INIT_CONFLICT;
         refuse(s, now_ns, res);
         r = 1;
-    } else if (s->startup_init != 0U) {
+    } else if (s->priv.startup_init != 0U) {
         s->counters.duplicates++;
         res->events |= C4G_EV_DUPLICATE;
         res->kind = C4G_RX_DROPPED;
@@ -262,8 +262,8 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
     c4g_init_t init;
     c4g_axis_map_t map;
     c4g_status_t st = C4G_OK;
-    if ((s->phase != C4G_PHASE_WAIT_INIT) && (s->restart_pending == 0U) &&
-        (s->startup_init == 0U)) {
+    if ((s->phase != C4G_PHASE_WAIT_INIT) && (s->priv.restart_pending == 0U) &&
+        (s->priv.startup_init == 0U)) {
         /* mid-session: new limits and thresholds are never taken from a datagram */
         c4g_diag_set(&res->diag, C4G_ERR_STATE, C4G_FIELD_NUM, 0U, -1, -1,
                      (int64_t)c4g_get_i32le(buf));
@@ -291,33 +291,33 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
             res->events |= C4G_EV_MALFORMED;
         }
     }
-    if ((st == C4G_OK) && ((s->startup_init != 0U) || (s->restart_pending != 0U)) &&
+    if ((st == C4G_OK) && ((s->priv.startup_init != 0U) || (s->priv.restart_pending != 0U)) &&
         (second_init(s, buf, now_ns, res) != 0)) {
         st = C4G_ERR_STATE;
     }
     if (st == C4G_OK) {
         s->init = init;
         s->map = map;
-        (void)memcpy(s->init_raw, buf, C4G_INIT_SIZE);
-        s->startup_init = 1U;
+        (void)memcpy(s->priv.init_raw, buf, C4G_INIT_SIZE);
+        s->priv.startup_init = 1U;
         /* the cyclic decode writes map.n_axes axes only: the rest stay zero from here */
-        (void)memset(s->rx, 0, sizeof s->rx);
-        s->rx_mixed_modes = 0U;
+        (void)memset(s->priv.rx, 0, sizeof s->priv.rx);
+        s->priv.rx_mixed_modes = 0U;
         s->counters.init++;
         /* After a cold restart 2 syncs follow the init; after 506 none do. */
-        s->post_sync_left = ((s->sync_seen > 0U) && (s->restart_pending == 0U))
+        s->priv.post_sync_left = ((s->priv.sync_seen > 0U) && (s->priv.restart_pending == 0U))
                                 ? s->cfg.post_init_sync : 0U;
-        s->phase = (s->post_sync_left > 0U) ? C4G_PHASE_POST_SYNC : C4G_PHASE_CYCLIC;
-        s->sync_seen = 0U;
-        s->restart_pending = 0U;
-        s->frozen = 0U;
-        s->frozen_active = 0U;
-        s->have_cyclic_time = 0U;
-        s->last_num = C4G_INIT_NUM;
+        s->phase = (s->priv.post_sync_left > 0U) ? C4G_PHASE_POST_SYNC : C4G_PHASE_CYCLIC;
+        s->priv.sync_seen = 0U;
+        s->priv.restart_pending = 0U;
+        s->priv.frozen = 0U;
+        s->priv.frozen_active = 0U;
+        s->priv.have_cyclic_time = 0U;
+        s->priv.last_num = C4G_INIT_NUM;
         s->silence_ns = (s->cfg.silence_ns != 0U)
                             ? s->cfg.silence_ns
                             : ((uint64_t)SILENCE_PERIODS * (uint64_t)init.period_ms * NS_PER_MS);
-        s->silent = 0U;
+        s->priv.silent = 0U;
         s->timing.nominal_period_ns = (int64_t)init.period_ms * (int64_t)NS_PER_MS;
         res->kind = C4G_RX_INIT;
         res->events |= C4G_EV_INIT;
@@ -331,13 +331,13 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
 static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
                     c4g_rx_result_t *res)
 {
-    const c4g_status_t st = c4g_ctrl_decode(buf, len, 0U, &s->rx[s->cur ^ 1U], &res->diag);
-    const int32_t num = s->rx[s->cur ^ 1U].num; /* 0 when the decode failed */
+    const c4g_status_t st = c4g_ctrl_decode(buf, len, 0U, &s->priv.rx[s->priv.cur ^ 1U], &res->diag);
+    const int32_t num = s->priv.rx[s->priv.cur ^ 1U].num; /* 0 when the decode failed */
     if (st != C4G_OK) {
         count_malformed(s, st, res);
     } else if ((s->phase == C4G_PHASE_POST_SYNC) && (drop_stale(s, num, res) != 0)) {
         /* counted */
-    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen >= C4G_SYNC_REPLY_BUDGET)) {
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->priv.sync_seen >= C4G_SYNC_REPLY_BUDGET)) {
         /* The field answers the handshake's 9 syncs with 732 bytes (twice as many allowed:
          * duplicates on the path). More are no handshake: not answered (no amplification;
          * and a reply of the datagram's own size would read as a cyclic reply echoing the
@@ -349,13 +349,13 @@ static void on_sync(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         {
             s->counters.sync++;
             if (s->phase == C4G_PHASE_POST_SYNC) {
-                s->post_sync_left--;
-                if (s->post_sync_left == 0U) {
+                s->priv.post_sync_left--;
+                if (s->priv.post_sync_left == 0U) {
                     s->phase = C4G_PHASE_CYCLIC;
                 }
                 track_num(s, num, res);
             } else {
-                s->sync_seen++;
+                s->priv.sync_seen++;
                 s->phase = C4G_PHASE_WAIT_INIT;
             }
             res->kind = C4G_RX_SYNC;
@@ -378,7 +378,7 @@ static uint32_t drive_mask(uint32_t infpar)
  * case, is one comparison. */
 static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
 {
-    const uint32_t n = (s->rx_mixed_modes != 0U) ? p->n_axes : 1U;
+    const uint32_t n = (s->priv.rx_mixed_modes != 0U) ? p->n_axes : 1U;
     uint32_t i;
     for (i = 0U; i < n; i++) {
         if (p->ax[i].mode < C4G_MODE_FREEZING_A) {
@@ -403,13 +403,13 @@ static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g
         }
     }
     if ((res->events & C4G_EV_FREEZE_IN) != 0U) {
-        s->frozen = 1U;
+        s->priv.frozen = 1U;
     }
     if ((res->events & C4G_EV_FREEZE_OUT) != 0U) {
-        s->frozen = 0U;
+        s->priv.frozen = 0U;
     }
     if ((res->events & C4G_EV_RESTART) != 0U) {
-        s->restart_pending = 1U;
+        s->priv.restart_pending = 1U;
     }
     if ((res->events & C4G_EV_END) != 0U) {
         s->phase = C4G_PHASE_ENDED;
@@ -442,8 +442,8 @@ static void end_in_procedure(c4g_session_t *s, const c4g_ctrl_packet_t *prev,
 static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t now_ns,
                       c4g_rx_result_t *res)
 {
-    const uint32_t next = s->cur ^ 1U;
-    c4g_ctrl_packet_t *p = &s->rx[next];
+    const uint32_t next = s->priv.cur ^ 1U;
+    c4g_ctrl_packet_t *p = &s->priv.rx[next];
     uint32_t mixed = 1U;
     c4g_status_t st = C4G_OK;
     if (c4g_cyclic_decode_hot(buf, len, s->map.n_axes, p, &mixed) == 0U) {
@@ -456,10 +456,10 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         /* counted */
     } else {
         const uint32_t drives = drive_mask(p->infpar);
-        const uint32_t prev = s->cur;
-        s->startup_init = 0U; /* the start-up is over */
-        s->cur = next;
-        s->rx_mixed_modes = mixed;
+        const uint32_t prev = s->priv.cur;
+        s->priv.startup_init = 0U; /* the start-up is over */
+        s->priv.cur = next;
+        s->priv.rx_mixed_modes = mixed;
         s->counters.cyclic++;
         if (s->counters.cyclic == 1U) {
             res->events |= C4G_EV_CYCLIC_START;
@@ -472,8 +472,8 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
             res->events |= C4G_EV_DRIVES;
         }
         track_num(s, p->num, res);
-        if (s->have_cyclic_time != 0U) {
-            const uint64_t elapsed = now_ns - s->last_cyclic_ns;
+        if (s->priv.have_cyclic_time != 0U) {
+            const uint64_t elapsed = now_ns - s->priv.last_cyclic_ns;
             const int64_t inter = (int64_t)elapsed;
             c4g_timing_t *t = &s->timing;
             if ((t->samples_inter == 0U) || (inter < t->min_inter_ns)) {
@@ -484,11 +484,11 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
             }
             t->samples_inter++;
         }
-        s->last_cyclic_ns = now_ns;
-        s->have_cyclic_time = 1U;
+        s->priv.last_cyclic_ns = now_ns;
+        s->priv.have_cyclic_time = 1U;
         scan_special_modes(s, p, res);
         if (((res->events & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
-            end_in_procedure(s, &s->rx[prev], res);
+            end_in_procedure(s, &s->priv.rx[prev], res);
         }
         res->kind = C4G_RX_CYCLIC;
         res->pkt = p;
@@ -501,30 +501,30 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
 static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
-    if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->last_rx_ns) &&
-        ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
+    if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->priv.last_rx_ns) &&
+        ((now_ns - s->priv.last_rx_ns) > s->lost_timeout_ns)) {
         /* the refused controller gave up: a new start-up may be served, and nothing resumes
          * the refused session's init packet */
         s->phase = C4G_PHASE_LOST;
-        s->startup_only = 1U;
+        s->priv.startup_only = 1U;
         s->counters.lost_events++;
         ev = C4G_EV_LOST;
-    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->sync_seen > 0U) &&
-               (now_ns > s->last_rx_ns) && ((now_ns - s->last_rx_ns) > s->lost_timeout_ns)) {
+    } else if ((s->phase == C4G_PHASE_WAIT_INIT) && (s->priv.sync_seen > 0U) &&
+               (now_ns > s->priv.last_rx_ns) && ((now_ns - s->priv.last_rx_ns) > s->lost_timeout_ns)) {
         /* a start-up that stopped before its init: the next one starts afresh (a cold
          * restart of the controller takes far longer than the loss timeout) */
-        s->sync_seen = 0U;
+        s->priv.sync_seen = 0U;
         s->peer_locked = 0U;
     } else if (((s->phase == C4G_PHASE_CYCLIC) || (s->phase == C4G_PHASE_POST_SYNC)) &&
-        (s->frozen == 0U) && (s->frozen_active == 0U) && (now_ns > s->last_rx_ns)) {
-        const uint64_t gap = now_ns - s->last_rx_ns;
+        (s->priv.frozen == 0U) && (s->priv.frozen_active == 0U) && (now_ns > s->priv.last_rx_ns)) {
+        const uint64_t gap = now_ns - s->priv.last_rx_ns;
         if (gap > s->lost_timeout_ns) {
             s->phase = C4G_PHASE_LOST;
             s->counters.lost_events++;
-            s->pending_num = -1;
+            s->priv.pending_num = -1;
             ev = C4G_EV_LOST;
-        } else if ((gap > s->silence_ns) && (s->silent == 0U)) {
-            s->silent = 1U;
+        } else if ((gap > s->silence_ns) && (s->priv.silent == 0U)) {
+            s->priv.silent = 1U;
             s->counters.silences++;
             ev = C4G_EV_SILENCE;
         } else {
@@ -577,7 +577,7 @@ static c4g_foreign_t on_foreign(c4g_session_t *s, size_t len, c4g_rx_result_t *r
 static int in_startup(const c4g_session_t *s)
 {
     return ((s->phase == C4G_PHASE_WAIT_INIT) || (s->phase == C4G_PHASE_POST_SYNC) ||
-            (s->restart_pending != 0U))
+            (s->priv.restart_pending != 0U))
                ? 1
                : 0;
 }
@@ -589,7 +589,7 @@ static int new_startup(const c4g_session_t *s, const uint8_t *buf, size_t len, i
     int r = 0;
     if ((s->phase == C4G_PHASE_LOST) && (len != C4G_INIT_SIZE)) {
         const int32_t d = (len >= 4U) ? num_delta(s, c4g_get_i32le(buf)) : 0;
-        if ((other != 0) || (d == 0) || (d >= NUM_HALF) || (s->startup_only != 0U)) {
+        if ((other != 0) || (d == 0) || (d >= NUM_HALF) || (s->priv.startup_only != 0U)) {
             r = 1;
         }
     }
@@ -612,15 +612,15 @@ static void dispatch(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t 
 static void accepted(c4g_session_t *s, uint64_t now_ns, uint32_t was_silent,
                      const c4g_endpoint_t *from, c4g_rx_result_t *res)
 {
-    if ((was_silent != 0U) && (now_ns > s->last_rx_ns)) {
-        res->silence_ns = now_ns - s->last_rx_ns;
+    if ((was_silent != 0U) && (now_ns > s->priv.last_rx_ns)) {
+        res->silence_ns = now_ns - s->priv.last_rx_ns;
         res->events |= C4G_EV_RESUMED;
         if (res->silence_ns > s->counters.longest_silence_ns) {
             s->counters.longest_silence_ns = res->silence_ns;
         }
     }
-    s->silent = 0U;
-    s->last_rx_ns = now_ns;
+    s->priv.silent = 0U;
+    s->priv.last_rx_ns = now_ns;
     if ((from != NULL) && (s->peer_locked == 0U)) {
         s->peer = *from;
         s->peer_locked = 1U;
@@ -641,14 +641,14 @@ static void restart_from(c4g_session_t *s, const uint8_t *buf, size_t len, uint6
                          c4g_rx_result_t *res)
 {
     s->phase = C4G_PHASE_WAIT_INIT;
-    s->sync_seen = 0U;
-    s->restart_pending = 0U;
-    s->startup_init = 0U;
-    s->frozen = 0U;
-    s->frozen_active = 0U;
+    s->priv.sync_seen = 0U;
+    s->priv.restart_pending = 0U;
+    s->priv.startup_init = 0U;
+    s->priv.frozen = 0U;
+    s->priv.frozen_active = 0U;
     on_sync(s, buf, len, now_ns, res);
     if (res->kind != C4G_RX_DROPPED) {
-        s->startup_only = 0U;
+        s->priv.startup_only = 0U;
         s->peer_locked = 0U; /* accepted() locks to its sender */
         if (other != 0) {
             /* served (a cold restart may come from a new port), but never silently */
@@ -676,12 +676,12 @@ static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, u
     uint32_t lost_ev;
     c4g_counters_t before;
     s->counters.rx++;
-    s->pending_num = -1;
+    s->priv.pending_num = -1;
     res->events |= check_lost(s, now_ns); /* (may unlock a start-up that stopped) */
     if ((from != NULL) && (s->peer_locked != 0U) && (same_endpoint(from, &s->peer) == 0)) {
         other = 1;
     }
-    was_silent = c4g_flag((s->silent != 0U) || (s->phase == C4G_PHASE_LOST));
+    was_silent = c4g_flag((s->priv.silent != 0U) || (s->phase == C4G_PHASE_LOST));
     lost_ev = res->events;
     if (new_startup(s, buf, len, other) != 0) {
         before = s->counters; /* restored if a stranger's datagram was no start-up */
@@ -691,11 +691,11 @@ static void session_datagram(c4g_session_t *s, const uint8_t *buf, size_t len, u
             /* two endpoints start one session: neither can be told to be the controller */
             s->counters.contended++;
             res->events |= C4G_EV_CONTENDED;
-            refuse(s, s->last_rx_ns, res);
+            refuse(s, s->priv.last_rx_ns, res);
         }
     } else if (s->phase == C4G_PHASE_REFUSED) {
         s->counters.refused++;
-        s->last_rx_ns = now_ns; /* the refused controller is still sending */
+        s->priv.last_rx_ns = now_ns; /* the refused controller is still sending */
         res->kind = C4G_RX_DROPPED;
         res->events |= C4G_EV_REFUSED;
     } else {
@@ -739,13 +739,13 @@ static void track_active_freezing(c4g_session_t *s, const c4g_pc_packet_t *tx)
     uint32_t i;
     for (i = 0U; i < tx->n_axes; i++) {
         if (tx->ax[i].mode == C4G_MODE_FREEZING_A) {
-            s->frozen_active = 1U;
+            s->priv.frozen_active = 1U;
         }
     }
     /* the arms' bytes by constant shifts: this runs on every reply */
     if (((w & 0xFFU) == C4G_EXIT_FROM_OPEN) || (((w >> 8U) & 0xFFU) == C4G_EXIT_FROM_OPEN) ||
         (((w >> 16U) & 0xFFU) == C4G_EXIT_FROM_OPEN) || ((w >> 24U) == C4G_EXIT_FROM_OPEN)) {
-        s->frozen_active = 0U;
+        s->priv.frozen_active = 0U;
     }
 }
 
@@ -760,13 +760,13 @@ static uint32_t neutral_has_data(int32_t mode)
 static void neutral_template(c4g_session_t *s, uint32_t axes, int32_t mode)
 {
     uint32_t i;
-    (void)memset(s->neutral_axes, 0, sizeof s->neutral_axes);
+    (void)memset(s->priv.neutral_axes, 0, sizeof s->priv.neutral_axes);
     for (i = 0U; i < axes; i++) {
-        c4g_put_i32le(&s->neutral_axes[(size_t)i * C4G_AXIS_SIZE], mode);
+        c4g_put_i32le(&s->priv.neutral_axes[(size_t)i * C4G_AXIS_SIZE], mode);
     }
-    s->neutral_n = axes;
-    s->neutral_mode = mode;
-    s->neutral_data = neutral_has_data(mode);
+    s->priv.neutral_n = axes;
+    s->priv.neutral_mode = mode;
+    s->priv.neutral_data = neutral_has_data(mode);
 }
 
 /* The current a hold keeps in a mode where the PC closes the loops, within +-AzLim of the
@@ -829,22 +829,22 @@ static c4g_status_t neutral_encoded(c4g_session_t *s, const c4g_ctrl_packet_t *p
  * c4g_pc_encode. */
 static c4g_status_t neutral_bytes(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *n)
 {
-    const c4g_ctrl_packet_t *p = &s->rx[s->cur];
+    const c4g_ctrl_packet_t *p = &s->priv.rx[s->priv.cur];
     const uint32_t axes = p->n_axes;
     const int32_t first = p->ax[0].mode;
     c4g_status_t st;
-    if ((s->rx_mixed_modes == 0U) &&
-        ((s->neutral_n != axes) || (s->neutral_mode != first))) {
+    if ((s->priv.rx_mixed_modes == 0U) &&
+        ((s->priv.neutral_n != axes) || (s->priv.neutral_mode != first))) {
         neutral_template(s, axes, first);
     }
-    if ((s->rx_mixed_modes == 0U) && (s->neutral_data == 0U)) {
+    if ((s->priv.rx_mixed_modes == 0U) && (s->priv.neutral_data == 0U)) {
         st = C4G_ERR_CAPACITY;
         if (cap >= C4G_CYCLIC_SIZE(axes)) {
             c4g_put_u32le(&buf[4], 0U);
             c4g_put_u32le(&buf[8], 0U);
-            (void)memcpy(&buf[C4G_HEADER_SIZE], s->neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
+            (void)memcpy(&buf[C4G_HEADER_SIZE], s->priv.neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
             if (first == C4G_MODE_FREEZING_A) {
-                s->frozen_active = 1U;
+                s->priv.frozen_active = 1U;
             }
             *n = C4G_CYCLIC_SIZE((size_t)axes);
             st = C4G_OK;
@@ -862,7 +862,7 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
                                 uint8_t *buf, size_t cap, size_t *n)
 {
     c4g_status_t st;
-    if (s->pending_kind == C4G_RX_CYCLIC) {
+    if (s->priv.pending_kind == C4G_RX_CYCLIC) {
         if (neutral != 0U) {
             st = neutral_bytes(s, buf, cap, n);
         } else if (tx == NULL) {
@@ -876,11 +876,11 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
             }
         }
     } else {
-        *n = s->pending_reply_len;
+        *n = s->priv.pending_reply_len;
         st = C4G_ERR_CAPACITY;
         if (cap >= *n) {
-            (void)memcpy(buf, s->pending_raw, s->pending_len);
-            (void)memset(&buf[s->pending_len], 0, *n - s->pending_len);
+            (void)memcpy(buf, s->priv.pending_raw, s->priv.pending_len);
+            (void)memset(&buf[s->priv.pending_len], 0, *n - s->priv.pending_len);
             st = C4G_OK;
         }
     }
@@ -895,17 +895,17 @@ static c4g_status_t session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, u
         size_t n = 0U;
         *out_len = 0U;
         st = C4G_ERR_STATE; /* nothing received to answer, or answered already */
-        if ((s->pending_num >= 0) && (s->pending_kind != C4G_RX_DROPPED)) {
+        if ((s->priv.pending_num >= 0) && (s->priv.pending_kind != C4G_RX_DROPPED)) {
             st = reply_bytes(s, tx, neutral, buf, cap, &n);
         }
         if (st == C4G_OK) {
-            c4g_put_i32le(buf, c4g_reply_num(s->pending_num, s->cfg.num_policy));
+            c4g_put_i32le(buf, c4g_reply_num(s->priv.pending_num, s->cfg.num_policy));
             *out_len = n;
             s->counters.tx++;
-            if (s->pending_kind != C4G_RX_CYCLIC) {
-                s->pending_num = -1;
+            if (s->priv.pending_kind != C4G_RX_CYCLIC) {
+                s->priv.pending_num = -1;
             } else {
-                s->pending_kind = C4G_RX_DROPPED; /* marks "answered, cycle time pending" */
+                s->priv.pending_kind = C4G_RX_DROPPED; /* marks "answered, cycle time pending" */
             }
         }
     }
@@ -929,16 +929,16 @@ c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)
     c4g_status_t st = C4G_ERR_NULL;
     if (s != NULL) {
         st = C4G_ERR_STATE;
-        if ((s->pending_num >= 0) && (s->pending_kind == C4G_RX_DROPPED)) {
+        if ((s->priv.pending_num >= 0) && (s->priv.pending_kind == C4G_RX_DROPPED)) {
             c4g_timing_t *t = &s->timing;
-            const uint64_t elapsed = now_ns - s->pending_rx_ns;
+            const uint64_t elapsed = now_ns - s->priv.pending_rx_ns;
             const int64_t cyc = (int64_t)elapsed;
             t->last_cycle_ns = cyc;
             if ((t->samples_cycle == 0U) || (cyc > t->worst_cycle_ns)) {
                 t->worst_cycle_ns = cyc;
             }
             t->samples_cycle++;
-            s->pending_num = -1;
+            s->priv.pending_num = -1;
             st = C4G_OK;
         }
     }

@@ -183,7 +183,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         for (i = 0; i < n_axes; i++) {
             const int32_t m = tx.ax[i].mode;
-            const int32_t p = ctl.prep_mode[i];
+            const int32_t p = ctl.priv.prep_mode[i];
             const c4g_arm_sm_t *sm = &ctl.arm[ctl.map.arm_of[i]];
             const float lim = ctl.lim[i].current_max;
             const int held = (rep.axis_flags[i] & C4G_SF_HELD) != 0;

@@ -49,7 +49,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const unsigned who = (unsigned)(data[pos] >> 6U);
         const c4g_endpoint_t *from = (who == 0U) ? NULL : &eps[who - 1U];
         const c4g_phase_t phase_before = s.phase;
-        const int32_t newest_before = s.last_num;
+        const int32_t newest_before = s.priv.last_num;
         pos += 2U;
         if (dl == 0xFFFFU) {
             dg = init;
@@ -80,7 +80,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort();
         }
         if (((r.events & C4G_EV_FOREIGN) != 0U) &&
-            ((r.kind != C4G_RX_DROPPED) || (s.last_num != newest_before) ||
+            ((r.kind != C4G_RX_DROPPED) || (s.priv.last_num != newest_before) ||
              ((s.phase != phase_before) && (phase_before != C4G_PHASE_CYCLIC) &&
               (phase_before != C4G_PHASE_POST_SYNC) && (phase_before != C4G_PHASE_REFUSED) &&
               ((r.events & C4G_EV_CONTENDED) == 0U)))) {
@@ -104,7 +104,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
             }
             if ((c4g_session_reply_neutral(&twin, out2, sizeof out2, &n2) != C4G_OK) || (n2 != n) ||
-                (memcmp(out, out2, n) != 0) || (twin.frozen_active != s.frozen_active) ||
+                (memcmp(out, out2, n) != 0) || (twin.priv.frozen_active != s.priv.frozen_active) ||
                 (c4g_session_sent(&twin, t + 1000U) != C4G_OK)) {
                 abort();
             }

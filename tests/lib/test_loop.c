@@ -183,10 +183,10 @@ static void test_neutral_when_encoder_refuses(void **state)
     (void)state;
     cold_start(&f);
     cyclic(&f, 13, C4G_MODE_0, 1.0f);
-    f.lp.prepared = 0U;
+    f.lp.priv.prepared = 0U;
     {
         const uint32_t qnan = 0x7FC00000U;
-        memcpy(&f.lp.tx.ax[0].target_pos, &qnan, sizeof qnan);
+        memcpy(&f.lp.priv.tx.ax[0].target_pos, &qnan, sizeof qnan);
     }
     answer(&f, C4G_CYCLIC_SIZE(6U));
     decode_reply(&f, &pc);
@@ -194,7 +194,7 @@ static void test_neutral_when_encoder_refuses(void **state)
     assert_int_equal(f.lp.counters.neutral_replies, 1U);
     /* a finish refused (no matching step): the fallback too */
     cyclic(&f, 14, C4G_MODE_0, 1.0f);
-    f.lp.engine.stepped = 0U;
+    f.lp.engine.priv.stepped = 0U;
     answer(&f, C4G_CYCLIC_SIZE(6U));
     assert_int_equal(f.lp.finish_status, C4G_ERR_STATE);
     assert_int_equal(f.lp.counters.neutral_replies, 2U);
@@ -266,7 +266,7 @@ static void test_engine_refused(void **state)
     (void)state;
     memset(&f, 0, sizeof f);
     cold_start(&f);
-    f.lp.engine_cfg.moving_eps = -1.0f;
+    f.lp.priv.engine_cfg.moving_eps = -1.0f;
     f.lp.engine_ready = 0U;
     /* a 506 restart brings a new init packet, which the engine now refuses */
     {
@@ -517,12 +517,12 @@ static void test_poll_deadline(void **state)
     assert_true(next == C4G_NO_DEADLINE);
     /* a deadline past the end of the clock saturates instead of wrapping */
     cold_start(&f);
-    f.lp.session.last_rx_ns = C4G_NO_DEADLINE - 10U;
+    f.lp.session.priv.last_rx_ns = C4G_NO_DEADLINE - 10U;
     assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
     assert_true(next == C4G_NO_DEADLINE);
     /* passive freezing suspends the checks */
     cold_start(&f);
-    f.lp.session.frozen = 1U;
+    f.lp.session.priv.frozen = 1U;
     assert_int_equal(c4g_loop_deadline(&f.lp, &next), C4G_OK);
     assert_true(next == C4G_NO_DEADLINE);
 }
@@ -583,7 +583,7 @@ static void test_accessors(void **state)
     assert_int_equal(c4g_loop_engine_view(&f.lp, &ev_), C4G_OK);
     assert_ptr_equal(ev_, &f.lp.engine);
     assert_int_equal(c4g_loop_reply_packet(&f.lp, &tx), C4G_OK);
-    assert_ptr_equal(tx, &f.lp.tx);
+    assert_ptr_equal(tx, &f.lp.priv.tx);
     /* NULL arguments */
     assert_int_equal(c4g_loop_init_packet(NULL, &ip), C4G_ERR_NULL);
     assert_int_equal(c4g_loop_init_packet(&f.lp, NULL), C4G_ERR_NULL);

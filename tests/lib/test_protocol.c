@@ -341,7 +341,7 @@ static void test_num_wrap(void **st)
         assert_int_equal(w.ctrl.n.replies_ok, 12U + n);
         assert_int_equal(w.ctrl.n.wrong_num + w.ctrl.n.stale + w.ctrl.n.missing, 0);
         assert_int_equal(w.pc.counters.cyclic, n);
-        assert_int_equal(w.pc.last_num, 1);
+        assert_int_equal(w.pc.priv.last_num, 1);
         assert_clean_pc(&w);
     }
 }
@@ -414,7 +414,7 @@ static void test_active_freezing(void **st)
     tick(&w, 0U, 0U);
     tick(&w, 0U, 0U); /* the reply with 500 is judged and applied here */
     assert_int_equal(w.frozen_a, 1);
-    assert_int_equal(w.pc.frozen_active, 1);
+    assert_int_equal(w.pc.priv.frozen_active, 1);
     ticks(&w, 30U, F_DROP_REPLY);
     assert_int_equal(w.ctrl.n.missing, 0);
     assert_int_equal(w.ctrl.fatal, 0);
@@ -427,7 +427,7 @@ static void test_active_freezing(void **st)
     tick(&w, 0U, 0U);
     tick(&w, 0U, 0U);
     assert_int_equal(w.frozen_a, 0);
-    assert_int_equal(w.pc.frozen_active, 0);
+    assert_int_equal(w.pc.priv.frozen_active, 0);
     w.pc_infpar = 0U;
     /* checked again: a lost reply is missing */
     tick(&w, F_DROP_REPLY, 0U);
@@ -455,7 +455,7 @@ static void test_passive_freezing(void **st)
             assert_int_equal(w.pc.phase, C4G_PHASE_LOST);
             continue;
         }
-        assert_int_equal(w.pc.frozen, 1);
+        assert_int_equal(w.pc.priv.frozen, 1);
         assert_true((w.pc_events & (C4G_EV_FREEZE_IN)) != 0U);
         assert_true((w.pc_events & (C4G_EV_SILENCE | C4G_EV_LOST)) == 0U);
         w.mode = C4G_MODE_FREEZING_P_OUT;
@@ -464,7 +464,7 @@ static void test_passive_freezing(void **st)
         ticks(&w, 5U, 0U);
         tick(&w, F_SILENT, 0U);
         assert_true((w.pc_events & C4G_EV_FREEZE_OUT) != 0U);
-        assert_int_equal(w.pc.frozen, 0);
+        assert_int_equal(w.pc.priv.frozen, 0);
         assert_int_equal(w.pc.phase, C4G_PHASE_CYCLIC);
         assert_int_equal(w.ctrl.n.replies_ok, 17 + 1 + 6);
         assert_int_equal(w.ctrl.n.missing, 0);

@@ -268,7 +268,7 @@ static void test_filter_following_error(void **state)
         assert_int_equal(c4g_engine_step(&f.ctl, &f.rx, 0, &f.tx, &f.rep), C4G_OK);
         assert_true(f.rep.events & C4G_CEV_LATCH_CLEARED);
         assert_int_equal(f.tx.ax[5].mode, 0);
-        assert_int_equal(f.ctl.fe_latch[5], 0);
+        assert_int_equal(f.ctl.priv.fe_latch[5], 0);
     }
 }
 
@@ -474,8 +474,8 @@ static void test_filter_joint_stroke(void **state)
     l.joint_min = -0.4f;
     l.joint_max = 0.4f;
     assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 4, &l), C4G_OK); /* joint 5 */
-    assert_int_equal(f.ctl.n_joint[0], 6);
-    assert_int_equal(f.ctl.joint_on[0], 1);
+    assert_int_equal(f.ctl.priv.n_joint[0], 6);
+    assert_int_equal(f.ctl.priv.joint_on[0], 1);
     /* mode 4 from joint 5 = 0.3 rad to 0.5 rad: shrunk to the end, 0.4 rad */
     assert_int_equal(c4g_kin_link_to_motor(&k, q, 6, at), C4G_OK);
     q[4] = 0.5;
@@ -818,10 +818,10 @@ static void test_set_limits_errors(void **state)
     assert_int_equal(c4g_engine_set_limits(&ctl, 0, 0, &l), C4G_ERR_SINGULAR);
     /* clearing joint limits turns the joint check off */
     assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
-    assert_int_equal(f.ctl.joint_on[0], 1);
+    assert_int_equal(f.ctl.priv.joint_on[0], 1);
     memset(&l, 0, sizeof l);
     assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 1, &l), C4G_OK);
-    assert_int_equal(f.ctl.joint_on[0], 0);
+    assert_int_equal(f.ctl.priv.joint_on[0], 0);
     /* user FE tighter than the controller's; looser one ignored */
     l.follow_error = 1.0f;
     assert_int_equal(c4g_engine_set_limits(&f.ctl, 0, 0, &l), C4G_OK);

@@ -109,7 +109,7 @@ static void neutral_both(fx_t *a, fx_t *b, const c4g_ctrl_packet_t *p)
     assert_int_equal(a->out_len, C4G_CYCLIC_SIZE(p->n_axes));
     assert_int_equal(a->out_len, b->out_len);
     assert_memory_equal(a->out, b->out, a->out_len);
-    assert_int_equal(a->s.frozen_active, b->s.frozen_active);
+    assert_int_equal(a->s.priv.frozen_active, b->s.priv.frozen_active);
     assert_int_equal(a->s.counters.tx, b->s.counters.tx);
     assert_int_equal(c4g_session_sent(&a->s, a->t + 100000), C4G_OK);
     assert_int_equal(c4g_session_sent(&b->s, b->t + 100000), C4G_OK);
@@ -198,11 +198,11 @@ static void test_reply_neutral_direct(void **state)
     th_ctrl_packet(&p, 16, 6, C4G_MODE_0);           /* 500 on one axis: active freezing */
     p.ax[5].mode = C4G_MODE_FREEZING_A;
     neutral_both(&a, &b, &p);
-    assert_int_equal(a.s.frozen_active, 1);
-    a.s.frozen_active = b.s.frozen_active = 0U;
+    assert_int_equal(a.s.priv.frozen_active, 1);
+    a.s.priv.frozen_active = b.s.priv.frozen_active = 0U;
     th_ctrl_packet(&p, 17, 6, C4G_MODE_FREEZING_A);  /* 500 on every axis */
     neutral_both(&a, &b, &p);
-    assert_int_equal(a.s.frozen_active, 1);
+    assert_int_equal(a.s.priv.frozen_active, 1);
 
     /* refusals: nothing pending, too small, no arguments */
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, &n), C4G_ERR_STATE);
@@ -211,10 +211,10 @@ static void test_reply_neutral_direct(void **state)
     assert_int_equal(feed(&a, sync, n), C4G_RX_CYCLIC);
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);
     assert_int_equal(n, 0);
-    a.s.rx_mixed_modes = 1U; /* the path of several modes refuses a short buffer too */
+    a.s.priv.rx_mixed_modes = 1U; /* the path of several modes refuses a short buffer too */
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, 227, &n), C4G_ERR_CAPACITY);
     assert_int_equal(n, 0);
-    a.s.rx_mixed_modes = 0U;
+    a.s.priv.rx_mixed_modes = 0U;
     assert_int_equal(c4g_session_reply_neutral(NULL, a.out, sizeof a.out, &n), C4G_ERR_NULL);
     assert_int_equal(c4g_session_reply_neutral(&a.s, NULL, sizeof a.out, &n), C4G_ERR_NULL);
     assert_int_equal(c4g_session_reply_neutral(&a.s, a.out, sizeof a.out, NULL), C4G_ERR_NULL);
@@ -237,8 +237,8 @@ static void test_special_mode_on_one_axis(void **state)
     assert_int_equal(c4g_ctrl_encode(&p, b, sizeof b, &len), C4G_OK);
     assert_int_equal(feed(&f, b, len), C4G_RX_CYCLIC);
     assert_true(f.r.events & C4G_EV_FREEZE_IN);
-    assert_int_equal(f.s.frozen, 1);
-    assert_int_equal(f.s.rx_mixed_modes, 1);
+    assert_int_equal(f.s.priv.frozen, 1);
+    assert_int_equal(f.s.priv.rx_mixed_modes, 1);
     assert_int_equal(c4g_session_reply_neutral(&f.s, f.out, sizeof f.out, &f.out_len), C4G_OK);
     th_ctrl_packet(&p, 14, 6, C4G_MODE_0);
     p.ax[5].mode = C4G_MODE_EXIT_OPEN;
@@ -358,7 +358,7 @@ static void test_num_wrap(void **state)
     fx_t f;
     (void)state;
     cold_start(&f, C4G_NUM_PLUS_ONE);
-    f.s.last_num = 0x7FFD;
+    f.s.priv.last_num = 0x7FFD;
     cyclic(&f, 0x7FFE, 0);
     assert_int_equal(th_get_u32(f.out), 0x7FFF);
     cyclic(&f, 0x7FFF, 0);
@@ -393,8 +393,8 @@ static void test_gaps_duplicates_reorder(void **state)
         assert_true(f.r.events & C4G_EV_OUT_OF_ORDER);
         assert_int_equal(c4g_session_reply(&f.s, NULL, f.out, sizeof f.out, &f.out_len),
                          C4G_ERR_STATE);
-        assert_int_equal(f.s.last_num, 16);
-        assert_int_equal(f.s.rx[f.s.cur].num, 16); /* the newest packet stays the current one */
+        assert_int_equal(f.s.priv.last_num, 16);
+        assert_int_equal(f.s.priv.rx[f.s.priv.cur].num, 16); /* the newest packet stays the current one */
     }
     cyclic(&f, 17, 0);
     assert_int_equal(f.r.events, 0);
@@ -632,7 +632,7 @@ static void test_active_freezing(void **state)
     assert_int_equal(c4g_pc_reply_neutral(f.r.pkt, &tx), C4G_OK);
     tx.ax[0].mode = C4G_MODE_FREEZING_A;           /* the PC freezes (manual 15.1) */
     assert_int_equal(c4g_session_reply(&f.s, &tx, f.out, sizeof f.out, &f.out_len), C4G_OK);
-    assert_int_equal(f.s.frozen_active, 1);
+    assert_int_equal(f.s.priv.frozen_active, 1);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 3000 * MS, &ev), C4G_OK);
     assert_int_equal(ev, 0);                        /* a long non-real-time pause is fine */
     f.t += 3000 * MS;
@@ -642,7 +642,7 @@ static void test_active_freezing(void **state)
     assert_int_equal(c4g_pc_reply_neutral(f.r.pkt, &tx), C4G_OK);
     tx.infpar = c4g_arm_byte_set(0, 0, C4G_EXIT_FROM_OPEN);
     assert_int_equal(c4g_session_reply(&f.s, &tx, f.out, sizeof f.out, &f.out_len), C4G_OK);
-    assert_int_equal(f.s.frozen_active, 0);
+    assert_int_equal(f.s.priv.frozen_active, 0);
     assert_int_equal(c4g_session_poll(&f.s, f.t + 21 * MS, &ev), C4G_OK);
     assert_int_equal(ev, C4G_EV_SILENCE);           /* the check is back on */
 }
@@ -1173,7 +1173,7 @@ static void test_second_init_conflict(void **state)
         cyclic_from_kind(&f, 14, &ctl, C4G_RX_SYNC);
         assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
         assert_int_equal(f.s.counters.cyclic, 0);
-        assert_int_equal(f.s.startup_only, 0);
+        assert_int_equal(f.s.priv.startup_only, 0);
         sync_packet(b, 1);
         assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_SYNC);
         assert_int_equal(f.s.phase, C4G_PHASE_WAIT_INIT);
@@ -1250,7 +1250,7 @@ static void test_sync_reply_bounded(void **state)
         f.t += 1001 * MS;
         assert_int_equal(feed_from(&f, b, len, &other), C4G_RX_SYNC);
         assert_int_equal(f.s.peer.port, 3700);
-        assert_int_equal(f.s.sync_seen, 1);
+        assert_int_equal(f.s.priv.sync_seen, 1);
         f.t += 1001 * MS;
         assert_int_equal(feed_from(&f, b, len, &ctl), C4G_RX_SYNC);
         assert_int_equal(f.s.peer.port, 3600);

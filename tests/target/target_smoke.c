@@ -50,7 +50,7 @@ int main(void)
     p.ax[2].mode = C4G_MODE_0_DEBUG;
     p.ax[2].target_pos = -3.5f;
     check(c4g_ctrl_encode(&p, buf, sizeof buf, &len) == C4G_OK && len == 228, "ctrl encode");
-    s.last_num = 0x7FFE; /* as if the controller had counted up to here: 0x7FFF is newer */
+    s.priv.last_num = 0x7FFE; /* as if the controller had counted up to here: 0x7FFF is newer */
     check(c4g_session_rx(&s, buf, len, 3000, &r) == C4G_OK && r.kind == C4G_RX_CYCLIC, "rx cyclic");
     check(c4g_pc_reply_neutral(r.pkt, &tx) == C4G_OK, "neutral reply");
     check(c4g_session_reply(&s, &tx, out, sizeof out, &n) == C4G_OK && n == 228, "reply");
