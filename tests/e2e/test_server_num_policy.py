@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: MIT
 """c4g-server end to end: both NUM policies (field NUM + 1, manual echo) against a
-controller that enforces each, the start-up handshake byte by byte, and the NUM wrap."""
-from e2elib import Checks, host_disturbed
+controller that enforces each, the start-up handshake byte by byte, and the NUM wrap. A
+controller refusing the other policy is proved in-process (tests/lib/test_protocol.c,
+test_num_policies): its e2e twin measured the host's scheduling more than the server."""
+from e2elib import Checks
 from srvlib import SIM_PATIENT, num
 
 MODE0 = "fixtures/server/sim_mode0.scn"
@@ -22,20 +24,6 @@ def test_sim_echo_server_echo(srv):
     c = Checks()
     c.eq("sim ok", r.simrc, 0)
     c.eq("no wrong NUM", r.sv("wrong_num"), 0)
-    c.done()
-
-
-def test_mismatch(srv):
-    # controller enforces echo, server answers NUM + 1. A busy host that holds the server up
-    # for 10 periods at the start ends the session before a single wrong NUM came: such a
-    # run is made again (a server answering the echo NUM would show no wrong NUM in any run)
-    r = srv.run_sim("mm", srv.ports.udp(), MODE0, sim_args=["--num-policy", "echo", "--max-miss", 10],
-                    stop=True)
-    host_disturbed(r.sv("wrong_num") == 0 and r.sv("max_consecutive_missing") == 10,
-                   "no wrong NUM came before 10 replies in a row were missing")
-    c = Checks()
-    c.eq("controller refused the replies (error raised)", r.simrc, 1)
-    c.ge("wrong NUM counted", r.sv("wrong_num"), 1)
     c.done()
 
 

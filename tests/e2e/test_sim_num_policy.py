@@ -1,11 +1,13 @@
 # SPDX-License-Identifier: MIT
-"""c4g-sim NUM policy enforcement: plus-one (field), echo (manual) or either (default)."""
+"""c4g-sim NUM policy enforcement through the process: the option reaches the controller end,
+a refused PC ends the run with ERR_C4GOPEN_UDP and exit 1, and the detected policy is reported.
+The whole matrix (each policy against each PC, the wrap, the 10th miss) is proved in-process
+by tests/lib/test_protocol.c, deterministically; here only what needs processes and sockets."""
 import pytest
 
 from simlib import STALL_OK, run_sim, sim_json, start_pc
 
-CASES = [("", "plus-one", 0), ("", "either", 0), ("", "echo", 1), ("--echo", "echo", 0),
-         ("--echo", "either", 0), ("--echo", "plus-one", 1), ("--wrong-num", "either", 1)]
+CASES = [("--echo", "echo", 0), ("", "echo", 1), ("--wrong-num", "either", 1)]
 
 
 @pytest.mark.parametrize("pc_opt,policy,want", CASES,
