@@ -396,3 +396,46 @@ void c4gh_cli_progress_end(void)
     fputs("\r\033[K", stderr);
     fflush(stderr);
 }
+
+int c4gh_cli_parse_axis_list(const char *text, unsigned max, uint32_t *bits)
+{
+    uint32_t out = 0U;
+    const char *p = text;
+    if (text == NULL || bits == NULL || max == 0U || max > 32U || *p == '\0') {
+        return -1;
+    }
+    while (*p != '\0') {
+        char item[24];
+        const size_t n = strcspn(p, ",");
+        long long lo = 0, hi = 0;
+        char *dash;
+        if (n == 0U || n >= sizeof item) {
+            return -1;
+        }
+        memcpy(item, p, n);
+        item[n] = '\0';
+        dash = strchr(item, '-');
+        if (dash != NULL) {
+            *dash = '\0';
+        }
+        if (c4gh_tf_parse_int(item, 1, (long long)max, &lo) != C4GH_TF_NUM_OK ||
+            (dash != NULL && c4gh_tf_parse_int(dash + 1, lo, (long long)max, &hi) != C4GH_TF_NUM_OK)) {
+            return -1;
+        }
+        if (dash == NULL) {
+            hi = lo;
+        }
+        for (; lo <= hi; lo++) {
+            out |= 1U << (unsigned)(lo - 1);
+        }
+        p += n;
+        if (*p == ',') {
+            p++;
+            if (*p == '\0') {
+                return -1;
+            }
+        }
+    }
+    *bits = out;
+    return 0;
+}

@@ -7,6 +7,7 @@
 #define C4GH_CLI_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 /* Exit codes shared by the tools. */
@@ -92,6 +93,10 @@ const char *c4gh_cli_find_config(int argc, char **argv);
 /* A path as messages show it: printable ASCII as is, any other byte as \xNN (cut with
  * "..." to fit cap). Returns out. */
 const char *c4gh_cli_path_text(const char *path, char *out, size_t cap);
+
+/* An axis list like "1,3-5" (numbers 1..@p max, @p max <= 32, ranges ascending, no empty
+ * item) into bit i-1 of @p bits. Returns 0, or -1 with @p bits untouched. */
+int c4gh_cli_parse_axis_list(const char *text, unsigned max, uint32_t *bits);
 
 /* One error line about a file, naming it once with the system's reason:
  * "TOOL: OPT PATH: strerror(err)" (OPT may be NULL or "": "TOOL: PATH: reason"). */

@@ -17,7 +17,7 @@ _c4gopen()
     local tool=${COMP_WORDS[0]} name=${COMP_WORDS[0]##*/} subs='' cmd=()
     COMPREPLY=()
     case $name in
-    c4g-replay) subs='summary check export rerun live plot' ;;
+    c4g-replay) subs='summary check export rerun live plot follow' ;;
     c4g-ident) subs='fit excite' ;;
     esac
     if [ -n "$subs" ]; then

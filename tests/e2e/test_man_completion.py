@@ -39,7 +39,7 @@ def options_of(argv):
 
 
 @pytest.mark.parametrize("page,tool,cmd", [(t + ".1", t, None) for t in ("c4g-server", "c4g-sim", "cell-cli", "cell-sim")]
-                         + [("c4g-replay.1", "c4g-replay", c) for c in ("summary", "check", "export", "rerun", "live", "plot")]
+                         + [("c4g-replay.1", "c4g-replay", c) for c in ("summary", "check", "export", "rerun", "live", "plot", "follow")]
                          + [("c4g-ident.1", "c4g-ident", c) for c in ("fit", "excite")])
 def test_page_names_every_option(build, page, tool, cmd):
     text = render(build, page).stdout

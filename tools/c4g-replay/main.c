@@ -20,6 +20,7 @@ static const rp_command_t commands[] = {
     {"rerun", rp_cmd_rerun, "feed the controller's packets through c4g-server's code, diff replies"},
     {"live", rp_cmd_live, "play the controller's side to a running PC server over UDP"},
     {"plot", rp_cmd_plot, "a field over time with mode changes marked (gnuplot)"},
+    {"follow", rp_cmd_follow, "following error and DSA current while the target moves, capture by capture"},
 };
 
 static void usage(FILE *out)
@@ -42,7 +43,8 @@ static void usage(FILE *out)
             "  " RP_TOOL " check --allow late captures/*.pcap\n"
             "  " RP_TOOL " export --moni 20 field.pcap > moni.csv\n"
             "  " RP_TOOL " rerun field.pcap --behaviour server -- --sine 0.25,0.5,0.5\n"
-            "  " RP_TOOL " live field.pcap --to 127.0.0.1:1000\n\n"
+            "  " RP_TOOL " live field.pcap --to 127.0.0.1:1000\n"
+            "  " RP_TOOL " follow move0.pcap move9.pcap\n\n"
             "Exit status: 0 success (check: clean), 1 findings or a failed job, 2 bad usage or an\n"
             "unreadable input, 3 (check) a file without any C4G Open session. See docs/c4g-replay.md\n"
             "and c4g-replay(1).\n");
@@ -76,7 +78,7 @@ int main(int argc, char **argv)
             fprintf(stderr, RP_TOOL ": unrecognized option '%s' (see " RP_TOOL " --help)\n", shown);
         } else {
             fprintf(stderr, RP_TOOL ": unknown command '%s' (commands: summary, check, export, rerun, "
-                    "live, plot; see " RP_TOOL " --help)\n", shown);
+                    "live, plot, follow; see " RP_TOOL " --help)\n", shown);
         }
     }
     return C4GH_CLI_EXIT_USAGE;

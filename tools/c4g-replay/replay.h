@@ -97,5 +97,6 @@ int rp_cmd_export(int argc, char **argv);
 int rp_cmd_rerun(int argc, char **argv);
 int rp_cmd_live(int argc, char **argv);
 int rp_cmd_plot(int argc, char **argv);
+int rp_cmd_follow(int argc, char **argv);
 
 #endif
