@@ -136,7 +136,7 @@ int rp_cmd_rerun(int argc, char **argv)
     rp_rerun_t R;
     c4gh_cli_spec_t spec;
     c4gh_cli_result_t r;
-    static char *srv_argv[RP_RERUN_ARGS];
+    static char *server_argv[RP_RERUN_ARGS];
     char num[RP_RERUN_NUMS][RP_LIVE_NUM];
     int first = 0, json = 0, no_progress = 0;
     const c4gh_cli_opt_t rows[] = {
@@ -182,12 +182,12 @@ int rp_cmd_rerun(int argc, char **argv)
         c4gh_cli_error(&spec, "at most %d c4g-server options", RP_RERUN_MAX_SERVER_ARGS);
         return C4GH_CLI_EXIT_USAGE;
     }
-    if (rp_rerun_argv(&R, "c4g-server", srv_argv, RP_RERUN_ARGS, num) < 0) {
+    if (rp_rerun_argv(&R, "c4g-server", server_argv, RP_RERUN_ARGS, num) < 0) {
         fprintf(stderr, RP_TOOL ": rerun: internal: c4g-server's command line does not fit\n");
         return C4GH_CLI_EXIT_RUNTIME;
     }
     (void)fflush(NULL);
-    rp_exec_tool("c4g-server", srv_argv);
+    rp_exec_tool("c4g-server", server_argv);
     fprintf(stderr, RP_TOOL ": rerun: cannot run c4g-server (beside " RP_TOOL " or on PATH): %s\n",
             strerror(errno));
     return C4GH_CLI_EXIT_RUNTIME;
