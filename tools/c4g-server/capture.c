@@ -517,7 +517,8 @@ static void prime(srv_cap_t *C, srv_cap_item_t *x)
     uint32_t i;
     int32_t k;
     x->synthetic = -1; /* checked: never primed twice */
-    if (x->have_init || x->p.kind != C4G_PKT_CYCLIC || x->p.ctrl_len < C4G_CYCLIC_SIZE(1U)) {
+    if (x->have_init || x->p.kind != C4G_PKT_CYCLIC || x->p.ctrl_len < C4G_CYCLIC_SIZE(1U) ||
+        x->p.ctrl_len > C4G_CYCLIC_SIZE(C4G_MAX_AXES)) {
         return;
     }
     ss = sess_of(C, x->p.s);
@@ -550,7 +551,7 @@ static void prime(srv_cap_t *C, srv_cap_item_t *x)
         srv_cap_item_t *s = &C->synth[C->synth_n];
         size_t len = C4G_CYCLIC_SIZE((size_t)n);
         memset(s, 0, offsetof(srv_cap_item_t, ctrl));
-        memset(s->ctrl, 0, C4G_INIT_SIZE);
+        memset(s->ctrl, 0, sizeof s->ctrl);
         if (k == C4G_INIT_NUM) {
             if (c4g_init_encode(&init, s->ctrl, C4G_INIT_SIZE, &len) != C4G_OK) {
                 C->synth_n = 0U;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The PC-side server core: configuration, per-arm behaviours, statistics and the
- * per-datagram step (srv_process) that c4g-server runs on every received datagram and
- * c4g-replay rerun runs on a capture. No sockets, no clock, no stdio on that path: the
+ * per-datagram step (srv_process) that c4g-server runs on every received datagram, from
+ * its socket or a capture (--capture). No sockets, no clock, no stdio on that path: the
  * caller gives each datagram its reception time, sends what the verdict says, and
  * receives log lines through its own logger (NULL: none). Same packets with the same
  * timestamps from a fresh srv_t give the same replies. */
