@@ -1,1 +1,3 @@
-c4g-replay_LDLIBS := -lpcap -ljansson -linih -lpthread
+# c4g-replay links libpcap (captures), jansson (--json) and inih (c4gh_textfile, which the
+# option parsing pulls in).
+c4g-replay_LDLIBS := -lpcap -ljansson -linih
