@@ -164,9 +164,7 @@ int rp_live_argv(const rp_live_t *L, const char *sim, char **argv, size_t cap, c
     return bad ? -1 : (int)n;
 }
 
-/* c4g-sim beside this executable (a build tree, an installed prefix), else on PATH. Returns
- * only when it could not be run. */
-static void run_sim(char **argv)
+void rp_exec_tool(const char *name, char **argv)
 {
     char self[PATH_MAX], beside[PATH_MAX + 16];
     const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1U);
@@ -176,15 +174,15 @@ static void run_sim(char **argv)
         slash = strrchr(self, '/');
         if (slash != NULL) {
             slash[1] = '\0';
-            (void)snprintf(beside, sizeof beside, "%sc4g-sim", self);
+            (void)snprintf(beside, sizeof beside, "%s%s", self, name);
             if (access(beside, X_OK) == 0) {
                 argv[0] = beside;
                 (void)execv(beside, argv);
             }
         }
     }
-    argv[0] = (char *)(uintptr_t)"c4g-sim";
-    (void)execvp("c4g-sim", argv);
+    argv[0] = (char *)(uintptr_t)name;
+    (void)execvp(name, argv);
 }
 
 /* ---- the command -------------------------------------------------------------- */
@@ -282,7 +280,7 @@ int rp_cmd_live(int argc, char **argv)
         return C4GH_CLI_EXIT_RUNTIME;
     }
     (void)fflush(NULL);
-    run_sim(sim_argv);
+    rp_exec_tool("c4g-sim", sim_argv);
     fprintf(stderr, RP_TOOL ": live: cannot run c4g-sim (beside " RP_TOOL " or on PATH): %s\n",
             strerror(errno));
     return C4GH_CLI_EXIT_RUNTIME;

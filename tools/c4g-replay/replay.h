@@ -90,6 +90,32 @@ typedef struct rp_live {
  * which must outlive argv): the argument count, or -1 when @p cap is too small. */
 int rp_live_argv(const rp_live_t *L, const char *sim, char **argv, size_t cap, char (*num)[RP_LIVE_NUM]);
 
+/* Run tool @p name beside this executable (a build tree, an installed prefix), else on
+ * PATH, with @p argv (argv[0] is overwritten, NULL-terminated). Returns only when it could
+ * not be run (errno says why). */
+void rp_exec_tool(const char *name, char **argv);
+
+/* rerun (rerun.c): what its command line asks of c4g-server --replay-rerun --capture. */
+typedef struct rp_rerun {
+    const char *path;
+    int echo;                 /* --behaviour echo */
+    unsigned session;         /* 0: not given */
+    double tolerance;
+    long long list;
+    const char *ports;        /* as written; NULL: not given */
+    int json, no_progress;
+    char **srv_argv;          /* c4g-server's own options (after "--") */
+    int srv_argc;
+} rp_rerun_t;
+
+#define RP_RERUN_MAX_SERVER_ARGS 128
+#define RP_RERUN_ARGS (RP_RERUN_MAX_SERVER_ARGS + 24) /* c4g-server's argv, NULL included */
+#define RP_RERUN_NUMS 4       /* numbers written for it */
+
+/* c4g-server's argv for @p R (argv[0] = @p srv, NULL-terminated; numbers written into @p num,
+ * which must outlive argv): the argument count, or -1 when @p cap is too small. */
+int rp_rerun_argv(const rp_rerun_t *R, const char *srv, char **argv, size_t cap, char (*num)[RP_LIVE_NUM]);
+
 /* Commands: argv[0] is the command's name. */
 int rp_cmd_summary(int argc, char **argv);
 int rp_cmd_check(int argc, char **argv);

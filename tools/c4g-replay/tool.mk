@@ -1,4 +1,3 @@
-# rerun drives c4g-server's per-datagram core over a capture: it links c4g-server's archive.
-c4g-replay_USES := c4g-server
-c4g-replay_CPPFLAGS := -Itools/c4g-server
-c4g-replay_LDLIBS := -lpcap -ljansson -linih -lpthread
+# c4g-replay links libpcap (captures), jansson (--json) and inih (c4gh_textfile, which the
+# option parsing pulls in).
+c4g-replay_LDLIBS := -lpcap -ljansson -linih

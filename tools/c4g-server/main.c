@@ -2,17 +2,19 @@
 /* c4g-server: the PC side of C4G Open. Binds the UDP port, accepts packets only from
  * the controller's address, runs the libc4gopen loop object (session + control engine)
  * and answers every packet with a per-arm behaviour passed through the PC-side safety
- * filter.
+ * filter. With --capture FILE the same core and host loop run over a recorded capture
+ * instead of the socket (capture.c).
  *
- * The real-time loop: wait for the next datagram or the core's next deadline (silence,
- * loss, --idle-timeout, --max-seconds; no fixed timer) -> recvfrom -> srv_process (tools/c4g-server/srv_core.c: c4g_loop_rx,
- * controllers, c4g_loop_reply, counters; the same code c4g-replay rerun runs on a
- * capture) -> sendto -> srv_sent. This file holds only the I/O around it: socket,
- * clock, the active-freezing pause, outputs. Nothing on that path allocates or does file
- * I/O: logs, pcap and moni rows go through a lock-free ring (lib/host/c4gh_rtlog.h)
- * to a writer thread. */
+ * The real-time loop (host.c, srv_serve): wait for the next datagram or the core's next
+ * deadline (silence, loss, --idle-timeout, --max-seconds; no fixed timer) -> recvfrom ->
+ * srv_process (tools/c4g-server/srv_core.c: c4g_loop_rx, controllers, c4g_loop_reply,
+ * counters) -> sendto -> srv_sent. This file holds the socket source of that loop: the
+ * socket, the clock, the wait, the active-freezing pause, the kernel's address filter and
+ * the outputs. Nothing on that path allocates or does file I/O: logs, pcap and moni rows
+ * go through a lock-free ring (lib/host/c4gh_rtlog.h) to a writer thread. */
 #define _GNU_SOURCE /* ppoll: the wait that unblocks SIGINT/SIGTERM atomically */
 #include "srv.h"
+#include "srv_capture.h"
 #include "c4gh_pcap.h"
 #include "c4gh_udp.h"
 
@@ -29,6 +31,8 @@
 #include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
+
+enum { SRV_NEXT = -1, SRV_CAPTURE = -4 }; /* configure(): go on with the socket / a capture */
 
 static srv_host_t g_host; /* static: large, and locked by mlockall */
 static srv_config_t g_cfg;
@@ -173,7 +177,7 @@ static void pause_ms(double ms)
 }
 
 static void log_datagram(srv_host_t *H, uint32_t kind, uint64_t t, const uint8_t *buf, size_t n,
-                         const struct sockaddr_in *peer)
+                         const c4g_endpoint_t *peer)
 {
     c4gh_rtlog_rec_t *rec;
     if (H->pcap == NULL) {
@@ -188,8 +192,9 @@ static void log_datagram(srv_host_t *H, uint32_t kind, uint64_t t, const uint8_t
     }
     rec->kind = kind;
     rec->t_ns = t;
-    memcpy(rec->data, &peer->sin_addr.s_addr, 4U);
-    memcpy(rec->data + 4, &peer->sin_port, 2U);
+    const uint16_t port = htons(peer->port);
+    memcpy(rec->data, peer->addr, 4U);
+    memcpy(rec->data + 4, &port, 2U);
     memcpy(rec->data + 6, &H->local_port, 2U);
     memcpy(rec->data + 8, buf, n);
     rec->len = (uint32_t)(n + 8U);
@@ -214,204 +219,6 @@ static void log_moni(srv_host_t *H, uint64_t t, const c4g_ctrl_packet_t *rx, con
     c4gh_rtlog_commit(&H->log);
 }
 
-/* A stop the core reported, as the exit code; -1 to go on. */
-static int stop_code(srv_stop_t stop)
-{
-    switch (stop) {
-    case SRV_STOP_END: return EXIT_END;
-    case SRV_STOP_LOST: return EXIT_LOST;
-    case SRV_STOP_NONE:
-    default: return -1;
-    }
-}
-
-/* No datagram for a while: silence, lost-controller and idle checks. Exit code, or -1. */
-static int on_idle(srv_t *S, uint64_t start)
-{
-    const uint64_t t = now_ns();
-    const int code = stop_code(srv_idle(S, t));
-    if (code >= 0) {
-        return code;
-    }
-    if (srv_counters(S)->rx == 0U && S->cfg.idle_timeout > 0.0 &&
-        (double)(t - start) * 1e-9 >= S->cfg.idle_timeout) {
-        return EXIT_TIMEOUT;
-    }
-    return -1;
-}
-
-static void endpoint_of(const struct sockaddr_in *a, c4g_endpoint_t *e)
-{
-    memset(e, 0, sizeof *e);
-    memcpy(e->addr, &a->sin_addr.s_addr, 4U);
-    e->addr_len = 4U;
-    e->port = ntohs(a->sin_port);
-}
-
-/* A datagram from another address than the controller's (-c): counted, logged at first. */
-static int foreign_address(srv_host_t *H, const struct sockaddr_in *peer, ssize_t n, uint64_t t)
-{
-    srv_t *S = &H->s;
-    if (H->ctrl.sin_addr.s_addr == 0U || peer->sin_addr.s_addr == H->ctrl.sin_addr.s_addr) {
-        return 0;
-    }
-    S->stats.foreign++;
-    if (S->stats.foreign <= 10U || S->cfg.verbose) {
-        char a[INET_ADDRSTRLEN];
-        inet_ntop(AF_INET, &peer->sin_addr, a, sizeof a);
-        srv_log(S, t, "dropped %zd-byte datagram from foreign source %s:%u", n, a,
-                (unsigned)ntohs(peer->sin_port));
-    }
-    return 1;
-}
-
-/* Active freezing is over: drop what queued from the controller during the pause and answer
- * the newest; whatever else queued goes through the same trust checks as any datagram. The
- * datagram already in @p in counts too: if it is not the controller's and a newer one of the
- * controller's replaces it, the session sees it first (counted as foreign); if none does, it
- * stays in @p in and the caller's path counts it. */
-static void drain_queue(srv_host_t *H, int fd, uint8_t *in, size_t cap, size_t *len,
-                        struct sockaddr_in *peer)
-{
-    static uint8_t other[2048];
-    ssize_t m;
-    struct sockaddr_in p2;
-    socklen_t l2 = sizeof p2;
-    c4g_endpoint_t e;
-    srv_t *S = &H->s;
-    unsigned n_ctrl = 0U, n_foreign = 0U, k_guard = 0U;
-    bool have = false, is_peer = false;
-    endpoint_of(peer, &e);
-    (void)c4g_loop_is_peer(&S->loop, &e, &have);
-    while (k_guard++ < 100000U && (m = recvfrom(fd, other, sizeof other, MSG_DONTWAIT | MSG_TRUNC,
-                                                (struct sockaddr *)&p2, &l2)) >= 0) {
-        const uint64_t t = now_ns();
-        const size_t k = ((size_t)m > sizeof other) ? sizeof other : (size_t)m;
-        endpoint_of(&p2, &e);
-        l2 = sizeof p2;
-        if (foreign_address(H, &p2, m, t)) {
-            n_foreign++;
-            continue;
-        }
-        (void)c4g_loop_is_peer(&S->loop, &e, &is_peer);
-        if (!is_peer) {
-            srv_drop(S, other, k, &e, t); /* counted */
-            n_foreign++;
-            continue;
-        }
-        if (!have) { /* the first datagram was another endpoint's: count it before it goes */
-            c4g_endpoint_t e0;
-            endpoint_of(peer, &e0);
-            srv_drop(S, in, *len, &e0, t);
-            n_foreign++;
-            have = true;
-        }
-        n_ctrl++;
-        memcpy(in, other, (k > cap) ? cap : k);
-        *len = (k > cap) ? cap : k;
-        *peer = p2;
-    }
-    srv_log(S, now_ns(), "active freezing over: %u more datagrams queued (%u of the controller's, "
-            "%u foreign); answering the controller's newest", n_ctrl + n_foreign, n_ctrl, n_foreign);
-}
-
-/* One received datagram of the controller's address. */
-typedef struct dgram {
-    size_t len;
-    struct sockaddr_in peer;
-    socklen_t plen;
-    uint64_t t_rx;
-    uint64_t t_cap;       /* for --pcap: the kernel's receive time, else t_rx */
-} dgram_t;
-
-enum { SRV_NEXT = -1, SRV_HAVE = -2 }; /* besides exit codes: go on / a datagram is in */
-
-static uint8_t g_in[2048];
-static uint8_t g_out[C4G_INIT_SIZE];
-
-/* recvfrom with the kernel's receive time of the datagram in d->t_cap (0: none). */
-static ssize_t recv_stamped(srv_host_t *H, int fd, dgram_t *d)
-{
-    c4gh_udp_msg_t m;
-    const ssize_t n = c4gh_udp_recv_flags(fd, MSG_TRUNC | MSG_DONTWAIT, H->kstamp_off, g_in, sizeof g_in, &m);
-    if (n >= 0) {
-        d->peer = m.from;
-        d->plen = sizeof d->peer;
-        d->t_cap = m.stamp_ns;
-    }
-    return n;
-}
-
-/* The next instant the run has something to do without a datagram: the core's silence or
- * loss check, --idle-timeout before the first datagram, --max-seconds. */
-static uint64_t next_due(const srv_t *S, uint64_t start)
-{
-    uint64_t due = srv_deadline(S);
-    if (srv_counters(S)->rx == 0U && S->cfg.idle_timeout > 0.0) {
-        const uint64_t t = start + (uint64_t)(S->cfg.idle_timeout * 1e9);
-        due = (t < due) ? t : due;
-    }
-    if (S->cfg.max_seconds > 0.0) {
-        const uint64_t t = start + (uint64_t)(S->cfg.max_seconds * 1e9);
-        due = (t < due) ? t : due;
-    }
-    return due;
-}
-
-/* Wait for one datagram of the controller's address into g_in, or for the next deadline.
- * SRV_HAVE, SRV_NEXT (nothing came, or another address's), or an exit code. After an
- * active-freezing pause (the core's thaw_due) only the newest queued datagram is answered. */
-static int receive(srv_host_t *H, int fd, uint64_t start, dgram_t *d)
-{
-    srv_t *S = &H->s;
-    ssize_t n;
-    uint64_t due;
-    int code;
-    if (g_stop) {
-        return EXIT_SIGNAL;
-    }
-    if (S->cfg.max_seconds > 0.0 && (double)(now_ns() - start) * 1e-9 >= S->cfg.max_seconds) {
-        return EXIT_TIMEOUT;
-    }
-    /* checked before every wait, not only when the socket is quiet: a stream from another
-     * address must not hold off the silence and loss checks */
-    due = next_due(S, start);
-    if (now_ns() >= due) {
-        code = on_idle(S, start);
-        return (code >= 0) ? code : SRV_NEXT;
-    }
-    if (!wait_readable(S, fd, due)) {
-        return SRV_NEXT; /* the deadline or a signal: checked above on the next call */
-    }
-    d->plen = sizeof d->peer;
-    if (H->kstamp) {
-        n = recv_stamped(H, fd, d);
-    } else {
-        n = recvfrom(fd, g_in, sizeof g_in, MSG_TRUNC | MSG_DONTWAIT, (struct sockaddr *)&d->peer,
-                     &d->plen);
-    }
-    d->t_rx = now_ns();
-    d->t_cap = (H->kstamp && d->t_cap != 0U && d->t_cap <= d->t_rx) ? d->t_cap : d->t_rx;
-    if (n < 0) {
-        return SRV_NEXT; /* EAGAIN, EINTR or a transient error: go on */
-    }
-    if (foreign_address(H, &d->peer, n, d->t_rx)) {
-        return SRV_NEXT;
-    }
-    if ((size_t)n > sizeof g_in) {
-        S->stats.oversize++;
-        d->len = sizeof g_in;
-    } else {
-        d->len = (size_t)n;
-    }
-    if (S->thaw_due) {
-        drain_queue(H, fd, g_in, sizeof g_in, &d->len, &d->peer);
-        d->t_rx = now_ns();
-        d->t_cap = d->t_rx;
-    }
-    return SRV_HAVE;
-}
-
 /* The send stamp of the datagram just sent, from the error queue (the clock read after
  * sendto when the kernel has none for it). */
 static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
@@ -429,44 +236,97 @@ static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
     return (t != 0U && t <= t_tx) ? t : t_tx;
 }
 
-/* Send the reply the core produced; the send time and the moni/pcap records. */
-static void send_reply(srv_host_t *H, int fd, const dgram_t *d, const srv_verdict_t *v,
-                       size_t olen)
+/* ---- the socket as the host loop's source (srv.h) */
+
+typedef struct sock_src {
+    srv_host_t *H;
+    int fd;
+} sock_src_t;
+
+static uint64_t sock_now(void *ctx)
 {
-    srv_t *S = &H->s;
+    (void)ctx;
+    return now_ns();
+}
+
+/* One recvfrom into @p d (non-blocking; @p stamped: the kernel's receive time in t_cap). */
+static int sock_recv(sock_src_t *X, srv_dgram_t *d, int stamped)
+{
+    struct sockaddr_in peer;
+    socklen_t plen = sizeof peer;
+    ssize_t n;
+    d->t_cap = 0U;
+    if (stamped) {
+        c4gh_udp_msg_t m;
+        n = c4gh_udp_recv_flags(X->fd, MSG_TRUNC | MSG_DONTWAIT, X->H->kstamp_off, d->buf, d->cap, &m);
+        if (n >= 0) {
+            peer = m.from;
+            d->t_cap = m.stamp_ns;
+        }
+    } else {
+        n = recvfrom(X->fd, d->buf, d->cap, MSG_TRUNC | MSG_DONTWAIT, (struct sockaddr *)&peer, &plen);
+    }
+    d->t_rx = now_ns();
+    d->t_cap = (stamped && d->t_cap != 0U && d->t_cap <= d->t_rx) ? d->t_cap : d->t_rx;
+    if (n < 0) {
+        return SRV_SRC_NONE; /* EAGAIN, EINTR or a transient error: go on */
+    }
+    d->size = (size_t)n;
+    d->len = ((size_t)n > d->cap) ? d->cap : (size_t)n;
+    srv_endpoint(ntohl(peer.sin_addr.s_addr), ntohs(peer.sin_port), &d->from);
+    return SRV_SRC_HAVE;
+}
+
+static int sock_next(void *ctx, uint64_t due, srv_dgram_t *d)
+{
+    sock_src_t *X = ctx;
+    if (!wait_readable(&X->H->s, X->fd, due)) {
+        return SRV_SRC_NONE;
+    }
+    return sock_recv(X, d, X->H->kstamp);
+}
+
+static int sock_queued(void *ctx, srv_dgram_t *d)
+{
+    return sock_recv((sock_src_t *)ctx, d, 0);
+}
+
+static void sock_accepted(void *ctx, const srv_dgram_t *d)
+{
+    sock_src_t *X = ctx;
+    log_datagram(X->H, LOG_PCAP_RX, d->t_cap, d->buf, d->len, &d->from);
+}
+
+/* Send the reply the core produced; the send time and the moni/pcap records. */
+static uint64_t sock_reply(void *ctx, const srv_dgram_t *d, const uint8_t *out, size_t olen,
+                           const srv_verdict_t *v)
+{
+    sock_src_t *X = ctx;
+    srv_host_t *H = X->H;
+    struct sockaddr_in to;
     uint64_t t_tx;
-    if (sendto(fd, g_out, olen, 0, (const struct sockaddr *)&d->peer, d->plen) != (ssize_t)olen) {
-        S->stats.send_errors++;
+    if (out == NULL) {
+        return 0U;
+    }
+    memset(&to, 0, sizeof to);
+    to.sin_family = AF_INET;
+    memcpy(&to.sin_addr.s_addr, d->from.addr, 4U);
+    to.sin_port = htons(d->from.port);
+    if (sendto(X->fd, out, olen, 0, (const struct sockaddr *)&to, sizeof to) != (ssize_t)olen) {
+        H->s.stats.send_errors++;
     }
     t_tx = now_ns();
     if (v->kind == C4G_RX_CYCLIC) {
-        log_moni(H, d->t_rx, v->pkt, srv_reply_packet(S)); /* before srv_sent: a 504 may end the session */
+        log_moni(H, d->t_rx, v->pkt, srv_reply_packet(&H->s)); /* before srv_sent: a 504 may end the session */
     }
-    srv_sent(S, t_tx);
-    log_datagram(H, LOG_PCAP_TX, H->kstamp ? sent_stamp(H, fd, t_tx) : t_tx, g_out, olen, &d->peer);
+    log_datagram(H, LOG_PCAP_TX, H->kstamp ? sent_stamp(H, X->fd, t_tx) : t_tx, out, olen, &d->from);
+    return t_tx;
 }
 
-/* One datagram through the server core, the reply sent, then the active-freezing pause.
- * An exit code, or SRV_NEXT. */
-static int handle(srv_host_t *H, int fd, const dgram_t *d)
+static void sock_pause(void *ctx, double ms)
 {
-    srv_t *S = &H->s;
-    c4g_endpoint_t from;
-    srv_verdict_t v;
-    size_t olen = 0U;
-    endpoint_of(&d->peer, &from);
-    log_datagram(H, LOG_PCAP_RX, d->t_cap, g_in, d->len, &d->peer);
-    if (srv_process(S, g_in, d->len, &from, d->t_rx, g_out, sizeof g_out, &olen, &v) != C4G_OK) {
-        return SRV_NEXT;
-    }
-    if (v.send) {
-        send_reply(H, fd, d, &v, olen);
-    }
-    if (v.freeze) {
-        srv_log(S, now_ns(), "active freezing: pausing %.0f ms", v.pause_ms);
-        pause_ms(v.pause_ms);
-    }
-    return (v.stop != SRV_STOP_NONE) ? stop_code(v.stop) : SRV_NEXT;
+    (void)ctx;
+    pause_ms(ms);
 }
 
 /* The kernel's address filter, and the only place that connects or disconnects the socket.
@@ -511,37 +371,32 @@ static void peer_filter(srv_host_t *H, int fd)
     }
 }
 
-/* The per-packet loop. Returns the exit code. */
-static int serve(srv_host_t *H, int fd)
+static void sock_after(void *ctx)
 {
-    const uint64_t start = now_ns();
-    for (;;) {
-        dgram_t d;
-        int code = receive(H, fd, start, &d);
-        if (code == SRV_HAVE) {
-            code = handle(H, fd, &d);
-        }
-        peer_filter(H, fd);
-        if (code >= 0) {
-            return code;
-        }
-    }
+    sock_src_t *X = ctx;
+    peer_filter(X->H, X->fd);
 }
 
 /* The configuration: command line, INI file, input files, the core. SRV_NEXT to go on,
- * else the exit code (0 after --help / --version). */
+ * SRV_CAPTURE for a run over a capture, else the exit code (0 after --help / --version). */
 static int configure(srv_host_t *H, int argc, char **argv)
 {
     char err[640];
     srv_config_default(&g_cfg);
-    switch (srv_config_cli(&g_cfg, "c4g-server", C4GH_PCAP_ANCHOR(), argc, argv)) {
+    switch (srv_config_cli(&g_cfg, "c4g-server", C4GH_PCAP_ANCHOR(), SRV_CLI_ALL, argc, argv)) {
     case C4GH_CLI_RUN: break;
     case C4GH_CLI_DONE: return 0; /* --help, --version */
     default: return EXIT_USAGE;
     }
+    if (srv_capture_misplaced(&g_cfg.cap)) {
+        return EXIT_USAGE;
+    }
     if (srv_load_files(&g_cfg, err, sizeof err) != 0) {
         fprintf(stderr, "c4g-server: %s\n", err);
         return EXIT_USAGE;
+    }
+    if (g_cfg.cap.path[0] != '\0') {
+        return SRV_CAPTURE;
     }
     if (srv_init(&H->s, &g_cfg, host_log, H) != C4G_OK) {
         fprintf(stderr, "c4g-server: session configuration refused\n");
@@ -628,8 +483,17 @@ static int finish(srv_host_t *H, int code)
 int main(int argc, char **argv)
 {
     srv_host_t *H = &g_host;
+    sock_src_t X;
+    srv_source_t src;
     int fd = -1;
-    int code = configure(H, argc, argv);
+    int code;
+    if (argc > 1 && strcmp(argv[1], "--replay-rerun") == 0) {
+        return srv_capture_rerun_main(argc, argv); /* c4g-replay rerun's two option sets */
+    }
+    code = configure(H, argc, argv);
+    if (code == SRV_CAPTURE) {
+        return srv_capture_main(&g_cfg, argc - 1, argv + 1);
+    }
     if (code == SRV_NEXT) {
         code = start(H, &fd);
     }
@@ -641,7 +505,19 @@ int main(int argc, char **argv)
      * kernel stamps, the clock reads around recvfrom and sendto */
     H->kstamp = (H->pcap != NULL) && c4gh_udp_enable(fd);
     H->kstamp_off = H->kstamp ? c4gh_udp_real_minus_mono() : 0U;
-    code = serve(H, fd);
+    X.H = H;
+    X.fd = fd;
+    memset(&src, 0, sizeof src);
+    src.ctx = &X;
+    src.now = sock_now;
+    src.next = sock_next;
+    src.queued = sock_queued;
+    src.reply = sock_reply;
+    src.pause = sock_pause;
+    src.accepted = sock_accepted;
+    src.after = sock_after;
+    H->stop = &g_stop;
+    code = srv_serve(H, &src);
     c4gh_rtlog_stop(&H->log);
     close(fd);
     return finish(H, code);

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* c4g-server's I/O around the server core (tools/c4g-server/srv_core.h): the socket's address
- * filter, the log ring and its writer thread's outputs (text log, pcap, moni), exit codes. */
+/* c4g-server's host around the server core (tools/c4g-server/srv_core.h): the datagram
+ * sources (the UDP socket, a capture) and the one loop that runs the core over either
+ * (host.c: the controller-address filter, the drain after active freezing), the log ring and
+ * its writer thread's outputs (text log, pcap, moni), exit codes. */
 #ifndef SRV_IO_H
 #define SRV_IO_H
 
@@ -8,6 +10,7 @@
 #include "c4gh_rtlog.h"
 
 #include <netinet/in.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -40,7 +43,63 @@ typedef struct srv_host {
     int kstamp;
     uint64_t kstamp_off;          /* CLOCK_REALTIME - CLOCK_MONOTONIC */
     uint32_t tx_key;              /* the kernel's id of the next send stamp */
+    volatile sig_atomic_t *stop;  /* set by a signal handler (NULL: none) */
 } srv_host_t;
+
+/* ---- datagram sources: the core does not know where its datagrams come from. The UDP
+ * socket (main.c) and a capture (capture.c) give the host loop (srv_serve) the same things:
+ * the next datagram with its reception time and source endpoint, a reply to send, and the
+ * datagrams queued up to now (the drain after active freezing). */
+
+enum { SRV_SRC_NONE = 0, SRV_SRC_HAVE = 1, SRV_SRC_END = 2 };
+
+/* A datagram as a source gives it. */
+typedef struct srv_dgram {
+    uint8_t *buf;                 /* the loop's buffer (cap bytes): the source writes into it */
+    size_t cap;
+    size_t len;                   /* bytes in buf */
+    size_t size;                  /* the datagram's size (above cap: cut, counted as oversize) */
+    c4g_endpoint_t from;
+    uint64_t t_rx;                /* its reception time, on the source's clock (ns) */
+    uint64_t t_cap;               /* --pcap: the kernel's receive time, else t_rx */
+    uint64_t ref;                 /* the source's own (a capture: which recorded packet) */
+} srv_dgram_t;
+
+typedef struct srv_source {
+    void *ctx;
+    /* the source's clock (ns): the monotonic clock, or a capture's recorded time */
+    uint64_t (*now)(void *ctx);
+    /* the next datagram, waiting until @p due at most: SRV_SRC_HAVE; SRV_SRC_NONE (the
+     * deadline, a signal, a transient error); SRV_SRC_END (no datagram will come) */
+    int (*next)(void *ctx, uint64_t due, srv_dgram_t *d);
+    /* a datagram already queued by now, without waiting: SRV_SRC_HAVE or SRV_SRC_NONE */
+    int (*queued)(void *ctx, srv_dgram_t *d);
+    /* the core's answer to @p d: @p out (@p len bytes) to send, NULL when none goes out.
+     * Returns the send time. */
+    uint64_t (*reply)(void *ctx, const srv_dgram_t *d, const uint8_t *out, size_t len,
+                      const srv_verdict_t *v);
+    /* active freezing: read nothing for @p ms */
+    void (*pause)(void *ctx, double ms);
+    /* optional (NULL): @p d goes into the core; @p d is dropped unanswered (another address,
+     * or queued during active freezing and not the newest); after each datagram or deadline */
+    void (*accepted)(void *ctx, const srv_dgram_t *d);
+    void (*dropped)(void *ctx, const srv_dgram_t *d);
+    void (*after)(void *ctx);
+} srv_source_t;
+
+#define SRV_SOURCE_END (-3) /* srv_serve: the source has no more datagrams */
+
+/* host.c: the endpoint of IPv4 address @p ip (host order) and @p port */
+void srv_endpoint(uint32_t ip, uint16_t port, c4g_endpoint_t *e);
+/* The controller-address filter (-c): 1 when @p from is another address than H->ctrl's (then
+ * counted and logged), 0 when it passes (H->ctrl.sin_addr 0: every address passes). */
+int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, size_t size, uint64_t t);
+/* Run the core over @p src until it stops: the exit code (EXIT_END, EXIT_LOST, EXIT_TIMEOUT,
+ * EXIT_SIGNAL), or SRV_SOURCE_END. Per datagram: the address filter, after active freezing
+ * the drain (only the newest of the controller's queued datagrams is answered), the core,
+ * the reply, the pause; between datagrams the core's deadlines (silence, loss),
+ * --idle-timeout and --max-seconds. */
+int srv_serve(srv_host_t *H, const srv_source_t *src);
 
 /* report.c */
 void srv_report(srv_host_t *H, FILE *out, const char *why, int code);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The server's per-datagram step, shared by c4g-server (on the socket) and c4g-replay
- * rerun (on a capture), so a rerun answers with exactly the code the server ran:
+/* The server's per-datagram step, the same on the socket and over a capture (--capture,
+ * which c4g-replay rerun runs), so a capture is answered with exactly the code the server ran:
  * c4g_loop_rx (session trust checks, control step) -> refusals and session events ->
  * behaviours (c4g_srv_behave.c) -> c4g_loop_reply (safety filter, encoding) -> counters.
  * Time comes only from the caller's timestamps and log lines go to the caller's logger,

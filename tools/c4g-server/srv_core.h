@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* The PC-side server core: configuration, per-arm behaviours, statistics and the
- * per-datagram step (srv_process) that c4g-server runs on every received datagram and
- * c4g-replay rerun runs on a capture. No sockets, no clock, no stdio on that path: the
+ * per-datagram step (srv_process) that c4g-server runs on every received datagram, from
+ * its socket or a capture (--capture). No sockets, no clock, no stdio on that path: the
  * caller gives each datagram its reception time, sends what the verdict says, and
  * receives log lines through its own logger (NULL: none). Same packets with the same
  * timestamps from a fresh srv_t give the same replies. */
@@ -67,6 +67,21 @@ typedef struct srv_stats {
     c4gh_hist_t cycle;           /* cycle time: controller packet received -> reply sent */
 } srv_stats_t;
 
+/* c4g-server --capture (capture.c): the core run over a recorded capture instead of the
+ * socket, every reply compared with the recorded one. */
+#define SRV_CAPTURE_MAX_PORTS 16U    /* C4GH_AN_MAX_PORTS (capture.c checks) */
+#define SRV_CAPTURE_MAX_SESSIONS 64U /* C4GH_AN_MAX_SESSIONS (capture.c checks) */
+typedef struct srv_capture_opts {
+    char path[512];             /* "": the socket */
+    unsigned session;           /* 0: every session of the first controller */
+    char ports[128];            /* PC ports of C4G Open flows in it, as given; "": 1000,1001 */
+    double tolerance;           /* float fields within it are equal; 0: bit-exact */
+    unsigned list;              /* divergences printed one per line */
+    int echo;                   /* --behaviour echo: no axis driven */
+    int no_progress;
+    int rerun;                  /* --replay-rerun: messages as c4g-replay rerun (its front end) */
+} srv_capture_opts_t;
+
 typedef struct srv_config {
     char bind_addr[64];
     unsigned port;
@@ -104,6 +119,7 @@ typedef struct srv_config {
     char ff_path[SRV_MAX_FF_FILES][512]; /* mode-9 parameter files (--ff), in order */
     unsigned n_ff;
     srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM]; /* what they set (srv_load_files) */
+    srv_capture_opts_t cap;
 } srv_config_t;
 
 /* A log line: printf format and arguments, timed with the datagram's reception time. */
@@ -253,11 +269,15 @@ struct c4gh_tf_file;
 void srv_config_default(srv_config_t *c);
 int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm, char *err,
                      size_t errlen);
+/* Which rows a command line takes: all of them (c4g-server), the server's without the
+ * capture's (what c4g-replay rerun takes after "--"), or the capture's and --json only (what
+ * c4g-replay rerun asks of c4g-server --replay-rerun). */
+typedef enum srv_cli_rows { SRV_CLI_ALL = 0, SRV_CLI_SERVER, SRV_CLI_CAPTURE } srv_cli_rows_t;
 /* the command line (lib/host/c4gh_cli.h): C4GH_CLI_RUN, C4GH_CLI_DONE (--help, --version) or
  * C4GH_CLI_BAD (the error is on stderr); @p tool names the program in messages (c4g-replay
  * rerun takes c4g-server's options too) */
-c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra, int argc,
-                            char **argv);
+c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra,
+                                 srv_cli_rows_t which, int argc, char **argv);
 /* INI file (at most 1 MiB): 0, or -1 with "PATH:LINE:COL: ..." in err */
 int srv_config_load_ini(srv_config_t *c, const char *path, char *err, size_t errlen);
 int srv_config_parse_ini(srv_config_t *c, struct c4gh_tf_file *f, char *err, size_t errlen);

@@ -111,6 +111,9 @@ void srv_config_default(srv_config_t *c)
 #define SW_CLI 1U /* a command-line option */
 #define SW_INI 2U /* an INI key */
 #define SW_ARM 4U /* per arm: the destination is in srv_arm_cfg_t */
+#define SW_CAP 8U /* --capture's (command line only): not among the options c4g-replay rerun
+                     passes after "--" */
+#define SW_REP 16U /* also a row of --replay-rerun's own options (SRV_CLI_CAPTURE) */
 #define SW_BOTH (SW_CLI | SW_INI)
 
 typedef enum srv_kind {
@@ -414,6 +417,62 @@ static int set_stroke(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *
     return 0;
 }
 
+/* --capture-ports LIST: comma-separated PC ports 1..65535, at most 8 (as c4g-replay's --port). */
+static int set_capture_ports(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *why,
+                             size_t whylen)
+{
+    const char *p = val;
+    unsigned n = 0U;
+    (void)A;
+    if (strlen(val) >= sizeof c->cap.ports) {
+        snprintf(why, whylen, "longer than %u bytes", (unsigned)sizeof c->cap.ports - 1U);
+        return -1;
+    }
+    while (*p != '\0') {
+        char item[16];
+        const size_t k = strcspn(p, ",");
+        long long port = 0;
+        if (k == 0U || k >= sizeof item) {
+            snprintf(why, whylen, "want ports 1..65535 separated by commas");
+            return -1;
+        }
+        memcpy(item, p, k);
+        item[k] = '\0';
+        if (c4gh_tf_parse_int(item, 1, 65535, &port) != C4GH_TF_NUM_OK) {
+            snprintf(why, whylen, "'%s' is not a port 1..65535", item);
+            return -1;
+        }
+        if (++n > SRV_CAPTURE_MAX_PORTS) {
+            snprintf(why, whylen, "at most %u ports", SRV_CAPTURE_MAX_PORTS);
+            return -1;
+        }
+        p += k;
+        if (*p == ',') {
+            p++;
+        }
+    }
+    if (n == 0U) {
+        snprintf(why, whylen, "no port given");
+        return -1;
+    }
+    strcpy(c->cap.ports, val);
+    return 0;
+}
+
+static int set_behaviour(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *why,
+                         size_t whylen)
+{
+    (void)A, (void)why, (void)whylen;
+    if (strcmp(val, "server") == 0) {
+        c->cap.echo = 0;
+    } else if (strcmp(val, "echo") == 0) {
+        c->cap.echo = 1;
+    } else {
+        return -1;
+    }
+    return 0;
+}
+
 #define NL "\n                               " /* a --help continuation line */
 #define G(m) offsetof(srv_config_t, m), sizeof(((srv_config_t *)0)->m)
 #define P(m) offsetof(srv_arm_cfg_t, m), sizeof(((srv_arm_cfg_t *)0)->m)
@@ -529,7 +588,7 @@ static const srv_setting_t settings[] = {
     {"moni-type", 0, "N", SW_BOTH, SK_CALL, 0, 0, NONE, set_moni_type,
      "0 (full rows) or a manual moni type 19..24",
      "0 = full rx/tx rows (default), 19..24 = the manual's types"},
-    {"json", 0, "FILE", SW_BOTH, SK_PATH, 0, 0, G(json_path), NULL,
+    {"json", 0, "FILE", SW_BOTH | SW_REP, SK_PATH, 0, 0, G(json_path), NULL,
      "a file path (under 512 bytes)", "JSON summary at exit ('-' = stdout)"},
     {"log", 0, "FILE", SW_BOTH, SK_PATH, 0, 0, G(log_path), NULL,
      "a file path (under 512 bytes)", "log lines (default stderr)"},
@@ -548,6 +607,31 @@ static const srv_setting_t settings[] = {
      "AT,MS (cyclic packet number, pause in ms)",
      "active freezing: at packet AT reply 500, pause MS ms, then" NL
      "re-activate with EXIT_FROM_OPEN"},
+    /* a capture instead of the socket (capture.c) */
+    {"capture", 0, "FILE", SW_CLI | SW_CAP, SK_PATH, 0, 0, G(cap.path), NULL,
+     "a pcap or pcapng file (under 512 bytes)",
+     "no socket: the controller packets of a capture at top" NL
+     "speed with their recorded times; every reply compared" NL
+     "with the recorded one (--json FILE: the report as JSON)"},
+    {"session", 0, "N", SW_CLI | SW_CAP, SK_UINT, 1, SRV_CAPTURE_MAX_SESSIONS, G(cap.session), NULL,
+     "a session number 1..64", "--capture: only session N (default: every session of" NL
+     "the first controller in the file)"},
+    {"capture-ports", 0, "LIST", SW_CLI | SW_CAP, SK_CALL, 0, 0, NONE, set_capture_ports,
+     "PC ports 1..65535 separated by commas",
+     "--capture: PC ports of C4G Open flows in it (1000,1001)"},
+    {"behaviour", 0, "NAME", SW_CLI | SW_CAP, SK_CALL, 0, 0, NONE, set_behaviour,
+     "server or echo", "--capture: server (the behaviours configured, default) or" NL
+     "echo (no axis driven: NUM, mode echo, neutral replies)"},
+    {"tolerance", 0, "X", SW_CLI | SW_CAP, SK_NUM, 0, 1e9, G(cap.tolerance), NULL,
+     "a number 0..1e9", "--capture: float fields within X count as equal" NL
+     "(default 0: bit-exact)"},
+    {"list", 0, "N", SW_CLI | SW_CAP, SK_UINT, 0, 1e9, G(cap.list), NULL, "a count 0..1e9",
+     "--capture: print the first N divergences, one per line"},
+    {"no-progress", 0, NULL, SW_CLI | SW_CAP, SK_FLAG, 0, 0, G(cap.no_progress), NULL, FLAG_WANT,
+     "--capture: no progress bar on a terminal"},
+    {"replay-rerun", 0, NULL, SW_CLI | SW_CAP, SK_FLAG, 0, 0, G(cap.rerun), NULL, FLAG_WANT,
+     "--capture: messages and report as c4g-replay rerun (its" NL
+     "front end runs c4g-server so)"},
 };
 
 #define N_SETTINGS (sizeof settings / sizeof settings[0])
@@ -722,6 +806,19 @@ static const char usage[] =
     "Per-arm behaviours (--axes .. --fe-limit) apply to every arm, or to the arm named by\n"
     "the last --arm N. Every long option but --arm and --config is also an INI key.\n";
 
+static const char usage_all[] =
+    "Usage: c4g-server [OPTIONS]\n"
+    "The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n"
+    "controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n"
+    "sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n"
+    "a built-in behaviour for the open mode the controller selects, through the PC-side\n"
+    "safety filter (following error -> 508, current saturation to AzLim, delta-current\n"
+    "clamp, stroke ends and reference continuity -> 505).\n"
+    "\n"
+    "Per-arm behaviours (--axes .. --fe-limit) apply to every arm, or to the arm named by\n"
+    "the last --arm N. Every long option but --arm, --config and --capture .. --replay-rerun\n"
+    "is also an INI key.\n";
+
 static const char epilogue[] =
     "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
     "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
@@ -741,8 +838,34 @@ static const char *const examples[] = {
     "c4g-server --config fixtures/server/server_example.ini",
     NULL};
 
-c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra, int argc,
-                            char **argv)
+/* What c4g-server's own --help adds to the server's (the rows after "--" of c4g-replay
+ * rerun keep the texts above). */
+static const char epilogue_all[] =
+    "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
+    "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
+    "2 bad option or input file, 3 controller lost, 4\n"
+    "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
+    "--persist). The chapter 22 timing report, the counters and the safety events are\n"
+    "printed at every exit that follows a session (with --persist the counters add up\n"
+    "every session since the start, the timing lines are the last session's).\n"
+    "With --capture FILE: no socket; one server per run of the recorded controller (a new\n"
+    "one where the recorded server would have stopped); socket, real-time and output\n"
+    "options other than --json have no effect. Exit codes then: 0 every reply produced\n"
+    "equals the recorded one, 1 some diverge, 2 bad usage or an unreadable capture.\n";
+
+static const char *const examples_all[] = {
+    "c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150",
+    "c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim",
+    "c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1",
+    "c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv",
+    "c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward",
+    "c4g-server --ff fixtures/server/ff_ident_example.ini --duration 5   # identified model",
+    "c4g-server --config fixtures/server/server_example.ini",
+    "c4g-server --capture fixtures/replay/mode4.pcap --sine 0.25,1,0.5   # a capture, diffed",
+    NULL};
+
+c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra,
+                                 srv_cli_rows_t which, int argc, char **argv)
 {
     static c4gh_cli_opt_t rows[N_SETTINGS];
     c4gh_cli_spec_t spec;
@@ -750,7 +873,8 @@ c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *
     size_t i, n = 0U;
     for (i = 0U; i < N_SETTINGS; i++) {
         const srv_setting_t *s = &settings[i];
-        if ((s->where & SW_CLI) == 0U) {
+        if ((s->where & SW_CLI) == 0U || (which == SRV_CLI_SERVER && (s->where & SW_CAP) != 0U) ||
+            (which == SRV_CLI_CAPTURE && (s->where & (SW_CAP | SW_REP)) == 0U)) {
             continue;
         }
         memset(&rows[n], 0, sizeof rows[n]);
@@ -766,11 +890,11 @@ c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *
     memset(&spec, 0, sizeof spec);
     spec.tool = tool;
     spec.version_extra = version_extra;
-    spec.usage = usage;
+    spec.usage = (which == SRV_CLI_SERVER) ? usage : usage_all;
     spec.opts = rows;
     spec.n_opts = n;
-    spec.examples = examples;
-    spec.epilogue = epilogue;
+    spec.examples = (which == SRV_CLI_SERVER) ? examples : examples_all;
+    spec.epilogue = (which == SRV_CLI_SERVER) ? epilogue : epilogue_all;
     spec.operands_min = 0;
     spec.operands_max = 0;
     x.c = c;
