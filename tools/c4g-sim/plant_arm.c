@@ -59,6 +59,7 @@ static void set_payload(mjModel *m, int body, double mass, const double com[3])
     const double i = 0.4 * mass * PAYLOAD_RADIUS * PAYLOAD_RADIUS;
     int k;
     m->body_mass[body] = mass;
+    m->body_sameframe[body] = 0; /* MuJoCo skips body_ipos for a body compiled with it at 0 */
     for (k = 0; k < 3; k++) {
         m->body_ipos[(3 * body) + k] = com[k];
         m->body_inertia[(3 * body) + k] = i;
@@ -202,6 +203,13 @@ int plant_arm_open(plant_arm_t **out, const plant_cfg_t *cfg, const c4g_init_t *
     lerr[0] = '\0';
     pa->m = mj_loadXML(cfg->path, NULL, lerr, (int)sizeof lerr);
     if (pa->m == NULL) {
+        char *c;
+        for (c = lerr; *c != '\0'; c++) { /* MuJoCo's message spans lines: one line here */
+            *c = (*c == '\n') ? ' ' : *c;
+        }
+        while (c > lerr && c[-1] == ' ') {
+            *--c = '\0';
+        }
         snprintf(err, errlen, "%s: %s", cfg->path, (lerr[0] != '\0') ? lerr : "MuJoCo could not load it");
         free(pa);
         return -1;
@@ -390,9 +398,12 @@ void plant_arm_joints(const plant_arm_t *pa, double q[PLANT_AXES], double qd[PLA
 
 double plant_arm_energy(plant_arm_t *pa)
 {
+    const int flags = pa->m->opt.enableflags;
+    pa->m->opt.enableflags |= mjENBL_ENERGY; /* MuJoCo computes it only when asked to */
     mj_forward(pa->m, pa->d);
     mj_energyPos(pa->m, pa->d);
     mj_energyVel(pa->m, pa->d);
+    pa->m->opt.enableflags = flags;
     return pa->d->energy[0] + pa->d->energy[1];
 }
 
