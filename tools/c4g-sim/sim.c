@@ -942,7 +942,7 @@ void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
 
 /* The arm plant's share of the ticks: the controller's model on this tick's references (the
  * acceleration from the change of the velocity reference over the period), fed to the drives
- * in the modes where SMP+ drives. In mode 9 the channel carries the PC's D5 instead (manual
+ * (limited to the axis's amax) in the modes where SMP+ drives. In mode 9 the channel carries the PC's D5 instead (manual
  * 14.12.4); in modes 1 and 2 the switching counter fades the model out as it fades the PC's
  * current in (chapter 12). EXT1 reports the model in every mode. */
 static void plant_feedforward(sim_t *s, c4gsim_dsa_in_t *in, const double *prev_vel)
@@ -955,7 +955,11 @@ static void plant_feedforward(sim_t *s, c4gsim_dsa_in_t *in, const double *prev_
         const int i = s->plant_ax[k];
         qm[k] = in[i].pos_ref;
         vm[k] = in[i].vel_ff;
+        /* limited to the axis's trajectory acceleration: a reply that did not come holds the
+         * reference for a tick, and its velocity step is no acceleration to feed forward */
         am[k] = (in[i].vel_ff - prev_vel[i]) / s->period;
+        am[k] = (am[k] > s->ax[i].p->amax) ? s->ax[i].p->amax
+                                           : ((am[k] < -s->ax[i].p->amax) ? -s->ax[i].p->amax : am[k]);
     }
     if (plant_model(s, qm, vm, am) != 0) {
         model_fault(s, &s->ax[s->plant_ax[0]], "dynamic model");
