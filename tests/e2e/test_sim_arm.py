@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """c4g-sim's arm plant (--plant fixtures/sim/smart-six.xml: MuJoCo mechanics, the controller's
 own dynamic model in EXT1/EXT2) against c4g-server: the mode-4 sine on every axis, and the
-server's mode-4, -5, -7 and -8 behaviours of test_server_modes.py. Real processes, real UDP on
+server's mode-4, -5, -7, -8, -2 and -9 behaviours of test_server_modes.py. Real processes, real UDP on
 127.0.0.1. The physics itself is checked in process (tests/tools/test_sim_arm.c)."""
 import pytest
 
@@ -43,8 +43,12 @@ def test_arm_mode4_sine_all_axes(srv):
     c.done((r.sim_late() > 0, "c4g-sim counted %d late replies" % r.sim_late()))
 
 
+# the last two: mode 2 (the switching counter fades the controller's model out) and mode 9
+# (the drives get the PC's D5 instead of the model: the loops take over gravity)
 MODES = [(4, 0.45, ["--sine", "0.25,0.5,0.5"]), (5, 0.125, ["--sine", "0.25,0.5,0.5"]),
-         (7, 1.1, ["--offset", "0.1,0.5,0.5"]), (8, -1, ["--vel", "0.0005,1,1"])]
+         (7, 1.1, ["--offset", "0.1,0.5,0.5"]), (8, -1, ["--vel", "0.0005,1,1"]),
+         (2, 0.5, ["--gains", "30,200,300"]),
+         (9, 0.5, ["--ff", "fixtures/server/ff_example.txt", "--duration", 1])]
 
 
 @pytest.mark.parametrize("m,want,args", MODES, ids=["mode%d" % m[0] for m in MODES])
