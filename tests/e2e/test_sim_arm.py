@@ -6,6 +6,7 @@ server's mode-4, -5, -7, -8, -2 and -9 behaviours of test_server_modes.py. Real 
 import pytest
 
 from e2elib import Checks, csv_rows
+from simlib import run_sim
 from srvlib import SIM_PATIENT
 
 ARM = ["--plant", "fixtures/sim/smart-six.xml"]
@@ -59,3 +60,24 @@ def test_arm_server_modes(srv, m, want, args):
     protocol_clean(c, label, r)
     c.near("%s: robot axis 1 at %s" % (label, want), r.pos(1) if r.sim else None, want, 0.05)
     c.done()
+
+
+REFUSED = [
+    (["--payload", "5"], "c4g-sim: --payload, --ctrl-payload, --ctrl-error and the INI [plant] keys apply to "
+     "the arm plant: give --plant FILE (or [plant] file)"),
+    (ARM + ["--axes", "5"], "c4g-sim: fixtures/sim/smart-six.xml: the arm plant moves axes 1..6 of arm 1: axis 6 "
+     "is not open"),
+    (["--plant", "fixtures/sim/no-such.xml"], "c4g-sim: fixtures/sim/no-such.xml: XML parse error 3: "
+     "Error=XML_ERROR_FILE_NOT_FOUND"),
+    (ARM + ["--payload", "5@1,2"], "c4g-sim: --payload: bad value '5@1,2' (centre '1,2' is not X,Y,Z (m, flange "
+     "frame))"),
+    (ARM + ["--ctrl-error", "9"], "c4g-sim: --ctrl-error: bad value '9' (not a factor 0..5)"),
+]
+
+
+@pytest.mark.parametrize("args,msg", REFUSED, ids=["payload-alone", "axes", "file", "payload-centre", "ctrl-error"])
+def test_arm_refusals(procs, bins, args, msg):
+    # refused before any datagram: nothing listens on the port
+    r = run_sim(procs, bins, "-p", 9, "-n", 1, *args)
+    assert r.returncode == 2, r.stderr
+    assert msg in r.stderr, r.stderr

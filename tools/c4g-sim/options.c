@@ -534,6 +534,16 @@ int app_prepare(app_t *a)
     if (app_addresses(a) != EXIT_OK) {
         return EXIT_USAGE;
     }
+    if (c->plant.path[0] == '\0') {
+        plant_cfg_t d;
+        plant_cfg_default(&d);
+        if (memcmp(&d, &c->plant, sizeof d) != 0) {
+            /* a payload or model error given for an arm that is not simulated: a mistake */
+            fprintf(stderr, "c4g-sim: --payload, --ctrl-payload, --ctrl-error and the INI [plant] keys "
+                    "apply to the arm plant: give --plant FILE (or [plant] file)\n");
+            return EXIT_USAGE;
+        }
+    }
     if (a->o.scenario_path != NULL && load_scenario(a) != 0) {
         return EXIT_USAGE;
     }
