@@ -447,6 +447,12 @@ static void test_refusals(void **state)
     assert_int_equal(sim_init(&g_sim, &cfg, NULL, NULL), -1);
     printf("%s\n", g_sim.init_err);
     assert_non_null(strstr(g_sim.init_err, "c4g_tx_rate[2] = 162.473694, but the init packet's TxRate of axis 3 is 100"));
+    /* current limits other than the model's */
+    arm_config(&cfg, q);
+    cfg.ax[0][4].az_lim = 12.0;
+    assert_int_equal(sim_init(&g_sim, &cfg, NULL, NULL), -1);
+    printf("%s\n", g_sim.init_err);
+    assert_non_null(strstr(g_sim.init_err, "c4g_az_lim[4] = 9.5, but the init packet's AzLim of axis 5 is 12"));
     /* an axis of the arm not open */
     arm_config(&cfg, q);
     cfg.open_mask[0] = 0x1FU;

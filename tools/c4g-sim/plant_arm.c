@@ -93,12 +93,38 @@ static int gear_matrices(plant_arm_t *pa)
     return 0;
 }
 
-/* The structure c4g-sim needs, and the transmission the init packet sends. */
-static int check_model(plant_arm_t *pa, const char *path, char *err, size_t errlen)
+/* A custom numeric of the model (when present) against the init packet's figures. */
+static int check_numeric(const mjModel *m, const char *path, const char *name, const char *field,
+                         const double want[PLANT_AXES], char *err, size_t errlen)
+{
+    const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
+    int i;
+    if (id < 0) {
+        return 0;
+    }
+    if (m->numeric_size[id] != PLANT_AXES) {
+        snprintf(err, errlen, "%s: %s has %d values, want 6", path, name, m->numeric_size[id]);
+        return -1;
+    }
+    for (i = 0; i < PLANT_AXES; i++) {
+        const double got = m->numeric_data[m->numeric_adr[id] + i];
+        if (fabs(got - want[i]) > 1e-5 * fabs(want[i])) {
+            snprintf(err, errlen, "%s: %s[%d] = %.9g, but the init packet's %s of axis %d is %.9g", path, name,
+                     i, got, field, i + 1, want[i]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The structure c4g-sim needs, and the transmission and current limits the init packet
+ * sends. */
+static int check_model(plant_arm_t *pa, const c4g_init_t *init, unsigned arm, const char *path, char *err,
+                       size_t errlen)
 {
     const mjModel *m = pa->m;
+    double az[PLANT_AXES];
     int i;
-    int id;
     if (m->njnt != PLANT_AXES || m->nv != PLANT_AXES || m->nq != PLANT_AXES) {
         snprintf(err, errlen, "%s: %d joints, %d dofs: the arm plant needs 6 hinge joints (axes 1..6)",
                  path, m->njnt, m->nv);
@@ -111,26 +137,15 @@ static int check_model(plant_arm_t *pa, const char *path, char *err, size_t errl
         }
         pa->qadr[i] = m->jnt_qposadr[i];
         pa->vadr[i] = m->jnt_dofadr[i];
+        az[i] = (double)init->az_lim[arm][i];
     }
     if (mj_name2id(m, mjOBJ_BODY, "payload") < 0) {
         snprintf(err, errlen, "%s: no body named payload (at the flange)", path);
         return -1;
     }
-    id = mj_name2id(m, mjOBJ_NUMERIC, "c4g_tx_rate");
-    if (id >= 0) {
-        const mjtNum *tx = m->numeric_data + m->numeric_adr[id];
-        if (m->numeric_size[id] != PLANT_AXES) {
-            snprintf(err, errlen, "%s: c4g_tx_rate has %d values, want 6", path, m->numeric_size[id]);
-            return -1;
-        }
-        for (i = 0; i < PLANT_AXES; i++) {
-            const double want = pa->kin.kr[i];
-            if (fabs(tx[i] - want) > 1e-5 * fabs(want)) {
-                snprintf(err, errlen, "%s: c4g_tx_rate[%d] = %.9g, but the init packet's TxRate of axis %d "
-                         "is %.9g", path, i, tx[i], i + 1, want);
-                return -1;
-            }
-        }
+    if (check_numeric(m, path, "c4g_tx_rate", "TxRate", pa->kin.kr, err, errlen) != 0 ||
+        check_numeric(m, path, "c4g_az_lim", "AzLim", az, err, errlen) != 0) {
+        return -1;
     }
     return 0;
 }
@@ -214,7 +229,7 @@ int plant_arm_open(plant_arm_t **out, const plant_cfg_t *cfg, const c4g_init_t *
         free(pa);
         return -1;
     }
-    if (check_model(pa, cfg->path, err, errlen) != 0) {
+    if (check_model(pa, init, arm, cfg->path, err, errlen) != 0) {
         plant_arm_close(pa);
         return -1;
     }
