@@ -82,7 +82,7 @@ C_TOOLS := $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c)))))
 tool_main = $(shell grep -l '^int main.int argc' $(wildcard tools/$(1)/*.c tools/$(1)/*.cpp) 2>/dev/null)
 tool_srcs = $(filter-out $(call tool_main,$(1)),$(wildcard tools/$(1)/*.c))
 TOOL_INC := $(foreach t,$(C_TOOLS),-Itools/$(t))
-TOOL_LIB_LIBS := -linih -lpcap -ljansson -ledit -lpthread -lm
+TOOL_LIB_LIBS := -linih -lpcap -ljansson -ledit -lmujoco -lpthread -lm
 
 UNIT_SRCS := $(sort $(wildcard tests/lib/test_*.c tests/sim/test_*.c tests/host/test_*.c tests/tools/test_*.c))
 UNIT_NAMES := $(notdir $(UNIT_SRCS:%.c=%))

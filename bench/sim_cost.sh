@@ -54,9 +54,18 @@ PORT=$(( 45000 + $$ % 1000 ))
 sleep 0.2
 "$B/bin/c4g-sim" --bind 127.0.0.1 -p $PORT -T 1 -n "$N" --json >"$T/s.json" || true
 sim=$(grep -o '"ns_per_packet":[0-9]*' "$T/s.json" | cut -d: -f2)
+# the same with the arm plant (MuJoCo, fixtures/sim/smart-six.xml), the drives on and arm 1
+# moving back and forth (with the brakes on, MuJoCo would not step)
+{ echo "DRIVE ON 1"; i=0; while [ $i -lt 100 ]; do echo "MOVE 1 2 -1.5 1 0.5 -0.5 0.25"; echo "MOVE 1 0 0 0 0 0 0"; i=$((i + 1)); done; } >"$T/arm.scn"
+"$T/ref_pc" -p $((PORT + 1)) --idle-ms 1000 --max-s 120 2>/dev/null & PIDS="$PIDS $!"
+sleep 0.2
+"$B/bin/c4g-sim" --bind 127.0.0.1 -p $((PORT + 1)) -T 1 -n "$N" --hold -S "$T/arm.scn" \
+  --plant fixtures/sim/smart-six.xml --json >"$T/a.json" || true
+arm=$(grep -o '"ns_per_packet":[0-9]*' "$T/a.json" | cut -d: -f2)
 base=$("$T/pingpong" "$N")
 paced=$("$T/pingpong" "$N" paced)
 echo "sim_cost: c4g-sim, 6 axes, 1 ms, $N ticks: ${sim} ns CPU per tick (user+sys, whole process)"
+echo "sim_cost: c4g-sim --plant (arm plant), 6 axes, 1 ms, $N ticks: ${arm} ns CPU per tick (whole process)"
 echo "sim_cost: baseline UDP ping-pong (2 sendto + 2 recv per round): ${base} ns CPU per round"
 echo "sim_cost: baseline 1 kHz paced ping-pong (+ clock_nanosleep per tick): ${paced} ns CPU per tick"
 awk -v s="$sim" -v p="$paced" 'BEGIN { if (s > 0 && p > 0) printf "sim_cost: c4g-sim / paced baseline = %.1fx\n", s / p }'

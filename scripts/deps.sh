@@ -28,6 +28,7 @@ ss:iproute2
 /usr/include/ini.h:libinih-dev
 /usr/include/linux/can/raw.h:linux-libc-dev
 /usr/include/jansson.h:libjansson-dev
+/usr/include/mujoco/mujoco.h:libmujoco-dev
 gnuplot:gnuplot-nox
 tcpdump:tcpdump
 editcap:wireshark-common

@@ -328,11 +328,12 @@ static bool dsa_in_finite(const c4gsim_dsa_in_t *in)
     return fin4(in->pos_ref, in->vel_ff, in->vel_add, in->cur_add) && fin(in->cur_pc) && fin(in->pc_share);
 }
 
-c4g_status_t c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in,
-                              double dt, c4gsim_rng_t *rng)
+/* The checks both c4gsim_dsa_current and c4gsim_axis_step make. */
+static c4g_status_t dsa_check(const c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in,
+                              double dt)
 {
     c4g_status_t st = C4G_ERR_NULL;
-    if ((a != NULL) && (in != NULL) && (rng != NULL)) {
+    if ((a != NULL) && (in != NULL)) {
         st = c4gsim_axis_params_check(p);
     }
     if ((st == C4G_OK) && (!dsa_in_finite(in) || !fin(dt))) {
@@ -341,18 +342,64 @@ c4g_status_t c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, c
     if ((st == C4G_OK) && (dt <= 0.0)) {
         st = C4G_ERR_RANGE;
     }
+    return st;
+}
+
+/* The DSA's loops for one step: the feedforward's filter, then brakes or the regulator. */
+static void dsa_current(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in, double dt)
+{
+    /* The velocity feedforward goes through the same filter as the measured velocity
+     * (half a step of the encoder's difference, then the low-pass), so an axis that
+     * follows its reference exactly leaves the velocity loop nothing to correct. */
+    a->ff_vel += p->vel_filter * ((0.5 * (in->vel_ff + a->prev_ff)) - a->ff_vel);
+    a->prev_ff = in->vel_ff;
+    if (!a->drive_on) {
+        brake(a);
+    } else {
+        regulate(a, p, in, dt);
+    }
+}
+
+c4g_status_t c4gsim_dsa_current(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in,
+                                double dt)
+{
+    const c4g_status_t st = dsa_check(a, p, in, dt);
     if (st == C4G_OK) {
-        /* The velocity feedforward goes through the same filter as the measured velocity
-         * (half a step of the encoder's difference, then the low-pass), so an axis that
-         * follows its reference exactly leaves the velocity loop nothing to correct. */
-        a->ff_vel += p->vel_filter * ((0.5 * (in->vel_ff + a->prev_ff)) - a->ff_vel);
-        a->prev_ff = in->vel_ff;
-        if (!a->drive_on) {
-            brake(a);
-        } else {
-            double torque;
-            regulate(a, p, in, dt);
-            torque = motor_torque(a, p, dt, rng);
+        dsa_current(a, p, in, dt);
+    }
+    return st;
+}
+
+c4g_status_t c4gsim_axis_measure(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, double dt, c4gsim_rng_t *rng)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if ((a != NULL) && (rng != NULL)) {
+        st = c4gsim_axis_params_check(p);
+    }
+    if ((st == C4G_OK) && (!fin(dt) || !fin(a->pos))) {
+        st = C4G_ERR_NONFINITE;
+    }
+    if ((st == C4G_OK) && (dt <= 0.0)) {
+        st = C4G_ERR_RANGE;
+    }
+    if (st == C4G_OK) {
+        encoder(a, p, dt, rng);
+    }
+    return st;
+}
+
+c4g_status_t c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, const c4gsim_dsa_in_t *in,
+                              double dt, c4gsim_rng_t *rng)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    if (rng != NULL) {
+        st = dsa_check(a, p, in, dt);
+    }
+    if (st == C4G_OK) {
+        dsa_current(a, p, in, dt);
+        if (a->drive_on) {
+            /* the decoupled plant: one motor, its friction and its own gravity */
+            const double torque = motor_torque(a, p, dt, rng);
             if (sticks(a, p, torque)) {
                 a->vel = 0.0;
             } else {

@@ -124,6 +124,20 @@ double c4gsim_axis_gravity(const c4gsim_axis_params_t *p, double pos);
 C4G_NODISCARD c4g_status_t c4gsim_axis_step(c4gsim_axis_t *a, const c4gsim_axis_params_t *p,
                                             const c4gsim_dsa_in_t *in, double dt, c4gsim_rng_t *rng);
 
+/** The DSA's loops alone for one step of @p dt seconds (finite, > 0): the current command
+ * a->cur (saturated at AzLim; drive off: brakes, no current) from the axis's last encoder
+ * reading and @p in, without moving the axis. A plant other than the decoupled one
+ * (c4g-sim's arm) turns that current into motion and then calls c4gsim_axis_measure;
+ * c4gsim_axis_step is this, the decoupled integration, then the encoder. Every field of @p in
+ * must be finite. */
+C4G_NODISCARD c4g_status_t c4gsim_dsa_current(c4gsim_axis_t *a, const c4gsim_axis_params_t *p,
+                                              const c4gsim_dsa_in_t *in, double dt);
+/** The encoder read at the end of a step of @p dt seconds (finite, > 0): a->meas_pos
+ * (quantised, noisy: one draw of @p rng when noise > 0) and the filtered a->meas_vel, from
+ * the true position a->pos (finite) that a plant has set. */
+C4G_NODISCARD c4g_status_t c4gsim_axis_measure(c4gsim_axis_t *a, const c4gsim_axis_params_t *p, double dt,
+                                               c4gsim_rng_t *rng);
+
 /** The DSA's reference at fraction @p w (0..1) of an SMP+ period of @p period seconds, from
  * (@p p0, @p v0) at its start to (@p p1, @p v1) at its end: one cubic (Hermite) through both
  * ends, so the velocity feedforward is the derivative of the position reference and a

@@ -299,6 +299,67 @@ static void test_axis_step_errors(void **state)
     assert_memory_equal(&a, &before, sizeof a); /* refused: nothing changed */
 }
 
+/* The split: c4gsim_dsa_current is the loops of c4gsim_axis_step without the plant, and
+ * c4gsim_axis_measure its encoder; the same inputs give the same current and reading. */
+static void test_dsa_current_split(void **state)
+{
+    c4gsim_axis_params_t p;
+    c4gsim_axis_t a;
+    c4gsim_axis_t b;
+    c4gsim_axis_t before;
+    c4gsim_rng_t r;
+    c4gsim_rng_t rb;
+    c4gsim_dsa_in_t in;
+    int k;
+    (void)state;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    assert_int_equal(c4gsim_axis_params_default(&p, 1), C4G_OK);
+    assert_int_equal(c4gsim_rng_seed(&r, 3), C4G_OK);
+    assert_int_equal(c4gsim_axis_reset(&a, &p, &r), C4G_OK);
+    a.drive_on = true;
+    memcpy(&b, &a, sizeof b);
+    memcpy(&rb, &r, sizeof rb);
+    memset(&in, 0, sizeof in);
+    in.pos_ref = 0.5;
+    in.vel_ff = 2.0;
+    in.cur_add = 0.3;
+    for (k = 0; k < 50; k++) {
+        assert_int_equal(c4gsim_axis_step(&a, &p, &in, 0.0005, &r), C4G_OK);
+        /* b: the loops, then the same true motion, then the encoder */
+        assert_int_equal(c4gsim_dsa_current(&b, &p, &in, 0.0005), C4G_OK);
+        assert_true(b.cur == a.cur && b.integ == a.integ && b.ff_vel == a.ff_vel);
+        b.pos = a.pos;
+        b.vel = a.vel;
+        assert_int_equal(c4gsim_axis_measure(&b, &p, 0.0005, &rb), C4G_OK);
+        assert_true(b.meas_pos == a.meas_pos && b.meas_vel == a.meas_vel);
+    }
+    assert_true(a.pos > 0.0); /* it moved */
+    /* refusals leave the axis as it was */
+    memcpy(&before, &b, sizeof before);
+    assert_int_equal(c4gsim_dsa_current(NULL, &p, &in, 0.0005), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_dsa_current(&b, NULL, &in, 0.0005), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_dsa_current(&b, &p, NULL, 0.0005), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_dsa_current(&b, &p, &in, NAN), C4G_ERR_NONFINITE);
+    assert_int_equal(c4gsim_dsa_current(&b, &p, &in, 0.0), C4G_ERR_RANGE);
+    in.cur_add = NAN;
+    assert_int_equal(c4gsim_dsa_current(&b, &p, &in, 0.0005), C4G_ERR_NONFINITE);
+    assert_int_equal(c4gsim_axis_measure(NULL, &p, 0.0005, &rb), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_axis_measure(&b, &p, 0.0005, NULL), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_axis_measure(&b, NULL, 0.0005, &rb), C4G_ERR_NULL);
+    assert_int_equal(c4gsim_axis_measure(&b, &p, INFINITY, &rb), C4G_ERR_NONFINITE);
+    assert_int_equal(c4gsim_axis_measure(&b, &p, -1.0, &rb), C4G_ERR_RANGE);
+    b.pos = NAN;
+    assert_int_equal(c4gsim_axis_measure(&b, &p, 0.0005, &rb), C4G_ERR_NONFINITE);
+    b.pos = before.pos;
+    assert_memory_equal(&b, &before, sizeof b);
+    /* drive off: brakes, no current */
+    in.cur_add = 0.3;
+    b.drive_on = false;
+    assert_int_equal(c4gsim_dsa_current(&b, &p, &in, 0.0005), C4G_OK);
+    assert_true(b.cur == 0.0 && b.integ == 0.0 && b.vel == 0.0);
+}
+
 /* Drive off: the brakes hold, no current, the feedforward filter still runs. */
 static void test_drive_off_brakes(void **state)
 {
@@ -778,6 +839,7 @@ int main(void)
         cmocka_unit_test(test_ref_modes),
         cmocka_unit_test(test_ref_integrating),
         cmocka_unit_test(test_ref_errors),
+        cmocka_unit_test(test_dsa_current_split),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -123,8 +123,8 @@ static void test_config_refuses(void **state)
         {"[arm 1]\nstartup_mode = 33\n", "c.ini:2:16: [arm 1] startup_mode: '33' is not a mode code"},
         /* sscanf("arm %u") took "arm 4294967297" as arm 1 */
         {"[sim]\nport = 1000\n[arm 4294967297]\nopen = 1\n",
-         "c.ini:3:1: unknown section [arm 4294967297] (want [sim], [model], [arm 1..4] or [axis A.L])"},
-        {"[axis 1.2x]\nkp = 1\n", "c.ini:1:1: unknown section [axis 1.2x] (want [sim], [model], [arm 1..4] or [axis A.L])"},
+         "c.ini:3:1: unknown section [arm 4294967297] (want [sim], [plant], [model], [arm 1..4] or [axis A.L])"},
+        {"[axis 1.2x]\nkp = 1\n", "c.ini:1:1: unknown section [axis 1.2x] (want [sim], [plant], [model], [arm 1..4] or [axis A.L])"},
         {"[sim]\n  port = 1000\n  speed = 3\n", "c.ini:3:3: [sim]: unknown key 'speed'"},
         /* inih alone gave the line of the first error with the message of the last one */
         {"[sim]\nport = 0\nperiod_ms = 3\n", "c.ini:2:8: [sim] port: '0' is out of range 1..65535"},

@@ -39,6 +39,7 @@ void sim_config_default(sim_config_t *c)
             (void)c4gsim_axis_params_default(&c->ax[a][l], l); /* cannot fail: non-NULL */
         }
     }
+    plant_cfg_default(&c->plant);
 }
 
 int sim_config_axes(const sim_config_t *c)
@@ -353,6 +354,64 @@ static int arm_key(sim_config_t *c, unsigned a, const kv_t *k)
     return rc;
 }
 
+/* "5,-8,12,-15,3,10": six percentages (-90..500) into fractions. */
+static int percent_list(const kv_t *k, double out[PLANT_AXES])
+{
+    char tmp[160];
+    char *tok;
+    char *save = NULL;
+    double v[PLANT_AXES];
+    int n = 0;
+    if (strlen(k->value) >= sizeof tmp) {
+        return bad_text(k, "six percentages -90..500");
+    }
+    strcpy(tmp, k->value);
+    for (tok = strtok_r(tmp, " ,\t", &save); tok != NULL; tok = strtok_r(NULL, " ,\t", &save)) {
+        if (n == PLANT_AXES || c4gh_tf_parse_double(tok, -90.0, 500.0, &v[n]) != C4GH_TF_NUM_OK) {
+            return bad_text(k, "six percentages -90..500");
+        }
+        n++;
+    }
+    if (n != PLANT_AXES) {
+        return bad_text(k, "six percentages -90..500");
+    }
+    for (n = 0; n < PLANT_AXES; n++) {
+        out[n] = v[n] / 100.0;
+    }
+    return 0;
+}
+
+/* [plant]: the arm plant and the controller's model of it. */
+static int plant_key(sim_config_t *c, const kv_t *k)
+{
+    plant_cfg_t *p = &c->plant;
+    char why[160];
+    if (strcmp(k->name, "file") == 0) {
+        if (strlen(k->value) >= sizeof p->path) {
+            return bad_text(k, "a path under 256 bytes");
+        }
+        strcpy(p->path, k->value);
+        return 0;
+    }
+    if (strcmp(k->name, "payload") == 0 || strcmp(k->name, "ctrl_payload") == 0) {
+        const int ctrl = k->name[0] == 'c';
+        if (sim_parse_payload(k->value, ctrl ? &p->ctrl_payload : &p->payload,
+                              ctrl ? p->ctrl_payload_com : p->payload_com, why, sizeof why) != 0) {
+            snprintf(k->msg, k->msglen, "[%s] %s: %s", k->section, k->name, why);
+            return -1;
+        }
+        p->ctrl_payload_set |= ctrl;
+        return 0;
+    }
+    if (strcmp(k->name, "ctrl_mass_error") == 0) {
+        return percent_list(k, p->ctrl_mass_err);
+    }
+    if (strcmp(k->name, "ctrl_inertia_error") == 0) {
+        return percent_list(k, p->ctrl_inertia_err);
+    }
+    return -2;
+}
+
 static c4gh_tf_ini_rc_t handler(void *user, const char *section, const char *name, const char *value,
                            char *msg, size_t msglen)
 {
@@ -368,6 +427,8 @@ static c4gh_tf_ini_rc_t handler(void *user, const char *section, const char *nam
     k.msglen = msglen;
     if (strcmp(section, "sim") == 0) {
         rc = sim_key(c, &k);
+    } else if (strcmp(section, "plant") == 0) {
+        rc = plant_key(c, &k);
     } else if (strcmp(section, "model") == 0) {
         rc = 0;
         for (a = 0; a < C4G_ARMS && rc == 0; a++) {
@@ -382,7 +443,7 @@ static c4gh_tf_ini_rc_t handler(void *user, const char *section, const char *nam
     } else {
         char s[80];
         c4gh_tf_escape(section, strlen(section), s, sizeof s);
-        snprintf(msg, msglen, "unknown section [%s] (want [sim], [model], [arm 1..4] or [axis A.L])", s);
+        snprintf(msg, msglen, "unknown section [%s] (want [sim], [plant], [model], [arm 1..4] or [axis A.L])", s);
         return C4GH_TF_INI_BAD_SECTION;
     }
     if (rc == -2) {

@@ -75,11 +75,14 @@ int main(int argc, char **argv)
         return code;
     }
     if (net_open(a) != 0) {
-        return socket_failed(a);
+        code = socket_failed(a);
+        sim_free(&a->sim);
+        return code;
     }
     code = outputs_open(a);
     if (code != EXIT_OK) {
         close(a->fd);
+        sim_free(&a->sim);
         return code;
     }
     signal(SIGINT, on_signal);
@@ -97,5 +100,6 @@ int main(int argc, char **argv)
     if (!a->o.quiet || a->o.json) {
         summary(a, code, result, cpu_seconds());
     }
+    sim_free(&a->sim);
     return code;
 }

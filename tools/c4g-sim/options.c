@@ -182,6 +182,84 @@ static int opt_entry(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *
     return -1;
 }
 
+/* "KG" or "KG@X,Y,Z": a payload's mass and its centre in the flange frame [m]. */
+int sim_parse_payload(const char *v, double *mass, double com[3], char *why, size_t wl)
+{
+    char tmp[128];
+    char *at;
+    char *part[3];
+    int k;
+    if (strlen(v) >= sizeof tmp) {
+        snprintf(why, wl, "want KG or KG@X,Y,Z");
+        return -1;
+    }
+    strcpy(tmp, v);
+    at = strchr(tmp, '@');
+    if (at != NULL) {
+        *at = '\0';
+    }
+    if (c4gh_tf_parse_double(tmp, 0.0, 1000.0, mass) != C4GH_TF_NUM_OK) {
+        snprintf(why, wl, "mass '%s' is not 0..1000 kg (want KG or KG@X,Y,Z)", tmp);
+        return -1;
+    }
+    com[0] = com[1] = com[2] = 0.0;
+    if (at == NULL) {
+        return 0;
+    }
+    part[0] = at + 1;
+    part[1] = strchr(part[0], ',');
+    part[2] = (part[1] != NULL) ? strchr(part[1] + 1, ',') : NULL;
+    if (part[1] == NULL || part[2] == NULL || strchr(part[2] + 1, ',') != NULL) {
+        snprintf(why, wl, "centre '%s' is not X,Y,Z (m, flange frame)", at + 1);
+        return -1;
+    }
+    *part[1]++ = '\0';
+    *part[2]++ = '\0';
+    for (k = 0; k < 3; k++) {
+        if (c4gh_tf_parse_double(part[k], -2.0, 2.0, &com[k]) != C4GH_TF_NUM_OK) {
+            snprintf(why, wl, "centre coordinate '%s' is not -2..2 m", part[k]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* --payload and --ctrl-payload (row->key 1). */
+static int opt_payload(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    plant_cfg_t *pc = &((app_t *)ctx)->cfg.plant;
+    if (row->key == 0) {
+        return sim_parse_payload(v, &pc->payload, pc->payload_com, why, wl);
+    }
+    pc->ctrl_payload_set = 1;
+    return sim_parse_payload(v, &pc->ctrl_payload, pc->ctrl_payload_com, why, wl);
+}
+
+static int opt_plant(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    plant_cfg_t *pc = &((app_t *)ctx)->cfg.plant;
+    (void)row;
+    if (strlen(v) >= sizeof pc->path) {
+        snprintf(why, wl, "path longer than %zu bytes", sizeof pc->path - 1U);
+        return -1;
+    }
+    strcpy(pc->path, v);
+    return 0;
+}
+
+/* --ctrl-error K: every model error times K (0: the controller's model is exact). */
+static int opt_ctrl_error(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
+{
+    double k = 0.0;
+    (void)row;
+    if (c4gh_tf_parse_double(v, 0.0, 5.0, &k) != C4GH_TF_NUM_OK) {
+        snprintf(why, wl, "not a factor 0..5");
+        return -1;
+    }
+    plant_cfg_scale_errors(&((app_t *)ctx)->cfg.plant, k);
+    return 0;
+}
+
 /* --capture-ports LIST: the PC ports of C4G Open flows in the capture (default 1000,1001). */
 static int opt_cap_ports(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t wl)
 {
@@ -243,9 +321,10 @@ static const char *const examples[] = {
     "c4g-sim -p 41000 -S fixtures/scenarios/mode0.scn --json",
     "c4g-sim -p 41000 -T 1 --num-policy plus-one -n 5000 --pcap run.pcap --csv run.csv",
     "c4g-sim -p 41000 -c fixtures/sim/two-arms.ini --drop 0.01 --seed 7 -n 2000",
+    "c4g-sim -p 41000 --plant fixtures/sim/smart-six.xml --payload 6@0,0,0.05 -S fixtures/scenarios/mode0.scn",
     "c4g-sim -p 41000 --capture fixtures/replay/mode4.pcap --num-policy plus-one --json", NULL};
 
-#define N_ROWS 39
+#define N_ROWS 43
 
 /* The rows point into this app, so they are built at run time. */
 static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
@@ -276,6 +355,14 @@ static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
         ROW_CALL("seed", 0, "N", "random seed for noise and faults (default 1)", opt_u64, 0),
         ROW_CALL("no-follow-check", 0, NULL, "disable the controller's following-error check",
                  opt_no_follow, 0),
+        ROW_CALL("plant", 0, "FILE", "arm plant: an MJCF model (fixtures/sim/smart-six.xml) moves axes 1..6 of "
+                 "arm 1", opt_plant, 0),
+        ROW_CALL("payload", 0, "KG[@X,Y,Z]", "arm plant: payload at the flange, centre in m (default 0)",
+                 opt_payload, 0),
+        ROW_CALL("ctrl-payload", 0, "KG[@X,Y,Z]", "arm plant: the payload the controller's model assumes "
+                 "(default: the true one)", opt_payload, 1),
+        ROW_CALL("ctrl-error", 0, "K", "arm plant: controller model errors times K (default 1; 0 exact)",
+                 opt_ctrl_error, 0),
         ROW_CALL("scenario", 'S', "FILE", "PDL2-like scenario (fixtures/scenarios/*.scn)", opt_path,
                  P_SCENARIO),
         ROW_CALL("ticks", 'n', "N", "stop after N cyclic ticks (default: when the scenario ends)",
@@ -447,10 +534,23 @@ int app_prepare(app_t *a)
     if (app_addresses(a) != EXIT_OK) {
         return EXIT_USAGE;
     }
+    if (c->plant.path[0] == '\0') {
+        plant_cfg_t d;
+        plant_cfg_default(&d);
+        if (memcmp(&d, &c->plant, sizeof d) != 0) {
+            /* a payload or model error given for an arm that is not simulated: a mistake */
+            fprintf(stderr, "c4g-sim: --payload, --ctrl-payload, --ctrl-error and the INI [plant] keys "
+                    "apply to the arm plant: give --plant FILE (or [plant] file)\n");
+            return EXIT_USAGE;
+        }
+    }
     if (a->o.scenario_path != NULL && load_scenario(a) != 0) {
         return EXIT_USAGE;
     }
     if (sim_init(&a->sim, c, a->o.scenario_path ? &a->scn : NULL, a->o.verbose ? stderr : NULL) != 0) {
+        if (a->sim.init_err[0] != '\0') {
+            fprintf(stderr, "c4g-sim: %s\n", a->sim.init_err);
+        }
         fprintf(stderr, "c4g-sim: %s: %s\n", c4g_ctrl_error_name(a->sim.err[0].code), a->sim.err[0].text);
         return EXIT_USAGE;
     }

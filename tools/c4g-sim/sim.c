@@ -120,6 +120,62 @@ int sim_checks_suspended(const sim_t *s)
     return 0;
 }
 
+/* The controller's dynamic model of the arm plant's axes at motor positions @p qm, velocities
+ * @p vm and accelerations @p am, into each axis's model_cur and model_inertia. */
+static int plant_model(sim_t *s, const double *qm, const double *vm, const double *am)
+{
+    double cur[PLANT_AXES];
+    double in[PLANT_AXES];
+    int k;
+    if (plant_arm_model(s->plant, qm, vm, am, cur, in) != 0) {
+        return -1;
+    }
+    for (k = 0; k < PLANT_AXES; k++) {
+        s->ax[s->plant_ax[k]].model_cur = cur[k];
+        s->ax[s->plant_ax[k]].model_inertia = in[k];
+    }
+    return 0;
+}
+
+/* The arm plant moves logical axes 1..6 of arm 1 (all six must be open); other axes and
+ * arms keep the decoupled model. */
+static int plant_init(sim_t *s)
+{
+    const int sub = SUBSTEPS_PER_MS * s->cfg.period_ms;
+    const c4gsim_axis_params_t *p[PLANT_AXES];
+    double qm[PLANT_AXES];
+    double zero[PLANT_AXES] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    int k;
+    int i;
+    for (k = 0; k < PLANT_AXES; k++) {
+        s->plant_ax[k] = -1;
+        for (i = 0; i < s->n_axes; i++) {
+            if (s->ax[i].arm == 0 && s->ax[i].logical == k) {
+                s->plant_ax[k] = i;
+            }
+        }
+        if (s->plant_ax[k] < 0) {
+            snprintf(s->init_err, sizeof s->init_err, "%s: the arm plant moves axes 1..6 of arm 1: axis %d "
+                     "is not open", s->cfg.plant.path, k + 1);
+            return -1;
+        }
+        p[k] = s->ax[s->plant_ax[k]].p;
+        qm[k] = s->ax[s->plant_ax[k]].m.pos;
+        s->ax[s->plant_ax[k]].in_plant = 1;
+    }
+    if (plant_arm_open(&s->plant, &s->cfg.plant, &s->init, 0U, p, s->period / (double)sub, s->init_err,
+                       sizeof s->init_err) != 0) {
+        return -1;
+    }
+    if (plant_arm_reset(s->plant, qm) != 0 || plant_model(s, qm, zero, zero) != 0) {
+        snprintf(s->init_err, sizeof s->init_err, "%s: the start positions are not convertible to joints",
+                 s->cfg.plant.path);
+        sim_free(s);
+        return -1;
+    }
+    return 0;
+}
+
 int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
 {
     int a;
@@ -185,7 +241,17 @@ int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log)
         sim_raise(s, C4G_CERR_CONFIG, 0, 0);
         return -1;
     }
+    if (cfg->plant.path[0] != '\0' && plant_init(s) != 0) {
+        sim_raise(s, C4G_CERR_CONFIG, 0, 0);
+        return -1;
+    }
     return 0;
+}
+
+void sim_free(sim_t *s)
+{
+    plant_arm_close(s->plant);
+    s->plant = NULL;
 }
 
 /* ---- scenario ------------------------------------------------------------ */
@@ -861,11 +927,75 @@ void sim_fill(sim_t *s, c4g_ctrl_packet_t *out)
         o->actual_pos = (float)x->m.meas_pos;
         o->actual_vel = (float)x->act_vel_tick;
         o->current_ref = (float)x->m.cur_report;
-        o->ext[0] = (float)(c4gsim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
-        o->ext[1] = (float)x->p->j;                                     /* diagonal inertia */
+        if (x->in_plant) {
+            /* the controller's own model of the arm (docs/c4g-sim.md) */
+            o->ext[0] = (float)x->model_cur;
+            o->ext[1] = (float)x->model_inertia;
+        } else {
+            o->ext[0] = (float)(c4gsim_axis_gravity(x->p, x->m.pos) / x->p->kt); /* dynamic model [A] */
+            o->ext[1] = (float)x->p->j;                                     /* diagonal inertia */
+        }
         o->ext[2] = 0.0F;
     }
     s->special_out = 0;
+}
+
+/* The arm plant's share of the ticks: the controller's model on this tick's references (the
+ * acceleration from the change of the velocity reference over the period), fed to the drives
+ * (limited to the axis's amax) in the modes where SMP+ drives. In mode 9 the channel carries the PC's D5 instead (manual
+ * 14.12.4); in modes 1 and 2 the switching counter fades the model out as it fades the PC's
+ * current in (chapter 12). EXT1 reports the model in every mode. */
+static void plant_feedforward(sim_t *s, c4gsim_dsa_in_t *in, const double *prev_vel)
+{
+    double qm[PLANT_AXES];
+    double vm[PLANT_AXES];
+    double am[PLANT_AXES];
+    int k;
+    for (k = 0; k < PLANT_AXES; k++) {
+        const int i = s->plant_ax[k];
+        qm[k] = in[i].pos_ref;
+        vm[k] = in[i].vel_ff;
+        /* limited to the axis's trajectory acceleration: a reply that did not come holds the
+         * reference for a tick, and its velocity step is no acceleration to feed forward */
+        am[k] = (in[i].vel_ff - prev_vel[i]) / s->period;
+        am[k] = (am[k] > s->ax[i].p->amax) ? s->ax[i].p->amax
+                                           : ((am[k] < -s->ax[i].p->amax) ? -s->ax[i].p->amax : am[k]);
+    }
+    if (plant_model(s, qm, vm, am) != 0) {
+        model_fault(s, &s->ax[s->plant_ax[0]], "dynamic model");
+        return;
+    }
+    for (k = 0; k < PLANT_AXES; k++) {
+        const int i = s->plant_ax[k];
+        const sim_ax_t *x = &s->ax[i];
+        double gain = 1.0;
+        if (x->mode == C4G_MODE_9) {
+            gain = 0.0;
+        } else if (is_pc_current_mode(x->mode)) {
+            gain = 1.0 - ((in[i].pc_share < 0.0) ? 0.0 : ((in[i].pc_share > 1.0) ? 1.0 : in[i].pc_share));
+        }
+        in[i].cur_add += gain * x->model_cur;
+    }
+}
+
+/* One DSA step of the arm plant: the currents c4gsim_dsa_current set move the arm, then each
+ * motor's encoder is read. */
+static void plant_step(sim_t *s, double dt)
+{
+    c4gsim_axis_t *ax[PLANT_AXES];
+    int k;
+    for (k = 0; k < PLANT_AXES; k++) {
+        ax[k] = &s->ax[s->plant_ax[k]].m;
+    }
+    if (plant_arm_step(s->plant, ax, &s->rng) != 0) {
+        model_fault(s, &s->ax[s->plant_ax[0]], "arm plant");
+    }
+    for (k = 0; k < PLANT_AXES; k++) {
+        sim_ax_t *x = &s->ax[s->plant_ax[k]];
+        if (c4gsim_axis_measure(&x->m, x->p, dt, &s->rng) != C4G_OK) {
+            model_fault(s, x, "encoder");
+        }
+    }
 }
 
 void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
@@ -902,6 +1032,9 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
         s->ax[i].pos_ref = in[i].pos_ref;
         s->ax[i].vel_ref = in[i].vel_ff;
     }
+    if (s->plant != NULL) {
+        plant_feedforward(s, in, prev_vel);
+    }
     /* The DSA interpolates the SMP+ references over its steps, as a real drive does: a
      * reference held for the whole period would put a ripple at the SMP+ rate into the
      * current (c4gsim_dsa_interp). Step k regulates at the period's instant
@@ -913,9 +1046,13 @@ void sim_tick(sim_t *s, const c4g_pc_packet_t *reply, c4g_ctrl_packet_t *out)
             c4gsim_dsa_in_t step = in[i];
             if (c4gsim_dsa_interp(prev_ref[i], prev_vel[i], in[i].pos_ref, in[i].vel_ff, w, s->period,
                                   &step.pos_ref, &step.vel_ff) != C4G_OK ||
-                c4gsim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng) != C4G_OK) {
+                (s->ax[i].in_plant ? c4gsim_dsa_current(&s->ax[i].m, s->ax[i].p, &step, dt)
+                                   : c4gsim_axis_step(&s->ax[i].m, s->ax[i].p, &step, dt, &s->rng)) != C4G_OK) {
                 model_fault(s, &s->ax[i], "DSA step");
             }
+        }
+        if (s->plant != NULL) {
+            plant_step(s, dt);
         }
     }
     for (i = 0; i < s->n_axes; i++) {

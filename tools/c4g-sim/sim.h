@@ -9,6 +9,7 @@
 
 #include "c4gopen.h"
 #include "c4gsim_model.h"
+#include "plant_arm.h"
 #include "scenario.h"
 
 #define SIM_MAX_ERRORS 64
@@ -37,9 +38,12 @@ typedef struct sim_config {
     int option_ok[C4G_ARMS];        /* C4G Open software option present */
     int version[3];
     c4gsim_axis_params_t ax[C4G_ARMS][C4G_AXES_PER_ARM];
+    plant_cfg_t plant;          /* plant.path "": every axis the decoupled model */
 } sim_config_t;
 
 void sim_config_default(sim_config_t *c);
+/** "KG" or "KG@X,Y,Z" (--payload, INI payload): 0, or -1 with the reason in @p why. */
+int sim_parse_payload(const char *v, double *mass, double com[3], char *why, size_t wl);
 /** Total open axes; -1 if more than 20 or an arm has none. */
 int sim_config_axes(const sim_config_t *c);
 /** Load an INI file over @p c (at most 1 MiB). Returns 0, or -1 with
@@ -86,6 +90,9 @@ typedef struct sim_ax {
     c4gsim_trap_t trap;
     c4g_pc_axis_t rx;           /* last PC data applied */
     int fresh;                  /* rx came with this tick's reply */
+    int in_plant;               /* moved by the arm plant (sim_t.plant), not by the decoupled model */
+    double model_cur;           /* arm plant: the controller's dynamic-model current [A] (EXT1) */
+    double model_inertia;       /* arm plant: its diagonal inertia [kg m^2] (EXT2) */
 } sim_ax_t;
 
 /** Communication phase as the controller sees it. */
@@ -129,10 +136,15 @@ typedef struct sim {
     unsigned long mode_rejected;
     unsigned long mode_mismatch;
     FILE *log;                  /* event log (stderr), NULL = quiet */
+    plant_arm_t *plant;         /* the arm plant of arm 1's axes 1..6, or NULL */
+    int plant_ax[PLANT_AXES];   /* their indexes in ax[] */
+    char init_err[400];         /* why sim_init failed, when an error code cannot say it */
 } sim_t;
 
 /** Build the controller from the configuration. Returns 0, or -1 (error raised). */
 int sim_init(sim_t *s, const sim_config_t *cfg, const scn_t *scn, FILE *log);
+/** Release what sim_init allocated (the arm plant); safe to call twice. */
+void sim_free(sim_t *s);
 /** Raise a table 17.1 error (formatted message). */
 void sim_raise(sim_t *s, c4g_ctrl_error_t code, int a1, int a2);
 int sim_has_error(const sim_t *s, const char *name);

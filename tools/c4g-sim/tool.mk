@@ -1,2 +1,3 @@
-# c4g-sim links inih (INI configuration), libpcap (--pcap) and jansson (--json).
-c4g-sim_LDLIBS := -linih -lpcap -ljansson
+# c4g-sim links inih (INI configuration), libpcap (--pcap), jansson (--json) and MuJoCo (the
+# arm plant, --plant).
+c4g-sim_LDLIBS := -linih -lpcap -ljansson -lmujoco
