@@ -104,7 +104,7 @@ tool_needs = $(sort $(HOST_NEEDS) $(foreach l,$(filter -l%,$($(1)_LDLIBS)),$(LIB
 tool_missing = $(strip $(foreach n,$(call tool_needs,$(1)),$(if $(wildcard $(addsuffix /$(firstword \
   $(subst :, ,$(n))),$(CC_INC_DIRS))),,$(lastword $(subst :, ,$(n))))) \
   $(if $(wildcard tools/$(1)/*.cpp),$(if $(HAVE_CXX),,g++)))
-TOOLS_SKIPPED := $(foreach t,$(TOOL_NAMES),$(if $(call tool_missing,$(t)),$(t)))
+TOOLS_SKIPPED := $(strip $(foreach t,$(TOOL_NAMES),$(if $(call tool_missing,$(t)),$(t))))
 TOOLS_BUILT := $(filter-out $(TOOLS_SKIPPED),$(TOOL_NAMES))
 # man pages: scdoc renders them, python3 fills the option lists in from each tool's --help
 HAVE_MAN_TOOLS := $(and $(shell command -v scdoc 2>/dev/null),$(shell command -v python3 2>/dev/null))
@@ -194,8 +194,10 @@ $(BUILD)/lib/c4gopen.pc: scripts/c4gopen.pc.in include/c4gopen.h
 
 # ---- tools
 tools: $(TOOL_BINS)
-	@$(if $(TOOLS_SKIPPED),$(foreach t,$(TOOLS_SKIPPED),echo "tools: $(t) not built: missing $(call tool_missing,$(t))" >&2;) \
-	  echo "tools: sh scripts/deps.sh tools (as root) installs them" >&2,:)
+ifneq ($(TOOLS_SKIPPED),)
+	@$(foreach t,$(TOOLS_SKIPPED),echo "tools: $(t) not built: missing $(call tool_missing,$(t))" >&2;) \
+	  echo "tools: sh scripts/deps.sh tools (as root) installs them" >&2
+endif
 ARCHIVES := $(HOST_LIB) $(SIM_LIB) $(STATIC)
 
 define tool_rule

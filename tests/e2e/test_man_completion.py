@@ -8,6 +8,7 @@ import glob
 import os
 import re
 import subprocess
+import time
 
 import pytest
 
@@ -97,6 +98,25 @@ COMPLETIONS = [
     ("abs rel", ["cell-cli", "robot", "mov", ""]),
     ("fixtures/server/traj_example.csv", ["c4g-server", "--traj", "fixtures/server/traj_ex"]),
     ("", ["c4g-server", "--port", ""]),
+    # short options take their values as the long ones do
+    ("fixtures/scenarios/mode0.scn", ["c4g-sim", "-S", "fixtures/scenarios/mode0"]),
+    ("", ["c4g-sim", "-p", ""]),
+    # the values an option's help lists
+    ("plus-one echo either", ["c4g-sim", "--num-policy", ""]),
+    ("plus1 echo", ["c4g-server", "--num-policy", ""]),
+    ("drop truncate", ["c4g-sim", "--entry-fault", ""]),
+    ("huber cauchy none", ["c4g-ident", "fit", "--loss", ""]),
+    ("server echo", ["c4g-replay", "rerun", "-b", ""]),
+    ("ctrl pc", ["c4g-replay", "plot", "--side", ""]),
+    # each device's own commands (the conditioning controller's only after conditioning)
+    ("sta srvon srvof ovr mov stp rst clo itr pnp", ["cell-cli", "robot", ""]),
+    ("sta srvon srvof ovr mov stp rst clo itr", ["cell-cli", "platform", ""]),
+    ("rst clo acq hnd", ["cell-cli", "conditioning", ""]),
+    ("rst", ["cell-cli", "-p", "3000", "conditioning", "r"]),
+    ("conditioning connect", ["cell-cli", "con"]),
+    ("robot platform conditioning", ["cell-cli", "connect", ""]),
+    ("", ["cell-cli", "connect", "robot", ""]),
+    ("sta srvon srvof stp sleep", ["cell-cli", "help", "s"]),
 ]
 
 
@@ -113,3 +133,38 @@ def test_completion(build, want, words):
 def test_completion_parses():
     r = subprocess.run(["bash", "-n", "scripts/completion/c4gopen.bash"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_completion_in_bash(build, tmp_path):
+    """TAB in a real interactive bash (tmux): a directory completes with its "/", a short
+    option's file value and a listed value complete on the line"""
+    sock = str(tmp_path / "tmux.sock")
+    env = dict(ENV, PATH=str(build / "bin") + os.pathsep + os.environ["PATH"], TERM="xterm", HOME=str(tmp_path))
+    rc = tmp_path / "bashrc"
+    rc.write_text("PS1='$ '\n. %s/scripts/completion/c4gopen.bash\n" % os.getcwd())
+
+    def tmux(*args):
+        return subprocess.run(["tmux", "-S", sock] + list(args), capture_output=True, text=True, env=env, timeout=30)
+    assert tmux("new-session", "-d", "-x", "150", "-y", "20", "bash", "--rcfile", str(rc), "--noprofile", "-i").returncode == 0
+    try:
+        def line_after(keys):
+            tmux("send-keys", "C-u")
+            tmux("send-keys", "-l", keys)
+            tmux("send-keys", "Tab")
+            want = None
+            for _ in range(100):
+                time.sleep(0.05)
+                screen = [ln.rstrip() for ln in tmux("capture-pane", "-p").stdout.splitlines()]
+                last = [ln for ln in screen if ln.startswith("$ ")][-1:] or [""]
+                if last[0] != "$ " + keys:
+                    want = last[0]
+                    break
+            return want
+        tmux("send-keys", "cd %s" % os.getcwd(), "Enter")
+        time.sleep(0.3)
+        assert line_after("c4g-server --traj fixtures/serv") == "$ c4g-server --traj fixtures/server/"
+        assert line_after("c4g-sim -S fixtures/scen") == "$ c4g-sim -S fixtures/scenarios/"
+        assert line_after("c4g-sim --entry-fault tr") == "$ c4g-sim --entry-fault truncate"
+        assert line_after("cell-cli conditioning ac") == "$ cell-cli conditioning acq"
+    finally:
+        tmux("kill-server")
