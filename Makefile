@@ -500,8 +500,8 @@ install: lib tools man
 	sed 's|/usr/local/bin/|$(PREFIX)/bin/|' examples/c4g-server.service \
 	  > $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/c4g-server.service
 	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
-	install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/
-	install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/
+	$(if $(filter %.1,$(MAN_PAGES)),install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/)
+	$(if $(filter %.3,$(MAN_PAGES)),install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/)
 	$(if $(MAN_HDR_PAGES),install -m 644 $(BUILD)/man/fn/*.3 $(DESTDIR)$(PREFIX)/share/man/man3/)
 	install -d $(DESTDIR)$(BASH_COMPLETION_DIR)
 	install -m 644 scripts/completion/c4gopen.bash $(DESTDIR)$(BASH_COMPLETION_DIR)/c4g-server
