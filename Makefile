@@ -2,9 +2,6 @@
 #   make lib        the library (static + shared, pkg-config file): needs only a C compiler
 #   make            the library, the tools whose libraries are present, their man pages
 #   make check      every test and quality gate (installs missing deps first)
-# Dependencies come in groups (scripts/deps.sh lib|tools|check): each target checks only its
-# own group. As root the missing packages are installed; as another user they are named,
-# `make` builds what the machine can and `make check` stops.
 #   make demo       a real session on loopback, printed
 #   make replay-fixtures  regenerate the capture fixtures in fixtures/replay
 #   make replay-golden    rewrite their expected summaries (fixtures/replay/golden; review the diff)
@@ -13,6 +10,9 @@
 #   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15; make check: 5)
 #   make install    PREFIX=/usr/local DESTDIR=  (runs ldconfig for the default prefix as root)
 #   make wireshark-install-user   the Wireshark dissector into ~/.local/lib/wireshark/plugins
+# Dependencies come in groups (scripts/deps.sh lib|tools|check): each target checks only its
+# own group. As root the missing packages are installed; as another user they are named,
+# `make` builds what the machine can and `make check` stops.
 
 BUILD ?= build
 PREFIX ?= /usr/local
@@ -89,7 +89,7 @@ TOOL_INC := $(foreach t,$(C_TOOLS),-Itools/$(t))
 TOOL_LIB_LIBS := -linih -lpcap -ljansson -ledit -lpthread -lm
 
 # Which tools this machine can build: each library a tool links is a header the C compiler
-# must find (the Debian package that has it in brackets, as scripts/deps.sh names it); every
+# must find (HEADER:PACKAGE, the Debian package as scripts/deps.sh names it); every
 # tool links the host archive (pcap, inih, SocketCAN); a C++ tool needs $(CXX). A tool whose
 # part is missing is left out of `make`, named with its packages.
 CC_INC_DIRS := $(shell $(CC) -E -Wp,-v -x c /dev/null 2>&1 >/dev/null | sed -n 's|^ \(/[^ ]*\)$$|\1|p')
