@@ -95,6 +95,13 @@ def test_repl_habits(procs, bins, ports, tmp_path):
         assert t.type("robot rst") == "robot: OK"
         out = t.type("robot sta")
         assert out.startswith("robot: stopped, servo ON, override 100 %, error +00000 (no error)"), out
+        # a motion started here and not seen finished keeps its connection (^C's STP needs it)
+        assert t.type("robot ovr 1") == "robot: OK"
+        assert t.type("robot mov abs x=100 y=100 z=100 c=0") == "robot: OK"
+        out = t.type("connect 127.0.0.1 %d" % b)
+        assert out == ("cell-cli: robot: a motion started here is not seen finished: 'robot stp' or 'wait robot "
+                       "stopped' before connect"), out
+        assert t.type("robot stp") == "robot: OK"
         # connect HOST PORT: the second cell, whose robot is still off; the prompt follows
         out = t.type("connect 127.0.0.1 %d" % b)
         assert out.splitlines() == ["robot: connected to 127.0.0.1:%d" % b, "platform: connected to 127.0.0.1:%d" % (b + 1),
@@ -112,6 +119,14 @@ def test_repl_habits(procs, bins, ports, tmp_path):
         out = t.type("connect 127.0.0.1 %d" % dead)
         assert "robot at 127.0.0.1:%d: " % dead in out, out
         assert t.type("help servo").count("(SRV") == 2
+        # TAB after a count completes the command's words
+        t.tmux("send-keys", "-l", "3 rob")
+        t.tmux("send-keys", "Tab")
+        t.wait(lambda s: s.rstrip().endswith("> 3 robot"), "3 rob<TAB> -> 3 robot")
+        t.tmux("send-keys", "-l", "co")
+        t.tmux("send-keys", "Tab")
+        t.wait(lambda s: s.rstrip().endswith("> 3 robot co"), "no conditioning command after robot")
+        t.tmux("send-keys", "C-u")
     finally:
         t.close()
 

@@ -302,6 +302,14 @@ static void test_repeat_connect_help(void **st)
     assert_int_equal(cli_cmd_help("N", out, sizeof out), 0);
     assert_non_null(strstr(out, "5 robot sta"));
     assert_string_equal(cli_cmd_words(0, "", NULL)[6], "connect");
+    /* the hint of a repeated command is the command's */
+    assert_true(cli_cmd_hint("3 robot ovr ", out, sizeof out) > 0);
+    assert_string_equal(out, "PERCENT");
+    assert_true(cli_cmd_hint("12 robot mov abs x=1 ", out, sizeof out) > 0);
+    assert_string_equal(out, "y=MM z=MM c=RAD");
+    assert_int_equal(cli_cmd_hint("3", out, sizeof out), 0);
+    assert_int_equal(cli_cmd_hint("3 connect ", out, sizeof out), 11);
+    assert_string_equal(out, "HOST [PORT]");
 }
 
 int main(void)

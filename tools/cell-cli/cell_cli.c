@@ -762,12 +762,21 @@ static void help_addresses(char addr[C4GH_CELL_DEVICES][sizeof g_conn[0].host + 
 static int run_connect(const cli_cmd_t *cmd)
 {
     int rc = EXIT_OK;
+    /* a motion started here that no reply showed finished: leaving its connection would
+     * leave it without the STP a ^C sends, so it is stopped or waited for first */
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        if ((cmd->dev < 0 || d == cmd->dev) && g_moved[d]) {
+            fprintf(stderr, "cell-cli: %s: a motion started here is not seen finished: '%s stp' "
+                            "or 'wait %s stopped' before connect\n", c4gh_cell_dev_name(d),
+                    c4gh_cell_dev_name(d), c4gh_cell_dev_name(d));
+            return EXIT_USAGE;
+        }
+    }
     for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
         if (cmd->dev >= 0 && d != cmd->dev) {
             continue;
         }
         conn_drop(d);
-        g_moved[d] = 0;
         snprintf(g_conn[d].host, sizeof g_conn[d].host, "%s", cmd->host);
         if (cmd->dev >= 0 && cmd->port > 0) {
             g_conn[d].port = cmd->port;
@@ -1168,6 +1177,9 @@ static void words_before(const LineInfo *li, size_t start, char *buf, size_t cap
     *n = 0;
     w[0] = w[1] = NULL;
     for (char *p = strtok(buf, " \t"); p != NULL; p = strtok(NULL, " \t")) {
+        if (p == buf + strspn(buf, " \t") && strspn(p, "0123456789") == strlen(p)) {
+            continue; /* the count of "N CMD": the command's words follow */
+        }
         if (*n < 2) {
             w[*n] = p;
         }

@@ -774,6 +774,8 @@ const char *const *cli_cmd_words(int word, const char *first, const char *second
 
 /* ------------------------------------------------------------------ hints as you type */
 
+static size_t hint_of(const char *line, char *out, size_t cap);
+
 /* A hint template is the arguments of a command, space-separated: a word of lower-case
  * choices ("abs|rel", "robot|platform"), a placeholder in capitals ("PERCENT", "[TIMEOUT]")
  * or a key ("x=MM", "[a=RAD]"). Choices and placeholders come in order; keys in any order. */
@@ -961,6 +963,16 @@ static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
 }
 
 size_t cli_cmd_hint(const char *line, char *out, size_t cap)
+{
+    long count;
+    const char *rest;
+    if (repeat_prefix(line, &count, &rest) && *rest != '\0') {
+        return cli_cmd_hint(rest + 1, out, cap); /* "3 robot mov ": the command's hint */
+    }
+    return hint_of(line, out, cap);
+}
+
+static size_t hint_of(const char *line, char *out, size_t cap)
 {
     char buf[512];
     char *w[MAX_WORDS];
