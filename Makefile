@@ -1,5 +1,6 @@
 # libc4gopen: one Makefile drives everything. Out-of-tree: make BUILD=/some/dir
-#   make            library (static + shared) and tools
+#   make lib        the library (static + shared, pkg-config file): needs only a C compiler
+#   make            the library, the tools whose libraries are present, their man pages
 #   make check      every test and quality gate (installs missing deps first)
 #   make demo       a real session on loopback, printed
 #   make replay-fixtures  regenerate the capture fixtures in fixtures/replay
@@ -7,8 +8,11 @@
 #   make bench      benchmarks with an in-run baseline
 #   make coverage   line/branch coverage of lib/ (gated)
 #   make fuzz       bounded libFuzzer runs (FUZZ_SECONDS each, default 15; make check: 5)
-#   make install    PREFIX=/usr/local DESTDIR=
+#   make install    PREFIX=/usr/local DESTDIR=  (runs ldconfig for the default prefix as root)
 #   make wireshark-install-user   the Wireshark dissector into ~/.local/lib/wireshark/plugins
+# Dependencies come in groups (scripts/deps.sh lib|tools|check): each target checks only its
+# own group. As root the missing packages are installed; as another user they are named,
+# `make` builds what the machine can and `make check` stops.
 
 BUILD ?= build
 PREFIX ?= /usr/local
@@ -77,12 +81,33 @@ ARCH_INC := -Iinclude -Ilib/sim -Ilib/host
 # link with $(CXX). The file with main() is the tool's MAIN; the rest is its archive.
 TOOL_NAMES := $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c tools/*/*.cpp)))))
 -include $(wildcard tools/*/tool.mk)
-TOOL_BINS := $(TOOL_NAMES:%=$(BUILD)/bin/%)
+TOOL_BINS = $(TOOLS_BUILT:%=$(BUILD)/bin/%)
 C_TOOLS := $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard tools/*/*.c)))))
 tool_main = $(shell grep -l '^int main.int argc' $(wildcard tools/$(1)/*.c tools/$(1)/*.cpp) 2>/dev/null)
 tool_srcs = $(filter-out $(call tool_main,$(1)),$(wildcard tools/$(1)/*.c))
 TOOL_INC := $(foreach t,$(C_TOOLS),-Itools/$(t))
 TOOL_LIB_LIBS := -linih -lpcap -ljansson -ledit -lmujoco -lpthread -lm
+
+# Which tools this machine can build: each library a tool links is a header the C compiler
+# must find (HEADER:PACKAGE, the Debian package as scripts/deps.sh names it); every
+# tool links the host archive (pcap, inih, SocketCAN); a C++ tool needs $(CXX). A tool whose
+# part is missing is left out of `make`, named with its packages.
+CC_INC_DIRS := $(shell $(CC) -E -Wp,-v -x c /dev/null 2>&1 >/dev/null | sed -n 's|^ \(/[^ ]*\)$$|\1|p')
+LIBHDR_-lpcap := pcap/pcap.h:libpcap-dev
+LIBHDR_-linih := ini.h:libinih-dev
+LIBHDR_-ljansson := jansson.h:libjansson-dev
+LIBHDR_-ledit := histedit.h:libedit-dev
+LIBHDR_-lceres := ceres/ceres.h:libceres-dev
+HOST_NEEDS := pcap/pcap.h:libpcap-dev ini.h:libinih-dev linux/can/raw.h:linux-libc-dev
+HAVE_CXX := $(shell command -v $(firstword $(CXX)) 2>/dev/null)
+tool_needs = $(sort $(HOST_NEEDS) $(foreach l,$(filter -l%,$($(1)_LDLIBS)),$(LIBHDR_$(l))))
+tool_missing = $(strip $(foreach n,$(call tool_needs,$(1)),$(if $(wildcard $(addsuffix /$(firstword \
+  $(subst :, ,$(n))),$(CC_INC_DIRS))),,$(lastword $(subst :, ,$(n))))) \
+  $(if $(wildcard tools/$(1)/*.cpp),$(if $(HAVE_CXX),,g++)))
+TOOLS_SKIPPED := $(strip $(foreach t,$(TOOL_NAMES),$(if $(call tool_missing,$(t)),$(t))))
+TOOLS_BUILT := $(filter-out $(TOOLS_SKIPPED),$(TOOL_NAMES))
+# man pages: scdoc renders them, python3 fills the option lists in from each tool's --help
+HAVE_MAN_TOOLS := $(and $(shell command -v scdoc 2>/dev/null),$(shell command -v python3 2>/dev/null))
 
 UNIT_SRCS := $(sort $(wildcard tests/lib/test_*.c tests/sim/test_*.c tests/host/test_*.c tests/tools/test_*.c))
 UNIT_NAMES := $(notdir $(UNIT_SRCS:%.c=%))
@@ -90,9 +115,11 @@ UNIT_BINS := $(UNIT_NAMES:%=$(BUILD)/tests/%)
 FUZZ_SRCS := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_NAMES := $(FUZZ_SRCS:tests/fuzz/%.c=%)
 
+# the QA set (make check, and every gate's own tools); the library needs only deps-lib
 DEPS_STAMP := $(BUILD)/.deps-ok
+DEPS_LIB_STAMP := $(BUILD)/.deps-lib-ok
 
-.PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps \
+.PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps deps-lib deps-tools \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
   e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
@@ -101,24 +128,42 @@ all: lib tools man
 deps: $(DEPS_STAMP)
 $(DEPS_STAMP): scripts/deps.sh
 	@mkdir -p $(@D)
-	@sh scripts/deps.sh
+	@sh scripts/deps.sh check
 	@touch $@
+deps-lib: $(DEPS_LIB_STAMP)
+$(DEPS_LIB_STAMP): scripts/deps.sh
+	@mkdir -p $(@D)
+	@sh scripts/deps.sh lib
+	@touch $@
+# The tools' group, checked (as root: installed) before make reads which tools it can build:
+# this file is a makefile make remakes, then restarts on, so a tool whose package was just
+# installed is built in the same run. A user who is not root gets the packages named.
+DEPS_TOOLS_MK := $(BUILD)/.deps-tools.mk
+deps-tools:
+	@sh scripts/deps.sh tools || true
+$(DEPS_TOOLS_MK): scripts/deps.sh
+	@mkdir -p $(@D)
+	@sh scripts/deps.sh tools || true
+	@echo '# scripts/deps.sh tools ran for this build folder' > $@
+ifneq ($(filter-out lib deps deps-lib deps-tools clean uninstall wireshark-install-user audit docs-examples,$(or $(MAKECMDGOALS),all)),)
+-include $(DEPS_TOOLS_MK)
+endif
 
 lib: $(STATIC) $(SHARED) $(BUILD)/lib/c4gopen.pc
 
-$(BUILD)/obj/lib/sim/%.o: lib/sim/%.c $(LIB_HDRS) $(SIM_HDRS) | $(DEPS_STAMP)
+$(BUILD)/obj/lib/sim/%.o: lib/sim/%.c $(LIB_HDRS) $(SIM_HDRS) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) -Ilib/sim $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/obj/lib/host/%.o: lib/host/%.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) | $(DEPS_STAMP)
+$(BUILD)/obj/lib/host/%.o: lib/host/%.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(TOOL_CFLAGS) $(ARCH_INC) $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+$(BUILD)/obj/%.o: %.c $(LIB_HDRS) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/pic/%.o: %.c $(LIB_HDRS) | $(DEPS_STAMP)
+$(BUILD)/pic/%.o: %.c $(LIB_HDRS) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(LIB_CFLAGS) $(OPT) $(CFLAGS) -fPIC -c $< -o $@
 
@@ -149,6 +194,10 @@ $(BUILD)/lib/c4gopen.pc: scripts/c4gopen.pc.in include/c4gopen.h
 
 # ---- tools
 tools: $(TOOL_BINS)
+ifneq ($(TOOLS_SKIPPED),)
+	@$(foreach t,$(TOOLS_SKIPPED),echo "tools: $(t) not built: missing $(call tool_missing,$(t))" >&2;) \
+	  echo "tools: sh scripts/deps.sh tools (as root) installs them" >&2
+endif
 ARCHIVES := $(HOST_LIB) $(SIM_LIB) $(STATIC)
 
 define tool_rule
@@ -166,22 +215,36 @@ $$(BUILD)/bin/$(1): $$($(1)_OBJS) $$($(1)_LIB) $$(foreach u,$$($(1)_USES),$$(BUI
 endef
 $(foreach t,$(TOOL_NAMES),$(eval $(call tool_rule,$(t))))
 
-$(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h) | $(DEPS_STAMP)
+$(BUILD)/tobj/%.o: %.c $(LIB_HDRS) $(SIM_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(TOOL_CFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CPPFLAGS) $(OPT) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_STAMP)
+$(BUILD)/tobj/%.o: %.cpp $(LIB_HDRS) $(HOST_HDRS) $(wildcard tools/*/*.h tools/*/*.hpp) | $(DEPS_LIB_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CXX     $@"; $(CXX) $(TOOL_CXXFLAGS) $(ARCH_INC) $($(word 2,$(subst /, ,$<))_CXXFLAGS) $(OPT) -g -c $< -o $@
 
 # ---- man pages: docs/man/NAME.scd (scdoc) with each tool's option list and examples
 # taken from its own --help (scripts/man-page.py), so page and tool cannot disagree
+# A tool's page needs the tool built; without scdoc or python3 no page is made (named).
 MAN_SRCS := $(sort $(wildcard docs/man/*.scd))
-MAN_PAGES := $(MAN_SRCS:docs/man/%.scd=$(BUILD)/man/%)
-man: $(MAN_PAGES)
-$(BUILD)/man/%: docs/man/%.scd scripts/man-page.py $(TOOL_BINS) | $(DEPS_STAMP)
+MAN_ALL := $(MAN_SRCS:docs/man/%.scd=$(BUILD)/man/%)
+MAN_PAGES = $(if $(HAVE_MAN_TOOLS),$(filter-out $(TOOLS_SKIPPED:%=$(BUILD)/man/%.1),$(MAN_ALL)))
+man: $(MAN_PAGES) $(if $(HAVE_MAN_TOOLS),$(BUILD)/man/fn/.made)
+	@$(if $(HAVE_MAN_TOOLS),:,echo "man: no pages made: scdoc and python3 make them (sh scripts/deps.sh tools)" >&2)
+$(BUILD)/man/%.1: docs/man/%.1.scd scripts/man-page.py $(BUILD)/bin/%
 	@mkdir -p $(@D)
 	@echo "  MAN     $@"; python3 scripts/man-page.py $< $(BUILD)/bin > $@.scd && scdoc < $@.scd > $@
+$(BUILD)/man/%.3: docs/man/%.3.scd scripts/man-page.py $(wildcard include/*.h)
+	@mkdir -p $(@D)
+	@echo "  MAN     $@"; python3 scripts/man-page.py $< $(BUILD)/bin > $@.scd && scdoc < $@.scd > $@
+# `man c4g_loop_rx`: one .so link per function to the page of its header
+MAN_HDR_PAGES = $(filter $(BUILD)/man/c4gopen_%.3,$(MAN_PAGES))
+$(BUILD)/man/fn/.made: $(MAN_HDR_PAGES) scripts/man-page.py
+	@rm -rf $(@D); mkdir -p $(@D)
+	@set -e; for p in $(notdir $(basename $(MAN_HDR_PAGES))); do \
+	  for f in $$(python3 scripts/man-page.py --functions include/$$p.h); do \
+	    echo ".so man3/$$p.3" > $(@D)/$$f.3; done; done
+	@touch $@
 
 # ---- unit tests (CMocka): tests/lib, tests/sim, tests/host, tests/tools mirror the sources
 # (tests/README.md). A test links the archives; it includes a .c only to reach a static
@@ -198,7 +261,7 @@ test_archs = $(if $(filter tests/tools/,$(1)),$(call TOOL_C_LIBS,$(2))) \
   $(2)/lib/libc4gopen-sim.a $(2)/lib/libc4gopen.a
 # unit_test SRC FLAVOUR_DIR COMPILER_AND_FLAGS
 define unit_test
-$(2)/tests/$(notdir $(1:%.c=%)): $(1) $(call test_archs,$(dir $(1)),$(2)) tests/test_helpers.h
+$(2)/tests/$(notdir $(1:%.c=%)): $(1) $(call test_archs,$(dir $(1)),$(2)) tests/test_helpers.h | $$(DEPS_STAMP)
 	@mkdir -p $$(@D)
 	@echo "  TEST    $$@"; $(3) -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -o $$@ $(1) \
 	  -Wl,--start-group $(call test_archs,$(dir $(1)),$(2)) -Wl,--end-group $(TEST_LIBS)
@@ -363,7 +426,7 @@ E2E_HELPER_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -W
   -Werror $(ARCH_INC)
 .PHONY: e2e-helpers
 e2e-helpers: $(E2E_HELPERS)
-$(BUILD)/e2e/%: tests/e2e/helpers/%.c $(ARCHIVES)
+$(BUILD)/e2e/%: tests/e2e/helpers/%.c $(ARCHIVES) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(ARCHIVES) -lpcap -lm
 e2e: all e2e-helpers
@@ -418,6 +481,11 @@ bench: $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory fuzz
 
 # ---- install
+# The dynamic linker finds a new shared library only after ldconfig: run it when root installs
+# into a default prefix of the system (not into a DESTDIR: a package's own scripts run it
+# there); for any other prefix install prints the two variables a program needs.
+LDCONFIG ?= ldconfig
+RUN_LDCONFIG = $(if $(DESTDIR),,$(if $(filter /usr/local /usr,$(PREFIX)),$(if $(filter 0,$(shell id -u)),yes)))
 install: lib tools man
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin \
 	  $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
@@ -435,21 +503,26 @@ install: lib tools man
 	sed 's|/usr/local/bin/|$(PREFIX)/bin/|' examples/c4g-server.service \
 	  > $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/c4g-server.service
 	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
-	install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/
-	install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/
+	$(if $(filter %.1,$(MAN_PAGES)),install -m 644 $(filter %.1,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man1/)
+	$(if $(filter %.3,$(MAN_PAGES)),install -m 644 $(filter %.3,$(MAN_PAGES)) $(DESTDIR)$(PREFIX)/share/man/man3/)
+	$(if $(MAN_HDR_PAGES),install -m 644 $(BUILD)/man/fn/*.3 $(DESTDIR)$(PREFIX)/share/man/man3/)
 	install -d $(DESTDIR)$(BASH_COMPLETION_DIR)
 	install -m 644 scripts/completion/c4gopen.bash $(DESTDIR)$(BASH_COMPLETION_DIR)/c4g-server
 	$(foreach t,$(filter-out c4g-server,$(TOOL_NAMES)),ln -sf c4g-server $(DESTDIR)$(BASH_COMPLETION_DIR)/$(t);)
 	install -d $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)
 	install -m 644 tools/wireshark/c4gopen.lua $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/
+	$(if $(DESTDIR),@:,$(if $(RUN_LDCONFIG),$(LDCONFIG),@echo "install: programs find libc4gopen in \
+	  $(PREFIX)/lib with: export PKG_CONFIG_PATH=$(PREFIX)/lib/pkgconfig LD_LIBRARY_PATH=$(PREFIX)/lib"))
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/include/,$(notdir $(wildcard include/*.h)))
 	rm -f $(DESTDIR)$(PREFIX)/lib/libc4gopen.a $(DESTDIR)$(PREFIX)/lib/libc4gopen.so*
 	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
 	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
-	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(filter %.1,$(MAN_PAGES))))
-	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man3/,$(notdir $(filter %.3,$(MAN_PAGES))))
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(filter %.1,$(MAN_ALL))))
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man3/,$(notdir $(filter %.3,$(MAN_ALL))))
+	@for f in $(DESTDIR)$(PREFIX)/share/man/man3/c4g_*.3; do \
+	  if [ -f "$$f" ] && grep -q '^\.so man3/c4gopen_' "$$f"; then rm -f "$$f"; fi; done
 	rm -f $(addprefix $(DESTDIR)$(BASH_COMPLETION_DIR)/,$(TOOL_NAMES))
 	rm -f $(DESTDIR)$(WIRESHARK_PLUGIN_DIR)/c4gopen.lua
 wireshark-install-user:

@@ -1,9 +1,33 @@
 #!/bin/sh
-# Checks every build/test dependency and installs what is missing (apt-get, as root).
+# Checks the Debian packages one group of targets needs and installs what is missing
+# (apt-get, as root); as another user it names them and the command that installs them.
 # Idempotent: a second run with everything present installs nothing.
+#   sh scripts/deps.sh [lib|tools|check]     (default check: every package below)
+#     lib    the library: a C compiler and make
+#     tools  the library, the tools' libraries (c4g-ident: C++ and Ceres) and the man pages
+#     check  every test and quality gate (the QA set: the whole CHECKS list)
 set -eu
+group=${1:-check}
 
 # command-or-file probe : Debian package
+LIB_CHECKS='
+cc:gcc
+make:make
+ar:binutils
+'
+TOOL_CHECKS='
+/usr/include/pcap/pcap.h:libpcap-dev
+/usr/include/ini.h:libinih-dev
+/usr/include/jansson.h:libjansson-dev
+/usr/include/histedit.h:libedit-dev
+/usr/include/linux/can/raw.h:linux-libc-dev
+g++:g++
+/usr/include/ceres/ceres.h:libceres-dev
+/usr/include/eigen3/Eigen/Dense:libeigen3-dev
+python3:python3
+scdoc:scdoc
+'
+# every package of every gate (make check, CI)
 CHECKS='
 cc:gcc
 g++:g++
@@ -43,8 +67,15 @@ nroff:groff-base
 /usr/share/bash-completion/bash_completion:bash-completion
 '
 
+case $group in
+lib) list=$LIB_CHECKS ;;
+tools) list="$LIB_CHECKS $TOOL_CHECKS" ;;
+check) list="$LIB_CHECKS $TOOL_CHECKS $CHECKS" ;;
+*) echo "deps: unknown group '$group' (lib, tools or check)" >&2; exit 2 ;;
+esac
+
 missing=''
-for entry in $CHECKS; do
+for entry in $list; do
   probe=${entry%%:*}
   pkg=${entry#*:}
   case $probe in
@@ -66,13 +97,14 @@ fi
 
 missing=$(echo "$missing" | sed 's/^ *//')
 if [ -z "$missing" ]; then
-  echo "deps: all present"
+  echo "deps ($group): all present"
   exit 0
 fi
 
-echo "deps: missing: $missing"
+echo "deps ($group): missing: $missing"
 if [ "$(id -u)" -ne 0 ]; then
   echo "deps: not root; run:  sudo apt-get update && sudo apt-get install -y $missing" >&2
+  echo "deps: (or: sudo sh scripts/deps.sh $group)" >&2
   exit 1
 fi
 export DEBIAN_FRONTEND=noninteractive

@@ -107,8 +107,10 @@ def pty_checks(ck, cli, port, home):
     out = listing([(b"\t", rb"\x07")])
     check("one TAB on an empty line only beeps", "conditioning" not in out and "\x07" in out, repr(out[-300:]))
     out = listing([b"\t\t"])
-    check("two TABs on an empty line list the first words", all(w in out for w in ("conditioning", "platform", "quit"))
-          and re.search(r"clear\s+help\s+quit", out) is not None, repr(out[-300:]))
+    check("two TABs on an empty line list the first words",
+          all(re.search(r"\b%s\b" % w, out) for w in ("clear", "conditioning", "connect", "help", "platform", "quit",
+                                                        "raw", "robot", "sleep", "wait"))
+          and re.search(r"clear\s+connect\s+platform", out) is not None, repr(out[-300:]))
     out = listing([b"robot \t\t"])
     check("robot <TAB><TAB> lists robot commands", "srvon" in out and "pnp" in out and "sleep" not in out
           and "conditioning" not in out, repr(out[-300:]))

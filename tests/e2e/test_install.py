@@ -74,6 +74,13 @@ def test_install_uninstall(build, tmp_path):
         assert f.is_file() and f.stat().st_size > 0, "not installed: " + p
     assert "c4g_loop_rx" in sh(["man", "-l", pre / "share" / "man" / "man3" / "c4gopen.3"],
                                env=dict(os.environ, MANWIDTH="80"))
+    # a page per header and a link per function: man c4g_loop_rx opens c4gopen_loop(3)
+    for h in ("base", "wire", "engine", "loop", "ctrl", "cell", "canopen"):
+        assert (pre / "share" / "man" / "man3" / ("c4gopen_%s.3" % h)).is_file(), "no page for c4gopen_%s.h" % h
+    r = subprocess.run(["man", "-M", pre / "share" / "man", "3", "c4g_loop_rx"], capture_output=True, text=True,
+                       env=dict(os.environ, MANWIDTH="100", LC_ALL="C", MANPAGER="cat", PAGER="cat"))
+    assert r.returncode == 0 and "c4gopen_loop - " in r.stdout and "c4g_loop_rx()" in r.stdout, r.stdout[:500] + r.stderr
+    assert len(list((pre / "share" / "man" / "man3").glob("c4g_*.3"))) >= 150
     comp = pre / "share" / "bash-completion" / "completions"
     for t in ("c4g-server", "c4g-sim", "c4g-replay", "c4g-ident", "cell-cli", "cell-sim"):
         assert os.access(comp / t, os.R_OK), "no completion for " + t
@@ -81,3 +88,35 @@ def test_install_uninstall(build, tmp_path):
     sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
     left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
     assert left == [], "files left after uninstall: %s" % left
+
+
+def test_install_ldconfig(build):
+    """ldconfig only for root into a default prefix of the system without DESTDIR; another
+    prefix is told the two variables (make -n: the commands install would run)"""
+    def plan(*args):
+        return sh(["make", "-n", "BUILD=%s" % build, "install", "LDCONFIG=/sbin/ldconfig"] + list(args)).splitlines()
+    root = os.getuid() == 0
+    assert ("/sbin/ldconfig" in plan("PREFIX=/usr/local")) == root
+    assert ("/sbin/ldconfig" in plan("PREFIX=/usr")) == root
+    assert "/sbin/ldconfig" not in plan("PREFIX=/usr/local", "DESTDIR=/tmp/stage")
+    other = plan("PREFIX=/opt/c4g")
+    assert "/sbin/ldconfig" not in other
+    assert any("export PKG_CONFIG_PATH=/opt/c4g/lib/pkgconfig LD_LIBRARY_PATH=/opt/c4g/lib" in line for line in other), other[-3:]
+
+
+def test_readme_without_our_build(tmp_path):
+    """the README's compile line for a copy of include/ and lib/ in another project, run
+    there as it stands; the program answers --help"""
+    line = re.search(r"(?m)^cc -std=c99 -O2 -Ic4gopen/include .*$", open("README.md").read())
+    assert line, "no compile line from a copy of the sources in README.md"
+    proj = tmp_path / "proj"
+    (proj / "c4gopen" / "lib").mkdir(parents=True)
+    shutil.copytree("include", proj / "c4gopen" / "include")
+    shutil.copy("lib/c4g_internal.h", proj / "c4gopen" / "lib")
+    for d in ("wire", "engine", "loop", "cell", "canopen"):
+        shutil.copytree("lib/" + d, proj / "c4gopen" / "lib" / d)
+    shutil.copytree("examples", proj / "examples")
+    r = subprocess.run(["sh", "-c", line.group(0)], cwd=proj, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, "the README's line failed: " + r.stderr[-2000:]
+    r = subprocess.run([proj / "mode4_loop", "--help"], capture_output=True, text=True)
+    assert re.search(r"(?m)^Usage: mode4_loop \[-p PORT\]", r.stdout), r.stdout

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* libFuzzer: cell-cli's command language (tools/cell-cli/cli_cmd.c) on one typed line: the
  * parser, the hint shown as the line is typed, and the completion words. Invariants: the
- * parser accepts (a device line encoded with CR LF) or fails with a message; a hint fits
+ * parser accepts (a device line encoded with CR LF, a repeat count 1..CLI_REPEAT_MAX) or
+ * fails with a message; help on any topic ends inside its buffer; a hint fits
  * its buffer, its length is returned, and it holds only printable ASCII (it is drawn on the
  * terminal as it is, before the line is even complete). */
 #include <ctype.h>
@@ -45,10 +46,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (memchr(err, '\0', sizeof err) == NULL || err[0] == '\0') {
             abort();
         }
-    } else if (cmd.kind == CMD_SEND &&
-               (cmd.len < 2U || cmd.len > sizeof cmd.line || cmd.line[cmd.len - 2U] != '\r' ||
-                cmd.line[cmd.len - 1U] != '\n')) {
+    } else if ((cmd.kind == CMD_SEND &&
+                (cmd.len < 2U || cmd.len > sizeof cmd.line || cmd.line[cmd.len - 2U] != '\r' ||
+                 cmd.line[cmd.len - 1U] != '\n')) ||
+               cmd.repeat < 1 || cmd.repeat > CLI_REPEAT_MAX ||
+               (cmd.kind == CMD_CONNECT && memchr(cmd.host, '\0', sizeof cmd.host) == NULL)) {
         abort();
+    }
+    /* the line as a help topic, into a small buffer: terminated, never overrun */
+    {
+        char help[200];
+        static const char *const addr[3] = {"h:1", "h:2", "h:3"};
+        memset(help, 0x55, sizeof help);
+        (void)cli_cmd_help_at(line, (n & 1U) != 0U ? addr : NULL, help, sizeof help);
+        if (memchr(help, '\0', sizeof help) == NULL) {
+            abort();
+        }
     }
     /* every prefix of the line, as the hint is computed at each key */
     for (size_t k = 0; k <= n && k < 96U; k++) {

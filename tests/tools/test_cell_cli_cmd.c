@@ -232,6 +232,86 @@ static void test_hints(void **st)
     assert_string_equal(small, "abs|rel");
 }
 
+/* The REPL habits of redis-cli users: "N CMD", connect, help in use, help by word/device */
+static void test_repeat_connect_help(void **st)
+{
+    char out[4096], e[128];
+    cli_cmd_t c;
+    const char *const addr[3] = {"10.0.0.5:3000", "10.0.0.5:3001", "10.0.0.6:2003"};
+    (void)st;
+    assert_int_equal(cli_cmd_parse("robot sta", &c, e, sizeof e), 0);
+    assert_int_equal(c.repeat, 1);
+    assert_int_equal(cli_cmd_parse("  5 robot sta", &c, e, sizeof e), 0);
+    assert_int_equal(c.kind, CMD_SEND);
+    assert_int_equal(c.repeat, 5);
+    assert_string_equal(c.line, "STA\r\n");
+    assert_int_equal(cli_cmd_parse("3 raw platform STA", &c, e, sizeof e), 0);
+    assert_int_equal(c.kind, CMD_RAW);
+    assert_int_equal(c.repeat, 3);
+    assert_int_equal(cli_cmd_parse("0 robot sta", &c, e, sizeof e), -1);
+    assert_string_equal(e, "N COMMAND: N must be 1..100000");
+    assert_int_equal(cli_cmd_parse("100001 robot sta", &c, e, sizeof e), -1);
+    assert_int_equal(cli_cmd_parse("99999999999999999999 robot sta", &c, e, sizeof e), -1);
+    assert_string_equal(e, "N COMMAND: N must be 1..100000");
+    assert_int_equal(cli_cmd_parse("2 quit", &c, e, sizeof e), -1);
+    assert_string_equal(e, "N COMMAND: repeats a device command, wait or sleep");
+    assert_int_equal(cli_cmd_parse("2 robot nope", &c, e, sizeof e), -1);
+    assert_string_equal(e, "unknown command 'nope' for the robot (try: help)");
+    assert_int_equal(cli_cmd_parse("2001x", &c, e, sizeof e), -1);
+    assert_string_equal(e, "unknown device or command '2001x' (try: help)");
+
+    assert_int_equal(cli_cmd_parse("connect 10.0.0.5 3000", &c, e, sizeof e), 0);
+    assert_int_equal(c.kind, CMD_CONNECT);
+    assert_int_equal(c.dev, -1);
+    assert_string_equal(c.host, "10.0.0.5");
+    assert_int_equal(c.port, 3000);
+    assert_int_equal(cli_cmd_parse("connect cellhost", &c, e, sizeof e), 0);
+    assert_string_equal(c.host, "cellhost");
+    assert_int_equal(c.port, 0);
+    assert_int_equal(cli_cmd_parse("connect plat 10.0.0.7:2100", &c, e, sizeof e), 0);
+    assert_int_equal(c.dev, C4GH_CELL_DEV_PLATFORM);
+    assert_string_equal(c.host, "10.0.0.7");
+    assert_int_equal(c.port, 2100);
+    assert_int_equal(cli_cmd_parse("connect 10.0.0.5 70000", &c, e, sizeof e), -1);
+    assert_string_equal(e, "PORT must be an integer 1..65533, got '70000'");
+    assert_int_equal(cli_cmd_parse("connect", &c, e, sizeof e), -1);
+    assert_int_equal(cli_cmd_parse("connect a:1", &c, e, sizeof e), -1);
+
+    /* the overview names the addresses in use */
+    assert_int_equal(cli_cmd_help_at("", addr, out, sizeof out), 0);
+    {
+        static const char want[] = "Devices: robot (10.0.0.5:3000), platform (10.0.0.5:3001), "
+                                   "conditioning (10.0.0.6:2003);\n";
+        assert_memory_equal(out, want, sizeof want - 1);
+    }
+    assert_null(strstr(out, "2001"));
+    /* a word names every row it starts: servo on and servo off */
+    assert_int_equal(cli_cmd_help("servo", out, sizeof out), 0);
+    assert_non_null(strstr(out, "(SRVON)"));
+    assert_non_null(strstr(out, "(SRVOF)"));
+    /* a device: its commands only, DEV replaced */
+    assert_int_equal(cli_cmd_help("robot", out, sizeof out), 0);
+    assert_memory_equal(out, "Commands of the robot:\n  robot sta ", 34);
+    assert_non_null(strstr(out, "\n  robot pnp "));
+    assert_null(strstr(out, "acq"));
+    assert_null(strstr(out, "platform mov"));
+    assert_null(strstr(out, "DEV"));
+    assert_int_equal(cli_cmd_help("cond", out, sizeof out), 0);
+    assert_non_null(strstr(out, "\n  conditioning acq CAMERA"));
+    assert_null(strstr(out, " sta "));
+    assert_int_equal(cli_cmd_help("N", out, sizeof out), 0);
+    assert_non_null(strstr(out, "5 robot sta"));
+    assert_string_equal(cli_cmd_words(0, "", NULL)[6], "connect");
+    /* the hint of a repeated command is the command's */
+    assert_true(cli_cmd_hint("3 robot ovr ", out, sizeof out) > 0);
+    assert_string_equal(out, "PERCENT");
+    assert_true(cli_cmd_hint("12 robot mov abs x=1 ", out, sizeof out) > 0);
+    assert_string_equal(out, "y=MM z=MM c=RAD");
+    assert_int_equal(cli_cmd_hint("3", out, sizeof out), 0);
+    assert_int_equal(cli_cmd_hint("3 connect ", out, sizeof out), 11);
+    assert_string_equal(out, "HOST [PORT]");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -239,6 +319,7 @@ int main(void)
         cmocka_unit_test(test_messages),
         cmocka_unit_test(test_help_and_words),
         cmocka_unit_test(test_hints),
+        cmocka_unit_test(test_repeat_connect_help),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -60,6 +60,7 @@ static int g_csv_head;  /* the CSV header was printed */
 static int g_last_dev = -1; /* the device of the last command (the prompt shows it) */
 static int g_echo;
 static int g_hints = 1; /* [cli] hints in the config file */
+static int g_latency;   /* --latency: sample STA reply times (as redis-cli --latency) */
 /* A motion this process started (MOV, PNP sent) that no STA has shown finished and no
  * STP stopped: what ^C stops. A monitor (-r robot sta) never stops a robot others move. */
 static int g_moved[C4GH_CELL_DEVICES];
@@ -543,9 +544,12 @@ static void show_text(int dev, const c4g_cell_reply_t *r)
         printf("%s: OK\n", c4gh_cell_dev_name(dev));
         return;
     }
-    printf("%s: %s, servo %s, override %d %%, error %+06d (%s)\n", c4gh_cell_dev_name(dev),
+    /* The error field is the last error, latched until RST: after an error the command that
+     * fixed it (servo on) does not clear it, so it is shown as history, not as the state. */
+    printf("%s: %s, servo %s, override %d %%, %s %+06d (%s)%s\n", c4gh_cell_dev_name(dev),
            r->moving ? "MOVING" : "stopped", r->servo_on ? "ON" : "off", (int)r->override_pct,
-           (int)r->error, etext);
+           r->error != 0 ? "last error" : "error", (int)r->error, etext,
+           r->error != 0 ? ", latched until rst" : "");
     for (uint32_t a = 0; a < r->pose.n_axes; a++) {
         char h[16];
         snprintf(h, sizeof h, "%s [%s]", axis_label(dev, (int)a),
@@ -743,8 +747,69 @@ static void note_motion(int dev, const char *line, size_t len)
     }
 }
 
-/* Execute one command. */
+/* "HOST:PORT" of each device, for help */
+static void help_addresses(char addr[C4GH_CELL_DEVICES][sizeof g_conn[0].host + 8],
+                           const char *ptr[C4GH_CELL_DEVICES])
+{
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        snprintf(addr[d], sizeof addr[d], "%.255s:%u", g_conn[d].host, g_conn[d].port);
+        ptr[d] = addr[d];
+    }
+}
+
+/* connect: new addresses, the old connections closed, each new one opened at once so the
+ * user learns now whether it answers (a device that does not is reported, not fatal). */
+static int run_connect(const cli_cmd_t *cmd)
+{
+    int rc = EXIT_OK;
+    /* a motion started here that no reply showed finished: leaving its connection would
+     * leave it without the STP a ^C sends, so it is stopped or waited for first */
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        if ((cmd->dev < 0 || d == cmd->dev) && g_moved[d]) {
+            fprintf(stderr, "cell-cli: %s: a motion started here is not seen finished: '%s stp' "
+                            "or 'wait %s stopped' before connect\n", c4gh_cell_dev_name(d),
+                    c4gh_cell_dev_name(d), c4gh_cell_dev_name(d));
+            return EXIT_USAGE;
+        }
+    }
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        if (cmd->dev >= 0 && d != cmd->dev) {
+            continue;
+        }
+        conn_drop(d);
+        snprintf(g_conn[d].host, sizeof g_conn[d].host, "%s", cmd->host);
+        if (cmd->dev >= 0 && cmd->port > 0) {
+            g_conn[d].port = cmd->port;
+        } else if (cmd->dev < 0 && cmd->port > 0) {
+            g_conn[d].port = cmd->port + (unsigned)d;
+        }
+        if (conn_get(d) == 0) {
+            printf("%s: connected to %s:%u\n", c4gh_cell_dev_name(d), g_conn[d].host, g_conn[d].port);
+            g_last_dev = d;
+        } else {
+            rc = EXIT_CONNECT;
+        }
+    }
+    return rc;
+}
+
+static int run_once(const cli_cmd_t *cmd);
+
+/* Execute one command, "N CMD" N times: it stops at the first failure (an ER reply
+ * included: the next repeat would act on a device that refused) and at ^C. */
 static int run_cmd(const cli_cmd_t *cmd)
+{
+    int rc = EXIT_OK;
+    for (long k = 0; k < cmd->repeat || (k == 0 && cmd->repeat <= 0); k++) {
+        rc = run_once(cmd);
+        if (rc != EXIT_OK) {
+            break;
+        }
+    }
+    return rc;
+}
+
+static int run_once(const cli_cmd_t *cmd)
 {
     char reply[C4G_CELL_LINE_MAX];
     char help[4096];
@@ -759,10 +824,17 @@ static int run_cmd(const cli_cmd_t *cmd)
             fputs("\033[H\033[2J", stdout); /* home, erase the screen */
         }
         return EXIT_OK;
-    case CMD_HELP:
-        rc = cli_cmd_help(cmd->topic, help, sizeof help);
+    case CMD_HELP: {
+        char addr[C4GH_CELL_DEVICES][sizeof g_conn[0].host + 8];
+        const char *ptr[C4GH_CELL_DEVICES];
+        help_addresses(addr, ptr); /* the ones in use, not the defaults */
+        rc = cli_cmd_help_at(cmd->topic, ptr, help, sizeof help);
         fputs(help, stdout);
         return rc == 0 ? EXIT_OK : EXIT_USAGE;
+    }
+    case CMD_CONNECT:
+        rc = run_connect(cmd);
+        break;
     case CMD_SLEEP:
         rc = sleep_s(cmd->seconds);
         break;
@@ -796,6 +868,72 @@ static int run_cmd(const cli_cmd_t *cmd)
 }
 
 /* ------------------------------------------------------------------ modes */
+
+/* --latency: STA to one device every 10 ms, its reply time's min, max and average, shown
+ * in place on a terminal and once a second otherwise, until ^C or -r N samples; a final
+ * line either way. Only STA: it moves nothing. */
+static void latency_line(int dev, const uint64_t st[3], unsigned long long n, int final)
+{
+    const int tty = isatty(STDOUT_FILENO);
+    printf("%s%s %s:%u: min %.3f, max %.3f, avg %.3f ms (%llu samples)%s",
+           tty && !final ? "\r\033[K" : "", c4gh_cell_dev_name(dev), g_conn[dev].host,
+           g_conn[dev].port, (double)st[0] / 1e6, (double)st[1] / 1e6,
+           n > 0 ? (double)st[2] / 1e6 / (double)n : 0.0, n, tty && !final ? "" : "\n");
+    fflush(stdout);
+}
+
+static int run_latency(int n_words, char **words, long long samples)
+{
+    cli_cmd_t cmd;
+    char err[256], text[64], reply[C4G_CELL_LINE_MAX];
+    uint64_t st[3] = {UINT64_MAX, 0, 0}; /* min, max, sum [ns] */
+    uint64_t last_line = c4gh_cell_now_ns();
+    unsigned long long n = 0;
+    const int dev = n_words > 0 ? c4gh_cell_dev_parse(words[0]) : C4GH_CELL_DEV_ROBOT;
+    int rc = EXIT_OK;
+    if (n_words > 1 || dev < 0 || dev == C4GH_CELL_DEV_CONDITIONING) {
+        fprintf(stderr, "cell-cli: --latency [robot|platform]: STA needs a device with axes\n");
+        return EXIT_USAGE;
+    }
+    snprintf(text, sizeof text, "%s sta", c4gh_cell_dev_name(dev));
+    if (cli_cmd_parse(text, &cmd, err, sizeof err) != 0) {
+        fprintf(stderr, "cell-cli: %s\n", err);
+        return EXIT_USAGE;
+    }
+    while (samples <= 1 || n < (unsigned long long)samples) {
+        size_t len = 0;
+        c4g_cell_reply_t r;
+        const uint64_t t0 = c4gh_cell_now_ns();
+        uint64_t dt;
+        rc = transact(dev, cmd.line, cmd.len, reply, sizeof reply, &len);
+        if (rc == EXIT_OK) {
+            rc = decode_reply(dev, cmd.line, cmd.len, reply, len, &r);
+        }
+        if (rc != EXIT_OK) {
+            break;
+        }
+        dt = c4gh_cell_now_ns() - t0;
+        st[0] = dt < st[0] ? dt : st[0];
+        st[1] = dt > st[1] ? dt : st[1];
+        st[2] += dt;
+        n++;
+        if (isatty(STDOUT_FILENO) || c4gh_cell_now_ns() - last_line >= 1000000000ULL) {
+            latency_line(dev, st, n, 0);
+            last_line = c4gh_cell_now_ns();
+        }
+        if (sleep_s(0.01) == EXIT_INTR) {
+            break;
+        }
+    }
+    if (n == 0) {
+        st[0] = 0;
+    }
+    if (isatty(STDOUT_FILENO)) {
+        printf("\n");
+    }
+    latency_line(dev, st, n, 1);
+    return rc == EXIT_INTR ? EXIT_OK : rc; /* ^C is how a latency run ends */
+}
 
 /* One script line (streamed: stdin may be a pipe fed over time). 1 a line, 0 end, -1 an
  * error in err: a line over cap - 1 bytes (fgets split it silently), a NUL or other
@@ -1039,6 +1177,9 @@ static void words_before(const LineInfo *li, size_t start, char *buf, size_t cap
     *n = 0;
     w[0] = w[1] = NULL;
     for (char *p = strtok(buf, " \t"); p != NULL; p = strtok(NULL, " \t")) {
+        if (p == buf + strspn(buf, " \t") && strspn(p, "0123456789") == strlen(p)) {
+            continue; /* the count of "N CMD": the command's words follow */
+        }
         if (*n < 2) {
             w[*n] = p;
         }
@@ -1358,6 +1499,8 @@ static const c4gh_cli_opt_t k_opts[] = {
      &g_opt.no_history, 0, 0, 0, NULL, 0},
     {"no-hints", 0, C4GH_CLI_FLAG, NULL, "REPL: no argument hints as you type", &g_opt.no_hints, 0,
      0, 0, NULL, 0},
+    {"latency", 0, C4GH_CLI_FLAG, NULL, "STA to the robot (or the DEVICE given) every 10 ms: reply "
+     "time min, max, avg until ^C (or -r N samples)", &g_latency, 0, 0, 0, NULL, 0},
 };
 
 static const char *const k_examples[] = {
@@ -1367,6 +1510,7 @@ static const char *const k_examples[] = {
     "cell-cli --csv -r -1 -i 1 robot sta > robot.csv  log the robot once a second",
     "cell-cli -p 21001 -f fixtures/cell/pick_and_place.cell",
     "cell-cli raw robot OVR+00050",
+    "cell-cli --latency platform                       reply times until ^C",
     NULL};
 
 static const c4gh_cli_spec_t k_spec = {
@@ -1384,7 +1528,7 @@ static const c4gh_cli_spec_t k_spec = {
     "Commands (see 'cell-cli help'): DEV sta | srvon | srvof | ovr N | stp | itr | rst | clo,\n"
     "  robot mov abs|rel x= y= z= c=, platform mov abs|rel a= b=, robot pnp clear= x= y= z= c=,\n"
     "  conditioning acq N, conditioning hnd N open|close, raw DEV TEXT,\n"
-    "  wait DEV stopped [TIMEOUT], sleep SEC.\n"
+    "  wait DEV stopped [TIMEOUT], sleep SEC, connect HOST [PORT], N COMMAND (N times).\n"
     "\n"
     "Ctrl-C during a command: STP to each device whose motion this run started, then back\n"
     "to the prompt (scripts and one-shot: exit 130); at the prompt it drops the line.\n"
@@ -1548,7 +1692,7 @@ int main(int argc, char **argv)
         return rc;
     }
     if (!(first < argc && strcmp(argv[first], "canopen") == 0)) {
-        signals_setup(g_opt.script[0] == '\0' && first >= argc && isatty(STDIN_FILENO));
+        signals_setup(!g_latency && g_opt.script[0] == '\0' && first >= argc && isatty(STDIN_FILENO));
     }
     if (g_opt.script[0] != '\0') {
         if (first < argc) {
@@ -1556,6 +1700,8 @@ int main(int argc, char **argv)
             return EXIT_USAGE;
         }
         rc = run_script_file(g_opt.script);
+    } else if (g_latency) {
+        rc = run_latency(argc - first, argv + first, g_opt.repeat);
     } else if (first < argc && strcmp(argv[first], "canopen") == 0) {
         rc = cli_canopen_run(g_conn[C4GH_CELL_DEV_PLATFORM].host, g_conn[C4GH_CELL_DEV_PLATFORM].port + 10U,
                              argc - first - 1, argv + first + 1, g_reply_ms);

@@ -41,6 +41,11 @@ static const struct {
     {"wait", "wait DEV stopped [TIMEOUT]  poll STA until the device has stopped (default 60 s)"},
     {"sleep", "sleep SECONDS      pause (scripts)"},
     {"clear", "clear              clear the screen (REPL)"},
+    {"connect", "connect HOST [PORT]  talk to the devices on HOST: robot PORT, platform PORT+1,\n"
+                "                   conditioning PORT+2 (no PORT: the ports in use);\n"
+                "connect DEV HOST[:PORT]  one device elsewhere"},
+    {"N", "N COMMAND          run COMMAND N times (1.." "100000), stopping at the first failure,\n"
+          "                   e.g. 5 robot sta"},
     {"quit", "quit | exit        leave the REPL"},
 };
 #define N_TOOL_HELP (sizeof k_tool_help / sizeof k_tool_help[0])
@@ -385,7 +390,40 @@ static int parse_raw(const char *text, cli_cmd_t *out, char *err, size_t cap)
     return 0;
 }
 
-/* quit, help, sleep, wait: 1 if w[0] is none of them. */
+/* connect HOST [PORT] | connect DEV HOST[:PORT] */
+static int parse_connect(char **w, int n, cli_cmd_t *out, char *err, size_t cap)
+{
+    static const char usage[] = "usage: connect HOST [PORT] | connect robot|platform|conditioning "
+                                "HOST[:PORT]";
+    int dev = n == 3 ? c4gh_cell_dev_parse(w[1]) : -1;
+    out->kind = CMD_CONNECT;
+    out->dev = -1;
+    out->port = 0;
+    if (n < 2 || n > 3) {
+        return errf(err, cap, usage);
+    }
+    if (dev >= 0) {
+        out->dev = dev;
+        if (c4gh_cell_parse_hostport(w[2], out->host, sizeof out->host, &out->port) != 0) {
+            return errf(err, cap, "connect: bad address '%s' (HOST or HOST:PORT)", w[2]);
+        }
+        return 0;
+    }
+    if (strlen(w[1]) >= sizeof out->host || strchr(w[1], ':') != NULL) {
+        return errf(err, cap, "%s", usage);
+    }
+    snprintf(out->host, sizeof out->host, "%s", w[1]);
+    if (n == 3) {
+        int32_t p;
+        if (parse_int_arg(w[2], 1, 65533, "PORT", &p, err, cap) != 0) {
+            return -1;
+        }
+        out->port = (unsigned)p;
+    }
+    return 0;
+}
+
+/* quit, help, sleep, wait, connect: 1 if w[0] is none of them. */
 static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap)
 {
     if (strcasecmp(w[0], "quit") == 0 || strcasecmp(w[0], "exit") == 0) {
@@ -400,6 +438,9 @@ static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap
         out->kind = CMD_HELP;
         snprintf(out->topic, sizeof out->topic, "%s", n > 1 ? w[1] : "");
         return 0;
+    }
+    if (strcasecmp(w[0], "connect") == 0) {
+        return parse_connect(w, n, out, err, cap);
     }
     if (strcasecmp(w[0], "sleep") == 0) {
         out->kind = CMD_SLEEP;
@@ -422,13 +463,61 @@ static int parse_tool_cmd(char **w, int n, cli_cmd_t *out, char *err, size_t cap
     return 1;
 }
 
+/* "N CMD": the count and where the command starts; 0 when the line has no count. */
+static int repeat_prefix(const char *text, long *count, const char **rest)
+{
+    const char *p = text;
+    long v = 0;
+    while (isspace((unsigned char)*p)) {
+        p++;
+    }
+    if (!isdigit((unsigned char)*p)) {
+        return 0;
+    }
+    while (isdigit((unsigned char)*p)) {
+        v = v > CLI_REPEAT_MAX ? v : v * 10 + (*p - '0');
+        p++;
+    }
+    if (*p != '\0' && !isspace((unsigned char)*p)) {
+        return 0; /* "2001x": not a count, reported as an unknown word */
+    }
+    *count = v;
+    *rest = p;
+    return 1;
+}
+
+static int cmd_parse_one(const char *text, cli_cmd_t *out, char *err, size_t err_cap);
+
 int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
+{
+    long count = 1;
+    const char *rest = text;
+    if (repeat_prefix(text, &count, &rest)) {
+        if (count < 1 || count > CLI_REPEAT_MAX) {
+            memset(out, 0, sizeof *out);
+            return errf(err, err_cap, "N COMMAND: N must be 1..%ld", CLI_REPEAT_MAX);
+        }
+        if (cmd_parse_one(rest, out, err, err_cap) != 0) {
+            return -1;
+        }
+        if (out->kind == CMD_EMPTY || out->kind == CMD_QUIT || out->kind == CMD_CONNECT ||
+            out->kind == CMD_HELP || out->kind == CMD_CLEAR) {
+            return errf(err, err_cap, "N COMMAND: repeats a device command, wait or sleep");
+        }
+        out->repeat = count;
+        return 0;
+    }
+    return cmd_parse_one(text, out, err, err_cap);
+}
+
+static int cmd_parse_one(const char *text, cli_cmd_t *out, char *err, size_t err_cap)
 {
     char buf[512];
     char *w[MAX_WORDS];
     int n, rc, dev;
     memset(out, 0, sizeof *out);
     out->dev = -1;
+    out->repeat = 1;
     if (strlen(text) >= sizeof buf) {
         return errf(err, err_cap, "command too long");
     }
@@ -481,11 +570,19 @@ static size_t append_indented(char *out, size_t cap, size_t o, const char *text)
     return o;
 }
 
-static int help_overview(char *out, size_t cap)
+static int help_overview(const char *const addr[], char *out, size_t cap)
 {
-    size_t o = (size_t)snprintf(out, cap,
-                                "Devices: robot (port 2001), platform (2002), conditioning (2003);\n"
-                                "any unique prefix works (r, p, c). Commands:\n");
+    size_t o;
+    if (addr != NULL) {
+        o = (size_t)snprintf(out, cap, "Devices: robot (%s), platform (%s), conditioning (%s);\n",
+                             addr[C4GH_CELL_DEV_ROBOT], addr[C4GH_CELL_DEV_PLATFORM],
+                             addr[C4GH_CELL_DEV_CONDITIONING]);
+    } else {
+        o = (size_t)snprintf(out, cap, "Devices: robot (port 2001), platform (2002), conditioning "
+                                       "(2003);\n");
+    }
+    o += (size_t)snprintf(out + o, o < cap ? cap - o : 0, "any unique prefix works (r, p, c). "
+                                                          "Commands:\n");
     for (size_t i = 0; i < N_ROWS && o < cap; i++) {
         o = append_indented(out, cap, o, k_rows[i].help);
     }
@@ -493,22 +590,80 @@ static int help_overview(char *out, size_t cap)
         o = append_indented(out, cap, o, k_tool_help[i].text);
     }
     if (o < cap) {
-        snprintf(out + o, cap - o, "help COMMAND shows one command; replies ER+nnnnn are "
-                                   "explained with the spec's meaning.\n");
+        snprintf(out + o, cap - o, "help COMMAND shows one command, help DEVICE its commands; "
+                                   "replies ER+nnnnn are\nexplained with the spec's meaning.\n");
     }
     return 0;
 }
 
-int cli_cmd_help(const char *topic, char *out, size_t cap)
+/* The device whose full name starts a help line ("platform mov ..."), -1 for none ("DEV"). */
+static int line_device(const char *p, size_t n)
 {
-    if (topic == NULL || topic[0] == '\0') {
-        return help_overview(out, cap);
-    }
-    for (size_t i = 0; i < N_ROWS; i++) {
-        if (row_has_word(&k_rows[i], topic)) {
-            snprintf(out, cap, "%s\n", k_rows[i].help);
-            return 0;
+    size_t w = strcspn(p, " \n");
+    for (int d = 0; d < C4GH_CELL_DEVICES; d++) {
+        const char *name = c4gh_cell_dev_name(d);
+        if (w <= n && w == strlen(name) && strncmp(p, name, w) == 0) {
+            return d;
         }
+    }
+    return -1;
+}
+
+/* The help rows of the commands device dev takes, DEV replaced by its name and the lines
+ * of another device's form left out ("platform mov ..." under robot). */
+static int help_device(int dev, char *out, size_t cap)
+{
+    const char *name = c4gh_cell_dev_name(dev);
+    size_t o = (size_t)snprintf(out, cap, "Commands of the %s:\n", name);
+    for (size_t i = 0; i < N_ROWS && o < cap; i++) {
+        const char *p = k_rows[i].help;
+        int keep = 0;
+        if ((k_rows[i].devices & (1U << dev)) == 0U) {
+            continue;
+        }
+        while (*p != '\0' && o < cap) {
+            size_t n = strcspn(p, "\n");
+            int other = line_device(p, n);
+            if (n > 0 && p[0] != ' ') {
+                keep = other < 0 || other == dev; /* a line of its own form, or of every device */
+            }
+            if (keep) {
+                o += (size_t)snprintf(out + o, cap - o, "  ");
+                for (size_t k = 0; k < n && o < cap; k++) {
+                    if (n - k >= 4 && strncmp(p + k, "DEV ", 4) == 0) {
+                        o += (size_t)snprintf(out + o, cap - o, "%s ", name);
+                        k += 3;
+                    } else {
+                        out[o++] = p[k];
+                    }
+                }
+                o += (size_t)snprintf(out + o, o < cap ? cap - o : 0, "\n");
+            }
+            p += n + (p[n] == '\n' ? 1 : 0);
+        }
+    }
+    if (o >= cap && cap > 0) {
+        out[cap - 1] = '\0';
+    }
+    return 0;
+}
+
+int cli_cmd_help_at(const char *topic, const char *const addr[], char *out, size_t cap)
+{
+    size_t o = 0;
+    int dev;
+    if (topic == NULL || topic[0] == '\0') {
+        return help_overview(addr, out, cap);
+    }
+    out[0] = '\0';
+    /* every row the word names: "servo" is the first word of "servo on" and "servo off" */
+    for (size_t i = 0; i < N_ROWS && o < cap; i++) {
+        if (row_has_word(&k_rows[i], topic)) {
+            o += (size_t)snprintf(out + o, cap - o, "%s\n", k_rows[i].help);
+        }
+    }
+    if (o > 0) {
+        return 0;
     }
     for (size_t i = 0; i < N_TOOL_HELP; i++) {
         if (strcasecmp(topic, k_tool_help[i].topic) == 0) {
@@ -516,8 +671,17 @@ int cli_cmd_help(const char *topic, char *out, size_t cap)
             return 0;
         }
     }
+    dev = c4gh_cell_dev_parse(topic);
+    if (dev >= 0) {
+        return help_device(dev, out, cap);
+    }
     snprintf(out, cap, "no help for '%s' (try: help)\n", topic);
     return -1;
+}
+
+int cli_cmd_help(const char *topic, char *out, size_t cap)
+{
+    return cli_cmd_help_at(topic, NULL, out, cap);
 }
 
 /* Completion lists built once from the table: the primary words per device, and the
@@ -577,7 +741,7 @@ static const char *const *arg_words(int word, int dev, const char *second)
 const char *const *cli_cmd_words(int word, const char *first, const char *second)
 {
     static const char *const w0[] = {"robot", "platform", "conditioning", "raw", "wait",
-                                     "sleep", "help", "clear", "quit", NULL};
+                                     "sleep", "connect", "help", "clear", "quit", NULL};
     static const char *const devs[] = {"robot", "platform", "conditioning", NULL};
     static const char *const motion_devs[] = {"robot", "platform", NULL};
     static const char *const stopped[] = {"stopped", NULL};
@@ -595,6 +759,9 @@ const char *const *cli_cmd_words(int word, const char *first, const char *second
     if (strcasecmp(first, "help") == 0) {
         return word == 1 ? g_topics : NULL;
     }
+    if (strcasecmp(first, "connect") == 0) {
+        return word == 1 ? devs : NULL;
+    }
     dev = c4gh_cell_dev_parse(first);
     if (dev < 0) {
         return NULL;
@@ -606,6 +773,8 @@ const char *const *cli_cmd_words(int word, const char *first, const char *second
 }
 
 /* ------------------------------------------------------------------ hints as you type */
+
+static size_t hint_of(const char *line, char *out, size_t cap);
 
 /* A hint template is the arguments of a command, space-separated: a word of lower-case
  * choices ("abs|rel", "robot|platform"), a placeholder in capitals ("PERCENT", "[TIMEOUT]")
@@ -755,7 +924,8 @@ static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
         const char *word, *args;
     } tool[] = {{"help", "[COMMAND]"}, {"?", "[COMMAND]"}, {"sleep", "SECONDS"},
                 {"wait", "robot|platform stopped [TIMEOUT]"},
-                {"raw", "robot|platform|conditioning TEXT"}, {"clear", ""}, {"quit", ""},
+                {"raw", "robot|platform|conditioning TEXT"}, {"connect", "HOST [PORT]"},
+                {"clear", ""}, {"quit", ""},
                 {"exit", ""}};
     int dev = c4gh_cell_dev_parse(w[0]);
     *k = 1;
@@ -793,6 +963,16 @@ static int command_tpl(char **w, int n, int typing, hint_tpl_t *t, int *k)
 }
 
 size_t cli_cmd_hint(const char *line, char *out, size_t cap)
+{
+    long count;
+    const char *rest;
+    if (repeat_prefix(line, &count, &rest) && *rest != '\0') {
+        return cli_cmd_hint(rest + 1, out, cap); /* "3 robot mov ": the command's hint */
+    }
+    return hint_of(line, out, cap);
+}
+
+static size_t hint_of(const char *line, char *out, size_t cap)
 {
     char buf[512];
     char *w[MAX_WORDS];

@@ -16,8 +16,12 @@ typedef enum cmd_kind {
     CMD_SLEEP,       /* sleep <seconds> */
     CMD_HELP,        /* help [topic] */
     CMD_CLEAR,       /* clear the screen */
+    CMD_CONNECT,     /* connect HOST [PORT] | connect DEV HOST[:PORT] */
     CMD_QUIT
 } cmd_kind_t;
+
+/* The most times "N CMD" runs a command (as redis-cli's "3 ping"). */
+#define CLI_REPEAT_MAX 100000L
 
 typedef struct cli_cmd {
     cmd_kind_t kind;
@@ -27,13 +31,19 @@ typedef struct cli_cmd {
     size_t len;
     double seconds;          /* SLEEP, WAIT timeout */
     char topic[32];          /* HELP */
+    char host[256];          /* CONNECT */
+    unsigned port;           /* CONNECT: 0 keeps the device's port (ports of all from here) */
+    long repeat;             /* "N CMD": run N times (1 without a count) */
 } cli_cmd_t;
 
 /* Parse one command; on error returns -1 with a message in err. */
 int cli_cmd_parse(const char *text, cli_cmd_t *out, char *err, size_t err_cap);
 
-/* Help: the overview (topic NULL/empty) or one command's help; 0 if found. */
+/* Help: the overview (topic NULL/empty), every command a word names ("servo": srvon and
+ * srvof) or a device's commands ("robot"); 0 if found. The overview names the devices'
+ * addresses: addr[dev] ("127.0.0.1:2001"), or the default ports when addr is NULL. */
 int cli_cmd_help(const char *topic, char *out, size_t cap);
+int cli_cmd_help_at(const char *topic, const char *const addr[], char *out, size_t cap);
 
 /* Words completion can offer at word index @p word given the first word. */
 const char *const *cli_cmd_words(int word, const char *first, const char *second);
