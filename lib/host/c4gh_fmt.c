@@ -149,77 +149,90 @@ static const char two_digits[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Digits of f (no leading zero, f < 10^9) into d; returns their count. */
-static unsigned put_digits(uint32_t f, char *d)
+/* Number of decimal digits of m (0 < m < 10^10). */
+static unsigned count_digits(uint32_t m)
 {
-    char tmp[10];
-    unsigned n = 10U;
-    uint32_t x = f;
+    unsigned n = 1U;
+    uint32_t p = 10U;
+    while ((n < 10U) && (m >= p)) {
+        n++;
+        p = (n < 10U) ? p * 10U : p;
+    }
+    return n;
+}
+
+/* The digits of m written backwards so that the last one lands at end[-1]; two at a time
+ * from the table, each copy of a constant size (no call into memcpy). */
+static void digits_back(uint32_t m, char *end)
+{
+    char *p = end;
+    uint32_t x = m;
     while (x >= 100U) {
         const uint32_t r = x % 100U;
         x /= 100U;
-        n -= 2U;
-        memcpy(tmp + n, two_digits + 2U * r, 2U);
+        p -= 2;
+        p[0] = two_digits[2U * r];
+        p[1] = two_digits[2U * r + 1U];
     }
     if (x >= 10U) {
-        n -= 2U;
-        memcpy(tmp + n, two_digits + 2U * x, 2U);
+        p -= 2;
+        p[0] = two_digits[2U * x];
+        p[1] = two_digits[2U * x + 1U];
     } else {
-        n--;
-        tmp[n] = (char)('0' + x);
+        p[-1] = (char)('0' + x);
     }
-    memcpy(d, tmp + n, 10U - n);
-    return 10U - n;
 }
 
 /* f 10^e as %g would print f's digits: f > 0, at most 9 digits. */
 static size_t to_chars(uint32_t f, int32_t e, char *out)
 {
-    char d[10];
     uint32_t m = f;
     int32_t x;
-    unsigned n;
-    size_t len = 0U;
+    unsigned n, k;
+    size_t len;
     while ((m % 10U) == 0U) { /* the shortest text has no trailing zero */
         m /= 10U;
         e++;
     }
-    n = put_digits(m, d);
+    n = count_digits(m);
     x = e + (int32_t)n - 1; /* the decimal exponent of the first digit */
     if ((x < -4) || (x >= 9)) {
         unsigned ax;
-        out[len++] = d[0];
+        digits_back(m, out + 1 + n); /* d.ddd: the digits at 1..n, the first moved to 0 */
+        out[0] = out[1];
+        len = 1U;
         if (n > 1U) {
-            out[len++] = '.';
-            memcpy(out + len, d + 1, n - 1U);
-            len += n - 1U;
+            out[1] = '.';
+            len = n + 1U;
         }
         out[len++] = 'e';
         out[len++] = (x < 0) ? '-' : '+';
-        ax = (unsigned)((x < 0) ? -x : x);
-        memcpy(out + len, two_digits + 2U * ax, 2U); /* |x| <= 45 */
-        len += 2U;
+        ax = (unsigned)((x < 0) ? -x : x); /* |x| <= 45 */
+        out[len++] = two_digits[2U * ax];
+        out[len++] = two_digits[2U * ax + 1U];
     } else if (x < 0) {
-        const size_t z = (size_t)(-x - 1);
-        out[len++] = '0';
-        out[len++] = '.';
-        memset(out + len, '0', z);
-        len += z;
-        memcpy(out + len, d, n);
-        len += n;
+        const unsigned z = (unsigned)(-x - 1); /* 0.000ddd */
+        out[0] = '0';
+        out[1] = '.';
+        for (k = 0U; k < z; k++) {
+            out[2U + k] = '0';
+        }
+        len = 2U + z + n;
+        digits_back(m, out + len);
     } else if ((unsigned)x + 1U >= n) { /* an integer: zeros up to the point */
-        const size_t z = (size_t)x + 1U - n;
-        memcpy(out + len, d, n);
-        len += n;
-        memset(out + len, '0', z);
-        len += z;
+        len = (size_t)x + 1U;
+        digits_back(m, out + n);
+        for (k = n; k < len; k++) {
+            out[k] = '0';
+        }
     } else {
-        const size_t ip = (size_t)x + 1U;
-        memcpy(out + len, d, ip);
-        len += ip;
-        out[len++] = '.';
-        memcpy(out + len, d + ip, n - ip);
-        len += n - ip;
+        const unsigned ip = (unsigned)x + 1U; /* ddd.ddd: written whole, the point let in */
+        digits_back(m, out + n + 1U);
+        for (k = 0U; k < ip; k++) {
+            out[k] = out[k + 1U];
+        }
+        out[ip] = '.';
+        len = n + 1U;
     }
     out[len] = '\0';
     return len;
