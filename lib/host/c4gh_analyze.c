@@ -305,8 +305,8 @@ static void judge(c4gh_an_t *a, c4gh_an_session_t *s, int64_t t_next, const c4gh
                     "reply to NUM %d came %.0f us after the packet (T_CYCLE1 %.0f us)", (int)o->num,
                     (double)(o->got_ns - o->sent_ns) * 1e-3, (double)a->opt.t_cycle1_ns * 1e-3);
         }
-        if (o->kind == C4G_PKT_CYCLIC) {
-            s->last_tx = o->reply;
+        if (o->kind == C4G_PKT_CYCLIC && a->opt.max_step > 0.0) {
+            s->last_tx = o->reply; /* only the step rule reads it: a 750-byte copy a tick */
             s->have_last_tx = 1;
         }
     } else if (v == C4G_CTRL_J_MISSING) {

@@ -140,7 +140,7 @@ typedef struct c4gh_an_session {
     /* internal */
     c4g_ctrl_packet_t rx;       /* the outstanding controller packet, decoded */
     int rx_ok;
-    c4g_pc_packet_t last_tx;    /* the last reply judged ok */
+    c4g_pc_packet_t last_tx;    /* the last reply judged ok (kept with opt.max_step > 0) */
     int have_last_tx;
     int cold;                   /* syncs seen before the init packet */
     unsigned post_sync;         /* syncs still expected after the init packet */

@@ -10,6 +10,7 @@
 #include <pcap/pcap.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdio_ext.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -313,6 +314,11 @@ c4gh_cap_t *c4gh_cap_open(const char *path, char *err, size_t errlen)
         say(err, errlen, "%s: %s", path, strerror(errno));
         return NULL;
     }
+    /* libpcap reads each record with two small freads: one reader, so no stream locks, and
+     * a large buffer, so one read() per 1 MiB instead of per 4 KiB (the system time of a
+     * long capture falls to about a quarter) */
+    (void)__fsetlocking(fp, FSETLOCKING_BYCALLER);
+    (void)setvbuf(fp, NULL, _IOFBF, (size_t)1U << 20);
     c = c4gh_cap_open_stream(fp, path, err, errlen);
     if (c != NULL) {
         c->size = size;

@@ -22,6 +22,7 @@ import os
 import re
 import shutil
 import signal
+import struct
 import subprocess
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -705,6 +706,56 @@ def test_rerun(bins):
     ok("  ... the option and its value in the message", "--sine: bad value 'fast'" in err, err)
 
 
+def f32_bits(x):
+    return struct.unpack("<I", struct.pack("<f", x))[0]
+
+
+def shortest_digits(x):
+    """The fewest significant digits whose %g text reads back to the float32 x."""
+    for p in range(1, 10):
+        if f32_bits(float("%.*g" % (p, x))) == f32_bits(x):
+            return p
+    return 9
+
+
+def sig_digits(text):
+    mant = text.lstrip("-").split("e")[0].replace(".", "").lstrip("0").rstrip("0")
+    return max(len(mant), 1)
+
+
+def shortest_floats(bins):
+    """export's CSV floats: each reads back to the float32 its JSON line carries (a 9-digit
+    decimal there), in the fewest digits that do so."""
+    rc, out, _ = rp(bins, "export", FX + "/mode4.pcap")
+    rc2, js, _ = rp(bins, "export", "--json-lines", FX + "/mode4.pcap")
+    rows = out.splitlines()[1:]
+    objs = [json.loads(l) for l in js.splitlines()]
+    ok("export CSV and JSON lines of mode4.pcap: exit 0, the same ticks",
+       (rc, rc2, len(rows)) == (0, 0, len(objs)) and len(rows) > 300, (rc, rc2, len(rows), len(objs)))
+    names = ("d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3")
+    bad, n, shorter = [], 0, 0
+    for row, o in zip(rows, objs):
+        f = row.split(",")
+        col = 12
+        for side in ("ctrl", "pc"):
+            axes = o[side]["axes"] if o[side] else []
+            for ax in axes:
+                for k, name in enumerate(names):
+                    text, want = f[col + 1 + k], ax[name]
+                    n += 1
+                    if want is None:
+                        good = text in ("nan", "inf", "-inf")
+                    else:
+                        good = (f32_bits(float(text)) == f32_bits(want) and
+                                sig_digits(text) == shortest_digits(float(text)))
+                        shorter += len(text) < len("%.9g" % struct.unpack("<f", struct.pack("<f", want))[0])
+                    if not good and len(bad) < 5:
+                        bad.append((o["tick"], side, ax["axis"], name, text, want))
+                col += 9
+    ok("export CSV: every float the shortest text of the JSON line's float32 (%d fields, %d "
+       "shorter than %%.9g)" % (n, shorter), n > 10000 and not bad and shorter > 0, bad)
+
+
 @checked
 def test_export_plot(bins, tmp_path):
     """6. export and plot"""
@@ -714,6 +765,7 @@ def test_export_plot(bins, tmp_path):
        (rc, len(lines) - 1))
     f = lines[1].split(",") if len(lines) > 1 else []
     ok("  ... tick 1 carries NUM 13, its reply NUM 14", f[1:2] + f[5:7] == ["1", "13", "14"], f[:8])
+    shortest_floats(bins)
     rc, out, _ = rp(bins, "export", "--moni", "20", FX + "/mode0.pcap")
     ok("export --moni 20: exit 0, rows", rc == 0 and len(out.splitlines()) > 100, (rc, len(out.splitlines())))
     rc, out, _ = rp(bins, "export", "--json-lines", "--from", "0.1", "--to", "0.2", FX + "/mode0.pcap")

@@ -6,6 +6,7 @@
 #include "replay.h"
 
 #include "c4gh_csv.h"
+#include "c4gh_fmt.h"
 #include "c4gh_textfile.h"
 
 #include <jansson.h>
@@ -59,53 +60,154 @@ static void csv_header(ex_ctx_t *e, unsigned n)
     fputc('\n', e->out);
 }
 
-static void csv_side(ex_ctx_t *e, const uint8_t *d, size_t len, unsigned n)
+/* The CSV row is built in memory and written with one fwrite: the fields are short and
+ * many (108 floats a row at 6 axes), so stdio's per-call work and printf's format parsing
+ * would cost more than the digits. Floats are their shortest text (c4gh_fmt.h). */
+#define ROW_CAP (200U + 2U * C4G_MAX_AXES * (12U + 8U * C4GH_F32_TEXT_MAX))
+
+typedef struct row_buf {
+    char b[ROW_CAP];
+    size_t n;
+} row_buf_t;
+
+static void put_lit(row_buf_t *r, const char *s, size_t len)
+{
+    memcpy(r->b + r->n, s, len);
+    r->n += len;
+}
+
+static void put_u64(row_buf_t *r, uint64_t v)
+{
+    char t[20];
+    size_t k = sizeof t;
+    do {
+        t[--k] = (char)('0' + (v % 10U));
+        v /= 10U;
+    } while (v != 0U);
+    put_lit(r, t + k, sizeof t - k);
+}
+
+static void put_i64(row_buf_t *r, int64_t v)
+{
+    if (v < 0) {
+        r->b[r->n++] = '-';
+        put_u64(r, (uint64_t)(-(v + 1)) + 1U);
+    } else {
+        put_u64(r, (uint64_t)v);
+    }
+}
+
+static void put_hex32(row_buf_t *r, uint32_t v)
+{
+    static const char hex[] = "0123456789abcdef";
+    unsigned k;
+    r->b[r->n++] = '0';
+    r->b[r->n++] = 'x';
+    for (k = 0U; k < 8U; k++) {
+        r->b[r->n++] = hex[(v >> (28U - 4U * k)) & 0xFU];
+    }
+}
+
+/* v / 10^decimals with exactly @p decimals digits after the point, v an exact integer
+ * (ns or us): what %.9f / %.3f print for v * 1e-9 / v * 1e-3 while the double's error stays
+ * far below half a last digit (|v| < 10^15 here; beyond, printf itself). */
+static void put_fixed(row_buf_t *r, int64_t v, unsigned decimals, double as_double)
+{
+    static const uint64_t p10[] = {1U, 10U, 100U, 1000U, 10000U, 100000U, 1000000U, 10000000U,
+                                   100000000U, 1000000000U};
+    uint64_t m, frac;
+    char t[10];
+    unsigned k;
+    if (v <= -INT64_C(1000000000000000) || v >= INT64_C(1000000000000000)) {
+        r->n += (size_t)snprintf(r->b + r->n, 40U, "%.*f", (int)decimals, as_double);
+        return;
+    }
+    if (v < 0) {
+        r->b[r->n++] = '-';
+        m = (uint64_t)(-v);
+    } else {
+        m = (uint64_t)v;
+    }
+    put_u64(r, m / p10[decimals]);
+    r->b[r->n++] = '.';
+    frac = m % p10[decimals];
+    for (k = decimals; k > 0U; k--) {
+        t[k - 1U] = (char)('0' + (frac % 10U));
+        frac /= 10U;
+    }
+    put_lit(r, t, decimals);
+}
+
+static void csv_side(const ex_ctx_t *e, row_buf_t *r, const uint8_t *d, size_t len, unsigned n)
 {
     const unsigned have = (d != NULL) ? axes_in(len) : 0U;
     unsigned i, k;
     for (i = 0U; i < n; i++) {
+        const uint8_t *a;
         if (!axis_on(e, i)) {
             continue;
         }
         if (i >= have) {
-            fprintf(e->out, ",,,,,,,,,");
+            put_lit(r, ",,,,,,,,,", 9U);
             continue;
         }
-        fprintf(e->out, ",%d", (int)c4g_le_i32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE));
+        a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
+        r->b[r->n++] = ',';
+        put_i64(r, c4g_le_i32(a));
         for (k = 0U; k < 8U; k++) {
-            fprintf(e->out, ",%.9g", (double)c4g_le_f32(d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE + 4U + 4U * k));
+            r->b[r->n++] = ',';
+            r->n += c4gh_fmt_f32(c4g_le_f32(a + 4U + 4U * k), r->b + r->n);
         }
     }
 }
 
 static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
+    static row_buf_t r;
     const unsigned n = axes_in(x->ctrl_len);
     if (!e->header_done || n != e->last_header_axes) {
         csv_header(e, n);
         e->header_done = 1U;
         e->last_header_axes = n;
     }
-    fprintf(e->out, "%u,%llu,%.9f,%llu,", x->s->id, (unsigned long long)x->tick, t,
-            (unsigned long long)x->ctrl_frame);
+    r.n = 0U;
+    put_u64(&r, x->s->id);
+    r.b[r.n++] = ',';
+    put_u64(&r, x->tick);
+    r.b[r.n++] = ',';
+    put_fixed(&r, x->ctrl_ns - x->s->first_ns, 9U, t);
+    r.b[r.n++] = ',';
+    put_u64(&r, x->ctrl_frame);
+    r.b[r.n++] = ',';
     if (x->reply != NULL) {
-        fprintf(e->out, "%llu", (unsigned long long)x->reply_frame);
+        put_u64(&r, x->reply_frame);
     }
-    fprintf(e->out, ",%d,", (int)c4g_le_i32(x->ctrl));
+    r.b[r.n++] = ',';
+    put_i64(&r, c4g_le_i32(x->ctrl));
+    r.b[r.n++] = ',';
     if (x->reply != NULL && x->reply_len >= 4U) {
-        fprintf(e->out, "%d,%.3f", (int)c4g_le_i32(x->reply), (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        put_i64(&r, c4g_le_i32(x->reply));
+        r.b[r.n++] = ',';
+        put_fixed(&r, x->reply_ns - x->ctrl_ns, 3U, (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
-        fputc(',', e->out);
+        r.b[r.n++] = ',';
     }
-    fprintf(e->out, ",0x%08x,0x%08x,", (unsigned)c4g_le_u32(x->ctrl + 4), (unsigned)c4g_le_u32(x->ctrl + 8));
+    r.b[r.n++] = ',';
+    put_hex32(&r, c4g_le_u32(x->ctrl + 4));
+    r.b[r.n++] = ',';
+    put_hex32(&r, c4g_le_u32(x->ctrl + 8));
+    r.b[r.n++] = ',';
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        fprintf(e->out, "0x%08x,0x%08x", (unsigned)c4g_le_u32(x->reply + 4), (unsigned)c4g_le_u32(x->reply + 8));
+        put_hex32(&r, c4g_le_u32(x->reply + 4));
+        r.b[r.n++] = ',';
+        put_hex32(&r, c4g_le_u32(x->reply + 8));
     } else {
-        fputc(',', e->out);
+        r.b[r.n++] = ',';
     }
-    csv_side(e, x->ctrl, x->ctrl_len, n);
-    csv_side(e, x->reply, x->reply_len, n);
-    fputc('\n', e->out);
+    csv_side(e, &r, x->ctrl, x->ctrl_len, n);
+    csv_side(e, &r, x->reply, x->reply_len, n);
+    r.b[r.n++] = '\n';
+    (void)fwrite(r.b, 1U, r.n, e->out);
 }
 
 /* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
@@ -308,7 +410,8 @@ static const char epilogue[] =
     "controller's packet) and pi_mode..pi_ext3 (the PC's valid reply, the one to 504 included;\n"
     "empty when none came in time).\n"
     "tick is the cyclic packet's number in its session (1 = the first), time seconds since\n"
-    "the session's first packet; floats are printed with 9 digits.\n";
+    "the session's first packet; each float is its shortest text that reads back to the\n"
+    "same float32 (strtof), nan for a NaN, inf / -inf.\n";
 
 int rp_cmd_export(int argc, char **argv)
 {

@@ -1,0 +1,328 @@
+/* SPDX-License-Identifier: MIT */
+/* The shortest float32 text (c4gh_fmt.h). The digits come from the Schubfach method
+ * (R. Giulietti, "The Schubfach way to render doubles", 2020) in its float32 form: the
+ * rounding interval of the float, scaled by a power of ten picked so that it holds at most
+ * one multiple of ten units (the shorter text) and at least one unit, is computed with one
+ * 64 x 64-bit multiplication per bound against a table of 63-bit powers of ten (rounded
+ * up, with a sticky bit: exact enough to decide every comparison the method makes, which
+ * the exhaustive test in bench/fmt_exhaustive.c checks over all 2^32 floats). No division,
+ * no loop over digits but the one that writes them: about 20 ns a float, where glibc's
+ * %.9g takes ten times that. */
+#include "c4gh_fmt.h"
+
+#include <stdint.h>
+#include <string.h>
+
+#define P_BITS 24            /* significand bits, the hidden one included */
+#define Q_MIN (-149)         /* exponent of the smallest subnormal's unit */
+#define C_MIN (1U << 23)     /* smallest normal significand */
+#define K_MIN (-45)          /* the table's first power: 10^45 */
+#define MASK32 UINT64_C(0xFFFFFFFF)
+
+/* g(k) = floor(10^-k 2^(62 - r)), r = floor(log2 10^-k), k = -45..31: 2^62 <= g < 2^63.
+ * scripts/gen-f32-table.py computes it with exact integers (and checks the logarithm
+ * approximations below over every exponent they meet). */
+static const uint64_t g_pow10[] = {
+    UINT64_C(0x59AEDFC10D7279C5), /* k = -45 */
+    UINT64_C(0x47BF19673DF52E37), /* k = -44 */
+    UINT64_C(0x72CB5BD86321E38C), /* k = -43 */
+    UINT64_C(0x5BD5E313828182D6), /* k = -42 */
+    UINT64_C(0x4977E8DC68679BDF), /* k = -41 */
+    UINT64_C(0x758CA7C70D7292FE), /* k = -40 */
+    UINT64_C(0x5E0A1FD271287598), /* k = -39 */
+    UINT64_C(0x4B3B4CA85A86C47A), /* k = -38 */
+    UINT64_C(0x785EE10D5DA46D90), /* k = -37 */
+    UINT64_C(0x604BE73DE4838AD9), /* k = -36 */
+    UINT64_C(0x4D0985CB1D3608AE), /* k = -35 */
+    UINT64_C(0x7B426FAB61F00DE3), /* k = -34 */
+    UINT64_C(0x629B8C891B267182), /* k = -33 */
+    UINT64_C(0x4EE2D6D415B85ACE), /* k = -32 */
+    UINT64_C(0x7E37BE2022C0914B), /* k = -31 */
+    UINT64_C(0x64F964E68233A76F), /* k = -30 */
+    UINT64_C(0x50C783EB9B5C85F2), /* k = -29 */
+    UINT64_C(0x409F9CBC7C4A04C2), /* k = -28 */
+    UINT64_C(0x6765C793FA10079D), /* k = -27 */
+    UINT64_C(0x52B7D2DCC80CD2E4), /* k = -26 */
+    UINT64_C(0x422CA8B0A00A4250), /* k = -25 */
+    UINT64_C(0x69E10DE76676D080), /* k = -24 */
+    UINT64_C(0x54B40B1F852BDA00), /* k = -23 */
+    UINT64_C(0x43C33C1937564800), /* k = -22 */
+    UINT64_C(0x6C6B935B8BBD4000), /* k = -21 */
+    UINT64_C(0x56BC75E2D6310000), /* k = -20 */
+    UINT64_C(0x4563918244F40000), /* k = -19 */
+    UINT64_C(0x6F05B59D3B200000), /* k = -18 */
+    UINT64_C(0x58D15E1762800000), /* k = -17 */
+    UINT64_C(0x470DE4DF82000000), /* k = -16 */
+    UINT64_C(0x71AFD498D0000000), /* k = -15 */
+    UINT64_C(0x5AF3107A40000000), /* k = -14 */
+    UINT64_C(0x48C2739500000000), /* k = -13 */
+    UINT64_C(0x746A528800000000), /* k = -12 */
+    UINT64_C(0x5D21DBA000000000), /* k = -11 */
+    UINT64_C(0x4A817C8000000000), /* k = -10 */
+    UINT64_C(0x7735940000000000), /* k = -9 */
+    UINT64_C(0x5F5E100000000000), /* k = -8 */
+    UINT64_C(0x4C4B400000000000), /* k = -7 */
+    UINT64_C(0x7A12000000000000), /* k = -6 */
+    UINT64_C(0x61A8000000000000), /* k = -5 */
+    UINT64_C(0x4E20000000000000), /* k = -4 */
+    UINT64_C(0x7D00000000000000), /* k = -3 */
+    UINT64_C(0x6400000000000000), /* k = -2 */
+    UINT64_C(0x5000000000000000), /* k = -1 */
+    UINT64_C(0x4000000000000000), /* k = 0 */
+    UINT64_C(0x6666666666666666), /* k = 1 */
+    UINT64_C(0x51EB851EB851EB85), /* k = 2 */
+    UINT64_C(0x4189374BC6A7EF9D), /* k = 3 */
+    UINT64_C(0x68DB8BAC710CB295), /* k = 4 */
+    UINT64_C(0x53E2D6238DA3C211), /* k = 5 */
+    UINT64_C(0x431BDE82D7B634DA), /* k = 6 */
+    UINT64_C(0x6B5FCA6AF2BD215E), /* k = 7 */
+    UINT64_C(0x55E63B88C230E77E), /* k = 8 */
+    UINT64_C(0x44B82FA09B5A52CB), /* k = 9 */
+    UINT64_C(0x6DF37F675EF6EADF), /* k = 10 */
+    UINT64_C(0x57F5FF85E592557F), /* k = 11 */
+    UINT64_C(0x465E6604B7A84465), /* k = 12 */
+    UINT64_C(0x709709A125DA0709), /* k = 13 */
+    UINT64_C(0x5A126E1A84AE6C07), /* k = 14 */
+    UINT64_C(0x480EBE7B9D58566C), /* k = 15 */
+    UINT64_C(0x734ACA5F6226F0AD), /* k = 16 */
+    UINT64_C(0x5C3BD5191B525A24), /* k = 17 */
+    UINT64_C(0x49C97747490EAE83), /* k = 18 */
+    UINT64_C(0x760F253EDB4AB0D2), /* k = 19 */
+    UINT64_C(0x5E72843249088D75), /* k = 20 */
+    UINT64_C(0x4B8ED0283A6D3DF7), /* k = 21 */
+    UINT64_C(0x78E480405D7B9658), /* k = 22 */
+    UINT64_C(0x60B6CD004AC94513), /* k = 23 */
+    UINT64_C(0x4D5F0A66A23A9DA9), /* k = 24 */
+    UINT64_C(0x7BCB43D769F762A8), /* k = 25 */
+    UINT64_C(0x63090312BB2C4EED), /* k = 26 */
+    UINT64_C(0x4F3A68DBC8F03F24), /* k = 27 */
+    UINT64_C(0x7EC3DAF941806506), /* k = 28 */
+    UINT64_C(0x65697BFA9ACD1D9F), /* k = 29 */
+    UINT64_C(0x51212FFBAF0A7E18), /* k = 30 */
+    UINT64_C(0x40E7599625A1FE7A), /* k = 31 */
+};
+
+/* floor(x / 2^s) for either sign, without right-shifting a negative number. */
+static int32_t floor_shr(int64_t x, unsigned s)
+{
+    int64_t r;
+    if (x >= 0) {
+        r = x >> s;
+    } else {
+        r = ~((~x) >> s); /* ~x = -x - 1 >= 0 */
+    }
+    return (int32_t)r;
+}
+
+static int32_t flog10_pow2(int32_t q) { return floor_shr((int64_t)q * INT64_C(661971961083), 41U); }
+
+static int32_t flog10_three_quarters_pow2(int32_t q)
+{
+    return floor_shr((int64_t)q * INT64_C(661971961083) - INT64_C(274743187321), 41U);
+}
+
+static int32_t flog2_pow10(int32_t e) { return floor_shr((int64_t)e * INT64_C(913124641741), 38U); }
+
+static uint64_t mul_high(uint64_t a, uint64_t b)
+{
+#if defined(__SIZEOF_INT128__)
+    __extension__ typedef unsigned __int128 u128_t;
+    return (uint64_t)(((u128_t)a * b) >> 64);
+#else
+    const uint64_t al = a & MASK32, ah = a >> 32, bl = b & MASK32, bh = b >> 32;
+    const uint64_t ll = al * bl, lh = al * bh, hl = ah * bl, hh = ah * bh;
+    const uint64_t mid = (ll >> 32) + (lh & MASK32) + (hl & MASK32);
+    return hh + (lh >> 32) + (hl >> 32) + (mid >> 32);
+#endif
+}
+
+/* cp g / 2^95, rounded to odd: the truncated quotient with its lowest bit set when
+ * anything was cut off. */
+static uint32_t round_odd(uint64_t g, uint64_t cp)
+{
+    const uint64_t x = mul_high(g, cp);
+    return (uint32_t)((x >> 31) | (((x & MASK32) + MASK32) >> 32));
+}
+
+static const char two_digits[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+/* Number of decimal digits of m (0 < m < 10^10). */
+static unsigned count_digits(uint32_t m)
+{
+    unsigned n = 1U;
+    uint32_t p = 10U;
+    while ((n < 10U) && (m >= p)) {
+        n++;
+        p = (n < 10U) ? p * 10U : p;
+    }
+    return n;
+}
+
+/* The digits of m written backwards so that the last one lands at end[-1]; two at a time
+ * from the table, each copy of a constant size (no call into memcpy). */
+static void digits_back(uint32_t m, char *end)
+{
+    char *p = end;
+    uint32_t x = m;
+    while (x >= 100U) {
+        const uint32_t r = x % 100U;
+        x /= 100U;
+        p -= 2;
+        p[0] = two_digits[2U * r];
+        p[1] = two_digits[2U * r + 1U];
+    }
+    if (x >= 10U) {
+        p -= 2;
+        p[0] = two_digits[2U * x];
+        p[1] = two_digits[2U * x + 1U];
+    } else {
+        p[-1] = (char)('0' + x);
+    }
+}
+
+/* f 10^e as %g would print f's digits: f > 0, at most 9 digits. */
+static size_t to_chars(uint32_t f, int32_t e, char *out)
+{
+    uint32_t m = f;
+    int32_t x;
+    unsigned n, k;
+    size_t len;
+    while ((m % 10U) == 0U) { /* the shortest text has no trailing zero */
+        m /= 10U;
+        e++;
+    }
+    n = count_digits(m);
+    x = e + (int32_t)n - 1; /* the decimal exponent of the first digit */
+    if ((x < -4) || (x >= 9)) {
+        unsigned ax;
+        digits_back(m, out + 1 + n); /* d.ddd: the digits at 1..n, the first moved to 0 */
+        out[0] = out[1];
+        len = 1U;
+        if (n > 1U) {
+            out[1] = '.';
+            len = n + 1U;
+        }
+        out[len++] = 'e';
+        out[len++] = (x < 0) ? '-' : '+';
+        ax = (unsigned)((x < 0) ? -x : x); /* |x| <= 45 */
+        out[len++] = two_digits[2U * ax];
+        out[len++] = two_digits[2U * ax + 1U];
+    } else if (x < 0) {
+        const unsigned z = (unsigned)(-x - 1); /* 0.000ddd */
+        out[0] = '0';
+        out[1] = '.';
+        for (k = 0U; k < z; k++) {
+            out[2U + k] = '0';
+        }
+        len = 2U + z + n;
+        digits_back(m, out + len);
+    } else if ((unsigned)x + 1U >= n) { /* an integer: zeros up to the point */
+        len = (size_t)x + 1U;
+        digits_back(m, out + n);
+        for (k = n; k < len; k++) {
+            out[k] = '0';
+        }
+    } else {
+        const unsigned ip = (unsigned)x + 1U; /* ddd.ddd: written whole, the point let in */
+        digits_back(m, out + n + 1U);
+        for (k = 0U; k < ip; k++) {
+            out[k] = out[k + 1U];
+        }
+        out[ip] = '.';
+        len = n + 1U;
+    }
+    out[len] = '\0';
+    return len;
+}
+
+/* The shortest decimal of c 2^q (c > 0), nearest among the shortest; the names follow the
+ * paper: vb, vbl, vbr are 4 v, and the interval's ends, scaled by 10^-k. */
+static size_t to_decimal(int32_t q, uint32_t c, char *out)
+{
+    const uint32_t odd = c & 1U; /* an even significand owns its interval's ends */
+    const uint64_t cb = (uint64_t)c << 2;
+    const uint64_t cbr = cb + 2U;
+    uint64_t cbl;
+    int32_t k, h;
+    uint64_t g;
+    uint32_t vb, vbl, vbr, s, t;
+    int32_t cmp;
+    if ((c != C_MIN) || (q == Q_MIN)) {
+        cbl = cb - 2U; /* regular spacing */
+        k = flog10_pow2(q);
+    } else {
+        cbl = cb - 1U; /* a power of two: the float below is half as far */
+        k = flog10_three_quarters_pow2(q);
+    }
+    h = q + flog2_pow10(-k) + 33;
+    g = g_pow10[k - K_MIN] + 1U;
+    vb = round_odd(g, cb << h);
+    vbl = round_odd(g, cbl << h);
+    vbr = round_odd(g, cbr << h);
+    s = vb >> 2;
+    {
+        /* One digit fewer: the multiples of ten around s (the interval holds at most one).
+         * Java asks for two digits at least and skips this below s = 100; the shortest text
+         * of a small subnormal (3e-44, not 2.9e-44) needs it. */
+        const uint32_t sp10 = 10U * (uint32_t)(((uint64_t)s * UINT64_C(1717986919)) >> 34);
+        const uint32_t tp10 = sp10 + 10U;
+        const int upin = (sp10 != 0U) && ((vbl + odd) <= (sp10 << 2));
+        const int wpin = ((tp10 << 2) + odd) <= vbr;
+        if (upin != wpin) {
+            return to_chars(upin ? sp10 : tp10, k, out);
+        }
+    }
+    t = s + 1U;
+    {
+        const int uin = (vbl + odd) <= (s << 2);
+        const int win = ((t << 2) + odd) <= vbr;
+        if (uin != win) {
+            return to_chars(uin ? s : t, k, out);
+        }
+    }
+    /* both in the interval: the nearer, the even one on a tie */
+    cmp = (int32_t)vb - (int32_t)((s + t) << 1);
+    return to_chars(((cmp < 0) || ((cmp == 0) && ((s & 1U) == 0U))) ? s : t, k, out);
+}
+
+size_t c4gh_fmt_f32(float v, char *buf)
+{
+    uint32_t bits, frac, be;
+    size_t sign = 0U;
+    memcpy(&bits, &v, sizeof bits);
+    frac = bits & 0x7FFFFFU;
+    be = (bits >> 23) & 0xFFU;
+    if (be == 0xFFU) {
+        if (frac != 0U) {
+            memcpy(buf, "nan", 4U);
+            return 3U;
+        }
+        if ((bits >> 31) != 0U) {
+            memcpy(buf, "-inf", 5U);
+            return 4U;
+        }
+        memcpy(buf, "inf", 4U);
+        return 3U;
+    }
+    if ((bits >> 31) != 0U) {
+        buf[0] = '-';
+        sign = 1U;
+    }
+    if (be != 0U) {
+        const int32_t mq = -Q_MIN + 1 - (int32_t)be; /* v = c 2^-mq */
+        const uint32_t c = C_MIN | frac;
+        if ((mq > 0) && (mq < P_BITS) && (((c >> mq) << mq) == c)) {
+            return sign + to_chars(c >> mq, 0, buf + sign); /* an integer below 2^24 */
+        }
+        return sign + to_decimal(-mq, c, buf + sign);
+    }
+    if (frac != 0U) {
+        return sign + to_decimal(Q_MIN, frac, buf + sign); /* subnormal */
+    }
+    buf[sign] = '0';
+    buf[sign + 1U] = '\0';
+    return sign + 1U;
+}
