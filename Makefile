@@ -98,6 +98,7 @@ LIBHDR_-linih := ini.h:libinih-dev
 LIBHDR_-ljansson := jansson.h:libjansson-dev
 LIBHDR_-ledit := histedit.h:libedit-dev
 LIBHDR_-lceres := ceres/ceres.h:libceres-dev
+LIBHDR_-lmujoco := mujoco/mujoco.h:libmujoco-dev
 HOST_NEEDS := pcap/pcap.h:libpcap-dev ini.h:libinih-dev linux/can/raw.h:linux-libc-dev
 HAVE_CXX := $(shell command -v $(firstword $(CXX)) 2>/dev/null)
 tool_needs = $(sort $(HOST_NEEDS) $(foreach l,$(filter -l%,$($(1)_LDLIBS)),$(LIBHDR_$(l))))

@@ -21,6 +21,7 @@ TOOL_CHECKS='
 /usr/include/jansson.h:libjansson-dev
 /usr/include/histedit.h:libedit-dev
 /usr/include/linux/can/raw.h:linux-libc-dev
+/usr/include/mujoco/mujoco.h:libmujoco-dev
 g++:g++
 /usr/include/ceres/ceres.h:libceres-dev
 /usr/include/eigen3/Eigen/Dense:libeigen3-dev

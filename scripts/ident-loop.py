@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Helpers of scripts/ident-loop.sh.
   wrong IN OUT        a parameter file with inertia x2.5 and friction x2 (checksum redone)
-  figures DIR INI     the fit against c4g-sim's truth, and the fast move's figures, printed
-                      and written to DIR/loop.json
+  figures DIR [--no-truth] INI
+                      the fit against c4g-sim's truth (--no-truth: the arm plant has none
+                      in the fit's terms), and the fast move's figures, printed and written
+                      to DIR/loop.json
 """
 import configparser, csv, json, math, re, sys
 
@@ -72,17 +74,17 @@ def move(path):
             n += 1
     return {'ticks': n, 'follow_rms': math.sqrt(fe / max(n, 1)), 'dsa_current_rms': math.sqrt(dsa / max(n, 1))}
 
-def figures(d, ini):
+def figures(d, ini, with_truth=True):
     fit = json.load(open(d + '/fit.json'))
-    tr = truth(ini)
+    tr = truth(ini) if with_truth else None
     res = {'axes': [], 'moves': {}}
-    print('\n== fit against the truth (c4g-sim %s)' % ini)
+    print('\n== fit against the truth (c4g-sim %s)' % ini if tr else '\n== fit (the arm plant: no per-axis truth)')
     print('  %-6s %-4s %14s %14s %9s %9s' % ('axis', 'par', 'fitted', 'truth', 'error %', '+-95 %'))
     for ax in fit['axes']:
         a = ax['axis']
         row = {'axis': a, 'variant': ax.get('variant'), 'parameters': {}}
         for k, st in ax.get('parameters', {}).items():
-            t = tr[a][k]
+            t = tr[a][k] if tr else float('nan')
             err = 100.0 * (st['value'] - t) / abs(t) if abs(t) > 1e-9 else float('nan')
             row['parameters'][k] = {'fitted': st['value'], 'truth': t, 'error_pct': err, 'ci95': st['ci95']}
             print('  %-6s %-4s %14.7g %14.7g %9.3f %9.3g' % ('1.%d' % a, k, st['value'], t, err, st['ci95']))
@@ -90,7 +92,7 @@ def figures(d, ini):
         res['axes'].append(row)
     print('\n== the fast move (axes 1-3, ticks where the target moves)')
     print('  %-28s %16s %22s' % ('run', 'follow err RMS', 'DSA current RMS [A]'))
-    for name, label in (('move0', 'mode 0 (no feedforward)'), ('move9', 'mode 9, identified file'),
+    for name, label in (('move0', 'mode 0 (no feedforward)' if tr else "mode 0 (controller's model)"), ('move9', 'mode 9, identified file'),
                         ('wrong9', 'mode 9, wrong file')):
         m = move('%s/%s.csv' % (d, name))
         res['moves'][name] = m
@@ -137,5 +139,7 @@ if __name__ == '__main__':
         wrong(sys.argv[2], sys.argv[3])
     elif len(sys.argv) == 4 and sys.argv[1] == 'figures':
         figures(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 5 and sys.argv[1] == 'figures' and sys.argv[3] == '--no-truth':
+        figures(sys.argv[2], sys.argv[4], with_truth=False)
     else:
         sys.exit(__doc__)

@@ -6,8 +6,11 @@
 #   3. c4g-ident fits the capture and writes the parameter file;
 #   4. the same fast move runs in mode 0, in mode 9 with the identified file, and in mode 9
 #      with a deliberately wrong file (inertia x2.5, friction x2); each is captured.
-# Usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]
+# Usage: [PLANT=MODEL.xml] sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]
 # OUT_DIR receives the captures, fit.json, arm1.ini, wrong.ini and loop.json (the figures).
+# PLANT: c4g-sim's arm plant (--plant, e.g. fixtures/sim/smart-six.xml) instead of its
+# decoupled axes: the per-axis fit then meets a coupled arm and the controller's own model
+# (mode 0 is no longer without feedforward), and there is no truth to compare the fit with.
 set -u
 B=${1:?usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]}
 O=${2:?usage: sh scripts/ident-loop.sh BUILD_DIR OUT_DIR [PORT]}
@@ -18,6 +21,7 @@ RTSIM=''
 chrt -f 70 true 2>/dev/null && RTSIM='chrt -f 70'
 ID=$B/bin/c4g-ident
 RP=$B/bin/c4g-replay
+PLANT=${PLANT:-}
 mkdir -p "$O"
 SPID=""
 cleanup() { [ -n "$SPID" ] && kill "$SPID" 2>/dev/null && wait "$SPID" 2>/dev/null; }
@@ -39,7 +43,7 @@ session() {
     i=0
     while ! grep -q "listening on" "$O/$name.srv.err" 2>/dev/null && [ $i -lt 60 ]; do sleep 0.05; i=$((i + 1)); done
     # --max-miss: late replies on a loaded host must not end the recording (they are in it)
-    timeout 120 $RTSIM "$SIM" -p "$PORT" -c fixtures/ident/sim-truth.ini -S "fixtures/scenarios/$scn" --max-miss 100000 --pcap "$O/$name.pcap" -q
+    timeout 120 $RTSIM "$SIM" -p "$PORT" -c fixtures/ident/sim-truth.ini -S "fixtures/scenarios/$scn" --max-miss 100000 --pcap "$O/$name.pcap" -q ${PLANT:+--plant "$PLANT"}
     simrc=$?
     i=0
     while kill -0 "$SPID" 2>/dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
@@ -54,7 +58,9 @@ session() {
         # ... and a busy host can disturb it in ways no single reply shows (a stalled sender,
         # a burst): the identified move is measured again while it follows less than 5x better
         # than mode 0 (best of 6; the figure printed is the last one)
-        move9) late=$(python3 scripts/ident-loop.py late "$O/$name.csv" "$O/move0.csv") ;;
+        # (on the arm plant the per-axis fit is not expected to follow 5x better: late replies only)
+        move9) if [ -n "$PLANT" ]; then late=$(python3 scripts/ident-loop.py late "$O/$name.csv")
+               else late=$(python3 scripts/ident-loop.py late "$O/$name.csv" "$O/move0.csv"); fi ;;
       esac
       [ "$late" -eq 0 ] && break
       [ $try -ge 6 ] && { echo "ident-loop: $name: $late ticks of the move without the PC's addition in time (6 tries), kept"; break; }
@@ -82,4 +88,4 @@ session move0 ident-move0.scn || exit 1
 # check read only its ticks); a repeated try then costs 8 s, not 22
 session move9 ident-move9.scn --ff "$O/arm1.ini" --duration 6 || exit 1
 session wrong9 ident-move9.scn --ff "$O/wrong.ini" --duration 6 || exit 1
-python3 scripts/ident-loop.py figures "$O" fixtures/ident/sim-truth.ini
+python3 scripts/ident-loop.py figures "$O" ${PLANT:+--no-truth} fixtures/ident/sim-truth.ini
