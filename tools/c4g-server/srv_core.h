@@ -72,7 +72,7 @@ typedef struct srv_stats {
 #define SRV_CAPTURE_MAX_PORTS 16U    /* C4GH_AN_MAX_PORTS (capture.c checks) */
 #define SRV_CAPTURE_MAX_SESSIONS 64U /* C4GH_AN_MAX_SESSIONS (capture.c checks) */
 typedef struct srv_capture_opts {
-    char path[512];             /* "": the socket */
+    char path[4096];            /* "": the socket (PATH_MAX: any path rerun was given) */
     unsigned session;           /* 0: every session of the first controller */
     char ports[128];            /* PC ports of C4G Open flows in it, as given; "": 1000,1001 */
     double tolerance;           /* float fields within it are equal; 0: bit-exact */

@@ -609,7 +609,7 @@ static const srv_setting_t settings[] = {
      "re-activate with EXIT_FROM_OPEN"},
     /* a capture instead of the socket (capture.c) */
     {"capture", 0, "FILE", SW_CLI | SW_CAP, SK_PATH, 0, 0, G(cap.path), NULL,
-     "a pcap or pcapng file (under 512 bytes)",
+     "a pcap or pcapng file (under 4096 bytes)",
      "no socket: the controller packets of a capture at top" NL
      "speed with their recorded times; every reply compared" NL
      "with the recorded one (--json FILE: the report as JSON)"},
