@@ -402,6 +402,28 @@ static void test_step_modes(void **st)
     X.ticks = 0U;
     assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
     nearf(o.current_add, 0.0f);
+    /* --ff-ext1: the controller's model current (EXT1) passed back, alone or on the file's;
+     * a non-finite EXT1 adds nothing; after the duration nothing either */
+    A.ff_ext1 = 1;
+    r.ext[0] = 1.25f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 1.25f);
+    in.ff = &FF;
+    X.v_prev = 0.008;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 1.25 + 100.0 * (double)0.01f + 1000.0 * ((double)0.01f - 0.008));
+    r.ext[0] = NAN;
+    X.v_prev = (double)0.01f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 100.0 * (double)0.01f);
+    r.ext[0] = 1.25f;
+    X.ticks = 1000U;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 1);
+    nearf(o.current_add, 0.0f);
+    A.ff_ext1 = 0;
+    r.ext[0] = 0.0f;
+    in.ff = NULL;
+    X.ticks = 0U;
     r.target_vel = 0.0f;
     /* mode 1, hold (no source): target = start, PD on it, done after duration */
     A.src = CTLR_SRC_NONE;

@@ -246,6 +246,11 @@ static int step_ff(ctlr_axis_t *X, const ctlr_in_t *in, const c4g_ctrl_axis_t *r
             o->current_add = ctlr_ff_current(in->ff, v, v - X->v_prev, (double)r->target_pos);
         }
     }
+    if (in->driven && !done && in->cfg->ff_ext1 && isfinite(r->ext[0])) {
+        /* the controller's own model current, which mode 9 no longer hands its drives
+         * (manual 14.12.4): passed back through D5 */
+        o->current_add += r->ext[0];
+    }
     X->v_prev = v;
     return done;
 }

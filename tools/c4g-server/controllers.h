@@ -49,6 +49,7 @@ typedef struct ctlr_arm_cfg {
     double vel_freq;        /* mode 8 [Hz] */
     double vel_cycles;      /* mode 8 full cycles (zero mean) */
     double duration;        /* modes 1 (with no trajectory), 2, 9: time before exit [s] */
+    int ff_ext1;            /* mode 9: add the controller's dynamic-model current (EXT1) */
     double kp, kd, ki;      /* modes 1, 2: PD(+I) gains [A/turn], [A/(turn/tick)], [A/(turn s)] */
     double i_max;           /* integrator limit [A] (anti-windup); 0 = AzLim */
     double scs;             /* soft control switching ramp time [s] (mode 1/2 entry) */
