@@ -47,13 +47,6 @@ int c4gh_cell_dev_parse(const char *s)
     return found;
 }
 
-uint64_t c4gh_cell_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000ULL + (uint64_t)ts.tv_nsec;
-}
-
 int c4gh_cell_parse_uint(const char *s, unsigned long max, unsigned long *out)
 {
     char *end = NULL;

@@ -4,6 +4,8 @@
 #ifndef C4GH_CELL_H
 #define C4GH_CELL_H
 
+#include "c4gh_clock.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,8 +21,6 @@ unsigned c4gh_cell_dev_default_port(int dev);
 /* Device from a name or a unique prefix ("r", "plat", "cond"); -1 if none. */
 int c4gh_cell_dev_parse(const char *s);
 
-/* Monotonic clock in ns. */
-uint64_t c4gh_cell_now_ns(void);
 
 /* "host:port", "host" (port unchanged) or ":port"; 0 on success, -1 on error. */
 int c4gh_cell_parse_hostport(const char *s, char *host, size_t host_cap, unsigned *port);

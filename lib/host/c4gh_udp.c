@@ -14,13 +14,6 @@ static uint64_t ts_ns(const struct timespec *ts)
     return (uint64_t)ts->tv_sec * 1000000000ULL + (uint64_t)ts->tv_nsec;
 }
 
-uint64_t c4gh_udp_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts_ns(&ts);
-}
-
 void c4gh_udp_sleep_until(uint64_t t_ns, const volatile sig_atomic_t *stop)
 {
     struct timespec ts;
@@ -47,10 +40,10 @@ uint64_t c4gh_udp_real_minus_mono(void)
     int i;
     for (i = 0; i < 3 && width > 2000U; i++) {
         struct timespec r;
-        const uint64_t m1 = c4gh_udp_now_ns();
+        const uint64_t m1 = c4gh_now_ns();
         uint64_t m2;
         clock_gettime(CLOCK_REALTIME, &r);
-        m2 = c4gh_udp_now_ns();
+        m2 = c4gh_now_ns();
         if (m2 - m1 < width) {
             width = m2 - m1;
             best = ts_ns(&r) - (m1 + (m2 - m1) / 2U);

@@ -7,14 +7,14 @@
 #ifndef C4GH_UDP_H
 #define C4GH_UDP_H
 
+#include "c4gh_clock.h"
+
 #include <netinet/in.h>
 #include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <sys/types.h>
 
-/* CLOCK_MONOTONIC in ns. */
-uint64_t c4gh_udp_now_ns(void);
 
 /* Sleep until @p t_ns on CLOCK_MONOTONIC (TIMER_ABSTIME: no drift from the wake-ups);
  * a signal ends the sleep only once *stop is set (stop may be NULL). */

@@ -104,7 +104,7 @@ static int choose(cap_t *C)
 /* Wait for the socket at most until @p until (0 when the time has come). */
 static void poll_until(cap_t *C, uint64_t until)
 {
-    const uint64_t now = c4gh_udp_now_ns();
+    const uint64_t now = c4gh_now_ns();
     fd_set rf;
     struct timespec ts;
     if (now >= until) {
@@ -126,7 +126,7 @@ static void wait_until(cap_t *C, uint64_t t)
 {
     const uint64_t guard = CAP_GUARD_NS + C->spin_ns;
     while (!g_stop) {
-        const uint64_t now = c4gh_udp_now_ns();
+        const uint64_t now = c4gh_now_ns();
         if (now + guard >= t) {
             break;
         }
@@ -139,7 +139,7 @@ static void wait_until(cap_t *C, uint64_t t)
      * machine's timer): the last stretch is a busy wait on the clock. */
     if (C->spin_ns > 0U) {
         drain(C->app);
-        while (!g_stop && c4gh_udp_now_ns() < t) {
+        while (!g_stop && c4gh_now_ns() < t) {
         }
     }
     drain(C->app);
@@ -151,7 +151,7 @@ static void wait_reply(cap_t *C, uint64_t deadline)
     for (;;) {
         drain(C->app);
         if (!C->pend.check || C->pend.suspended || C->app->cs.out.got || g_stop ||
-            c4gh_udp_now_ns() >= deadline) {
+            c4gh_now_ns() >= deadline) {
             return;
         }
         poll_until(C, deadline);
@@ -285,7 +285,7 @@ static void cap_judge(cap_t *C, uint64_t deadline, int own_short)
 {
     cap_pending_t *P = &C->pend;
     c4g_ctrl_verdict_t v;
-    uint64_t woke = c4gh_udp_now_ns();
+    uint64_t woke = c4gh_now_ns();
     /* We sent the packet so late that the PC had less than its period: judged as our own
      * lateness (c4g_ctrl_judge): a reply that is there counts, none is unjudged, not missing. */
     if (own_short && woke <= deadline + C->tol_ns) {
@@ -356,7 +356,7 @@ static void cap_send(cap_t *C, const c4gh_an_exchange_t *x, uint64_t sched)
         }
     }
     C->app->rx_len = 0U;
-    t = c4gh_udp_now_ns();
+    t = c4gh_now_ns();
     (void)c4g_ctrl_emit(&C->app->cs, x->kind, num, x->ctrl, x->ctrl_len, check != 0, t);
     n = net_sendto(C->app, x->ctrl, x->ctrl_len, &C->app->tx_key);
     C->app->has_key = (n >= 0);
@@ -407,7 +407,7 @@ static void on_play(void *ctx, const c4gh_an_exchange_t *x)
     if (!C->started) {
         C->started = 1;
         C->first_rec_ns = x->ctrl_ns;
-        C->origin_ns = c4gh_udp_now_ns() + CAP_LEAD_NS;
+        C->origin_ns = c4gh_now_ns() + CAP_LEAD_NS;
         C->last_rel_ns = 0U;
     }
     rel = (x->ctrl_ns > C->first_rec_ns)
@@ -425,7 +425,7 @@ static void on_play(void *ctx, const c4gh_an_exchange_t *x)
     if (g_stop) {
         return;
     }
-    if (!C->o.topspeed && sched > c4gh_udp_now_ns()) {
+    if (!C->o.topspeed && sched > c4gh_now_ns()) {
         wait_until(C, sched); /* the window closed at a deadline before the packet is due */
     }
     cap_send(C, x, sched);
@@ -491,7 +491,7 @@ static int play_pass(cap_t *C)
         }
         /* the reply to an unchecked last packet (504) is counted in this pass, not taken
          * for a wrong reply to the next pass's first packet */
-        while (!g_stop && c4gh_udp_now_ns() < settle) {
+        while (!g_stop && c4gh_now_ns() < settle) {
             poll_until(C, settle);
         }
         drain(C->app);
@@ -535,7 +535,7 @@ static void play(cap_t *C)
 {
     const cap_scan_t *sc = &C->scan[C->chosen - 1U];
     const uint64_t b = C->an.t_cycle1_ns;
-    const uint64_t start = c4gh_udp_now_ns();
+    const uint64_t start = c4gh_now_ns();
     struct sigaction sa;
     C->period_ns = (uint64_t)((double)(sc->period_ms > 0 ? sc->period_ms : 2) * 1e6 /
                               (C->o.topspeed ? 1.0 : C->o.speed));
@@ -556,7 +556,7 @@ static void play(cap_t *C)
             C->o.loops == 1U ? "" : "es");
     for (C->pass = 1U; C->pass <= C->o.loops && !g_stop; C->pass++) {
         if (C->pass > 1U && C->o.gap_ms > 0U) {
-            c4gh_udp_sleep_until(c4gh_udp_now_ns() + (uint64_t)C->o.gap_ms * 1000000U, &g_stop);
+            c4gh_udp_sleep_until(c4gh_now_ns() + (uint64_t)C->o.gap_ms * 1000000U, &g_stop);
         }
         if (play_pass(C) != 0) {
             C->read_failed = 1;
@@ -568,7 +568,7 @@ static void play(cap_t *C)
         }
     }
     C->interrupted = g_stop != 0;
-    C->elapsed_ns = c4gh_udp_now_ns() - start;
+    C->elapsed_ns = c4gh_now_ns() - start;
 }
 
 /* ---- the run ------------------------------------------------------------------ */

@@ -11,7 +11,7 @@
 #include "app.h"
 #include "c4gh_udp.h"
 
-uint64_t now_ns(void) { return c4gh_udp_now_ns(); }
+uint64_t now_ns(void) { return c4gh_now_ns(); }
 
 static void pcap_record(app_t *a, int outgoing, const struct sockaddr_in *peer,
                         const uint8_t *buf, size_t len)

@@ -254,7 +254,7 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
         }
         off += (size_t)w;
     }
-    deadline = c4gh_cell_now_ns() + (uint64_t)g_reply_ms * 1000000ULL;
+    deadline = c4gh_now_ns() + (uint64_t)g_reply_ms * 1000000ULL;
     for (;;) {
         c4g_cell_split_event_t ev;
         const char *l = NULL;
@@ -279,7 +279,7 @@ static int transact(int dev, const char *line, size_t len, char *reply, size_t c
             conn_drop(dev);
             return EXIT_PROTOCOL;
         }
-        uint64_t now = c4gh_cell_now_ns();
+        uint64_t now = c4gh_now_ns();
         if (now >= deadline) {
             fprintf(stderr, "cell-cli: %s: no reply within %d ms\n", c4gh_cell_dev_name(dev), g_reply_ms);
             conn_drop(dev); /* a late reply would desynchronise the next request */
@@ -653,9 +653,9 @@ static int show_reply(int dev, const char *req, size_t req_len, const char *line
 /* A pause that ^C ends: EXIT_OK, or EXIT_INTR. */
 static int sleep_s(double s)
 {
-    const uint64_t end = c4gh_cell_now_ns() + (uint64_t)(s * 1e9);
+    const uint64_t end = c4gh_now_ns() + (uint64_t)(s * 1e9);
     for (;;) {
-        const uint64_t now = c4gh_cell_now_ns();
+        const uint64_t now = c4gh_now_ns();
         if (now >= end) {
             return interrupted() ? EXIT_INTR : EXIT_OK;
         }
@@ -668,7 +668,7 @@ static int sleep_s(double s)
 /* Poll STA every 50 ms until the device reports 'F' (stopped). */
 static int wait_stopped(int dev, double timeout_s)
 {
-    uint64_t deadline = c4gh_cell_now_ns() + (uint64_t)(timeout_s * 1e9);
+    uint64_t deadline = c4gh_now_ns() + (uint64_t)(timeout_s * 1e9);
     for (;;) {
         char reply[C4G_CELL_LINE_MAX];
         size_t n = 0;
@@ -698,7 +698,7 @@ static int wait_stopped(int dev, double timeout_s)
             fflush(stdout);
             return EXIT_OK;
         }
-        if (c4gh_cell_now_ns() >= deadline) {
+        if (c4gh_now_ns() >= deadline) {
             fprintf(stderr, "cell-cli: wait %s stopped: still moving after %g s\n",
                     c4gh_cell_dev_name(dev), timeout_s);
             return EXIT_WAIT;
@@ -887,7 +887,7 @@ static int run_latency(int n_words, char **words, long long samples)
     cli_cmd_t cmd;
     char err[256], text[64], reply[C4G_CELL_LINE_MAX];
     uint64_t st[3] = {UINT64_MAX, 0, 0}; /* min, max, sum [ns] */
-    uint64_t last_line = c4gh_cell_now_ns();
+    uint64_t last_line = c4gh_now_ns();
     unsigned long long n = 0;
     const int dev = n_words > 0 ? c4gh_cell_dev_parse(words[0]) : C4GH_CELL_DEV_ROBOT;
     int rc = EXIT_OK;
@@ -903,7 +903,7 @@ static int run_latency(int n_words, char **words, long long samples)
     while (samples <= 1 || n < (unsigned long long)samples) {
         size_t len = 0;
         c4g_cell_reply_t r;
-        const uint64_t t0 = c4gh_cell_now_ns();
+        const uint64_t t0 = c4gh_now_ns();
         uint64_t dt;
         rc = transact(dev, cmd.line, cmd.len, reply, sizeof reply, &len);
         if (rc == EXIT_OK) {
@@ -912,14 +912,14 @@ static int run_latency(int n_words, char **words, long long samples)
         if (rc != EXIT_OK) {
             break;
         }
-        dt = c4gh_cell_now_ns() - t0;
+        dt = c4gh_now_ns() - t0;
         st[0] = dt < st[0] ? dt : st[0];
         st[1] = dt > st[1] ? dt : st[1];
         st[2] += dt;
         n++;
-        if (isatty(STDOUT_FILENO) || c4gh_cell_now_ns() - last_line >= 1000000000ULL) {
+        if (isatty(STDOUT_FILENO) || c4gh_now_ns() - last_line >= 1000000000ULL) {
             latency_line(dev, st, n, 0);
-            last_line = c4gh_cell_now_ns();
+            last_line = c4gh_now_ns();
         }
         if (sleep_s(0.01) == EXIT_INTR) {
             break;

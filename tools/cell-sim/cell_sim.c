@@ -136,7 +136,7 @@ static void printable(const char *s, size_t n, char *out, size_t cap)
 /* May this client's input cause one more error line? */
 static int client_log_ok(client_t *c)
 {
-    const uint64_t now = c4gh_cell_now_ns();
+    const uint64_t now = c4gh_now_ns();
     c->log_last_ns = now;
     if (now - c->log_win_ns >= LOG_WINDOW_NS) {
         c->log_win_ns = now;
@@ -265,7 +265,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
             c->lines--;     /* counted when it runs */
             return;
         }
-        note = sim_co_exec(&g_co, &devs[c->dev], &in, c4gh_cell_now_ns(), &rep, &close_after,
+        note = sim_co_exec(&g_co, &devs[c->dev], &in, c4gh_now_ns(), &rep, &close_after,
                            &deferred);
         if (deferred) {
             c->waiting = 2;
@@ -275,7 +275,7 @@ static void handle_line(client_t *c, sim_device_t *devs, const char *line, size_
             return;
         }
     } else {
-        note = sim_device_exec(&devs[c->dev], &in, c4gh_cell_now_ns(), &rep, &close_after);
+        note = sim_device_exec(&devs[c->dev], &in, c4gh_now_ns(), &rep, &close_after);
     }
     reply_line(c, line, len, in.cmd, &rep, note, close_after);
 }
@@ -378,7 +378,7 @@ static void client_read(client_t *c, sim_device_t *devs)
         }
         return;
     }
-    c->last_ns = c4gh_cell_now_ns();
+    c->last_ns = c4gh_now_ns();
     off = client_feed(c, devs, buf, (size_t)r);
     client_stash(c, buf + off, (size_t)r - off);
 }
@@ -714,7 +714,7 @@ static int devices_setup(sim_device_t *devs)
         sim_device_init(&devs[d], d, g_opt.speed);
         devs[d].servo_fault = g_opt.fault[d];
         devs[d].cameras = (int)g_opt.cameras;
-        devs[d].last_ns = c4gh_cell_now_ns();
+        devs[d].last_ns = c4gh_now_ns();
     }
     for (int i = 0; i < g_opt.n_ws; i++) {
         devs[g_opt.ws[i].dev].lo[g_opt.ws[i].axis] = g_opt.ws[i].lo;
@@ -924,7 +924,7 @@ static void housekeeping(server_t *s)
 {
     /* Reads stamped clients after the poll returned: compare with a fresh clock, never a
      * difference that wraps around. */
-    const uint64_t now = c4gh_cell_now_ns();
+    const uint64_t now = c4gh_now_ns();
     for (unsigned long i = 0; i < s->max_clients; i++) {
         client_t *c = &s->cl[i];
         /* a burst is over once its client caused no log line for a second */
@@ -946,7 +946,7 @@ static void servo_replies(server_t *s, sim_device_t *devs)
     c4g_cell_reply_t rep;
     const char *note = NULL;
     int close_after = 0;
-    if (sim_co_servo_poll(&g_co, &devs[C4GH_CELL_DEV_PLATFORM], c4gh_cell_now_ns(), &rep, &note,
+    if (sim_co_servo_poll(&g_co, &devs[C4GH_CELL_DEV_PLATFORM], c4gh_now_ns(), &rep, &note,
                           &close_after)) {
         client_t *c = g_servo_client;
         g_servo_client = NULL;
@@ -985,7 +985,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
             fprintf(stderr, "cell-sim: poll: %s\n", strerror(errno));
             return;
         }
-        now = c4gh_cell_now_ns();
+        now = c4gh_now_ns();
         for (nfds_t k = 0; k < n && rc > 0; k++) {
             if (s->pf[k].revents == 0) {
                 continue;
@@ -998,7 +998,7 @@ static void server_loop(server_t *s, sim_device_t *devs)
         }
         housekeeping(s);
         if (g_co_on) {
-            sim_co_step(&g_co, c4gh_cell_now_ns(), &devs[C4GH_CELL_DEV_PLATFORM]);
+            sim_co_step(&g_co, c4gh_now_ns(), &devs[C4GH_CELL_DEV_PLATFORM]);
             servo_replies(s, devs);
         }
     }

@@ -354,7 +354,7 @@ int sim_co_open(sim_co_t *s, const char *ini, const char *ifname, const char *ca
                            errlen) != 0) {
         return -1;
     }
-    s->t0_ns = c4gh_cell_now_ns();
+    s->t0_ns = c4gh_now_ns();
     s->log.epoch_us = wall_us();
     (void)c4gsim_vbus_init(&s->bus, &s->m); /* cannot fail: the bus exists */
     for (int i = 0; i < s->cfg.net.n_nodes; i++) {
@@ -624,7 +624,7 @@ static void sh_sim(sim_co_t *s, const char *cmd, uint8_t slot, char **tok, int n
             if (s->fd_nodes >= 0) {
                 (void)c4gh_co_socketcan_send(s->fd_nodes, &f[k]);
             } else {
-                (void)c4gsim_vbus_inject(&s->bus, &f[k], bus_ns(s, c4gh_cell_now_ns())); /* cannot fail */
+                (void)c4gsim_vbus_inject(&s->bus, &f[k], bus_ns(s, c4gh_now_ns())); /* cannot fail */
             }
         }
         handle_events(s, s->platform);
