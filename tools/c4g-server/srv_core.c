@@ -267,11 +267,12 @@ static int refused(srv_t *S, const uint8_t *in, size_t len, const c4g_endpoint_t
         srv_log(S, t, "controller back after %.1f ms of silence", (double)ev->silence_ns * 1e-6);
     }
     if ((e & (C4G_EV_DUPLICATE | C4G_EV_OUT_OF_ORDER)) != 0U && ev->kind == C4G_RX_DROPPED) {
-        const int32_t num = (len >= 4U) ? (int32_t)((uint32_t)in[0] | (uint32_t)in[1] << 8 |
-                                                    (uint32_t)in[2] << 16 | (uint32_t)in[3] << 24)
-                                        : 0;
+        c4g_peek_t pk;
+        if (c4g_peek(in, len, false, &pk) != C4G_OK) {
+            pk.num = -1;
+        }
         srv_log(S, t, "dropped %s packet NUM %d (newest %d): not answered",
-                (e & C4G_EV_DUPLICATE) ? "duplicate" : "stale", (int)num,
+                (e & C4G_EV_DUPLICATE) ? "duplicate" : "stale", (int)pk.num,
                 (int)srv_state(S).last_num);
         return 1;
     }
