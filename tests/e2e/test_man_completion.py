@@ -103,7 +103,7 @@ COMPLETIONS = [
     ("", ["c4g-sim", "-p", ""]),
     # the values an option's help lists
     ("plus-one echo either", ["c4g-sim", "--num-policy", ""]),
-    ("plus1 echo", ["c4g-server", "--num-policy", ""]),
+    ("plus-one echo", ["c4g-server", "--num-policy", ""]),
     ("drop truncate", ["c4g-sim", "--entry-fault", ""]),
     ("huber cauchy none", ["c4g-ident", "fit", "--loss", ""]),
     ("server echo", ["c4g-replay", "rerun", "-b", ""]),

@@ -14,7 +14,7 @@ def test_sim_plus_one_server_default(srv):
     c = Checks()
     c.eq("sim ok", r.simrc, 0)
     c.eq("no wrong NUM", r.sv("wrong_num"), 0)
-    c.eq("server says plus1", r.json.get("num_policy"), "plus1")
+    c.eq("server says plus-one", r.json.get("num_policy"), "plus-one")
     c.done()
 
 
@@ -44,3 +44,16 @@ def test_handshake_byte_by_byte(srv):
     r = srv.run_stub("sx", srv.ports.udp(), ["--policy", "echo", "--script", "0:50,504:1"], stop=True)
     c.ge("stub enforcing echo rejects the default server", num(r.stub.get("bad")), 1)
     c.done()
+
+
+def test_old_spelling_accepted_with_a_note(bins):
+    """plus-one is the one spelling of the tools (docs/cli.md); the server's old plus1 still
+    works for a release, with a one-line note on stderr"""
+    import subprocess
+    r = subprocess.run([str(bins.server), "--num-policy", "plus1", "--version"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.count("\n") == 1 and "plus1 is spelt plus-one now" in r.stderr, r.stderr
+    r = subprocess.run([str(bins.server), "--num-policy", "plus-one", "--version"], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    r = subprocess.run([str(bins.server), "--num-policy", "plusone", "--version"], capture_output=True, text=True)
+    assert r.returncode == 2 and "plus-one" in r.stderr, r.stderr

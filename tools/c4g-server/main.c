@@ -452,7 +452,7 @@ static int start(srv_host_t *H, int *fd)
     if (!cfg->quiet) {
         fprintf(stderr, "c4g-server: listening on %s:%u, controller %s, NUM policy %s\n",
                 cfg->bind_addr, cfg->port, cfg->ctrl_addr,
-                cfg->num_policy == C4G_NUM_ECHO ? "echo" : "plus1");
+                cfg->num_policy == C4G_NUM_ECHO ? "echo" : "plus-one");
     }
     return SRV_NEXT;
 }

@@ -397,7 +397,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     put_i(o, "exit_code", code);
     json_object_set_new(o, "reason", json_string(why));
     json_object_set_new(o, "num_policy",
-                        json_string(S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus1"));
+                        json_string(S->cfg.num_policy == C4G_NUM_ECHO ? "echo" : "plus-one"));
     put_u(o, "axes", srv_map(S)->n_axes);
     put_i(o, "period_ms", (long long)srv_init_packet(S)->period_ms);
     json_object_set_new(o, "timing", json_timing(S));

@@ -151,7 +151,12 @@ static int set_num_policy(srv_config_t *c, srv_arm_cfg_t *A, const char *val, ch
                           size_t whylen)
 {
     (void)A, (void)why, (void)whylen;
-    if (strcmp(val, "plus1") == 0) {
+    if (strcmp(val, "plus-one") == 0) {
+        c->num_policy = C4G_NUM_PLUS_ONE;
+    } else if (strcmp(val, "plus1") == 0) {
+        /* the spelling before the tools shared one vocabulary (docs/cli.md) */
+        fprintf(stderr, "c4g-server: --num-policy plus1 is spelt plus-one now, as in the other tools "
+                        "(plus1 is accepted until 3.0)\n");
         c->num_policy = C4G_NUM_PLUS_ONE;
     } else if (strcmp(val, "echo") == 0) {
         c->num_policy = C4G_NUM_ECHO;
@@ -490,8 +495,8 @@ static const srv_setting_t settings[] = {
      "manual's SMP+ address); 'any' accepts every source." NL
      "Other sources are dropped and counted (\"foreign\")."},
     {"num-policy", 0, "P", SW_BOTH, SK_CALL, 0, 0, NONE, set_num_policy,
-     "plus1 (field, default) or echo (manual)",
-     "plus1 (field library, default: reply NUM+1, 0x7FFF->1)" NL
+     "plus-one (field, default) or echo (manual)",
+     "plus-one (field library, default: reply NUM+1, 0x7FFF->1)" NL
      "or echo (manual text: reply with the same NUM)"},
     {"lost-timeout-ms", 0, "N", SW_BOTH, SK_CALL, 0, 0, NONE, set_lost_timeout,
      "milliseconds 1..600000",
