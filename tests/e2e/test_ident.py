@@ -399,11 +399,24 @@ def test_barely_moving_unidentifiable(build, tmp_path):
 
 
 def test_delay_unpinned_is_said(build, tmp_path):
-    """constant speed both ways (no acceleration outside the reversals, which are dropped):
-    nothing pins the delay of D5 after D4; the fit says so (refused at the search's end, or a
-    warning with the delay's share in the intervals), never a silent value at a bound"""
+    """slow, gentle motion (four sines from 0.05 Hz): the data hardly pin the delay of D5
+    after D4 (it came out -0.73 ticks, the plant's is -0.5, said nowhere). The fit says so:
+    refused at the search's end, or a warning with the delay's share in the intervals; the
+    delay's share is in the intervals (their coverage is counted over many seeds in
+    tests/ident/accuracy.cpp, not on one run)"""
+    r = fit(build, write_moni(tmp_path / "slow.csv", plant(vamp=10.0, f0=0.05, sines=4)), "--json", "--variant", "coulomb")
+    a = json.loads(r.stdout)["axes"][0]
+    refused = r.returncode == 3 and "the end of its search" in a.get("why", "")
+    warned = r.returncode == 0 and any("poorly pinned" in w for w in a.get("warnings", []))
+    assert refused or warned, (r.returncode, a.get("delay_ticks"), a.get("why"), a.get("warnings"))
+    if warned:
+        for p in ("Ja", "Fv", "Fc"):
+            assert a["parameters"][p]["sigma_delay"] > 0, (p, a["parameters"][p])
+
+
+def test_still_axis_delay_and_inertia(build, tmp_path):
+    """constant speed both ways: no acceleration outside the reversals (dropped), so nothing
+    pins the inertia (it came out Ja = 1e-12 at its bound, exit 0): refused"""
     r = fit(build, write_moni(tmp_path / "tri.csv", plant(shape="triangle", vamp=2.0)), "--json")
     a = json.loads(r.stdout)["axes"][0]
-    said = (r.returncode == 3 and "ran to" in a.get("why", "")) or \
-        any("poorly pinned" in w for w in a.get("warnings", []))
-    assert said, (r.returncode, a.get("delay_ticks"), a.get("why"), a.get("warnings"))
+    assert r.returncode == 3 and not a["identifiable"], (r.returncode, a.get("parameters"), a.get("why"))

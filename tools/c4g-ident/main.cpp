@@ -226,7 +226,8 @@ int run_fit(int argc, char **argv)
                        "special modes are used; the report says how many were kept and why the rest were not.",
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 every selected axis identified; 1 a file could not be written; 2 bad\n"
-                       "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted).",
+                       "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted;\n"
+                       "when none was, no --out file is written).",
                        1, -1, 1, nullptr};
     int first = 0;
     const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
