@@ -4,7 +4,10 @@
 // computed from the same data (the truth's information matrix and noise), and the limits:
 //   Ja, Fc within 0.5 %, Fv, Fs within 1 %, RMS error <= 1.5 x CRLB, held-out inlier RMS
 //   <= 1.02 x the noise; with 10 % outliers in D5 still 0.5 %; float32 D3 at 1e4 turns:
-//   Ja within 1 %; stop-and-go: offset within 1 %; a still axis: unidentifiable.
+//   Ja within 1 %; stop-and-go: offset within 1 %; a still axis: unidentifiable; in every case
+//   (a hidden plant with a coloured residual and gentle excitation among them) the truth
+//   inside the reported +-95 % interval for 90 % of the parameters over the seeds (the gate:
+//   90 % from 20 seeds, 80 % with fewer).
 // ACC_DEBUG=1 in the environment prints each seed's delay, counts and fitted values.
 // Usage: accuracy [--seeds N] [--case NAME] [--gate]   exit 0 all limits met, 1 not;
 // with --gate, 0 when every figure is within twice its specified margin.
@@ -73,8 +76,8 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
         }
         n++;
         if (std::getenv("ACC_DEBUG") != nullptr) {
-            std::printf("  seed %d: delay %.3f eps %.4g kept %llu edge %llu still %llu sat %llu vmax %.3g amax %.3g sigma %.4g floor %.4g\n    fit", s,
-                        R.prep.delay, R.prep.eps, (unsigned long long)R.prep.kept, (unsigned long long)R.prep.dropped_edge,
+            std::printf("  seed %d: delay %.3f (sd %.3f) eps %.4g kept %llu edge %llu still %llu sat %llu vmax %.3g amax %.3g sigma %.4g floor %.4g\n    fit", s,
+                        R.prep.delay, R.prep.delay_sd, R.prep.eps, (unsigned long long)R.prep.kept, (unsigned long long)R.prep.dropped_edge,
                         (unsigned long long)R.prep.dropped_still, (unsigned long long)R.prep.dropped_sat, R.prep.vmax, R.prep.amax,
                         R.fit.sigma, R.prep.noise_floor);
             for (int k = 0; k < NPARAM; k++) std::printf(" %s=%.5g", param_name[k], R.fit.p[static_cast<std::size_t>(k)]);
@@ -141,7 +144,12 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
         const double cov = 100.0 * cover_in / cover_n;
         g_cover_in += cover_in;
         g_cover_n += cover_n;
-        std::printf("  +-95 %% intervals holding the truth: %d of %d (%.1f %%)\n", cover_in, cover_n, cov);
+        // each case on its own: easy white-noise cases must not hide a hard one's misses
+        const bool ck = cov >= (seeds >= 20 ? 90.0 : 80.0);
+        ok = ok && cov >= 90.0;
+        g_gate_ok = g_gate_ok && ck;
+        std::printf("  +-95 %% intervals holding the truth: %d of %d (%.1f %%, target 90 %%) %s\n", cover_in, cover_n, cov,
+                    ck ? "ok" : "FAIL");
     }
     if (lim.heldout) {
         const bool hk = worst_ho <= 1.02;

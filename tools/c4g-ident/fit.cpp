@@ -825,7 +825,7 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
                 st.pct = (st.value != 0.0) ? 100.0 * st.sigma / std::fabs(st.value) : 1e300;
             }
         }
-        if (1.96 * sd > 0.5) {
+        if (1.96 * sd > 1.0) {
             char b[240];
             std::snprintf(b, sizeof b, "the delay of D5 after D4 is poorly pinned (%+.2f +- %.2f ticks at 95 %%): its share is "
                           "in the intervals; excite faster or give --delay", R.prep.delay, 1.96 * sd);

@@ -421,11 +421,26 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double
     }
     if (at_bound != nullptr) *at_bound = std::fabs(d) >= kDelayMax - 0.05;
     if (sd != nullptr) {
-        // The spread of the delay found on each fifth of the log (a jackknife): a flat or
-        // two-valleyed cost (gentle excitation, a coloured residual) shows here, where the
-        // curvature at the minimum sees none of it.
+        // least squares in one more parameter: var(d) = sigma^2 / sum (dr/dd)^2, and the mean
+        // squared residual c(d) has c'' = 2 sum (dr/dd)^2 / n, c(d0) = sigma^2
+        auto curv_sd = [&](const AxisLog &P, double at, double scale) {
+            const double h = 0.25;
+            std::size_t n = 0;
+            const double c0 = delay_cost(P, o, at + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none, nullptr, &n);
+            const double cp = delay_cost(P, o, at + h + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none);
+            const double cm = delay_cost(P, o, at - h + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none);
+            const double curv = (cp + cm - 2.0 * c0) / (h * h);
+            const double nn = static_cast<double>(n) * scale;
+            return (curv > 0.0 && nn > 0.0 && c0 < 1e299) ? std::sqrt(2.0 * c0 / (nn * curv)) : kDelayMax;
+        };
+        // the thinned log stands for the whole one
+        const double scale = static_cast<double>(Lfull.tick.size()) / static_cast<double>(std::max<std::size_t>(1, L.tick.size()));
+        *sd = curv_sd(L, d, scale);
+        // The spread of the delays found on each fifth of the log: a coloured
+        // residual or a second valley moves them apart, where the curvature at the minimum
+        // sees nothing. Only the fifths that pin a delay of their own (curvature figure under
+        // half a tick) take part: a stretch of constant-speed runs says nothing either way.
         constexpr int kParts = 5;
-        double jk = 0.0;
         if (L.tick.size() >= static_cast<std::size_t>(kParts) * 2000U) {
             std::vector<double> dj;
             for (int part = 0; part < kParts; part++) {
@@ -439,9 +454,9 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double
                         pb = x;
                     }
                 }
-                if (pc < 1e299) {
-                    dj.push_back(golden(P, o, eps, stride, vs, none, std::max(-kDelayMax, pb - 0.25), std::min(kDelayMax, pb + 0.25)));
-                }
+                if (!(pc < 1e299)) continue;
+                const double x = golden(P, o, eps, stride, vs, none, std::max(-kDelayMax, pb - 0.25), std::min(kDelayMax, pb + 0.25));
+                if (curv_sd(P, x, scale) < 1.0) dj.push_back(x);
             }
             if (dj.size() >= 3) {
                 double m = 0.0;
@@ -450,22 +465,12 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double
                 double ss = 0.0;
                 for (double x : dj) ss += (x - m) * (x - m);
                 const double J = static_cast<double>(dj.size());
-                jk = std::sqrt((J - 1.0) / J * ss);
+                // the parts' own spread, not divided by sqrt(J) as independent estimates of
+                // one delay would be: parts that disagree say the model's delay depends on
+                // what the axis did, and a fit of the whole is as uncertain as that
+                *sd = std::max(*sd, std::sqrt(ss / (J - 1.0)));
             }
         }
-        // least squares in one more parameter: var(d) = sigma^2 / sum (dr/dd)^2, and the mean
-        // squared residual c(d) has c'' = 2 sum (dr/dd)^2 / n, c(d0) = sigma^2
-        const double h = 0.25;
-        std::size_t n = 0;
-        const double c0 = delay_cost(L, o, d + 0.5, eps, stride, vs, skip, nullptr, &n);
-        const double cp = delay_cost(L, o, d + h + 0.5, eps, stride, vs, skip);
-        const double cm = delay_cost(L, o, d - h + 0.5, eps, stride, vs, skip);
-        const double curv = (cp + cm - 2.0 * c0) / (h * h);
-        // the thinned log stands for the whole one
-        const double nfull = static_cast<double>(n) * static_cast<double>(Lfull.tick.size()) /
-                             static_cast<double>(std::max<std::size_t>(1, L.tick.size()));
-        *sd = (curv > 0.0 && nfull > 0.0 && c0 < 1e299) ? std::sqrt(2.0 * c0 / (nfull * curv)) : kDelayMax;
-        *sd = std::max(*sd, jk);
     }
     return d;
 }
