@@ -456,3 +456,15 @@ def test_capture_num_gaps(build, loop, tmp_path):
     ck.ok("Ja with the gaps = Ja of the whole capture (0.5 %), inside its own interval",
           abs(jg["value"] - jf) <= min(5e-3 * jf, jg["ci95"]), "gaps %s, whole %s" % (jg, jf))
     ck.done()
+
+
+def test_loop_csv_gravity_axis_refused(build, loop, tmp_path):
+    """the loop's moni CSV, axis 2 (gravity 7.5 A at the motor): no link angle in a CSV, so
+    refused for the position-dependent current (it came out Ja = 1e-12, exit 0); axis 1 of the
+    same file is fitted and written alone"""
+    r = fit(build, loop / "ident.moni.csv", "--axes", "1,2", "--json", "-o", tmp_path / "m.ini")
+    a = {x["axis"]: x for x in json.loads(r.stdout)["axes"]}
+    assert r.returncode == 3 and a[1]["identifiable"] and not a[2]["identifiable"], (r.returncode, a)
+    assert "depends on the position" in a[2]["why"], a[2]["why"]
+    text = (tmp_path / "m.ini").read_text()
+    assert "[axis 1]" in text and "[axis 2]" not in text, text
