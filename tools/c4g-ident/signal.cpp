@@ -438,8 +438,8 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double
         *sd = curv_sd(L, d, scale);
         // The spread of the delays found on each fifth of the log: a coloured
         // residual or a second valley moves them apart, where the curvature at the minimum
-        // sees nothing. Only the fifths that pin a delay of their own (curvature figure under
-        // half a tick) take part: a stretch of constant-speed runs says nothing either way.
+        // sees nothing. Only the fifths that pin a delay of their own (curvature figure under a
+        // tick) take part: a stretch of constant-speed runs says nothing either way.
         constexpr int kParts = 5;
         if (L.tick.size() >= static_cast<std::size_t>(kParts) * 2000U) {
             std::vector<double> dj;
