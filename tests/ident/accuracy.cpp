@@ -4,7 +4,10 @@
 // computed from the same data (the truth's information matrix and noise), and the limits:
 //   Ja, Fc within 0.5 %, Fv, Fs within 1 %, RMS error <= 1.5 x CRLB, held-out inlier RMS
 //   <= 1.02 x the noise; with 10 % outliers in D5 still 0.5 %; float32 D3 at 1e4 turns:
-//   Ja within 1 %; stop-and-go: offset within 1 %; a still axis: unidentifiable.
+//   Ja within 1 %; stop-and-go: offset within 1 %; a still axis: unidentifiable; in every case
+//   (a hidden plant with a coloured residual and gentle excitation among them) the truth
+//   inside the reported +-95 % interval for 90 % of the parameters over the seeds (the gate:
+//   90 % from 20 seeds, 80 % with fewer).
 // ACC_DEBUG=1 in the environment prints each seed's delay, counts and fitted values.
 // Usage: accuracy [--seeds N] [--case NAME] [--gate]   exit 0 all limits met, 1 not;
 // with --gate, 0 when every figure is within twice its specified margin.
@@ -24,6 +27,8 @@ namespace {
 // marks each line against the specification itself)
 bool g_gate = false;
 bool g_gate_ok = true;
+// every case's parameters: the truth inside the reported +-95 % interval (target 90 %)
+int g_cover_in = 0, g_cover_n = 0;
 
 struct Limits {
     double pct[NPARAM];   // max |error| per parameter [%], 0 = not checked
@@ -59,6 +64,7 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
     double se[NPARAM] = {0}, sc[NPARAM] = {0}, mx[NPARAM] = {0};
     double worst_ho = 0.0;
     int unident = 0, n = 0;
+    int cover_in = 0, cover_n = 0;  // parameters whose +-95 % interval held the truth
     Options o;
     o.force_variant = v;
     for (int s = 1; s <= seeds; s++) {
@@ -70,8 +76,8 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
         }
         n++;
         if (std::getenv("ACC_DEBUG") != nullptr) {
-            std::printf("  seed %d: delay %.3f eps %.4g kept %llu edge %llu still %llu sat %llu vmax %.3g amax %.3g sigma %.4g floor %.4g\n    fit", s,
-                        R.prep.delay, R.prep.eps, (unsigned long long)R.prep.kept, (unsigned long long)R.prep.dropped_edge,
+            std::printf("  seed %d: delay %.3f (sd %.3f) eps %.4g kept %llu edge %llu still %llu sat %llu vmax %.3g amax %.3g sigma %.4g floor %.4g\n    fit", s,
+                        R.prep.delay, R.prep.delay_sd, R.prep.eps, (unsigned long long)R.prep.kept, (unsigned long long)R.prep.dropped_edge,
                         (unsigned long long)R.prep.dropped_still, (unsigned long long)R.prep.dropped_sat, R.prep.vmax, R.prep.amax,
                         R.fit.sigma, R.prep.noise_floor);
             for (int k = 0; k < NPARAM; k++) std::printf(" %s=%.5g", param_name[k], R.fit.p[static_cast<std::size_t>(k)]);
@@ -88,6 +94,10 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
         for (int k = 0; k < NPARAM; k++) {
             if (!R.fit.st[static_cast<std::size_t>(k)].free) continue;
             const double e = R.fit.p[static_cast<std::size_t>(k)] - tr[static_cast<std::size_t>(k)];
+            if (!R.fit.st[static_cast<std::size_t>(k)].at_bound) {
+                cover_n++;
+                cover_in += std::fabs(e) <= R.fit.st[static_cast<std::size_t>(k)].ci95 ? 1 : 0;
+            }
             se[k] += e * e;
             sc[k] += cr ? sd[static_cast<std::size_t>(k)] * sd[static_cast<std::size_t>(k)] : 0.0;
             mx[k] = std::max(mx[k], std::fabs(e) / std::max(std::fabs(tr[static_cast<std::size_t>(k)]), 1e-12) * 100.0);
@@ -129,6 +139,17 @@ bool run_case(const char *name, const simgen::Case &c, const Limits &lim, int se
         std::printf("  %-4s %14.7g %12.4f %12.4f %10.4f %8.3f %8s %s\n", param_name[k], t, 100 * rms / den, mx[k],
                     100 * cr / den, ratio, lim.pct[k] > 0 ? std::to_string(lim.pct[k]).substr(0, 4).c_str() : "-",
                     pk ? "ok" : (((lim.nogate >> k) & 1U) ? "FAIL (not gated)" : "FAIL"));
+    }
+    if (cover_n > 0) {
+        const double cov = 100.0 * cover_in / cover_n;
+        g_cover_in += cover_in;
+        g_cover_n += cover_n;
+        // each case on its own: easy white-noise cases must not hide a hard one's misses
+        const bool ck = cov >= (seeds >= 20 ? 90.0 : 80.0);
+        ok = ok && cov >= 90.0;
+        g_gate_ok = g_gate_ok && ck;
+        std::printf("  +-95 %% intervals holding the truth: %d of %d (%.1f %%, target 90 %%) %s\n", cover_in, cover_n, cov,
+                    ck ? "ok" : "FAIL");
     }
     if (lim.heldout) {
         const bool hk = worst_ho <= 1.02;
@@ -201,12 +222,39 @@ int main(int argc, char **argv)
         Limits l5 = L;
         ok = run_case("gravity (axis 2)", c, l5, seeds, STRIBECK_G) && ok;
     }
+    if (want("hidden")) {
+        // as a lab's plant: c4g-sim's default encoder and position noise and a disturbance
+        // torque, so the residual is coloured (the DSA loops filter the disturbance); gentler
+        // excitation. What is checked here is the intervals' coverage (printed, and counted
+        // in the coverage line), not the specified margins.
+        simgen::Case c = base();
+        simgen::Case d;
+        (void)c4gsim_axis_params_default(&d.p, 0); // cannot fail: d.p exists
+        c.p.counts = d.p.counts;
+        c.p.noise = d.p.noise;
+        c.p.torque_noise = 0.02;
+        c.vmax = 15.0;
+        c.amax = 120.0;
+        Limits l7{};
+        l7.crlb = false;
+        l7.heldout = false;
+        ok = run_case("hidden plant (coloured residual, gentle)", c, l7, seeds, STRIBECK) && ok;
+    }
     if (want("still")) {
         simgen::Case c = base();
         c.still = true;
         Limits l6{};
         l6.still = true;
         ok = run_case("still axis", c, l6, seeds, STRIBECK) && ok;
+    }
+    if (g_cover_n > 0) {
+        const double cov = 100.0 * g_cover_in / g_cover_n;
+        // the gate: at least 90 % on many seeds (make bench), 80 % on the few of make check
+        const bool ck = cov >= (seeds >= 20 ? 90.0 : 80.0);
+        ok = ok && cov >= 90.0;
+        g_gate_ok = g_gate_ok && ck;
+        std::printf("\ncoverage: the truth inside the +-95 %% interval for %d of %d parameters (%.1f %%, target 90 %%) %s\n",
+                    g_cover_in, g_cover_n, cov, ck ? "ok" : "FAIL");
     }
     std::printf("\naccuracy: %s; gate (twice the margins): %s\n", ok ? "every specified limit met" : "some specified limits not met",
                 g_gate_ok ? "passed" : "FAILED");

@@ -272,6 +272,60 @@ double scaled_cond(const Eigen::MatrixXd &M)
     return std::sqrt(es.eigenvalues().maxCoeff() / lmin);
 }
 
+// Blocks the scores are summed over for the block-robust covariance.
+constexpr int kHacBlocks = 30;
+
+// 97.5 % quantile of Student's t with @p df degrees of freedom (Cornish-Fisher, 1e-3 at df 5).
+double t975(int df)
+{
+    const double z = 1.959964, n = std::max(1, df);
+    return z + (z * z * z + z) / (4.0 * n) + (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
+}
+
+// Block-robust ("sandwich") covariance of the free parameters: H^-1 M H^-1 with H the robust
+// normal matrix and M the sum over kHacBlocks equal spans of ticks of the outer products of
+// the scores summed in each span. The residual of a real drive is coloured (the DSA loops,
+// the filter's 25-tick window, unmodelled effects): the white-noise covariance sigma^2 H^-1
+// then claims intervals several times too narrow. Spans of a few seconds hold the
+// correlation; G/(G-1) corrects the estimator's bias. false when H is singular.
+bool block_cov(const Samples &s, const Vec &p, double eps, Loss loss, double c, const std::vector<int> &free,
+               Eigen::MatrixXd *cov, int *blocks)
+{
+    const std::size_t P = free.size();
+    if (P == 0 || s.n() < 2) return false;
+    const Eigen::MatrixXd H = robust_normal(s, p, eps, loss, c, free);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+    if (ldlt.info() != Eigen::Success) return false;
+    const int64_t t0 = s.tick.empty() ? 0 : s.tick.front();
+    const int64_t span = s.tick.empty() ? static_cast<int64_t>(s.n()) : s.tick.back() - t0 + 1;
+    std::vector<double> S(static_cast<std::size_t>(kHacBlocks) * P, 0.0);
+    std::vector<unsigned char> used(kHacBlocks, 0);
+    Vec d;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const int64_t at = s.tick.empty() ? static_cast<int64_t>(j) : s.tick[j] - t0;
+        const std::size_t b = static_cast<std::size_t>(std::min<int64_t>(kHacBlocks - 1, at * kHacBlocks / std::max<int64_t>(1, span)));
+        const double f = model_eval(p, eps, s.v[j], s.a[j], s.cq[j], s.sq[j], &d);
+        double rt, sl;
+        robust(loss, c, f - s.i[j], &rt, &sl);
+        const double psi = rt * sl;
+        for (std::size_t k = 0; k < P; k++) S[b * P + k] += psi * d[static_cast<std::size_t>(free[k])];
+        used[b] = 1;
+    }
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(P), static_cast<Eigen::Index>(P));
+    int g = 0;
+    for (std::size_t b = 0; b < static_cast<std::size_t>(kHacBlocks); b++) {
+        if (!used[b]) continue;
+        g++;
+        const Eigen::Map<const Eigen::VectorXd> sb(&S[b * P], static_cast<Eigen::Index>(P));
+        M += sb * sb.transpose();
+    }
+    if (g < 2) return false;
+    const Eigen::MatrixXd Hi = ldlt.solve(Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(P), static_cast<Eigen::Index>(P)));
+    *cov = Hi * M * Hi * (static_cast<double>(g) / static_cast<double>(g - 1));
+    *blocks = g;
+    return cov->allFinite();
+}
+
 }  // namespace
 
 bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, double *cost)
@@ -463,6 +517,25 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *st
                 }
             }
             if (!F.cov_ok) F.warnings.push_back("covariance could not be computed (rank-deficient regressor)");
+            // the block-robust figure over the parameters not held at a bound
+            std::vector<int> free;
+            for (std::size_t k = 0; k < P; k++) {
+                if (std::find(held.begin(), held.end(), static_cast<int>(k)) == held.end()) free.push_back(idx[k]);
+            }
+            Eigen::MatrixXd bc;
+            int g = 0;
+            if (F.cov_ok && block_cov(s, p, eps, o.loss, c, free, &bc, &g)) {
+                F.blocks = g;
+                for (std::size_t k = 0; k < free.size(); k++) {
+                    ParamStat &st = F.st[static_cast<std::size_t>(free[k])];
+                    st.sigma_white = st.sigma;
+                    const double sb = std::sqrt(std::max(0.0, bc(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k))));
+                    if (st.sigma_white > 0.0) F.colour = std::max(F.colour, (sb * sb) / (st.sigma_white * st.sigma_white));
+                    st.sigma = std::max(st.sigma_white, sb);
+                }
+            } else if (F.cov_ok) {
+                for (std::size_t k = 0; k < P; k++) F.st[static_cast<std::size_t>(idx[k])].sigma_white = F.st[static_cast<std::size_t>(idx[k])].sigma;
+            }
             break;
         }
     }
@@ -485,7 +558,7 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *st
         ParamStat &st = F.st[static_cast<std::size_t>(idx[k])];
         st.free = true;
         st.value = p[static_cast<std::size_t>(idx[k])];
-        st.ci95 = 1.959964 * st.sigma;
+        st.ci95 = (F.blocks > 1 ? t975(F.blocks - 1) : 1.959964) * st.sigma;
         st.at_bound = std::find(F.held.begin(), F.held.end(), idx[k]) != F.held.end();
         st.pct = st.at_bound ? 0.0 : ((st.value != 0.0) ? 100.0 * st.sigma / std::fabs(st.value) : 1e300);
         if (st.at_bound) {
@@ -553,6 +626,7 @@ Samples thin(const Samples &s, std::size_t max)
         d.i.push_back(s.i[j]);
         d.cq.push_back(s.cq[j]);
         d.sq.push_back(s.sq[j]);
+        if (j < s.pos.size()) d.pos.push_back(s.pos[j]);
         if (j < s.tick.size()) d.tick.push_back(s.tick[j]);
         if (j < s.t.size()) d.t.push_back(s.t[j]);
     }
@@ -580,10 +654,45 @@ void split(const Samples &s, double frac, Samples *a, Samples *b)
     auto part = [&](std::size_t lo, std::size_t hi, Samples *d) {
         auto cp = [&](const std::vector<double> &x, std::vector<double> *y) { y->assign(x.begin() + static_cast<long>(lo), x.begin() + static_cast<long>(hi)); };
         cp(s.v, &d->v); cp(s.a, &d->a); cp(s.i, &d->i); cp(s.cq, &d->cq); cp(s.sq, &d->sq); cp(s.t, &d->t);
+        if (s.pos.size() == n) cp(s.pos, &d->pos);
         d->tick.assign(s.tick.begin() + static_cast<long>(lo), s.tick.begin() + static_cast<long>(hi));
     };
     part(0, cut, a);
     part(cut, n, b);
+}
+
+}  // namespace
+
+namespace {
+
+// RMS [A] of the part of the residual a cubic in the position D3 explains: gravity, which a
+// log without the link angle cannot model, shows here (a constant is the offset's already).
+double position_effect(const Samples &s, const Fit &f, double eps)
+{
+    std::vector<double> r;
+    residuals(s, f.p, eps, &r);
+    double lo = 1e300, hi = -1e300;
+    for (double x : s.pos) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+    }
+    if (!(hi > lo)) return 0.0;
+    Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const double x = 2.0 * (s.pos[j] - lo) / (hi - lo) - 1.0;
+        const Eigen::Vector4d z(1.0, x, 1.5 * x * x - 0.5, 2.5 * x * x * x - 1.5 * x);
+        M += z * z.transpose();
+        b += z * r[j];
+    }
+    const Eigen::Vector4d c = M.ldlt().solve(b);
+    double ss = 0.0;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const double x = 2.0 * (s.pos[j] - lo) / (hi - lo) - 1.0;
+        const double y = c(1) * x + c(2) * (1.5 * x * x - 0.5) + c(3) * (2.5 * x * x * x - 1.5 * x);
+        ss += y * y;
+    }
+    return std::sqrt(ss / static_cast<double>(std::max<std::size_t>(1, s.n())));
 }
 
 }  // namespace
@@ -613,6 +722,14 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
     }
     Samples all;
     R.prep = prepare(log, o, &all);
+    if (R.prep.delay_at_bound) {
+        char b[240];
+        std::snprintf(b, sizeof b, "the delay of D5 after D4 ran to %+.2f ticks, the end of its search (+-%.0f): the "
+                      "excitation does not pin it (a drive's is about -0.5); excite faster or give --delay",
+                      R.prep.delay, kDelayMax);
+        R.why_not = b;
+        return R;
+    }
     const std::size_t min_n = 200;
     if (all.n() < min_n) {
         char b[200];
@@ -680,6 +797,77 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
     const double noise = (R.prep.noise_floor > 0.0) ? R.prep.noise_floor : fits[chosen].sigma;
     if (val.n() > 0) R.val = validate(val, fits[chosen], R.prep.eps, noise);
     R.fit = (val_log != nullptr) ? fits[chosen] : fit(all, chosen, R.prep.eps, o, &fits[chosen].p);
+    // The delay's own uncertainty moves every parameter with it: its share is added to each
+    // interval (the slope of a linear refit at the delay +- 0.25 tick). The white-noise
+    // figure from the search's curvature is widened by the residual's colour.
+    if (o.delay_auto && R.prep.delay_sd > 0.0 && val_log == nullptr) {
+        const double sd = R.prep.delay_sd * std::sqrt(R.fit.colour);
+        const double h = 0.25;
+        Options od = o;
+        od.delay_auto = false;
+        od.eps = R.prep.eps;
+        Vec pp{}, pm{};
+        Samples sp, sm;
+        od.delay = R.prep.delay + h;
+        (void)prepare(log, od, &sp);
+        od.delay = R.prep.delay - h;
+        (void)prepare(log, od, &sm);
+        const double vs = variant_has(R.fit.variant, VS) ? R.fit.p[VS] : 0.0;
+        if (fit_linear(sp, R.fit.variant, R.prep.eps, vs, &pp, nullptr) &&
+            fit_linear(sm, R.fit.variant, R.prep.eps, vs, &pm, nullptr)) {
+            const double tq = R.fit.blocks > 1 ? t975(R.fit.blocks - 1) : 1.959964;
+            for (int k = 0; k < NPARAM; k++) {
+                ParamStat &st = R.fit.st[static_cast<std::size_t>(k)];
+                if (!st.free || st.at_bound || k == VS) continue;
+                st.sigma_delay = std::fabs(pp[static_cast<std::size_t>(k)] - pm[static_cast<std::size_t>(k)]) / (2.0 * h) * sd;
+                st.sigma = std::sqrt(st.sigma * st.sigma + st.sigma_delay * st.sigma_delay);
+                st.ci95 = tq * st.sigma;
+                st.pct = (st.value != 0.0) ? 100.0 * st.sigma / std::fabs(st.value) : 1e300;
+            }
+        }
+        if (1.96 * sd > 1.0) {
+            char b[240];
+            std::snprintf(b, sizeof b, "the delay of D5 after D4 is poorly pinned (%+.2f +- %.2f ticks at 95 %%): its share is "
+                          "in the intervals; excite faster or give --delay", R.prep.delay, 1.96 * sd);
+            R.warnings.push_back(b);
+        }
+    }
+    // A log without the link angle (CSV) on an axis whose current depends on the position
+    // (gravity): the model without gravity would take the load for inertia or friction.
+    if (!log.have_q && all.pos.size() == all.n()) {
+        const double g = position_effect(all, R.fit, R.prep.eps);
+        if (g > 0.5 * std::max(R.fit.sigma, R.prep.noise_floor)) {
+            char b[320];
+            std::snprintf(b, sizeof b, "the current depends on the position (%.3g A RMS beyond the model, gravity?) and the "
+                          "log carries no link angle (a CSV): fit a capture of the run (its init packet gives the kinematics)", g);
+            R.why_not = b;
+            return R;
+        }
+    }
+    // Identifiable means every parameter of the model is pinned by this run: its interval
+    // within half its value, or its whole effect on the current over the range the run saw
+    // (|a|, |v| at most what was kept) within the noise. An axis that barely moved passes the
+    // count of samples and fails here.
+    {
+        const double noise = std::max(R.fit.sigma, R.prep.noise_floor);
+        for (int k : {JA, FV, FC, GA, GB}) {
+            const ParamStat &st = R.fit.st[static_cast<std::size_t>(k)];
+            if (!st.free) continue;
+            if (k == JA && st.at_bound) {
+                R.why_not = "Ja ran to its bound (no positive inertia explains the current): the model does not fit this axis";
+                return R;
+            }
+            if (st.at_bound) continue;
+            const double reach = (k == JA) ? R.prep.amax : ((k == FV) ? R.prep.vmax : 1.0);
+            if (!R.fit.cov_ok || (st.ci95 > 0.5 * std::fabs(st.value) && st.ci95 * reach > noise)) {
+                char b[320];
+                std::snprintf(b, sizeof b, "%s is not pinned by this run: %.4g +- %.3g (95 %%) with |v| <= %.3g turn/s, |a| <= %.3g "
+                              "turn/s^2: excite the axis more", param_name[k], st.value, st.ci95, R.prep.vmax, R.prep.amax);
+                R.why_not = b;
+                return R;
+            }
+        }
+    }
     R.identifiable = true;
     for (int k = 0; k < NPARAM; k++) {
         const ParamStat &st = R.fit.st[static_cast<std::size_t>(k)];

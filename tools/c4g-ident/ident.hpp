@@ -74,6 +74,7 @@ struct Options {
 // Samples ready for the fit.
 struct Samples {
     std::vector<double> v, a, i, cq, sq;
+    std::vector<double> pos;   // D3 [motor turns]: what a log without the link angle has of q
     std::vector<int64_t> tick;
     std::vector<double> t;
     std::size_t n() const { return i.size(); }
@@ -82,11 +83,14 @@ struct Samples {
 // What the preparation found.
 struct Prep {
     double delay = 0.0;        // ticks
+    double delay_sd = 0.0;     // its standard deviation from the search's cost curvature [ticks], 0 unknown
+    bool delay_at_bound = false; // the search ended at an end of its range: the data do not pin it
     double eps = 0.0;          // turns/s
     double vnoise = 0.0;       // sigma of the velocity estimate [turns/s]
     double noise_floor = 0.0;  // sigma of D5's tick-to-tick roughness [A]
     uint64_t kept = 0, dropped_edge = 0, dropped_still = 0, dropped_sat = 0;
     uint64_t dropped_late = 0;     // near a tick without the PC's reply in time
+    uint64_t dropped_gap = 0;      // near a gap in the controller's NUM sequence
     double vmax = 0.0, amax = 0.0; // largest |v|, |a| kept
     double ipeak = 0.0;        // largest |i| kept
 };
@@ -98,13 +102,21 @@ std::vector<double> sg_weights(int half, int order, int deriv, double x);
 // From a log to samples: velocity/acceleration at D5's time, standstill and reversal
 // neighbourhoods, saturation and filter edges dropped.
 Prep prepare(const AxisLog &log, const Options &o, Samples *out);
-// The delay that best explains D5 (linear fit of the Coulomb model), to 0.01 tick.
-double estimate_delay(const AxisLog &log, const Options &o, double eps);
+// The delay search's range [ticks]: a minimum at either end is not a delay the data pin.
+constexpr double kDelayMax = 3.0;
+// The delay that best explains D5 (linear fit of the Coulomb model), to 0.01 tick; its
+// standard deviation (white-noise figure from the cost's curvature) in @p sd, and whether it
+// ended at the range's end in @p at_bound.
+double estimate_delay(const AxisLog &log, const Options &o, double eps, double *sd = nullptr, bool *at_bound = nullptr);
 // Robust sigma of D5's noise from its second differences (model-free).
 double noise_floor(const AxisLog &log);
 
 struct ParamStat {
-    double value = 0, sigma = 0, ci95 = 0, pct = 0; // pct: 100*sigma/|value|
+    // sigma: the larger of the white-noise and the block-robust figures (and the delay's
+    // share); ci95 = t(blocks - 1) * sigma; pct: 100*sigma/|value|
+    double value = 0, sigma = 0, ci95 = 0, pct = 0;
+    double sigma_white = 0;    // sigma from the white-noise covariance alone
+    double sigma_delay = 0;    // the part of sigma the delay's uncertainty gives
     bool free = false;
     bool at_bound = false;  // held at its lower bound: the data push it below
 };
@@ -119,6 +131,8 @@ struct Fit {
     double outlier_frac = 0.0;
     double cond = 0.0;         // condition number of the column-scaled regressor
     bool cov_ok = false;
+    int blocks = 0;            // spans of ticks the block-robust covariance summed the scores over
+    double colour = 1.0;       // largest ratio block-robust / white-noise variance (1: white residual)
     int iterations = 0;
     double seconds = 0.0;
     std::vector<int> held;     // parameters the data held at their lower bound

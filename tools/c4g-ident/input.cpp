@@ -7,6 +7,7 @@ extern "C" {
 #include "c4gh_capture.h"
 }
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -45,6 +46,38 @@ bool is_capture(const std::string &path)
     const uint32_t le = c4g_le_u32(m);
     return le == 0xa1b2c3d4U || le == 0xd4c3b2a1U || le == 0xa1b23c4dU || le == 0x4d3cb2a1U || le == 0x0a0d0d0aU;
 }
+
+// Tick numbers from the controller's NUM (15 bits, wrapping): a packet lost before the log
+// leaves a gap in the numbers, which splits the signal into segments the filter never crosses.
+// Numbering the packets seen instead would close the gap and join two stretches of motion as
+// if they were one tick apart (1 % of packets lost made viscous friction 46 % high).
+struct NumTicks {
+    int32_t last = -1;
+    int64_t tick = 0;
+    // false for a packet that repeats or goes behind the last one (dropped, counted)
+    bool next(int32_t num, InputInfo *info, int64_t *out)
+    {
+        if (last < 0) {
+            last = num;
+            tick = 1;
+            *out = tick;
+            return true;
+        }
+        const int32_t d = c4g_num_delta(last, num);
+        if (d == 0 || d > 0x4000) {
+            info->num_dups++;
+            return false;
+        }
+        if (d > 1) {
+            info->num_gaps++;
+            info->num_missing += static_cast<uint64_t>(d - 1);
+        }
+        tick += d;
+        last = num;
+        *out = tick;
+        return true;
+    }
+};
 
 // Per-axis collector shared by the readers.
 struct Collector {
@@ -122,6 +155,7 @@ struct CapCtx {
     Collector *col;
     InputInfo *info;
     unsigned last_session = 0;
+    NumTicks nt;
     c4g_kin_t kin{};
     bool kin_ok = false;
 };
@@ -136,9 +170,12 @@ void on_exchange(void *vp, const c4gh_an_exchange_t *x)
     if (s->id != c->last_session) {
         c->last_session = s->id;
         c->info->sessions++;
+        c->nt = NumTicks();
         c->kin_ok = s->have_init && c4g_kin_from_init(&s->init, arm, &c->kin) == C4G_OK;
     }
     c->info->ticks++;
+    int64_t tick = 0;
+    if (!c->nt.next(x->rx->num, c->info, &tick)) return;
     const double period = (s->have_init && s->init.period_ms > 0) ? s->init.period_ms * 1e-3 : 0.002;
     const double t = static_cast<double>(x->ctrl_ns) * 1e-9;
     const bool drive = c4g_arm_byte(x->rx->infpar, arm) == C4G_STS_MOVING;
@@ -163,13 +200,13 @@ void on_exchange(void *vp, const c4gh_an_exchange_t *x)
         const double az = s->have_init ? static_cast<double>(s->init.az_lim[arm][logical - 1]) : 0.0;
         AxisLog *L = c->col->axis(logical, i + 1U, period, az);
         if (L == nullptr) continue;
-        if (missed) L->late_ticks.push_back(static_cast<int64_t>(s->id) * kSessionStride + static_cast<int64_t>(x->tick) + 1);
+        if (missed) L->late_ticks.push_back(static_cast<int64_t>(s->id) * kSessionStride + tick + 1);
         if (!c->col->window(L, t)) continue;
         const c4g_ctrl_axis_t &a = x->rx->ax[i];
         const float f[7] = {a.target_pos, a.target_vel, a.actual_pos, a.actual_vel, a.current_ref, a.ext[0], a.ext[1]};
         const bool lq = have_q && (logical - 1U) < nl;
         L->have_q = lq || (L->have_q && L->tick.empty());
-        Collector::add(L, static_cast<int64_t>(s->id) * kSessionStride + static_cast<int64_t>(x->tick), t,
+        Collector::add(L, static_cast<int64_t>(s->id) * kSessionStride + tick, t,
                        a.mode, drive, f, lq ? ql[logical - 1U] : NAN);
     }
 }
@@ -254,8 +291,18 @@ bool num(const std::string &s, double *v)
     return true;
 }
 
+// The columns a moni CSV's rows are read from, by position (c4g-server, c4g-sim --csv).
+const char *const kMoniCols[13] = {"t_s", "num", "axis", "arm", "logical", "rx_mode", "rx_d1", "rx_d2",
+                                   "rx_d3", "rx_d4", "rx_d5", "rx_e1", "rx_e2"};
+const char *const kExpAxis[8] = {"mode", "d1", "d2", "d3", "d4", "d5", "ext1", "ext2"};
+
 int read_csv(const std::string &path, Collector &col, InputInfo *info, std::string *err)
 {
+    struct stat sb;
+    if (stat(path.c_str(), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        *err = path + ": " + std::strerror(EISDIR);
+        return -1;
+    }
     std::ifstream in(path);
     if (!in) {
         *err = path + ": " + std::strerror(errno);
@@ -267,26 +314,58 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
     bool moni = false, exp = false;
     std::map<std::string, std::size_t> col_of;
     double t_prev = NAN;
+    NumTicks nt;
     int64_t tick_moni = 0;
+    bool skip_packet = false;   // moni: the rows of a repeated or out-of-order packet
+    double prev_num = -1.0, prev_axis = 1e9;
     double period = 0.0;
     std::vector<double> dts;  // tick spacings: the period is their median (receive times jitter)
     // export CSV: (tick, reply latency [us]) of every row, +inf without a reply; judged late
     // against the period once it is known, by the capture's rule
     std::vector<std::pair<int64_t, double>> lat;
-    std::size_t pf_col = 0, lu_col = 0;
+    std::size_t pf_col = 0, lu_col = 0, num_col = 0, ip_col = 0;
     bool have_lat = false;
-    // an export header's reply columns (every header of the file must have them)
-    auto reply_cols = [&]() {
-        have_lat = have_lat && col_of.count("pc_frame") != 0 && col_of.count("latency_us") != 0;
+    // export: the column of field k (kExpAxis) of OPEN index i, every one checked present
+    std::size_t axcol[21][8] = {};
+    bool axon[21] = {};
+    unsigned last_session = 0;
+    auto fail = [&](const std::string &why) {
+        *err = path + ":" + std::to_string(ln) + ": " + why;
+        return -1;
+    };
+    // an export header: every column read is looked up here, a missing one is named
+    auto export_header = [&]() -> int {
+        col_of.clear();
+        for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
+        auto need = [&](const std::string &name, std::size_t *at) -> int {
+            const auto it = col_of.find(name);
+            if (it == col_of.end()) return fail("header: column " + name + " missing");
+            *at = it->second;
+            return 0;
+        };
+        if (need("ctrl_num", &num_col) != 0 || need("ctrl_infpar", &ip_col) != 0) return -1;
+        const bool pf = col_of.count("pc_frame") != 0, lu = col_of.count("latency_us") != 0;
+        if (pf != lu) return fail(std::string("header: column ") + (pf ? "latency_us" : "pc_frame") + " missing");
+        have_lat = pf && lu;
         if (have_lat) {
             pf_col = col_of["pc_frame"];
             lu_col = col_of["latency_us"];
         }
         info->reply_times = have_lat;
-    };
-    auto fail = [&](const std::string &why) {
-        *err = path + ":" + std::to_string(ln) + ": " + why;
-        return -1;
+        unsigned axes = 0;
+        for (unsigned i = 1; i <= 20; i++) {
+            const std::string pre = "c" + std::to_string(i) + "_";
+            unsigned have = 0;
+            for (int k = 0; k < 8; k++) have += col_of.count(pre + kExpAxis[k]) != 0 ? 1U : 0U;
+            axon[i] = have > 0;
+            if (have == 0) continue;
+            axes++;
+            for (int k = 0; k < 8; k++) {
+                if (need(pre + kExpAxis[k], &axcol[i][k]) != 0) return -1;
+            }
+        }
+        if (axes == 0) return fail("header: no controller axis columns (c1_mode, c1_d1, ...)");
+        return 0;
     };
     while (std::getline(in, line)) {
         ln++;
@@ -295,15 +374,20 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
         split(line, &f);
         if (!moni && !exp) {
             hdr = f;
-            for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
-            if (hdr.size() >= 21 && hdr[0] == "t_s" && hdr[1] == "num" && hdr[2] == "axis") {
+            if (hdr.size() >= 3 && hdr[0] == "t_s" && hdr[1] == "num" && hdr[2] == "axis") {
                 moni = true;
                 info->format = "moni CSV";
-            } else if (hdr.size() > 12 && hdr[0] == "session" && hdr[1] == "tick" && hdr[2] == "time") {
+                for (std::size_t k = 0; k < 13; k++) {
+                    if (k >= hdr.size()) return fail("header: column " + std::string(kMoniCols[k]) + " missing");
+                    if (hdr[k] != kMoniCols[k]) {
+                        return fail("header field " + std::to_string(k + 1) + ": expected " + kMoniCols[k] + ", found '" +
+                                    shown(hdr[k], 40) + "'");
+                    }
+                }
+            } else if (hdr.size() >= 3 && hdr[0] == "session" && hdr[1] == "tick" && hdr[2] == "time") {
                 exp = true;
                 info->format = "export CSV";
-                have_lat = true;
-                reply_cols();
+                if (export_header() != 0) return -1;
             } else {
                 return fail("not a capture, a c4g-server moni CSV (--moni-type 0) or a c4g-replay export CSV: header '" +
                             shown(line, 60) + "'");
@@ -312,9 +396,7 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
         }
         if (exp && f[0] == "session") {  // a new header (the axis count changed)
             hdr = f;
-            col_of.clear();
-            for (std::size_t k = 0; k < hdr.size(); k++) col_of[hdr[k]] = k;
-            reply_cols();
+            if (export_header() != 0) return -1;
             continue;
         }
         if (f.size() != hdr.size()) {
@@ -329,14 +411,27 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
                                 shown(f[static_cast<std::size_t>(k)], 40) + "' is not a number");
                 }
             }
+            if (!(v[1] >= 0 && v[1] <= 0x7FFF && v[1] == std::floor(v[1]))) {
+                return fail("field 2 (num): '" + shown(f[1], 40) + "' is not a NUM 0..32767");
+            }
+            // a packet's rows carry one NUM and rising OPEN indexes: a new packet starts where either breaks
+            if (v[1] != prev_num || v[2] <= prev_axis) {
+                const int64_t before = nt.tick;
+                skip_packet = !nt.next(static_cast<int32_t>(v[1]), info, &tick_moni);
+                info->ticks++;
+                if (!skip_packet) {
+                    // the spacing of consecutive NUMs only: a gap would lengthen the period
+                    if (!std::isnan(t_prev) && v[0] > t_prev && tick_moni == before + 1 && dts.size() < 4096) {
+                        dts.push_back(v[0] - t_prev);
+                    }
+                    t_prev = v[0];
+                }
+            }
+            prev_num = v[1];
+            prev_axis = v[2];
+            if (skip_packet) continue;
             if (static_cast<unsigned>(v[3]) != col.sel.arm) continue;
             if (!(v[4] >= 1 && v[4] <= 10)) return fail("field 5 (logical): " + shown(f[4], 40) + " is not 1..10");
-            if (std::isnan(t_prev) || v[0] != t_prev) {
-                if (!std::isnan(t_prev) && dts.size() < 4096) dts.push_back(v[0] - t_prev);
-                t_prev = v[0];
-                tick_moni++;
-                info->ticks++;
-            }
             AxisLog *L = col.axis(static_cast<unsigned>(v[4]), static_cast<unsigned>(v[2]), 0.0, 0.0);
             if (L == nullptr || !col.window(L, v[0])) continue;
             const float d[7] = {static_cast<float>(v[6]), static_cast<float>(v[7]), static_cast<float>(v[8]),
@@ -344,41 +439,54 @@ int read_csv(const std::string &path, Collector &col, InputInfo *info, std::stri
                                 static_cast<float>(v[12])};
             Collector::add(L, tick_moni, v[0], static_cast<int32_t>(v[5]), true, d, NAN);
         } else {
-            double s, tk, t;
+            double s, tk, t, nm;
             if (!num(f[0], &s) || !num(f[1], &tk) || !num(f[2], &t)) return fail("session, tick or time is not a number");
             if (col.sel.session != 0 && static_cast<unsigned>(s) != col.sel.session) continue;
-            if (!std::isnan(t_prev) && t > t_prev && dts.size() < 4096) dts.push_back(t - t_prev);
-            t_prev = t;
+            if (!num(f[num_col], &nm) || !(nm >= 0 && nm <= 0x7FFF && nm == std::floor(nm))) {
+                return fail("field ctrl_num: '" + shown(f[num_col], 40) + "' is not a NUM 0..32767");
+            }
+            if (static_cast<unsigned>(s) != last_session) {
+                last_session = static_cast<unsigned>(s);
+                nt = NumTicks();
+                t_prev = NAN;
+            }
             info->ticks++;
+            int64_t tick = 0;
+            const int64_t before = nt.tick;
+            if (!nt.next(static_cast<int32_t>(nm), info, &tick)) continue;
+            if (!std::isnan(t_prev) && t > t_prev && tick == before + 1 && dts.size() < 4096) dts.push_back(t - t_prev);
+            t_prev = t;
+            const int64_t stamp = static_cast<int64_t>(s) * kSessionStride + tick;
             if (have_lat) {
                 double us = std::numeric_limits<double>::infinity();
                 if (!f[pf_col].empty() && !num(f[lu_col], &us)) {
                     return fail("field latency_us: '" + shown(f[lu_col], 40) + "' is not a number");
                 }
-                lat.emplace_back(static_cast<int64_t>(s) * kSessionStride + static_cast<int64_t>(tk) + 1, us);
+                lat.emplace_back(stamp + 1, us);
             }
-            const auto ip = col_of.find("ctrl_infpar");
-            const unsigned long infpar = (ip != col_of.end()) ? std::strtoul(f[ip->second].c_str(), nullptr, 16) : 0;
+            char *end = nullptr;
+            const unsigned long infpar = std::strtoul(f[ip_col].c_str(), &end, 16);
+            if (f[ip_col].empty() || *end != '\0') {
+                return fail("field ctrl_infpar: '" + shown(f[ip_col], 40) + "' is not a hex word");
+            }
             const bool drive = ((infpar >> (8U * (col.sel.arm - 1U))) & 0xFFU) == C4G_STS_MOVING;
             for (unsigned i = 1; i <= 20; i++) {
+                if (!axon[i]) continue;
                 const std::string pre = "c" + std::to_string(i) + "_";
-                const auto m = col_of.find(pre + "mode");
-                if (m == col_of.end()) continue;
                 // export rows carry no axis map: OPEN index i is logical axis i of the selected arm
                 AxisLog *L = col.axis(i, i, 0.0, 0.0);
                 if (L == nullptr || !col.window(L, t)) continue;
-                static const char *const nm[7] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2"};
                 float d[7];
                 double mode;
-                if (!num(f[m->second], &mode)) return fail("field " + pre + "mode: '" + shown(f[m->second], 40) + "' is not a number");
+                const std::size_t mc = axcol[i][0];
+                if (!num(f[mc], &mode)) return fail("field " + pre + "mode: '" + shown(f[mc], 40) + "' is not a number");
                 for (int k = 0; k < 7; k++) {
                     double x;
-                    const std::size_t c = col_of[pre + nm[k]];
-                    if (!num(f[c], &x)) return fail("field " + pre + nm[k] + ": '" + shown(f[c], 40) + "' is not a number");
+                    const std::size_t c = axcol[i][k + 1];
+                    if (!num(f[c], &x)) return fail("field " + pre + kExpAxis[k + 1] + ": '" + shown(f[c], 40) + "' is not a number");
                     d[k] = static_cast<float>(x);
                 }
-                Collector::add(L, static_cast<int64_t>(s) * kSessionStride + static_cast<int64_t>(tk), t,
-                               static_cast<int32_t>(mode), drive, d, NAN);
+                Collector::add(L, stamp, t, static_cast<int32_t>(mode), drive, d, NAN);
             }
         }
     }

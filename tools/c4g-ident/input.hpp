@@ -32,6 +32,9 @@ struct InputInfo {
     uint64_t sessions = 0;
     bool have_kin = false;
     bool reply_times = false;    // the input says when each PC reply came (capture, export CSV)
+    // the controller's NUM sequence: gaps (packets missing from the log), how many packets
+    // they miss in all, and packets dropped as repeated or out of order
+    uint64_t num_gaps = 0, num_missing = 0, num_dups = 0;
 };
 
 // Reads @p path into one log per selected axis. 0 ok; otherwise an error (naming the file,

@@ -226,7 +226,8 @@ int run_fit(int argc, char **argv)
                        "special modes are used; the report says how many were kept and why the rest were not.",
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 every selected axis identified; 1 a file could not be written; 2 bad\n"
-                       "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted).",
+                       "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted;\n"
+                       "when none was, no --out file is written).",
                        1, -1, 1, nullptr};
     int first = 0;
     const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
@@ -245,6 +246,10 @@ int run_fit(int argc, char **argv)
     c.opt.sg_order = static_cast<int>(order);
     c.opt.threads = static_cast<int>(threads);
     c.opt.want_gravity = !c.no_gravity;
+    if (c.no_gravity && c.opt.force_variant >= 0 && variant_gravity(static_cast<Variant>(c.opt.force_variant))) {
+        c4gh_cli_error(&spec, "--no-gravity and --variant %s contradict each other", variant_name[c.opt.force_variant]);
+        return C4GH_CLI_EXIT_USAGE;
+    }
     if (to >= 0.0 && to <= from) {
         c4gh_cli_error(&spec, "--to %g must be after --from %g", to, from);
         return C4GH_CLI_EXIT_USAGE;
@@ -298,6 +303,21 @@ int run_fit(int argc, char **argv)
         std::fprintf(stderr, "%s: no axis of arm %u%s in the log(s)\n", kTool, arm, c.sel.axes ? " among --axes" : "");
         return C4GH_CLI_EXIT_USAGE;
     }
+    // every axis asked for must be in the logs: one left out silently would pass for fitted
+    for (unsigned k = 0; k < kMaxAxes; k++) {
+        if (((c.sel.axes >> k) & 1U) == 0U) continue;
+        bool found = false;
+        std::string have;
+        for (const AxisLog &M : merged) {
+            found = found || M.axis == k + 1U;
+            have += (have.empty() ? "" : ",") + std::to_string(M.axis);
+        }
+        if (!found) {
+            std::fprintf(stderr, "%s: --axes: axis %u of arm %u is not in the log(s) (they carry axes %s)\n", kTool, k + 1U,
+                         arm, have.c_str());
+            return C4GH_CLI_EXIT_USAGE;
+        }
+    }
     std::vector<AxisLog> vlogs;
     if (c.validate[0] != '\0') {
         InputInfo info;
@@ -348,6 +368,13 @@ int run_fit(int argc, char **argv)
         else report_text(stdout, job);
     }
     std::string err;
+    bool any = false;
+    for (const AxisResult &R : job.results) any = any || R.identifiable;
+    if (c.out[0] != '\0' && !any) {
+        // a file without axes would only be refused by c4g-server later
+        std::fprintf(stderr, "%s: no axis identified: --out %s not written\n", kTool, c.out);
+        return 3;
+    }
     if (c.out[0] != '\0' && write_params(c.out, job, C4G_VERSION_STRING, &err) != 0) {
         std::fprintf(stderr, "%s: %s\n", kTool, err.c_str());
         return C4GH_CLI_EXIT_RUNTIME;

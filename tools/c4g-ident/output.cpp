@@ -38,6 +38,12 @@ void report_text(FILE *out, const Job &j)
                      static_cast<unsigned long long>(in.ticks), sessions.c_str(),
                      in.have_kin ? ", kinematics from the init packet" : "",
                      in.reply_times ? "" : ", no reply times (ticks after a late reply are kept)");
+        if (in.num_gaps > 0 || in.num_dups > 0) {
+            std::fprintf(out, "  NUM sequence: %llu gap(s), %llu controller packet(s) missing (ticks numbered from NUM: the "
+                              "filter never reaches across a gap); %llu repeated or out-of-order packet(s) dropped\n",
+                         static_cast<unsigned long long>(in.num_gaps), static_cast<unsigned long long>(in.num_missing),
+                         static_cast<unsigned long long>(in.num_dups));
+        }
     }
     std::fprintf(out, "model: i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n");
     std::fprintf(out, "fit: %s loss (scale %.3g sigma), Savitzky-Golay %d/%d, validation: %s\n", loss_name(j.opt.loss),
@@ -53,17 +59,17 @@ void report_text(FILE *out, const Job &j)
         std::fprintf(out, "  ticks: %llu seen, %llu kept", static_cast<unsigned long long>(L.seen),
                      static_cast<unsigned long long>(r.prep.kept));
         std::fprintf(out, "; dropped: %llu drive off, %llu special mode, %llu non-finite, %llu outside the window, "
-                          "%llu standstill/reversal, %llu near a late PC reply, %llu saturated, %llu filter edges\n",
+                          "%llu standstill/reversal, %llu near a late PC reply, %llu near a NUM gap, %llu saturated, %llu filter edges\n",
                      static_cast<unsigned long long>(L.dropped_drive), static_cast<unsigned long long>(L.dropped_mode),
                      static_cast<unsigned long long>(L.dropped_nonfinite), static_cast<unsigned long long>(L.dropped_window),
                      static_cast<unsigned long long>(r.prep.dropped_still), static_cast<unsigned long long>(r.prep.dropped_late),
-                     static_cast<unsigned long long>(r.prep.dropped_sat), static_cast<unsigned long long>(r.prep.dropped_edge));
+                     static_cast<unsigned long long>(r.prep.dropped_gap), static_cast<unsigned long long>(r.prep.dropped_sat), static_cast<unsigned long long>(r.prep.dropped_edge));
         if (!r.identifiable) {
             std::fprintf(out, "  UNIDENTIFIABLE: %s\n", r.why_not.c_str());
             continue;
         }
-        std::fprintf(out, "  delay of D5 after D4: %+.3f ticks; eps %.4g turn/s; range |v| <= %.4g turn/s, |a| <= %.4g turn/s^2\n",
-                     r.prep.delay, r.prep.eps, r.prep.vmax, r.prep.amax);
+        std::fprintf(out, "  delay of D5 after D4: %+.3f ticks (sd %.3f); eps %.4g turn/s; range |v| <= %.4g turn/s, |a| <= %.4g turn/s^2\n",
+                     r.prep.delay, r.prep.delay_sd, r.prep.eps, r.prep.vmax, r.prep.amax);
         std::fprintf(out, "  variant: %s (held-out cost:", variant_name[r.fit.variant]);
         for (int v = 0; v < NVARIANT; v++) {
             if (r.tried[static_cast<std::size_t>(v)]) std::fprintf(out, " %s %.4g", variant_name[v], r.val_cost[static_cast<std::size_t>(v)]);
@@ -85,6 +91,8 @@ void report_text(FILE *out, const Job &j)
             std::fprintf(out, "  validation: %zu samples, inlier RMS %.4g A = %.3f %% of peak current = %.3f x noise\n", r.val.n,
                          r.val.rms_inlier, r.val.pct_peak, r.val.x_noise);
         }
+        std::fprintf(out, "  intervals: t(%d) x sigma, sigma the larger of white-noise and block-robust (%d spans; colour x%.3g "
+                          "in variance) with the delay's share\n", r.fit.blocks > 1 ? r.fit.blocks - 1 : 0, r.fit.blocks, r.fit.colour);
         std::fprintf(out, "  regressor condition number %.4g; %d solver iterations, %.3f s\n", r.fit.cond, r.fit.iterations,
                      r.fit.seconds);
         std::fprintf(out, "  controller's own model beside it: RMS(D5 - EXT1) %.4g A, mean EXT2 (inertia) %.4g\n", r.ext1_rms,
@@ -98,10 +106,13 @@ int report_json(FILE *out, const Job &j)
     json_t *root = json_object();
     json_t *ins = json_array();
     for (const InputInfo &in : j.inputs) {
-        json_array_append_new(ins, json_pack("{s:s,s:s,s:I,s:I,s:b,s:b}", "path", in.path.c_str(), "format", in.format.c_str(),
-                                             "ticks", static_cast<json_int_t>(in.ticks), "sessions",
-                                             static_cast<json_int_t>(in.sessions), "kinematics", in.have_kin,
-                                             "reply_times", in.reply_times));
+        json_t *o = json_pack("{s:s,s:s,s:I,s:I,s:b,s:b}", "path", in.path.c_str(), "format", in.format.c_str(),
+                              "ticks", static_cast<json_int_t>(in.ticks), "sessions", static_cast<json_int_t>(in.sessions),
+                              "kinematics", in.have_kin, "reply_times", in.reply_times);
+        json_object_set_new(o, "num_gaps", json_integer(static_cast<json_int_t>(in.num_gaps)));
+        json_object_set_new(o, "num_missing", json_integer(static_cast<json_int_t>(in.num_missing)));
+        json_object_set_new(o, "num_dropped", json_integer(static_cast<json_int_t>(in.num_dups)));
+        json_array_append_new(ins, o);
     }
     json_object_set_new(root, "inputs", ins);
     json_object_set_new(root, "loss", json_string(loss_name(j.opt.loss)));
@@ -125,6 +136,7 @@ int report_json(FILE *out, const Job &j)
                                                   static_cast<json_int_t>(r.prep.dropped_late), "saturated",
                                                   static_cast<json_int_t>(r.prep.dropped_sat), "edges",
                                                   static_cast<json_int_t>(r.prep.dropped_edge)));
+        json_object_set_new(json_object_get(a, "ticks"), "num_gap", json_integer(static_cast<json_int_t>(r.prep.dropped_gap)));
         if (!r.identifiable) {
             json_object_set_new(a, "why", json_string(r.why_not.c_str()));
             json_array_append_new(axes, a);
@@ -132,6 +144,9 @@ int report_json(FILE *out, const Job &j)
         }
         json_object_set_new(a, "variant", json_string(variant_name[r.fit.variant]));
         json_object_set_new(a, "delay_ticks", json_real(r.prep.delay));
+        json_object_set_new(a, "delay_sd_ticks", json_real(r.prep.delay_sd));
+        json_object_set_new(a, "covariance_blocks", json_integer(r.fit.blocks));
+        json_object_set_new(a, "residual_colour", json_real(r.fit.colour));
         json_object_set_new(a, "eps", json_real(r.prep.eps));
         json_object_set_new(a, "v_max", json_real(r.prep.vmax));
         json_object_set_new(a, "a_max", json_real(r.prep.amax));
@@ -139,9 +154,12 @@ int report_json(FILE *out, const Job &j)
         for (int p = 0; p < NPARAM; p++) {
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
-            json_object_set_new(ps, param_name[p], json_pack("{s:f,s:f,s:f,s:f,s:s}", "value", s.value, "sigma", s.sigma, "ci95",
-                                                           s.ci95, "sigma_pct", (s.pct < 1e299) ? s.pct : -1.0, "unit",
-                                                           param_unit[p]));
+            json_t *po = json_pack("{s:f,s:f,s:f,s:f,s:s}", "value", s.value, "sigma", s.sigma, "ci95", s.ci95, "sigma_pct",
+                                   (s.pct < 1e299) ? s.pct : -1.0, "unit", param_unit[p]);
+            json_object_set_new(po, "sigma_white", json_real(s.sigma_white));
+            json_object_set_new(po, "sigma_delay", json_real(s.sigma_delay));
+            json_object_set_new(po, "at_bound", json_boolean(s.at_bound));
+            json_object_set_new(ps, param_name[p], po);
         }
         json_object_set_new(a, "parameters", ps);
         json_t *vc = json_object();

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace ident {
 
@@ -152,6 +153,22 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
         return out;
     };
     const std::vector<unsigned char> near = dilate(1), jolt = dilate(3);
+    // A gap in the NUM sequence: packets the PC never saw, so ticks the controller ran without
+    // its reply, as after a late one; the missing ticks are not in the log, so the distance is
+    // measured from the gap's ends by tick number.
+    std::vector<unsigned char> gap(n, 0);
+    {
+        int64_t last = INT64_MIN / 2;
+        for (std::size_t k = 0; k < n; k++) {
+            if (k > 0 && L.tick[k] > L.tick[k - 1] + 1 && L.tick[k] - L.tick[k - 1] < 1000) last = L.tick[k] - 1;
+            if (L.tick[k] - last <= w) gap[k] = 1;
+        }
+        last = INT64_MAX / 2;
+        for (std::size_t k = n; k-- > 0;) {
+            if (k + 1 < n && L.tick[k + 1] > L.tick[k] + 1 && L.tick[k + 1] - L.tick[k] < 1000) last = L.tick[k] + 1;
+            if (last - L.tick[k] <= w) gap[k] = 1;
+        }
+    }
     for (std::size_t k = 0; k < n; k++) {
         if (!f.ok[k]) {
             if (count) pr->dropped_edge++;
@@ -161,6 +178,8 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
             if (count) pr->dropped_still++;
         } else if (jolt[k]) {
             if (count) pr->dropped_late++;
+        } else if (gap[k]) {
+            if (count) pr->dropped_gap++;
         } else {
             use[k] = 1;
         }
@@ -171,7 +190,7 @@ std::vector<unsigned char> usable(const AxisLog &L, const Filtered &f, double ep
 // Cost of the linear Coulomb(+gravity) fit with the filter evaluated at x.
 // Ticks in @p skip (outliers in D5, from outlier_mask) take no part.
 double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std::size_t stride, double vs,
-                  const std::vector<unsigned char> &skip, double *best_vs = nullptr)
+                  const std::vector<unsigned char> &skip, double *best_vs = nullptr, std::size_t *used = nullptr)
 {
     Filtered f;
     filter(L, o, x, stride, &f);
@@ -189,6 +208,7 @@ double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std:
     }
     Vec p{};
     double cost = 0.0;
+    if (used != nullptr) *used = s.n();
     if (s.n() < 50) return 1e300;
     if (best_vs != nullptr) {
         // the Stribeck velocity that explains this filter output best (a linear fit per vs)
@@ -353,15 +373,33 @@ AxisLog thin_blocks(const AxisLog &L, std::size_t max)
 
 }  // namespace
 
-double estimate_delay(const AxisLog &Lfull, const Options &o, double eps)
+namespace {
+
+// Ticks [b, e) of a log (the fields the delay search reads).
+AxisLog slice(const AxisLog &L, std::size_t b, std::size_t e)
+{
+    AxisLog d = L;
+    auto cut = [&](auto &v) {
+        using V = std::decay_t<decltype(v)>;
+        v = V(v.begin() + static_cast<long>(std::min(b, v.size())), v.begin() + static_cast<long>(std::min(e, v.size())));
+    };
+    cut(d.tick); cut(d.t); cut(d.d1); cut(d.d2); cut(d.d3); cut(d.d4); cut(d.d5); cut(d.e1); cut(d.e2); cut(d.q);
+    return d;
+}
+
+}  // namespace
+
+double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double *sd, bool *at_bound)
 {
     const AxisLog L = thin_blocks(Lfull, 30000);
     const std::size_t stride = 1;
     // x = delay + 0.5: D4(k) is the mean velocity of (k-1, k], its time k - 0.5.
-    // First with the Coulomb model: a coarse grid, then golden section.
+    // First with the Coulomb model: a coarse grid over +-kDelayMax, then golden section.
+    // The range is wider than any delay a drive has (about half a tick): a minimum at its end
+    // says the cost is flat (gentle excitation), not where the delay is.
     double best = 0.0, bc = 1e300;
     const std::vector<unsigned char> none;
-    for (double d = -2.0; d <= 2.0001; d += 0.25) {
+    for (double d = -kDelayMax; d <= kDelayMax + 1e-4; d += 0.25) {
         const double c = delay_cost(L, o, d + 0.5, eps, stride, 0.0, none);
         if (c < bc) {
             bc = c;
@@ -369,16 +407,72 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps)
         }
     }
     const std::vector<unsigned char> skip = outlier_mask(L, o, best + 0.5, eps);
-    const double d0 = golden(L, o, eps, stride, 0.0, skip, best - 0.25, best + 0.25);
+    const double d0 = golden(L, o, eps, stride, 0.0, skip, std::max(-kDelayMax, best - 0.25), std::min(kDelayMax, best + 0.25));
     // A Stribeck dip the Coulomb model cannot follow pulls the delay: refine with the
     // Stribeck velocity that fits best at d0, when it fits clearly better.
     double vs = 0.0;
     const double cs = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, skip, &vs);
     const double cc = delay_cost(L, o, d0 + 0.5, eps, stride, 0.0, skip);
+    double d = d0;
     if (vs > 0.0 && cs < 0.99 * cc) {
-        return golden(L, o, eps, stride, vs, skip, d0 - 0.5, d0 + 0.5);
+        d = golden(L, o, eps, stride, vs, skip, std::max(-kDelayMax, d0 - 0.5), std::min(kDelayMax, d0 + 0.5));
+    } else {
+        vs = 0.0;
     }
-    return d0;
+    if (at_bound != nullptr) *at_bound = std::fabs(d) >= kDelayMax - 0.05;
+    if (sd != nullptr) {
+        // least squares in one more parameter: var(d) = sigma^2 / sum (dr/dd)^2, and the mean
+        // squared residual c(d) has c'' = 2 sum (dr/dd)^2 / n, c(d0) = sigma^2
+        auto curv_sd = [&](const AxisLog &P, double at, double scale) {
+            const double h = 0.25;
+            std::size_t n = 0;
+            const double c0 = delay_cost(P, o, at + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none, nullptr, &n);
+            const double cp = delay_cost(P, o, at + h + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none);
+            const double cm = delay_cost(P, o, at - h + 0.5, eps, stride, vs, skip.size() == P.tick.size() ? skip : none);
+            const double curv = (cp + cm - 2.0 * c0) / (h * h);
+            const double nn = static_cast<double>(n) * scale;
+            return (curv > 0.0 && nn > 0.0 && c0 < 1e299) ? std::sqrt(2.0 * c0 / (nn * curv)) : kDelayMax;
+        };
+        // the thinned log stands for the whole one
+        const double scale = static_cast<double>(Lfull.tick.size()) / static_cast<double>(std::max<std::size_t>(1, L.tick.size()));
+        *sd = curv_sd(L, d, scale);
+        // The spread of the delays found on each fifth of the log: a coloured
+        // residual or a second valley moves them apart, where the curvature at the minimum
+        // sees nothing. Only the fifths that pin a delay of their own (curvature figure under a
+        // tick) take part: a stretch of constant-speed runs says nothing either way.
+        constexpr int kParts = 5;
+        if (L.tick.size() >= static_cast<std::size_t>(kParts) * 2000U) {
+            std::vector<double> dj;
+            for (int part = 0; part < kParts; part++) {
+                const AxisLog P = slice(L, L.tick.size() * static_cast<std::size_t>(part) / kParts,
+                                        L.tick.size() * static_cast<std::size_t>(part + 1) / kParts);
+                double pb = 0.0, pc = 1e300;
+                for (double x = -kDelayMax; x <= kDelayMax + 1e-4; x += 0.25) {
+                    const double c = delay_cost(P, o, x + 0.5, eps, stride, vs, none);
+                    if (c < pc) {
+                        pc = c;
+                        pb = x;
+                    }
+                }
+                if (!(pc < 1e299)) continue;
+                const double x = golden(P, o, eps, stride, vs, none, std::max(-kDelayMax, pb - 0.25), std::min(kDelayMax, pb + 0.25));
+                if (curv_sd(P, x, scale) < 1.0) dj.push_back(x);
+            }
+            if (dj.size() >= 3) {
+                double m = 0.0;
+                for (double x : dj) m += x;
+                m /= static_cast<double>(dj.size());
+                double ss = 0.0;
+                for (double x : dj) ss += (x - m) * (x - m);
+                const double J = static_cast<double>(dj.size());
+                // the parts' own spread, not divided by sqrt(J) as independent estimates of
+                // one delay would be: parts that disagree say the model's delay depends on
+                // what the axis did, and a fit of the whole is as uncertain as that
+                *sd = std::max(*sd, std::sqrt(ss / (J - 1.0)));
+            }
+        }
+    }
+    return d;
 }
 
 Prep prepare(const AxisLog &L, const Options &o, Samples *out)
@@ -388,7 +482,8 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
     const double eps_auto = auto_eps(L, o, &pr.vnoise, &vmax);
     pr.eps = (o.eps > 0.0) ? o.eps : eps_auto;
     pr.noise_floor = noise_floor(L);
-    pr.delay = o.delay_auto ? estimate_delay(L, o, pr.eps) : o.delay;
+    if (o.delay_auto) pr.delay = estimate_delay(L, o, pr.eps, &pr.delay_sd, &pr.delay_at_bound);
+    else pr.delay = o.delay;
     Filtered f;
     filter(L, o, pr.delay + 0.5, 1, &f);
     const std::vector<unsigned char> use = usable(L, f, pr.eps, o.sg_half, &pr, true);
@@ -401,6 +496,7 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
         const double q = L.have_q ? q_at(L, k, pr.delay) : 0.0;
         out->cq.push_back(L.have_q ? std::cos(q) : 0.0);
         out->sq.push_back(L.have_q ? std::sin(q) : 0.0);
+        out->pos.push_back(static_cast<double>(L.d3[k]));
         out->tick.push_back(L.tick[k]);
         out->t.push_back(L.t[k]);
         pr.vmax = std::max(pr.vmax, std::fabs(f.v[k]));
