@@ -35,6 +35,9 @@ void c4gh_cli_usage(const c4gh_cli_spec_t *spec, FILE *out)
     for (i = 0; i < spec->n_opts; i++) {
         const c4gh_cli_opt_t *o = &spec->opts[i];
         char left[64];
+        if (o->help == NULL) {
+            continue; /* an old spelling, kept for a release: not shown */
+        }
         if (o->short_name != 0) {
             snprintf(left, sizeof left, "-%c, --%s%s%s", o->short_name, o->name,
                      o->arg != NULL ? " " : "", o->arg != NULL ? o->arg : "");
@@ -144,6 +147,22 @@ static int cli_tables(const c4gh_cli_spec_t *spec, struct option *lo, char *so, 
     return 0;
 }
 
+/* An old spelling (a row without help) is the row that stores where a shown one stores: the
+ * note names the shown one. */
+static void cli_old_spelling(const c4gh_cli_spec_t *spec, const c4gh_cli_opt_t *o)
+{
+    size_t i;
+    for (i = 0; i < spec->n_opts; i++) {
+        const c4gh_cli_opt_t *n = &spec->opts[i];
+        if (n != o && n->help != NULL && n->kind == o->kind &&
+            ((o->dest != NULL && n->dest == o->dest) || (o->dest == NULL && n->fn == o->fn))) {
+            fprintf(stderr, "%s: --%s is spelt --%s now, as in the other tools (--%s is accepted until 3.0)\n",
+                    spec->tool, o->name, n->name, o->name);
+            return;
+        }
+    }
+}
+
 static const c4gh_cli_opt_t *cli_row_of(const c4gh_cli_spec_t *spec, int c)
 {
     size_t i;
@@ -217,6 +236,9 @@ c4gh_cli_result_t c4gh_cli_parse(const c4gh_cli_spec_t *spec, void *ctx, int arg
             return C4GH_CLI_BAD;
         }
         why[0] = '\0';
+        if (o->help == NULL) {
+            cli_old_spelling(spec, o);
+        }
         if (cli_store(ctx, o, o->arg != NULL ? optarg : NULL, why, sizeof why) != 0) {
             if (o->arg != NULL) {
                 char shown[160];

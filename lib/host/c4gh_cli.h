@@ -35,7 +35,9 @@ typedef struct c4gh_cli_opt {
     int short_name;    /* 0 for none */
     c4gh_cli_kind_t kind;
     const char *arg;   /* argument placeholder in --help (NULL: no argument) */
-    const char *help;  /* one line */
+    const char *help;  /* one line; NULL: an old spelling kept for a release, not shown in
+                        * --help, its use noted on stderr with the shown row's name (the row
+                        * with the same dest, or for C4GH_CLI_CALL the same fn) */
     void *dest;        /* C4GH_CLI_FLAG/STRING/INT/UINT/DOUBLE */
     size_t dest_cap;   /* C4GH_CLI_STRING */
     double lo, hi;     /* C4GH_CLI_INT/UINT/DOUBLE */

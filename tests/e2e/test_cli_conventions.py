@@ -79,8 +79,8 @@ def test_output_files(bins, procs, ports, tmp_path):
           r.returncode == 2 and re.search(r"ctl\.csv:1: .*header 'garb\\x01age'", r.stderr), (r.returncode, r.stderr))
     out_fail(ck, procs, 4, "--csv", "/x/y.csv", [bins.sim, "-p", ports.udp(), "-n", "3000", "--csv", "/x/y.csv"])
     out_fail(ck, procs, 4, "--pcap", "/x/y.pcap", [bins.sim, "-p", ports.udp(), "-n", "3000", "--pcap", "/x/y.pcap"])
-    out_fail(ck, procs, 1, "--output", "/x/y.png",
-             [bins.replay, "plot", "--output", "/x/y.png", "fixtures/replay/mode4.pcap"])
+    out_fail(ck, procs, 1, "--out", "/x/y.png",
+             [bins.replay, "plot", "--out", "/x/y.png", "fixtures/replay/mode4.pcap"])
     out_fail(ck, procs, 1, "--out", "/x/arm1.ini", [bins.ident, "fit", "-o", "/x/arm1.ini", "fixtures/replay/mode4.pcap"])
     out_fail(ck, procs, 1, "--plot", "/x/plots", [bins.ident, "fit", "--plot", "/x/plots", "fixtures/replay/mode4.pcap"])
     out_fail(ck, procs, 1, "--out", "/x/e.csv", [bins.ident, "excite", "-o", "/x/e.csv"])

@@ -774,15 +774,18 @@ def test_export_plot(bins, tmp_path):
        rows and all(0.1 <= r["time"] <= 0.2 for r in rows), len(rows))
     assert shutil.which("gnuplot"), "gnuplot installed (scripts/deps.sh)"
     png = tmp_path / "p.png"
-    rc, _, _ = rp(bins, "plot", "--axis", "1", "--field", "d1", "--output", png, FX + "/mode4.pcap")
+    rc, _, _ = rp(bins, "plot", "--axis", "1", "--field", "d1", "--out", png, FX + "/mode4.pcap")
     ok("plot PNG: exit 0, a PNG file", rc == 0 and png.read_bytes()[:4] == b"\x89PNG", rc)
     svg = tmp_path / "l.svg"
-    rc, _, _ = rp(bins, "plot", "--latency", "--output", svg, FX + "/mode4.pcap")
+    rc, _, _ = rp(bins, "plot", "--latency", "--out", svg, FX + "/mode4.pcap")
     ok("plot --latency SVG: exit 0, an SVG file", rc == 0 and svg.read_text().count("<svg") == 1, rc)
     ta = tmp_path / "ta.png"
-    rc, out, _ = rp(bins, "plot", "--axis", "1", "--field", "d1,d3", "--output", ta, FX + "/mode4.pcap")
-    ok("plot --field d1,d3 (target and actual in one plot): exit 0, a PNG, nothing on stdout",
-       rc == 0 and ta.read_bytes()[:4] == b"\x89PNG" and out == "", (rc, out[:200]))
+    rc, out, err = rp(bins, "plot", "--axis", "1", "--field", "d1,d3", "--output", ta, FX + "/mode4.pcap")
+    ok("plot --field d1,d3 (target and actual in one plot) with --output, the old spelling of --out: exit 0, "
+       "a PNG, nothing on stdout, one note on stderr",
+       rc == 0 and ta.read_bytes()[:4] == b"\x89PNG" and out == "" and
+       err.splitlines()[0] == "c4g-replay: --output is spelt --out now, as in the other tools (--output is accepted until 3.0)",
+       (rc, out[:200], err))
     rc, _, err = rp(bins, "plot", "--axis", "1", "--field", "d1,nope", FX + "/mode4.pcap")
     ok("  ... a bad field in the list: exit 2, named", rc == 2 and err.count("bad value 'd1,nope'") == 1, (rc, err))
     rc, out, err = rp(bins, "plot", "--axis", "1", "--field", "d1", FX + "/mode4.pcap")
@@ -812,7 +815,7 @@ def test_live_late(bins, procs, ports, tmp_path):
     port = ports.udp()
     srv = start_server(procs, bins, "server", port, tmp_path, "-b", "127.0.0.1", "--sine", "0.25,1,0.5", "--persist",
                        "--max-seconds", 30)
-    rc, out, _ = rp(bins, "live", FX + "/field/late-replies.pcap", "--to", "127.0.0.1:%d" % port, "--num-policy",
+    rc, out, _ = rp(bins, "live", FX + "/field/late-replies.pcap", "--target", "127.0.0.1:%d" % port, "--num-policy",
                     "plus-one", "--topspeed", "--json")
     srv.signal(signal.SIGTERM)
     d = json.loads(out)["divergences"]

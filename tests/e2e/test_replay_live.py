@@ -70,7 +70,7 @@ def stop(h):
 
 def live(bins, cap, port, *args):
     """c4g-replay live of cap to 127.0.0.1:port --json: (exit status, flattened summary)"""
-    r = subprocess.run([str(bins.replay), "live", str(cap), "--to", "127.0.0.1:%d" % port, "--json"] +
+    r = subprocess.run([str(bins.replay), "live", str(cap), "--target", "127.0.0.1:%d" % port, "--json"] +
                        [str(a) for a in args], capture_output=True, text=True, timeout=60)
     try:
         return r.returncode, flat(json.loads(r.stdout))
@@ -205,7 +205,7 @@ def test_other_amplitude(bins, procs, ports, tmp_path, m4):
                                               j.get("divergences.fields.mode")), (0, 0, 0))
     port = ports.udp()
     srv = start_server(procs, bins, tmp_path, "othertxt", port, "--sine", "0.2,0.5,0.5")
-    r = subprocess.run([str(bins.replay), "live", str(cap), "--to", "127.0.0.1:%d" % port] + PLUS,
+    r = subprocess.run([str(bins.replay), "live", str(cap), "--target", "127.0.0.1:%d" % port] + PLUS,
                        capture_output=True, text=True, timeout=60)
     wait_server(srv)
     text = r.stdout + r.stderr
@@ -409,14 +409,17 @@ def test_refusals(bins, tmp_path, m4):
         r = subprocess.run([str(bins.replay)] + [str(a) for a in args], capture_output=True, text=True, timeout=60)
         return r.returncode, r.stderr
 
-    rc, err = rp("live", cut, "--to", "127.0.0.1:9")
+    rc, err = rp("live", cut, "--target", "127.0.0.1:9")
     ck.eq("no start-up: exit 2", rc, 2)
     ck.has("no start-up: says so and suggests rerun", err, "no session with its start-up.*rerun")
+    rc, err = rp("live", cap, "--target", "x")
+    ck.eq("bad --target: exit 2", rc, 2)
+    ck.ok("bad --target: the error names it", "c4g-replay: --target: bad value 'x' (want HOST:PORT)" in err, err)
     rc, err = rp("live", cap, "--to", "x")
-    ck.eq("bad --to: exit 2", rc, 2)
-    ck.ok("bad --to: the error names it", "c4g-replay: --to: bad value 'x' (want HOST:PORT)" in err, err)
-    ck.eq("no --to: exit 2", rp("live", cap)[0], 2)
-    ck.eq("unreadable file: exit 2", rp("live", tmp_path / "nothere.pcap", "--to", "127.0.0.1:9")[0], 2)
-    rc, err = rp("live", cap, "--to", "127.0.0.1:9", "--session", "2")
+    ck.ok("--to, the old spelling: a note naming --target, then the same refusal",
+          rc == 2 and "--to is spelt --target now" in err and "--to: bad value 'x'" in err, (rc, err))
+    ck.eq("no --target: exit 2", rp("live", cap)[0], 2)
+    ck.eq("unreadable file: exit 2", rp("live", tmp_path / "nothere.pcap", "--target", "127.0.0.1:9")[0], 2)
+    rc, err = rp("live", cap, "--target", "127.0.0.1:9", "--session", "2")
     ck.eq("--session 2 of 1: exit 2, named", (rc, err.count("has 1 session")), (2, 1))
     ck.done()

@@ -18,7 +18,7 @@
 
 /* ---- options ------------------------------------------------------------- */
 
-/* --to HOST:PORT: checked here (a host name must resolve), passed on as --server and --port. */
+/* --target HOST:PORT: checked here (a host name must resolve), passed on as --server and --port. */
 static int opt_to(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     rp_live_t *L = ctx;
@@ -188,9 +188,9 @@ void rp_exec_tool(const char *name, char **argv)
 /* ---- the command -------------------------------------------------------------- */
 
 static const char *const live_examples[] = {
-    RP_TOOL " live field.pcap --to 127.0.0.1:1000",
-    RP_TOOL " live field.pcap --to 10.2.12.1:1000 --speed 2 --json",
-    RP_TOOL " live field.pcap --to 127.0.0.1:31000 --topspeed --loop 100 --tolerance 1e-6",
+    RP_TOOL " live field.pcap --target 127.0.0.1:1000",
+    RP_TOOL " live field.pcap --target 10.2.12.1:1000 --speed 2 --json",
+    RP_TOOL " live field.pcap --target 127.0.0.1:31000 --topspeed --loop 100 --tolerance 1e-6",
     NULL};
 
 static const char live_epilogue[] =
@@ -219,7 +219,8 @@ int rp_cmd_live(int argc, char **argv)
     {
         int json = 0;
         const c4gh_cli_opt_t rows[] = {
-            {"to", 't', C4GH_CLI_CALL, "HOST:PORT", "the PC server (required)", NULL, 0, 0, 0, opt_to, 0},
+            {"target", 't', C4GH_CLI_CALL, "HOST:PORT", "the PC server (required)", NULL, 0, 0, 0, opt_to, 0},
+            {"to", 0, C4GH_CLI_CALL, "HOST:PORT", NULL, NULL, 0, 0, 0, opt_to, 0},
             {"speed", 0, C4GH_CLI_DOUBLE, "X", "time scale: 2 plays twice as fast (default 1)", &L.speed, 0,
              0.01, 1000, NULL, 0},
             {"topspeed", 0, C4GH_CLI_FLAG, NULL, "each packet as soon as the previous one's reply came",
@@ -245,7 +246,7 @@ int rp_cmd_live(int argc, char **argv)
         memset(&spec, 0, sizeof spec);
         spec.tool = RP_TOOL;
         spec.command = "live";
-        spec.usage = "Usage: " RP_TOOL " live FILE --to HOST:PORT [OPTIONS]\n"
+        spec.usage = "Usage: " RP_TOOL " live FILE --target HOST:PORT [OPTIONS]\n"
                      "Play the controller's side of a recorded session to a running PC server over\n"
                      "UDP, check its replies as the controller would, compare them with the\n"
                      "recorded ones, and report the timing achieved.\n";
@@ -263,7 +264,7 @@ int rp_cmd_live(int argc, char **argv)
         return (r == C4GH_CLI_DONE) ? C4GH_CLI_EXIT_OK : C4GH_CLI_EXIT_USAGE;
     }
     if (L.port == 0U) {
-        fprintf(stderr, RP_TOOL ": live: --to HOST:PORT is required (the PC server to play to)\n");
+        fprintf(stderr, RP_TOOL ": live: --target HOST:PORT is required (the PC server to play to)\n");
         return C4GH_CLI_EXIT_USAGE;
     }
     if (L.topspeed && L.speed > 0.0) {

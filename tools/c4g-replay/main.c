@@ -43,7 +43,7 @@ static void usage(FILE *out)
             "  " RP_TOOL " check --allow late captures/*.pcap\n"
             "  " RP_TOOL " export --moni 20 field.pcap > moni.csv\n"
             "  " RP_TOOL " rerun field.pcap --behaviour server -- --sine 0.25,0.5,0.5\n"
-            "  " RP_TOOL " live field.pcap --to 127.0.0.1:1000\n"
+            "  " RP_TOOL " live field.pcap --target 127.0.0.1:1000\n"
             "  " RP_TOOL " follow move0.pcap move9.pcap\n\n"
             "Exit status: 0 success (check: clean), 1 findings or a failed job, 2 bad usage or an\n"
             "unreadable input, 3 (check) a file without any C4G Open session. See docs/c4g-replay.md\n"

@@ -217,9 +217,9 @@ static int run(pl_ctx_t *p, const char *path)
 
 static const char *const examples[] = {
     RP_TOOL " plot fixtures/replay/mode4.pcap --axis 1 --field d1",
-    RP_TOOL " plot field.pcap --axis 2 --field d1 --side pc --output d1.png",
-    RP_TOOL " plot field.pcap --latency --output latency.svg",
-    RP_TOOL " plot field.pcap --axis 1 --field d1,d3 --output target-actual.png",
+    RP_TOOL " plot field.pcap --axis 2 --field d1 --side pc --out d1.png",
+    RP_TOOL " plot field.pcap --latency --out latency.svg",
+    RP_TOOL " plot field.pcap --axis 1 --field d1,d3 --out target-actual.png",
     NULL};
 
 int rp_cmd_plot(int argc, char **argv)
@@ -237,8 +237,9 @@ int rp_cmd_plot(int argc, char **argv)
          sizeof p.side, 0, 0, NULL, 0},
         {"session", 's', C4GH_CLI_UINT, "N", "session N (default the first)", &p.session, 0, 1, 1e6, NULL, 0},
         {"latency", 0, C4GH_CLI_FLAG, NULL, "the reply latency histogram instead", &p.latency, 0, 0, 0, NULL, 0},
-        {"output", 'o', C4GH_CLI_STRING, "FILE", "FILE.png or FILE.svg (default: a text plot on stdout)", p.output,
+        {"out", 'o', C4GH_CLI_STRING, "FILE", "FILE.png or FILE.svg (default: a text plot on stdout)", p.output,
          sizeof p.output, 0, 0, NULL, 0},
+        {"output", 0, C4GH_CLI_STRING, "FILE", NULL, p.output, sizeof p.output, 0, 0, NULL, 0},
     };
     memset(&p, 0, sizeof p);
     rp_common_default(&p.c);
@@ -288,14 +289,14 @@ int rp_cmd_plot(int argc, char **argv)
         return C4GH_CLI_EXIT_USAGE;
     }
     if (p.output[0] != '\0' && terminal_for(p.output) == NULL) {
-        c4gh_cli_error(&spec, "--output: bad value '%s' (want a name ending in .png or .svg)", p.output);
+        c4gh_cli_error(&spec, "--out: bad value '%s' (want a name ending in .png or .svg)", p.output);
         return C4GH_CLI_EXIT_USAGE;
     }
     if (strchr(p.output, '\'') != NULL) {
-        c4gh_cli_error(&spec, "--output: bad value '%s' (no quotes in the name)", p.output);
+        c4gh_cli_error(&spec, "--out: bad value '%s' (no quotes in the name)", p.output);
         return C4GH_CLI_EXIT_USAGE;
     }
-    if (p.output[0] != '\0' && c4gh_cli_check_output(spec.tool, "--output", p.output) != 0) {
+    if (p.output[0] != '\0' && c4gh_cli_check_output(spec.tool, "--out", p.output) != 0) {
         return C4GH_CLI_EXIT_RUNTIME; /* before gnuplot runs: the plot could not be written */
     }
     return run(&p, argv[first]);
