@@ -61,13 +61,18 @@ static int opt_policy(void *ctx, const c4gh_cli_opt_t *row, const char *v, char 
 /* --port LIST and --t-cycle1 US: checked by the shared handlers, passed on as written. */
 static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
-    rp_common_t c;
-    rp_common_default(&c);
-    if (rp_opt_port(&c, row, v, why, whylen) != 0) {
+    if (rp_check_port(row, v, why, whylen) != 0) {
         return -1;
     }
     ((rp_live_t *)ctx)->ports = v;
     return 0;
+}
+
+int rp_check_port(const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
+{
+    rp_common_t c;
+    rp_common_default(&c);
+    return rp_opt_port(&c, row, v, why, whylen);
 }
 
 static int opt_tcycle1(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
@@ -83,8 +88,7 @@ static int opt_tcycle1(void *ctx, const c4gh_cli_opt_t *row, const char *v, char
 
 /* ---- the c4g-sim command line -------------------------------------------- */
 
-/* One more argument, argv kept NULL-terminated. */
-static int put(char **argv, size_t cap, size_t *n, const char *s)
+int rp_argv_put(char **argv, size_t cap, size_t *n, const char *s)
 {
     if (*n + 1U >= cap) {
         return -1;
@@ -94,13 +98,12 @@ static int put(char **argv, size_t cap, size_t *n, const char *s)
     return 0;
 }
 
-/* An option and its value ("--loop", "3"); the value NULL: the option alone. */
-static int put_opt(char **argv, size_t cap, size_t *n, const char *opt, const char *value)
+int rp_argv_put_opt(char **argv, size_t cap, size_t *n, const char *opt, const char *value)
 {
-    if (put(argv, cap, n, opt) != 0) {
+    if (rp_argv_put(argv, cap, n, opt) != 0) {
         return -1;
     }
-    return (value != NULL) ? put(argv, cap, n, value) : 0;
+    return (value != NULL) ? rp_argv_put(argv, cap, n, value) : 0;
 }
 
 /* A number written into the next slot of @p num; "%u" takes @p u, the others @p v. */
@@ -124,42 +127,42 @@ int rp_live_argv(const rp_live_t *L, const char *sim, char **argv, size_t cap, c
         return -1;
     }
     argv[0] = NULL;
-    bad |= put(argv, cap, &n, sim);
-    bad |= put_opt(argv, cap, &n, "--capture", L->path);
-    bad |= put_opt(argv, cap, &n, "--replay-live", NULL);
-    bad |= put_opt(argv, cap, &n, "--server", L->host);
-    bad |= put_opt(argv, cap, &n, "--port", num_text(num, &k, "%u", 0.0, L->port));
-    bad |= put_opt(argv, cap, &n, "--spin-us", num_text(num, &k, "%u", 0.0, L->spin_us));
+    bad |= rp_argv_put(argv, cap, &n, sim);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--capture", L->path);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--replay-live", NULL);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--server", L->host);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--port", num_text(num, &k, "%u", 0.0, L->port));
+    bad |= rp_argv_put_opt(argv, cap, &n, "--spin-us", num_text(num, &k, "%u", 0.0, L->spin_us));
     /* %.17g: a double read back is the same double */
     if (L->speed > 0.0) {
-        bad |= put_opt(argv, cap, &n, "--speed", num_text(num, &k, "%.17g", L->speed, 0U));
+        bad |= rp_argv_put_opt(argv, cap, &n, "--speed", num_text(num, &k, "%.17g", L->speed, 0U));
     }
     if (L->topspeed) {
-        bad |= put_opt(argv, cap, &n, "--topspeed", NULL);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--topspeed", NULL);
     }
     if (L->loops > 0U) {
-        bad |= put_opt(argv, cap, &n, "--loop", num_text(num, &k, "%u", 0.0, L->loops));
+        bad |= rp_argv_put_opt(argv, cap, &n, "--loop", num_text(num, &k, "%u", 0.0, L->loops));
     }
     if (L->gap_ms > 0U) {
-        bad |= put_opt(argv, cap, &n, "--loop-gap", num_text(num, &k, "%u", 0.0, L->gap_ms));
+        bad |= rp_argv_put_opt(argv, cap, &n, "--loop-gap", num_text(num, &k, "%u", 0.0, L->gap_ms));
     }
     if (L->session > 0U) {
-        bad |= put_opt(argv, cap, &n, "--session", num_text(num, &k, "%u", 0.0, L->session));
+        bad |= rp_argv_put_opt(argv, cap, &n, "--session", num_text(num, &k, "%u", 0.0, L->session));
     }
     if (L->tolerance > 0.0) {
-        bad |= put_opt(argv, cap, &n, "--tolerance", num_text(num, &k, "%.17g", L->tolerance, 0U));
+        bad |= rp_argv_put_opt(argv, cap, &n, "--tolerance", num_text(num, &k, "%.17g", L->tolerance, 0U));
     }
     if (L->t_cycle1 != NULL) {
-        bad |= put_opt(argv, cap, &n, "--t-cycle1", L->t_cycle1);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--t-cycle1", L->t_cycle1);
     }
     if (L->policy != NULL) {
-        bad |= put_opt(argv, cap, &n, "--num-policy", L->policy);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--num-policy", L->policy);
     }
     if (L->ports != NULL) {
-        bad |= put_opt(argv, cap, &n, "--capture-ports", L->ports);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--capture-ports", L->ports);
     }
     if (L->json) {
-        bad |= put_opt(argv, cap, &n, "--json", NULL);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--json", NULL);
     }
     return bad ? -1 : (int)n;
 }

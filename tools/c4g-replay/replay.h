@@ -94,6 +94,12 @@ int rp_live_argv(const rp_live_t *L, const char *sim, char **argv, size_t cap, c
  * PATH, with @p argv (argv[0] is overwritten, NULL-terminated). Returns only when it could
  * not be run (errno says why). */
 void rp_exec_tool(const char *name, char **argv);
+/* The front ends' argv: one more argument, kept NULL-terminated; an option and its value
+ * (NULL: the option alone). 0, or -1 when @p cap is too small. */
+int rp_argv_put(char **argv, size_t cap, size_t *n, const char *s);
+int rp_argv_put_opt(char **argv, size_t cap, size_t *n, const char *opt, const char *value);
+/* --port LIST checked as the analysing commands check it (passed on as written). */
+int rp_check_port(const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen);
 
 /* rerun (rerun.c): what its command line asks of c4g-server --replay-rerun --capture. */
 typedef struct rp_rerun {

@@ -32,9 +32,7 @@ static int opt_behaviour(void *ctx, const c4gh_cli_opt_t *row, const char *v, ch
 /* --port LIST: checked by the shared handler, passed on as written. */
 static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
-    rp_common_t c;
-    rp_common_default(&c);
-    if (rp_opt_port(&c, row, v, why, whylen) != 0) {
+    if (rp_check_port(row, v, why, whylen) != 0) {
         return -1;
     }
     ((rp_rerun_t *)ctx)->ports = v;
@@ -42,25 +40,6 @@ static int opt_port(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *w
 }
 
 /* ---- the c4g-server command line ------------------------------------------- */
-
-/* One more argument, argv kept NULL-terminated. */
-static int put(char **argv, size_t cap, size_t *n, const char *s)
-{
-    if (*n + 1U >= cap) {
-        return -1;
-    }
-    argv[(*n)++] = (char *)(uintptr_t)s; /* execv's argv is char *const[]: never written */
-    argv[*n] = NULL;
-    return 0;
-}
-
-static int put_opt(char **argv, size_t cap, size_t *n, const char *opt, const char *value)
-{
-    if (put(argv, cap, n, opt) != 0) {
-        return -1;
-    }
-    return (value != NULL) ? put(argv, cap, n, value) : 0;
-}
 
 int rp_rerun_argv(const rp_rerun_t *R, const char *srv, char **argv, size_t cap, char (*num)[RP_LIVE_NUM])
 {
@@ -71,38 +50,38 @@ int rp_rerun_argv(const rp_rerun_t *R, const char *srv, char **argv, size_t cap,
         return -1;
     }
     argv[0] = NULL;
-    bad |= put(argv, cap, &n, srv);
+    bad |= rp_argv_put(argv, cap, &n, srv);
     /* first: c4g-server takes its options in two sets, this request and then (after "--")
      * the user's c4g-server options, read as c4g-replay rerun's */
-    bad |= put_opt(argv, cap, &n, "--replay-rerun", NULL);
-    bad |= put_opt(argv, cap, &n, "--capture", R->path);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--replay-rerun", NULL);
+    bad |= rp_argv_put_opt(argv, cap, &n, "--capture", R->path);
     if (R->session > 0U) {
         (void)snprintf(num[k], RP_LIVE_NUM, "%u", R->session);
-        bad |= put_opt(argv, cap, &n, "--session", num[k++]);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--session", num[k++]);
     }
     if (R->echo) {
-        bad |= put_opt(argv, cap, &n, "--behaviour", "echo");
+        bad |= rp_argv_put_opt(argv, cap, &n, "--behaviour", "echo");
     }
     if (R->tolerance > 0.0) {
         (void)snprintf(num[k], RP_LIVE_NUM, "%.17g", R->tolerance); /* read back: the same double */
-        bad |= put_opt(argv, cap, &n, "--tolerance", num[k++]);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--tolerance", num[k++]);
     }
     if (R->list > 0) {
         (void)snprintf(num[k], RP_LIVE_NUM, "%lld", R->list);
-        bad |= put_opt(argv, cap, &n, "--list", num[k++]);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--list", num[k++]);
     }
     if (R->ports != NULL) {
-        bad |= put_opt(argv, cap, &n, "--capture-ports", R->ports);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--capture-ports", R->ports);
     }
     if (R->json) {
-        bad |= put_opt(argv, cap, &n, "--json", "-");
+        bad |= rp_argv_put_opt(argv, cap, &n, "--json", "-");
     }
     if (R->no_progress) {
-        bad |= put_opt(argv, cap, &n, "--no-progress", NULL);
+        bad |= rp_argv_put_opt(argv, cap, &n, "--no-progress", NULL);
     }
-    bad |= put(argv, cap, &n, "--");
+    bad |= rp_argv_put(argv, cap, &n, "--");
     for (i = 0; i < R->srv_argc; i++) {
-        bad |= put(argv, cap, &n, R->srv_argv[i]);
+        bad |= rp_argv_put(argv, cap, &n, R->srv_argv[i]);
     }
     return bad ? -1 : (int)n;
 }
