@@ -327,11 +327,8 @@ c4gh_cap_t *c4gh_cap_open(const char *path, char *err, size_t errlen)
         say(err, errlen, "%s: %s", path, strerror(errno));
         return NULL;
     }
-    /* libpcap reads each record with two small freads: one reader, so no stream locks, and
-     * a large buffer, so one read() per 1 MiB instead of per 4 KiB (the system time of a
-     * long capture falls to about a quarter) */
+    /* libpcap reads each record with two small freads: one reader, so no stream locks */
     (void)__fsetlocking(fp, FSETLOCKING_BYCALLER);
-    (void)setvbuf(fp, NULL, _IOFBF, (size_t)1U << 20);
     c = c4gh_cap_open_stream(fp, path, err, errlen);
     if (c != NULL) {
         c->size = size;
