@@ -101,6 +101,11 @@ static int split(const char *s, uint64_t *m, int *e, int *n)
         digits++;
     }
     *e = -frac + ((*p == 'e') ? atoi(p + 1) : 0);
+    while (x != 0U && x % 10U == 0U) { /* an integer's zeros before the point */
+        x /= 10U;
+        (*e)++;
+        digits--;
+    }
     *m = x;
     *n = digits;
     return 0;

@@ -62,5 +62,5 @@ for w in worst_cyclic worst_any; do
         "fixtures/fuzz/$src" | sed -n 's/^kept //p')
     echo "$w ($src tick $idx), inclusive Ir of the library's functions:"
     callgrind_annotate --inclusive=yes "$kept" 2>/dev/null | sed 's/ *\[.*\]//; s|/[^ ]*/lib/|lib/|' |
-        grep -E ' lib/(wire|engine|loop)/' | awk '!seen[$0]++' | head -n 8 | sed 's/^/  /'
+        grep -E ' lib/(wire|engine|loop)/' | grep -v 'cold' | awk '!seen[$0]++' | head -n 8 | sed 's/^/  /'
 done

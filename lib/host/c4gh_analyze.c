@@ -340,12 +340,14 @@ static void judge(c4gh_an_t *a, c4gh_an_session_t *s, int64_t t_next, const c4gh
 static int32_t arm_mode(const c4gh_an_session_t *s, const c4g_ctrl_packet_t *rx, uint32_t arm,
                         uint32_t *mixed, uint32_t *moving)
 {
-    int32_t best = 0, first = -1;
+    int32_t best = 0, first = -1, last = 0;
+    bool best_sp = c4g_mode_is_special(0), last_sp = best_sp;
     uint32_t i;
     *mixed = 0U;
     *moving = 0U;
     for (i = 0U; i < rx->n_axes; i++) {
         const int32_t m = rx->ax[i].mode;
+        bool sp;
         if (s->map.arm_of[i] != arm) {
             continue;
         }
@@ -357,9 +359,15 @@ static int32_t arm_mode(const c4gh_an_session_t *s, const c4g_ctrl_packet_t *rx,
         if (rx->ax[i].target_vel != 0.0f) {
             *moving = 1U;
         }
-        if (c4g_mode_is_special(m) || (best < C4G_MODE_FREEZING_A && m != 0)) {
-            if (!(c4g_mode_is_special(best) && !c4g_mode_is_special(m))) {
+        if (m != last) { /* an arm's axes mostly share one mode: look it up once */
+            last = m;
+            last_sp = c4g_mode_is_special(m);
+        }
+        sp = last_sp;
+        if (sp || (best < C4G_MODE_FREEZING_A && m != 0)) {
+            if (!(best_sp && !sp)) {
                 best = m;
+                best_sp = sp;
             }
         }
     }

@@ -149,14 +149,15 @@ static const char two_digits[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Number of decimal digits of m (0 < m < 10^10). */
+/* Number of decimal digits of m (0 < m < 10^10): a few comparisons, no loop. */
 static unsigned count_digits(uint32_t m)
 {
-    unsigned n = 1U;
-    uint32_t p = 10U;
-    while ((n < 10U) && (m >= p)) {
-        n++;
-        p = (n < 10U) ? p * 10U : p;
+    unsigned n;
+    if (m < 100000U) {
+        n = (m < 100U) ? ((m < 10U) ? 1U : 2U) : ((m < 1000U) ? 3U : ((m < 10000U) ? 4U : 5U));
+    } else {
+        n = (m < 10000000U) ? ((m < 1000000U) ? 6U : 7U)
+                            : ((m < 100000000U) ? 8U : ((m < 1000000000U) ? 9U : 10U));
     }
     return n;
 }
