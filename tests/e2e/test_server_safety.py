@@ -129,6 +129,13 @@ def test_step_base_mode1_exit(srv):
     r = srv.run_sim("exit1", srv.ports.udp(), "fixtures/server/sim_mode1_exit.scn",
                     ["--traj", "fixtures/server/traj_ramp.csv", "--max-step", 0.005, "--gains", "30,200,300"],
                     SIM_PATIENT + ["--csv", csv])
+    # a reply the controller did not apply in time (missing, late past its tick) leaves the
+    # applied reference a tick behind, and the next target is then two ticks of the ramp from
+    # it: the filter rate-limits that step (a continuity event) as it must. Only a run with
+    # such a reply may show one; without that evidence a continuity event fails at once.
+    lost = (r.sv("missing") or 0) + (r.sv("stale") or 0) + (r.sv("unjudged") or 0)
+    host_disturbed(r.jv("continuity") != 0 and lost > 0,
+                   "%s continuity events with %d replies not applied in time" % (r.jv("continuity"), lost))
     c = Checks()
     c.eq("exit1: c4g-sim ran the scenario", r.sv("loaded"), True)
     c.has("exit1: 1 -> 11 seen", r.log, "mode 1 -> 11")

@@ -104,7 +104,8 @@ static void test_idle_server_sleeps(void **state)
 }
 
 /* A controller that goes quiet in the cyclic phase: the server wakes at the loss deadline
- * (--lost-timeout-ms 150) and exits with code 3, not before and not long after. */
+ * (--lost-timeout-ms 150) and exits with code 3, not before and not long after (well under
+ * its 5 s idle timeout). */
 static void test_loss_at_deadline(void **state)
 {
     char port[16];
@@ -151,7 +152,9 @@ static void test_loss_at_deadline(void **state)
     print_message("lost after %.1f ms\n", (double)(t_end - t_last) * 1e-6);
     assert_int_equal(code, EXIT_LOST);
     assert_true(t_end - t_last >= 150U * 1000000ULL);
-    assert_true(t_end - t_last < 400U * 1000000ULL);
+    /* not long after: far below the 5 s idle timeout and any fixed long sleep; the margin
+     * over 150 ms absorbs a loaded host (this test also runs under valgrind beside others) */
+    assert_true(t_end - t_last < 1000U * 1000000ULL);
 }
 
 int main(void)
