@@ -318,10 +318,35 @@ static void test_ini_accepts(void **state)
     assert_int_equal(g_cfg.port, 31000);
 }
 
+/* The command line overrides the INI file wherever --config stands in it: the file is read
+ * first (before 2.0, an option before --config lost to the file). */
+static void test_cli_over_config(void **state)
+{
+    char *before[] = {"c4g-server", "--duration", "7", "-p", "31999", "--config",
+                      "fixtures/server/server_example.ini", NULL};
+    char *after[] = {"c4g-server", "--config", "fixtures/server/server_example.ini", "--duration", "7",
+                     "-p", "31999", NULL};
+    char *only[] = {"c4g-server", "--config", "fixtures/server/server_example.ini", NULL};
+    (void)state;
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_cli(&g_cfg, "c4g-server", NULL, SRV_CLI_SERVER, 3, only), C4GH_CLI_RUN);
+    assert_true(g_cfg.arm[0].duration != 7.0); /* the file's own value: 2 */
+    assert_true(g_cfg.port != 31999U);
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_cli(&g_cfg, "c4g-server", NULL, SRV_CLI_SERVER, 7, before), C4GH_CLI_RUN);
+    assert_true(g_cfg.arm[0].duration == 7.0);
+    assert_int_equal(g_cfg.port, 31999);
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_cli(&g_cfg, "c4g-server", NULL, SRV_CLI_SERVER, 7, after), C4GH_CLI_RUN);
+    assert_true(g_cfg.arm[0].duration == 7.0);
+    assert_int_equal(g_cfg.port, 31999);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_traj_refuses),
+        cmocka_unit_test(test_cli_over_config),
         cmocka_unit_test(test_traj_long_line),
         cmocka_unit_test(test_traj_accepts),
         cmocka_unit_test(test_ff_refuses),

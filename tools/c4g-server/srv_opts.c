@@ -766,6 +766,7 @@ int srv_config_apply(srv_config_t *c, const char *name, const char *val, int arm
 typedef struct srv_cli {
     srv_config_t *c;
     int arm;  /* -1: per-arm options apply to every arm */
+    int pass; /* 1: only --config (the files first), 2: every other option */
 } srv_cli_t;
 
 static int on_cli(void *ctx, const c4gh_cli_opt_t *o, const char *value, char *why, size_t whylen)
@@ -773,6 +774,9 @@ static int on_cli(void *ctx, const c4gh_cli_opt_t *o, const char *value, char *w
     srv_cli_t *x = ctx;
     const srv_setting_t *row = &settings[o->key];
     char err[600];
+    if ((row->kind == SK_CONFIG) != (x->pass == 1)) {
+        return 0; /* the other pass's option */
+    }
     if (row->kind == SK_ARM) {
         long long v = 0;
         const c4gh_tf_num_t st = c4gh_tf_parse_int(value, (long long)row->lo, (long long)row->hi, &v);
@@ -906,6 +910,17 @@ c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *
     spec.operands_min = 0;
     spec.operands_max = 0;
     x.c = c;
+    x.arm = -1;
+    /* the files first, then the command line over them, wherever --config stands in it (as
+     * the other tools do: docs/cli.md) */
+    x.pass = 1;
+    {
+        const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &x, argc, argv, NULL);
+        if (r != C4GH_CLI_RUN) {
+            return r;
+        }
+    }
+    x.pass = 2;
     x.arm = -1;
     return c4gh_cli_parse(&spec, &x, argc, argv, NULL);
 }
