@@ -120,8 +120,10 @@ def test_b_injected_init_under_the_ceiling(srv, netns):
           r"ATTACK\? init conflict: a second initialization packet differs from the one accepted "
           r"\(AzLim of arm 1 axis 1: ")
     c.eq("inj150: init_conflicts 1", r.jv("init_conflicts"), 1)
-    c.ok("inj150: the session answered nothing after it (cyclic 0, refused >= 1)",
-         r.jv("cyclic") == 0 and (r.jv("refused") or 0) >= 1, (r.jv("cyclic"), r.jv("refused")))
+    # whether the controller sends anything after its own init depends on when the echo of
+    # the forged one reaches it (it gives up on that echo): refused datagrams may be 0
+    c.ok("inj150: the session answered nothing after it (cyclic 0; refused %s)" % r.jv("refused"),
+         r.jv("cyclic") == 0, (r.jv("cyclic"), r.jv("refused")))
     c.eq("inj150: no current ever sent (no moni row)", cur["rows"], 0)
     c.eq("inj150: the controller gave up (exit 1, error raised)", (r.simrc, r.sv("result")), (1, "error"))
     c.eq("inj150: the server ended on the loss (exit 3)", r.src, 3)

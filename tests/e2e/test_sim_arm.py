@@ -19,7 +19,13 @@ def protocol_clean(c, label, r):
     c.eq("%s: no EXPECT failed" % label, r.sv("expect_failed"), 0)
     c.eq("%s: no controller error" % label, r.sim.get("errors"), [])
     rep = r.sim.get("replies", {})
-    c.eq("%s: no reply with a wrong NUM or malformed" % label, (rep.get("wrong_num"), rep.get("malformed")), (0, 0))
+    c.eq("%s: no reply with a wrong NUM" % label, rep.get("wrong_num"), 0)
+    # a plus-one reply to the init packet that comes after the next packet left reads, under
+    # the default policy `either`, as an echo of that packet with the init's length: counted
+    # malformed, and its own packet missing. Only such a late reply may be malformed here.
+    late = (rep.get("missing") or 0) + (rep.get("unjudged") or 0)
+    c.ok("%s: no malformed reply but a late one's (malformed %s, missing or unjudged %s)"
+         % (label, rep.get("malformed"), late), (rep.get("malformed") or 0) <= late)
     c.eq("%s: server ended by 504 (exit 0)" % label, r.src, 0)
     c.eq("%s: server answered every packet it accepted" % label, r.jv("rx"), r.jv("tx"))
     c.eq("%s: no safety event" % label, (r.jv("drive_off_505"), r.jv("follow_error_508")), (0, 0))
