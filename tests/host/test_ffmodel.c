@@ -188,6 +188,10 @@ static void test_fixture(void **state)
     assert_true(g_f.period_ms == 2.0);
     assert_int_equal(g_f.ax[1].set, 1);
     assert_true(g_f.ax[1].gb == 7.5 && g_f.ax[1].v_max == 9.5 && g_f.ax[1].fs == 0.3);
+    /* a file c4g-ident fit --model ctrl wrote (the arm plant; axis 2 was refused) */
+    assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/ff_ctrl_example.ini", &g_f, err, sizeof err), 0);
+    assert_true(g_f.ax[0].set && g_f.ax[0].ctrl && !g_f.ax[1].set && g_f.ax[2].ctrl);
+    assert_true(g_f.ax[2].k2 == 0.9994060861 && g_f.ax[2].ks == 1.224187137);
     assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/no-such.ini", &g_f, err, sizeof err), -1);
     assert_non_null(strstr(err, "no-such.ini: cannot open"));
     assert_int_equal(c4gh_ffm_load("/dev/zero", &g_f, err, sizeof err), -1);
