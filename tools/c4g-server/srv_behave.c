@@ -54,7 +54,7 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
             /* which model this axis's mode 9 evaluates, once per entry */
             srv_log(S, t_ns, "axis %u: mode 9 feedforward: %s%s", (unsigned)i + 1U,
                     (in.ff->kind != CTLR_FF_MODEL) ? "line-format parameters"
-                    : in.ff->model.ctrl           ? "model ctrl (k1 EXT1 + k2 EXT2 inertia + friction)"
+                    : in.ff->model.ctrl           ? "model ctrl (k1 (EXT1 - in) + k2 in + friction, in from EXT2)"
                                                   : "model axis (Ja a + friction + gravity)",
                     (in.ff->kind == CTLR_FF_MODEL && in.ff->model.ctrl && in.cfg->ff_ext1)
                         ? "; --ff-ext1 not added (the model holds EXT1)"
