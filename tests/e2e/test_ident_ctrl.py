@@ -84,3 +84,16 @@ def test_ctrl_family_on_the_arm(build, ports, tmp_path):
     host_disturbed(ratio <= 1.0 and f9["mode9_late"] > 0,
                    "%d mode-9 ticks without the PC's addition in time" % f9["mode9_late"])
     assert ratio > 1.0, "mode 9 with the ctrl file follows worse than mode 0: %.2fx" % ratio
+
+
+def test_ctrl_usage_refused(build, tmp_path):
+    """--model takes axis or ctrl; a variant of the other family is a usage error (exit 2)"""
+    ident = str(build / "bin" / "c4g-ident")
+    log = tmp_path / "none.pcap"
+    log.write_bytes(b"")
+    for args, why in ((["--model", "joint"], "--model: bad value 'joint' (axis or ctrl)"),
+                      (["--model", "ctrl", "--variant", "coulomb+gravity"],
+                       "--variant coulomb+gravity is not a variant of --model ctrl"),
+                      (["--variant", "ctrl+coulomb"], "--variant ctrl+coulomb is not a variant of --model axis")):
+        r = subprocess.run([ident, "fit"] + args + [str(log)], capture_output=True, text=True, timeout=30)
+        assert r.returncode == 2 and why in r.stderr, (args, r.returncode, r.stderr)

@@ -295,7 +295,8 @@ int write_samples(const std::string &dir, const Job &j, std::string *err)
         }
         std::fprintf(f, "# c4g-ident samples: arm %u axis %u variant %s eps %.17g delay %.6g fit_seconds %.6g\n", r.arm,
                      r.axis, variant_name[r.fit.variant], r.prep.eps, r.prep.delay, r.fit.seconds);
-        std::fprintf(f, "v,a,i,cos_q,sin_q\n");
+        // the ctrl family's last two columns are its regressors: EXT1 but its inertial part, that part
+        std::fprintf(f, variant_ctrl(r.fit.variant) ? "v,a,i,ext1_less_in,in\n" : "v,a,i,cos_q,sin_q\n");
         for (std::size_t i = 0; i < s.n(); i++) {
             std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", s.v[i], s.a[i], s.i[i], s.cq[i], s.sq[i]);
         }
