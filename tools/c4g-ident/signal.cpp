@@ -550,8 +550,8 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
     pr.kept = out->n();
     if (o.ctrl) {
         // ks: EXT1's own slope on the inertial torque EXT2*2*pi*a (the controller's 1/Kt),
-        // beside what else EXT1 holds (gravity, Coriolis: a constant, v, v^2, the position,
-        // cos q, sin q). With it k2 ~ 1 when the controller's inertia is right.
+        // beside what else EXT1 holds (gravity, Coriolis: a constant, v, v^2, a cubic in D3).
+        // With it k2 ~ 1 when the controller's inertia is right.
         pr.ks = ctrl_scale(*out);
         for (std::size_t j = 0; j < out->n(); j++) {
             out->sq[j] *= pr.ks;
