@@ -85,11 +85,11 @@ void c4gh_ffm_checksum_format(uint64_t sum, char out[25])
     out[24] = '\0';
 }
 
-double c4gh_ffm_current(const c4gh_ffm_axis_t *p, double v, double a, double q, int have_q)
+/* Fv v + the Coulomb/Stribeck level times the smooth sign + off: both models' friction. */
+static double ffm_friction(const c4gh_ffm_axis_t *p, double v)
 {
     double level = p->fc;
     double dir;
-    double i;
     if (p->vs > 0.0) {
         const double r = v / p->vs;
         level += (p->fs - p->fc) * exp(-r * r);
@@ -99,9 +99,21 @@ double c4gh_ffm_current(const c4gh_ffm_axis_t *p, double v, double a, double q, 
     } else {
         dir = (v > 0.0) ? 1.0 : ((v < 0.0) ? -1.0 : 0.0);
     }
-    i = p->ja * a + p->fv * v + level * dir + p->off;
+    return p->fv * v + level * dir + p->off;
+}
+
+double c4gh_ffm_current(const c4gh_ffm_axis_t *p, double v, double a, double q, int have_q)
+{
+    double i = p->ja * a + ffm_friction(p, v);
     if (have_q) {
         i += p->ga * cos(q) + p->gb * sin(q);
     }
     return i;
+}
+
+double c4gh_ffm_current_ctrl(const c4gh_ffm_axis_t *p, double v, double a, double ext1, double ext2)
+{
+    static const double two_pi = 6.283185307179586;
+    const double in = p->ks * ext2 * two_pi * a; /* EXT1's inertial part */
+    return p->k1 * (ext1 - in) + p->k2 * in + ffm_friction(p, v);
 }

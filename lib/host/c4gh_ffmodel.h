@@ -33,6 +33,13 @@ typedef struct c4gh_ffm_axis {
     int set;                /* 1: the file has [axis N] */
     int line;               /* the line of that header */
     double ja, fv, fc, fs, vs, off, ga, gb, eps, delay, v_max, a_max;
+    /* model = ctrl: i = k1 (EXT1 - in) + k2 in + friction + off, in = ks EXT2 2 pi a the
+     * inertial part of EXT1 (no Ja, no gravity): a correction of the controller's own model,
+     * k1 of its gravity and Coriolis part, k2 of its inertia (both 1 when it is right). ks
+     * [A/(N m)] turns EXT2's torque into current (the controller's 1/Kt as c4g-ident found
+     * it in EXT1). */
+    int ctrl;               /* 1: model = ctrl; 0: model = axis (the formula above) */
+    double k1, k2, ks;
     char variant[24];       /* coulomb, coulomb+gravity, stribeck, stribeck+gravity; "" */
 } c4gh_ffm_axis_t;
 
@@ -68,6 +75,11 @@ void c4gh_ffm_checksum_format(uint64_t sum, char out[25]);
  * link angle @p q [rad]; the gravity terms only when @p have_q. vs <= 0: no Stribeck
  * term; eps <= 0: sign(v) instead of tanh(v/eps). No range clamp (the caller's). */
 double c4gh_ffm_current(const c4gh_ffm_axis_t *p, double v, double a, double q, int have_q);
+
+/* model = ctrl: k1 (EXT1 - in) + k2 in + friction + off, in = ks EXT2 2 pi a [A], from the
+ * controller's packet of the tick: @p ext1 [A],
+ * @p ext2 [kg m^2], and @p v, @p a as above. No range clamp (the caller's). */
+double c4gh_ffm_current_ctrl(const c4gh_ffm_axis_t *p, double v, double a, double ext1, double ext2);
 
 /* Parse a parameter file held in memory (@p name for messages). 0, or -1 with
  * "NAME:LINE:COL: [section] key: why" in @p err (the whole file checked, the checksum

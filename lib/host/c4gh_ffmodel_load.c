@@ -13,7 +13,7 @@
 /* [axis N] keys. The numbers are checked against [lo, hi]; `pos` asks for > lo too. */
 enum {
     FFK_JA, FFK_FV, FFK_FC, FFK_FS, FFK_VS, FFK_OFF, FFK_GA, FFK_GB, FFK_EPS, FFK_DELAY,
-    FFK_VMAX, FFK_AMAX, FFK_VARIANT, FFK_N
+    FFK_VMAX, FFK_AMAX, FFK_K1, FFK_K2, FFK_KS, FFK_VARIANT, FFK_MODEL, FFK_N
 };
 
 typedef struct ffm_key {
@@ -21,27 +21,34 @@ typedef struct ffm_key {
     size_t off;             /* double in c4gh_ffm_axis_t */
     double lo, hi;
     int pos;                /* must be > lo */
-    int required;
+    int required;           /* 1: by model = axis, 2: by model = ctrl, 3: by both */
 } ffm_key_t;
 
 #define FFM_VMAX C4GH_FFM_VALUE_MAX
 static const ffm_key_t ffm_keys[FFK_VARIANT] = {
     {"Ja", offsetof(c4gh_ffm_axis_t, ja), 0.0, FFM_VMAX, 1, 1},
-    {"Fv", offsetof(c4gh_ffm_axis_t, fv), 0.0, FFM_VMAX, 0, 1},
-    {"Fc", offsetof(c4gh_ffm_axis_t, fc), 0.0, FFM_VMAX, 0, 1},
+    {"Fv", offsetof(c4gh_ffm_axis_t, fv), 0.0, FFM_VMAX, 0, 3},
+    {"Fc", offsetof(c4gh_ffm_axis_t, fc), 0.0, FFM_VMAX, 0, 3},
     {"Fs", offsetof(c4gh_ffm_axis_t, fs), 0.0, FFM_VMAX, 0, 0},
     {"vs", offsetof(c4gh_ffm_axis_t, vs), 0.0, FFM_VMAX, 0, 0},
-    {"off", offsetof(c4gh_ffm_axis_t, off), -FFM_VMAX, FFM_VMAX, 0, 1},
+    {"off", offsetof(c4gh_ffm_axis_t, off), -FFM_VMAX, FFM_VMAX, 0, 3},
     {"ga", offsetof(c4gh_ffm_axis_t, ga), -FFM_VMAX, FFM_VMAX, 0, 0},
     {"gb", offsetof(c4gh_ffm_axis_t, gb), -FFM_VMAX, FFM_VMAX, 0, 0},
-    {"eps", offsetof(c4gh_ffm_axis_t, eps), 0.0, FFM_VMAX, 1, 1},
+    {"eps", offsetof(c4gh_ffm_axis_t, eps), 0.0, FFM_VMAX, 1, 3},
     {"delay", offsetof(c4gh_ffm_axis_t, delay), -FFM_VMAX, FFM_VMAX, 0, 0},
     {"v_max", offsetof(c4gh_ffm_axis_t, v_max), 0.0, FFM_VMAX, 0, 0},
     {"a_max", offsetof(c4gh_ffm_axis_t, a_max), 0.0, FFM_VMAX, 0, 0},
+    {"k1", offsetof(c4gh_ffm_axis_t, k1), -FFM_VMAX, FFM_VMAX, 0, 2},
+    {"k2", offsetof(c4gh_ffm_axis_t, k2), -FFM_VMAX, FFM_VMAX, 0, 2},
+    {"ks", offsetof(c4gh_ffm_axis_t, ks), 0.0, FFM_VMAX, 1, 2},
 };
 
+/* Keys of one model only: Ja, ga, gb are model = axis's, k1, k2, ks model = ctrl's. */
+static int ffm_key_of_ctrl_only(size_t k) { return k == FFK_K1 || k == FFK_K2 || k == FFK_KS; }
+static int ffm_key_of_axis_only(size_t k) { return k == FFK_JA || k == FFK_GA || k == FFK_GB; }
+
 static const char *const ffm_variants[] = {"coulomb", "coulomb+gravity", "stribeck",
-                                           "stribeck+gravity"};
+                                           "stribeck+gravity", "ctrl+coulomb", "ctrl+stribeck"};
 
 /* [model] keys. */
 enum { FFM_FORMAT_K, FFM_MODEL_K, FFM_ARM_K, FFM_PERIOD_K, FFM_SOURCE_K, FFM_CREATED_K,
@@ -204,6 +211,17 @@ static c4gh_tf_ini_rc_t ffm_axis_key(ffm_ctx_t *x, const char *section, unsigned
     c4gh_ffm_axis_t *p = &x->out->ax[ax];
     size_t k;
     c4gh_tf_ini_rc_t rc;
+    if (strcmp(name, "model") == 0) {
+        rc = ffm_once(x, &x->axis_line[ax][FFK_MODEL], msg, msglen, section, name);
+        if (rc != C4GH_TF_INI_OK) {
+            return rc;
+        }
+        if (strcmp(value, "axis") == 0 || strcmp(value, "ctrl") == 0) {
+            p->ctrl = (value[0] == 'c') ? 1 : 0;
+            return C4GH_TF_INI_OK;
+        }
+        return ffm_bad_text(msg, msglen, section, name, value, "axis or ctrl");
+    }
     if (strcmp(name, "variant") == 0) {
         rc = ffm_once(x, &x->axis_line[ax][FFK_VARIANT], msg, msglen, section, name);
         for (k = 0U; rc == C4GH_TF_INI_OK && k < sizeof ffm_variants / sizeof ffm_variants[0]; k++) {
@@ -214,8 +232,9 @@ static c4gh_tf_ini_rc_t ffm_axis_key(ffm_ctx_t *x, const char *section, unsigned
         }
         return (rc != C4GH_TF_INI_OK) ? rc
                                  : ffm_bad_text(msg, msglen, section, name, value,
-                                                "coulomb, coulomb+gravity, stribeck or "
-                                                "stribeck+gravity");
+                                                "coulomb, coulomb+gravity, stribeck, "
+                                                "stribeck+gravity, ctrl+coulomb or "
+                                                "ctrl+stribeck");
     }
     for (k = 0U; k < (size_t)FFK_VARIANT; k++) {
         const ffm_key_t *d = &ffm_keys[k];
@@ -228,8 +247,8 @@ static c4gh_tf_ini_rc_t ffm_axis_key(ffm_ctx_t *x, const char *section, unsigned
         }
     }
     return ffm_bad(msg, msglen, C4GH_TF_INI_BAD_KEY, section, name,
-                   "unknown key (want variant, Ja, Fv, Fc, Fs, vs, off, ga, gb, eps, delay, "
-                   "v_max, a_max)");
+                   "unknown key (want model, variant, Ja, Fv, Fc, Fs, vs, off, ga, gb, eps, "
+                   "delay, v_max, a_max, k1, k2, ks)");
 }
 
 /* "axis N", N = 1..10: the 0-based axis, or -1. */
@@ -372,15 +391,32 @@ static int ffm_required(const ffm_ctx_t *x, char *err, size_t errlen)
         }
     }
     for (a = 0U; a < C4GH_FFM_AXES; a++) {
+        const c4gh_ffm_axis_t *p = &o->ax[a];
+        const int need = p->ctrl ? 2 : 1;
         size_t j;
-        for (j = 0U; o->ax[a].set && j < (size_t)FFK_VARIANT; j++) {
-            if (ffm_keys[j].required && x->axis_line[a][j] == 0U) {
-                snprintf(err, errlen, "%s:%d:1: [axis %u] %s: missing (Ja, Fv, Fc, off and eps "
-                         "are required)", x->f->path, o->ax[a].line, a + 1U, ffm_keys[j].name);
+        for (j = 0U; p->set && j < (size_t)FFK_VARIANT; j++) {
+            const int wrong = p->ctrl ? ffm_key_of_axis_only(j) : ffm_key_of_ctrl_only(j);
+            if ((ffm_keys[j].required & need) != 0 && x->axis_line[a][j] == 0U) {
+                snprintf(err, errlen, "%s:%d:1: [axis %u] %s: missing (%s)", x->f->path, p->line,
+                         a + 1U, ffm_keys[j].name,
+                         p->ctrl ? "model = ctrl needs k1, k2, ks, Fv, Fc, off and eps"
+                                 : "Ja, Fv, Fc, off and eps are required");
+                return -1;
+            }
+            if (wrong && x->axis_line[a][j] != 0U) {
+                snprintf(err, errlen, "%s:%u:1: [axis %u] %s: not a key of model = %s", x->f->path,
+                         x->axis_line[a][j], a + 1U, ffm_keys[j].name, p->ctrl ? "ctrl" : "axis");
                 return -1;
             }
         }
-        any |= o->ax[a].set;
+        if (p->set && p->variant[0] != '\0' &&
+            (strncmp(p->variant, "ctrl+", 5U) == 0) != (p->ctrl != 0)) {
+            snprintf(err, errlen, "%s:%u:1: [axis %u] variant: '%s' is not a variant of model = %s",
+                     x->f->path, x->axis_line[a][FFK_VARIANT], a + 1U, p->variant,
+                     p->ctrl ? "ctrl" : "axis");
+            return -1;
+        }
+        any |= p->set;
     }
     if (!any) {
         snprintf(err, errlen, "%s: no [axis N] section: the file sets no axis", x->f->path);

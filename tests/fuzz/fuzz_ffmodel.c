@@ -3,7 +3,8 @@
  * the shared INI layer and inih). Invariants: an error is one well-formed "PATH:..."
  * message; an accepted file names an arm 1..4, a period in (0, 1000] ms, at least one
  * axis, every number finite in its range, the checksum the text really has, and the
- * model gives a finite current anywhere in the fit's range. */
+ * model gives a finite current anywhere in the fit's range (a model = ctrl axis: no Ja,
+ * ga, gb; ks > 0; finite for any float EXT1, EXT2). */
 #include "fuzz_text.h"
 #include "c4gh_ffmodel.h"
 
@@ -15,7 +16,8 @@ static void check_axis(const c4gh_ffm_axis_t *p)
 {
     const double v = (p->v_max > 0.0) ? p->v_max : 1e3;
     const double a = (p->a_max > 0.0) ? p->a_max : 1e3;
-    if (!(p->ja > 0.0) || !(p->eps > 0.0) || p->line < 1 ||
+    if ((p->ctrl ? !(p->ja == 0.0 && p->ga == 0.0 && p->gb == 0.0 && p->ks > 0.0) : !(p->ja > 0.0)) ||
+        !(p->eps > 0.0) || p->line < 1 ||
         memchr(p->variant, '\0', sizeof p->variant) == NULL) {
         abort();
     }
@@ -31,6 +33,13 @@ static void check_axis(const c4gh_ffm_axis_t *p)
     FUZZ_FINITE_IN(p->ga, -1e6, 1e6);
     FUZZ_FINITE_IN(p->gb, -1e6, 1e6);
     FUZZ_FINITE_IN(p->delay, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->k1, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->k2, -1e6, 1e6);
+    FUZZ_FINITE_IN(p->ks, 0.0, 1e6);
+    if (p->ctrl && (!isfinite(c4gh_ffm_current_ctrl(p, v, a, 3.4e38, 3.4e38)) ||
+                    !isfinite(c4gh_ffm_current_ctrl(p, -v, -a, -3.4e38, 3.4e38)))) {
+        abort();
+    }
     if (!isfinite(c4gh_ffm_current(p, v, a, 1.0, 1)) || !isfinite(c4gh_ffm_current(p, -v, -a, -1.0, 1)) ||
         !isfinite(c4gh_ffm_current(p, 0.0, 0.0, 0.0, 0))) {
         abort();

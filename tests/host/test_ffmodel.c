@@ -188,6 +188,10 @@ static void test_fixture(void **state)
     assert_true(g_f.period_ms == 2.0);
     assert_int_equal(g_f.ax[1].set, 1);
     assert_true(g_f.ax[1].gb == 7.5 && g_f.ax[1].v_max == 9.5 && g_f.ax[1].fs == 0.3);
+    /* a file c4g-ident fit --model ctrl wrote (the arm plant; axis 2 was refused) */
+    assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/ff_ctrl_example.ini", &g_f, err, sizeof err), 0);
+    assert_true(g_f.ax[0].set && g_f.ax[0].ctrl && !g_f.ax[1].set && g_f.ax[2].ctrl);
+    assert_true(g_f.ax[2].k2 == 0.9994060861 && g_f.ax[2].ks == 1.224187137);
     assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/no-such.ini", &g_f, err, sizeof err), -1);
     assert_non_null(strstr(err, "no-such.ini: cannot open"));
     assert_int_equal(c4gh_ffm_load("/dev/zero", &g_f, err, sizeof err), -1);
@@ -254,14 +258,27 @@ static void test_refusals(void **state)
         {"Fs = 0.3", "Fs = -0.3", 0, "m.ini:16:6: [axis 2] Fs: '-0.3' is out of range 0..1000000"},
         {"v_max = 9.5", "v_max = -9.5", 0, "m.ini:23:9: [axis 2] v_max: '-9.5' is out of range 0..1000000"},
         {"Fv = 0.00785", "Jv = 0.00785", 0,
-         "m.ini:14:1: [axis 2] Jv: unknown key (want variant, Ja, Fv, Fc, Fs, vs, off, ga, gb, eps, delay, v_max, a_max)"},
+         "m.ini:14:1: [axis 2] Jv: unknown key (want model, variant, Ja, Fv, Fc, Fs, vs, off, ga, gb, eps, delay, "
+         "v_max, a_max, k1, k2, ks)"},
         {"Fv = 0.00785\n", "Fv = 0.00785\nFv = 0.1\n", 0, "m.ini:15:1: [axis 2] Fv: set twice (first on line 14)"},
         {"Fv = 0.00785\n", "", 0,
          "m.ini:11:1: [axis 2] Fv: missing (Ja, Fv, Fc, off and eps are required)"},
         {"eps = 0.02\n", "", 0,
          "m.ini:27:1: [axis 5] eps: missing (Ja, Fv, Fc, off and eps are required)"},
         {"variant = stribeck+gravity", "variant = viscous", 0,
-         "m.ini:12:11: [axis 2] variant: 'viscous' is not coulomb, coulomb+gravity, stribeck or stribeck+gravity"},
+         "m.ini:12:11: [axis 2] variant: 'viscous' is not coulomb, coulomb+gravity, stribeck, stribeck+gravity, "
+         "ctrl+coulomb or ctrl+stribeck"},
+        /* the families: model = axis or ctrl, each with its own keys */
+        {"variant = stribeck+gravity", "model = joint\nvariant = stribeck+gravity", 0,
+         "m.ini:12:9: [axis 2] model: 'joint' is not axis or ctrl"},
+        {"variant = stribeck+gravity", "model = axis\nvariant = stribeck+gravity\nk1 = 1", 0,
+         "m.ini:14:1: [axis 2] k1: not a key of model = axis"},
+        {"variant = stribeck+gravity", "variant = ctrl+stribeck", 0,
+         "m.ini:12:1: [axis 2] variant: 'ctrl+stribeck' is not a variant of model = axis"},
+        {"variant = stribeck+gravity", "model = ctrl\nvariant = ctrl+stribeck\nk1 = 1\nk2 = 1\nks = 1", 0,
+         "m.ini:17:1: [axis 2] Ja: not a key of model = ctrl"},
+        {"variant = stribeck+gravity\nJa = 0.00314159", "model = ctrl\nvariant = ctrl+stribeck\nk1 = 1\nk2 = 1", 0,
+         "m.ini:21:1: [axis 2] ga: not a key of model = ctrl"},
     };
     char err[600];
     size_t i;
@@ -327,6 +344,86 @@ static void test_mismatch_sum(void **state)
     assert_non_null(strstr(err, want));                    /* computed: the edited text's */
 }
 
+/* A model = ctrl axis: read exactly beside a model = axis one, its refusals, and its
+ * current against a value worked out by hand. */
+static const char CTRL[] =
+    "[model]\n"                                /* 1 */
+    "format = c4g-ident 1\n"                   /* 2 */
+    "model = motor-current-1\n"                /* 3 */
+    "arm = 1\n"                                /* 4 */
+    "period_ms = 2\n"                          /* 5 */
+    "checksum = fnv1a64:0000000000000000\n"    /* 6 */
+    "[axis 1]\n"                               /* 7 */
+    "model = ctrl\n"                           /* 8 */
+    "variant = ctrl+coulomb\n"                 /* 9 */
+    "k1 = 0.97\n"                              /* 10 */
+    "k2 = 1.08\n"                              /* 11 */
+    "ks = 1.25\n"                              /* 12 */
+    "Fv = 0.008\n"                             /* 13 */
+    "Fc = 0.19\n"                              /* 14 */
+    "off = 0.02\n"                             /* 15 */
+    "eps = 0.05\n"                             /* 16 */
+    "v_max = 30\n"                             /* 17 */
+    "a_max = 400\n"                            /* 18 */
+    "[axis 2]\n"                               /* 19 */
+    "model = axis\n"                           /* 20 */
+    "Ja = 0.003\n"                             /* 21 */
+    "Fv = 0\n"                                 /* 22 */
+    "Fc = 0.1\n"                               /* 23 */
+    "off = 0\n"                                /* 24 */
+    "eps = 0.05\n";                            /* 25 */
+
+static void test_ctrl_file(void **state)
+{
+    static const struct {
+        const char *from, *to, *msg;
+    } bad[] = {
+        {"k2 = 1.08", "k2 = nan", "m.ini:11:6: [axis 1] k2: 'nan' is not a finite number"},
+        {"k1 = 0.97", "k1 = 2e6", "m.ini:10:6: [axis 1] k1: '2e6' is out of range -1000000..1000000"},
+        {"ks = 1.25", "ks = 0", "m.ini:12:6: [axis 1] ks: '0' must be > 0"},
+        {"k2 = 1.08\n", "", "m.ini:7:1: [axis 1] k2: missing (model = ctrl needs k1, k2, ks, Fv, Fc, off and eps)"},
+        {"eps = 0.05\nv_max", "v_max", "m.ini:7:1: [axis 1] eps: missing (model = ctrl needs"},
+        {"off = 0.02\n", "off = 0.02\nga = 1\n", "m.ini:16:1: [axis 1] ga: not a key of model = ctrl"},
+        {"model = ctrl\n", "model = ctrl\nmodel = ctrl\n", "m.ini:9:1: [axis 1] model: set twice (first on line 8)"},
+        {"Ja = 0.003\n", "", "m.ini:19:1: [axis 2] Ja: missing (Ja, Fv, Fc, off and eps are required)"},
+    };
+    char text[1024];
+    char err[600];
+    size_t i;
+    (void)state;
+    strcpy(text, CTRL);
+    seal(text);
+    assert_int_equal(parse(text, err, sizeof err), 0);
+    assert_int_equal(g_f.ax[0].set, 1);
+    assert_int_equal(g_f.ax[0].ctrl, 1);
+    assert_string_equal(g_f.ax[0].variant, "ctrl+coulomb");
+    assert_true(g_f.ax[0].k1 == 0.97 && g_f.ax[0].k2 == 1.08 && g_f.ax[0].ks == 1.25);
+    assert_true(g_f.ax[0].ja == 0.0 && g_f.ax[0].fc == 0.19 && g_f.ax[0].a_max == 400.0);
+    assert_int_equal(g_f.ax[1].ctrl, 0);
+    assert_true(g_f.ax[1].ja == 0.003);
+    /* k1 (EXT1 - in) + k2 in + Fv v + Fc tanh(v/eps) + off, in = ks EXT2 2 pi a = 0.1 pi */
+    near(c4gh_ffm_current_ctrl(&g_f.ax[0], 2.0, 100.0, 1.5, 0.0004),
+         0.97 * (1.5 - 0.1 * PI) + 1.08 * 0.1 * PI + 0.016 + 0.19 * tanh(40.0) + 0.02, 1e-12);
+    near(c4gh_ffm_current_ctrl(&g_f.ax[0], 2.0, 100.0, 1.5, 0.0004), 1.7155575192, 1e-9);
+    near(c4gh_ffm_current_ctrl(&g_f.ax[0], 0.0, 0.0, -2.0, 0.0004), 0.97 * -2.0 + 0.02, 1e-12);
+    for (i = 0U; i < sizeof bad / sizeof bad[0]; i++) {
+        char *p;
+        strcpy(text, CTRL);
+        p = strstr(text, bad[i].from);
+        assert_non_null(p);
+        memmove(p + strlen(bad[i].to), p + strlen(bad[i].from), strlen(p + strlen(bad[i].from)) + 1U);
+        memcpy(p, bad[i].to, strlen(bad[i].to));
+        seal(text);
+        memset(err, 0, sizeof err);
+        if (parse(text, err, sizeof err) != -1) {
+            fail_msg("accepted: %s -> %s", bad[i].from, bad[i].to);
+        }
+        if (strncmp(err, bad[i].msg, strlen(bad[i].msg)) != 0) {
+            fail_msg("case %zu:\n  got  %s\n  want %s", i, err, bad[i].msg);
+        }
+    }
+}
+
 static void test_current(void **state)
 {
     c4gh_ffm_axis_t p;
@@ -375,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_refusals_file),
         cmocka_unit_test(test_mismatch_sum),
         cmocka_unit_test(test_current),
+        cmocka_unit_test(test_ctrl_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -301,6 +301,68 @@ static void test_step_model(void **st)
     assert_int_equal(X.ff_flags, 0U);
 }
 
+/* Mode 9 with a model = ctrl axis: k1 (EXT1 - in) + k2 in + friction + off from the
+ * packet's EXT1, EXT2 and D2's change, a and v clamped as the axis model's; --ff-ext1 not
+ * added on top (the model holds EXT1); a non-finite EXT1 or EXT2 adds nothing. */
+static void test_step_ctrl_model(void **st)
+{
+    const double dt = 0.002;
+    const double two_pi = 6.283185307179586;
+    ctlr_axis_t X;
+    ctlr_in_t in;
+    c4g_pc_axis_t o;
+    c4g_ctrl_axis_t r = meas(5.0f, 0.0f);
+    int clamped = 0;
+    double a, in_a;
+    (void)st;
+    cfg_default();
+    in = in_default();
+    memset(&FF, 0, sizeof FF);
+    FF.set = 1;
+    FF.kind = CTLR_FF_MODEL;
+    FF.model.ctrl = 1;
+    FF.model.k1 = 0.9;
+    FF.model.k2 = 1.1;
+    FF.model.ks = 1.25;
+    FF.model.fv = 0.1;
+    FF.model.off = 0.02;
+    FF.model.eps = 0.01;
+    FF.model.a_max = 100.0;
+    /* the function: d2 0.0038 -> 0.004: a = 50, v = 2.1; in = 1.25 * 4e-4 * 2 pi * 50 */
+    in_a = 1.25 * 4e-4 * two_pi * 50.0;
+    nearf(ctlr_ff_ctrl_current(&FF, 0.004, 0.0038, dt, 1.5, 4e-4, &clamped),
+          0.9 * (1.5 - in_a) + 1.1 * in_a + 0.1 * 2.1 + 0.02);
+    assert_int_equal(clamped, 0);
+    nearf(ctlr_ff_ctrl_current(&FF, 0.004, 0.0038, dt, NAN, 4e-4, &clamped), 0.0);
+    nearf(ctlr_ff_ctrl_current(&FF, 0.004, 0.0038, dt, 1.5, INFINITY, &clamped), 0.0);
+    /* through ctlr_step, --ff-ext1 on: the packet's EXT1, EXT2, not EXT1 twice */
+    A.ff_ext1 = 1;
+    r.ext[0] = 1.5f;
+    r.ext[1] = 4e-4f;
+    r.target_vel = 0.004f;
+    ctlr_axis_reset(&X);
+    (void)ctlr_axis_enter(&X, C4G_MODE_9, 5.0, &r);
+    X.v_prev = 0.0;
+    memset(&o, 0, sizeof o);
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    /* first packet: a = 0, v = 2 */
+    nearf(o.current_add, 0.9 * (double)1.5f + 0.1 * ((double)0.004f / dt) + 0.02);
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL);
+    /* 0.004 -> 0.0052: a = 300 clamped to 100 (v predicted with the unclamped a) */
+    r.target_vel = 0.0052f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    a = ((double)0.0052f - (double)0.004f) / (dt * dt);
+    in_a = 1.25 * (double)4e-4f * two_pi * 100.0;
+    nearf(o.current_add, 0.9 * ((double)1.5f - in_a) + 1.1 * in_a + 0.1 * ((double)0.0052f / dt + a * dt) + 0.02);
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL | CTLR_FFF_CLAMPED);
+    /* an axis model file with --ff-ext1 still gets EXT1 added */
+    FF.model.ctrl = 0;
+    FF.model.ja = 0.0;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, (double)1.5f + 0.1 * ((double)0.0052f / dt) + 0.02);
+    A.ff_ext1 = 0;
+}
+
 static void test_enter(void **st)
 {
     ctlr_axis_t X;
@@ -468,6 +530,7 @@ int main(void)
         cmocka_unit_test(test_feedforward),
         cmocka_unit_test(test_feedforward_model),
         cmocka_unit_test(test_step_model),
+        cmocka_unit_test(test_step_ctrl_model),
         cmocka_unit_test(test_enter),
         cmocka_unit_test(test_step_modes),
     };

@@ -18,18 +18,33 @@ namespace ident {
 const char *const param_name[NPARAM] = {"Ja", "Fv", "Fc", "off", "Fs", "vs", "ga", "gb"};
 const char *const param_unit[NPARAM] = {"A/(turn/s^2)", "A/(turn/s)", "A", "A", "A", "turn/s", "A", "A"};
 const char *const variant_name[NVARIANT] = {"coulomb", "coulomb+gravity", "stribeck",
-                                            "stribeck+gravity"};
+                                            "stribeck+gravity", "ctrl+coulomb", "ctrl+stribeck"};
 
 bool variant_gravity(Variant v) { return v == COULOMB_G || v == STRIBECK_G; }
+bool variant_ctrl(Variant v) { return v == CTRL_C || v == CTRL_S; }
 
 bool variant_has(Variant v, Param p)
 {
     switch (p) {
-    case JA: case FV: case FC: case OFF: return true;
-    case FS: case VS: return v == STRIBECK || v == STRIBECK_G;
-    case GA: case GB: return variant_gravity(v);
+    case JA: return !variant_ctrl(v);
+    case FV: case FC: case OFF: return true;
+    case FS: case VS: return v == STRIBECK || v == STRIBECK_G || v == CTRL_S;
+    case GA: case GB: return variant_gravity(v) || variant_ctrl(v);
     default: return false;
     }
+}
+
+const char *param_name_of(Variant v, int p)
+{
+    if (variant_ctrl(v) && p == GA) return "k1";
+    if (variant_ctrl(v) && p == GB) return "k2";
+    return param_name[p];
+}
+
+const char *param_unit_of(Variant v, int p)
+{
+    if (variant_ctrl(v) && (p == GA || p == GB)) return "1";
+    return param_unit[p];
 }
 
 double model_eval(const Vec &p, double eps, double v, double a, double cq, double sq, Vec *g)
@@ -331,9 +346,11 @@ bool block_cov(const Samples &s, const Vec &p, double eps, Loss loss, double c, 
 bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, double *cost)
 {
     // columns: a, v, (1-E)S, 1, [E S], [cos q, sin q]
-    const bool str = (v == STRIBECK || v == STRIBECK_G) && vs > 0.0;
-    const bool grav = variant_gravity(v);
-    std::vector<int> col = {JA, FV, FC, OFF};
+    const bool str = variant_has(v, FS) && vs > 0.0;
+    const bool grav = variant_has(v, GA);
+    const bool ja = variant_has(v, JA);
+    std::vector<int> col = {FV, FC, OFF};
+    if (ja) col.insert(col.begin(), JA);
     if (str) col.push_back(FS);
     if (grav) {
         col.push_back(GA);
@@ -352,7 +369,7 @@ bool fit_linear(const Samples &s, Variant v, double eps, double vs, Vec *p, doub
             E = std::exp(-r * r);
         }
         std::size_t k = 0;
-        row[k++] = s.a[j];
+        if (ja) row[k++] = s.a[j];
         row[k++] = s.v[j];
         row[k++] = (1.0 - E) * S;
         row[k++] = 1.0;
@@ -389,7 +406,7 @@ Vec linear_start(const Samples &s, Variant v, double eps, double vmax)
 {
     Vec best{};
     double bc = 1e300;
-    if (v == STRIBECK || v == STRIBECK_G) {
+    if (variant_has(v, FS)) {
         const double lo = std::max(10.0 * eps, 1e-6), hi = std::max(lo * 2.0, 0.5 * vmax);
         for (int k = 0; k < 16; k++) {
             const double vs = lo * std::pow(hi / lo, k / 15.0);
@@ -403,7 +420,7 @@ Vec linear_start(const Samples &s, Variant v, double eps, double vmax)
         if (bc < 1e300) return best;
     }
     if (!fit_linear(s, v, eps, 0.0, &best, &bc)) best = Vec{};
-    if (v == STRIBECK || v == STRIBECK_G) {
+    if (variant_has(v, FS)) {
         best[FS] = best[FC];
         best[VS] = std::max(10.0 * eps, 0.1 * vmax);
     }
@@ -421,7 +438,8 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *st
     for (double x : s.v) vmax = std::max(vmax, std::fabs(x));
     Vec p = (start != nullptr) ? *start : linear_start(s, v, eps, vmax);
     // keep the start inside the bounds
-    p[JA] = std::max(p[JA], 1e-12);
+    if (variant_has(v, JA)) p[JA] = std::max(p[JA], 1e-12);
+    else p[JA] = 0.0;
     for (int k : {FV, FC, FS}) p[static_cast<std::size_t>(k)] = std::max(p[static_cast<std::size_t>(k)], 0.0);
     std::vector<double> r;
     residuals(s, p, eps, &r);
@@ -483,7 +501,7 @@ Fit fit(const Samples &s, Variant v, double eps, const Options &o, const Vec *st
         F.held.clear();
         for (int k : held) F.held.push_back(idx[static_cast<std::size_t>(k)]);
         for (std::size_t k = 0; k < P; k++) p[static_cast<std::size_t>(idx[k])] = x[k];
-        if (v == COULOMB || v == COULOMB_G) p[FS] = p[FC];
+        if (!variant_has(v, FS)) p[FS] = p[FC];
         residuals(s, p, eps, &r);
         const double s2 = 1.4826 * median_abs(r);
         const bool settled = std::fabs(s2 - sigma) <= 0.02 * sigma;
@@ -758,7 +776,16 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
         split(all, o.holdout, &train, &val);
     }
     std::vector<Variant> cand;
-    if (o.force_variant >= 0) {
+    if (o.ctrl) {
+        // the ctrl family: its two friction forms (a forced variant names the friction)
+        if (o.force_variant >= 0) cand.push_back(variant_has(static_cast<Variant>(o.force_variant), FS) ? CTRL_S : CTRL_C);
+        else cand = {CTRL_C, CTRL_S};
+        if (!(R.prep.ks > 0.0)) {
+            R.why_not = "EXT1 does not follow EXT2's inertial torque (no positive slope ks): the log carries no "
+                        "controller model the ctrl family could correct";
+            return R;
+        }
+    } else if (o.force_variant >= 0) {
         cand.push_back(static_cast<Variant>(o.force_variant));
     } else {
         cand = {COULOMB, STRIBECK};
@@ -767,7 +794,7 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
             cand.push_back(STRIBECK_G);
         }
     }
-    if ((o.force_variant >= 0 && variant_gravity(static_cast<Variant>(o.force_variant))) && !log.have_q) {
+    if (!o.ctrl && (o.force_variant >= 0 && variant_gravity(static_cast<Variant>(o.force_variant))) && !log.have_q) {
         R.why_not = "the gravity variant needs the link angle (a capture with its init packet)";
         return R;
     }
@@ -786,7 +813,7 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
         best = std::min(best, R.val_cost[v]);
     }
     // the simplest variant within 0.2 % of the best held-out cost
-    static const Variant order[NVARIANT] = {COULOMB, COULOMB_G, STRIBECK, STRIBECK_G};
+    static const Variant order[NVARIANT] = {COULOMB, COULOMB_G, STRIBECK, STRIBECK_G, CTRL_C, CTRL_S};
     Variant chosen = cand.front();
     for (Variant v : order) {
         if (R.tried[v] && R.val_cost[v] <= best * 1.002) {
@@ -834,7 +861,8 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
     }
     // A log without the link angle (CSV) on an axis whose current depends on the position
     // (gravity): the model without gravity would take the load for inertia or friction.
-    if (!log.have_q && all.pos.size() == all.n()) {
+    // (the ctrl family's EXT1 carries the controller's gravity: no such check)
+    if (!o.ctrl && !log.have_q && all.pos.size() == all.n()) {
         const double g = position_effect(all, R.fit, R.prep.eps);
         if (g > 0.5 * std::max(R.fit.sigma, R.prep.noise_floor)) {
             char b[320];
@@ -858,11 +886,13 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
                 return R;
             }
             if (st.at_bound) continue;
-            const double reach = (k == JA) ? R.prep.amax : ((k == FV) ? R.prep.vmax : 1.0);
+            double reach = (k == JA) ? R.prep.amax : ((k == FV) ? R.prep.vmax : 1.0);
+            if (o.ctrl && k == GA) reach = R.prep.e1max;   // k1 times EXT1
+            if (o.ctrl && k == GB) reach = R.prep.inmax;   // k2 times the inertial term
             if (!R.fit.cov_ok || (st.ci95 > 0.5 * std::fabs(st.value) && st.ci95 * reach > noise)) {
                 char b[320];
                 std::snprintf(b, sizeof b, "%s is not pinned by this run: %.4g +- %.3g (95 %%) with |v| <= %.3g turn/s, |a| <= %.3g "
-                              "turn/s^2: excite the axis more", param_name[k], st.value, st.ci95, R.prep.vmax, R.prep.amax);
+                              "turn/s^2: excite the axis more", param_name_of(R.fit.variant, k), st.value, st.ci95, R.prep.vmax, R.prep.amax);
                 R.why_not = b;
                 return R;
             }
@@ -873,7 +903,7 @@ AxisResult identify(const AxisLog &log, const AxisLog *val_log, const Options &o
         const ParamStat &st = R.fit.st[static_cast<std::size_t>(k)];
         if (st.free && !st.at_bound && (!R.fit.cov_ok || st.pct > 50.0)) {
             char b[160];
-            std::snprintf(b, sizeof b, "%s is poorly identified (sigma %.3g %%): excite the axis more", param_name[k], st.pct);
+            std::snprintf(b, sizeof b, "%s is poorly identified (sigma %.3g %%): excite the axis more", param_name_of(R.fit.variant, k), st.pct);
             R.warnings.push_back(b);
         }
     }

@@ -43,10 +43,19 @@ enum Param { JA = 0, FV, FC, OFF, FS, VS, GA, GB, NPARAM };
 extern const char *const param_name[NPARAM];
 extern const char *const param_unit[NPARAM];
 
-enum Variant { COULOMB = 0, COULOMB_G, STRIBECK, STRIBECK_G, NVARIANT };
+// CTRL_C, CTRL_S: the `ctrl` family (--model ctrl), a correction of the controller's own
+// model: i = k1*(EXT1 - in) + k2*in + friction + off, in = ks*EXT2*2*pi*a the inertial part
+// of EXT1 (ks the controller's 1/Kt as EXT1 shows it): k1 scales the rest of the controller's
+// model (gravity, Coriolis), k2 its inertia, both 1 when the model is right. The gravity
+// slots GA, GB hold k1, k2 (their columns cq, sq hold EXT1 - in and in); Ja is not a parameter.
+enum Variant { COULOMB = 0, COULOMB_G, STRIBECK, STRIBECK_G, CTRL_C, CTRL_S, NVARIANT };
 extern const char *const variant_name[NVARIANT];
 bool variant_has(Variant v, Param p);
 bool variant_gravity(Variant v);
+bool variant_ctrl(Variant v);
+// The parameter's name in this variant (GA, GB are k1, k2 in the ctrl family).
+const char *param_name_of(Variant v, int p);
+const char *param_unit_of(Variant v, int p);
 
 using Vec = std::array<double, NPARAM>;
 
@@ -69,11 +78,13 @@ struct Options {
     int force_variant = -1;    // -1: chosen on held-out data
     bool want_gravity = true;  // offer the gravity variants (when q is known)
     std::size_t select_max = 30000; // samples the variants are compared on (evenly thinned)
+    bool ctrl = false;         // the ctrl family (--model ctrl) instead of the axis family
 };
 
 // Samples ready for the fit.
 struct Samples {
     std::vector<double> v, a, i, cq, sq;
+    // the ctrl family: cq holds EXT1 - in [A], sq the inertial term in = ks*EXT2*2*pi*a [A]
     std::vector<double> pos;   // D3 [motor turns]: what a log without the link angle has of q
     std::vector<int64_t> tick;
     std::vector<double> t;
@@ -93,6 +104,9 @@ struct Prep {
     uint64_t dropped_gap = 0;      // near a gap in the controller's NUM sequence
     double vmax = 0.0, amax = 0.0; // largest |v|, |a| kept
     double ipeak = 0.0;        // largest |i| kept
+    // ctrl family: ks [A/(N m)], EXT2's torque to current (EXT1's own slope on the inertial
+    // torque EXT2*2*pi*a), and the largest |EXT1 - in|, |in| kept (in = ks*EXT2*2*pi*a)
+    double ks = 0.0, e1max = 0.0, inmax = 0.0;
 };
 
 // Savitzky-Golay weights for the derivative @p deriv (0, 1) of the order-@p order fit over

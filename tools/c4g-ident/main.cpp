@@ -128,6 +128,18 @@ int fit_loss(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t
     return 0;
 }
 
+int fit_model(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
+{
+    Options &o = static_cast<FitCli *>(ctx)->opt;
+    if (std::strcmp(v, "axis") == 0) o.ctrl = false;
+    else if (std::strcmp(v, "ctrl") == 0) o.ctrl = true;
+    else {
+        std::snprintf(why, whylen, "axis or ctrl");
+        return -1;
+    }
+    return 0;
+}
+
 int fit_variant(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
     Options &o = static_cast<FitCli *>(ctx)->opt;
@@ -141,7 +153,7 @@ int fit_variant(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, siz
             return 0;
         }
     }
-    std::snprintf(why, whylen, "auto, coulomb, coulomb+gravity, stribeck or stribeck+gravity");
+    std::snprintf(why, whylen, "auto, coulomb, coulomb+gravity, stribeck, stribeck+gravity, ctrl+coulomb or ctrl+stribeck");
     return -1;
 }
 
@@ -194,7 +206,8 @@ int run_fit(int argc, char **argv)
         {"session", 0, C4GH_CLI_UINT, "N", "captures: only session N (default all)", &session, 0, 1, 1e6, nullptr, 0},
         {"validate", 0, C4GH_CLI_STRING, "LOG", "validate on a second log instead of the last 20 %", c.validate, sizeof c.validate, 0, 0, nullptr, 0},
         {"holdout", 0, C4GH_CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
-        {"variant", 0, C4GH_CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity", nullptr, 0, 0, 0, fit_variant, 0},
+        {"model", 0, C4GH_CLI_CALL, "FAMILY", "axis (default: Ja*a + friction + gravity) or ctrl (k1*EXT1 + k2*EXT2 inertia + friction: corrects the controller's own model)", nullptr, 0, 0, 0, fit_model, 0},
+        {"variant", 0, C4GH_CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity; ctrl+coulomb, ctrl+stribeck", nullptr, 0, 0, 0, fit_variant, 0},
         {"keep-late", 0, C4GH_CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
         {"az-lim", 0, C4GH_CLI_CALL, "A|AXIS:A,...", "CSV logs: the DSA current limit (AzLim) of every axis or of each; ticks at 98 % of it are dropped", nullptr, 0, 0, 0, fit_az_lim, 0},
         {"no-gravity", 0, C4GH_CLI_FLAG, nullptr, "never offer the gravity variants", &c.no_gravity, 0, 0, 0, nullptr, 0},
@@ -217,6 +230,7 @@ int run_fit(int argc, char **argv)
         "c4g-ident fit --validate run2.pcap --plot plots run1.pcap",
         "c4g-ident fit --arm 1 moni.csv          # c4g-server --moni-type 0 CSV",
         "c4g-ident fit --az-lim 1:24.5,4:9.5 moni.csv   # AzLim as c4g-replay summary shows it",
+        "c4g-ident fit --model ctrl --axes 1-3 arm.pcap -o arm1-ctrl.ini   # correct EXT1/EXT2",
         nullptr};
     c4gh_cli_spec_t spec = {"c4g-ident fit", C4G_VERSION_STRING,
                        "Usage: c4g-ident fit [OPTIONS] LOG...\n"
@@ -248,6 +262,12 @@ int run_fit(int argc, char **argv)
     c.opt.want_gravity = !c.no_gravity;
     if (c.no_gravity && c.opt.force_variant >= 0 && variant_gravity(static_cast<Variant>(c.opt.force_variant))) {
         c4gh_cli_error(&spec, "--no-gravity and --variant %s contradict each other", variant_name[c.opt.force_variant]);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (c.opt.force_variant >= 0 && c.opt.ctrl != variant_ctrl(static_cast<Variant>(c.opt.force_variant)) &&
+        (variant_gravity(static_cast<Variant>(c.opt.force_variant)) || !c.opt.ctrl)) {
+        c4gh_cli_error(&spec, "--variant %s is not a variant of --model %s", variant_name[c.opt.force_variant],
+                       c.opt.ctrl ? "ctrl" : "axis");
         return C4GH_CLI_EXIT_USAGE;
     }
     if (to >= 0.0 && to <= from) {

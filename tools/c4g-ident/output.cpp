@@ -45,7 +45,12 @@ void report_text(FILE *out, const Job &j)
                          static_cast<unsigned long long>(in.num_dups));
         }
     }
-    std::fprintf(out, "model: i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n");
+    if (j.opt.ctrl) {
+        std::fprintf(out, "model: ctrl: i = k1*(EXT1 - in) + k2*in + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off, "
+                          "in = ks*EXT2*2pi*a\n");
+    } else {
+        std::fprintf(out, "model: axis: i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n");
+    }
     std::fprintf(out, "fit: %s loss (scale %.3g sigma), Savitzky-Golay %d/%d, validation: %s\n", loss_name(j.opt.loss),
                  j.opt.loss_k, 2 * j.opt.sg_half + 1, j.opt.sg_order,
                  j.validate_path.empty() ? (std::to_string(static_cast<int>(j.opt.holdout * 100)) + " % held out at the end").c_str()
@@ -70,6 +75,12 @@ void report_text(FILE *out, const Job &j)
         }
         std::fprintf(out, "  delay of D5 after D4: %+.3f ticks (sd %.3f); eps %.4g turn/s; range |v| <= %.4g turn/s, |a| <= %.4g turn/s^2\n",
                      r.prep.delay, r.prep.delay_sd, r.prep.eps, r.prep.vmax, r.prep.amax);
+        if (variant_ctrl(r.fit.variant)) {
+            std::fprintf(out, "  family: ctrl (k1 scales EXT1 but its inertial part, k2 that part: both 1 when the controller's model is right), ks %.6g A/(N m) (EXT1's slope on "
+                              "EXT2's inertial torque)\n", r.prep.ks);
+        } else {
+            std::fprintf(out, "  family: axis (i = Ja*a + friction + off + gravity)\n");
+        }
         std::fprintf(out, "  variant: %s (held-out cost:", variant_name[r.fit.variant]);
         for (int v = 0; v < NVARIANT; v++) {
             if (r.tried[static_cast<std::size_t>(v)]) std::fprintf(out, " %s %.4g", variant_name[v], r.val_cost[static_cast<std::size_t>(v)]);
@@ -79,9 +90,10 @@ void report_text(FILE *out, const Job &j)
         for (int p = 0; p < NPARAM; p++) {
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
-            if (s.at_bound) std::fprintf(out, "  %-4s %14.7g %12s %9s  %s (held at its bound)\n", param_name[p], s.value, "-", "-", param_unit[p]);
-            else if (!(s.pct < 1e299)) std::fprintf(out, "  %-4s %14.7g %12.4g %9s  %s\n", param_name[p], s.value, s.ci95, "-", param_unit[p]);
-            else std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", param_name[p], s.value, s.ci95, s.pct, param_unit[p]);
+            const char *pn = param_name_of(r.fit.variant, p), *pu = param_unit_of(r.fit.variant, p);
+            if (s.at_bound) std::fprintf(out, "  %-4s %14.7g %12s %9s  %s (held at its bound)\n", pn, s.value, "-", "-", pu);
+            else if (!(s.pct < 1e299)) std::fprintf(out, "  %-4s %14.7g %12.4g %9s  %s\n", pn, s.value, s.ci95, "-", pu);
+            else std::fprintf(out, "  %-4s %14.7g %12.4g %9.3f  %s\n", pn, s.value, s.ci95, s.pct, pu);
         }
         std::fprintf(out, "  residual: RMS %.4g A (inliers %.4g A, %.2f %% outliers), robust sigma %.4g A, noise floor %.4g A "
                           "(x%.3f)\n",
@@ -142,6 +154,8 @@ int report_json(FILE *out, const Job &j)
             json_array_append_new(axes, a);
             continue;
         }
+        json_object_set_new(a, "model", json_string(variant_ctrl(r.fit.variant) ? "ctrl" : "axis"));
+        if (variant_ctrl(r.fit.variant)) json_object_set_new(a, "ks", json_real(r.prep.ks));
         json_object_set_new(a, "variant", json_string(variant_name[r.fit.variant]));
         json_object_set_new(a, "delay_ticks", json_real(r.prep.delay));
         json_object_set_new(a, "delay_sd_ticks", json_real(r.prep.delay_sd));
@@ -155,11 +169,11 @@ int report_json(FILE *out, const Job &j)
             const ParamStat &s = r.fit.st[static_cast<std::size_t>(p)];
             if (!s.free) continue;
             json_t *po = json_pack("{s:f,s:f,s:f,s:f,s:s}", "value", s.value, "sigma", s.sigma, "ci95", s.ci95, "sigma_pct",
-                                   (s.pct < 1e299) ? s.pct : -1.0, "unit", param_unit[p]);
+                                   (s.pct < 1e299) ? s.pct : -1.0, "unit", param_unit_of(r.fit.variant, p));
             json_object_set_new(po, "sigma_white", json_real(s.sigma_white));
             json_object_set_new(po, "sigma_delay", json_real(s.sigma_delay));
             json_object_set_new(po, "at_bound", json_boolean(s.at_bound));
-            json_object_set_new(ps, param_name[p], po);
+            json_object_set_new(ps, param_name_of(r.fit.variant, p), po);
         }
         json_object_set_new(a, "parameters", ps);
         json_t *vc = json_object();
@@ -201,7 +215,9 @@ std::string params_text(const Job &j, const std::string &version)
          "# i = Ja*a + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off + ga*cos(q) + gb*sin(q)\n"
          "# i [A], v [motor turn/s], a [motor turn/s^2], q link angle [rad] (library kinematics).\n"
          "# Units: Ja A/(turn/s^2), Fv A/(turn/s), Fc Fs off ga gb A, vs eps v_max turn/s,\n"
-         "# a_max turn/s^2, delay ticks. Edit nothing: the checksum covers every other line.\n"
+         "# a_max turn/s^2, delay ticks. An axis of model = ctrl corrects the controller's own model:\n"
+         "# i = k1*(EXT1 - in) + k2*in + (friction as above) + off, in = ks*EXT2*2*pi*a, EXT1 [A] and\n"
+         "# EXT2 [kg m^2] from the controller's packet, ks A/(N m). Edit nothing: the checksum covers every other line.\n"
          "[model]\nformat = c4g-ident 1\nmodel = motor-current-1\n";
     o << "arm = " << arm << "\nperiod_ms = " << period_ms << "\n";
     o << "source = ";
@@ -212,8 +228,12 @@ std::string params_text(const Job &j, const std::string &version)
     for (const AxisResult &r : j.results) {
         if (!r.identifiable) continue;
         const Vec &p = r.fit.p;
-        body << "\n[axis " << r.axis << "]\nvariant = " << variant_name[r.fit.variant] << "\n";
-        body << "Ja = " << p[JA] << "\nFv = " << p[FV] << "\nFc = " << p[FC] << "\n";
+        const bool ctrl = variant_ctrl(r.fit.variant);
+        body << "\n[axis " << r.axis << "]\nmodel = " << (ctrl ? "ctrl" : "axis") << "\nvariant = " << variant_name[r.fit.variant]
+             << "\n";
+        if (ctrl) body << "k1 = " << p[GA] << "\nk2 = " << p[GB] << "\nks = " << r.prep.ks << "\n";
+        else body << "Ja = " << p[JA] << "\n";
+        body << "Fv = " << p[FV] << "\nFc = " << p[FC] << "\n";
         if (variant_has(r.fit.variant, FS)) body << "Fs = " << p[FS] << "\nvs = " << p[VS] << "\n";
         body << "off = " << p[OFF] << "\n";
         if (variant_gravity(r.fit.variant)) body << "ga = " << p[GA] << "\ngb = " << p[GB] << "\n";
@@ -275,7 +295,8 @@ int write_samples(const std::string &dir, const Job &j, std::string *err)
         }
         std::fprintf(f, "# c4g-ident samples: arm %u axis %u variant %s eps %.17g delay %.6g fit_seconds %.6g\n", r.arm,
                      r.axis, variant_name[r.fit.variant], r.prep.eps, r.prep.delay, r.fit.seconds);
-        std::fprintf(f, "v,a,i,cos_q,sin_q\n");
+        // the ctrl family's last two columns are its regressors: EXT1 but its inertial part, that part
+        std::fprintf(f, variant_ctrl(r.fit.variant) ? "v,a,i,ext1_less_in,in\n" : "v,a,i,cos_q,sin_q\n");
         for (std::size_t i = 0; i < s.n(); i++) {
             std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", s.v[i], s.a[i], s.i[i], s.cq[i], s.sq[i]);
         }

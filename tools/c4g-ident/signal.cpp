@@ -475,6 +475,44 @@ double estimate_delay(const AxisLog &Lfull, const Options &o, double eps, double
     return d;
 }
 
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+// The least-squares slope of EXT1 (cq) on the inertial torque (sq, unscaled) with the
+// nuisance columns 1, v, v^2 (Coriolis) and a cubic in D3 (gravity). 0 when none.
+double ctrl_scale(const Samples &s)
+{
+    const int P = 7;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(P, P);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(P);
+    Eigen::VectorXd z(P);
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        lo = std::min(lo, s.pos[j]);
+        hi = std::max(hi, s.pos[j]);
+    }
+    const double span = (hi > lo) ? hi - lo : 1.0;
+    for (std::size_t j = 0; j < s.n(); j++) {
+        const double x = 2.0 * (s.pos[j] - lo) / span - 1.0;
+        z(0) = s.sq[j];
+        z(1) = 1.0;
+        z(2) = s.v[j];
+        z(3) = s.v[j] * s.v[j];
+        z(4) = x;
+        z(5) = x * x;
+        z(6) = x * x * x;
+        M += z * z.transpose();
+        b += z * s.cq[j];
+    }
+    if (s.n() < static_cast<std::size_t>(4 * P)) return 0.0;
+    const Eigen::VectorXd d = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    const Eigen::VectorXd x = d.asDiagonal() * (d.asDiagonal() * M * d.asDiagonal()).ldlt().solve(d.asDiagonal() * b);
+    return (x.allFinite() && x(0) > 0.0) ? x(0) : 0.0;
+}
+
+}  // namespace
+
 Prep prepare(const AxisLog &L, const Options &o, Samples *out)
 {
     Prep pr;
@@ -494,8 +532,14 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
         out->a.push_back(f.a[k]);
         out->i.push_back(static_cast<double>(L.d5[k]));
         const double q = L.have_q ? q_at(L, k, pr.delay) : 0.0;
-        out->cq.push_back(L.have_q ? std::cos(q) : 0.0);
-        out->sq.push_back(L.have_q ? std::sin(q) : 0.0);
+        if (o.ctrl) {
+            // the ctrl family's columns: EXT1 and EXT2's inertial torque (scaled below)
+            out->cq.push_back(static_cast<double>(L.e1[k]));
+            out->sq.push_back(static_cast<double>(L.e2[k]) * kTwoPi * f.a[k]);
+        } else {
+            out->cq.push_back(L.have_q ? std::cos(q) : 0.0);
+            out->sq.push_back(L.have_q ? std::sin(q) : 0.0);
+        }
         out->pos.push_back(static_cast<double>(L.d3[k]));
         out->tick.push_back(L.tick[k]);
         out->t.push_back(L.t[k]);
@@ -504,6 +548,18 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
         pr.ipeak = std::max(pr.ipeak, std::fabs(static_cast<double>(L.d5[k])));
     }
     pr.kept = out->n();
+    if (o.ctrl) {
+        // ks: EXT1's own slope on the inertial torque EXT2*2*pi*a (the controller's 1/Kt),
+        // beside what else EXT1 holds (gravity, Coriolis: a constant, v, v^2, a cubic in D3).
+        // With it k2 ~ 1 when the controller's inertia is right.
+        pr.ks = ctrl_scale(*out);
+        for (std::size_t j = 0; j < out->n(); j++) {
+            out->sq[j] *= pr.ks;
+            out->cq[j] -= out->sq[j];  // EXT1 but its inertial part
+            pr.e1max = std::max(pr.e1max, std::fabs(out->cq[j]));
+            pr.inmax = std::max(pr.inmax, std::fabs(out->sq[j]));
+        }
+    }
     return pr;
 }
 

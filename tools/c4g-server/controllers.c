@@ -141,6 +141,22 @@ float ctlr_ff_model_current(const ctlr_ff_t *p, double d2, double d2_prev, doubl
     return sat_float(c4gh_ffm_current(&p->model, v, a, q, have_q));
 }
 
+float ctlr_ff_ctrl_current(const ctlr_ff_t *p, double d2, double d2_prev, double dt, double ext1,
+                           double ext2, int *clamped)
+{
+    const double T = (dt > 0.0) ? dt : 1e-3;
+    double a = (d2 - d2_prev) / (T * T);
+    double v = d2 / T + a * T;
+    int hit = 0;
+    v = clamp_range(v, p->model.v_max, &hit);
+    a = clamp_range(a, p->model.a_max, &hit);
+    *clamped = hit;
+    if (!isfinite(ext1) || !isfinite(ext2)) {
+        return 0.0f;
+    }
+    return sat_float(c4gh_ffm_current_ctrl(&p->model, v, a, ext1, ext2));
+}
+
 double ctlr_pd(ctlr_axis_t *X, const ctlr_in_t *in, double ref, double vref,
                const c4g_ctrl_axis_t *r, double t)
 {
@@ -239,14 +255,20 @@ static int step_ff(ctlr_axis_t *X, const ctlr_in_t *in, const c4g_ctrl_axis_t *r
             int clamped = 0;
             /* the mode's first packet has no previous velocity: no acceleration */
             const double prev = (X->ticks == 0U) ? v : X->v_prev;
-            o->current_add = ctlr_ff_model_current(in->ff, v, prev, in->dt, in->q_link,
-                                                   in->have_q, &clamped);
+            o->current_add =
+                in->ff->model.ctrl
+                    ? ctlr_ff_ctrl_current(in->ff, v, prev, in->dt, (double)r->ext[0],
+                                           (double)r->ext[1], &clamped)
+                    : ctlr_ff_model_current(in->ff, v, prev, in->dt, in->q_link, in->have_q,
+                                            &clamped);
             X->ff_flags = CTLR_FFF_MODEL | (clamped ? CTLR_FFF_CLAMPED : 0U);
         } else {
             o->current_add = ctlr_ff_current(in->ff, v, v - X->v_prev, (double)r->target_pos);
         }
     }
-    if (in->driven && !done && in->cfg->ff_ext1 && isfinite(r->ext[0])) {
+    /* a model = ctrl file holds EXT1 already (k1 EXT1): never twice */
+    if (in->driven && !done && in->cfg->ff_ext1 && isfinite(r->ext[0]) &&
+        !(in->ff != NULL && in->ff->set && in->ff->kind == CTLR_FF_MODEL && in->ff->model.ctrl)) {
         /* the controller's own model current, which mode 9 no longer hands its drives
          * (manual 14.12.4): passed back through D5 */
         o->current_add += r->ext[0];

@@ -129,6 +129,12 @@ float ctlr_ff_current(const ctlr_ff_t *p, double v, double acc, double pos);
 float ctlr_ff_model_current(const ctlr_ff_t *p, double d2, double d2_prev, double dt, double q,
                             int have_q, int *clamped);
 
+/* The same for a model = ctrl file (p->model.ctrl): k1 (EXT1 - in) + k2 in + friction + off,
+ * in = ks EXT2 2 pi a (c4gh_ffm_current_ctrl), from the controller's packet of the tick (@p ext1 [A], @p ext2 [kg m^2]) and v, a
+ * as above (clamped alike). A non-finite EXT1 or EXT2 gives 0 A (nothing to correct). */
+float ctlr_ff_ctrl_current(const ctlr_ff_t *p, double d2, double d2_prev, double dt, double ext1,
+                           double ext2, int *clamped);
+
 /* PD(+I) joint controller with anti-windup (clamped integrator plus back-calculation) and
  * the soft-control-switching limiter (the limit ramps 0 -> AzLim over cfg->scs s).
  * Updates X->integ; returns the current [A]. */

@@ -26,6 +26,8 @@ static double period_s(const srv_t *S)
     return (p > 0) ? (double)p * 1e-3 : 1e-3;
 }
 
+static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in);
+
 /* The axis reports another mode than on its previous packet: log, count, restart its
  * controller from where it stood before the mode. */
 static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t *r, uint64_t t_ns)
@@ -45,6 +47,20 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
      * where it stands now, not where it stood in mode 0) */
     (void)c4g_engine_anchor(srv_engine(S), i, &anchor);
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
+    if (mode == C4G_MODE_9) {
+        ctlr_in_t in;
+        axis_in(S, i, &in);
+        if (in.driven && in.ff != NULL && in.ff->set != 0) {
+            /* which model this axis's mode 9 evaluates, once per entry */
+            srv_log(S, t_ns, "axis %u: mode 9 feedforward: %s%s", (unsigned)i + 1U,
+                    (in.ff->kind != CTLR_FF_MODEL) ? "line-format parameters"
+                    : in.ff->model.ctrl           ? "model ctrl (k1 (EXT1 - in) + k2 in + friction, in from EXT2)"
+                                                  : "model axis (Ja a + friction + gravity)",
+                    (in.ff->kind == CTLR_FF_MODEL && in.ff->model.ctrl && in.cfg->ff_ext1)
+                        ? "; --ff-ext1 not added (the model holds EXT1)"
+                        : "");
+        }
+    }
 }
 
 /* An identified model fits the period it was measured at; another one is worth a word,
@@ -185,7 +201,8 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
             enter_mode(S, i, r->mode, r, t_ns);
         }
         axis_in(S, i, &in);
-        if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_MODEL) {
+        if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_MODEL &&
+            !in.ff->model.ctrl) {
             model_angle(S, rx, i, &lc, &in);
         }
         done = ctlr_step(X, &in, tx->ax[i].mode, r, &tx->ax[i]);
