@@ -6,7 +6,8 @@
 #      off, 504;
 #   2. the identification loop (scripts/ident-loop.sh) on c4g-sim's arm plant (a coupled
 #      6-axis arm simulated by MuJoCo, fixtures/sim/smart-six.xml, with the controller's own
-#      dynamic model): excite, record, fit with c4g-ident's per-axis model, and the same fast
+#      dynamic model): excite, record, fit with c4g-ident --model ctrl (a correction of the
+#      controller's model: the per-axis model cannot describe the arm), and the same fast
 #      move in mode 0, in mode 9 with the fitted file and with a wrong one.
 # Bounded; kills what it starts.
 set -u
@@ -85,8 +86,9 @@ L, F = json.load(open(o + "/loop.json")), json.load(open(o + "/fit.json"))
 axes = F.get("axes", [])
 worst = max((a.get("validation", {}).get("x_noise") or 0.0) for a in axes) if axes else 0.0
 print("identify  the arm plant (MuJoCo, 6 coupled axes): 20 s excitation on axes 1-3 in mode 4, captured,")
-print("          fitted by c4g-ident per axis: %d axes identified, held-out current error at most %.2fx the"
-      " noise floor (%s/fit.txt)" % (len(axes), worst, o))
+print("          fitted by c4g-ident --model ctrl (a per-axis correction of the controller's own model,"
+      " EXT1/EXT2):\n          %d axes identified, held-out current error at most %.2fx the noise floor"
+      " (%s/fit.txt)" % (len(axes), worst, o))
 try:
     C = json.load(open(o + "/follow.json"))["captures"]
 except (OSError, ValueError, KeyError):
@@ -97,9 +99,8 @@ if len(C) == 3:
           " %.3g turn,\n          mode 9 with the fitted file %.3g (%.1fx smaller), with a deliberately wrong file"
           " (inertia x2.5, friction x2) %.3g (%.1fx)" % (m0, m9, m0 / max(m9, 1e-12), w9, m0 / max(w9, 1e-12)))
     if m9 > m0 / 2.0:
-        print("          a per-axis model cannot describe a coupled arm (inertia that changes with the pose,"
-              " gravity of two joints,\n          Coriolis): on this plant mode 9 with it is no better than the"
-              " controller's own model; docs/c4g-sim.md")
+        print("          mode 9 is not clearly better than the controller's own model here: see the fit's"
+              " refusals and\n          warnings in %s/loop.txt, and docs/c4g-ident.md on the two families" % o)
     late = C[1]["mode9_late"]
     if late:
         print("          %d of the %d mode-9 ticks had no addition by the deadline: a loaded host delays the PC's"

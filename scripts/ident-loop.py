@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Helpers of scripts/ident-loop.sh.
-  wrong IN OUT        a parameter file with inertia x2.5 and friction x2 (checksum redone)
+  wrong IN OUT        a parameter file with inertia (Ja, or a ctrl axis's k2) x2.5 and friction
+                      x2 (checksum redone)
   figures DIR [--no-truth] INI
                       the fit against c4g-sim's truth (--no-truth: the arm plant has none
                       in the fit's terms), and the fast move's figures, printed and written
@@ -21,9 +22,9 @@ def wrong(src, dst):
     text = open(src).read()
     out = []
     for line in text.splitlines(True):
-        m = re.match(r'^(Ja|Fc|Fs|Fv) = (\S+)$', line.strip())
+        m = re.match(r'^(Ja|k2|Fc|Fs|Fv) = (\S+)$', line.strip())
         if m:
-            k = 2.5 if m.group(1) == 'Ja' else 2.0
+            k = 2.5 if m.group(1) in ('Ja', 'k2') else 2.0
             line = '%s = %.10g\n' % (m.group(1), float(m.group(2)) * k)
         out.append(line)
     body = ''.join(l for l in out if not l.startswith('checksum = '))

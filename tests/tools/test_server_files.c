@@ -323,10 +323,10 @@ static void test_ini_accepts(void **state)
 static void test_cli_over_config(void **state)
 {
     char *before[] = {"c4g-server", "--duration", "7", "-p", "31999", "--config",
-                      "fixtures/server/server_example.ini", NULL};
-    char *after[] = {"c4g-server", "--config", "fixtures/server/server_example.ini", "--duration", "7",
+                      FIXTURES_DIR "/server/server_example.ini", NULL};
+    char *after[] = {"c4g-server", "--config", FIXTURES_DIR "/server/server_example.ini", "--duration", "7",
                      "-p", "31999", NULL};
-    char *only[] = {"c4g-server", "--config", "fixtures/server/server_example.ini", NULL};
+    char *only[] = {"c4g-server", "--config", FIXTURES_DIR "/server/server_example.ini", NULL};
     (void)state;
     srv_config_default(&g_cfg);
     assert_int_equal(srv_config_cli(&g_cfg, "c4g-server", NULL, SRV_CLI_SERVER, 3, only), C4GH_CLI_RUN);
