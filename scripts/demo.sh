@@ -83,12 +83,15 @@ if [ $identrc -eq 0 ] && [ -f "$o/loop.json" ]; then
 import json, sys
 o = sys.argv[1]
 L, F = json.load(open(o + "/loop.json")), json.load(open(o + "/fit.json"))
-axes = F.get("axes", [])
+axes = [a for a in F.get("axes", []) if a.get("identifiable", True)]
+left = ["%d (%s)" % (a["axis"], a.get("why", "")) for a in F.get("axes", []) if not a.get("identifiable", True)]
 worst = max((a.get("validation", {}).get("x_noise") or 0.0) for a in axes) if axes else 0.0
 print("identify  the arm plant (MuJoCo, 6 coupled axes): 20 s excitation on axes 1-3 in mode 4, captured,")
 print("          fitted by c4g-ident --model ctrl (a per-axis correction of the controller's own model,"
       " EXT1/EXT2):\n          %d axes identified, held-out current error at most %.2fx the noise floor"
       " (%s/fit.txt)" % (len(axes), worst, o))
+for l in left:
+    print("          axis %s: left out of the file; mode 9 gives it the controller's model (--ff-ext1)" % l)
 try:
     C = json.load(open(o + "/follow.json"))["captures"]
 except (OSError, ValueError, KeyError):
