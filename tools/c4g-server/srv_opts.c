@@ -806,28 +806,24 @@ static int on_cli(void *ctx, const c4gh_cli_opt_t *o, const char *value, char *w
     return 0;
 }
 
-static const char usage[] =
-    "Usage: c4g-server [OPTIONS]\n"
-    "The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n"
-    "controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n"
-    "sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n"
-    "a built-in behaviour for the open mode the controller selects, through the PC-side\n"
-    "safety filter (following error -> 508, current saturation to AzLim, delta-current\n"
-    "clamp, stroke ends and reference continuity -> 505).\n"
-    "\n"
+/* the --help text both option sets share (without and with the capture options) */
+#define USAGE_HEAD \
+    "Usage: c4g-server [OPTIONS]\n" \
+    "The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n" \
+    "controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n" \
+    "sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n" \
+    "a built-in behaviour for the open mode the controller selects, through the PC-side\n" \
+    "safety filter (following error -> 508, current saturation to AzLim, delta-current\n" \
+    "clamp, stroke ends and reference continuity -> 505).\n" \
+    "\n" \
     "Per-arm behaviours (--axes .. --fe-limit) apply to every arm, or to the arm named by\n"
+
+static const char usage[] =
+    USAGE_HEAD
     "the last --arm N. Every long option but --arm and --config is also an INI key.\n";
 
 static const char usage_all[] =
-    "Usage: c4g-server [OPTIONS]\n"
-    "The PC side (UDP server) of the Comau C4G Open protocol. Answers every packet of the\n"
-    "controller (SMP+) with the field library's behaviour: start-up handshake (732-byte\n"
-    "sync replies, 1200-byte init echo), NUM + 1, mode echo, mode-10 copy; and, per arm,\n"
-    "a built-in behaviour for the open mode the controller selects, through the PC-side\n"
-    "safety filter (following error -> 508, current saturation to AzLim, delta-current\n"
-    "clamp, stroke ends and reference continuity -> 505).\n"
-    "\n"
-    "Per-arm behaviours (--axes .. --fe-limit) apply to every arm, or to the arm named by\n"
+    USAGE_HEAD
     "the last --arm N. Every long option but --arm, --config and --capture .. --replay-rerun\n"
     "is also an INI key.\n";
 
