@@ -59,7 +59,7 @@ TOOL_CXXFLAGS := -std=c++17 -pedantic -Wall -Wextra -Werror
 # The two pure archives pass the same gates (strict flags, MISRA, clang-tidy, cross builds,
 # coverage); every tool is tools/NAME/*.c: its main file plus an archive of the rest, which
 # its tests and fuzz targets link.
-CORE_DIRS := wire engine loop cell canopen
+CORE_DIRS := wire engine loop cell canopen dyn
 LIB_SRCS := $(sort $(foreach d,$(CORE_DIRS),$(wildcard lib/$(d)/*.c)))
 SIM_SRCS := $(sort $(wildcard lib/sim/*.c))
 HOST_SRCS := $(sort $(wildcard lib/host/*.c))

@@ -19,6 +19,8 @@
  *   c4gopen_loop.h     the PC-side loop object: session + engine in one
  *   c4gopen_cell.h     the cell line protocol (usable alone: needs only the base)
  *   c4gopen_canopen.h  CANopen master and DS402 drives (usable alone: needs only the base)
+ *   c4gopen_dyn.h      rigid-body dynamics of a serial arm: Newton-Euler and its regressor
+ *                      (usable alone: needs only the base)
  *
  *   A PC-side real-time loop (c4gopen_loop.h):
  *     n = recvfrom(...);
@@ -46,5 +48,6 @@
 #include "c4gopen_loop.h"
 #include "c4gopen_cell.h"
 #include "c4gopen_canopen.h"
+#include "c4gopen_dyn.h"
 
 #endif /* C4GOPEN_H */
