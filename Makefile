@@ -269,8 +269,19 @@ $(2)/tests/$(notdir $(1:%.c=%)): $(1) $(call test_archs,$(dir $(1)),$(2)) tests/
 endef
 $(foreach s,$(UNIT_SRCS),$(eval $(call unit_test,$(s),$(BUILD),$(CC) $(TEST_CFLAGS))))
 
-unit: $(UNIT_BINS)
-	@sh scripts/run-tests.sh unit $(UNIT_BINS)
+# c4g-ident's in-process units (C++, CMocka): tests/ident/test_*.cpp link the tool's objects
+# but main.o (built with the tool, so only where c4g-ident is built)
+IDENT_UNIT_SRCS := $(wildcard tests/ident/test_*.cpp)
+IDENT_UNIT_BINS := $(if $(filter c4g-ident,$(TOOLS_BUILT)),$(IDENT_UNIT_SRCS:tests/ident/%.cpp=$(BUILD)/tests/%))
+$(BUILD)/tests/test_%: tests/ident/test_%.cpp $(filter-out %/main.o,$(c4g-ident_OBJS)) $(ARCHIVES) tools/c4g-ident/*.hpp \
+  | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  TEST    $@"; $(CXX) $(TOOL_CXXFLAGS) -isystem /usr/include/eigen3 -Itools/c4g-ident $(ARCH_INC) \
+	  -DFIXTURES_DIR='"$(CURDIR)/fixtures"' -O2 -g -o $@ $< $(filter-out %/main.o,$(c4g-ident_OBJS)) $(ARCHIVES) \
+	  $(c4g-ident_LDLIBS) -lcmocka -lm
+
+unit: $(UNIT_BINS) $(IDENT_UNIT_BINS)
+	@sh scripts/run-tests.sh unit $(UNIT_BINS) $(IDENT_UNIT_BINS)
 
 # ---- flavours: $(1) name, $(2) compiler, $(3) flags
 ALL_C_TOOL_SRCS := $(foreach t,$(C_TOOLS),$(call tool_srcs,$(t)))

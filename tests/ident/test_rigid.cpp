@@ -1,0 +1,156 @@
+// SPDX-License-Identifier: MIT
+// c4g-ident's rigid-body model in-process (CMocka): the base parameters of known arms
+// (rigid_base.hpp), checked against their closed forms.
+#include "rigid_base.hpp"
+
+extern "C" {
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+}
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace ident;
+
+namespace {
+
+const double kDeg = M_PI / 180.0;
+
+// The arm plant's kinematics (fixtures/ident/smart-six.kin), modified DH.
+c4g_dyn_chain_t smart_six()
+{
+    const double a[6] = {0, 0.15, 0.59, 0.11, 0, 0};
+    const double al[6] = {0, -90 * kDeg, 0, -90 * kDeg, 90 * kDeg, -90 * kDeg};
+    const double d[6] = {0.45, 0, 0, 0.64, 0, 0};
+    const double th[6] = {0, -90 * kDeg, 0, 0, 0, 0};
+    const double g[3] = {0, 0, -9.81};
+    c4g_dyn_chain_t ch;
+    assert_int_equal(c4g_dyn_chain_dh(&ch, 6, C4G_DYN_DH_MODIFIED, a, al, d, th, g), C4G_OK);
+    return ch;
+}
+
+// A planar 2R arm in a vertical plane: both axes along the base z, gravity along -y,
+// link 1 of length L1 (modified DH: a = 0, L1).
+c4g_dyn_chain_t planar_2r(double L1)
+{
+    const double a[2] = {0, L1}, al[2] = {0, 0}, d[2] = {0, 0}, th[2] = {0, 0};
+    const double g[3] = {0, -9.81, 0};
+    c4g_dyn_chain_t ch;
+    assert_int_equal(c4g_dyn_chain_dh(&ch, 2, C4G_DYN_DH_MODIFIED, a, al, d, th, g), C4G_OK);
+    return ch;
+}
+
+std::vector<std::string> names(const RigidBase &B)
+{
+    return B.name;
+}
+
+// The textbook set of the vertical 2R arm: link 1 turns about a fixed axis, so only its
+// first moments (gravity) and Izz act; link 2's mass sits at the end of link 1 (a point mass
+// m2 at distance L1 adds L1^2 m2 to Izz1 and L1 m2 to mx1); link 2 moves in the plane, so
+// of its inertias only Izz2 acts; ia1 acts exactly as Izz1 does; ia2 alone. 7 in all
+// (the 6 link combinations of the textbook plus one rotor).
+void test_base_planar_2r(void **)
+{
+    RigidBase B;
+    std::string err;
+    assert_true(rigid_base(planar_2r(0.5), &B, &err));
+    const std::vector<std::string> want = {"mx1 + 0.5*m2", "my1", "Izz1 + 0.25*m2 + ia1", "mx2", "my2", "Izz2", "ia2"};
+    assert_int_equal(B.base.size(), want.size());
+    for (std::size_t k = 0; k < want.size(); k++) assert_string_equal(names(B)[k].c_str(), want[k].c_str());
+    assert_int_equal(B.rank_qr, 7);
+    assert_int_equal(B.nfull, 22);
+}
+
+// The same arm in a horizontal plane (gravity along the axes): the first moments of link 1
+// never act, those of link 2 still do through the inertia (mx2, my2 in the Coriolis and
+// coupling terms), 5 in all.
+void test_base_planar_2r_horizontal(void **)
+{
+    const double a[2] = {0, 0.5}, al[2] = {0, 0}, d[2] = {0, 0}, th[2] = {0, 0};
+    const double g[3] = {0, 0, -9.81};
+    c4g_dyn_chain_t ch;
+    assert_int_equal(c4g_dyn_chain_dh(&ch, 2, C4G_DYN_DH_MODIFIED, a, al, d, th, g), C4G_OK);
+    RigidBase B;
+    std::string err;
+    assert_true(rigid_base(ch, &B, &err));
+    const std::vector<std::string> want = {"Izz1 + 0.25*m2 + ia1", "mx2", "my2", "Izz2", "ia2"};
+    assert_int_equal(B.base.size(), want.size());
+    for (std::size_t k = 0; k < want.size(); k++) assert_string_equal(names(B)[k].c_str(), want[k].c_str());
+}
+
+// beta = P theta reproduces the torques of any full vector: W theta = W_b beta at fresh states.
+void test_base_map_exact(void **)
+{
+    const c4g_dyn_chain_t ch = smart_six();
+    RigidBase B;
+    std::string err;
+    assert_true(rigid_base(ch, &B, &err));
+    Eigen::VectorXd theta = Eigen::VectorXd::Random(B.nfull);
+    const Eigen::VectorXd beta = B.P * theta;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> W;
+    for (int s = 0; s < 20; s++) {
+        const Eigen::VectorXd q = Eigen::VectorXd::Random(6) * 3.0, qd = Eigen::VectorXd::Random(6) * 2.0,
+                              qdd = Eigen::VectorXd::Random(6) * 7.0;
+        assert_true(rigid_regressor(ch, q.data(), qd.data(), qdd.data(), &W));
+        Eigen::MatrixXd Wb(6, static_cast<Eigen::Index>(B.base.size()));
+        for (std::size_t k = 0; k < B.base.size(); k++) Wb.col(static_cast<Eigen::Index>(k)) = W.col(B.base[k]);
+        const Eigen::VectorXd t1 = W * theta, t2 = Wb * beta;
+        assert_true((t1 - t2).norm() <= 1e-9 * (1.0 + t1.norm()));
+    }
+}
+
+// The arm plant: the literature's 36 base inertial parameters of a 6R arm with a spherical
+// wrist (its shoulder and forearm offsets a2 = 0.15, a4 = 0.11 add none), and the rotors of
+// axes 3..6: 40. ia1 acts exactly as Izz1 does (axis 1 fixed), ia2 exactly as Izz2 (axis 2
+// is perpendicular to axis 1, so link 2's Izz adds to no other joint's torque and to no
+// gyroscopic term): both are folded, so the count with rotors is 36 + 4, not 36 + 6.
+// Stable against the sample count and the seed.
+void test_base_smart_six(void **)
+{
+    const c4g_dyn_chain_t ch = smart_six();
+    RigidBase B;
+    std::string err;
+    assert_true(rigid_base(ch, &B, &err));
+    assert_string_equal(B.name[0].c_str(), "Izz1 + 0.0225*m2 + Iyy2 + 0.3706*m3 + Iyy3 + 0.3827*m4 + 0.3827*m5 + 0.3827*m6 + ia1");
+    int rotors = 0;
+    for (int b : B.base) rotors += (b >= 60) ? 1 : 0;
+    assert_int_equal(rotors, 4);
+    assert_int_equal(B.base.size(), 40);
+    assert_int_equal(static_cast<int>(B.base.size()) - rotors, 36);
+    for (unsigned seed : {2U, 3U}) {
+        RigidBase C;
+        assert_true(rigid_base(ch, &C, &err, 500, 1e-7, seed));
+        assert_true(C.base == B.base);
+        assert_true((C.K - B.K).cwiseAbs().maxCoeff() < 1e-6);
+    }
+}
+
+void test_base_refused(void **)
+{
+    c4g_dyn_chain_t ch = smart_six();
+    RigidBase B;
+    std::string err;
+    assert_false(rigid_base(ch, &B, &err, 10));
+    assert_true(err.find("at least 11 samples") != std::string::npos);
+    ch.n = 0;
+    assert_false(rigid_base(ch, &B, &err));
+}
+
+}  // namespace
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_base_planar_2r),
+        cmocka_unit_test(test_base_planar_2r_horizontal),
+        cmocka_unit_test(test_base_map_exact),
+        cmocka_unit_test(test_base_smart_six),
+        cmocka_unit_test(test_base_refused),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
