@@ -932,7 +932,11 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
     std::printf("least determined directions of the base parameters (singular value / largest; members' weights):\n");
     for (const Conditioning::Weak &w : co.weakest) {
         std::printf("  %.3g%s:", w.rel, w.rel < kUnidentifiable ? " UNIDENTIFIABLE" : "");
-        for (const auto &m : w.members) std::printf(" %s (%+.2f)", m.first.c_str(), m.second);
+        const char *sep = " ";
+        for (const auto &m : w.members) {
+            std::printf("%s%+.2f [%s]", sep, m.second, m.first.c_str());
+            sep = ", ";
+        }
         std::putchar('\n');
     }
     return C4GH_CLI_EXIT_OK;
