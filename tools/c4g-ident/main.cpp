@@ -629,7 +629,20 @@ constexpr double kMargin = 0.95;  // share of the motor limits the default joint
 constexpr double kSampleMs = 20.0; // the condition numbers' sample spacing
 constexpr double kUnidentifiable = 1e-6; // singular value below this share of the largest
 
-int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
+// What --optimize works from: the problem, the transmission and the motor limits.
+struct OptSetup {
+    OptProblem p;
+    c4g_kin_t kin{};
+    c4g_kin_matrices_t mx{};
+    std::vector<double> vm, am;  // --vmax, --amax per motor
+    double T = 0.0, dt = 0.0;    // length [s], row spacing [s]
+    long rows = 0;               // rows - 1
+};
+
+int opt_limits(const c4gh_cli_spec_t &spec, const ExCli &c, OptSetup *s);
+
+// The options' values checked and turned into the problem; an exit code, or -1 to go on.
+int opt_setup(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, OptSetup *s)
 {
     if (c.kin[0] == '\0') {
         c4gh_cli_error(&spec, "--optimize needs --kin FILE (the arm's kinematics)");
@@ -643,22 +656,23 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
         c4gh_cli_error(&spec, "--harmonics %u: --optimize takes 2..20 (it needs 2 to start and end at rest)", o.harmonics);
         return C4GH_CLI_EXIT_USAGE;
     }
-    const double Tp = 1.0 / o.f0, T = Tp * o.periods, dt = o.period * 1e-3;
-    const double rows = T / dt;
+    s->T = o.periods / o.f0;
+    s->dt = o.period * 1e-3;
+    const double rows = s->T / s->dt;
     if (rows > 20000.0) {
         c4gh_cli_error(&spec, "%.0f rows: c4g-server --traj reads at most 20000 (fewer --periods, a higher --f0 or a wider --period)", rows);
         return C4GH_CLI_EXIT_USAGE;
     }
     if (std::fabs(rows - std::round(rows)) > 1e-6 * rows) {
-        c4gh_cli_error(&spec, "--period %g ms does not divide the %g s length into whole rows", o.period, T);
+        c4gh_cli_error(&spec, "--period %g ms does not divide the %g s length into whole rows", o.period, s->T);
         return C4GH_CLI_EXIT_USAGE;
     }
-    std::vector<double> vm, am;
-    if (!list_n(c.vmax, kOptJoints, 1e-6, 1e5, &vm)) {
+    s->rows = std::lround(rows);
+    if (!list_n(c.vmax, kOptJoints, 1e-6, 1e5, &s->vm)) {
         c4gh_cli_error(&spec, "--vmax: bad value '%s' (one positive number or %u)", c.vmax, kOptJoints);
         return C4GH_CLI_EXIT_USAGE;
     }
-    if (!list_n(c.amax, kOptJoints, 1e-6, 1e7, &am)) {
+    if (!list_n(c.amax, kOptJoints, 1e-6, 1e7, &s->am)) {
         c4gh_cli_error(&spec, "--amax: bad value '%s' (one positive number or %u)", c.amax, kOptJoints);
         return C4GH_CLI_EXIT_USAGE;
     }
@@ -675,47 +689,53 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
     }
     // The transmission: the init packet c4g-sim's arm plant sends (the manual's figure 10.1).
     c4g_init_t init;
-    c4g_kin_t kin;
-    c4g_kin_matrices_t mx;
-    if (c4gsim_fig10_1(&init) != C4G_OK || c4g_kin_from_init(&init, 0, &kin) != C4G_OK || c4g_kin_matrices(&kin, &mx) != C4G_OK) {
+    if (c4gsim_fig10_1(&init) != C4G_OK || c4g_kin_from_init(&init, 0, &s->kin) != C4G_OK ||
+        c4g_kin_matrices(&s->kin, &s->mx) != C4G_OK) {
         std::fprintf(stderr, "%s: the figure 10.1 transmission could not be built\n", spec.tool);
         return C4GH_CLI_EXIT_RUNTIME;
     }
-    OptProblem p;
+    OptProblem &p = s->p;
     p.chain = kf.chain;
     p.f0 = o.f0;
     p.harmonics = static_cast<int>(o.harmonics);
     p.seed = o.seed;
     p.evals = static_cast<int>(o.evals);
     p.use = kMargin;
-    double zero[kOptJoints] = {};
     for (unsigned k = 0; k < kOptJoints; k++) {
-        for (unsigned j = 0; j < kOptJoints; j++) p.kr[k][j] = mx.kr[k][j];
+        for (unsigned j = 0; j < kOptJoints; j++) p.kr[k][j] = s->mx.kr[k][j];
         p.kt[k] = kf.j[k].kt;
     }
+    return opt_limits(spec, c, s);
+}
+
+// The start pose and the joints' limits (defaults, then the options); as opt_setup.
+int opt_limits(const c4gh_cli_spec_t &spec, const ExCli &c, OptSetup *s)
+{
+    OptProblem &p = s->p;
     std::vector<double> v;
+    const double zero[kOptJoints] = {};
     if (c.start[0] != '\0') {
         if (!list_n(c.start, kOptJoints, -100.0, 100.0, &v) || split_commas(c.start).size() != kOptJoints) {
             c4gh_cli_error(&spec, "--start: bad value '%s' (%u joint angles [rad])", c.start, kOptJoints);
             return C4GH_CLI_EXIT_USAGE;
         }
         std::copy(v.begin(), v.end(), p.start);
-    } else if (c4g_kin_motor_to_link(&kin, zero, kOptJoints, p.start) != C4G_OK) {
+    } else if (c4g_kin_motor_to_link(&s->kin, zero, kOptJoints, p.start) != C4G_OK) {
         std::fprintf(stderr, "%s: the start pose could not be computed\n", spec.tool);
         return C4GH_CLI_EXIT_RUNTIME;
+    }
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        OptLimit &L = p.lim[j];
+        L.q_min = p.start[j] - kReach[j];
+        L.q_max = p.start[j] + kReach[j];
+        L.qd_max = kMargin * 2.0 * M_PI * s->vm[j] / std::fabs(s->mx.kr[j][j]);
+        L.qdd_max = kMargin * 2.0 * M_PI * s->am[j] / std::fabs(s->mx.kr[j][j]);
     }
     struct LimOpt {
         const char *name, *text;
         int which;
     };
     const LimOpt lo[] = {{"--q-min", c.q_min, 0}, {"--q-max", c.q_max, 1}, {"--qd-max", c.qd_max, 2}, {"--qdd-max", c.qdd_max, 3}};
-    for (unsigned j = 0; j < kOptJoints; j++) {
-        OptLimit &L = p.lim[j];
-        L.q_min = p.start[j] - kReach[j];
-        L.q_max = p.start[j] + kReach[j];
-        L.qd_max = kMargin * 2.0 * M_PI * vm[j] / std::fabs(mx.kr[j][j]);
-        L.qdd_max = kMargin * 2.0 * M_PI * am[j] / std::fabs(mx.kr[j][j]);
-    }
     for (const LimOpt &x : lo) {
         if (x.text[0] == '\0') continue;
         const bool pos = x.which >= 2;
@@ -736,8 +756,183 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
             return C4GH_CLI_EXIT_USAGE;
         }
     }
-    if (c4gh_cli_check_output(spec.tool, "--out", c.out) != 0) return C4GH_CLI_EXIT_RUNTIME;
+    return -1;
+}
 
+// What the report says.
+struct OptReport {
+    Conditioning co, cp;            // optimised, plain
+    OptResult res;
+    double pp[kOptJoints][4] = {};  // the plain excitation's joint peaks
+    double mpk[kOptJoints][4] = {}; // motors along the file: offset min, max [turn], |speed|, |accel|
+    double plain_s = 0.0, secs = 0.0;
+    std::size_t base = 0;
+};
+
+// The trajectory file, and what the motors do along it (every row); false after an error
+// (said on stderr).
+bool opt_write(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, const OptSetup &s, const JointPath &opt,
+               OptReport *R)
+{
+    FILE *out = std::fopen(c.out, "w");
+    if (out == nullptr) {
+        c4gh_cli_file_error(spec.tool, "--out", c.out, errno);
+        return false;
+    }
+    double m_start[kOptJoints];
+    bool bad = c4g_kin_link_to_motor(&s.kin, s.p.start, kOptJoints, m_start) != C4G_OK;
+    std::fprintf(out, "# c4g-ident excite --optimize: a Fourier series per joint (%u harmonics of %.6g Hz, seed %u),\n"
+                      "# %u period(s), %.6g s, rows every %.6g ms; offsets [motor turns] from the mode-entry\n"
+                      "# position (c4g-server --traj). Base regressor condition number %.6g (plain excite %.6g).\n",
+                 o.harmonics, o.f0, o.seed, o.periods, s.T, o.period, R->co.cond, R->cp.cond);
+    std::fprintf(out, "t");
+    for (unsigned k = 0; k < kOptJoints; k++) std::fprintf(out, ",ax%u", k + 1);
+    std::fputc('\n', out);
+    for (long i = 0; i <= s.rows && !bad; i++) {
+        const double t = static_cast<double>(i) * s.dt;
+        double q[kOptJoints], qd[kOptJoints], qdd[kOptJoints], m[kOptJoints];
+        opt(t, q, qd, qdd);
+        bad = c4g_kin_link_to_motor(&s.kin, q, kOptJoints, m) != C4G_OK;
+        std::fprintf(out, "%.6f", t);
+        for (unsigned k = 0; k < kOptJoints; k++) {
+            // the first and last rows are the start pose: 0 exactly, as --traj wants
+            const double off = (i == 0 || i == s.rows) ? 0.0 : m[k] - m_start[k];
+            double sv = 0.0, sa = 0.0;
+            for (unsigned j = 0; j < kOptJoints; j++) {
+                sv += s.mx.kr[k][j] * qd[j];
+                sa += s.mx.kr[k][j] * qdd[j];
+            }
+            double *pk = R->mpk[k];
+            pk[0] = std::min(pk[0], off);
+            pk[1] = std::max(pk[1], off);
+            pk[2] = std::max(pk[2], std::fabs(sv) / (2.0 * M_PI));
+            pk[3] = std::max(pk[3], std::fabs(sa) / (2.0 * M_PI));
+            std::fprintf(out, ",%.9g", off);
+        }
+        std::fputc('\n', out);
+    }
+    if (std::fclose(out) != 0 || bad) {
+        c4gh_cli_error(&spec, "--out %s: %s", c.out, bad ? "a pose outside the transmission's range" : "write error");
+        return false;
+    }
+    return true;
+}
+
+// Share of each limit joint @p j uses with peaks @p pk: position (the nearer side), speed, acceleration.
+void limit_share(const OptProblem &p, unsigned j, const double pk[4], double *sq, double *sv, double *sa)
+{
+    const OptLimit &L = p.lim[j];
+    *sq = std::max((pk[1] - p.start[j]) / (L.q_max - p.start[j]), (p.start[j] - pk[0]) / (p.start[j] - L.q_min));
+    *sv = pk[2] / L.qd_max;
+    *sa = pk[3] / L.qdd_max;
+}
+
+void opt_report_json(const ExCli &c, const OptCli &o, const OptSetup &s, const OptReport &R)
+{
+    const OptProblem &p = s.p;
+    json_t *root = json_object();
+    json_object_set_new(root, "trajectory", json_string(c.out));
+    json_object_set_new(root, "kinematics", json_string(c.kin));
+    json_object_set_new(root, "joints", json_integer(kOptJoints));
+    json_object_set_new(root, "harmonics", json_integer(o.harmonics));
+    json_object_set_new(root, "f0_hz", json_real(o.f0));
+    json_object_set_new(root, "periods", json_integer(o.periods));
+    json_object_set_new(root, "duration_s", json_real(s.T));
+    json_object_set_new(root, "rows", json_integer(s.rows + 1));
+    json_object_set_new(root, "row_ms", json_real(o.period));
+    json_object_set_new(root, "seed", json_integer(o.seed));
+    json_object_set_new(root, "evals", json_integer(R.res.evals));
+    json_object_set_new(root, "seconds", json_real(R.secs));
+    json_object_set_new(root, "base_parameters", json_integer(static_cast<json_int_t>(R.base)));
+    json_object_set_new(root, "columns", json_integer(R.co.cols));
+    json_t *cond = json_object();
+    json_object_set_new(cond, "optimized", json_real(R.co.cond));
+    json_object_set_new(cond, "plain", json_real(R.cp.cond));
+    json_object_set_new(cond, "ratio", json_real(R.cp.cond / R.co.cond));
+    json_object_set_new(cond, "sample_ms", json_real(kSampleMs));
+    json_object_set_new(cond, "plain_duration_s", json_real(R.plain_s));
+    json_object_set_new(root, "condition", cond);
+    json_t *lims = json_array();
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        const OptLimit &L = p.lim[j];
+        const double *pk = R.res.peak[j];
+        double sq, sv, sa;
+        limit_share(p, j, pk, &sq, &sv, &sa);
+        json_array_append_new(
+            lims, json_pack("{s:i,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:{s:f,s:f,s:f},s:{s:f,s:f,s:f,s:f}}", "joint",
+                            static_cast<int>(j + 1), "start", p.start[j], "q_min", L.q_min, "q_max", L.q_max, "qd_max",
+                            L.qd_max, "qdd_max", L.qdd_max, "q_lo", pk[0], "q_hi", pk[1], "qd_peak", pk[2], "qdd_peak",
+                            pk[3], "margin", "q", 1.0 - sq, "qd", 1.0 - sv, "qdd", 1.0 - sa, "plain", "q_lo", R.pp[j][0],
+                            "q_hi", R.pp[j][1], "qd_peak", R.pp[j][2], "qdd_peak", R.pp[j][3]));
+    }
+    json_object_set_new(root, "limits", lims);
+    json_t *mot = json_array();
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        json_array_append_new(mot, json_pack("{s:i,s:f,s:f,s:f,s:f}", "axis", static_cast<int>(k + 1), "stroke_min",
+                                             R.mpk[k][0], "stroke_max", R.mpk[k][1], "speed_peak", R.mpk[k][2],
+                                             "acc_peak", R.mpk[k][3]));
+    }
+    json_object_set_new(root, "motors", mot);
+    json_t *weak = json_array();
+    for (const Conditioning::Weak &w : R.co.weakest) {
+        json_t *mem = json_array();
+        for (const auto &m : w.members) json_array_append_new(mem, json_pack("{s:s,s:f}", "name", m.first.c_str(), "weight", m.second));
+        json_array_append_new(weak, json_pack("{s:f,s:b,s:o}", "relative_sigma", w.rel, "unidentifiable",
+                                              w.rel < kUnidentifiable, "members", mem));
+    }
+    json_object_set_new(root, "weakest", weak);
+    json_dumpf(root, stdout, JSON_INDENT(2) | JSON_REAL_PRECISION(9));
+    std::fputc('\n', stdout);
+    json_decref(root);
+}
+
+void opt_report_text(const ExCli &c, const OptCli &o, const OptSetup &s, const OptReport &R)
+{
+    const OptProblem &p = s.p;
+    std::printf("c4g-ident excite --optimize: %s written: %u joints, %u harmonics of %.6g Hz, %u period(s) = %.6g s, "
+                "%ld rows every %.6g ms\n", c.out, kOptJoints, o.harmonics, o.f0, o.periods, s.T, s.rows + 1, o.period);
+    std::printf("search: %d condition numbers from %d seeded starts (seed %u) in %.1f s\n", R.res.evals, p.restarts, o.seed,
+                R.secs);
+    std::printf("base regressor: %zu rigid-body base parameters + %u friction columns (Fv, Fc, off per motor), "
+                "sampled every %.0f ms\n", R.base, 3 * kOptJoints, kSampleMs);
+    std::printf("  condition number, optimised:   %.6g\n", R.co.cond);
+    std::printf("  condition number, plain excite: %.6g (its defaults, %.6g s; %.3gx the optimised)\n", R.cp.cond,
+                R.plain_s, R.cp.cond / R.co.cond);
+    std::printf("limits (share used; margin = 1 - share):\n"
+                "  joint  start    q range [rad]            limits [rad]             |qd| [rad/s]      |qdd| [rad/s^2]\n");
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        const OptLimit &L = p.lim[j];
+        const double *pk = R.res.peak[j];
+        double sq, sv, sa;
+        limit_share(p, j, pk, &sq, &sv, &sa);
+        std::printf("  %u  %8.4f  %8.4f .. %8.4f  %8.4f .. %8.4f  %.4f/%.4f %3.0f%%  %.4f/%.4f %3.0f%%  (q %3.0f%%)\n", j + 1,
+                    p.start[j], pk[0], pk[1], L.q_min, L.q_max, pk[2], L.qd_max, 100.0 * sv, pk[3], L.qdd_max, 100.0 * sa,
+                    100.0 * sq);
+    }
+    std::printf("motors (for c4g-server --stroke, --max-step):\n"
+                "  axis  offset range [turn]      |speed| [turn/s]  |accel| [turn/s^2]\n");
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        std::printf("  %u  %9.4f .. %9.4f  %8.4f  %9.3f\n", k + 1, R.mpk[k][0], R.mpk[k][1], R.mpk[k][2], R.mpk[k][3]);
+    }
+    std::printf("least determined directions of the base parameters (singular value / largest; members' weights):\n");
+    for (const Conditioning::Weak &w : R.co.weakest) {
+        std::printf("  %.3g%s:", w.rel, w.rel < kUnidentifiable ? " UNIDENTIFIABLE" : "");
+        const char *sep = " ";
+        for (const auto &m : w.members) {
+            std::printf("%s%+.2f [%s]", sep, m.second, m.first.c_str());
+            sep = ", ";
+        }
+        std::putchar('\n');
+    }
+}
+
+int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
+{
+    OptSetup s;
+    const int rc = opt_setup(spec, c, o, &s);
+    if (rc >= 0) return rc;
+    if (c4gh_cli_check_output(spec.tool, "--out", c.out) != 0) return C4GH_CLI_EXIT_RUNTIME;
+    const OptProblem &p = s.p;
     const auto t0 = std::chrono::steady_clock::now();
     OptModel model;
     std::string why;
@@ -745,13 +940,14 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
         std::fprintf(stderr, "%s: --kin %s: %s\n", spec.tool, c.kin, why.c_str());
         return C4GH_CLI_EXIT_USAGE;
     }
-    OptResult res;
-    if (!optimize(p, model, &res, &why)) {
+    OptReport R;
+    if (!optimize(p, model, &R.res, &why)) {
         std::fprintf(stderr, "%s: %s\n", spec.tool, why.c_str());
         return C4GH_CLI_EXIT_RUNTIME;
     }
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const std::vector<Series> &S = res.joint;
+    R.secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    R.base = model.base().base.size();
+    const std::vector<Series> &S = R.res.joint;
     const JointPath opt = [&S](double t, double *q, double *qd, double *qdd) {
         for (unsigned j = 0; j < kOptJoints; j++) S[j].eval(t, &q[j], &qd[j], &qdd[j]);
     };
@@ -759,15 +955,16 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
     // joint terms: q = start + Kr^-1 2 pi offset.
     ExciteOptions eo;
     eo.duration = 38.0;
+    R.plain_s = eo.duration;
     std::vector<ExciteAxis> ax(kOptJoints);
     for (unsigned k = 0; k < kOptJoints; k++) {
-        ax[k].vmax = vm[k];
-        ax[k].amax = am[k];
+        ax[k].vmax = s.vm[k];
+        ax[k].amax = s.am[k];
     }
     const Excitation plain_ex(eo, ax);
     Eigen::Matrix<double, kOptJoints, kOptJoints> kr;
     for (unsigned k = 0; k < kOptJoints; k++) {
-        for (unsigned j = 0; j < kOptJoints; j++) kr(k, j) = mx.kr[k][j];
+        for (unsigned j = 0; j < kOptJoints; j++) kr(k, j) = s.mx.kr[k][j];
     }
     const Eigen::Matrix<double, kOptJoints, kOptJoints> kinv = kr.inverse();
     const double *st = p.start;
@@ -788,157 +985,15 @@ int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
         for (long i = 0; i < n; i++) t.push_back(static_cast<double>(i) * kSampleMs * 1e-3);
         return t;
     };
-    Conditioning co, cp;
-    if (!conditioning(model, opt, times(T), 3, &co, &why) || !conditioning(model, plain, times(eo.duration), 0, &cp, &why)) {
+    if (!conditioning(model, opt, times(s.T), 3, &R.co, &why) ||
+        !conditioning(model, plain, times(eo.duration), 0, &R.cp, &why)) {
         std::fprintf(stderr, "%s: %s\n", spec.tool, why.c_str());
         return C4GH_CLI_EXIT_RUNTIME;
     }
-    double pp[kOptJoints][4];
-    path_peaks(plain, kOptJoints, eo.duration, dt, pp);
-
-    // the file, and what the motors do along it (every row)
-    FILE *out = std::fopen(c.out, "w");
-    if (out == nullptr) {
-        c4gh_cli_file_error(spec.tool, "--out", c.out, errno);
-        return C4GH_CLI_EXIT_RUNTIME;
-    }
-    double m_start[kOptJoints];
-    double mpk[kOptJoints][4];  // offset min, max [turn], |speed| [turn/s], |acceleration| [turn/s^2]
-    for (auto &r : mpk) r[0] = r[1] = r[2] = r[3] = 0.0;
-    bool bad = c4g_kin_link_to_motor(&kin, p.start, kOptJoints, m_start) != C4G_OK;
-    std::fprintf(out, "# c4g-ident excite --optimize: a Fourier series per joint (%u harmonics of %.6g Hz, seed %u),\n"
-                      "# %u period(s), %.6g s, rows every %.6g ms; offsets [motor turns] from the mode-entry\n"
-                      "# position (c4g-server --traj). Base regressor condition number %.6g (plain excite %.6g).\n",
-                 o.harmonics, o.f0, o.seed, o.periods, T, o.period, co.cond, cp.cond);
-    std::fprintf(out, "t");
-    for (unsigned k = 0; k < kOptJoints; k++) std::fprintf(out, ",ax%u", k + 1);
-    std::fputc('\n', out);
-    const long n = std::lround(rows);
-    for (long i = 0; i <= n && !bad; i++) {
-        const double t = static_cast<double>(i) * dt;
-        double q[kOptJoints], qd[kOptJoints], qdd[kOptJoints], m[kOptJoints];
-        opt(t, q, qd, qdd);
-        if (i == n) std::copy(p.start, p.start + kOptJoints, q);  // the end is the start, to the bit
-        bad = c4g_kin_link_to_motor(&kin, q, kOptJoints, m) != C4G_OK;
-        std::fprintf(out, "%.6f", t);
-        for (unsigned k = 0; k < kOptJoints; k++) {
-            const double off = (i == 0 || i == n) ? 0.0 : m[k] - m_start[k];
-            double sv = 0.0, sa = 0.0;
-            for (unsigned j = 0; j < kOptJoints; j++) {
-                sv += mx.kr[k][j] * qd[j];
-                sa += mx.kr[k][j] * qdd[j];
-            }
-            mpk[k][0] = std::min(mpk[k][0], off);
-            mpk[k][1] = std::max(mpk[k][1], off);
-            mpk[k][2] = std::max(mpk[k][2], std::fabs(sv) / (2.0 * M_PI));
-            mpk[k][3] = std::max(mpk[k][3], std::fabs(sa) / (2.0 * M_PI));
-            std::fprintf(out, ",%.9g", off);
-        }
-        std::fputc('\n', out);
-    }
-    if (std::fclose(out) != 0 || bad) {
-        c4gh_cli_error(&spec, "--out %s: %s", c.out, bad ? "a pose outside the transmission's range" : "write error");
-        return C4GH_CLI_EXIT_RUNTIME;
-    }
-    // the report
-    const RigidBase &B = model.base();
-    auto share = [&](unsigned j, const double pk[4], double *sq, double *sv, double *sa) {
-        const OptLimit &L = p.lim[j];
-        *sq = std::max((pk[1] - p.start[j]) / (L.q_max - p.start[j]), (p.start[j] - pk[0]) / (p.start[j] - L.q_min));
-        *sv = pk[2] / L.qd_max;
-        *sa = pk[3] / L.qdd_max;
-    };
-    if (c.json) {
-        json_t *root = json_object();
-        json_object_set_new(root, "trajectory", json_string(c.out));
-        json_object_set_new(root, "kinematics", json_string(c.kin));
-        json_object_set_new(root, "joints", json_integer(kOptJoints));
-        json_object_set_new(root, "harmonics", json_integer(o.harmonics));
-        json_object_set_new(root, "f0_hz", json_real(o.f0));
-        json_object_set_new(root, "periods", json_integer(o.periods));
-        json_object_set_new(root, "duration_s", json_real(T));
-        json_object_set_new(root, "rows", json_integer(n + 1));
-        json_object_set_new(root, "row_ms", json_real(o.period));
-        json_object_set_new(root, "seed", json_integer(o.seed));
-        json_object_set_new(root, "evals", json_integer(res.evals));
-        json_object_set_new(root, "seconds", json_real(secs));
-        json_object_set_new(root, "base_parameters", json_integer(static_cast<json_int_t>(B.base.size())));
-        json_object_set_new(root, "columns", json_integer(co.cols));
-        json_t *cond = json_object();
-        json_object_set_new(cond, "optimized", json_real(co.cond));
-        json_object_set_new(cond, "plain", json_real(cp.cond));
-        json_object_set_new(cond, "ratio", json_real(cp.cond / co.cond));
-        json_object_set_new(cond, "sample_ms", json_real(kSampleMs));
-        json_object_set_new(cond, "plain_duration_s", json_real(eo.duration));
-        json_object_set_new(root, "condition", cond);
-        json_t *lims = json_array();
-        for (unsigned j = 0; j < kOptJoints; j++) {
-            const OptLimit &L = p.lim[j];
-            double sq, sv, sa, pq, pv, pa;
-            share(j, res.peak[j], &sq, &sv, &sa);
-            share(j, pp[j], &pq, &pv, &pa);
-            json_t *x = json_pack("{s:i,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:{s:f,s:f,s:f},s:{s:f,s:f,s:f,s:f}}",
-                                  "joint", static_cast<int>(j + 1), "start", p.start[j], "q_min", L.q_min, "q_max", L.q_max,
-                                  "qd_max", L.qd_max, "qdd_max", L.qdd_max, "q_lo", res.peak[j][0], "q_hi", res.peak[j][1],
-                                  "qd_peak", res.peak[j][2], "qdd_peak", res.peak[j][3], "margin", "q", 1.0 - sq, "qd",
-                                  1.0 - sv, "qdd", 1.0 - sa, "plain", "q_lo", pp[j][0], "q_hi", pp[j][1], "qd_peak",
-                                  pp[j][2], "qdd_peak", pp[j][3]);
-            json_array_append_new(lims, x);
-        }
-        json_object_set_new(root, "limits", lims);
-        json_t *mot = json_array();
-        for (unsigned k = 0; k < kOptJoints; k++) {
-            json_array_append_new(mot, json_pack("{s:i,s:f,s:f,s:f,s:f}", "axis", static_cast<int>(k + 1), "stroke_min",
-                                                 mpk[k][0], "stroke_max", mpk[k][1], "speed_peak", mpk[k][2], "acc_peak",
-                                                 mpk[k][3]));
-        }
-        json_object_set_new(root, "motors", mot);
-        json_t *weak = json_array();
-        for (const Conditioning::Weak &w : co.weakest) {
-            json_t *mem = json_array();
-            for (const auto &m : w.members) json_array_append_new(mem, json_pack("{s:s,s:f}", "name", m.first.c_str(), "weight", m.second));
-            json_array_append_new(weak, json_pack("{s:f,s:b,s:o}", "relative_sigma", w.rel, "unidentifiable",
-                                                  w.rel < kUnidentifiable, "members", mem));
-        }
-        json_object_set_new(root, "weakest", weak);
-        json_dumpf(root, stdout, JSON_INDENT(2) | JSON_REAL_PRECISION(9));
-        std::fputc('\n', stdout);
-        json_decref(root);
-        return C4GH_CLI_EXIT_OK;
-    }
-    std::printf("c4g-ident excite --optimize: %s written: %u joints, %u harmonics of %.6g Hz, %u period(s) = %.6g s, "
-                "%ld rows every %.6g ms\n", c.out, kOptJoints, o.harmonics, o.f0, o.periods, T, n + 1, o.period);
-    std::printf("search: %d condition numbers from %d seeded starts (seed %u) in %.1f s\n", res.evals, p.restarts, o.seed, secs);
-    std::printf("base regressor: %zu rigid-body base parameters + %u friction columns (Fv, Fc, off per motor), "
-                "sampled every %.0f ms\n", B.base.size(), 3 * kOptJoints, kSampleMs);
-    std::printf("  condition number, optimised:   %.6g\n", co.cond);
-    std::printf("  condition number, plain excite: %.6g (its defaults, %.6g s; %.3gx the optimised)\n", cp.cond, eo.duration,
-                cp.cond / co.cond);
-    std::printf("limits (share used; margin = 1 - share):\n"
-                "  joint  start    q range [rad]            limits [rad]             |qd| [rad/s]      |qdd| [rad/s^2]\n");
-    for (unsigned j = 0; j < kOptJoints; j++) {
-        const OptLimit &L = p.lim[j];
-        double sq, sv, sa;
-        share(j, res.peak[j], &sq, &sv, &sa);
-        std::printf("  %u  %8.4f  %8.4f .. %8.4f  %8.4f .. %8.4f  %.4f/%.4f %3.0f%%  %.4f/%.4f %3.0f%%  (q %3.0f%%)\n", j + 1,
-                    p.start[j], res.peak[j][0], res.peak[j][1], L.q_min, L.q_max, res.peak[j][2], L.qd_max, 100.0 * sv,
-                    res.peak[j][3], L.qdd_max, 100.0 * sa, 100.0 * sq);
-    }
-    std::printf("motors (for c4g-server --stroke, --max-step):\n"
-                "  axis  offset range [turn]      |speed| [turn/s]  |accel| [turn/s^2]\n");
-    for (unsigned k = 0; k < kOptJoints; k++) {
-        std::printf("  %u  %9.4f .. %9.4f  %8.4f  %9.3f\n", k + 1, mpk[k][0], mpk[k][1], mpk[k][2], mpk[k][3]);
-    }
-    std::printf("least determined directions of the base parameters (singular value / largest; members' weights):\n");
-    for (const Conditioning::Weak &w : co.weakest) {
-        std::printf("  %.3g%s:", w.rel, w.rel < kUnidentifiable ? " UNIDENTIFIABLE" : "");
-        const char *sep = " ";
-        for (const auto &m : w.members) {
-            std::printf("%s%+.2f [%s]", sep, m.second, m.first.c_str());
-            sep = ", ";
-        }
-        std::putchar('\n');
-    }
+    path_peaks(plain, kOptJoints, eo.duration, s.dt, R.pp);
+    if (!opt_write(spec, c, o, s, opt, &R)) return C4GH_CLI_EXIT_RUNTIME;
+    if (c.json) opt_report_json(c, o, s, R);
+    else opt_report_text(c, o, s, R);
     return C4GH_CLI_EXIT_OK;
 }
 
