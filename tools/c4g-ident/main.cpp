@@ -656,6 +656,13 @@ int opt_setup(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, OptS
         c4gh_cli_error(&spec, "--harmonics %u: --optimize takes 2..20 (it needs 2 to start and end at rest)", o.harmonics);
         return C4GH_CLI_EXIT_USAGE;
     }
+    // the highest harmonic: within what the report's 20 ms samples and the file's rows follow
+    const double top = o.harmonics * o.f0;
+    if (top > 5.0 || 1.0 / top < 20.0 * o.period * 1e-3) {
+        c4gh_cli_error(&spec, "--harmonics %u of --f0 %g Hz: the highest, %g Hz, must stay at or below 5 Hz and 20 rows "
+                              "of --period %g ms a cycle", o.harmonics, o.f0, top, o.period);
+        return C4GH_CLI_EXIT_USAGE;
+    }
     s->T = o.periods / o.f0;
     s->dt = o.period * 1e-3;
     const double rows = s->T / s->dt;
@@ -700,6 +707,7 @@ int opt_setup(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, OptS
     p.harmonics = static_cast<int>(o.harmonics);
     p.seed = o.seed;
     p.evals = static_cast<int>(o.evals);
+    p.samples = std::max(100, 12 * p.harmonics);  // 12 a cycle of the highest harmonic at least
     p.use = kMargin;
     for (unsigned k = 0; k < kOptJoints; k++) {
         for (unsigned j = 0; j < kOptJoints; j++) p.kr[k][j] = s->mx.kr[k][j];
