@@ -120,7 +120,8 @@ def test_optimized_excitation(build, tmp_path):
 def test_played_on_the_arm(build, ports, tmp_path):
     """a short optimised excitation (one period of 4 s) played by c4g-server --traj on
     c4g-sim's arm plant with figure 10.1's following-error check: the whole file, no safety
-    event, back at the start"""
+    event, back at the start; the transmission read from that session's capture (--init) is
+    figure 10.1's, so the file it gives is the same"""
     traj = tmp_path / "short.csv"
     r = excite(build, "--optimize", "--kin", KIN, "--f0", "0.25", "--periods", "1", "--evals", "300", "-o", traj)
     assert r.returncode == 0, r.stderr
@@ -135,7 +136,8 @@ def test_played_on_the_arm(build, ports, tmp_path):
         while "listening on" not in err.read_text() and time.monotonic() < end:
             time.sleep(0.05)
         sim = subprocess.run([str(build / "bin" / "c4g-sim"), "-p", str(port), "-c", "fixtures/sim/fig10-1.ini",
-                              "-S", "fixtures/scenarios/ident.scn", "--max-miss", "100000", "--plant", PLANT],
+                              "-S", "fixtures/scenarios/ident.scn", "--max-miss", "100000", "--plant", PLANT,
+                              "--pcap", str(tmp_path / "run.pcap")],
                              capture_output=True, text=True, timeout=60)
         srv.wait(timeout=15)
     finally:
@@ -153,6 +155,47 @@ def test_played_on_the_arm(build, ports, tmp_path):
     pos = [float(x) for x in re.findall(r"axis \d: mode 0, pos (-?[0-9.]+) turns", sim.stdout)]
     ck.eq("axes reported", len(pos), 6)
     ck.ok("back at the start pose (0.01 turn)", all(abs(p) < 0.01 for p in pos), pos)
+    again = tmp_path / "init.csv"
+    r = excite(build, "--optimize", "--kin", KIN, "--f0", "0.25", "--periods", "1", "--evals", "300", "-o", again,
+               "--init", tmp_path / "run.pcap")
+    ck.eq("--init from the session's capture: exit", r.returncode, 0)
+    ck.has("the report names it", r.stdout, "transmission: .*run.pcap")
+    ck.ok("--init from c4g-sim's capture: the same file as figure 10.1's", again.read_bytes() == traj.read_bytes())
+    ck.done()
+
+
+def test_init_transmission(build, ports, tmp_path):
+    """--init takes arm 1's transmission from a capture: a controller whose axis 1 turns its
+    motor half as much per joint turn doubles joint 1's default speed and acceleration
+    limits, and the motor offsets follow that transmission"""
+    cfg = tmp_path / "tx.ini"
+    cfg.write_text("[axis 1.1]\ntx_rate = %r\n" % (float(TX[0]) / 2))
+    cap = tmp_path / "tx.pcap"
+    sim = subprocess.run([str(build / "bin" / "c4g-sim"), "-p", str(ports.udp()), "-c", str(cfg), "-n", "20",
+                          "--max-miss", "100000", "--pcap", str(cap), "-q"], capture_output=True, text=True, timeout=30)
+    assert sim.returncode == 0, sim.stdout + sim.stderr
+    ck = Checks()
+    reps = {}
+    for name, extra in (("default", []), ("init", ["--init", cap])):
+        r = excite(build, "--optimize", "--kin", KIN, "--evals", "100", "-o", tmp_path / (name + ".csv"), "--json", *extra)
+        ck.eq("%s: exit" % name, r.returncode, 0)
+        reps[name] = json.loads(r.stdout)
+    d, i = reps["default"], reps["init"]
+    ck.eq("transmission named", (d["transmission"], i["transmission"]), ("figure 10.1", str(cap)))
+    for j in range(6):
+        f = 2.0 if j == 0 else 1.0
+        for k in ("qd_max", "qdd_max"):
+            ck.ok("joint %d %s x%g" % (j + 1, k, f), abs(i["limits"][j][k] / d["limits"][j][k] - f) < 1e-6,
+                  (i["limits"][j][k], d["limits"][j][k]))
+    # the file's motor 1 offsets are the joint's angle through the halved ratio
+    t, off = read_traj(tmp_path / "init.csv")
+    kr = kr_matrix()
+    kr[0, 0] /= 2
+    q = np.array([L["start"] for L in i["limits"]]) + 2 * math.pi * np.linalg.solve(kr, off.T).T
+    ck.ok("joint 1 within its limits through the capture's transmission",
+          i["limits"][0]["q_min"] <= q[:, 0].min() and q[:, 0].max() <= i["limits"][0]["q_max"])
+    qd = np.abs(np.diff(q[:, 0])).max() / 0.002
+    ck.ok("joint 1 speed within its limit through it", qd <= i["limits"][0]["qd_max"], (qd, i["limits"][0]["qd_max"]))
     ck.done()
 
 
@@ -184,6 +227,9 @@ def test_optimize_refused(build, tmp_path):
         (["--optimize", "--kin", bad_kin, "-o", out], "bad.kin:2"),
         (["--optimize", "--kin", three, "-o", out], "3 joints; --optimize drives the arm's 6 main axes"),
         (["--kin", KIN, "-o", out], "--kin applies only to --optimize"),
+        (["--init", "x.pcap", "-o", out], "--init applies only to --optimize"),
+        (["--optimize", "--kin", KIN, "-o", out, "--init", KIN], "--init " + KIN),
+        (["--optimize", "--kin", KIN, "-o", out, "--init", tmp_path / "none.pcap"], "none.pcap"),
         (["--periods", "2", "-o", out], "--periods applies only to --optimize"),
     ]
     ck = Checks()

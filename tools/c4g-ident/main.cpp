@@ -425,6 +425,7 @@ struct ExCli {
     // --optimize
     int optimize = 0, json = 0;
     char kin[1024] = "";
+    char init[1024] = "";
     char start[512] = "";
     char q_min[512] = "", q_max[512] = "", qd_max[512] = "", qdd_max[512] = "";
 };
@@ -480,6 +481,7 @@ int run_excite(int argc, char **argv)
         {"out", 'o', C4GH_CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout; required with --optimize)", c.out, sizeof c.out, 0, 0, nullptr, 0},
         {"optimize", 0, C4GH_CLI_FLAG, nullptr, "a Fourier series per joint that identifies the rigid-body model (needs --kin)", &c.optimize, 0, 0, 0, nullptr, 0},
         {"kin", 'k', C4GH_CLI_STRING, "FILE", "--optimize: the arm's kinematics file (fixtures/ident/smart-six.kin)", c.kin, sizeof c.kin, 0, 0, nullptr, 0},
+        {"init", 0, C4GH_CLI_STRING, "CAPTURE", "--optimize: arm 1's transmission from this capture's init packet (default figure 10.1's, the arm plant's)", c.init, sizeof c.init, 0, 0, nullptr, 0},
         {"periods", 0, C4GH_CLI_UINT, "N", "--optimize: periods of the series played (default 3)", &periods, 0, 1, 1000, nullptr, 0},
         {"start", 0, C4GH_CLI_STRING, "Q1,...,Q6", "--optimize: joint angles at mode entry [rad] (default the arm plant's: motor position 0)", c.start, sizeof c.start, 0, 0, nullptr, 0},
         {"q-min", 0, C4GH_CLI_STRING, "Q[,Q...]", "--optimize: lowest joint angle [rad] (default start - 1.57,0.70,0.70,1.57,1.05,1.57)", c.q_min, sizeof c.q_min, 0, 0, nullptr, 0},
@@ -518,7 +520,7 @@ int run_excite(int argc, char **argv)
         return run_optimize(spec, c, o);
     }
     {
-        const char *oo = c.kin[0] ? "--kin" : c.start[0] ? "--start" : c.q_min[0] ? "--q-min" : c.q_max[0] ? "--q-max"
+        const char *oo = c.kin[0] ? "--kin" : c.init[0] ? "--init" : c.start[0] ? "--start" : c.q_min[0] ? "--q-min" : c.q_max[0] ? "--q-max"
                        : c.qd_max[0] ? "--qd-max" : c.qdd_max[0] ? "--qdd-max" : c.json ? "--json"
                        : periods ? "--periods" : evals ? "--evals" : nullptr;
         if (oo != nullptr) {
@@ -694,12 +696,25 @@ int opt_setup(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, OptS
                      kf.n, kOptJoints);
         return C4GH_CLI_EXIT_USAGE;
     }
-    // The transmission: the init packet c4g-sim's arm plant sends (the manual's figure 10.1).
+    // The transmission: arm 1's of a capture's init packet, or the one c4g-sim's arm plant
+    // sends (the manual's figure 10.1).
     c4g_init_t init;
-    if (c4gsim_fig10_1(&init) != C4G_OK || c4g_kin_from_init(&init, 0, &s->kin) != C4G_OK ||
+    std::string why;
+    if (c.init[0] != '\0' && !read_init(c.init, &init, &why)) {
+        std::fprintf(stderr, "%s: --init %s\n", spec.tool, why.c_str());
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if ((c.init[0] == '\0' && c4gsim_fig10_1(&init) != C4G_OK) || c4g_kin_from_init(&init, 0, &s->kin) != C4G_OK ||
         c4g_kin_matrices(&s->kin, &s->mx) != C4G_OK) {
-        std::fprintf(stderr, "%s: the figure 10.1 transmission could not be built\n", spec.tool);
-        return C4GH_CLI_EXIT_RUNTIME;
+        std::fprintf(stderr, "%s: %s%s: no transmission of arm 1 there\n", spec.tool, c.init[0] ? "--init " : "",
+                     c.init[0] ? c.init : "figure 10.1");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        if (!(std::fabs(s->mx.kr[k][k]) > 0.0)) {
+            std::fprintf(stderr, "%s: --init %s: arm 1 axis %u has no transmission ratio\n", spec.tool, c.init, k + 1);
+            return C4GH_CLI_EXIT_USAGE;
+        }
     }
     OptProblem &p = s->p;
     p.chain = kf.chain;
@@ -841,6 +856,7 @@ void opt_report_json(const ExCli &c, const OptCli &o, const OptSetup &s, const O
     json_t *root = json_object();
     json_object_set_new(root, "trajectory", json_string(c.out));
     json_object_set_new(root, "kinematics", json_string(c.kin));
+    json_object_set_new(root, "transmission", json_string(c.init[0] ? c.init : "figure 10.1"));
     json_object_set_new(root, "joints", json_integer(kOptJoints));
     json_object_set_new(root, "harmonics", json_integer(o.harmonics));
     json_object_set_new(root, "f0_hz", json_real(o.f0));
@@ -899,6 +915,7 @@ void opt_report_text(const ExCli &c, const OptCli &o, const OptSetup &s, const O
     const OptProblem &p = s.p;
     std::printf("c4g-ident excite --optimize: %s written: %u joints, %u harmonics of %.6g Hz, %u period(s) = %.6g s, "
                 "%ld rows every %.6g ms\n", c.out, kOptJoints, o.harmonics, o.f0, o.periods, s.T, s.rows + 1, o.period);
+    std::printf("transmission: %s (arm 1)\n", c.init[0] ? c.init : "figure 10.1, the arm plant's");
     std::printf("search: %d condition numbers from %d seeded starts (seed %u) in %.1f s\n", R.res.evals, p.restarts, o.seed,
                 R.secs);
     std::printf("base regressor: %zu rigid-body base parameters + %u friction columns (Fv, Fc, off per motor), "
