@@ -480,7 +480,7 @@ int run_excite(int argc, char **argv)
         {"seed", 0, C4GH_CLI_UINT, "N", "phase seed, or the search's seed (default 1)", &seed, 0, 0, 1e9, nullptr, 0},
         {"out", 'o', C4GH_CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout; required with --optimize)", c.out, sizeof c.out, 0, 0, nullptr, 0},
         {"optimize", 0, C4GH_CLI_FLAG, nullptr, "a Fourier series per joint that identifies the rigid-body model (needs --kin)", &c.optimize, 0, 0, 0, nullptr, 0},
-        {"kin", 'k', C4GH_CLI_STRING, "FILE", "--optimize: the arm's kinematics file (fixtures/ident/smart-six.kin)", c.kin, sizeof c.kin, 0, 0, nullptr, 0},
+        {"kin", 0, C4GH_CLI_STRING, "FILE", "--optimize: the arm's kinematics file (fixtures/ident/smart-six.kin)", c.kin, sizeof c.kin, 0, 0, nullptr, 0},
         {"init", 0, C4GH_CLI_STRING, "CAPTURE", "--optimize: arm 1's transmission from this capture's init packet (default figure 10.1's, the arm plant's)", c.init, sizeof c.init, 0, 0, nullptr, 0},
         {"periods", 0, C4GH_CLI_UINT, "N", "--optimize: periods of the series played (default 3)", &periods, 0, 1, 1000, nullptr, 0},
         {"start", 0, C4GH_CLI_STRING, "Q1,...,Q6", "--optimize: joint angles at mode entry [rad] (default the arm plant's: motor position 0)", c.start, sizeof c.start, 0, 0, nullptr, 0},
