@@ -122,7 +122,7 @@ DEPS_LIB_STAMP := $(BUILD)/.deps-lib-ok
 
 .PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps deps-lib deps-tools \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
+  e2e ident-accuracy docs-examples docs-commands fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
 all: lib tools man
 
@@ -454,6 +454,9 @@ ident-accuracy: $(IDENT_ACC)
 	@$(IDENT_ACC) --seeds $(IDENT_SEEDS) --gate
 docs-examples: $(STATIC)
 	@sh scripts/docs-examples.sh $(BUILD)
+# every command block of README.md and docs/*.md, as written (part of the e2e gate)
+docs-commands: all e2e-helpers
+	@E2E_ONLY=docs_commands sh scripts/run-e2e.sh $(BUILD)
 
 # ---- the two README commands
 CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage audit static-analysis cross \
