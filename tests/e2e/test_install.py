@@ -51,8 +51,9 @@ def test_install_uninstall(build, tmp_path):
     out = sh([root / "app_shared"], env=run_env)
     # the version of the SONAME's major, a 6-axis cyclic packet's 228 bytes, a status named
     assert re.match(r"^2\.\d+\.\d+ 228 cell: \S", out), out
+    # the archive needs libm (lib/dyn: sqrt, sincos), as pkg-config --static says below
     sh(["cc", "-std=c99", "-o", root / "app_static", app] + sh(["pkg-config", "--cflags", "c4gopen"], env=env).split()
-       + [pre / "lib" / "libc4gopen.a"])
+       + [pre / "lib" / "libc4gopen.a", "-lm"])
     assert sh([root / "app_static"]) == out
     # the README's compile line, verbatim, on the shipped example; then its --help
     line = re.search(r"(?m)^cc -o mode4_loop examples/mode4_loop\.c .*$", open("README.md").read())
