@@ -258,9 +258,10 @@ class Page:
 
 
 def have_netns():
-    """True when this host lets us open a network namespace of our own (unshare -rn)."""
-    return shutil.which("unshare") is not None and subprocess.run(
-        ["unshare", "-rn", "true"], capture_output=True).returncode == 0
+    """True when this host lets us open a network namespace of our own (unshare -rn) and
+    bring its loopback up."""
+    return shutil.which("unshare") is not None and shutil.which("ip") is not None and subprocess.run(
+        ["unshare", "-rn", "ip", "link", "set", "lo", "up"], capture_output=True).returncode == 0
 
 
 def timing_findings_only(out):
@@ -342,7 +343,8 @@ def run_page(page, build, tmp):
                     continue
                 if got != want:
                     fails.append(("%s:%d: %s\n  %s (expected %d)%s\n%s" % (
-                        page, line, text, "did not end in %d s" % CMD_TIMEOUT if got is None else "exit %d" % got,
+                        page, line, text, ("the page's shell ended" if sh.proc.poll() is not None else
+                                           "did not end in %d s" % CMD_TIMEOUT) if got is None else "exit %d" % got,
                         want, "" if sh.netns else " (no network namespace here)",
                         "\n".join("  | " + s for s in out.rstrip().split("\n")[-25:])), out))
                     return cnt, fails  # the page's later commands build on this one
