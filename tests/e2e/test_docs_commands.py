@@ -55,6 +55,8 @@ DISTURBED = re.compile(r"\b(\d+) (?:late|stale|unjudged)\b|\bown overruns (\d+)|
 
 
 class Block:
+    """A code block of a page: its first line's number, info string, lines, not-run reason."""
+
     def __init__(self, page, line, lang, lines, skip):
         self.page, self.line, self.lang, self.lines, self.skip = page, line, lang, lines, skip
 
@@ -104,6 +106,7 @@ def _reason(text, i):
 
 
 def is_command_block(b):
+    """Whether a block holds commands (the rules at the top of this file)."""
     first = next((s for s in b.lines if s.strip()), "")
     if b.lang:
         return b.lang in RUN_LANGS
@@ -139,7 +142,7 @@ def commands(b):
 
 
 def _family(pid):
-    """pid and its descendants (a background loop's shell runs the server as its child)."""
+    """pid and its descendants (a background loop or pipeline runs the server as a child)."""
     out, todo = [], [pid]
     while todo:
         p = todo.pop()
