@@ -310,9 +310,15 @@ static int ff_taken(const srv_ff_t *p, const char *path, int line, unsigned arm,
 static int ff_merge_model(const c4gh_tf_file_t *f, unsigned file, const char *const *paths,
                           srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
 {
-    c4gh_ffm_file_t m;
+    static c4gh_ffm_file_t m; /* large; start-up only */
     unsigned l;
     if (c4gh_ffm_parse_text(f->path, f->data, f->len, &m, err, errlen) != 0) {
+        return -1;
+    }
+    if (m.rigid) {
+        /* its axes are no per-axis models: never evaluate them as such */
+        snprintf(err, errlen, "%s:%d:1: model = " C4GH_FFM_MODEL_RIGID " is not evaluated by this c4g-server",
+                 f->path, m.model_line);
         return -1;
     }
     for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
