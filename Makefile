@@ -430,6 +430,12 @@ e2e-helpers: $(E2E_HELPERS)
 $(BUILD)/e2e/%: tests/e2e/helpers/%.c $(ARCHIVES) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
 	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(ARCHIVES) -lpcap -lm
+# arm_exact (the arm plant's exact rigid parameters) opens the plant through c4g-sim's
+# archive and MuJoCo.
+$(BUILD)/e2e/arm_exact: tests/e2e/helpers/arm_exact.c $(BUILD)/tools/libc4g-sim.a $(ARCHIVES) | $(DEPS_STAMP)
+	@mkdir -p $(@D)
+	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -Itools/c4g-sim -o $@ $< $(BUILD)/tools/libc4g-sim.a \
+	  $(ARCHIVES) $(TOOL_LIB_LIBS)
 e2e: all e2e-helpers
 	@sh scripts/run-e2e.sh $(BUILD)
 
