@@ -56,7 +56,7 @@ def exact(bins, path, *opts):
 
 def test_rigid_exact_beats_mode0(bins, ports, tmp_path):
     """the exact rigid file in mode 9: every axis logged as model rigid, no clamp, the
-    following error RMS over axes 1-6 at least 4x smaller than mode 0's"""
+    following error RMS over axes 1-6 at least 3x smaller than mode 0's"""
     port = ports.udp()
     ini = exact(bins, tmp_path / "exact.ini")
     m0, _, _ = session(bins, port, tmp_path, "move0", "rigid-move0.scn")
@@ -73,14 +73,15 @@ def test_rigid_exact_beats_mode0(bins, ports, tmp_path):
     print("fast six-axis move, FE RMS: mode 0 %.6f turn, mode 9 exact rigid file %.6f turn (%.2fx); "
           "DSA RMS %.4f -> %.4f A; late %d" % (f0["follow_rms"], f9["follow_rms"], ratio, f0["dsa_current_rms"],
                                              f9["dsa_current_rms"], f9["mode9_late"]))
-    host_disturbed(ratio <= 4.0 and f9["mode9_late"] > 0,
+    host_disturbed(ratio <= 3.0 and f9["mode9_late"] > 0,
                    "%d mode-9 ticks without the PC's addition in time" % f9["mode9_late"])
-    # measured 8.4x on an idle host (FE RMS 0.00263 -> 0.00031 turn). What is left is the
-    # plant's friction smoothing (v/sqrt(v^2+eps^2) against the model's tanh), the wrist's
-    # off-diagonal rotor inertia the plant leaves out, and the one-tick prediction of the
-    # acceleration: 4x keeps half the margin, and a model error of a few percent would
-    # already fall below it.
-    assert ratio > 4.0, "the exact rigid file follows only %.2fx better than mode 0" % ratio
+    # measured 8.4x on an idle host (FE RMS 0.00263 -> 0.00031 turn), 5.6x on a loaded one
+    # with 12 late mode-9 ticks. What is left is the plant's friction smoothing
+    # (v/sqrt(v^2+eps^2) against the model's tanh), the wrist's off-diagonal rotor inertia
+    # the plant leaves out, and the one-tick prediction of the acceleration. 3x stays below
+    # both with margin; a model that left out the arm's coupling or gravity would not reach
+    # it (the narrow-range file of the next test, clamped nearly everywhere: 1.3x).
+    assert ratio > 3.0, "the exact rigid file follows only %.2fx better than mode 0" % ratio
 
 
 def test_rigid_clamp_logged_once(bins, ports, tmp_path):
