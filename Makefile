@@ -438,9 +438,16 @@ E2E_HELPER_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -W
   -Werror $(ARCH_INC)
 .PHONY: e2e-helpers
 e2e-helpers: $(E2E_HELPERS)
+# A helper that needs more names it: E2E_EXTRA_<name> (flags and archives before the
+# library's), E2E_LIBS_<name> (system libraries after it), and a prerequisite line.
 $(BUILD)/e2e/%: tests/e2e/helpers/%.c $(ARCHIVES) | $(DEPS_STAMP)
 	@mkdir -p $(@D)
-	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(ARCHIVES) -lpcap -lm
+	@echo "  CC      $@"; $(CC) $(E2E_HELPER_CFLAGS) -o $@ $< $(E2E_EXTRA_$*) $(ARCHIVES) $(E2E_LIBS_$*) -lpcap -lm
+# arm_exact (the arm plant's exact rigid parameters) opens the plant through c4g-sim's
+# archive and MuJoCo.
+E2E_EXTRA_arm_exact = -Itools/c4g-sim $(BUILD)/tools/libc4g-sim.a
+E2E_LIBS_arm_exact = $(TOOL_LIB_LIBS)
+$(BUILD)/e2e/arm_exact: $(BUILD)/tools/libc4g-sim.a
 e2e: all e2e-helpers
 	@sh scripts/run-e2e.sh $(BUILD)
 

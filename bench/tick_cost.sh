@@ -6,6 +6,8 @@
 # (0.5x and 0.8x of the field library measured unmodified: wire 906 / 1481, mode 4 2354 / 6271)
 # (half of what a struct-cast library without any validation spends, measured on it), and
 # the floor of a mode-4 filter loop over arrays (bench/filter_floor.c) beside them.
+# Last, mode 9's rigid-body model (bench/ff_rigid_cost.c, 6 axes) per tick beside the mode-4
+# full tick: what c4g-server adds to a tick with a model = rigid-body-1 file.
 # Usage: sh bench/tick_cost.sh BUILD_DIR
 set -eu
 build=$1
@@ -37,6 +39,7 @@ for path in wire wire-tx full; do
     [ "$path" = wire-tx ] && base=base-wire
     o=$(per_tick "$path" "$axes"); bb=$(per_tick "$base" "$axes")
     [ "$path" = wire ] && eval "wire_ir_$axes=$o"   # the floor below adds it
+    [ "$path$axes" = full6 ] && full_ir_6=$o        # the rigid model's line below
     case "$path$axes" in wire6) g=453 ;; wire20) g=740 ;; full6) g=1883 ;; full20) g=5017 ;; *) g=0 ;; esac
     set -- $(awk -v p="$path" -v a="$axes" '$1 == p && $2 == a { print $3, $4, $5 }' "$ns")
     awk -v p="$path" -v a="$axes" -v o="$o" -v b="$bb" -v g="$g" -v on="$1" -v bn="$2" -v r="$3" 'BEGIN {
@@ -67,4 +70,22 @@ if [ "$have_vg" = 1 ]; then
     awk -v a="$a" -v c="$c" -v w="$w" -v g="$g" -v n="$axes" 'BEGIN { f = (c - a) / 5000;
       printf "floor: %2d axes, mode-4 filter loop over arrays %5.0f Ir (setpoints included) + wire %4d = %5.0f Ir against the full goal %d\n", n, f, w, f + w, g }'
   done
+fi
+# mode 9's rigid-body model (c4gh_ffr_current on the arm plant's exact file) per tick
+r="$build/bench/ff_rigid_cost"
+${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Iinclude -Ilib/sim -Ilib/host -o "$r" \
+  bench/ff_rigid_cost.c lib/sim/c4gsim_fixtures.c "$build/lib/libc4gopen-host.a" "$build/lib/libc4gopen.a" -linih -lm
+rns=$("$r" | sed -n 's/.*ns\/tick \([0-9.]*\).*/\1/p')
+if [ "$have_vg" = 1 ]; then
+  rir() {
+    out=$(mktemp)
+    valgrind --tool=callgrind --callgrind-out-file="$out" "$r" "$1" >/dev/null 2>&1
+    sed -n 's/^summary: *//p; s/^totals: *//p' "$out" | head -n 1
+    rm -f "$out"
+  }
+  a=$(rir 5000); c=$(rir 10000)
+  awk -v a="$a" -v c="$c" -v f="${full_ir_6:-0}" -v ns="$rns" 'BEGIN { r = (c - a) / 5000;
+    printf "rigid:  6 axes, mode-9 rigid-body model (c4gh_ffr_current) %5.0f Ir per tick (%.0f ns), %.1fx the mode-4 full tick of %d Ir\n", r, ns, (f > 0 ? r / f : 0), f }'
+else
+  echo "rigid:  6 axes, mode-9 rigid-body model (c4gh_ffr_current) $rns ns per tick"
 fi

@@ -589,6 +589,37 @@ static int ffm_rigid(ffm_ctx_t *x, char *err, size_t errlen)
     return 0;
 }
 
+/* An [axis N] of a motor-current-1 file: its family's keys (model = axis or ctrl). */
+static int ffm_current_axis(const ffm_ctx_t *x, unsigned a, char *err, size_t errlen)
+{
+    const c4gh_ffm_axis_t *p = &x->out->ax[a];
+    const int need = p->ctrl ? 2 : 1;
+    size_t j;
+    for (j = 0U; p->set && j < (size_t)FFK_VARIANT; j++) {
+        const int wrong = p->ctrl ? ffm_key_of_axis_only(j) : ffm_key_of_ctrl_only(j);
+        if ((ffm_keys[j].required & need) != 0 && x->axis_line[a][j] == 0U) {
+            snprintf(err, errlen, "%s:%d:1: [axis %u] %s: missing (%s)", x->f->path, p->line,
+                     a + 1U, ffm_keys[j].name,
+                     p->ctrl ? "model = ctrl needs k1, k2, ks, Fv, Fc, off and eps"
+                             : "Ja, Fv, Fc, off and eps are required");
+            return -1;
+        }
+        if (wrong && x->axis_line[a][j] != 0U) {
+            snprintf(err, errlen, "%s:%u:1: [axis %u] %s: not a key of model = %s", x->f->path,
+                     x->axis_line[a][j], a + 1U, ffm_keys[j].name, p->ctrl ? "ctrl" : "axis");
+            return -1;
+        }
+    }
+    if (p->set && p->variant[0] != '\0' &&
+        (strncmp(p->variant, "ctrl+", 5U) == 0) != (p->ctrl != 0)) {
+        snprintf(err, errlen, "%s:%u:1: [axis %u] variant: '%s' is not a variant of model = %s",
+                 x->f->path, x->axis_line[a][FFK_VARIANT], a + 1U, p->variant,
+                 p->ctrl ? "ctrl" : "axis");
+        return -1;
+    }
+    return 0;
+}
+
 static int ffm_required(ffm_ctx_t *x, char *err, size_t errlen)
 {
     const c4gh_ffm_file_t *o = x->out;
@@ -616,32 +647,10 @@ static int ffm_required(ffm_ctx_t *x, char *err, size_t errlen)
         return ffm_rigid(x, err, errlen);
     }
     for (a = 0U; a < C4GH_FFM_AXES; a++) {
-        const c4gh_ffm_axis_t *p = &o->ax[a];
-        const int need = p->ctrl ? 2 : 1;
-        size_t j;
-        for (j = 0U; p->set && j < (size_t)FFK_VARIANT; j++) {
-            const int wrong = p->ctrl ? ffm_key_of_axis_only(j) : ffm_key_of_ctrl_only(j);
-            if ((ffm_keys[j].required & need) != 0 && x->axis_line[a][j] == 0U) {
-                snprintf(err, errlen, "%s:%d:1: [axis %u] %s: missing (%s)", x->f->path, p->line,
-                         a + 1U, ffm_keys[j].name,
-                         p->ctrl ? "model = ctrl needs k1, k2, ks, Fv, Fc, off and eps"
-                                 : "Ja, Fv, Fc, off and eps are required");
-                return -1;
-            }
-            if (wrong && x->axis_line[a][j] != 0U) {
-                snprintf(err, errlen, "%s:%u:1: [axis %u] %s: not a key of model = %s", x->f->path,
-                         x->axis_line[a][j], a + 1U, ffm_keys[j].name, p->ctrl ? "ctrl" : "axis");
-                return -1;
-            }
-        }
-        if (p->set && p->variant[0] != '\0' &&
-            (strncmp(p->variant, "ctrl+", 5U) == 0) != (p->ctrl != 0)) {
-            snprintf(err, errlen, "%s:%u:1: [axis %u] variant: '%s' is not a variant of model = %s",
-                     x->f->path, x->axis_line[a][FFK_VARIANT], a + 1U, p->variant,
-                     p->ctrl ? "ctrl" : "axis");
+        if (ffm_current_axis(x, a, err, errlen) != 0) {
             return -1;
         }
-        any |= p->set;
+        any |= o->ax[a].set;
     }
     if (!any) {
         snprintf(err, errlen, "%s: no [axis N] section: the file sets no axis", x->f->path);

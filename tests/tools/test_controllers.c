@@ -363,6 +363,49 @@ static void test_step_ctrl_model(void **st)
     A.ff_ext1 = 0;
 }
 
+/* Mode 9 with a rigid-body file (CTLR_FF_RIGID): the arm's current the caller evaluated
+ * (ctlr_in_t.ff_cur) is the axis's addition, its clamp flag counted; --ff-ext1 not added
+ * (the model replaces EXT1); no evaluation (ff_cur_ok 0): 0 A, not a stale value. */
+static void test_step_rigid(void **st)
+{
+    ctlr_axis_t X;
+    ctlr_in_t in;
+    c4g_pc_axis_t o;
+    c4g_ctrl_axis_t r = meas(5.0f, 0.0f);
+    (void)st;
+    cfg_default();
+    in = in_default();
+    memset(&FF, 0, sizeof FF);
+    FF.set = 1;
+    FF.kind = CTLR_FF_RIGID;
+    A.ff_ext1 = 1;
+    r.ext[0] = 1.5f;
+    r.target_vel = 0.004f;
+    ctlr_axis_reset(&X);
+    (void)ctlr_axis_enter(&X, C4G_MODE_9, 5.0, &r);
+    in.ff_cur = 2.25;
+    in.ff_cur_ok = 1;
+    memset(&o, 0, sizeof o);
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 2.25);
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL);
+    in.ff_cur_clamped = 1;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 2.25);
+    assert_int_equal(X.ff_flags, CTLR_FFF_MODEL | CTLR_FFF_CLAMPED);
+    in.ff_cur_ok = 0;
+    in.ff_cur_clamped = 0;
+    o.current_add = 7.0f;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    nearf(o.current_add, 0.0);
+    /* beyond the range of float: saturated (the safety filter then clamps it to AzLim) */
+    in.ff_cur_ok = 1;
+    in.ff_cur = 1e300;
+    assert_int_equal(ctlr_step(&X, &in, C4G_MODE_9, &r, &o), 0);
+    assert_true(o.current_add == FLT_MAX);
+    A.ff_ext1 = 0;
+}
+
 static void test_enter(void **st)
 {
     ctlr_axis_t X;
@@ -531,6 +574,7 @@ int main(void)
         cmocka_unit_test(test_feedforward_model),
         cmocka_unit_test(test_step_model),
         cmocka_unit_test(test_step_ctrl_model),
+        cmocka_unit_test(test_step_rigid),
         cmocka_unit_test(test_enter),
         cmocka_unit_test(test_step_modes),
     };

@@ -161,6 +161,7 @@ static void write_tmp(char *path, const char *text)
 }
 
 #define IS_INI(s) srv_ff_is_ini((s), strlen(s))
+#define FF_RIGID FIXTURES_DIR "/server/ff_rigid_example.ini"
 #define FF_INI FIXTURES_DIR "/server/ff_ident_example.ini"
 #define FF_TXT FIXTURES_DIR "/server/ff_example.txt"
 
@@ -170,6 +171,7 @@ static void test_ff_files(void **state)
     char err[800];
     char legacy[] = "/tmp/test_ff_XXXXXX";
     char edited[] = "/tmp/test_ff_XXXXXX";
+    char legacy2[] = "/tmp/test_ff_XXXXXX";
     int k;
     (void)state;
     assert_int_equal(IS_INI("[model]\n"), 1);
@@ -242,6 +244,35 @@ static void test_ff_files(void **state)
                                 "after c4g-ident wrote it (expected fnv1a64:"));
     (void)remove(legacy);
     (void)remove(edited);
+    /* a rigid-body file: axes 1..6 of arm 1 and the arm's model; a per-axis file for arm 1's
+     * axis 1 as well is refused (two models for one axis), a line file for arm 2 is not */
+    write_tmp(legacy2, "# arm axis c0 cv\n2 1 0.5 10\n");
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_RIGID, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", legacy2, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), 0);
+    assert_int_equal(g_cfg.rigid[0].rigid, 1);
+    assert_int_equal(g_cfg.rigid[0].kin.n, 6U);
+    assert_int_equal(g_cfg.rigid_file[0], 0U);
+    assert_int_equal(g_cfg.rigid[1].rigid, 0);
+    for (k = 0; k < 6; k++) {
+        assert_int_equal(g_cfg.ff[0][k].kind, CTLR_FF_RIGID);
+        assert_true(g_cfg.ff[0][k].set > 0 && g_cfg.ff[0][k].file == 0U);
+    }
+    assert_int_equal(g_cfg.ff[0][6].set, 0);
+    assert_int_equal(g_cfg.ff[1][0].kind, CTLR_FF_LEGACY);
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_RIGID, 0, err, sizeof err), 0);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FF_INI, 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_true(strncmp(err, "feedforward: " FF_INI ":19:1: arm 1 axis 1 is already set by " FF_RIGID ":",
+                        strlen("feedforward: " FF_INI ":19:1: arm 1 axis 1 is already set by " FF_RIGID ":")) == 0);
+    /* the files' own refusals keep their FILE:LINE */
+    srv_config_default(&g_cfg);
+    assert_int_equal(srv_config_apply(&g_cfg, "ff", FIXTURES_DIR "/ident/smart-six.kin", 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&g_cfg, err, sizeof err), -1);
+    assert_non_null(strstr(err, "smart-six.kin:"));
+    (void)remove(legacy2);
 }
 
 static void test_huge_files(void **state)

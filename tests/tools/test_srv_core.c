@@ -36,6 +36,7 @@ typedef struct run {
     unsigned log_lines;
     bool saw_init_line;
     unsigned ff_warnings;
+    unsigned rigid_lines;       /* "axis N: mode 9 feedforward: model rigid (...)" */
 } run_t;
 
 static srv_t g_srv; /* static: large */
@@ -55,6 +56,9 @@ static void count_log(void *ctx, uint64_t t_ns, const char *fmt, va_list ap)
     if (strcmp(line, "warning: feedforward m.ini: model identified at a 1 ms period, the "
                      "controller runs at 2 ms; applied anyway") == 0) {
         run->ff_warnings++;
+    }
+    if (strstr(line, ": mode 9 feedforward: model rigid (arm 1's rigid-body model, joint ") != NULL) {
+        run->rigid_lines++;
     }
 }
 
@@ -403,6 +407,65 @@ static void test_mode9_model(void **state)
     assert_int_equal(g_a.ff_warnings, 0U);
 }
 
+/* Mode 9 with the arm plant's rigid-body file, axis 1 not driven: each driven axis's D5 is
+ * its motor's current of the whole arm's model, evaluated from every axis's D1 + D2 and
+ * predicted velocity and acceleration (axis 1's too: its acceleration at the step of D2
+ * moves the others through the coupled inertia), before any axis's controller steps. */
+static void test_mode9_rigid(void **state)
+{
+    static srv_config_t cfg;
+    static float d5[N9][N_AX];
+    static c4gh_ffm_file_t m;
+    c4g_init_t init;
+    c4g_kin_t kin;
+    c4gh_ffr_t r;
+    c4gh_ffr_out_t o;
+    char err[600];
+    const double T = 0.002;
+    uint32_t j, l;
+    double da = 0.0;
+    (void)state;
+    assert_int_equal(c4gsim_fig10_1(&init), C4G_OK);
+    assert_int_equal(c4g_kin_from_init(&init, 0U, &kin), C4G_OK);
+    assert_int_equal(c4gh_ffm_load(FIXTURES_DIR "/server/ff_rigid_example.ini", &m, err, sizeof err), 0);
+    assert_int_equal(c4gh_ffr_setup(&r, &m, &kin), 0);
+    srv_config_default(&cfg);
+    assert_int_equal(srv_config_apply(&cfg, "ff", FIXTURES_DIR "/server/ff_rigid_example.ini", 0, err, sizeof err), 0);
+    assert_int_equal(srv_load_files(&cfg, err, sizeof err), 0);
+    cfg.arm[0].axes = 0x3EU; /* axes 2..6 */
+    run_mode9(&cfg, &g_a, d5);
+    assert_int_equal(g_a.rigid_lines, 5U);
+    for (j = 0U; j < N9; j++) {
+        double qm[N_AX], vm[N_AX], am[N_AX];
+        for (l = 0U; l < N_AX; l++) {
+            const double d2 = (double)((j < 5U) ? D2_0 : D2_1);
+            am[l] = (j == 5U) ? ((double)D2_1 - (double)D2_0) / (T * T) : 0.0;
+            vm[l] = d2 / T + am[l] * T;
+            qm[l] = (double)mode9_d1(j) + d2;
+        }
+        assert_int_equal(c4gh_ffr_current(&r, qm, vm, am, &o), 0);
+        assert_true(d5[j][0] == 0.0f); /* not driven */
+        for (l = 1U; l < N_AX; l++) {
+            if (fabs((double)d5[j][l] - o.cur[l]) > 1e-6 * fmax(1.0, fabs(o.cur[l]))) { /* float D5 */
+                fail_msg("tick %u axis %u: D5 %.9g A, the model %.9g A", j, l + 1U, (double)d5[j][l], o.cur[l]);
+            }
+        }
+        if (j == 5U) {
+            /* without axis 1's acceleration the others' currents would differ this much */
+            am[0] = 0.0;
+            vm[0] = (double)D2_1 / T;
+            assert_int_equal(c4gh_ffr_current(&r, qm, vm, am, &o), 0);
+            for (l = 1U; l < N_AX; l++) {
+                da = fmax(da, fabs((double)d5[j][l] - o.cur[l]));
+            }
+            print_message("without axis 1's acceleration the currents would be off by up to %.3g A\n", da);
+        }
+    }
+    assert_true(da > 1e-4); /* 0.44 mA: far above D5's float resolution here (< 1e-5 A) */
+    assert_true(g_srv.stats.ff_model_ticks == 5U * N9);
+    assert_true(g_srv.stats.ff_model_clamped == 0U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -412,6 +475,7 @@ int main(void)
         cmocka_unit_test(test_amplitude_reaches_mode4_replies),
         cmocka_unit_test(test_skip_replies_not_sent),
         cmocka_unit_test(test_mode9_model),
+        cmocka_unit_test(test_mode9_rigid),
     };
     return cmocka_run_group_tests(tests, th_load_fig, NULL);
 }

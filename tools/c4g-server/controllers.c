@@ -251,7 +251,11 @@ static int step_ff(ctlr_axis_t *X, const ctlr_in_t *in, const c4g_ctrl_axis_t *r
     const int done = (t >= in->cfg->duration) ? 1 : 0;
     o->current_add = 0.0f;
     if (in->driven && !done && in->ff != NULL && in->ff->set) {
-        if (in->ff->kind == CTLR_FF_MODEL) {
+        if (in->ff->kind == CTLR_FF_RIGID) {
+            /* evaluated for the whole arm by the caller; none (0 A) when it failed */
+            o->current_add = in->ff_cur_ok ? sat_float(in->ff_cur) : 0.0f;
+            X->ff_flags = CTLR_FFF_MODEL | (in->ff_cur_clamped ? CTLR_FFF_CLAMPED : 0U);
+        } else if (in->ff->kind == CTLR_FF_MODEL) {
             int clamped = 0;
             /* the mode's first packet has no previous velocity: no acceleration */
             const double prev = (X->ticks == 0U) ? v : X->v_prev;
@@ -266,9 +270,11 @@ static int step_ff(ctlr_axis_t *X, const ctlr_in_t *in, const c4g_ctrl_axis_t *r
             o->current_add = ctlr_ff_current(in->ff, v, v - X->v_prev, (double)r->target_pos);
         }
     }
-    /* a model = ctrl file holds EXT1 already (k1 EXT1): never twice */
+    /* a model = ctrl file holds EXT1 already (k1 EXT1), a rigid-body file replaces it:
+     * never twice */
     if (in->driven && !done && in->cfg->ff_ext1 && isfinite(r->ext[0]) &&
-        !(in->ff != NULL && in->ff->set && in->ff->kind == CTLR_FF_MODEL && in->ff->model.ctrl)) {
+        !(in->ff != NULL && in->ff->set &&
+          ((in->ff->kind == CTLR_FF_MODEL && in->ff->model.ctrl) || in->ff->kind == CTLR_FF_RIGID))) {
         /* the controller's own model current, which mode 9 no longer hands its drives
          * (manual 14.12.4): passed back through D5 */
         o->current_add += r->ext[0];

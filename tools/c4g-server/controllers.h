@@ -20,11 +20,14 @@
 enum { CTLR_SRC_NONE = 0, CTLR_SRC_SINE = 1, CTLR_SRC_FILE = 2 };
 
 /* Kinds of mode-9 feedforward (ctlr_ff_t.kind). */
-enum { CTLR_FF_LEGACY = 0, CTLR_FF_MODEL = 1 };
+enum { CTLR_FF_LEGACY = 0, CTLR_FF_MODEL = 1, CTLR_FF_RIGID = 2 };
 
-/* Mode-9 feedforward parameters of one axis, of one of two kinds:
+/* Mode-9 feedforward parameters of one axis, of one of three kinds:
  * CTLR_FF_LEGACY, the line format: I = c0 + cv v + cc sign(v) + ca dv + gs sin(gscale pos + gphase);
- * CTLR_FF_MODEL, a model c4g-ident identified (c4g_ffmodel.h), in turns/s and turns/s^2. */
+ * CTLR_FF_MODEL, a model c4g-ident identified (c4g_ffmodel.h), in turns/s and turns/s^2;
+ * CTLR_FF_RIGID, motor `model.line`'s share of its arm's rigid-body model (c4gh_ffr_*): the
+ * caller evaluates the whole arm once per tick and hands each axis its current
+ * (ctlr_in_t.ff_cur). */
 typedef struct ctlr_ff {
     int set;                /* 0, or the line of the parameter file that set it */
     int kind;               /* CTLR_FF_* */
@@ -95,6 +98,10 @@ typedef struct ctlr_in {
     double q_link;              /* mode 9, CTLR_FF_MODEL: the axis's link angle one tick
                                    ahead [rad] (kinematics of D1 + D2), when have_q */
     int have_q;
+    double ff_cur;              /* mode 9, CTLR_FF_RIGID: the arm's rigid model's current of
+                                   this axis for the tick [A], when ff_cur_ok */
+    int ff_cur_ok;
+    int ff_cur_clamped;         /* the arm's state was clamped to the model's range */
 } ctlr_in_t;
 
 /* Raised cosine: 0 at t = 0 with zero slope, amp at half a period. */

@@ -28,6 +28,43 @@ static double period_s(const srv_t *S)
 
 static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in);
 
+/* Which model axis i's mode 9 evaluates, once per entry: rigid (the arm's rigid-body
+ * file), axis, ctrl, the line format, or only EXT1 (--ff-ext1). */
+static void ff_entry_log(srv_t *S, uint32_t i, uint64_t t_ns)
+{
+    ctlr_in_t in;
+    const char *what;
+    const char *ext1 = "";
+    axis_in(S, i, &in);
+    if (!in.driven) {
+        return;
+    }
+    if (in.ff == NULL || in.ff->set == 0) {
+        if (in.cfg->ff_ext1) {
+            srv_log(S, t_ns, "axis %u: mode 9 feedforward: EXT1 (the controller's model, --ff-ext1; "
+                    "no file sets this axis)", (unsigned)i + 1U);
+        }
+        return;
+    }
+    if (in.ff->kind == CTLR_FF_RIGID) {
+        const uint32_t arm = srv_map(S)->arm_of[i];
+        srv_log(S, t_ns, "axis %u: mode 9 feedforward: model rigid (arm %u's rigid-body model, joint %u of %u, %s)%s%s",
+                (unsigned)i + 1U, (unsigned)arm + 1U, (unsigned)in.lax + 1U, (unsigned)S->cfg.rigid[arm].kin.n,
+                S->cfg.ff_path[S->cfg.rigid_file[arm]],
+                (S->ffr_ok[arm] > 0) ? "" : "; NOT evaluated: the init packet's transmission does not fit it (0 A)",
+                in.cfg->ff_ext1 ? "; --ff-ext1 not added (the model replaces EXT1)" : "");
+        return;
+    }
+    what = (in.ff->kind != CTLR_FF_MODEL) ? "line-format parameters"
+           : in.ff->model.ctrl           ? "model ctrl (k1 (EXT1 - in) + k2 in + friction, in from EXT2)"
+                                         : "model axis (Ja a + friction + gravity)";
+    if (in.cfg->ff_ext1) {
+        ext1 = (in.ff->kind == CTLR_FF_MODEL && in.ff->model.ctrl) ? "; --ff-ext1 not added (the model holds EXT1)"
+                                                                   : "; + EXT1 (--ff-ext1)";
+    }
+    srv_log(S, t_ns, "axis %u: mode 9 feedforward: %s%s", (unsigned)i + 1U, what, ext1);
+}
+
 /* The axis reports another mode than on its previous packet: log, count, restart its
  * controller from where it stood before the mode. */
 static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t *r, uint64_t t_ns)
@@ -48,18 +85,7 @@ static void enter_mode(srv_t *S, uint32_t i, int32_t mode, const c4g_ctrl_axis_t
     (void)c4g_engine_anchor(srv_engine(S), i, &anchor);
     (void)ctlr_axis_enter(&S->ax[i], mode, (double)anchor, r);
     if (mode == C4G_MODE_9) {
-        ctlr_in_t in;
-        axis_in(S, i, &in);
-        if (in.driven && in.ff != NULL && in.ff->set != 0) {
-            /* which model this axis's mode 9 evaluates, once per entry */
-            srv_log(S, t_ns, "axis %u: mode 9 feedforward: %s%s", (unsigned)i + 1U,
-                    (in.ff->kind != CTLR_FF_MODEL) ? "line-format parameters"
-                    : in.ff->model.ctrl           ? "model ctrl (k1 (EXT1 - in) + k2 in + friction, in from EXT2)"
-                                                  : "model axis (Ja a + friction + gravity)",
-                    (in.ff->kind == CTLR_FF_MODEL && in.ff->model.ctrl && in.cfg->ff_ext1)
-                        ? "; --ff-ext1 not added (the model holds EXT1)"
-                        : "");
-        }
+        ff_entry_log(S, i, t_ns);
     }
 }
 
@@ -82,6 +108,44 @@ static void ff_period_check(srv_t *S, uint64_t t_ns)
                     "controller runs at %d ms; applied anyway", S->cfg.ff_path[f->file],
                     f->period_ms, (int)p);
         }
+    }
+}
+
+/* The rigid-body files against the init packet's transmission (c4gh_ffr_setup). The
+ * axes of the arm that are not open stand at their calibration with ratio 1, as for the
+ * link angles (link_ahead). */
+static void ff_rigid_init(srv_t *S, uint64_t t_ns)
+{
+    const c4g_engine_t *E = srv_engine_view(S);
+    const c4g_axis_map_t *m = srv_map(S);
+    uint32_t a, l;
+    memset(S->ffr_logged, 0, sizeof S->ffr_logged);
+    for (a = 0U; a < C4G_ARMS; a++) {
+        c4g_kin_t kin;
+        S->ffr_ok[a] = 0;
+        if (!S->cfg.rigid[a].rigid) {
+            continue;
+        }
+        S->ffr_ok[a] = -1;
+        if (E->kin_ok[a] == 0U) {
+            srv_log(S, t_ns, "warning: feedforward %s: arm %u has no kinematics in the init packet: "
+                    "the rigid-body model is not evaluated (0 A)", S->cfg.ff_path[S->cfg.rigid_file[a]],
+                    (unsigned)a + 1U);
+            continue;
+        }
+        kin = E->kin[a];
+        for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
+            if (m->open_of[a][l] >= m->n_axes) {
+                kin.kr[l] = 1.0;
+            }
+        }
+        if (c4gh_ffr_setup(&S->ffr[a], &S->cfg.rigid[a], &kin) != 0) {
+            srv_log(S, t_ns, "warning: feedforward %s: the transmission of arm %u is singular for its "
+                    "rigid-body model: not evaluated (0 A)", S->cfg.ff_path[S->cfg.rigid_file[a]],
+                    (unsigned)a + 1U);
+            continue;
+        }
+        S->ffr_ok[a] = 1;
     }
 }
 
@@ -118,6 +182,7 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
         }
     }
     ff_period_check(S, t_ns);
+    ff_rigid_init(S, t_ns);
 }
 
 /* The controller's inputs for OPEN axis i. */
@@ -135,12 +200,18 @@ static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
     in->driven = ((S->cfg.arm[arm].axes >> lax) & 1U) != 0U;
     in->q_link = 0.0;
     in->have_q = 0;
+    in->ff_cur = 0.0;
+    in->ff_cur_ok = 0;
+    in->ff_cur_clamped = 0;
 }
 
-/* Link angles of a tick, per arm, computed when an identified model first needs them. */
+/* Link angles of a tick, per arm, computed when an identified model first needs them;
+ * the same for a rigid-body model's currents. */
 typedef struct link_cache {
     int state[C4G_ARMS];                       /* 0 not yet, 1 q holds them, -1 none */
     double q[C4G_ARMS][C4G_AXES_PER_ARM];
+    int rstate[C4G_ARMS];                      /* 0 not yet, 1 rout holds them, -1 failed */
+    c4gh_ffr_out_t rout[C4G_ARMS];
 } link_cache_t;
 
 /* Link angles [rad] of the arm's logical axes one tick ahead (D1 + D2), through the arm's
@@ -184,6 +255,84 @@ static void model_angle(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t i,
     in->q_link = in->have_q ? lc->q[arm][in->lax] : 0.0;
 }
 
+/* The arm's rigid-body model on this tick: motor positions one tick ahead (D1 + D2), the
+ * velocity and acceleration of the tick the reply is applied on, as ctlr_ff_model_current
+ * predicts them from D2 and the axis's previous D2. An axis that enters its mode on this
+ * packet (its controller restarts: no previous D2) counts no acceleration. */
+static int rigid_arm(const srv_t *S, const c4g_ctrl_packet_t *rx, uint32_t arm, c4gh_ffr_out_t *o)
+{
+    const c4g_axis_map_t *m = srv_map(S);
+    const c4gh_ffr_t *r = &S->ffr[arm];
+    const double T = r->kin.period_s;
+    double qm[C4G_DYN_MAX_LINKS], vm[C4G_DYN_MAX_LINKS], am[C4G_DYN_MAX_LINKS];
+    uint32_t l;
+    for (l = 0U; l < r->n; l++) {
+        const uint32_t i = m->open_of[arm][l];
+        if (i < rx->n_axes) {
+            const c4g_ctrl_axis_t *x = &rx->ax[i];
+            const ctlr_axis_t *X = &S->ax[i];
+            const double d2 = (double)x->target_vel;
+            const double prev = (X->mode != x->mode || X->ticks == 0U) ? d2 : X->v_prev;
+            am[l] = (d2 - prev) / (T * T);
+            vm[l] = d2 / T + am[l] * T;
+            qm[l] = (double)x->target_pos + d2;
+        } else {
+            qm[l] = r->kin.cal[l];
+            vm[l] = 0.0;
+            am[l] = 0.0;
+        }
+    }
+    return c4gh_ffr_current(r, qm, vm, am, o);
+}
+
+static const char *const ffr_what[3] = {"angle", "velocity", "acceleration"};
+
+/* Axis i's share of its arm's rigid-body model; each clamp (and a failure) logged once
+ * per axis and session, with the value. */
+static void rigid_current(srv_t *S, uint32_t i, const link_cache_t *lc,
+                          ctlr_in_t *in, uint64_t t_ns)
+{
+    const uint32_t arm = srv_map(S)->arm_of[i];
+    const uint32_t l = in->lax;
+    const c4gh_ffm_file_t *f = &S->cfg.rigid[arm];
+    const c4gh_ffr_out_t *o = &lc->rout[arm];
+    unsigned b;
+    if (S->ffr_ok[arm] <= 0 || l >= S->ffr[arm].n) {
+        return;
+    }
+    if (lc->rstate[arm] == 0) {
+        return; /* not computed: the axis is not in mode 9 */
+    }
+    if (lc->rstate[arm] < 0) {
+        if ((S->ffr_logged[i] & 8U) == 0U) {
+            S->ffr_logged[i] |= 8U;
+            srv_log(S, t_ns, "axis %u: rigid model: not evaluable on this packet (a value not finite): 0 A "
+                    "(logged once per axis)", (unsigned)i + 1U);
+        }
+        return;
+    }
+    in->ff_cur = o->cur[l];
+    in->ff_cur_ok = 1;
+    for (b = 0U; b < 3U; b++) {
+        const unsigned bit = 1U << b;
+        const double v = (b == 0U) ? o->q[l] : ((b == 1U) ? o->qd[l] : o->qdd[l]);
+        double lo, hi;
+        if ((o->clamped[l] & bit) == 0U) {
+            continue;
+        }
+        in->ff_cur_clamped = 1;
+        if ((S->ffr_logged[i] & bit) != 0U) {
+            continue;
+        }
+        S->ffr_logged[i] |= bit;
+        lo = (b == 0U) ? f->q_min[l] : -((b == 1U) ? f->qd_max[l] : f->qdd_max[l]);
+        hi = (b == 0U) ? f->q_max[l] : ((b == 1U) ? f->qd_max[l] : f->qdd_max[l]);
+        srv_log(S, t_ns, "axis %u: rigid model: joint %s %.6g %s outside the fitted range %.6g..%.6g: "
+                "clamped (logged once per axis and session)", (unsigned)i + 1U, ffr_what[b], v,
+                (b == 0U) ? "rad" : ((b == 1U) ? "rad/s" : "rad/s^2"), lo, hi);
+    }
+}
+
 /* Every axis's controller; arm_done[a] stays 1 when every open axis of arm a is done, and
  * arm_open[a] says whether it has one. */
 static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns,
@@ -192,6 +341,14 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
     link_cache_t lc;
     uint32_t i;
     memset(lc.state, 0, sizeof lc.state);
+    memset(lc.rstate, 0, sizeof lc.rstate);
+    /* the rigid models first: they read every axis's previous D2, which ctlr_step updates */
+    for (i = 0U; i < rx->n_axes; i++) {
+        const uint32_t arm = srv_map(S)->arm_of[i];
+        if (tx->ax[i].mode == C4G_MODE_9 && S->ffr_ok[arm] > 0 && lc.rstate[arm] == 0) {
+            lc.rstate[arm] = (rigid_arm(S, rx, arm, &lc.rout[arm]) == 0) ? 1 : -1;
+        }
+    }
     for (i = 0U; i < rx->n_axes; i++) {
         const c4g_ctrl_axis_t *r = &rx->ax[i];
         ctlr_axis_t *X = &S->ax[i];
@@ -204,6 +361,9 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
         if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_MODEL &&
             !in.ff->model.ctrl) {
             model_angle(S, rx, i, &lc, &in);
+        }
+        if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_RIGID && in.driven) {
+            rigid_current(S, i, &lc, &in, t_ns);
         }
         done = ctlr_step(X, &in, tx->ax[i].mode, r, &tx->ax[i]);
         if ((X->ff_flags & CTLR_FFF_MODEL) != 0U) {

@@ -119,6 +119,8 @@ typedef struct srv_config {
     char ff_path[SRV_MAX_FF_FILES][512]; /* mode-9 parameter files (--ff), in order */
     unsigned n_ff;
     srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM]; /* what they set (srv_load_files) */
+    c4gh_ffm_file_t rigid[C4G_ARMS];  /* an arm's model = rigid-body-1 file (rigid[a].rigid) */
+    unsigned rigid_file[C4G_ARMS];    /* its index in ff_path */
     srv_capture_opts_t cap;
 } srv_config_t;
 
@@ -143,6 +145,10 @@ typedef struct srv {
     uint64_t t0_ns;               /* the run's start: safety events are timed from it */
     srv_log_fn log_fn;
     void *log_ctx;
+    /* mode 9 with a rigid-body file: per arm, built at the init packet */
+    c4gh_ffr_t ffr[C4G_ARMS];
+    int ffr_ok[C4G_ARMS];         /* 1 ready, -1 the transmission refused it, 0 no file */
+    unsigned ffr_logged[C4G_MAX_AXES]; /* C4GH_FFR_* clamps logged this session, 8: failure */
 } srv_t;
 
 /* Why the run stops after a datagram (the caller's exit code). */
@@ -293,9 +299,11 @@ int srv_parse_ff(struct c4gh_tf_file *f, srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM]
 /* A mode-9 parameter file of either format, told apart by its first line that is not
  * blank or a comment: '[' starts c4g-ident's INI (c4g_ffmodel.h), anything else is the
  * line format. Sets the axes it names in ff (file index @p file); an axis another file
- * already set is an error naming both. 0, or -1 with the error in err. */
+ * already set is an error naming both; a rigid-body file (model = rigid-body-1) also fills
+ * rigid[arm] (NULL: such a file is refused). 0, or -1 with the error in err. */
 int srv_load_ff_any(const char *path, unsigned file, const char *const *paths,
-                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen);
+                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], c4gh_ffm_file_t rigid[C4G_ARMS],
+                    char *err, size_t errlen);
 /* 1 when the text is c4g-ident's INI format (see srv_load_ff_any) */
 int srv_ff_is_ini(const char *text, size_t len);
 /* every file the configuration names: trajectories into srv_traj, feedforward into

@@ -308,11 +308,16 @@ static int ff_taken(const srv_ff_t *p, const char *path, int line, unsigned arm,
 }
 
 static int ff_merge_model(const c4gh_tf_file_t *f, unsigned file, const char *const *paths,
-                          srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
+                          srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], c4gh_ffm_file_t rigid[C4G_ARMS],
+                          char *err, size_t errlen)
 {
-    c4gh_ffm_file_t m;
+    static c4gh_ffm_file_t m; /* large; the tool is single-threaded here (startup) */
     unsigned l;
     if (c4gh_ffm_parse_text(f->path, f->data, f->len, &m, err, errlen) != 0) {
+        return -1;
+    }
+    if (m.rigid && rigid == NULL) {
+        snprintf(err, errlen, "%s:%d:1: a rigid-body model has no place here", f->path, m.model_line);
         return -1;
     }
     for (l = 0U; l < C4G_AXES_PER_ARM; l++) {
@@ -325,10 +330,14 @@ static int ff_merge_model(const c4gh_tf_file_t *f, unsigned file, const char *co
         }
         memset(p, 0, sizeof *p);
         p->set = m.ax[l].line;
-        p->kind = CTLR_FF_MODEL;
+        p->kind = m.rigid ? CTLR_FF_RIGID : CTLR_FF_MODEL;
         p->file = file;
         p->period_ms = m.period_ms;
         p->model = m.ax[l];
+    }
+    if (m.rigid) {
+        /* the arm's axes 1..n are each set once (above): so is its rigid model */
+        rigid[m.arm - 1U] = m;
     }
     return 0;
 }
@@ -358,7 +367,8 @@ static int ff_merge_legacy(c4gh_tf_file_t *f, unsigned file, const char *const *
 }
 
 int srv_load_ff_any(const char *path, unsigned file, const char *const *paths,
-                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], char *err, size_t errlen)
+                    srv_ff_t ff[C4G_ARMS][C4G_AXES_PER_ARM], c4gh_ffm_file_t rigid[C4G_ARMS],
+                    char *err, size_t errlen)
 {
     c4gh_tf_file_t f;
     int rc;
@@ -366,7 +376,7 @@ int srv_load_ff_any(const char *path, unsigned file, const char *const *paths,
         return -1;
     }
     if (srv_ff_is_ini(f.data, f.len)) {
-        rc = ff_merge_model(&f, file, paths, ff, err, errlen);
+        rc = ff_merge_model(&f, file, paths, ff, rigid, err, errlen);
     } else {
         rc = ff_merge_legacy(&f, file, paths, ff, err, errlen);
     }
@@ -403,13 +413,19 @@ int srv_load_files(srv_config_t *cfg, char *err, size_t errlen)
         const char *paths[SRV_MAX_FF_FILES];
         unsigned k;
         memset(cfg->ff, 0, sizeof cfg->ff);
+        memset(cfg->rigid, 0, sizeof cfg->rigid);
         for (k = 0U; k < SRV_MAX_FF_FILES; k++) {
             paths[k] = cfg->ff_path[k];
         }
         for (k = 0U; k < cfg->n_ff && k < SRV_MAX_FF_FILES; k++) {
-            if (srv_load_ff_any(cfg->ff_path[k], k, paths, cfg->ff, why, sizeof why) != 0) {
+            if (srv_load_ff_any(cfg->ff_path[k], k, paths, cfg->ff, cfg->rigid, why, sizeof why) != 0) {
                 snprintf(err, errlen, "feedforward: %s", why);
                 return -1;
+            }
+            for (a = 0U; a < C4G_ARMS; a++) {
+                if (cfg->rigid[a].rigid && cfg->ff[a][0].file == k && cfg->ff[a][0].kind == CTLR_FF_RIGID) {
+                    cfg->rigid_file[a] = k;
+                }
             }
         }
     }

@@ -564,11 +564,11 @@ static const srv_setting_t settings[] = {
     {"ff", 0, "FILE", SW_BOTH, SK_CALL, 0, 0, NONE, set_ff,
      "a mode-9 parameter file (at most 4, under 512 bytes each)",
      "mode 9: current feedforward parameters: a c4g-ident model" NL
-     "(INI, one arm per file) or the line format; repeat for" NL
-     "more arms (up to 4 files)"},
+     "(INI, one arm per file: per-axis, or the arm's rigid-body" NL
+     "model) or the line format; repeat for more arms (up to 4 files)"},
     {"ff-ext1", 0, NULL, SW_BOTH | SW_ARM, SK_FLAG, 0, 0, P(ff_ext1), NULL, FLAG_WANT,
      "mode 9: add the controller's dynamic-model current (EXT1) to D5" NL
-     "(with or without --ff)"},
+     "(with or without --ff; not on the axes of a ctrl or rigid-body file)"},
     {"duration", 0, "S", SW_BOTH | SW_ARM, SK_NUM, 0, 1e7, P(duration), NULL, "seconds >= 0",
      "modes 1 (hold), 2, 9: time before EXIT_FROM_OPEN (default 2)"},
     {"gains", 0, "KP,KD[,KI]", SW_BOTH | SW_ARM, SK_CALL, 0, 0, NONE, set_gains,

@@ -266,6 +266,11 @@ void plant_arm_close(plant_arm_t *pa)
     free(pa);
 }
 
+const struct mjModel_ *plant_arm_mjmodel(const plant_arm_t *pa)
+{
+    return pa->m;
+}
+
 int plant_arm_reset(plant_arm_t *pa, const double qm[PLANT_AXES])
 {
     double q[PLANT_AXES];

@@ -49,6 +49,10 @@ typedef struct plant_arm plant_arm_t;
 int plant_arm_open(plant_arm_t **out, const plant_cfg_t *cfg, const c4g_init_t *init, unsigned arm,
                    const c4gsim_axis_params_t *const p[PLANT_AXES], double dt, char *err, size_t errlen);
 void plant_arm_close(plant_arm_t *pa);
+/** The plant's MuJoCo model as c4g-sim integrates it (each joint's armature and the payload
+ * set): for what derives the arm's exact parameters from it (tests/e2e/helpers/arm_exact.c). */
+struct mjModel_;
+const struct mjModel_ *plant_arm_mjmodel(const plant_arm_t *pa);
 
 /** At rest at motor positions @p qm [turns]. 0, or -1 (not convertible). */
 int plant_arm_reset(plant_arm_t *pa, const double qm[PLANT_AXES]);
