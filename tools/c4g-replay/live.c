@@ -207,7 +207,8 @@ static const char live_epilogue[] =
     "it: c4g-sim is looked for beside c4g-replay, then on PATH.\n"
     "Exit status: 0 every reply ok and equal to the recorded one, 1 findings or divergences\n"
     "(or a socket error, or interrupted, or c4g-sim not found), 2 bad usage, an unreadable\n"
-    "file or a session without its start-up.\n";
+    "file or a session without its start-up, 5 nothing answered (the first 10 packets of a\n"
+    "pass got nothing back: live stops there).\n";
 
 int rp_cmd_live(int argc, char **argv)
 {

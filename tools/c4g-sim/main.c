@@ -97,6 +97,13 @@ int main(int argc, char **argv)
     outputs_close(a);
     close(a->fd);
     code = outcome(a, &result);
+    {
+        /* an error, not a figure of the summary: said on stderr, even with --quiet */
+        char why[256];
+        if (no_session(&a->cs.n, a->cfg.server, a->cfg.port, why, sizeof why)) {
+            fprintf(stderr, "c4g-sim: no session started: %s\n", why);
+        }
+    }
     if (!a->o.quiet || a->o.json) {
         summary(a, code, result, cpu_seconds());
     }
