@@ -21,7 +21,7 @@ enum {
     EXIT_USAGE = 2,      /* bad option, INI, trajectory or parameter file */
     EXIT_LOST = 3,       /* controller silent longer than the loss timeout */
     EXIT_TIMEOUT = 4,    /* --idle-timeout or --max-seconds reached */
-    EXIT_SIGNAL = 5      /* SIGINT / SIGTERM */
+    EXIT_SIGNAL = 5      /* SIGINT / SIGTERM: main.c exits 130 / 0 (docs/cli.md) */
 };
 
 /* Log record kinds carried by the rtlog ring. */

@@ -831,8 +831,8 @@ static const char epilogue[] =
     "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
     "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
     "2 bad option or input file, 3 controller lost, 4\n"
-    "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
-    "--persist). The chapter 22 timing report, the counters and the safety events are\n"
+    "--idle-timeout / --max-seconds reached, 130 stopped by SIGINT, 0 by SIGTERM (also\n"
+    "with --persist). The chapter 22 timing report, the counters and the safety events are\n"
     "printed at every exit that follows a session (with --persist the counters add up\n"
     "every session since the start, the timing lines are the last session's).\n";
 
@@ -852,8 +852,8 @@ static const char epilogue_all[] =
     "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
     "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
     "2 bad option or input file, 3 controller lost, 4\n"
-    "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
-    "--persist). The chapter 22 timing report, the counters and the safety events are\n"
+    "--idle-timeout / --max-seconds reached, 130 stopped by SIGINT, 0 by SIGTERM (also\n"
+    "with --persist). The chapter 22 timing report, the counters and the safety events are\n"
     "printed at every exit that follows a session (with --persist the counters add up\n"
     "every session since the start, the timing lines are the last session's).\n"
     "With --capture FILE: no socket; one server per run of the recorded controller (a new\n"

@@ -8,6 +8,8 @@
  * c4g-sim's (net.c, handle_rx); the judgement is the library's controller end (c4g_ctrl_*). */
 #include "capture.h"
 
+#include "c4gh_cli.h"
+
 #include "c4gh_udp.h"
 
 #include <errno.h>
@@ -24,8 +26,7 @@
 
 static void cap_on_signal(int sig)
 {
-    (void)sig;
-    g_stop = 1;
+    g_stop = sig;
 }
 
 /* ---- the first reading: which session, and can it be played ------------------ */
@@ -756,6 +757,9 @@ static int cap_run(cap_t *C, app_t *a)
         cap_report_json(stdout, C);
     } else if (!a->o.quiet) {
         cap_report_text(stdout, C);
+    }
+    if (C->interrupted) {
+        return (g_stop == SIGTERM) ? C4GH_CLI_EXIT_SIGTERM : C4GH_CLI_EXIT_SIGINT;
     }
     if (C->dead) {
         return EXIT_NO_ANSWER;

@@ -8,18 +8,24 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "c4gh_cli.h"
 #include "capture.h"
 
 static void on_signal(int sig)
 {
-    (void)sig;
-    g_stop = 1;
+    g_stop = sig;
 }
 
 /* The exit code and the summary's result word, from how the run went. */
 static int outcome(const app_t *a, const char **result)
 {
     const sim_t *s = &a->sim;
+    if (g_stop) {
+        /* one rule in every tool: a signal decides the exit status; the summary says what
+         * the run had found by then */
+        *result = "interrupted";
+        return (g_stop == SIGTERM) ? C4GH_CLI_EXIT_SIGTERM : C4GH_CLI_EXIT_SIGINT;
+    }
     if (s->n_err > 0) {
         *result = "error";
         return EXIT_RUNTIME;
@@ -32,7 +38,7 @@ static int outcome(const app_t *a, const char **result)
         *result = "output-error";
         return EXIT_OUTPUT;
     }
-    *result = g_stop ? "interrupted" : "ok";
+    *result = "ok";
     return EXIT_OK;
 }
 

@@ -314,9 +314,9 @@ static const char usage_text[] =
 static const char epilogue_text[] =
     "Exit status: 0 ok; 1 a table 17.1 error was raised (e.g. ERR_C4GOPEN_UDP) or a\n"
     "socket failed; 2 usage, configuration or scenario error; 3 a scenario EXPECT failed\n"
-    "or WAIT PC timed out; 4 an output file could not be written. With --capture: 0 every\n"
-    "reply ok and equal to the recorded one; 1 findings or divergences (or a socket error,\n"
-    "or interrupted); 2 also an unreadable capture or a session without its start-up;\n"
+    "or WAIT PC timed out; 4 an output file could not be written; 130 SIGINT, 143 SIGTERM.\n"
+    "With --capture: 0 every reply ok and equal to the recorded one; 1 findings or\n"
+    "divergences (or a socket error); 2 also an unreadable capture or a session without its start-up;\n"
     "5 nothing answered (the first 10 packets of a pass got nothing back).\n";
 static const char *const examples[] = {
     "c4g-sim -p 41000 -S fixtures/scenarios/mode0.scn --json",
