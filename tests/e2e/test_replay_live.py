@@ -43,8 +43,8 @@ def start_server(procs, bins, tmp, name, port, *args):
     it listens. The loss timeout is 2 s: the controllers here are ordinary processes that a
     busy host can stop for longer than 10 periods."""
     err = tmp / (name + ".err")
-    h = procs.start(["sh", "-c", 'exec "$0" "$@" 2>"%s"' % err, bins.server, "-p", port, "-c", "127.0.0.1",
-                     "--idle-timeout", 15, "--max-seconds", 45, "--json", tmp / (name + ".json"),
+    h = procs.start(["sh", "-c", 'exec "$0" "$@" 2>"%s"' % err, bins.server, "-p", port, "--controller", "127.0.0.1",
+                     "--idle-timeout", 15, "--max-seconds", 45, "--json-out", tmp / (name + ".json"),
                      "--lost-timeout-ms", 2000] + [str(a) for a in args], name=name)
     wait_until(lambda: (err.exists() and "listening on" in err.read_text()) or not h.running(), 30,
                "c4g-server %s listening" % name)

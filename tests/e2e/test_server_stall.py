@@ -91,7 +91,7 @@ def test_controller_killed(srv):
 
 
 # a stream from 127.0.0.1 (another port) goes through the session's endpoint check, one
-# from 127.0.0.2 through the server's address filter (-c 127.0.0.1)
+# from 127.0.0.2 through the server's address filter (--controller 127.0.0.1)
 STREAMS = [("127.0.0.1", "tiny", []), ("127.0.0.1", "zeros", []), ("127.0.0.2", "zeros", ["--spin", 1])]
 
 

@@ -27,7 +27,7 @@ int srv_outputs_open(srv_host_t *H)
     H->pcap = NULL;
     H->moni_fp = NULL;
     /* the JSON summary is written at exit: its place is checked now, before the session */
-    if (S->cfg.json_path[0] != '\0' && c4gh_cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
+    if (S->cfg.json_path[0] != '\0' && c4gh_cli_check_output("c4g-server", "--json-out", S->cfg.json_path) != 0) {
         return -1;
     }
     if (S->cfg.log_path[0] != '\0') {
@@ -417,7 +417,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     json_t *o;
     int rc;
     if (fp == NULL) {
-        c4gh_cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json-out", path, errno);
         return -1;
     }
     o = json_object();
@@ -443,7 +443,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
         fflush(fp);
     }
     if (rc != 0) {
-        c4gh_cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json-out", path, errno);
         return -1;
     }
     return 0;
