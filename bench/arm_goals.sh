@@ -44,7 +44,7 @@ session() {
   name=$1; scn=$2; shift 2
   try=1
   while :; do
-    $RT "$SRV" -p "$PORT" -c 127.0.0.1 --idle-timeout 5 --max-seconds 120 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
+    $RT "$SRV" -p "$PORT" --controller 127.0.0.1 --idle-timeout 5 --max-seconds 120 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
     SPID=$!
     i=0
     while ! grep -q "listening on" "$O/$name.srv.err" 2>/dev/null && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done

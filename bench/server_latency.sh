@@ -46,7 +46,7 @@ for arms in 6 10,10; do
     row "baseline echo, $n axes" "$tmp/echo$n"
     # c4g-server
     # shellcheck disable=SC2086
-    "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
+    "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
         --json "$tmp/srv$n.json" ${SERVER_OPTS:-} & bpid=$!
     sleep 0.3
     "$stub" --port "$port" --period-ms 1 --arms "$arms" --reply-us 900 --quiet \
@@ -58,7 +58,7 @@ done
 if [ -x "$sim" ]; then
     for axes in 6 10,10; do
         # shellcheck disable=SC2086
-        "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
+        "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
             --json "$tmp/srvsim.json" ${SERVER_OPTS:-} & bpid=$!
         sleep 0.3
         "$sim" -p "$port" -T 1 --axes "$axes" -n "$ticks" --json -q >"$tmp/sim.json" 2>/dev/null

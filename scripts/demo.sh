@@ -29,8 +29,8 @@ trap 'exit 130' INT TERM
 t0=$(date +%s)
 
 echo "make demo: a C4G Open session on loopback, then the identification loop (1 to 3 minutes)"
-"$srv" -p "$port" -c 127.0.0.1 --idle-timeout 10 --max-seconds 30 --sine 0.1,0.5,1 \
-    --json "$d/server.json" >"$d/server.txt" 2>"$d/server.log" &
+"$srv" -p "$port" --controller 127.0.0.1 --idle-timeout 10 --max-seconds 30 --sine 0.1,0.5,1 \
+    --json-out "$d/server.json" >"$d/server.txt" 2>"$d/server.log" &
 spid=$!
 i=0
 while ! grep -q "listening on" "$d/server.log" 2>/dev/null && [ $i -lt 40 ]; do

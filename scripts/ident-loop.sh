@@ -43,7 +43,7 @@ session() {
     # both ends real-time where the host allows it, as on a real cell (the controller is a
     # hard real-time system, the PC's loop runs SCHED_FIFO: docs/rt-integration.md); a busy
     # host then delays neither, and the moves measure the feedforward, not the scheduler
-    "$SRV" -p "$PORT" -c 127.0.0.1 --idle-timeout 5 --max-seconds 120 --prio 70 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
+    "$SRV" -p "$PORT" --controller 127.0.0.1 --idle-timeout 5 --max-seconds 120 --prio 70 "$@" >"$O/$name.srv.out" 2>"$O/$name.srv.err" &
     SPID=$!
     i=0
     while ! grep -q "listening on" "$O/$name.srv.err" 2>/dev/null && [ $i -lt 60 ]; do sleep 0.05; i=$((i + 1)); done

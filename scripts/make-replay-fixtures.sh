@@ -76,8 +76,8 @@ wait_for() {
 # $T/NAME.srv.pcap
 start_server() {
     sn=$1; sp=$2; shift 2
-    "$SRV" -p "$sp" -b 127.0.0.1 -c 127.0.0.1 --idle-timeout 10 --max-seconds 60 \
-        --lost-timeout-ms 500 --json "$T/$sn.srv.json" --pcap "$T/$sn.srv.pcap" "$@" \
+    "$SRV" -p "$sp" -b 127.0.0.1 --controller 127.0.0.1 --idle-timeout 10 --max-seconds 60 \
+        --lost-timeout-ms 500 --json-out "$T/$sn.srv.json" --pcap "$T/$sn.srv.pcap" "$@" \
         >"$T/$sn.srv.out" 2>"$T/$sn.srv.err" &
     SPID=$!
     PIDS="$PIDS $SPID"
@@ -197,15 +197,15 @@ for m in 0 10 1 2 4 5 7 8 9; do make_cap "mode$m" "m_$m"; done
 # keeps sending (--hold) up to tick 250, then stops without a 504 (the server ends with the
 # loss, exit 3)
 s_505() {
-    pair "$1" 46110 "$IDLE" "--axes 2 --hold -n 250" --inject 505@150 &&
+    pair "$1" 46110 "$IDLE" "--open-axes 2 --hold -n 250" --inject 505@150 &&
         check "c4g-sim exit" "$SIMRC" 1 && grep -q ERR_C4GOPEN_DRIVEOFF_SERVER "$T/$1.sim.json" && clean "$1"
 }
 s_508() {
-    pair "$1" 46111 "$IDLE" "--axes 2 --hold -n 250" --inject 508@150:2 &&
+    pair "$1" 46111 "$IDLE" "--open-axes 2 --hold -n 250" --inject 508@150:2 &&
         check "c4g-sim exit" "$SIMRC" 1 && grep -q ERR_C4GOPEN_FOLLOW_ERROR "$T/$1.sim.json" && clean "$1"
 }
 s_passive() {
-    pair "$1" 46112 fixtures/server/sim_freeze.scn "--axes 3" && check "c4g-sim exit" "$SIMRC" 0 &&
+    pair "$1" 46112 fixtures/server/sim_freeze.scn "--open-axes 3" && check "c4g-sim exit" "$SIMRC" 0 &&
         check "c4g-server exit" "$SRC" 0 && clean "$1" "" 1 &&
         check "passive freezings" "$(jv "$T/$1.srv.json" passive_freezings)" 1
 }
@@ -213,7 +213,7 @@ s_passive() {
 # After the pause it answers the newest queued packet, up to one period after it came: that
 # one reply may be late, no other
 s_active() {
-    SIDE=sim pair "$1" 46113 "$IDLE" "--axes 2" --freeze 120,100 && check "c4g-sim exit" "$SIMRC" 0 &&
+    SIDE=sim pair "$1" 46113 "$IDLE" "--open-axes 2" --freeze 120,100 && check "c4g-sim exit" "$SIMRC" 0 &&
         check "c4g-server exit" "$SRC" 0 && check "active freezings" "$(jv "$T/$1.srv.json" active_freezings)" 1 &&
         tm=$(timing "$T/$1.pcap") && atmost "late replies in the capture" "${tm% *}" 1 &&
         check "controller silences in the capture" "${tm#* }" 0
@@ -244,10 +244,10 @@ two_ctrl() {
     PA=$SPID
     start_server "$1.b" 46118 || return 1
     PB=$SPID
-    run_sim "$1.a" 46117 -c "$FAST" -S "$IDLE" --axes 2 --max-miss 500 &
+    run_sim "$1.a" 46117 -c "$FAST" -S "$IDLE" --open-axes 2 --max-miss 500 &
     SA=$!
     PIDS="$PIDS $SA"
-    run_sim "$1.b" 46118 -c "$FAST" -S "$IDLE" --axes 3 -T 1 --max-miss 500
+    run_sim "$1.b" 46118 -c "$FAST" -S "$IDLE" --open-axes 3 -T 1 --max-miss 500
     reap "$SA"; reap "$PA"; RA=$?; reap "$PB"; RB=$?
     check "server A exit" "$RA" 0 && check "server B exit" "$RB" 0 &&
         mergecap -F pcap -w "$T/$1.pcap" "$T/$1.a.srv.pcap" "$T/$1.b.srv.pcap" && clean "$1"
@@ -258,56 +258,56 @@ make_cap two-controllers two_ctrl
 # ---------------------------------------------------------------- faults
 # idle scenario, 2 axes, server-side capture unless the PC is ref_pc (then the simulator's)
 f_drop() {
-    pair "$1" 46120 "$IDLE" "--axes 2 --drop 0.02 --seed 5" && ok_pair &&
+    pair "$1" 46120 "$IDLE" "--open-axes 2 --drop 0.02 --seed 5" && ok_pair &&
         atleast "NUM gaps" "$(jv "$T/$1.srv.json" gaps)" 1
 }
 f_skip3() {
-    pair "$1" 46121 "$IDLE" "--axes 2" --skip-replies 150,3 && ok_pair &&
+    pair "$1" 46121 "$IDLE" "--open-axes 2" --skip-replies 150,3 && ok_pair &&
         check "skipped" "$(jv "$T/$1.srv.json" skipped)" 3
 }
 f_skip10() {
-    pair "$1" 46122 "$IDLE" "--axes 2 --max-miss 10" --skip-replies 150,10 &&
+    pair "$1" 46122 "$IDLE" "--open-axes 2 --max-miss 10" --skip-replies 150,10 &&
         check "skipped" "$(jv "$T/$1.srv.json" skipped)" 10 && check "c4g-sim exit" "$SIMRC" 1 && clean "$1" &&
         grep -q '"ERR_C4GOPEN_UDP"' "$T/$1.sim.json" && check "max consecutive missing" \
         "$(jv "$T/$1.sim.json" max_consecutive_missing)" 10
 }
 f_late() {
-    with_ref "$1" 46123 "--late-us 800@100,20 --late-us 2300@180" -S "$IDLE" --axes 2 --max-miss 500 &&
+    with_ref "$1" 46123 "--late-us 800@100,20 --late-us 2300@180" -S "$IDLE" --open-axes 2 --max-miss 500 &&
         check "c4g-sim exit" "$SIMRC" 0 && grep -q "held 21" "$T/$1.ref.log" &&
         check "late replies, controller silences in the capture" "$(timing "$T/$1.pcap")" "21 0"
 }
 f_wrongnum() {
-    with_ref "$1" 46124 "--wrong-num-at 150,3" -S "$IDLE" --axes 2 --max-miss 500 &&
+    with_ref "$1" 46124 "--wrong-num-at 150,3" -S "$IDLE" --open-axes 2 --max-miss 500 &&
         check "c4g-sim exit" "$SIMRC" 0 && check "wrong NUM" "$(jv "$T/$1.sim.json" wrong_num)" 3 && clean "$1"
 }
 f_policy() {
-    pair "$1" 46125 "$IDLE" "--axes 2 --num-policy plus-one --max-miss 10" --num-policy echo &&
+    pair "$1" 46125 "$IDLE" "--open-axes 2 --num-policy plus-one --max-miss 10" --num-policy echo &&
         check "c4g-sim exit" "$SIMRC" 1 && grep -q '"ERR_C4GOPEN_UDP"' "$T/$1.sim.json" && clean "$1" echo
 }
 f_echo() {
-    pair "$1" 46126 "$IDLE" "--axes 2" --num-policy echo && check "c4g-sim exit" "$SIMRC" 0 &&
+    pair "$1" 46126 "$IDLE" "--open-axes 2" --num-policy echo && check "c4g-sim exit" "$SIMRC" 0 &&
         check "c4g-server exit" "$SRC" 0 && clean "$1" echo &&
         check "PC policy" "$(jv "$T/$1.sim.json" pc_policy)" echo
 }
 f_dup() {
-    pair "$1" 46127 "$IDLE" "--axes 2 --duplicate 0.02 --seed 3" && ok_pair &&
+    pair "$1" 46127 "$IDLE" "--open-axes 2 --duplicate 0.02 --seed 3" && ok_pair &&
         atleast "duplicates" "$(jv "$T/$1.srv.json" duplicates)" 1
 }
 f_reorder() {
-    pair "$1" 46128 "$IDLE" "--axes 2 --reorder 0.02 --seed 3" && ok_pair &&
+    pair "$1" 46128 "$IDLE" "--open-axes 2 --reorder 0.02 --seed 3" && ok_pair &&
         atleast "out of order" "$(jv "$T/$1.srv.json" out_of_order)" 1
 }
 f_trunc() {
-    pair "$1" 46129 "$IDLE" "--axes 2 --truncate 0.01 --seed 4" && ok_pair &&
+    pair "$1" 46129 "$IDLE" "--open-axes 2 --truncate 0.01 --seed 4" && ok_pair &&
         atleast "malformed (length)" "$(jv "$T/$1.srv.json" malformed_length)" 1
 }
 # the seed puts three of the flipped bytes in mode fields, one in a float exponent
 f_corrupt() {
-    pair "$1" 46130 "$IDLE" "--axes 2 --corrupt 0.02 --seed 6" && ok_pair &&
+    pair "$1" 46130 "$IDLE" "--open-axes 2 --corrupt 0.02 --seed 6" && ok_pair &&
         atleast "malformed (mode)" "$(jv "$T/$1.srv.json" malformed_mode)" 1
 }
 f_pause() {
-    pair "$1" 46131 "$IDLE" "--axes 2 --pause 150:20" && check "c4g-sim exit" "$SIMRC" 0 &&
+    pair "$1" 46131 "$IDLE" "--open-axes 2 --pause 150:20" && check "c4g-sim exit" "$SIMRC" 0 &&
         check "c4g-server exit" "$SRC" 0 && clean "$1" "" 1
 }
 make_cap fault-drop f_drop

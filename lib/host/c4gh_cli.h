@@ -14,6 +14,11 @@
 #define C4GH_CLI_EXIT_OK 0
 #define C4GH_CLI_EXIT_RUNTIME 1 /* the job failed (controller error, socket, I/O) */
 #define C4GH_CLI_EXIT_USAGE 2   /* bad command line or configuration */
+/* Stopped by a signal (docs/cli.md, "Interrupting a tool"): SIGINT 128 + 2 in every tool, as
+ * a shell reports an interrupted command; SIGTERM 128 + 15, but 0 in the two servers
+ * (c4g-server, cell-sim), which a service manager stops with it. */
+#define C4GH_CLI_EXIT_SIGINT 130
+#define C4GH_CLI_EXIT_SIGTERM 143
 
 typedef enum c4gh_cli_kind {
     C4GH_CLI_FLAG,   /* no argument: sets *(int *)dest to 1 */

@@ -66,8 +66,8 @@ class Srv:
         "listening on" (its socket is bound), so the controller's first packet never races
         its start-up. The loss timeout is 2 s unless a test sets its own: the controllers
         here are ordinary processes that a busy host can stop for longer than 10 periods."""
-        h = self.procs.start(self.wrap + [self.bins.server, "-p", port, "-c", "127.0.0.1", "--idle-timeout", 15,
-                              "--max-seconds", 45, "--json", self.path(name + ".json"),
+        h = self.procs.start(self.wrap + [self.bins.server, "-p", port, "--controller", "127.0.0.1", "--idle-timeout", 15,
+                              "--max-seconds", 45, "--json-out", self.path(name + ".json"),
                               "--lost-timeout-ms", 2000] + list(args), name=name)
         wait_until(lambda: "listening on" in h.out() or not h.running(), 30, "server %s listening" % name)
         assert "listening on" in h.out(), "server %s did not start: %s" % (name, h.out())

@@ -37,9 +37,9 @@ def test_bad_option(build, procs, tool, cmd):
 
 
 def test_missing_value(bins, procs):
-    r = procs.run([bins.server, "--json"])
+    r = procs.run([bins.server, "--json-out"])
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and \
-        "option '--json' needs a value (see c4g-server --help)" in r.stderr, (r.returncode, r.stderr)
+        "option '--json-out' needs a value (see c4g-server --help)" in r.stderr, (r.returncode, r.stderr)
 
 
 def out_fail(ck, procs, want, opt, path, args):
@@ -58,8 +58,8 @@ def out_fail(ck, procs, want, opt, path, args):
 
 def test_output_files(bins, procs, ports, tmp_path):
     ck = Checks()
-    srv = [bins.server, "-c", "127.0.0.1", "--idle-timeout", "6"]
-    out_fail(ck, procs, 1, "--json", "/nonexistent/x.json", srv + ["-p", ports.udp(), "--json", "/nonexistent/x.json"])
+    srv = [bins.server, "--controller", "127.0.0.1", "--idle-timeout", "6"]
+    out_fail(ck, procs, 1, "--json-out", "/nonexistent/x.json", srv + ["-p", ports.udp(), "--json-out", "/nonexistent/x.json"])
     out_fail(ck, procs, 1, "--pcap", "/x/y.pcap", srv + ["-p", ports.udp(), "--pcap", "/x/y.pcap"])
     out_fail(ck, procs, 1, "--moni", str(tmp_path), srv + ["-p", ports.udp(), "--moni", tmp_path])
     out_fail(ck, procs, 1, "--log", "/x/y.log", srv + ["-p", ports.udp(), "--log", "/x/y.log"])
@@ -67,9 +67,9 @@ def test_output_files(bins, procs, ports, tmp_path):
     ro.touch()
     ro.chmod(0o444)
     if os.getuid() != 0:
-        out_fail(ck, procs, 1, "--json", str(ro), srv + ["-p", ports.udp(), "--json", ro])
+        out_fail(ck, procs, 1, "--json-out", str(ro), srv + ["-p", ports.udp(), "--json-out", ro])
     ctl = "/no\x01where/x.json"
-    r = out_fail(ck, procs, 1, "--json", ctl, srv + ["-p", ports.udp(), "--json", ctl])
+    r = out_fail(ck, procs, 1, "--json-out", ctl, srv + ["-p", ports.udp(), "--json-out", ctl])
     ck.ok("unprintable byte escaped", "no\\x01where" in r.stderr, r.stderr)
     # bytes of a bad input file are escaped too
     bad = tmp_path / "ctl.csv"
@@ -127,7 +127,7 @@ def progress_checks(ck, sim, port):
 def test_progress_and_tick_csv(bins, procs, ports, tmp_path):
     ck = Checks()
     port = ports.udp()
-    procs.start([bins.server, "-p", port, "-c", "127.0.0.1", "-q", "--persist", "--idle-timeout", "60"], name="server")
+    procs.start([bins.server, "-p", port, "--controller", "127.0.0.1", "-q", "--persist", "--idle-timeout", "60"], name="server")
     wait_until(lambda: udp_bound(port), 30, "c4g-server bound to %d" % port)
     progress_checks(ck, bins.sim, port)
     # the per-tick CSV (docs/csv.md): c4g-sim --csv has c4g-server --moni's columns first,

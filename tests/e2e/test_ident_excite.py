@@ -128,7 +128,7 @@ def test_played_on_the_arm(build, ports, tmp_path):
     port = ports.udp()
     err = tmp_path / "srv.err"
     with open(err, "w") as e:
-        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "-c", "127.0.0.1",
+        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "--controller", "127.0.0.1",
                                 "--idle-timeout", "5", "--max-seconds", "60", "--traj", str(traj)],
                                stdout=e, stderr=subprocess.STDOUT)
     try:

@@ -84,7 +84,7 @@ def test_page_names_every_option(build, page, tool, cmd):
 
 
 COMPLETIONS = [
-    ("--json", ["c4g-server", "--js"]),
+    ("--json-out --json", ["c4g-server", "--js"]),
     ("--moni --moni-type", ["c4g-server", "--mon"]),
     ("--json", ["c4g-sim", "--js"]),
     ("--csv", ["c4g-sim", "--cs"]),

@@ -535,7 +535,7 @@ def test_hostile_analysis_goes_on(bins):
 
 def start_server(procs, bins, name, port, tmp, *args):
     """c4g-server on 127.0.0.1:port, returned once it listens"""
-    h = procs.start([bins.server, "-p", port, "-c", "127.0.0.1"] + [str(a) for a in args], name=name)
+    h = procs.start([bins.server, "-p", port, "--controller", "127.0.0.1"] + [str(a) for a in args], name=name)
     wait_until(lambda: "listening on" in h.out() or not h.running(), 30, "c4g-server %s listening" % name)
     return h
 
@@ -570,10 +570,10 @@ def tcpdump_session(bins, procs, ports, tmp, iface):
     pcap = tmp / (iface + ".pcap")
     dump = tcpdump_start(procs, td, iface, port, pcap, "tcpdump-" + iface)
     assert dump.running(), "tcpdump -i %s starts: %s" % (iface, dump.out())
-    srv = start_server(procs, bins, "server", port, tmp, "--idle-timeout", 15, "--max-seconds", 45, "--json",
+    srv = start_server(procs, bins, "server", port, tmp, "--idle-timeout", 15, "--max-seconds", 45, "--json-out",
                        tmp / "srv.json", "--lost-timeout-ms", 2000)
     sj = tmp / "sim.json"
-    r = procs.run([bins.sim, "-p", port, "-S", FX + "/inputs/idle.scn", "--json", "--max-miss", "500", "--axes", "2"],
+    r = procs.run([bins.sim, "-p", port, "-S", FX + "/inputs/idle.scn", "--json", "--max-miss", "500", "--open-axes", "2"],
                   timeout=50)
     sj.write_text(r.stdout)
     srv.wait(60)

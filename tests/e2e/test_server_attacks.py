@@ -12,7 +12,7 @@ attacker (tests/e2e/helpers/attacker.py) sends from 127.0.0.1 on ANOTHER port, o
   f) a 4-byte datagram, before the controller starts and mid-session
   g) a 504 from 127.0.0.2 while the server pauses in active freezing, so that it is queued
      for the drain after the pause (server -c any: the session's endpoint check refuses
-     it; and -c 127.0.0.1: the address filter does)
+     it; and --controller 127.0.0.1: the address filter does)
 For each: the controller's session finishes normally (c4g-sim result ok, EXPECTs passed, no
 controller error, the server ends on the controller's own 504), every current the server
 sent keeps SMP+ current + delta within the real AzLim (figure 10.1, the values c4g-sim
@@ -185,7 +185,7 @@ def test_g_504_queued_for_the_drain(srv, ctrl):
     name = "drain" if ctrl == "any" else "draina"
     r = attack(srv, name, "fixtures/server/sim_idle.scn", "end504",
                ["--src", "127.0.0.2", "--wait", "{log}", "active.freezing:.pausing"],
-               (["-c", "any"] if ctrl == "any" else []) + ["--freeze", "300,500"], miss=400)
+               (["--controller", "any"] if ctrl == "any" else []) + ["--freeze", "300,500"], miss=400)
     c = Checks()
     session_ok(c, r)
     if ctrl == "any":

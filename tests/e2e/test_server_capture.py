@@ -21,7 +21,7 @@ def test_capture_report_and_exit(procs, bins, tmp_path):
           r"fixtures/replay/mode4\.pcap --sine 0\.25,1,0\.5$")
     c.has("  ... every reply equal", r.stdout, r"^verdict: 0 divergences in 403 replies")
     c.eq("  ... nothing on stderr", r.stderr, "")
-    r = procs.run([bins.server, "--capture", FX + "mode4.pcap", "--sine", "0.3,1,0.5", "--json", "-"])
+    r = procs.run([bins.server, "--capture", FX + "mode4.pcap", "--sine", "0.3,1,0.5", "--json"])
     c.eq("another amplitude: exit 1", r.returncode, 1)
     d = json.loads(r.stdout) if r.returncode == 1 else {}
     f = d.get("first") or {}
@@ -29,8 +29,8 @@ def test_capture_report_and_exit(procs, bins, tmp_path):
     c.eq("  ... the first divergence: D1 of arm 1 axis 1 at tick 114",
          (f.get("field"), f.get("arm"), f.get("axis"), f.get("tick")), ("d1", 1, 1, 114))
     out = tmp_path / "report.json"
-    r = procs.run([bins.server, "--capture", FX + "mode4.pcap", "--sine", "0.3,1,0.5", "--json", out])
-    c.eq("--json FILE: exit 1", r.returncode, 1)
+    r = procs.run([bins.server, "--capture", FX + "mode4.pcap", "--sine", "0.3,1,0.5", "--json-out", out])
+    c.eq("--json-out FILE: exit 1", r.returncode, 1)
     c.has("  ... the text report on stdout", r.stdout, r"^verdict: 250 of 403 replies diverge")
     c.eq("  ... the JSON report in the file", json.loads(out.read_text()).get("divergent") if out.exists() else None,
          250)
@@ -55,7 +55,7 @@ def test_rerun_is_the_same_report(procs, bins):
          [l for l in b.stdout.split("\n") if not l.startswith(head)])
     c.has("rerun's first line names only the options after --", b.stdout,
           r"^fixtures/replay/two-arms\.pcap: behaviour server, c4g-server options: --sine 0\.3,1,0\.5$")
-    a = procs.run([bins.server, "--capture", FX + "two-controllers.pcap", "--session", "2", "--json", "-"])
+    a = procs.run([bins.server, "--capture", FX + "two-controllers.pcap", "--session", "2", "--json"])
     b = procs.run([bins.replay, "rerun", "--json", "--session", "2", FX + "two-controllers.pcap"])
     ja, jb = json.loads(a.stdout or "{}"), json.loads(b.stdout or "{}")
     for k in ("tool", "server_options"):

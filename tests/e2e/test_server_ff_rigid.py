@@ -20,8 +20,8 @@ def session(bins, port, out, name, scn, *srv_opts):
     err = out / (name + ".srv.err")
     js = out / (name + ".json")
     with open(err, "w") as e:
-        srv = subprocess.Popen([str(bins.server), "-p", str(port), "-c", "127.0.0.1", "--idle-timeout", "5",
-                                "--max-seconds", "60", "--json", str(js)] + [str(o) for o in srv_opts],
+        srv = subprocess.Popen([str(bins.server), "-p", str(port), "--controller", "127.0.0.1", "--idle-timeout", "5",
+                                "--max-seconds", "60", "--json-out", str(js)] + [str(o) for o in srv_opts],
                                stdout=subprocess.DEVNULL, stderr=e)
     try:
         end = time.monotonic() + 5

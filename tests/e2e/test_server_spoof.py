@@ -146,7 +146,7 @@ def test_c_504_in_mode_9(srv, netns):
 def test_d_contended_start(srv):
     # -c any: a forged sync from 127.0.0.2 before the controller's first
     port = srv.ports.udp()
-    h = srv.start_server("cont", port, "-c", "any", "--lost-timeout-ms", 1000)
+    h = srv.start_server("cont", port, "--controller", "any", "--lost-timeout-ms", 1000)
     a = attacker(srv.procs, "cont.atk", port, "sync", "--src", "127.0.0.2", "--listen-s", 0.3)
     a.wait(60)
     r = Run("cont")

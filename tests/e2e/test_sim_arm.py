@@ -71,7 +71,7 @@ def test_arm_server_modes(srv, m, want, args):
 REFUSED = [
     (["--payload", "5"], "c4g-sim: --payload, --ctrl-payload, --ctrl-error and the INI [plant] keys apply to "
      "the arm plant: give --plant FILE (or [plant] file)"),
-    (ARM + ["--axes", "5"], "c4g-sim: fixtures/sim/smart-six.xml: the arm plant moves axes 1..6 of arm 1: axis 6 "
+    (ARM + ["--open-axes", "5"], "c4g-sim: fixtures/sim/smart-six.xml: the arm plant moves axes 1..6 of arm 1: axis 6 "
      "is not open"),
     (["--plant", "fixtures/sim/no-such.xml"], "c4g-sim: fixtures/sim/no-such.xml: XML parse error 3: "
      "Error=XML_ERROR_FILE_NOT_FOUND"),

@@ -23,7 +23,7 @@ def test_help_and_version(procs, bins):
 BAD = [
     ("unknown option", "unrecognized", {}, ["--frobnicate"]),
     ("period 3", "period", {}, ["-T", "3"]),
-    ("21 axes", "ERR_C4GOPEN", {}, ["--axes", "10,10,1"]),
+    ("21 axes", "ERR_C4GOPEN", {}, ["--open-axes", "10,10,1"]),
     ("bad policy", "num-policy", {}, ["--num-policy", "sometimes"]),
     ("scenario bad number", r"a\.scn:2:10: MOVE: target 2 \[turns\]: 'x' is not a decimal number",
      {"a.scn": b"DRIVE ON 1\nMOVE 1 1 x 3\n"}, ["-S", "{T}/a.scn"]),

@@ -36,7 +36,7 @@ def test_execstart_options_accepted(procs, bins, ports, tmp_path):
     line = next(l for l in UNIT.read_text().splitlines()
                 if l.startswith("ExecStart=/usr/local/bin/c4g-server "))
     args = line[len("ExecStart=/usr/local/bin/c4g-server "):]
-    args = re.sub(r"^-c [0-9.]*", "-c 127.0.0.1", args)
+    args = re.sub(r"^--controller [0-9.]*", "--controller 127.0.0.1", args)
     args = args.replace("/var/lib/c4g-server", str(tmp_path)).replace("/var/log/c4g-server", str(tmp_path))
     args = args.replace(" --rt-strict", "")
     r = procs.run([bins.server] + args.split() + ["-p", ports.udp(), "--idle-timeout", "0.3"], timeout=20)

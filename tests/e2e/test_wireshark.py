@@ -983,7 +983,7 @@ def test_crafted(tmp_path):
 def test_two_arm_capture(bins, procs, ports, tmp_path):
     """a fresh capture: two arms, 1 ms period; the simulator records both directions"""
     port = ports.udp()
-    srv = procs.start([bins.server, "-p", port, "-c", "127.0.0.1", "--max-seconds", "30", "--lost-timeout-ms", "2000"],
+    srv = procs.start([bins.server, "-p", port, "--controller", "127.0.0.1", "--max-seconds", "30", "--lost-timeout-ms", "2000"],
                       name="server")
     wait_until(lambda: "listening on" in srv.out() or not srv.running(), 30, "c4g-server listening")
     pcap = tmp_path / "two.pcap"

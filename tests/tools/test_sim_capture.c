@@ -153,7 +153,7 @@ static json_int_t jint(json_t *o, const char *a, const char *b)
     return json_integer_value(v);
 }
 
-static void test_capture_plays_to_a_silent_server(void **state)
+static void test_capture_stops_at_a_silent_server(void **state)
 {
     silent_pc_t pc;
     pthread_t th;
@@ -184,18 +184,21 @@ static void test_capture_plays_to_a_silent_server(void **state)
     j = json_load_file(out_path, 0, &je);
     (void)unlink(out_path);
     assert_non_null(j);
-    assert_int_equal(rc, EXIT_RUNTIME); /* every checked reply missing: findings */
+    /* nothing came back from the PC's address: the player stops after CAP_DEAD_PACKETS */
+    assert_int_equal(rc, EXIT_NO_ANSWER);
     assert_string_equal(json_string_value(json_object_get(j, "tool")), "c4g-sim");
     assert_string_equal(json_string_value(json_object_get(j, "command")), "capture");
-    assert_string_equal(json_string_value(json_object_get(j, "result")), "findings");
-    /* every controller packet of the session, with its recorded bytes, to the PC's address */
-    assert_int_equal(jint(j, "packets", "sent"), 171);
-    assert_int_equal(jint(j, "packets", "cyclic"), 171 - 12);
-    assert_int_equal(pc.got, 171U);
-    /* the 504 is not checked; a host that stalls the player turns missing into unjudged */
-    assert_int_equal(jint(j, "replies", "missing") + jint(j, "replies", "unjudged"), 170);
+    assert_string_equal(json_string_value(json_object_get(j, "result")), "no-answer");
+    /* the session's first controller packets, with their recorded bytes, to the PC's address */
+    assert_int_equal(jint(j, "packets", "sent"), CAP_DEAD_PACKETS);
+    assert_int_equal(jint(j, "packets", "cyclic"), 0);
+    assert_int_equal(jint(j, "passes_done", NULL), 0);
+    assert_int_equal(pc.got, CAP_DEAD_PACKETS);
+    /* each was judged before the stop; a host that stalls the player turns missing into unjudged */
+    assert_int_equal(jint(j, "replies", "missing") + jint(j, "replies", "unjudged"), CAP_DEAD_PACKETS);
     assert_int_equal(jint(j, "replies", "ok"), 0);
-    /* c4g-sim's filter: datagrams from another address are counted, never judged */
+    /* c4g-sim's filter: datagrams from another address are counted, never judged, and are
+     * not an answer */
     assert_int_equal(pc.foreign_sent, 2);
     assert_int_equal(jint(j, "replies", "foreign"), 2);
     assert_int_equal(jint(j, "replies", "wrong_num"), 0);
@@ -209,7 +212,7 @@ int main(void)
         cmocka_unit_test(test_capture_refuses_model_options),
         cmocka_unit_test(test_capture_options_need_capture),
         cmocka_unit_test(test_capture_refusals),
-        cmocka_unit_test(test_capture_plays_to_a_silent_server),
+        cmocka_unit_test(test_capture_stops_at_a_silent_server),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -206,8 +206,9 @@ static const char live_epilogue[] =
     "504 also needs --loop-gap longer than the server's loss timeout). c4g-sim --capture plays\n"
     "it: c4g-sim is looked for beside c4g-replay, then on PATH.\n"
     "Exit status: 0 every reply ok and equal to the recorded one, 1 findings or divergences\n"
-    "(or a socket error, or interrupted, or c4g-sim not found), 2 bad usage, an unreadable\n"
-    "file or a session without its start-up.\n";
+    "(or a socket error, or c4g-sim not found), 130 interrupted (SIGINT), 2 bad usage, an unreadable\n"
+    "file or a session without its start-up, 5 nothing answered (the first 10 packets of a\n"
+    "pass got nothing back: live stops there).\n";
 
 int rp_cmd_live(int argc, char **argv)
 {

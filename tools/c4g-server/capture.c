@@ -828,7 +828,7 @@ int srv_capture_run(srv_cap_t *C, const srv_config_t *cfg)
     return C->read_rc;
 }
 
-/* The report: text on stdout, JSON on stdout (--json -) or into a file besides. 0, or -1. */
+/* The report: text on stdout, JSON on stdout (--json, --json-out -) or into a file besides. 0, or -1. */
 static int report(const srv_cap_t *C, const srv_config_t *cfg)
 {
     const char *json = cfg->json_path;

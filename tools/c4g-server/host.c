@@ -24,9 +24,11 @@ void srv_endpoint(uint32_t ip, uint16_t port, c4g_endpoint_t *e)
     e->port = port;
 }
 
-int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, size_t size, uint64_t t)
+int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, const uint8_t *buf, size_t len,
+                size_t size, uint64_t t)
 {
     srv_t *S = &H->s;
+    c4g_peek_t pk;
     if (H->ctrl.sin_addr.s_addr == 0U ||
         (from->addr_len == 4U && memcmp(from->addr, &H->ctrl.sin_addr.s_addr, 4U) == 0)) {
         return 0;
@@ -36,6 +38,17 @@ int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, size_t size, uint64_t
         srv_log(S, t, "dropped %zu-byte datagram from foreign source %u.%u.%u.%u:%u", size,
                 (unsigned)from->addr[0], (unsigned)from->addr[1], (unsigned)from->addr[2],
                 (unsigned)from->addr[3], (unsigned)from->port);
+    }
+    /* A controller's start-up from another address while nothing came from -c's: most
+     * likely -c names the wrong host. Said once; the datagrams stay dropped. */
+    if (!H->ctrl_hinted && srv_counters(S)->rx == 0U && S->done.rx == 0U &&
+        c4g_peek(buf, len, true, &pk) == C4G_OK && pk.kind != C4G_PKT_FOREIGN) {
+        H->ctrl_hinted = 1;
+        (void)snprintf(H->ctrl_seen, sizeof H->ctrl_seen, "%u.%u.%u.%u:%u",
+                       (unsigned)from->addr[0], (unsigned)from->addr[1],
+                       (unsigned)from->addr[2], (unsigned)from->addr[3], (unsigned)from->port);
+        srv_log(S, t, "the controller's packets come from %s: is that your controller? "
+                "(--controller gives %s)", H->ctrl_seen, S->cfg.ctrl_addr);
     }
     return 1;
 }
@@ -106,7 +119,7 @@ static void drain(srv_host_t *H, const srv_source_t *src, srv_dgram_t *d)
     o.cap = sizeof other;
     while (k_guard++ < 100000U && src->queued(src->ctx, &o) == SRV_SRC_HAVE) {
         const uint64_t t = src->now(src->ctx);
-        if (srv_foreign(H, &o.from, o.size, t)) {
+        if (srv_foreign(H, &o.from, o.buf, o.len, o.size, t)) {
             n_foreign++;
             dropped(src, &o);
             continue;
@@ -169,7 +182,7 @@ static int receive(srv_host_t *H, const srv_source_t *src, uint64_t start, srv_d
     case SRV_SRC_END: return SRV_SOURCE_END;
     default: return SRV_NEXT; /* the deadline, a signal: checked above on the next call */
     }
-    if (srv_foreign(H, &d->from, d->size, d->t_rx)) {
+    if (srv_foreign(H, &d->from, d->buf, d->len, d->size, d->t_rx)) {
         dropped(src, d);
         return SRV_NEXT;
     }

@@ -15,6 +15,7 @@
 #define _GNU_SOURCE /* ppoll: the wait that unblocks SIGINT/SIGTERM atomically */
 #include "srv.h"
 #include "srv_capture.h"
+#include "c4gh_cli.h"
 #include "c4gh_pcap.h"
 #include "c4gh_udp.h"
 
@@ -467,7 +468,11 @@ static int finish(srv_host_t *H, int code)
     case EXIT_LOST: why = "controller lost (no packet within the loss timeout)"; break;
     case EXIT_TIMEOUT: why = (srv_counters(S)->rx == 0U) ? "idle timeout: no controller"
                                                                  : "--max-seconds reached"; break;
-    case EXIT_SIGNAL: why = "stopped by a signal"; break;
+    case EXIT_SIGNAL:
+        /* SIGTERM is how a service manager stops the server: a normal end */
+        why = (g_stop == SIGTERM) ? "stopped by SIGTERM" : "stopped by SIGINT";
+        code = (g_stop == SIGTERM) ? 0 : C4GH_CLI_EXIT_SIGINT;
+        break;
     default: why = "?"; break;
     }
     if (!S->cfg.quiet) {

@@ -27,7 +27,7 @@ int srv_outputs_open(srv_host_t *H)
     H->pcap = NULL;
     H->moni_fp = NULL;
     /* the JSON summary is written at exit: its place is checked now, before the session */
-    if (S->cfg.json_path[0] != '\0' && c4gh_cli_check_output("c4g-server", "--json", S->cfg.json_path) != 0) {
+    if (S->cfg.json_path[0] != '\0' && c4gh_cli_check_output("c4g-server", "--json-out", S->cfg.json_path) != 0) {
         return -1;
     }
     if (S->cfg.log_path[0] != '\0') {
@@ -185,6 +185,31 @@ static void counters_total(const srv_t *S, c4g_counters_t *tot)
     srv_counters_add(tot, srv_counters(S));
 }
 
+/* No session started (no initialization or cyclic packet accepted): what was seen instead,
+ * in one line, rather than a report of zeros. */
+static void report_none(const srv_host_t *H, FILE *out, const c4g_counters_t *c)
+{
+    const srv_t *S = &H->s;
+    const srv_stats_t *st = &S->stats;
+    fprintf(out, "c4g-server: no session started: ");
+    if (st->foreign > 0U && c->rx == 0U) {
+        fprintf(out, "%llu datagrams came from other addresses than the controller's "
+                "(--controller %s)%s%s\n", (unsigned long long)st->foreign, S->cfg.ctrl_addr,
+                H->ctrl_hinted ? "; the controller's packets came from " : "",
+                H->ctrl_hinted ? H->ctrl_seen : "");
+    } else if (c->rx == 0U) {
+        fprintf(out, "no datagram came to %s:%u (is the controller, or c4g-sim, sending to "
+                "this address and port?)\n", S->cfg.bind_addr, S->cfg.port);
+    } else {
+        fprintf(out, "%llu datagrams, none an initialization packet accepted (sync %llu, "
+                "malformed %llu, other endpoints %llu, refused %llu)\n",
+                (unsigned long long)c->rx, (unsigned long long)c->sync,
+                (unsigned long long)c->malformed_total, (unsigned long long)c->foreign_total,
+                (unsigned long long)c->refused);
+    }
+    fflush(out);
+}
+
 void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
 {
     const srv_t *S = &H->s;
@@ -197,6 +222,10 @@ void srv_report(srv_host_t *H, FILE *out, const char *why, int code)
     counters_total(S, &tot);
     (void)c4g_loop_timing(&S->loop, &t);
     fprintf(out, "c4g-server: session ended: %s (exit code %d)\n", why, code);
+    if (c->init == 0U && c->cyclic == 0U) {
+        report_none(H, out, c);
+        return;
+    }
     fprintf(out, "== Timing (manual chapter 22, PC point of view)\n");
     fprintf(out, "Nominal Inter-Packets Period = %.9f s\n", (double)t.nominal_period_ns * 1e-9);
     fprintf(out, "Worst cycle time = %.9f s\n", (double)t.worst_cycle_ns * 1e-9);
@@ -388,7 +417,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
     json_t *o;
     int rc;
     if (fp == NULL) {
-        c4gh_cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json-out", path, errno);
         return -1;
     }
     o = json_object();
@@ -414,7 +443,7 @@ int srv_json(srv_host_t *H, const char *path, const char *why, int code)
         fflush(fp);
     }
     if (rc != 0) {
-        c4gh_cli_file_error("c4g-server", "--json", path, errno);
+        c4gh_cli_file_error("c4g-server", "--json-out", path, errno);
         return -1;
     }
     return 0;

@@ -21,7 +21,7 @@ enum {
     EXIT_USAGE = 2,      /* bad option, INI, trajectory or parameter file */
     EXIT_LOST = 3,       /* controller silent longer than the loss timeout */
     EXIT_TIMEOUT = 4,    /* --idle-timeout or --max-seconds reached */
-    EXIT_SIGNAL = 5      /* SIGINT / SIGTERM */
+    EXIT_SIGNAL = 5      /* SIGINT / SIGTERM: main.c exits 130 / 0 (docs/cli.md) */
 };
 
 /* Log record kinds carried by the rtlog ring. */
@@ -44,6 +44,8 @@ typedef struct srv_host {
     uint64_t kstamp_off;          /* CLOCK_REALTIME - CLOCK_MONOTONIC */
     uint32_t tx_key;              /* the kernel's id of the next send stamp */
     volatile sig_atomic_t *stop;  /* set by a signal handler (NULL: none) */
+    int ctrl_hinted;              /* "is that your controller?" was said */
+    char ctrl_seen[24];           /* and the address:port it named */
 } srv_host_t;
 
 /* ---- datagram sources: the core does not know where its datagrams come from. The UDP
@@ -91,9 +93,11 @@ typedef struct srv_source {
 
 /* host.c: the endpoint of IPv4 address @p ip (host order) and @p port */
 void srv_endpoint(uint32_t ip, uint16_t port, c4g_endpoint_t *e);
-/* The controller-address filter (-c): 1 when @p from is another address than H->ctrl's (then
- * counted and logged), 0 when it passes (H->ctrl.sin_addr 0: every address passes). */
-int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, size_t size, uint64_t t);
+/* The controller-address filter (--controller): 1 when @p from is another address than
+ * H->ctrl's (then counted and logged; @p buf, @p len: what came, for the wrong-address hint),
+ * 0 when it passes (H->ctrl.sin_addr 0: every address passes). */
+int srv_foreign(srv_host_t *H, const c4g_endpoint_t *from, const uint8_t *buf, size_t len,
+                size_t size, uint64_t t);
 /* Run the core over @p src until it stops: the exit code (EXIT_END, EXIT_LOST, EXIT_TIMEOUT,
  * EXIT_SIGNAL), or SRV_SOURCE_END. Per datagram: the address filter, after active freezing
  * the drain (only the newest of the controller's queued datagrams is answered), the core,

@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Strict numbers (lib/host/c4gh_textfile.h); on failure why says what was wrong. */
 static int num(const char *s, double lo, double hi, double *out, char *why, size_t whylen)
@@ -190,6 +191,30 @@ static int set_rt(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *why,
             c->prio = 80;
         }
     }
+    return 0;
+}
+
+/* --json / -j: the JSON summary on stdout (--json-out -). In an INI file "json = FILE" is the
+ * old spelling of json-out (until 3.0): a value that is no flag word is taken as the file. */
+static int set_json(srv_config_t *c, srv_arm_cfg_t *A, const char *val, char *why, size_t whylen)
+{
+    (void)A;
+    if (strcmp(val, "1") == 0 || strcmp(val, "true") == 0 || strcmp(val, "yes") == 0 ||
+        strcmp(val, "on") == 0) {
+        strcpy(c->json_path, "-");
+        return 0;
+    }
+    if (strcmp(val, "0") == 0 || strcmp(val, "false") == 0 || strcmp(val, "no") == 0 ||
+        strcmp(val, "off") == 0) {
+        return 0;
+    }
+    if (val[0] == '\0' || strlen(val) >= sizeof c->json_path) {
+        snprintf(why, whylen, "want a flag word, or (old spelling of json-out) a file path");
+        return -1;
+    }
+    fprintf(stderr, "c4g-server: note: json = %s: the summary's file is json-out now (json is "
+            "the flag for stdout, as in every tool); taken as json-out until 3.0\n", val);
+    strcpy(c->json_path, val);
     return 0;
 }
 
@@ -479,6 +504,7 @@ static int set_behaviour(srv_config_t *c, srv_arm_cfg_t *A, const char *val, cha
 }
 
 #define NL "\n                               " /* a --help continuation line */
+#define SRV_MAX_ARGS 4096 /* command-line words c4g-server reads */
 #define G(m) offsetof(srv_config_t, m), sizeof(((srv_config_t *)0)->m)
 #define P(m) offsetof(srv_arm_cfg_t, m), sizeof(((srv_arm_cfg_t *)0)->m)
 #define NONE 0, 0
@@ -489,7 +515,7 @@ static const srv_setting_t settings[] = {
      "UDP port to bind (default 1000)"},
     {"bind", 'b', "ADDR", SW_BOTH, SK_STR, 0, 0, G(bind_addr), NULL, "an IPv4 address",
      "local address (default 0.0.0.0)"},
-    {"controller", 'c', "ADDR", SW_BOTH, SK_STR, 0, 0, G(ctrl_addr), NULL,
+    {"controller", 0, "ADDR", SW_BOTH, SK_STR, 0, 0, G(ctrl_addr), NULL,
      "an IPv4 address or 'any'",
      "accept packets only from ADDR (default 10.2.12.150, the" NL
      "manual's SMP+ address); 'any' accepts every source." NL
@@ -517,7 +543,7 @@ static const srv_setting_t settings[] = {
      "stop after S s in total (default: no limit)"},
     {"persist", 0, NULL, SW_BOTH, SK_FLAG, 0, 0, G(persist), NULL, FLAG_WANT,
      "keep serving after 504 or a lost controller"},
-    {"config", 0, "FILE", SW_CLI, SK_CONFIG, 0, 0, NONE, NULL, "an INI file",
+    {"config", 'c', "FILE", SW_CLI, SK_CONFIG, 0, 0, NONE, NULL, "an INI file",
      "INI file: [server] [rt] [output] [test] sections take the" NL
      "long option names as keys, [arm1]..[arm4] the per-arm ones"},
     /* real time */
@@ -596,8 +622,10 @@ static const srv_setting_t settings[] = {
     {"moni-type", 0, "N", SW_BOTH, SK_CALL, 0, 0, NONE, set_moni_type,
      "0 (full rows) or a manual moni type 19..24",
      "0 = full rx/tx rows (default), 19..24 = the manual's types"},
-    {"json", 0, "FILE", SW_BOTH | SW_REP, SK_PATH, 0, 0, G(json_path), NULL,
-     "a file path (under 512 bytes)", "JSON summary at exit ('-' = stdout)"},
+    {"json-out", 0, "FILE", SW_BOTH | SW_REP, SK_PATH, 0, 0, G(json_path), NULL,
+     "a file path (under 512 bytes)", "JSON summary at exit into FILE ('-' = stdout)"},
+    {"json", 'j', NULL, SW_BOTH | SW_REP, SK_CALL, 0, 0, NONE, set_json, FLAG_WANT,
+     "JSON summary at exit on stdout (--json-out -)"},
     {"log", 0, "FILE", SW_BOTH, SK_PATH, 0, 0, G(log_path), NULL,
      "a file path (under 512 bytes)", "log lines (default stderr)"},
     {"verbose", 'v', NULL, SW_BOTH, SK_FLAG, 0, 0, G(verbose), NULL, FLAG_WANT,
@@ -620,7 +648,7 @@ static const srv_setting_t settings[] = {
      "a pcap or pcapng file (under 4096 bytes)",
      "no socket: the controller packets of a capture at top" NL
      "speed with their recorded times; every reply compared" NL
-     "with the recorded one (--json FILE: the report as JSON)"},
+     "with the recorded one (--json: the report as JSON)"},
     {"session", 0, "N", SW_CLI | SW_CAP, SK_UINT, 1, SRV_CAPTURE_MAX_SESSIONS, G(cap.session), NULL,
      "a session number 1..64", "--capture: only session N (default: every session of" NL
      "the first controller in the file)"},
@@ -769,11 +797,35 @@ typedef struct srv_cli {
     int pass; /* 1: only --config (the files first), 2: every other option */
 } srv_cli_t;
 
+/* -c was --controller ADDR before 2.0 and is --config FILE now, as in every tool. A value of
+ * digits and dots (or "any") that names no file is the old spelling: taken as the address
+ * until 3.0, with a note (a wrong address is refused as --controller refuses it). 1 when it
+ * was (*bad: 0, or -1 with why), 0 for a file. */
+static int old_controller(srv_config_t *c, const char *value, char *why, size_t whylen, int *bad)
+{
+    const srv_setting_t *row = find_setting("controller", SW_CLI);
+    char err[300];
+    *bad = 0;
+    if ((strcmp(value, "any") != 0 && (value[0] == '\0' || strspn(value, "0123456789.") != strlen(value))) ||
+        access(value, F_OK) == 0 || row == NULL) {
+        return 0;
+    }
+    fprintf(stderr, "c4g-server: note: -c/--config %s: the controller's address is --controller "
+            "%s now (-c is --config FILE in every tool); taken as --controller until 3.0\n",
+            value, value);
+    if (apply_arms(c, row, -1, value, err, sizeof err) != 0) {
+        snprintf(why, whylen, "want %s", row->want);
+        *bad = -1;
+    }
+    return 1;
+}
+
 static int on_cli(void *ctx, const c4gh_cli_opt_t *o, const char *value, char *why, size_t whylen)
 {
     srv_cli_t *x = ctx;
     const srv_setting_t *row = &settings[o->key];
     char err[600];
+    int bad = 0;
     if ((row->kind == SK_CONFIG) != (x->pass == 1)) {
         return 0; /* the other pass's option */
     }
@@ -788,6 +840,9 @@ static int on_cli(void *ctx, const c4gh_cli_opt_t *o, const char *value, char *w
         return 0;
     }
     if (row->kind == SK_CONFIG) {
+        if (old_controller(x->c, value, why, whylen, &bad)) {
+            return bad;
+        }
         if (srv_config_load_ini(x->c, value, err, sizeof err) != 0) {
             snprintf(why, whylen, "%s", err);
             return -1;
@@ -831,14 +886,14 @@ static const char epilogue[] =
     "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
     "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
     "2 bad option or input file, 3 controller lost, 4\n"
-    "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
-    "--persist). The chapter 22 timing report, the counters and the safety events are\n"
+    "--idle-timeout / --max-seconds reached, 130 stopped by SIGINT, 0 by SIGTERM (also\n"
+    "with --persist). The chapter 22 timing report, the counters and the safety events are\n"
     "printed at every exit that follows a session (with --persist the counters add up\n"
     "every session since the start, the timing lines are the last session's).\n";
 
 static const char *const examples[] = {
     "c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150",
-    "c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim",
+    "c4g-server -p 31000 --controller 127.0.0.1 --json     # loopback against c4g-sim",
     "c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1",
     "c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv",
     "c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward",
@@ -852,18 +907,18 @@ static const char epilogue_all[] =
     "Exit codes: 0 ended by 504, 1 setup failure before the session (socket, bind, an\n"
     "output file that cannot be written, thread, refused RT setting with --rt-strict),\n"
     "2 bad option or input file, 3 controller lost, 4\n"
-    "--idle-timeout / --max-seconds reached, 5 stopped by SIGINT/SIGTERM (also with\n"
-    "--persist). The chapter 22 timing report, the counters and the safety events are\n"
+    "--idle-timeout / --max-seconds reached, 130 stopped by SIGINT, 0 by SIGTERM (also\n"
+    "with --persist). The chapter 22 timing report, the counters and the safety events are\n"
     "printed at every exit that follows a session (with --persist the counters add up\n"
     "every session since the start, the timing lines are the last session's).\n"
     "With --capture FILE: no socket; one server per run of the recorded controller (a new\n"
     "one where the recorded server would have stopped); socket, real-time and output\n"
-    "options other than --json have no effect. Exit codes then: 0 every reply produced\n"
+    "options other than --json(-out) have no effect. Exit codes then: 0 every reply produced\n"
     "equals the recorded one, 1 some diverge, 2 bad usage or an unreadable capture.\n";
 
 static const char *const examples_all[] = {
     "c4g-server --rt --cpu 1                          # lab: port 1000, SMP+ 10.2.12.150",
-    "c4g-server -p 31000 -c 127.0.0.1 --json -        # loopback against c4g-sim",
+    "c4g-server -p 31000 --controller 127.0.0.1 --json     # loopback against c4g-sim",
     "c4g-server --arm 1 --axes 1,2 --sine 0.2,0.5,2   # mode 4/5 sine on axes 1-2 of arm 1",
     "c4g-server --traj fixtures/server/traj_example.csv --pcap run.pcap --moni run.csv",
     "c4g-server --ff fixtures/server/ff_example.txt --duration 5   # mode 9 feedforward",
@@ -872,10 +927,46 @@ static const char *const examples_all[] = {
     "c4g-server --capture fixtures/replay/mode4.pcap --sine 0.25,1,0.5   # a capture, diffed",
     NULL};
 
+/* --json FILE and --json=FILE were the summary's file before 2.0; --json is the flag of every
+ * tool now and the file is --json-out. c4g-server takes no operands, so a word after --json
+ * that is not an option (or is "-") can only be the old FILE: rewritten to --json-out, with a
+ * note, until 3.0. @p out holds argc + 1 pointers; @p eq is the "--json-out=FILE" text. */
+static void old_json(int argc, char **argv, char **out, char *eq, size_t eqcap)
+{
+    int i, noted = 0;
+    static char json_out[] = "--json-out";
+    for (i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        out[i] = argv[i];
+        if (strcmp(a, "--") == 0) {
+            for (i++; i < argc; i++) {
+                out[i] = argv[i];
+            }
+            break;
+        }
+        if (strncmp(a, "--json=", 7U) == 0 && strlen(a) + 4U < eqcap) {
+            (void)snprintf(eq, eqcap, "--json-out=%s", a + 7);
+            out[i] = eq;
+        } else if (strcmp(a, "--json") == 0 && i + 1 < argc &&
+                   (argv[i + 1][0] != '-' || strcmp(argv[i + 1], "-") == 0)) {
+            out[i] = json_out;
+        } else {
+            continue;
+        }
+        if (!noted++) {
+            fprintf(stderr, "c4g-server: note: --json FILE is --json-out FILE now (--json alone is "
+                    "the JSON summary on stdout, as in every tool); taken as --json-out until 3.0\n");
+        }
+    }
+    out[argc] = NULL;
+}
+
 c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *version_extra,
                                  srv_cli_rows_t which, int argc, char **argv)
 {
     static c4gh_cli_opt_t rows[N_SETTINGS];
+    static char *args[SRV_MAX_ARGS + 1];
+    static char eq[600];
     c4gh_cli_spec_t spec;
     srv_cli_t x;
     size_t i, n = 0U;
@@ -907,6 +998,12 @@ c4gh_cli_result_t srv_config_cli(srv_config_t *c, const char *tool, const char *
     spec.operands_max = 0;
     x.c = c;
     x.arm = -1;
+    if (argc < 0 || argc >= SRV_MAX_ARGS) {
+        fprintf(stderr, "%s: more than %d arguments\n", tool, SRV_MAX_ARGS - 1);
+        return C4GH_CLI_BAD;
+    }
+    old_json(argc, argv, args, eq, sizeof eq);
+    argv = args;
     /* the files first, then the command line over them, wherever --config stands in it (as
      * the other tools do: docs/cli.md) */
     x.pass = 1;

@@ -23,6 +23,7 @@
 #define EXIT_USAGE 2
 #define EXIT_EXPECT 3
 #define EXIT_OUTPUT 4
+#define EXIT_NO_ANSWER 5 /* --capture: nothing answered at the server's address */
 
 #define MAX_PENDING 8
 #define MAX_DGRAM 2048
@@ -142,6 +143,10 @@ int outputs_open(app_t *a);
 void outputs_close(app_t *a);
 void csv_row(app_t *a, const c4g_ctrl_packet_t *p, const c4g_pc_packet_t *rep, int sent);
 void summary(const app_t *a, int code, const char *result, double cpu_s);
+/* 1 when no reply was ever accepted (no session started), @p why then says what was seen
+ * of the PC at @p server:@p port; 0 otherwise. capture.c says the same of a played capture. */
+int no_session(const c4g_ctrl_counters_t *n, const char *server, unsigned port, char *why,
+               size_t cap);
 double cpu_seconds(void);
 
 #endif

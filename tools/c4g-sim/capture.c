@@ -8,6 +8,8 @@
  * c4g-sim's (net.c, handle_rx); the judgement is the library's controller end (c4g_ctrl_*). */
 #include "capture.h"
 
+#include "c4gh_cli.h"
+
 #include "c4gh_udp.h"
 
 #include <errno.h>
@@ -24,8 +26,7 @@
 
 static void cap_on_signal(int sig)
 {
-    (void)sig;
-    g_stop = 1;
+    g_stop = sig;
 }
 
 /* ---- the first reading: which session, and can it be played ------------------ */
@@ -397,6 +398,15 @@ static void cap_send(cap_t *C, const c4gh_an_exchange_t *x, uint64_t sched)
     }
 }
 
+/* This pass sent CAP_DEAD_PACKETS packets, all judged, and the target sent nothing back
+ * (the counters are the pass's: c4g_ctrl_init at its start). */
+static int nothing_answered(const cap_t *C)
+{
+    const c4g_ctrl_counters_t *n = &C->app->cs.n;
+    return n->sync_sent + n->init_sent + n->cyclic_sent >= CAP_DEAD_PACKETS &&
+           n->rx_total == n->foreign && !C->pend.active;
+}
+
 static void on_play(void *ctx, const c4gh_an_exchange_t *x)
 {
     cap_t *C = ctx;
@@ -423,6 +433,12 @@ static void on_play(void *ctx, const c4gh_an_exchange_t *x)
         wait_until(C, sched);
     }
     if (g_stop) {
+        return;
+    }
+    if (nothing_answered(C)) {
+        C->dead = 1;
+        C->dead_ns = c4gh_now_ns() - C->origin_ns;
+        C->pass_done = 1;
         return;
     }
     if (!C->o.topspeed && sched > c4gh_now_ns()) {
@@ -467,7 +483,7 @@ static int play_pass(cap_t *C)
         c4gh_an_free(&a);
         return -1;
     }
-    while (!g_stop && !ended) {
+    while (!g_stop && !ended && !C->dead) {
         const c4gh_cap_res_t r = c4gh_cap_next(c, &p, err, sizeof err);
         if (r == C4GH_CAP_END || r == C4GH_CAP_FATAL) {
             break;
@@ -479,10 +495,10 @@ static int play_pass(cap_t *C)
             ended = p.frame >= sc->stop_frame;
         }
     }
-    if (!g_stop) {
+    if (!g_stop && !C->dead) {
         c4gh_an_file_end(&a, C->o.path);
     }
-    if (C->pend.active && !g_stop) {
+    if (C->pend.active && !g_stop && !C->dead) {
         const uint64_t settle = C->pend.sent_ns + C->period_ns;
         if (C->o.topspeed) {
             close_pending(C, 0U, C->pend.rec_ns + (int64_t)C->period_ns);
@@ -563,6 +579,10 @@ static void play(cap_t *C)
             break;
         }
         add_counters(&C->n, &C->app->cs.n);
+        if (C->dead) {
+            C->dead_pass = C->pass;
+            break;
+        }
         if (!g_stop) {
             C->passes_done++;
         }
@@ -726,10 +746,23 @@ static int cap_run(cap_t *C, app_t *a)
     play(C);
     outputs_close(a);
     close(a->fd);
+    if (C->dead) {
+        /* an error, not a figure of the report: said on stderr, even with --quiet */
+        fprintf(stderr, "%s: %s: nothing answered on %s (is c4g-server running there?): "
+                "stopped after %u packets (%.3f s) of pass %u without a datagram back\n",
+                C->tool, C->cmd, C->to_text, CAP_DEAD_PACKETS, (double)C->dead_ns * 1e-9,
+                C->dead_pass);
+    }
     if (a->o.json) {
         cap_report_json(stdout, C);
     } else if (!a->o.quiet) {
         cap_report_text(stdout, C);
+    }
+    if (C->interrupted) {
+        return (g_stop == SIGTERM) ? C4GH_CLI_EXIT_SIGTERM : C4GH_CLI_EXIT_SIGINT;
+    }
+    if (C->dead) {
+        return EXIT_NO_ANSWER;
     }
     return cap_findings(C) ? EXIT_RUNTIME : (a->out_error ? EXIT_OUTPUT : EXIT_OK);
 }

@@ -11,6 +11,11 @@ s * the library's controller end (c4g_ctrl_*) as the model's are, and each reply
 #include "app.h"
 #include "c4gh_analyze.h"
 
+/* A pass stops when its first packets, this many and each judged (its window closed), got
+ * nothing at all back from the target: nothing listens there, and the rest of the capture
+ * would only count missing replies. The controller itself gives up at 10 in a row. */
+#define CAP_DEAD_PACKETS 10U
+
 /* Fields a reply is compared on: the names the report prints. */
 #define CAP_FIELDS(X)                                                                       \
     X(REPLY, "reply") /* the recorded PC did not answer (or not validly) */                 \
@@ -95,6 +100,9 @@ typedef struct cap {
     unsigned passes_done;
     int interrupted;
     int read_failed;          /* a pass could not read the file again */
+    int dead;                 /* nothing answered: the run stopped (CAP_DEAD_PACKETS) */
+    unsigned dead_pass;       /* in this pass */
+    uint64_t dead_ns;         /* this long after the pass started */
     uint64_t sent, sent_kind[3], send_errors;
     char send_error[120];
     c4gh_hist_t err;          /* send time minus schedule */

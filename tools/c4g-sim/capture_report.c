@@ -58,11 +58,24 @@ static const char *kind_name(c4g_pkt_kind_t k)
 
 static const cap_scan_t *chosen(const cap_t *C) { return &C->scan[C->chosen - 1U]; }
 
+/* Nothing ever answered: every figure would be zero, one line says so instead. */
+static void report_none(FILE *out, const cap_t *C)
+{
+    fprintf(out, "%s: session %u of %s to %s: no session started: nothing answered there "
+            "(stopped after %llu packets of pass %u, %.3f s)\n", C->cmd, C->chosen, C->o.path,
+            C->to_text, (unsigned long long)C->sent, C->dead_pass, (double)C->elapsed_ns * 1e-9);
+    fprintf(out, "result: NO ANSWER\n");
+}
+
 void cap_report_text(FILE *out, const cap_t *C)
 {
     const c4g_ctrl_counters_t *n = &C->n;
     const cap_scan_t *sc = chosen(C);
     unsigned f, shown = 0U;
+    if (C->dead && n->rx_total == n->foreign) {
+        report_none(out, C);
+        return;
+    }
     fprintf(out, "%s: session %u of %s to %s: %u of %u pass%s, ", C->cmd, C->chosen, C->o.path, C->to_text,
             C->passes_done, C->o.loops, C->o.loops == 1U ? "" : "es");
     if (C->o.topspeed) {
@@ -137,7 +150,10 @@ void cap_report_text(FILE *out, const cap_t *C)
                 (double)C->drift_ns * 1e-3, (unsigned long long)C->overruns, (double)C->tol_ns * 1e-3,
                 C->app->kstamp ? "kernel" : "user-space");
     }
-    if (!cap_findings(C)) {
+    if (C->dead) {
+        fprintf(out, "result: NO ANSWER in pass %u (stopped after %u packets without a datagram "
+                "back)\n", C->dead_pass, CAP_DEAD_PACKETS);
+    } else if (!cap_findings(C)) {
         fprintf(out, "result: OK, every reply in time and equal to the recorded one\n");
     } else {
         fprintf(out, "result: FINDINGS");
@@ -206,7 +222,7 @@ void cap_report_json(FILE *out, const cap_t *C)
                               json_integer((json_int_t)C->timing_only));
     (void)json_object_set_new(o, "timing", timing);
     (void)json_object_set_new(o, "timestamps", json_string(C->app->kstamp ? "kernel" : "user"));
-    (void)json_object_set_new(o, "result", json_string(cap_findings(C) ? "findings" : "ok"));
+    (void)json_object_set_new(o, "result", json_string(C->dead ? "no-answer" : (cap_findings(C) ? "findings" : "ok")));
     (void)json_dumpf(o, out, JSON_COMPACT | JSON_REAL_PRECISION(9));
     fputc('\n', out);
     json_decref(o);

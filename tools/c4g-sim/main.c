@@ -8,18 +8,24 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "c4gh_cli.h"
 #include "capture.h"
 
 static void on_signal(int sig)
 {
-    (void)sig;
-    g_stop = 1;
+    g_stop = sig;
 }
 
 /* The exit code and the summary's result word, from how the run went. */
 static int outcome(const app_t *a, const char **result)
 {
     const sim_t *s = &a->sim;
+    if (g_stop) {
+        /* one rule in every tool: a signal decides the exit status; the summary says what
+         * the run had found by then */
+        *result = "interrupted";
+        return (g_stop == SIGTERM) ? C4GH_CLI_EXIT_SIGTERM : C4GH_CLI_EXIT_SIGINT;
+    }
     if (s->n_err > 0) {
         *result = "error";
         return EXIT_RUNTIME;
@@ -32,7 +38,7 @@ static int outcome(const app_t *a, const char **result)
         *result = "output-error";
         return EXIT_OUTPUT;
     }
-    *result = g_stop ? "interrupted" : "ok";
+    *result = "ok";
     return EXIT_OK;
 }
 
@@ -97,6 +103,13 @@ int main(int argc, char **argv)
     outputs_close(a);
     close(a->fd);
     code = outcome(a, &result);
+    {
+        /* an error, not a figure of the summary: said on stderr, even with --quiet */
+        char why[256];
+        if (no_session(&a->cs.n, a->cfg.server, a->cfg.port, why, sizeof why)) {
+            fprintf(stderr, "c4g-sim: no session started: %s\n", why);
+        }
+    }
     if (!a->o.quiet || a->o.json) {
         summary(a, code, result, cpu_seconds());
     }

@@ -314,9 +314,10 @@ static const char usage_text[] =
 static const char epilogue_text[] =
     "Exit status: 0 ok; 1 a table 17.1 error was raised (e.g. ERR_C4GOPEN_UDP) or a\n"
     "socket failed; 2 usage, configuration or scenario error; 3 a scenario EXPECT failed\n"
-    "or WAIT PC timed out; 4 an output file could not be written. With --capture: 0 every\n"
-    "reply ok and equal to the recorded one; 1 findings or divergences (or a socket error,\n"
-    "or interrupted); 2 also an unreadable capture or a session without its start-up.\n";
+    "or WAIT PC timed out; 4 an output file could not be written; 130 SIGINT, 143 SIGTERM.\n"
+    "With --capture: 0 every reply ok and equal to the recorded one; 1 findings or\n"
+    "divergences (or a socket error); 2 also an unreadable capture or a session without its start-up;\n"
+    "5 nothing answered (the first 10 packets of a pass got nothing back).\n";
 static const char *const examples[] = {
     "c4g-sim -p 41000 -S fixtures/scenarios/mode0.scn --json",
     "c4g-sim -p 41000 -T 1 --num-policy plus-one -n 5000 --pcap run.pcap --csv run.csv",
@@ -324,7 +325,7 @@ static const char *const examples[] = {
     "c4g-sim -p 41000 --plant fixtures/sim/smart-six.xml --payload 6@0,0,0.05 -S fixtures/scenarios/mode0.scn",
     "c4g-sim -p 41000 --capture fixtures/replay/mode4.pcap --num-policy plus-one --json", NULL};
 
-#define N_ROWS 43
+#define N_ROWS 44
 
 /* The rows point into this app, so they are built at run time. */
 static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
@@ -348,8 +349,10 @@ static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
          &c->max_miss, 0, 1, 1000000, NULL, 0},
         ROW_CALL("config", 'c', "FILE", "INI file (sections [sim] [model] [arm N] [axis A.L])",
                  opt_path, P_CONFIG),
-        ROW_CALL("axes", 0, "LIST", "open axes per arm, e.g. 6 or 6,4 (default 6: figure 10.1)",
+        ROW_CALL("open-axes", 0, "COUNTS", "open axes per arm, e.g. 6 or 6,4 (default 6: figure 10.1)",
                  opt_axes, 0),
+        /* --axes is a list of axis numbers in the other tools: the old spelling until 3.0 */
+        ROW_CALL("axes", 0, "COUNTS", NULL, opt_axes, 0),
         ROW_CALL("startup-mode", 0, "M", "start-up mode of every open axis (default 0)",
                  opt_startup_mode, 0),
         ROW_CALL("seed", 0, "N", "random seed for noise and faults (default 1)", opt_u64, 0),

@@ -245,12 +245,56 @@ static void text_errors_robot(const sim_t *s)
     }
 }
 
+int no_session(const c4g_ctrl_counters_t *n, const char *server, unsigned port, char *why,
+               size_t cap)
+{
+    if (n->replies_ok > 0U) {
+        return 0;
+    }
+    if (n->sync_sent + n->init_sent + n->cyclic_sent == 0U) {
+        (void)snprintf(why, cap, "no packet was sent to %s:%u", server, port);
+    } else if (n->rx_total == 0U) {
+        (void)snprintf(why, cap, "nothing answered on %s:%u (is c4g-server running there?)",
+                       server, port);
+    } else if (n->foreign == n->rx_total) {
+        (void)snprintf(why, cap, "%lu datagrams came, all from other addresses than %s:%u "
+                       "(the PC given by --server and --port)", (unsigned long)n->rx_total,
+                       server, port);
+    } else {
+        (void)snprintf(why, cap, "%s:%u answered %lu times, never validly (wrong NUM %lu, "
+                       "malformed %lu, stale %lu, duplicates %lu)", server, port,
+                       (unsigned long)(n->rx_total - n->foreign), (unsigned long)n->wrong_num,
+                       (unsigned long)n->malformed, (unsigned long)n->stale,
+                       (unsigned long)n->duplicates);
+    }
+    return 1;
+}
+
+/* No reply was ever accepted: the counters are all zero, so one line says why instead. */
+static void summary_none(const app_t *a, int code, const char *result, const char *why)
+{
+    const c4g_ctrl_counters_t *n = &a->cs.n;
+    int i;
+    printf("c4g-sim %s: %s (exit %d)\n", C4G_VERSION_STRING, result, code);
+    printf("  no session started: %s; sent %lu (sync %lu, init %lu, cyclic %lu)\n", why,
+           a->st.sent, n->sync_sent, n->init_sent, n->cyclic_sent);
+    for (i = 0; i < a->sim.n_err; i++) {
+        printf("  error at tick %lu: %s: %s\n", a->sim.err[i].tick,
+               c4g_ctrl_error_name(a->sim.err[i].code), a->sim.err[i].text);
+    }
+}
+
 static void summary_text(const app_t *a, int code, const char *result, double cpu_s)
 {
     const sim_t *s = &a->sim;
     const c4g_ctrl_counters_t *n = &a->cs.n;
     const figures_t g = figures(a, cpu_s);
     int i;
+    char why[256];
+    if (no_session(n, a->cfg.server, a->cfg.port, why, sizeof why)) {
+        summary_none(a, code, result, why);
+        return;
+    }
     printf("c4g-sim %s: %s (exit %d)\n", C4G_VERSION_STRING, result, code);
     printf("  ticks %lu, period %d ms, %d open axes\n", s->tick, s->cfg.period_ms, s->n_axes);
     printf("  sent %lu (sync %lu, init %lu, cyclic %lu)\n", a->st.sent, n->sync_sent, n->init_sent,

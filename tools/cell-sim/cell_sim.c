@@ -72,8 +72,7 @@ static client_t *g_servo_client; /* the client whose SRVON / SRVOF waits for the
 
 static void on_signal(int sig)
 {
-    (void)sig;
-    g_stop = 1;
+    g_stop = sig;
 }
 
 static void logf_(int level, const char *dev, const char *peer, const char *event,
@@ -639,7 +638,8 @@ static const c4gh_cli_spec_t k_spec = {
     "and [conditioning] take port, workspace = AXIS:MIN:MAX, home = V1,V2[,V3,V4] and\n"
     "servo_fault = N for that device. Options on the command line win over the file.\n"
     "\n"
-    "Exit status: 0 after SIGINT/SIGTERM, 2 usage or config file error, 3 cannot listen.\n",
+    "Exit status: 0 after SIGTERM, 130 after SIGINT, 2 usage or config file error, 3 cannot\n"
+    "listen.\n",
     0, 0, 0, NULL};
 
 /* One INI line: [cell-sim] KEY = any long option; [DEVICE] port, workspace, home and
@@ -1050,6 +1050,7 @@ int main(int argc, char **argv)
         sim_co_close(&g_co);
     }
     server_close(&srv);
-    logf_(1, "-", "-", "exit", "stopped by signal");
-    return EXIT_OK;
+    logf_(1, "-", "-", "exit", "stopped by %s", g_stop == SIGINT ? "SIGINT" : "SIGTERM");
+    /* SIGTERM: a service asked to stop; SIGINT: as a shell reports an interrupted command */
+    return g_stop == SIGINT ? C4GH_CLI_EXIT_SIGINT : EXIT_OK;
 }
