@@ -29,6 +29,7 @@
  *     worst_tick --base BASE [--keep SRC N] session|world|typical ARGS */
 #include "c4gopen.h"
 #include "c4gsim_fixtures.h"
+#include "../tests/fuzz/fuzz_stream.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -194,48 +195,24 @@ static void setpoints(const c4g_loop_event_t *ev)
 static void run_session(const uint8_t *data, size_t size)
 {
     static c4g_loop_t lp;
-    c4g_init_t in;
-    uint8_t init[C4G_INIT_SIZE], out[C4G_INIT_SIZE];
-    size_t pos = 0U, len = 0U, n;
-    uint64_t t = 0U;
-    c4g_endpoint_t eps[3];
-    memset(eps, 0, sizeof eps);
-    eps[0].addr[0] = eps[1].addr[0] = eps[2].addr[0] = 127;
-    eps[0].addr[3] = eps[1].addr[3] = 1;
-    eps[2].addr[3] = 2;
-    eps[0].addr_len = eps[1].addr_len = eps[2].addr_len = 4;
-    eps[0].port = 3600;
-    eps[1].port = 3601;
-    eps[2].port = 3600;
-    (void)c4gsim_fig10_1(&in);
-    (void)c4g_init_encode(&in, init, sizeof init, &len);
+    static fuzz_stream_t st;
+    uint8_t out[C4G_INIT_SIZE];
+    const uint8_t *dg;
+    size_t dl;
+    size_t n;
+    const c4g_endpoint_t *from;
+    fuzz_stream_start(&st, data, size);
     loop_start(&lp);
-    while (pos + 2U <= size) {
-        size_t dl = ((size_t)data[pos] << 8U) | data[pos + 1U];
-        const uint8_t *dg = &data[pos + 2U];
-        const unsigned who = (unsigned)(data[pos] >> 6U);
-        const c4g_endpoint_t *from = (who == 0U) ? NULL : &eps[who - 1U];
+    while (fuzz_stream_next(&st, &dg, &dl, &from)) {
         c4g_loop_event_t ev;
-        pos += 2U;
-        if (dl == 0xFFFFU) {
-            dg = init;
-            dl = sizeof init;
-        } else {
-            dl %= 800U;
-            if (dl > size - pos) {
-                dl = size - pos;
-            }
-            pos += dl;
-        }
-        t += (dl & 1U) ? 2000000U : 25000000U;
-        if (bench_loop_rx(&lp, dg, dl, t, from, &ev) == C4G_ERR_ENDED) {
+        if (bench_loop_rx(&lp, dg, dl, st.t, from, &ev) == C4G_ERR_ENDED) {
             tick_end();
             loop_start(&lp);
             continue;
         }
         setpoints(&ev);
         if (bench_loop_reply(&lp, out, sizeof out, &n, NULL) == C4G_OK) {
-            (void)bench_loop_sent(&lp, t + 1000U);
+            (void)bench_loop_sent(&lp, st.t + 1000U);
         }
     }
     tick_end();

@@ -35,7 +35,7 @@ extern "C" {
 /* One joint's keys as written (angles in the file's unit). */
 typedef struct c4gh_kin_joint {
     double a, alpha, d, theta0, kt;
-    unsigned line; /* its [joint N] header, 0: not given */
+    unsigned line; /* the line of its first key, 0: not given */
 } c4gh_kin_joint_t;
 
 typedef struct c4gh_kinfile {

@@ -11,6 +11,7 @@
  * c4g_session_reply_neutral sends the bytes c4g_pc_reply_neutral + c4g_session_reply send. */
 #include "c4gopen.h"
 #include "c4gsim_fixtures.h"
+#include "fuzz_stream.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,44 +25,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     c4g_rx_result_t r, r2;
     uint8_t out2[C4G_INIT_SIZE];
     size_t n2;
-    c4g_init_t in;
-    uint8_t init[C4G_INIT_SIZE];
+    static fuzz_stream_t st;
     uint8_t out[C4G_INIT_SIZE];
-    size_t pos = 0, len = 0, n;
-    uint64_t t = 0;
-    c4g_endpoint_t eps[3];
-    memset(eps, 0, sizeof eps);
-    eps[0].addr[0] = eps[1].addr[0] = eps[2].addr[0] = 127;
-    eps[0].addr[3] = eps[1].addr[3] = 1;
-    eps[2].addr[3] = 2;
-    eps[0].addr_len = eps[1].addr_len = eps[2].addr_len = 4;
-    eps[0].port = 3600;
-    eps[1].port = 3601;
-    eps[2].port = 3600;
-    (void)c4gsim_fig10_1(&in);
-    (void)c4g_init_encode(&in, init, sizeof init, &len);
+    size_t n;
+    uint64_t t;
+    const uint8_t *dg;
+    size_t dl;
+    const c4g_endpoint_t *from;
+    fuzz_stream_start(&st, data, size);
     if ((c4g_session_init(&s, NULL) != C4G_OK) || (c4g_session_init(&twin, NULL) != C4G_OK)) {
         abort();
     }
-    while (pos + 2U <= size) {
-        size_t dl = ((size_t)data[pos] << 8U) | data[pos + 1U];
-        const uint8_t *dg = &data[pos + 2U];
-        const unsigned who = (unsigned)(data[pos] >> 6U);
-        const c4g_endpoint_t *from = (who == 0U) ? NULL : &eps[who - 1U];
+    while (fuzz_stream_next(&st, &dg, &dl, &from)) {
         const c4g_phase_t phase_before = s.phase;
         const int32_t newest_before = s.priv.last_num;
-        pos += 2U;
-        if (dl == 0xFFFFU) {
-            dg = init;
-            dl = sizeof init;
-        } else {
-            dl %= 800U;
-            if (dl > size - pos) {
-                dl = size - pos;
-            }
-            pos += dl;
-        }
-        t += (dl & 1U) ? 2000000U : 25000000U;
+        t = st.t;
         if (c4g_session_rx_from(&twin, dg, dl, t, from, &r2) == C4G_ERR_ENDED) {
             (void)c4g_session_init(&twin, NULL);
         }

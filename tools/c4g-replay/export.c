@@ -367,39 +367,10 @@ static void on_exchange(void *ctx, const c4gh_an_exchange_t *x)
 static int opt_axes(void *ctx, const c4gh_cli_opt_t *row, const char *v, char *why, size_t whylen)
 {
     ex_ctx_t *e = ctx;
-    const char *p = v;
     (void)row;
-    e->axes = 0U;
-    while (*p != '\0') {
-        char item[16];
-        const size_t n = strcspn(p, ",");
-        long long lo = 0, hi = 0;
-        char *dash;
-        if (n == 0U || n >= sizeof item) {
-            (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
-            return -1;
-        }
-        memcpy(item, p, n);
-        item[n] = '\0';
-        dash = strchr(item, '-');
-        if (dash != NULL) {
-            *dash = '\0';
-        }
-        if (c4gh_tf_parse_int(item, 1, 20, &lo) != C4GH_TF_NUM_OK ||
-            (dash != NULL && c4gh_tf_parse_int(dash + 1, lo, 20, &hi) != C4GH_TF_NUM_OK)) {
-            (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
-            return -1;
-        }
-        if (dash == NULL) {
-            hi = lo;
-        }
-        for (; lo <= hi; lo++) {
-            e->axes |= 1U << (unsigned)(lo - 1);
-        }
-        p += n;
-        if (*p == ',') {
-            p++;
-        }
+    if (c4gh_cli_parse_axis_list(v, 20U, &e->axes) != 0) {
+        (void)snprintf(why, whylen, "want axes 1..20 like 1,3-5");
+        return -1;
     }
     return 0;
 }
