@@ -125,6 +125,19 @@ double estimate_delay(const AxisLog &log, const Options &o, double eps, double *
 // Robust sigma of D5's noise from its second differences (model-free).
 double noise_floor(const AxisLog &log);
 
+// The rigid family (rigid.hpp) filters every axis of the arm at one delay and keeps each
+// tick's state: v, a [turn/s, turn/s^2] and q [rad] at D5's time, ok (the filter's window
+// inside the segment: the state is known) and use (prepare's rules for this axis' current).
+struct Track {
+    std::vector<float> v, a;
+    std::vector<double> q;
+    std::vector<unsigned char> ok, use;
+};
+// eps, the noise floor and this axis' own delay estimate, as prepare() finds them.
+Prep prepare_rigid_axis(const AxisLog &log, const Options &o);
+// The track of @p log at @p delay; counts kept and dropped ticks into @p pr (eps from it).
+void track(const AxisLog &log, const Options &o, double delay, Prep *pr, Track *out);
+
 struct ParamStat {
     // sigma: the larger of the white-noise and the block-robust figures (and the delay's
     // share); ci95 = t(blocks - 1) * sigma; pct: 100*sigma/|value|

@@ -172,6 +172,10 @@ void on_exchange(void *vp, const c4gh_an_exchange_t *x)
         c->info->sessions++;
         c->nt = NumTicks();
         c->kin_ok = s->have_init && c4g_kin_from_init(&s->init, arm, &c->kin) == C4G_OK;
+        if (c->kin_ok && !c->info->have_init_kin) {
+            c->info->have_init_kin = true;
+            c->info->kin = c->kin;
+        }
     }
     c->info->ticks++;
     int64_t tick = 0;

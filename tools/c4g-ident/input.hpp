@@ -5,6 +5,7 @@
 #define C4G_IDENT_INPUT_HPP
 
 #include "c4gopen_wire.h"
+#include "c4gopen_engine.h"
 #include "ident.hpp"
 
 #include <string>
@@ -31,6 +32,10 @@ struct InputInfo {
     uint64_t ticks = 0;          // controller ticks read
     uint64_t sessions = 0;
     bool have_kin = false;
+    // the arm's transmission from the first session's init packet (have_init_kin): the rigid
+    // family needs Kr, which a CSV does not carry
+    bool have_init_kin = false;
+    c4g_kin_t kin{};
     bool reply_times = false;    // the input says when each PC reply came (capture, export CSV)
     // the controller's NUM sequence: gaps (packets missing from the log), how many packets
     // they miss in all, and packets dropped as repeated or out of order

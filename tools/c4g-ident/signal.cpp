@@ -563,4 +563,40 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
     return pr;
 }
 
+Prep prepare_rigid_axis(const AxisLog &L, const Options &o)
+{
+    Prep pr;
+    double vmax = 0.0;
+    const double eps_auto = auto_eps(L, o, &pr.vnoise, &vmax);
+    pr.eps = (o.eps > 0.0) ? o.eps : eps_auto;
+    pr.noise_floor = noise_floor(L);
+    if (o.delay_auto) pr.delay = estimate_delay(L, o, pr.eps, &pr.delay_sd, &pr.delay_at_bound);
+    else pr.delay = o.delay;
+    return pr;
+}
+
+void track(const AxisLog &L, const Options &o, double delay, Prep *pr, Track *out)
+{
+    Filtered f;
+    filter(L, o, delay + 0.5, 1, &f);
+    const std::vector<unsigned char> use = usable(L, f, pr->eps, o.sg_half, pr, true);
+    const std::size_t n = L.tick.size();
+    out->v.resize(n);
+    out->a.resize(n);
+    out->q.resize(n);
+    out->ok = f.ok;
+    out->use = use;
+    for (std::size_t k = 0; k < n; k++) {
+        out->v[k] = static_cast<float>(f.v[k]);
+        out->a[k] = static_cast<float>(f.a[k]);
+        out->q[k] = L.have_q ? q_at(L, k, delay) : 0.0;
+        if (use[k]) {
+            pr->kept++;
+            pr->vmax = std::max(pr->vmax, std::fabs(f.v[k]));
+            pr->amax = std::max(pr->amax, std::fabs(f.a[k]));
+            pr->ipeak = std::max(pr->ipeak, std::fabs(static_cast<double>(L.d5[k])));
+        }
+    }
+}
+
 }  // namespace ident
