@@ -22,6 +22,9 @@ struct Selection {
     unsigned session = 0;        // captures: 0 = all
     bool progress = false;       // progress on stderr
     bool keep_late = false;      // keep the ticks after a late or missing PC reply
+    // keep only what the rigid family reads (tick, D3, D4, D5, q): t, D1, D2, EXT1, EXT2
+    // stay empty, and a capture's logs are reserved from its size (untouched pages cost no memory)
+    bool lean = false;
     // --az-lim: the DSA current limit [A] of logical axis k+1 for logs that do not carry it
     // (CSV); 0 = not given. Captures read it from their init packet.
     double az_lim[kMaxAxes] = {};

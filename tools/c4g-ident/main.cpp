@@ -346,6 +346,7 @@ int run_fit(int argc, char **argv)
             return C4GH_CLI_EXIT_USAGE;
         }
         c.sel.axes = 0;
+        c.sel.lean = true;
     }
     const auto t0 = std::chrono::steady_clock::now();
     Job job;
@@ -382,10 +383,12 @@ int run_fit(int argc, char **argv)
             const double tshift = (dst->t.empty() ? 0 : dst->t.back() + 1.0) - (L.t.empty() ? 0 : L.t.front());
             for (std::size_t k = 0; k < L.tick.size(); k++) {
                 dst->tick.push_back(L.tick[k] + shift);
+                dst->d3.push_back(L.d3[k]); dst->d4.push_back(L.d4[k]); dst->d5.push_back(L.d5[k]);
+                dst->q.push_back(L.q[k]);
+                if (L.lean) continue;
                 dst->t.push_back(L.t[k] + tshift);
-                dst->d1.push_back(L.d1[k]); dst->d2.push_back(L.d2[k]); dst->d3.push_back(L.d3[k]);
-                dst->d4.push_back(L.d4[k]); dst->d5.push_back(L.d5[k]); dst->e1.push_back(L.e1[k]);
-                dst->e2.push_back(L.e2[k]); dst->q.push_back(L.q[k]);
+                dst->d1.push_back(L.d1[k]); dst->d2.push_back(L.d2[k]);
+                dst->e1.push_back(L.e1[k]); dst->e2.push_back(L.e2[k]);
             }
             for (int64_t lt : L.late_ticks) dst->late_ticks.push_back(lt + shift);
             dst->have_q = dst->have_q && L.have_q;

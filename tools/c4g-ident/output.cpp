@@ -447,8 +447,8 @@ void rigid_report_text(FILE *out, const RigidResult &r, const std::vector<InputI
                  r.blocks > 1 ? r.blocks - 1 : 0, r.blocks);
     std::fprintf(out, "normal matrix condition number %.4g (columns scaled); %.3f s\n", r.cond, r.seconds);
     if (r.consistent) {
-        std::fprintf(out, "consistent fit (every link's pseudo-inertia positive definite): the torques moved by %.3g %% RMS from "
-                          "the least-squares fit\n", 100.0 * r.moved);
+        std::fprintf(out, "consistent fit (every link's pseudo-inertia positive definite, log-Cholesky): the predicted currents "
+                          "moved by %.3g noise sigmas RMS from the least-squares fit; the file holds the consistent values\n", r.moved);
     }
     std::fprintf(out, "per axis: %-8s %10s %12s %12s %10s\n", "axis", "sigma [A]", "noise [A]", "held-out [A]", "x noise");
     for (const RigidAxis &a : r.axes) {
@@ -563,8 +563,9 @@ std::string rigid_params_text(const RigidResult &r, const c4gh_kinfile_t &kf, co
         const c4gh_kin_joint_t &J = kf.j[j];
         body << "\n[joint " << j + 1 << "]\na = " << J.a << "\nalpha = " << J.alpha << "\nd = " << J.d << "\ntheta0 = " << J.theta0
              << "\nkt = " << J.kt << "\n";
-        for (int p = 0; p < kRigidPerLink; p++) body << pn[p] << " = " << r.theta[static_cast<std::size_t>(kRigidPerLink * j + p)] << "\n";
-        body << "ia = " << r.theta[static_cast<std::size_t>(kRigidPerLink * r.n + j)] << "\n";
+        const std::vector<double> &th = r.consistent ? r.theta_consistent : r.theta;
+        for (int p = 0; p < kRigidPerLink; p++) body << pn[p] << " = " << th[static_cast<std::size_t>(kRigidPerLink * j + p)] << "\n";
+        body << "ia = " << th[static_cast<std::size_t>(kRigidPerLink * r.n + j)] << "\n";
         body << "q_min = " << r.q_min[j] << "\nq_max = " << r.q_max[j] << "\nqd_max = " << r.qd_max[j] << "\nqdd_max = "
              << r.qdd_max[j] << "\n";
     }
@@ -572,8 +573,9 @@ std::string rigid_params_text(const RigidResult &r, const c4gh_kinfile_t &kf, co
     for (int k = 0; k < r.n; k++) {
         const RigidAxis &a = r.axes[static_cast<std::size_t>(k)];
         const std::size_t f = nb + 3 * static_cast<std::size_t>(k);
-        body << "\n[axis " << k + 1 << "]\nFv = " << r.params[f].value << "\nFc = " << r.params[f + 1].value
-             << "\noff = " << r.params[f + 2].value << "\neps = " << a.prep.eps << "\n";
+        auto v = [&](std::size_t i) { return r.consistent ? r.params[i].consistent : r.params[i].value; };
+        body << "\n[axis " << k + 1 << "]\nFv = " << v(f) << "\nFc = " << v(f + 1) << "\noff = " << v(f + 2) << "\neps = " << a.prep.eps
+             << "\n";
     }
     const std::string without = o.str() + body.str();
     const uint64_t sum = c4gh_ffm_fnv1a64(without.data(), without.size(), C4GH_FFM_FNV_BASIS);

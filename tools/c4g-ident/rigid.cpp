@@ -3,12 +3,15 @@
 #include "rigid.hpp"
 
 #include <Eigen/Dense>
+#include <ceres/ceres.h>
 
 #include <algorithm>
 #include <atomic>
 #include <thread>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace ident {
@@ -66,7 +69,15 @@ struct Joiner {
     std::vector<const AxisLog *> L;
     std::vector<std::size_t> at;
     std::size_t k0 = 0;  // index into L[0]
-    explicit Joiner(const std::vector<const AxisLog *> &logs) : L(logs), at(logs.size(), 0) {}
+    // from index @p start of L[0] on
+    explicit Joiner(const std::vector<const AxisLog *> &logs, std::size_t start = 0) : L(logs), at(logs.size(), 0), k0(start)
+    {
+        if (start == 0 || start >= L[0]->tick.size()) return;
+        for (std::size_t a = 1; a < L.size(); a++) {
+            at[a] = static_cast<std::size_t>(std::lower_bound(L[a]->tick.begin(), L[a]->tick.end(), L[0]->tick[start]) -
+                                             L[a]->tick.begin());
+        }
+    }
     // the next tick of L[0] every other axis has too; false at the end
     bool next(std::vector<std::size_t> *idx)
     {
@@ -150,45 +161,69 @@ bool rows(const Model &M, const double *q, const double *qd, const double *qdd, 
 
 // Normal equations of one span of ticks, filled through a buffer of rows.
 struct Block {
-    Eigen::MatrixXd A;
+    Eigen::MatrixXd A;   // lower triangle
     Eigen::VectorXd b;
+    double yy = 0.0;     // sum of the weighted squared currents
     std::size_t rows = 0;
 };
 
+// Sums per group (a span of ticks, or a motor), each filled through its own buffer of rows
+// (kBuf rows per rank update: the products run as matrix products).
 struct Accum {
     int P = 0;
     std::vector<Block> blk;
-    Eigen::MatrixXd U;   // P x kBuf: weighted rows, column-wise
-    Eigen::VectorXd y;   // weighted currents
-    int fill = 0, cur = -1;
-    explicit Accum(int p, int g) : P(p), blk(static_cast<std::size_t>(g)), U(p, kBuf), y(kBuf)
+    std::vector<Eigen::MatrixXd> U;   // per group: P x kBuf weighted rows, column-wise
+    std::vector<Eigen::VectorXd> y;   // per group: weighted currents
+    std::vector<int> fill;
+    Accum(int p, int g) : P(p), blk(static_cast<std::size_t>(g)), fill(static_cast<std::size_t>(g), 0)
     {
         for (Block &B : blk) {
             B.A = Eigen::MatrixXd::Zero(p, p);
             B.b = Eigen::VectorXd::Zero(p);
         }
+        U.resize(static_cast<std::size_t>(g));
+        y.resize(static_cast<std::size_t>(g));
     }
-    void flush()
+    void flush(std::size_t g)
     {
-        if (fill == 0 || cur < 0) return;
-        Block &B = blk[static_cast<std::size_t>(cur)];
-        B.A.selfadjointView<Eigen::Lower>().rankUpdate(U.leftCols(fill));
-        B.b += U.leftCols(fill) * y.head(fill);
-        B.rows += static_cast<std::size_t>(fill);
-        fill = 0;
+        const int f = fill[g];
+        if (f == 0) return;
+        Block &B = blk[g];
+        B.A.selfadjointView<Eigen::Lower>().rankUpdate(U[g].leftCols(f));
+        B.b += U[g].leftCols(f) * y[g].head(f);
+        B.yy += y[g].head(f).squaredNorm();
+        B.rows += static_cast<std::size_t>(f);
+        fill[g] = 0;
     }
-    void add(int g, const double *phi, double i, double w)
+    void flush_all()
     {
-        if (g != cur || fill == kBuf) {
-            flush();
-            cur = g;
+        for (std::size_t g = 0; g < blk.size(); g++) flush(g);
+    }
+    void flush() { flush_all(); }
+    void add(int gi, const double *phi, double i, double w)
+    {
+        const std::size_t g = static_cast<std::size_t>(gi);
+        if (U[g].size() == 0) {
+            U[g].resize(P, kBuf);
+            y[g].resize(kBuf);
         }
+        if (fill[g] == kBuf) flush(g);
         const double s = std::sqrt(w);
-        for (int c = 0; c < P; c++) U(c, fill) = s * phi[c];
-        y(fill) = s * i;
-        fill++;
+        const int f = fill[g];
+        for (int c = 0; c < P; c++) U[g](c, f) = s * phi[c];
+        y[g](f) = s * i;
+        fill[g] = f + 1;
     }
-    // sum of blocks [g0, g1), the lower triangle mirrored
+    void merge(const Accum &o)
+    {
+        for (std::size_t g = 0; g < blk.size(); g++) {
+            blk[g].A += o.blk[g].A;
+            blk[g].b += o.blk[g].b;
+            blk[g].yy += o.blk[g].yy;
+            blk[g].rows += o.blk[g].rows;
+        }
+    }
+    // sum of groups [g0, g1), the lower triangle mirrored
     void sum(int g0, int g1, Eigen::MatrixXd *A, Eigen::VectorXd *b) const
     {
         *A = Eigen::MatrixXd::Zero(P, P);
@@ -198,6 +233,12 @@ struct Accum {
             *b += blk[static_cast<std::size_t>(g)].b;
         }
         *A = A->selfadjointView<Eigen::Lower>();
+    }
+    // sum over group g of (y - phi x)^2 (unit weights): yy - 2 x.b + x'Ax
+    double sse(std::size_t g, const Eigen::VectorXd &x) const
+    {
+        const Block &B = blk[g];
+        return std::max(0.0, B.yy - 2.0 * x.dot(B.b) + x.dot(B.A.selfadjointView<Eigen::Lower>() * x));
     }
 };
 
@@ -210,6 +251,140 @@ std::string base_unit(int n, int member)
     if (member >= kRigidPerLink * n) return "kg m^2";
     const int p = member % kRigidPerLink;
     return p == 0 ? "kg" : (p < 4 ? "kg m" : "kg m^2");
+}
+
+// ---- the physically consistent fit: each link's 10 parameters from a log-Cholesky factor of
+// its pseudo-inertia J = [[Sigma, h], [h^T, m]] (Sigma = tr(I)/2 E - I about the origin):
+// J = U U^T, U = e^alpha [[e^d1, s12, s13, t1], [0, e^d2, s23, t2], [0, 0, e^d3, t3], [0, 0, 0, 1]],
+// positive definite for every value of the 10 numbers (mass positive, the inertia obeying
+// the triangle inequalities); each rotor inertia ia = e^g. The cost is the weighted least
+// squares of the fit written through its normal equations (|L^T x - L^-1 b|^2, A = L L^T):
+// it does not grow with the samples.
+constexpr int kPsiLink = 10;
+
+template <typename T>
+void link_from_psi(const T *z, T *pi)
+{
+    using std::exp;
+    const T ea = exp(z[0]);
+    T U[4][4] = {{exp(z[1]), z[4], z[6], z[7]}, {T(0), exp(z[2]), z[5], z[8]}, {T(0), T(0), exp(z[3]), z[9]},
+                 {T(0), T(0), T(0), T(1)}};
+    T J[4][4];
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            T v(0);
+            for (int k = 0; k < 4; k++) v += U[r][k] * U[c][k];
+            J[r][c] = ea * ea * v;
+        }
+    const T tr = J[0][0] + J[1][1] + J[2][2];
+    pi[0] = J[3][3];
+    pi[1] = J[0][3];
+    pi[2] = J[1][3];
+    pi[3] = J[2][3];
+    pi[4] = tr - J[0][0];   // Ixx = Syy + Szz
+    pi[5] = -J[0][1];
+    pi[6] = -J[0][2];
+    pi[7] = tr - J[1][1];
+    pi[8] = -J[1][2];
+    pi[9] = tr - J[2][2];
+}
+
+struct ConsistentCost {
+    int n, P, nb;
+    const Eigen::MatrixXd *Lt;     // L^T
+    const Eigen::VectorXd *c;      // L^-1 b
+    const Eigen::MatrixXd *Pm;     // beta = P theta
+    const Eigen::VectorXd *psi0;   // the start, weakly held (directions no data sees)
+    double reg;
+    template <typename T>
+    bool operator()(T const *const *par, T *res) const
+    {
+        const T *psi = par[0], *fr = par[1];
+        const int nf = (kPsiLink + 1) * n;
+        std::vector<T> th(static_cast<std::size_t>(nf));
+        for (int j = 0; j < n; j++) link_from_psi(psi + kPsiLink * j, &th[static_cast<std::size_t>(kPsiLink * j)]);
+        for (int j = 0; j < n; j++) th[static_cast<std::size_t>(kPsiLink * n + j)] = exp(psi[kPsiLink * n + j]);
+        std::vector<T> x(static_cast<std::size_t>(P));
+        for (int r = 0; r < nb; r++) {
+            T v(0);
+            for (int k = 0; k < nf; k++) {
+                const double pk = (*Pm)(r, k);
+                if (pk != 0.0) v += pk * th[static_cast<std::size_t>(k)];
+            }
+            x[static_cast<std::size_t>(r)] = v;
+        }
+        for (int k = nb; k < P; k++) x[static_cast<std::size_t>(k)] = fr[k - nb];
+        for (int r = 0; r < P; r++) {
+            T v(-(*c)(r));
+            for (int k = r; k < P; k++) v += (*Lt)(r, k) * x[static_cast<std::size_t>(k)];
+            res[r] = v;
+        }
+        for (int k = 0; k < nf; k++) res[P + k] = reg * (psi[k] - (*psi0)(k));
+        return true;
+    }
+};
+
+// The consistent solution (x: base parameters and friction as the LS fit has them, theta:
+// its full vector) of the normal equations A x = b, from @p xls's friction. false: no
+// convergence (or a Cholesky failure).
+bool consistent_fit(const RigidBase &B, int n, int nb, const Eigen::MatrixXd &A, const Eigen::VectorXd &b,
+                    const Eigen::VectorXd &xls, Eigen::VectorXd *x, Eigen::VectorXd *theta, Eigen::VectorXd *psi_io,
+                    std::string *note)
+{
+    const int P = static_cast<int>(A.rows());
+    const Eigen::LLT<Eigen::MatrixXd> llt(A);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::MatrixXd Lt = llt.matrixU();
+    const Eigen::VectorXd c = llt.matrixL().solve(b);
+    const int nf = (kPsiLink + 1) * n;
+    // start: each link 10 kg at its origin with 0.5 kg m^2 about each axis, rotors 0.1 kg m^2
+    // (an industrial arm's order of magnitude: the log-Cholesky steps are relative)
+    Eigen::VectorXd psi0 = Eigen::VectorXd::Zero(nf);
+    for (int j = 0; j < n; j++) {
+        // J = 10 diag(0.025, 0.025, 0.025, 1): e^alpha = sqrt(10), e^d = sqrt(0.025)
+        psi0(kPsiLink * j) = 0.5 * std::log(10.0);
+        for (int k = 1; k <= 3; k++) psi0(kPsiLink * j + k) = 0.5 * std::log(0.025);
+        psi0(kPsiLink * n + j) = std::log(0.1);
+    }
+    Eigen::VectorXd psi = (psi_io->size() == nf) ? *psi_io : psi0;
+    Eigen::VectorXd fr = xls.tail(P - nb);
+    auto *cost = new ceres::DynamicAutoDiffCostFunction<ConsistentCost, 16>(
+        new ConsistentCost{n, P, nb, &Lt, &c, &B.P, &psi0, 1e-4});
+    cost->AddParameterBlock(nf);
+    cost->AddParameterBlock(P - nb);
+    cost->SetNumResiduals(P + nf);
+    ceres::Problem pb;
+    pb.AddResidualBlock(cost, nullptr, psi.data(), fr.data());
+    ceres::Solver::Options so;
+    so.max_num_iterations = 3000;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.use_nonmonotonic_steps = true;
+    so.max_consecutive_nonmonotonic_steps = 10;
+    so.function_tolerance = 1e-12;
+    so.gradient_tolerance = 1e-12;
+    so.parameter_tolerance = 1e-12;
+    ceres::Solver::Summary sum;
+    ceres::Solve(so, &pb, &sum);
+    if (sum.termination_type == ceres::FAILURE) return false;
+    if (sum.termination_type == ceres::NO_CONVERGENCE) {
+        // the directions no data sees keep it walking: the fit is what it reached
+        char m[160];
+        std::snprintf(m, sizeof m, "the consistent fit stopped after %d iterations short of the solver's tolerances",
+                      static_cast<int>(sum.iterations.size()) - 1);
+        *note = m;
+    }
+    *psi_io = psi;
+    theta->resize(nf);
+    double pi[kPsiLink];
+    for (int j = 0; j < n; j++) {
+        link_from_psi(psi.data() + kPsiLink * j, pi);
+        for (int k = 0; k < kPsiLink; k++) (*theta)(kPsiLink * j + k) = pi[k];
+        (*theta)(kPsiLink * n + j) = std::exp(psi(kPsiLink * n + j));
+    }
+    x->resize(P);
+    x->head(nb) = B.P * *theta;
+    x->tail(P - nb) = fr;
+    return x->allFinite();
 }
 
 }  // namespace
@@ -406,39 +581,117 @@ RigidResult identify_rigid(std::vector<AxisLog> &logs, const c4g_kin_t &kin, con
     }
     // 2. Every tick once: the robust weights at the start's solution (a one-step M-estimate
     //    from a consistent start), accumulated per span of ticks. Nothing per tick is kept.
-    Accum acc(M.P, kBlocks);
-    Eigen::MatrixXd reach = Eigen::MatrixXd::Zero(M.P, n);
+    //    The held-out ticks also go, unweighted, into one sum per motor (all of them, and
+    //    those within 4 sigma of the start, which saw none of them): their residual at any
+    //    solution then follows from the quadratic form, with no second pass.
+    //    o.threads workers take equal runs of spans, each with its own sums.
+    struct Part {
+        Accum acc, hold_all, hold_in;  // spans; held-out sums per motor (a group each)
+        Eigen::MatrixXd reach;
+        std::vector<std::size_t> rows, n_all, n_in;
+        std::vector<double> peak;
+        double q_min[C4G_DYN_MAX_LINKS], q_max[C4G_DYN_MAX_LINKS], qd_max[C4G_DYN_MAX_LINKS] = {},
+            qdd_max[C4G_DYN_MAX_LINKS] = {};
+        std::size_t states = 0;
+        Part(int P, int n)
+            : acc(P, kBlocks), hold_all(P, n), hold_in(P, n), reach(Eigen::MatrixXd::Zero(P, n)),
+              rows(static_cast<std::size_t>(n), 0), n_all(static_cast<std::size_t>(n), 0), n_in(static_cast<std::size_t>(n), 0),
+              peak(static_cast<std::size_t>(n), 0.0)
+        {
+            for (int j = 0; j < static_cast<int>(C4G_DYN_MAX_LINKS); j++) {
+                q_min[j] = 1e300;
+                q_max[j] = -1e300;
+            }
+        }
+    };
+    const int workers = std::max(1, std::min(o.threads, 8));
+    std::vector<Part> parts;
+    for (int w = 0; w < workers; w++) parts.emplace_back(M.P, n);
+    auto pass = [&](int w) {
+        Part &pt = parts[static_cast<std::size_t>(w)];
+        // this worker's ticks: spans [w G / workers, (w + 1) G / workers)
+        const int g0 = w * kBlocks / workers, g1 = (w + 1) * kBlocks / workers;
+        std::size_t k0 = 0;
+        while (k0 < N && block_of(k0) < g0) k0 += 64;
+        while (k0 > 0 && block_of(k0 - 1) >= g0) k0--;
+        Joiner J(run.L, k0);
+        std::vector<std::size_t> ix(static_cast<std::size_t>(n));
+        double sq[7], sqd[7], sqdd[7], svm[7];
+        RowMat sW, sphi;
+        while (J.next(&ix)) {
+            const int g = block_of(ix[0]);
+            if (g >= g1) break;
+            if (!state(M, run, ix, sq, sqd, sqdd, svm) || !rows(M, sq, sqd, sqdd, svm, &sW, &sphi)) continue;
+            pt.states++;
+            const bool held = val == nullptr && ix[0] >= n_train;
+            bool any = false;
+            for (int k = 0; k < n; k++) {
+                const std::size_t at = ix[static_cast<std::size_t>(k)], kk = static_cast<std::size_t>(k);
+                if (!run.tr[kk].use[at]) continue;
+                any = true;
+                const double i = static_cast<double>(run.L[kk]->d5[at]);
+                const double r = i - sphi.row(k).dot(theta);
+                const double s = sig[kk];
+                pt.acc.add(g, sphi.row(k).data(), i, robust_w(o.loss, o.loss_k, r, s) / (s * s));
+                pt.reach.col(k) = pt.reach.col(k).cwiseMax(sphi.row(k).transpose().cwiseAbs());
+                pt.rows[kk]++;
+                if (held) {
+                    pt.hold_all.add(k, sphi.row(k).data(), i, 1.0);
+                    pt.n_all[kk]++;
+                    pt.peak[kk] = std::max(pt.peak[kk], std::fabs(i));
+                    if (std::fabs(r) <= 4.0 * s) {
+                        pt.hold_in.add(k, sphi.row(k).data(), i, 1.0);
+                        pt.n_in[kk]++;
+                    }
+                }
+            }
+            if (!any) continue;
+            for (int j = 0; j < n; j++) {
+                pt.q_min[j] = std::min(pt.q_min[j], sq[j]);
+                pt.q_max[j] = std::max(pt.q_max[j], sq[j]);
+                pt.qd_max[j] = std::max(pt.qd_max[j], std::fabs(sqd[j]));
+                pt.qdd_max[j] = std::max(pt.qdd_max[j], std::fabs(sqdd[j]));
+            }
+        }
+        pt.acc.flush();
+        pt.hold_all.flush_all();
+        pt.hold_in.flush_all();
+    };
+    {
+        std::vector<std::thread> pool;
+        for (int w = 1; w < workers; w++) pool.emplace_back(pass, w);
+        pass(0);
+        for (std::thread &t : pool) t.join();
+    }
+    // the workers' sums into the first one's
+    Accum &acc = parts[0].acc;
+    Eigen::MatrixXd reach = parts[0].reach;
+    std::vector<std::size_t> n_all(static_cast<std::size_t>(n), 0), n_in(static_cast<std::size_t>(n), 0);
+    std::vector<double> peak(static_cast<std::size_t>(n), 0.0);
     for (int j = 0; j < n; j++) {
         R.q_min[j] = 1e300;
         R.q_max[j] = -1e300;
     }
-    {
-        Joiner J(run.L);
-        while (J.next(&idx)) {
-            if (!state(M, run, idx, q, qd, qdd, vm) || !rows(M, q, qd, qdd, vm, &W, &phi)) continue;
-            R.states++;
-            const int g = block_of(idx[0]);
-            bool any = false;
-            for (int k = 0; k < n; k++) {
-                const std::size_t at = idx[static_cast<std::size_t>(k)];
-                if (!run.tr[static_cast<std::size_t>(k)].use[at]) continue;
-                any = true;
-                const double i = static_cast<double>(run.L[static_cast<std::size_t>(k)]->d5[at]);
-                const double r = i - phi.row(k).dot(theta);
-                const double s = sig[static_cast<std::size_t>(k)];
-                acc.add(g, phi.row(k).data(), i, robust_w(o.loss, o.loss_k, r, s) / (s * s));
-                reach.col(k) = reach.col(k).cwiseMax(phi.row(k).transpose().cwiseAbs());
-                R.axes[static_cast<std::size_t>(k)].rows++;
-            }
-            if (!any) continue;
-            for (int j = 0; j < n; j++) {
-                R.q_min[j] = std::min(R.q_min[j], q[j]);
-                R.q_max[j] = std::max(R.q_max[j], q[j]);
-                R.qd_max[j] = std::max(R.qd_max[j], std::fabs(qd[j]));
-                R.qdd_max[j] = std::max(R.qdd_max[j], std::fabs(qdd[j]));
-            }
+    for (std::size_t w = 0; w < parts.size(); w++) {
+        Part &pt = parts[w];
+        if (w > 0) {
+            acc.merge(pt.acc);
+            parts[0].hold_all.merge(pt.hold_all);
+            parts[0].hold_in.merge(pt.hold_in);
+            reach = reach.cwiseMax(pt.reach);
         }
-        acc.flush();
+        R.states += pt.states;
+        for (int j = 0; j < n; j++) {
+            const std::size_t jj = static_cast<std::size_t>(j);
+            R.q_min[j] = std::min(R.q_min[j], pt.q_min[j]);
+            R.q_max[j] = std::max(R.q_max[j], pt.q_max[j]);
+            R.qd_max[j] = std::max(R.qd_max[j], pt.qd_max[j]);
+            R.qdd_max[j] = std::max(R.qdd_max[j], pt.qdd_max[j]);
+            R.axes[jj].rows += pt.rows[jj];
+            n_all[jj] += pt.n_all[jj];
+            n_in[jj] += pt.n_in[jj];
+            peak[jj] = std::max(peak[jj], pt.peak[jj]);
+        }
     }
     Eigen::MatrixXd A;
     Eigen::VectorXd b, th_all, th_train;
@@ -554,9 +807,60 @@ RigidResult identify_rigid(std::vector<AxisLog> &logs, const c4g_kin_t &kin, con
         }
         validate_run(vrun, 0, th_all, false);
     } else {
-        validate_run(run, n_train, th_train, false);
+        for (int k = 0; k < n; k++) {
+            const std::size_t kk = static_cast<std::size_t>(k);
+            Validation &Vd = R.axes[kk].val;
+            Vd.n = n_all[kk];
+            Vd.rms = std::sqrt(parts[0].hold_all.sse(kk, th_train) / static_cast<double>(std::max<std::size_t>(1, n_all[kk])));
+            Vd.rms_inlier = std::sqrt(parts[0].hold_in.sse(kk, th_train) / static_cast<double>(std::max<std::size_t>(1, n_in[kk])));
+            Vd.pct_peak = peak[kk] > 0.0 ? 100.0 * Vd.rms_inlier / peak[kk] : 0.0;
+            const double noise = R.axes[kk].prep.noise_floor > 0.0 ? R.axes[kk].prep.noise_floor : sig[kk];
+            Vd.x_noise = noise > 0.0 ? Vd.rms_inlier / noise : 0.0;
+        }
     }
-    (void)consistent;
+    if (consistent) {
+        // the consistent fits of the training part (held-out figures) and of everything (the
+        // values, the file); the least-squares figures stay beside them
+        Eigen::VectorXd xc, thc, xct, thct;
+        Eigen::MatrixXd At;
+        Eigen::VectorXd bt;
+        if (val == nullptr) acc.sum(0, g_train, &At, &bt);
+        Eigen::VectorXd psi;
+        std::string note, note_t;
+        // the training part's fit starts where the whole one ended (they differ by a fifth of the data)
+        if (!consistent_fit(R.base, n, M.nb, A, b, th_all, &xc, &thc, &psi, &note) ||
+            (val == nullptr && !consistent_fit(R.base, n, M.nb, At, bt, th_train, &xct, &thct, &psi, &note_t))) {
+            R.warnings.push_back("the physically consistent fit did not converge: the least-squares values are reported and written");
+        } else {
+            R.consistent = true;
+            if (!note.empty()) R.warnings.push_back(note);
+            for (int k = 0; k < n; k++) {
+                const std::size_t kk = static_cast<std::size_t>(k);
+                R.axes[kk].val_lin = R.axes[kk].val;
+            }
+            if (val != nullptr) {
+                validate_run(vrun, 0, xc, false);
+            } else {
+                for (int k = 0; k < n; k++) {
+                    const std::size_t kk = static_cast<std::size_t>(k);
+                    Validation &Vd = R.axes[kk].val;
+                    Vd.rms = std::sqrt(parts[0].hold_all.sse(kk, xct) / static_cast<double>(std::max<std::size_t>(1, n_all[kk])));
+                    Vd.rms_inlier = std::sqrt(parts[0].hold_in.sse(kk, xct) / static_cast<double>(std::max<std::size_t>(1, n_in[kk])));
+                    Vd.pct_peak = peak[kk] > 0.0 ? 100.0 * Vd.rms_inlier / peak[kk] : 0.0;
+                    const double noise = R.axes[kk].prep.noise_floor > 0.0 ? R.axes[kk].prep.noise_floor : sig[kk];
+                    Vd.x_noise = noise > 0.0 ? Vd.rms_inlier / noise : 0.0;
+                }
+            }
+            // how far it moved: the RMS change of the predicted currents over the fit's rows,
+            // in noise sigmas (the weights are 1/sigma^2)
+            std::size_t rows_all = 0;
+            for (const RigidAxis &ax : R.axes) rows_all += ax.rows;
+            const Eigen::VectorXd d = xc - th_all;
+            R.moved = std::sqrt(std::max(0.0, d.dot(A * d)) / static_cast<double>(std::max<std::size_t>(1, rows_all)));
+            for (int c = 0; c < M.P; c++) R.params[static_cast<std::size_t>(c)].consistent = xc(c);
+            R.theta_consistent.assign(thc.data(), thc.data() + thc.size());
+        }
+    }
     // the full vector: each base member carries its combination, the others 0
     R.theta.assign(static_cast<std::size_t>(R.base.nfull), 0.0);
     for (int c = 0; c < M.nb; c++) R.theta[static_cast<std::size_t>(M.base[static_cast<std::size_t>(c)])] = th_all(c);

@@ -60,8 +60,9 @@ struct RigidResult {
     std::size_t states = 0;           // ticks every axis' state was known at
     int blocks = 0;                   // spans of ticks the block-robust covariance summed over
     double cond = 0;                  // condition number of the column-scaled normal matrix
-    bool consistent = false;          // --consistent ran
-    double moved = 0;                 // its torque change against the LS fit (RMS over the data, relative)
+    bool consistent = false;          // --consistent ran (and converged)
+    double moved = 0;                 // its change of the predicted currents against the LS fit: RMS in noise sigmas
+    std::vector<double> theta_consistent; // its full vector (11 n), every link physical
     std::vector<std::string> warnings;
     double seconds = 0;
 };
