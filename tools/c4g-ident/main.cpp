@@ -276,7 +276,9 @@ int run_fit(int argc, char **argv)
                        "Fits each axis' inertia, friction (viscous, Coulomb, Stribeck), offset and gravity from\n"
                        "logged runs: captures (pcap, pcapng), c4g-server --moni CSV (--moni-type 0) or\n"
                        "c4g-replay export CSV. Several LOGs are fitted together. Only drive-on ticks outside\n"
-                       "special modes are used; the report says how many were kept and why the rest were not.",
+                       "special modes are used; the report says how many were kept and why the rest were not.\n"
+                       "--model rigid --kin FILE fits the whole arm's rigid-body model (base parameters, each\n"
+                       "motor's friction and offset) from captures: their init packet gives the transmission.",
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 every selected axis identified; 1 a file could not be written; 2 bad\n"
                        "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted;\n"
