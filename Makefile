@@ -122,7 +122,7 @@ DEPS_LIB_STAMP := $(BUILD)/.deps-lib-ok
 
 .PHONY: all lib tools man check demo bench coverage fuzz install uninstall clean deps deps-lib deps-tools \
   unit sanitize valgrind audit cross qemu-smoke static-analysis cppcheck misra clang-tidy analyzer \
-  e2e ident-accuracy docs-examples fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
+  e2e ident-accuracy docs-examples docs-commands fuzz-build complexity nodiscard replay-fixtures replay-golden wireshark-install-user
 
 all: lib tools man
 
@@ -465,6 +465,9 @@ ident-accuracy: $(IDENT_ACC)
 	@$(IDENT_ACC) --seeds $(IDENT_SEEDS) --gate
 docs-examples: $(STATIC)
 	@sh scripts/docs-examples.sh $(BUILD)
+# every command block of README.md and docs/*.md, as written (part of the e2e gate)
+docs-commands: all e2e-helpers
+	@E2E_ONLY=docs_commands sh scripts/run-e2e.sh $(BUILD)
 
 # ---- the two README commands
 CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage audit static-analysis cross \
@@ -498,6 +501,16 @@ bench: $(DEPS_STAMP)
 # there); for any other prefix install prints the two variables a program needs.
 LDCONFIG ?= ldconfig
 RUN_LDCONFIG = $(if $(DESTDIR),,$(if $(filter /usr/local /usr,$(PREFIX)),$(if $(filter 0,$(shell id -u)),yes)))
+# The pages and their pictures go to DOC_DIR, the fixtures they run on to DATA_DIR. The pages
+# name fixtures/ and build/bin/ as in the source tree (where tests/e2e/test_docs_commands.py
+# runs them); installed, they name the installed copies, and README.md its neighbours (the
+# fuzz corpus stays a source-tree folder).
+DOC_DIR = $(PREFIX)/share/doc/libc4gopen
+DATA_DIR = $(PREFIX)/share/c4gopen
+DOC_FIXTURES = $(shell find fixtures -path fixtures/fuzz -prune -o -type f -print 2>/dev/null | LC_ALL=C sort)
+DOC_SED = -e 's,\(^\|[^A-Za-z0-9_./-]\)fixtures/,\1$(DATA_DIR)/fixtures/,g' \
+  -e 's,\(^\|[^A-Za-z0-9_./-]\)build/bin/,\1$(PREFIX)/bin/,g' -e 's,](docs/,](,g' \
+  -e 's,$(DATA_DIR)/fixtures/fuzz/,fixtures/fuzz/,g'
 install: lib tools man
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin \
 	  $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
@@ -509,7 +522,13 @@ install: lib tools man
 	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' scripts/c4gopen.pc.in \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	$(if $(TOOL_BINS),install -m 755 $(TOOL_BINS) $(DESTDIR)$(PREFIX)/bin/)
-	install -m 644 docs/*.md README.md LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	install -m 644 LICENSE $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/
+	@for f in docs/*.md README.md; do echo "  DOC     $(DOC_DIR)/$${f##*/}"; \
+	  sed $(DOC_SED) $$f > $(DESTDIR)$(DOC_DIR)/$${f##*/} || exit 1; done
+	install -d $(DESTDIR)$(DOC_DIR)/img
+	install -m 644 docs/img/* $(DESTDIR)$(DOC_DIR)/img/
+	@set -e; for f in $(DOC_FIXTURES); do install -D -m 644 $$f $(DESTDIR)$(DATA_DIR)/$$f; done; \
+	  echo "  DATA    $(DATA_DIR)/fixtures ($(words $(DOC_FIXTURES)) files)"
 	install -d $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples
 	install -m 644 examples/mode4_loop.c examples/README.md $(DESTDIR)$(PREFIX)/share/doc/libc4gopen/examples/
 	sed 's|/usr/local/bin/|$(PREFIX)/bin/|' examples/c4g-server.service \
@@ -530,7 +549,7 @@ uninstall:
 	rm -f $(DESTDIR)$(PREFIX)/lib/libc4gopen.a $(DESTDIR)$(PREFIX)/lib/libc4gopen.so*
 	rm -f $(DESTDIR)$(PREFIX)/lib/pkgconfig/c4gopen.pc
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(TOOL_NAMES))
-	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen
+	rm -rf $(DESTDIR)$(PREFIX)/share/doc/libc4gopen $(DESTDIR)$(DATA_DIR)
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(filter %.1,$(MAN_ALL))))
 	rm -f $(addprefix $(DESTDIR)$(PREFIX)/share/man/man3/,$(notdir $(filter %.3,$(MAN_ALL))))
 	@for f in $(DESTDIR)$(PREFIX)/share/man/man3/c4g_*.3; do \

@@ -13,6 +13,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "c4gh_kinfile.h"
+#include "c4gopen_engine.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -21,6 +24,7 @@ extern "C" {
 #define C4GH_FFM_FNV_PRIME 0x100000001b3ULL
 #define C4GH_FFM_FORMAT "c4g-ident 1"            /* [model] format this reader takes */
 #define C4GH_FFM_MODEL "motor-current-1"         /* [model] model: the formula above */
+#define C4GH_FFM_MODEL_RIGID "rigid-body-1"      /* [model] model: the rigid-body model below */
 #define C4GH_FFM_ARMS 4U
 #define C4GH_FFM_AXES 10U                        /* logical axes per arm */
 #define C4GH_FFM_MAX_BYTES (1U << 20)            /* file size cap */
@@ -43,8 +47,15 @@ typedef struct c4gh_ffm_axis {
     char variant[24];       /* coulomb, coulomb+gravity, stribeck, stribeck+gravity; "" */
 } c4gh_ffm_axis_t;
 
-/* A parameter file: one arm. */
+/* A parameter file: one arm. model = rigid-body-1 (rigid = 1) adds the arm's kinematics
+ * ([kinematics] and the DH keys of [joint N], read by c4gh_kin_on_key) and per joint the
+ * link's ten parameters about its frame origin (c4gopen_dyn.h order: m, mx, my, mz, Ixx,
+ * Ixy, Ixz, Iyy, Iyz, Izz), the rotor inertia ia and the fitted range; [axis N] then holds
+ * motor N's friction and offset only (Fv, Fc, Fs, vs, off, eps; no Ja, ga, gb, k1, k2, ks),
+ * for every motor 1..n of the chain and no other:
+ *   i_k = (Kr^-T (rnea(q, qd, qdd; pi) + ia qdd))_k / kt_k + friction_k(vm_k) + off_k. */
 typedef struct c4gh_ffm_file {
+    int rigid;              /* 1: model = rigid-body-1 */
     unsigned arm;           /* 1..4 */
     double period_ms;       /* the controller period the model was identified at */
     uint64_t checksum;      /* as verified */
@@ -52,6 +63,16 @@ typedef struct c4gh_ffm_file {
     char source[200];       /* informational keys, as written */
     char created_by[200];
     c4gh_ffm_axis_t ax[C4GH_FFM_AXES];
+    /* model = rigid-body-1 only (zero otherwise) */
+    int consistent;         /* [model] consistent: 1 physically consistent fit, 0 not, -1 not said */
+    unsigned base_params;   /* [model] base_params (informational), 0 = not said */
+    c4gh_kinfile_t kin;     /* the chain (kin.n joints) and each motor's kt */
+    double pi[C4G_DYN_MAX_LINKS * C4G_DYN_PARAMS]; /* link j's row at j * C4G_DYN_PARAMS */
+    double ia[C4G_DYN_MAX_LINKS];                  /* [kg m^2] */
+    double q_min[C4G_DYN_MAX_LINKS], q_max[C4G_DYN_MAX_LINKS]; /* fitted range [rad] */
+    double qd_max[C4G_DYN_MAX_LINKS];              /* [rad/s] */
+    double qdd_max[C4G_DYN_MAX_LINKS];             /* [rad/s^2] */
+    unsigned joint_line[C4G_DYN_MAX_LINKS];        /* line of [joint N] */
 } c4gh_ffm_file_t;
 
 /* FNV-1a 64-bit of @p len bytes continuing the running hash @p h (start: C4GH_FFM_FNV_BASIS).
@@ -89,6 +110,46 @@ int c4gh_ffm_parse_text(const char *name, const char *text, size_t len, c4gh_ffm
 
 /* Read and parse the file at @p path (at most C4GH_FFM_MAX_BYTES). Same result as above. */
 int c4gh_ffm_load(const char *path, c4gh_ffm_file_t *out, char *err, size_t errlen);
+
+/* ---- model = rigid-body-1's evaluation (c4gh_ffrigid.c): no allocation, no I/O, loops
+ * bounded by the chain's joints. */
+
+/* What the rigid model needs besides its file: the arm's transmission, from the
+ * controller's kinematics (c4g_kin_from_init). Built once per init packet. */
+typedef struct c4gh_ffr {
+    const c4gh_ffm_file_t *m;   /* the file (the caller keeps it) */
+    c4g_kin_t kin;              /* the arm's kinematics as given */
+    uint32_t n;                 /* joints = motors 1..n */
+    double kr[C4G_DYN_MAX_LINKS][C4G_DYN_MAX_LINKS];   /* motor rad per joint rad, [motor][joint] */
+    double kinv[C4G_DYN_MAX_LINKS][C4G_DYN_MAX_LINKS]; /* joint rad per motor rad, [joint][motor] */
+} c4gh_ffr_t;
+
+/* What was clamped on a joint (c4gh_ffr_out_t.clamped). */
+#define C4GH_FFR_Q 1U   /* the angle, to [q_min, q_max] */
+#define C4GH_FFR_QD 2U  /* the velocity, to +-qd_max */
+#define C4GH_FFR_QDD 4U /* the acceleration, to +-qdd_max */
+
+typedef struct c4gh_ffr_out {
+    double cur[C4G_DYN_MAX_LINKS];     /* motor k's current [A] */
+    double tau[C4G_DYN_MAX_LINKS];     /* joint torques (rigid body + ia qdd) [N m], clamped state */
+    unsigned clamped[C4G_DYN_MAX_LINKS]; /* C4GH_FFR_* per joint */
+    double q[C4G_DYN_MAX_LINKS], qd[C4G_DYN_MAX_LINKS], qdd[C4G_DYN_MAX_LINKS]; /* before the clamp */
+} c4gh_ffr_out_t;
+
+/* Prepare @p r for the rigid file @p m (m->rigid) on the arm of kinematics @p kin: Kr and
+ * its inverse for motors 1..n through the library's velocity conversions. 0, or -1 (not a
+ * rigid file, a period <= 0, a transmission that is singular or not finite). */
+int c4gh_ffr_setup(c4gh_ffr_t *r, const c4gh_ffm_file_t *m, const c4g_kin_t *kin);
+
+/* The currents of motors 1..n for motor positions @p qm [turns, with the calibration
+ * offset, as D1], velocities @p vm [turns/s] and accelerations @p am [turns/s^2] (n each):
+ * link state q = c4g_kin_motor_to_link(qm), qd = Kr^-1 2 pi vm, qdd = Kr^-1 2 pi am, each
+ * clamped to the fitted range, tau = rnea(q, qd, qdd; pi) + ia qdd, and
+ *   cur_k = (Kr^-T tau)_k / kt_k + Fv vm_k + level(vm_k) tanh(vm_k / eps) + off_k
+ * with vm the motor velocities of the clamped qd. 0, or -1 (an input or the result not
+ * finite, the angles not convertible): @p o's currents are then 0. */
+int c4gh_ffr_current(const c4gh_ffr_t *r, const double *qm, const double *vm, const double *am,
+                     c4gh_ffr_out_t *o);
 
 #ifdef __cplusplus
 }

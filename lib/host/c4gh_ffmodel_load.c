@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* c4g-ident's parameter file (c4g_ffmodel.h), read with inih through c4g_textfile: every
  * key known, every number finite and in range, every key once, the required ones there,
- * and the checksum right. Errors are "FILE:LINE:COL: [section] key: why". */
+ * and the checksum right. Errors are "FILE:LINE:COL: [section] key: why". A rigid-body
+ * file's kinematics keys go through c4gh_kin_on_key (c4gh_kinfile.h), the rest here. */
 #include "c4gh_ffmodel.h"
 
 #include "c4gh_textfile.h"
@@ -50,20 +51,33 @@ static int ffm_key_of_axis_only(size_t k) { return k == FFK_JA || k == FFK_GA ||
 static const char *const ffm_variants[] = {"coulomb", "coulomb+gravity", "stribeck",
                                            "stribeck+gravity", "ctrl+coulomb", "ctrl+stribeck"};
 
-/* [model] keys. */
+/* [model] keys; the last three are model = rigid-body-1's. */
 enum { FFM_FORMAT_K, FFM_MODEL_K, FFM_ARM_K, FFM_PERIOD_K, FFM_SOURCE_K, FFM_CREATED_K,
-       FFM_CHECKSUM_K, FFM_MN };
+       FFM_CHECKSUM_K, FFM_RANGE_K, FFM_CONSISTENT_K, FFM_BASE_K, FFM_MN };
 static const char *const ffm_model_keys[FFM_MN] = {"format", "model", "arm", "period_ms",
-                                                   "source", "created_by", "checksum"};
-static const int ffm_model_required[FFM_MN] = {1, 1, 1, 1, 0, 0, 1};
+                                                   "source", "created_by", "checksum", "range",
+                                                   "consistent", "base_params"};
+static const int ffm_model_required[FFM_MN] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0};
+
+/* [joint N] keys of a rigid-body file besides the kinematics ones: the link's parameters
+ * (c4gopen_dyn.h order), the rotor inertia, the fitted range. */
+enum { FFJ_IA = C4G_DYN_PARAMS, FFJ_QMIN, FFJ_QMAX, FFJ_QDMAX, FFJ_QDDMAX, FFJ_N };
+static const char *const ffm_joint_keys[FFJ_N] = {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz",
+                                                  "Iyy", "Iyz", "Izz", "ia", "q_min", "q_max",
+                                                  "qd_max", "qdd_max"};
 
 typedef struct ffm_ctx {
     const c4gh_tf_file_t *f;
     c4gh_ffm_file_t *out;
     unsigned model_line[FFM_MN];            /* line each [model] key was on; 0 = not yet */
     unsigned axis_line[C4GH_FFM_AXES][FFK_N];    /* the same per axis */
+    unsigned joint_line[C4G_DYN_MAX_LINKS][FFJ_N]; /* the same per joint (own keys) */
+    unsigned kin_line;                      /* line of [kinematics] */
+    c4gh_kin_ctx_t kx;                      /* the kinematics keys */
     uint64_t sum;                           /* the checksum the file states */
 } ffm_ctx_t;
+
+#define FFM_SECTIONS "(want [model], [kinematics], [joint 1]..[joint 7] or [axis 1]..[axis 10])"
 
 /* "[section] key: " + why into msg; returns the tf_ini code. */
 static c4gh_tf_ini_rc_t ffm_bad(char *msg, size_t msglen, c4gh_tf_ini_rc_t rc, const char *section,
@@ -153,11 +167,36 @@ static c4gh_tf_ini_rc_t ffm_model_value(ffm_ctx_t *x, int k, const char *name, c
         }
         break;
     case FFM_MODEL_K:
-        if (strcmp(value, C4GH_FFM_MODEL) != 0) {
+        if (strcmp(value, C4GH_FFM_MODEL_RIGID) == 0) {
+            o->rigid = 1;
+        } else if (strcmp(value, C4GH_FFM_MODEL) != 0) {
             rc = ffm_bad_text(msg, msglen, "model", name, value,
-                              "'" C4GH_FFM_MODEL "' (the only model this reader evaluates)");
+                              "'" C4GH_FFM_MODEL "' or '" C4GH_FFM_MODEL_RIGID
+                              "' (the models this reader evaluates)");
         }
         break;
+    case FFM_RANGE_K:
+        if (strcmp(value, "clamp") != 0) {
+            rc = ffm_bad_text(msg, msglen, "model", name, value,
+                              "'clamp' (the only range policy this reader knows)");
+        }
+        break;
+    case FFM_CONSISTENT_K:
+    case FFM_BASE_K: {
+        long long v = 0;
+        const long long hi = (k == FFM_BASE_K) ? (long long)(C4G_DYN_MAX_LINKS * (C4G_DYN_PARAMS + 1U)) : 1;
+        const c4gh_tf_num_t st = c4gh_tf_parse_int(value, (k == FFM_BASE_K) ? 1 : 0, hi, &v);
+        if (st != C4GH_TF_NUM_OK) {
+            char why[200];
+            c4gh_tf_num_explain(st, value, (k == FFM_BASE_K) ? 1.0 : 0.0, (double)hi, why, sizeof why);
+            rc = ffm_bad(msg, msglen, C4GH_TF_INI_BAD_VALUE, "model", name, why);
+        } else if (k == FFM_BASE_K) {
+            o->base_params = (unsigned)v;
+        } else {
+            o->consistent = (int)v;
+        }
+        break;
+    }
     case FFM_ARM_K: {
         long long v = 0;
         const c4gh_tf_num_t st = c4gh_tf_parse_int(value, 1, (long long)C4GH_FFM_ARMS, &v);
@@ -202,7 +241,7 @@ static c4gh_tf_ini_rc_t ffm_model_key(ffm_ctx_t *x, const char *name, const char
     }
     return ffm_bad(msg, msglen, C4GH_TF_INI_BAD_KEY, "model", name,
                    "unknown key (want format, model, arm, period_ms, source, created_by, "
-                   "checksum)");
+                   "checksum, range, consistent, base_params)");
 }
 
 static c4gh_tf_ini_rc_t ffm_axis_key(ffm_ctx_t *x, const char *section, unsigned ax, const char *name,
@@ -262,6 +301,48 @@ static int ffm_section_axis(const char *s)
     return (int)v - 1;
 }
 
+/* "joint N", N = 1..C4G_DYN_MAX_LINKS: the 0-based joint, or -1. */
+static int ffm_section_joint(const char *s)
+{
+    long long v = 0;
+    if (strncmp(s, "joint ", 6U) != 0 ||
+        c4gh_tf_parse_int(s + 6, 1, (long long)C4G_DYN_MAX_LINKS, &v) != C4GH_TF_NUM_OK) {
+        return -1;
+    }
+    return (int)v - 1;
+}
+
+/* A rigid-body file's [joint N] key that the kinematics left: the link's parameters, ia
+ * and the range. The signs of the parameters are free (a base-parameter solution). */
+static c4gh_tf_ini_rc_t ffm_joint_key(ffm_ctx_t *x, const char *section, unsigned j, const char *name,
+                                      const char *value, char *msg, size_t msglen)
+{
+    c4gh_ffm_file_t *o = x->out;
+    size_t k;
+    for (k = 0U; k < (size_t)FFJ_N; k++) {
+        if (strcmp(name, ffm_joint_keys[k]) == 0) {
+            const int pos = (k == (size_t)FFJ_QDMAX || k == (size_t)FFJ_QDDMAX) ? 1 : 0;
+            double *dst;
+            const c4gh_tf_ini_rc_t rc = ffm_once(x, &x->joint_line[j][k], msg, msglen, section, name);
+            if (rc != C4GH_TF_INI_OK) {
+                return rc;
+            }
+            switch (k) {
+            case FFJ_IA: dst = &o->ia[j]; break;
+            case FFJ_QMIN: dst = &o->q_min[j]; break;
+            case FFJ_QMAX: dst = &o->q_max[j]; break;
+            case FFJ_QDMAX: dst = &o->qd_max[j]; break;
+            case FFJ_QDDMAX: dst = &o->qdd_max[j]; break;
+            default: dst = &o->pi[(j * C4G_DYN_PARAMS) + k]; break;
+            }
+            return ffm_number(section, name, value, pos ? 0.0 : -FFM_VMAX, FFM_VMAX, pos, dst, msg, msglen);
+        }
+    }
+    return ffm_bad(msg, msglen, C4GH_TF_INI_BAD_KEY, section, name,
+                   "unknown key (want a, alpha, d, theta0, kt, m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, "
+                   "Iyz, Izz, ia, q_min, q_max, qd_max, qdd_max)");
+}
+
 static c4gh_tf_ini_rc_t ffm_on_key(void *user, const char *section, const char *name,
                               const char *value, char *msg, size_t msglen)
 {
@@ -275,13 +356,25 @@ static c4gh_tf_ini_rc_t ffm_on_key(void *user, const char *section, const char *
     if (ax >= 0) {
         return ffm_axis_key(x, section, (unsigned)ax, name, value, msg, msglen);
     }
+    ax = ffm_section_joint(section);
+    if (ax >= 0 || strcmp(section, "kinematics") == 0) {
+        const int rc = c4gh_kin_on_key(&x->kx, section, name, value, x->f->line, msg, msglen);
+        if (rc >= 0) {
+            return (c4gh_tf_ini_rc_t)rc;
+        }
+        if (ax >= 0) {
+            return ffm_joint_key(x, section, (unsigned)ax, name, value, msg, msglen);
+        }
+        return ffm_bad(msg, msglen, C4GH_TF_INI_BAD_KEY, section, name,
+                       "unknown key (want convention, angles, gravity)");
+    }
     if (section[0] == '\0') {
         c4gh_tf_escape(name, strlen(name), s, sizeof s);
         snprintf(msg, msglen, "%s: a key before the first section (want [model] first)", s);
         return C4GH_TF_INI_BAD_KEY;
     }
     c4gh_tf_escape(section, strlen(section), s, sizeof s);
-    snprintf(msg, msglen, "unknown section [%s] (want [model] or [axis 1]..[axis 10])", s);
+    snprintf(msg, msglen, "unknown section [%s] " FFM_SECTIONS, s);
     return C4GH_TF_INI_BAD_SECTION;
 }
 
@@ -323,16 +416,22 @@ static int ffm_one_header(ffm_ctx_t *x, const char *name, unsigned ln, size_t co
 {
     const char *path = x->f->path;
     int *line;
+    unsigned *uline = NULL;
+    int dummy = 0;
     const int ax = ffm_section_axis(name);
+    const int jt = ffm_section_joint(name);
     if (strcmp(name, "model") == 0) {
         line = &x->out->model_line;
     } else if (ax >= 0) {
         line = &x->out->ax[ax].line;
+    } else if (jt >= 0 || strcmp(name, "kinematics") == 0) {
+        uline = (jt >= 0) ? &x->out->joint_line[jt] : &x->kin_line;
+        dummy = (int)*uline;
+        line = &dummy;
     } else {
         char s[80];
         c4gh_tf_escape(name, strlen(name), s, sizeof s);
-        snprintf(err, errlen, "%s:%u:%zu: unknown section [%s] (want [model] or [axis 1]..[axis 10])",
-                 path, ln, col, s);
+        snprintf(err, errlen, "%s:%u:%zu: unknown section [%s] " FFM_SECTIONS, path, ln, col, s);
         return -1;
     }
     if (*line != 0) {
@@ -341,6 +440,9 @@ static int ffm_one_header(ffm_ctx_t *x, const char *name, unsigned ln, size_t co
         return -1;
     }
     *line = (int)ln;
+    if (uline != NULL) {
+        *uline = ln;
+    }
     if (ax >= 0) {
         x->out->ax[ax].set = 1;
     }
@@ -370,7 +472,124 @@ static int ffm_scan_sections(ffm_ctx_t *x, char *err, size_t errlen)
     return 0;
 }
 
-static int ffm_required(const ffm_ctx_t *x, char *err, size_t errlen)
+/* The keys and sections of the other model family. */
+static int ffm_family(const ffm_ctx_t *x, char *err, size_t errlen)
+{
+    const c4gh_ffm_file_t *o = x->out;
+    unsigned j;
+    int k;
+    if (o->rigid) {
+        return 0;
+    }
+    for (k = FFM_RANGE_K; k < FFM_MN; k++) {
+        if (x->model_line[k] != 0U) {
+            snprintf(err, errlen, "%s:%u:1: [model] %s: not a key of model = " C4GH_FFM_MODEL
+                     " (only of " C4GH_FFM_MODEL_RIGID ")", x->f->path, x->model_line[k],
+                     ffm_model_keys[k]);
+            return -1;
+        }
+    }
+    for (j = 0U; j < C4G_DYN_MAX_LINKS; j++) {
+        if (x->kin_line != 0U || o->joint_line[j] != 0U) {
+            snprintf(err, errlen, "%s:%u:1: [%s%.0u]: a section of model = " C4GH_FFM_MODEL_RIGID
+                     " only (this file is model = " C4GH_FFM_MODEL ")", x->f->path,
+                     (x->kin_line != 0U) ? x->kin_line : o->joint_line[j],
+                     (x->kin_line != 0U) ? "kinematics" : "joint ", (x->kin_line != 0U) ? 0U : j + 1U);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* An [axis N] of a rigid-body file: motor N of the chain, friction and offset only. */
+static int ffm_rigid_axis(const ffm_ctx_t *x, unsigned a, char *err, size_t errlen)
+{
+    const c4gh_ffm_file_t *o = x->out;
+    const c4gh_ffm_axis_t *p = &o->ax[a];
+    size_t j;
+    if (p->set && a >= o->kin.n) {
+        snprintf(err, errlen, "%s:%d:1: [axis %u]: the chain has %u joints: a rigid-body file "
+                 "sets motors 1..%u only", x->f->path, p->line, a + 1U, (unsigned)o->kin.n,
+                 (unsigned)o->kin.n);
+        return -1;
+    }
+    if (!p->set && a < o->kin.n) {
+        snprintf(err, errlen, "%s:%d:1: [axis %u]: missing (motor %u's friction and offset: "
+                 "every joint of the chain needs its [axis N])", x->f->path, o->model_line,
+                 a + 1U, a + 1U);
+        return -1;
+    }
+    for (j = 0U; p->set && j < (size_t)FFK_VARIANT; j++) {
+        const int wrong = ffm_key_of_axis_only(j) || ffm_key_of_ctrl_only(j);
+        if ((ffm_keys[j].required & 1) != 0 && !wrong && x->axis_line[a][j] == 0U) {
+            snprintf(err, errlen, "%s:%d:1: [axis %u] %s: missing (model = " C4GH_FFM_MODEL_RIGID
+                     " needs Fv, Fc, off and eps)", x->f->path, p->line, a + 1U, ffm_keys[j].name);
+            return -1;
+        }
+        if (wrong && x->axis_line[a][j] != 0U) {
+            snprintf(err, errlen, "%s:%u:1: [axis %u] %s: not a key of model = " C4GH_FFM_MODEL_RIGID
+                     " (the rigid-body part holds the inertia and the gravity)", x->f->path,
+                     x->axis_line[a][j], a + 1U, ffm_keys[j].name);
+            return -1;
+        }
+    }
+    if (p->set && (x->axis_line[a][FFK_MODEL] != 0U ||
+                   (p->variant[0] != '\0' && strcmp(p->variant, "coulomb") != 0 &&
+                    strcmp(p->variant, "stribeck") != 0))) {
+        const int m = (x->axis_line[a][FFK_MODEL] != 0U);
+        snprintf(err, errlen, "%s:%u:1: [axis %u] %s: %s", x->f->path,
+                 x->axis_line[a][m ? FFK_MODEL : FFK_VARIANT], a + 1U, m ? "model" : "variant",
+                 m ? "not a key of model = " C4GH_FFM_MODEL_RIGID " (its axes are rigid-body)"
+                   : "a rigid-body file's variant is coulomb or stribeck");
+        return -1;
+    }
+    return 0;
+}
+
+/* model = rigid-body-1: the chain, every joint's own keys, every motor's [axis N]. */
+static int ffm_rigid(ffm_ctx_t *x, char *err, size_t errlen)
+{
+    c4gh_ffm_file_t *o = x->out;
+    unsigned j;
+    size_t k;
+    if (!o->rigid) {
+        return 0;
+    }
+    if (x->kin_line == 0U) {
+        snprintf(err, errlen, "%s:%d:1: [kinematics]: missing (model = " C4GH_FFM_MODEL_RIGID
+                 " needs the arm's convention, angles and gravity)", x->f->path, o->model_line);
+        return -1;
+    }
+    if (c4gh_kin_end(&x->kx, x->f->path, err, errlen) != 0) {
+        return -1;
+    }
+    for (j = 0U; j < o->kin.n; j++) {
+        for (k = 0U; k < (size_t)FFJ_N; k++) {
+            if (x->joint_line[j][k] == 0U) {
+                snprintf(err, errlen, "%s:%u:1: [joint %u] %s: missing (a rigid-body joint needs "
+                         "m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz, ia, q_min, q_max, qd_max, "
+                         "qdd_max)", x->f->path, o->joint_line[j], j + 1U, ffm_joint_keys[k]);
+                return -1;
+            }
+        }
+        if (!(o->q_min[j] < o->q_max[j])) {
+            snprintf(err, errlen, "%s:%u:1: [joint %u] q_max: %.17g is not above q_min %.17g",
+                     x->f->path, x->joint_line[j][FFJ_QMAX], j + 1U, o->q_max[j], o->q_min[j]);
+            return -1;
+        }
+    }
+    for (j = 0U; j < C4GH_FFM_AXES; j++) {
+        if (ffm_rigid_axis(x, j, err, errlen) != 0) {
+            return -1;
+        }
+    }
+    if (x->model_line[FFM_CONSISTENT_K] == 0U) {
+        o->consistent = -1;
+    }
+    return 0;
+}
+
+static int ffm_required(ffm_ctx_t *x, char *err, size_t errlen)
 {
     const c4gh_ffm_file_t *o = x->out;
     unsigned a;
@@ -389,6 +608,12 @@ static int ffm_required(const ffm_ctx_t *x, char *err, size_t errlen)
                                            : "");
             return -1;
         }
+    }
+    if (ffm_family(x, err, errlen) != 0) {
+        return -1;
+    }
+    if (o->rigid) {
+        return ffm_rigid(x, err, errlen);
     }
     for (a = 0U; a < C4GH_FFM_AXES; a++) {
         const c4gh_ffm_axis_t *p = &o->ax[a];
@@ -482,6 +707,7 @@ int c4gh_ffm_parse_text(const char *name, const char *text, size_t len, c4gh_ffm
     c4gh_tf_open_mem(&f, name, text, len);
     x.f = &f;
     x.out = out;
+    c4gh_kin_begin(&x.kx, &out->kin, "kinematics");
     if (ffm_scan_sections(&x, err, errlen) != 0 ||
         c4gh_tf_ini_parse(&f, ffm_on_key, &x, err, errlen) != 0 || ffm_required(&x, err, errlen) != 0 ||
         ffm_verify_sum(&x, err, errlen) != 0) {

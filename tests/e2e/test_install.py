@@ -2,6 +2,7 @@
 """make install into a DESTDIR, a program built against it with pkg-config (static and
 shared) and run; the README's compile line on the shipped example; man pages and bash
 completions installed; make uninstall removes every installed file."""
+import glob
 import os
 import re
 import shutil
@@ -50,8 +51,9 @@ def test_install_uninstall(build, tmp_path):
     out = sh([root / "app_shared"], env=run_env)
     # the version of the SONAME's major, a 6-axis cyclic packet's 228 bytes, a status named
     assert re.match(r"^2\.\d+\.\d+ 228 cell: \S", out), out
+    # the archive needs libm (lib/dyn: sqrt, sincos), as pkg-config --static says below
     sh(["cc", "-std=c99", "-o", root / "app_static", app] + sh(["pkg-config", "--cflags", "c4gopen"], env=env).split()
-       + [pre / "lib" / "libc4gopen.a"])
+       + [pre / "lib" / "libc4gopen.a", "-lm"])
     assert sh([root / "app_static"]) == out
     # the README's compile line, verbatim, on the shipped example; then its --help
     line = re.search(r"(?m)^cc -o mode4_loop examples/mode4_loop\.c .*$", open("README.md").read())
@@ -88,6 +90,44 @@ def test_install_uninstall(build, tmp_path):
     sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
     left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
     assert left == [], "files left after uninstall: %s" % left
+
+
+def test_installed_docs(build, tmp_path):
+    """make install into a DESTDIR: the installed pages work where they are (see
+    check_installed_docs), and make uninstall removes the pictures and fixtures too."""
+    root = tmp_path / "root"
+    pre = root / "opt" / "c4g"
+    sh(["make", "-s", "BUILD=%s" % build, "install", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
+    check_installed_docs(root, pre)
+    sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
+    left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
+    assert left == [], "files left after uninstall: %s" % left[:10]
+
+
+def check_installed_docs(root, pre):
+    """The installed pages work where they are: every relative link (c4g-ident.md's pictures
+    in img/, README.md's links to the pages beside it) resolves, every installed path a page
+    names (the fixtures under share/c4gopen, the tools under bin) exists, and no page still
+    names the source tree's fixtures/ or build/bin/ (but the fuzz corpus, a source folder)."""
+    doc = pre / "share" / "doc" / "libc4gopen"
+    ident = (doc / "c4g-ident.md").read_text()
+    imgs = re.findall(r"!\[[^\]]*\]\((img/[^)]+)\)", ident)
+    assert "img/ident-current.png" in imgs, imgs
+    bad, named = [], 0
+    for page in sorted(doc.glob("*.md")):
+        text = page.read_text()
+        for t in re.findall(r"\]\(([^)\s#]+)(?:#[^)]*)?\)", text):
+            if not re.match(r"[a-z]+:", t) and not (doc / t).exists():
+                bad.append("%s: link %s" % (page.name, t))
+        for t in re.findall(r"/opt/c4g/(?:share/c4gopen|bin)/[^\s`'\")\]]+", text):
+            named += 1
+            if not glob.glob(str(root) + t.rstrip(".,:;")):
+                bad.append("%s: names %s" % (page.name, t))
+        for m in re.finditer(r"(?m)(?:^|[^A-Za-z0-9_./-])(?:fixtures/(?!fuzz/)|build/bin/)\S*", text):
+            bad.append("%s: source-tree path %s" % (page.name, m.group(0).strip()))
+    assert not bad, "installed pages that do not work where they are (%d):\n%s" % (len(bad), "\n".join(bad[:40]))
+    assert named > 50, "the installed pages name %d installed paths" % named
+    assert "/opt/c4g/share/c4gopen/fixtures/replay/mode4.pcap" in (doc / "c4g-replay.md").read_text()
 
 
 def test_install_ldconfig(build):

@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-HEADER_PAGES = ["c4gopen_%s.3" % h for h in ("base", "wire", "engine", "loop", "ctrl", "cell", "canopen")]
+HEADER_PAGES = ["c4gopen_%s.3" % h for h in ("base", "wire", "engine", "loop", "ctrl", "cell", "canopen", "dyn")]
 PAGES = ["c4g-server.1", "c4g-sim.1", "c4g-replay.1", "c4g-ident.1", "cell-cli.1", "cell-sim.1", "c4gopen.3"] + HEADER_PAGES
 ENV = dict(os.environ, LC_ALL="C", MANWIDTH="100")
 

@@ -537,4 +537,63 @@ int read_input(const std::string &path, const Selection &sel, std::vector<AxisLo
     return rc;
 }
 
+namespace {
+
+struct InitGrab {
+    bool found = false;
+    c4g_init_t init{};
+};
+
+void grab_init(void *vp, const c4gh_an_exchange_t *x)
+{
+    InitGrab *g = static_cast<InitGrab *>(vp);
+    if (!g->found && x->s != nullptr && x->s->have_init) {
+        g->init = x->s->init;
+        g->found = true;
+    }
+}
+
+}  // namespace
+
+bool read_init(const std::string &path, c4g_init_t *out, std::string *err)
+{
+    char e[400];
+    c4gh_cap_t *c = c4gh_cap_open(path.c_str(), e, sizeof e);
+    if (c == nullptr) {
+        *err = e;
+        return false;
+    }
+    c4gh_an_options_t o;
+    c4gh_an_options_default(&o);
+    InitGrab g;
+    o.on_exchange = grab_init;
+    o.ctx = &g;
+    c4gh_an_t a;
+    if (c4gh_an_init(&a, &o) != 0) {
+        c4gh_cap_close(c);
+        *err = "out of memory";
+        return false;
+    }
+    bool ok = true;
+    c4gh_cap_pkt_t p;
+    while (!g.found) {
+        const c4gh_cap_res_t r = c4gh_cap_next(c, &p, e, sizeof e);
+        if (r == C4GH_CAP_END) break;
+        if (r == C4GH_CAP_FATAL) {
+            *err = e;
+            ok = false;
+            break;
+        }
+        if (r == C4GH_CAP_DATAGRAM) c4gh_an_datagram(&a, path.c_str(), &p);
+    }
+    c4gh_an_free(&a);
+    c4gh_cap_close(c);
+    if (ok && !g.found) {
+        *err = path + ": no initialization packet (a capture of a session's start is needed)";
+        ok = false;
+    }
+    if (ok) *out = g.init;
+    return ok;
+}
+
 }  // namespace ident

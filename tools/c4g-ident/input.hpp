@@ -50,6 +50,10 @@ struct InputInfo {
 int read_input(const std::string &path, const Selection &sel, std::vector<AxisLog> *logs, InputInfo *info,
                std::string *err);
 
+// The initialization packet of the first session in capture @p path that has one (the
+// arm's transmission, for excite --optimize --init). true, or false with why in @p err.
+bool read_init(const std::string &path, c4g_init_t *out, std::string *err);
+
 }  // namespace ident
 
 #endif

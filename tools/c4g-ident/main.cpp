@@ -5,6 +5,7 @@
 //   c4g-ident fit [OPTIONS] LOG...      c4g-ident excite [OPTIONS] -o TRAJ.csv
 #include "excite.hpp"
 #include "ident.hpp"
+#include "optexcite.hpp"
 #include "input.hpp"
 #include "output.hpp"
 #include "rigid.hpp"
@@ -13,7 +14,11 @@ extern "C" {
 #include "c4gh_cli.h"
 #include "c4gh_kinfile.h"
 #include "c4gopen.h"
+#include "c4gsim_fixtures.h"
 }
+
+#include <Eigen/Dense>
+#include <jansson.h>
 
 #include <ceres/version.h>
 #include <glog/logging.h>
@@ -496,6 +501,12 @@ struct ExCli {
     char out[1024] = "";
     char vmax[256] = "10";
     char amax[256] = "200";
+    // --optimize
+    int optimize = 0, json = 0;
+    char kin[1024] = "";
+    char init[1024] = "";
+    char start[512] = "";
+    char q_min[512] = "", q_max[512] = "", qd_max[512] = "", qdd_max[512] = "";
 };
 
 int ex_axes(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
@@ -504,6 +515,15 @@ int ex_axes(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t 
 }
 
 // "V" or "V1,V2,..." (per excited axis, in order)
+bool list(const char *s, std::vector<double> *out);
+
+// --optimize: the Fourier excitation of the rigid-body model (optexcite.hpp)
+struct OptCli {
+    double f0, period;
+    unsigned harmonics, seed, periods, evals;
+};
+int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o);
+
 bool list(const char *s, std::vector<double> *out)
 {
     out->clear();
@@ -524,37 +544,73 @@ bool list(const char *s, std::vector<double> *out)
 int run_excite(int argc, char **argv)
 {
     ExCli c;
-    c.axes = 0x3F;
-    double duration = 38.0, period = 2.0, f0 = 0.1, stair = 0.3;
-    unsigned harmonics = 16, seed = 1;
+    // -1 / 0: not given (the defaults differ with --optimize, and some options do not apply)
+    double duration = -1.0, period = 2.0, f0 = 0.1, stair = -1.0;
+    unsigned harmonics = 0, seed = 1, periods = 0, evals = 0;
     const c4gh_cli_opt_t opts[] = {
         {"axes", 'x', C4GH_CLI_CALL, "LIST", "logical axes to excite (default 1,2,3,4,5,6)", nullptr, 0, 0, 0, ex_axes, 0},
         {"vmax", 0, C4GH_CLI_STRING, "V[,V...]", "velocity limit [motor turn/s], one or one per axis (default 10)", c.vmax, sizeof c.vmax, 0, 0, nullptr, 0},
         {"amax", 0, C4GH_CLI_STRING, "A[,A...]", "acceleration limit [motor turn/s^2] (default 200)", c.amax, sizeof c.amax, 0, 0, nullptr, 0},
         {"duration", 'd', C4GH_CLI_DOUBLE, "S", "length [s] (default 38: 19000 rows at 2 ms)", &duration, 0, 2, 36000, nullptr, 0},
         {"period", 'T', C4GH_CLI_DOUBLE, "MS", "row spacing [ms] (default 2, the SMP+ period)", &period, 0, 0.1, 100, nullptr, 0},
-        {"f0", 0, C4GH_CLI_DOUBLE, "HZ", "multi-sine fundamental (default 0.1)", &f0, 0, 0.001, 100, nullptr, 0},
-        {"harmonics", 0, C4GH_CLI_UINT, "N", "multi-sine harmonics (default 16)", &harmonics, 0, 1, 200, nullptr, 0},
+        {"f0", 0, C4GH_CLI_DOUBLE, "HZ", "multi-sine fundamental, or the Fourier series' base frequency (default 0.1)", &f0, 0, 0.001, 100, nullptr, 0},
+        {"harmonics", 0, C4GH_CLI_UINT, "N", "multi-sine harmonics (default 16), or the series' (with --optimize: default 8, 2..20)", &harmonics, 0, 1, 200, nullptr, 0},
         {"stair", 0, C4GH_CLI_DOUBLE, "F", "share of the time in constant-speed runs (default 0.3)", &stair, 0, 0, 0.9, nullptr, 0},
-        {"seed", 0, C4GH_CLI_UINT, "N", "phase seed (default 1)", &seed, 0, 0, 1e9, nullptr, 0},
-        {"out", 'o', C4GH_CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout)", c.out, sizeof c.out, 0, 0, nullptr, 0},
+        {"seed", 0, C4GH_CLI_UINT, "N", "phase seed, or the search's seed (default 1)", &seed, 0, 0, 1e9, nullptr, 0},
+        {"out", 'o', C4GH_CLI_STRING, "FILE", "trajectory CSV for c4g-server --traj (default stdout; required with --optimize)", c.out, sizeof c.out, 0, 0, nullptr, 0},
+        {"optimize", 0, C4GH_CLI_FLAG, nullptr, "a Fourier series per joint that identifies the rigid-body model (needs --kin)", &c.optimize, 0, 0, 0, nullptr, 0},
+        {"kin", 0, C4GH_CLI_STRING, "FILE", "--optimize: the arm's kinematics file (fixtures/ident/smart-six.kin)", c.kin, sizeof c.kin, 0, 0, nullptr, 0},
+        {"init", 0, C4GH_CLI_STRING, "CAPTURE", "--optimize: arm 1's transmission from this capture's init packet (default figure 10.1's, the arm plant's)", c.init, sizeof c.init, 0, 0, nullptr, 0},
+        {"periods", 0, C4GH_CLI_UINT, "N", "--optimize: periods of the series played (default 3)", &periods, 0, 1, 1000, nullptr, 0},
+        {"start", 0, C4GH_CLI_STRING, "Q1,...,Q6", "--optimize: joint angles at mode entry [rad] (default the arm plant's: motor position 0)", c.start, sizeof c.start, 0, 0, nullptr, 0},
+        {"q-min", 0, C4GH_CLI_STRING, "Q[,Q...]", "--optimize: lowest joint angle [rad] (default start - 1.57,0.70,0.70,1.57,1.05,1.57)", c.q_min, sizeof c.q_min, 0, 0, nullptr, 0},
+        {"q-max", 0, C4GH_CLI_STRING, "Q[,Q...]", "--optimize: highest joint angle [rad] (default start + the same)", c.q_max, sizeof c.q_max, 0, 0, nullptr, 0},
+        {"qd-max", 0, C4GH_CLI_STRING, "V[,V...]", "--optimize: joint speed limit [rad/s] (default 95 % of --vmax through the transmission)", c.qd_max, sizeof c.qd_max, 0, 0, nullptr, 0},
+        {"qdd-max", 0, C4GH_CLI_STRING, "A[,A...]", "--optimize: joint acceleration limit [rad/s^2] (default 95 % of --amax through it)", c.qdd_max, sizeof c.qdd_max, 0, 0, nullptr, 0},
+        {"evals", 0, C4GH_CLI_UINT, "N", "--optimize: condition numbers the search computes (default 2000)", &evals, 0, 10, 1e6, nullptr, 0},
+        {"json", 0, C4GH_CLI_FLAG, nullptr, "--optimize: the report as JSON on stdout", &c.json, 0, 0, 0, nullptr, 0},
     };
     static const char *const examples[] = {
         "c4g-ident excite --axes 1,2,3 --vmax 20 --amax 300 -o excite.csv",
         "c4g-server --traj excite.csv --pcap ident.pcap      # then c4g-ident fit ident.pcap",
+        "c4g-ident excite --optimize --kin fixtures/ident/smart-six.kin -o rigid.csv",
         nullptr};
     c4gh_cli_spec_t spec = {"c4g-ident excite", C4G_VERSION_STRING,
                        "Usage: c4g-ident excite [OPTIONS] [-o FILE]\n"
                        "Writes an excitation trajectory (offsets from the mode-entry position, the format of\n"
                        "c4g-server --traj): constant-speed runs both ways at log-spaced speeds for friction,\n"
                        "then a multi-sine for inertia, within each axis' velocity and acceleration limits,\n"
-                       "starting and ending at rest at offset 0.",
+                       "starting and ending at rest at offset 0. With --optimize: a Fourier series per joint\n"
+                       "whose coefficients minimise the condition number of the rigid-body model's base\n"
+                       "regressor within the joints' limits; the report (stdout) compares it with the plain one.",
                        opts, sizeof opts / sizeof opts[0], examples,
-                       "Exit status: 0 written; 1 the file could not be written; 2 bad usage.", 0, 0, 1, nullptr};
+                       "Exit status: 0 written; 1 the file could not be written; 2 bad usage or kinematics file.", 0, 0, 1, nullptr};
     int first = 0;
     const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
     if (r == C4GH_CLI_DONE) return C4GH_CLI_EXIT_OK;
     if (r == C4GH_CLI_BAD) return C4GH_CLI_EXIT_USAGE;
+    if (c.optimize) {
+        const char *na = c.axes != 0U ? "--axes" : duration >= 0.0 ? "--duration" : stair >= 0.0 ? "--stair" : nullptr;
+        if (na != nullptr) {
+            c4gh_cli_error(&spec, "%s does not apply to --optimize (it moves every joint, for --periods periods)", na);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+        OptCli o{f0, period, harmonics == 0U ? 8U : harmonics, seed, periods == 0U ? 3U : periods, evals == 0U ? 2000U : evals};
+        return run_optimize(spec, c, o);
+    }
+    {
+        const char *oo = c.kin[0] ? "--kin" : c.init[0] ? "--init" : c.start[0] ? "--start" : c.q_min[0] ? "--q-min" : c.q_max[0] ? "--q-max"
+                       : c.qd_max[0] ? "--qd-max" : c.qdd_max[0] ? "--qdd-max" : c.json ? "--json"
+                       : periods ? "--periods" : evals ? "--evals" : nullptr;
+        if (oo != nullptr) {
+            c4gh_cli_error(&spec, "%s applies only to --optimize", oo);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+    }
+    if (c.axes == 0U) c.axes = 0x3F;
+    if (duration < 0.0) duration = 38.0;
+    if (stair < 0.0) stair = 0.3;
+    if (harmonics == 0U) harmonics = 16;
     std::vector<double> vm, am;
     if (!list(c.vmax, &vm)) {
         c4gh_cli_error(&spec, "--vmax: bad value '%s' (positive numbers)", c.vmax);
@@ -627,6 +683,421 @@ int run_excite(int argc, char **argv)
         c4gh_cli_error(&spec, "--out %s: write error", c.out);
         return C4GH_CLI_EXIT_RUNTIME;
     }
+    return C4GH_CLI_EXIT_OK;
+}
+
+// A list of signed numbers (1 or @p n of them) -> @p n values; false on a bad item.
+bool list_n(const char *s, unsigned n, double lo, double hi, std::vector<double> *out)
+{
+    out->clear();
+    for (const std::string &x : split_commas(s)) {
+        char *end = nullptr;
+        const double d = std::strtod(x.c_str(), &end);
+        if (x.empty() || *end != '\0' || !std::isfinite(d) || d < lo || d > hi) return false;
+        out->push_back(d);
+    }
+    if (out->size() == 1) out->assign(n, out->front());
+    return out->size() == n;
+}
+
+// How far the default position range reaches on each side of the start pose [rad]: 90, 40, 40,
+// 90, 60, 90 degrees. The arm plant has no data-sheet ranges (fixtures/sim/smart-six.xml: no
+// joint limits, no collisions); these keep the upper arm within 40 degrees of vertical and the
+// forearm within 40 degrees of horizontal, so the wrist stays well above the floor, and the
+// wrist joints within a quarter turn.
+const double kReach[kOptJoints] = {1.5708, 0.6981, 0.6981, 1.5708, 1.0472, 1.5708};
+constexpr double kMargin = 0.95;  // share of the motor limits the default joint limits use
+constexpr double kSampleMs = 20.0; // the condition numbers' sample spacing
+constexpr double kUnidentifiable = 1e-6; // singular value below this share of the largest
+
+// What --optimize works from: the problem, the transmission and the motor limits.
+struct OptSetup {
+    OptProblem p;
+    c4g_kin_t kin{};
+    c4g_kin_matrices_t mx{};
+    std::vector<double> vm, am;  // --vmax, --amax per motor
+    double T = 0.0, dt = 0.0;    // length [s], row spacing [s]
+    long rows = 0;               // rows - 1
+};
+
+int opt_limits(const c4gh_cli_spec_t &spec, const ExCli &c, OptSetup *s);
+
+// The options' values checked and turned into the problem; an exit code, or -1 to go on.
+int opt_setup(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, OptSetup *s)
+{
+    if (c.kin[0] == '\0') {
+        c4gh_cli_error(&spec, "--optimize needs --kin FILE (the arm's kinematics)");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (c.out[0] == '\0' || std::strcmp(c.out, "-") == 0) {
+        c4gh_cli_error(&spec, "--optimize writes the trajectory to --out FILE (the report goes to stdout)");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (o.harmonics < 2U || o.harmonics > 20U) {
+        c4gh_cli_error(&spec, "--harmonics %u: --optimize takes 2..20 (it needs 2 to start and end at rest)", o.harmonics);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    // the highest harmonic: within what the report's 20 ms samples and the file's rows follow
+    const double top = o.harmonics * o.f0;
+    if (top > 5.0 || 1.0 / top < 20.0 * o.period * 1e-3) {
+        c4gh_cli_error(&spec, "--harmonics %u of --f0 %g Hz: the highest, %g Hz, must stay at or below 5 Hz and 20 rows "
+                              "of --period %g ms a cycle", o.harmonics, o.f0, top, o.period);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    s->T = o.periods / o.f0;
+    s->dt = o.period * 1e-3;
+    const double rows = s->T / s->dt;
+    if (rows > 20000.0) {
+        c4gh_cli_error(&spec, "%.0f rows: c4g-server --traj reads at most 20000 (fewer --periods, a higher --f0 or a wider --period)", rows);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (std::fabs(rows - std::round(rows)) > 1e-6 * rows) {
+        c4gh_cli_error(&spec, "--period %g ms does not divide the %g s length into whole rows", o.period, s->T);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    s->rows = std::lround(rows);
+    if (!list_n(c.vmax, kOptJoints, 1e-6, 1e5, &s->vm)) {
+        c4gh_cli_error(&spec, "--vmax: bad value '%s' (one positive number or %u)", c.vmax, kOptJoints);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (!list_n(c.amax, kOptJoints, 1e-6, 1e7, &s->am)) {
+        c4gh_cli_error(&spec, "--amax: bad value '%s' (one positive number or %u)", c.amax, kOptJoints);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    char err[1024];
+    c4gh_kinfile_t kf;
+    if (c4gh_kin_load(c.kin, &kf, err, sizeof err) != 0) {
+        std::fprintf(stderr, "%s: --kin %s\n", spec.tool, err);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (kf.n != kOptJoints) {
+        std::fprintf(stderr, "%s: --kin %s: %u joints; --optimize drives the arm's %u main axes\n", spec.tool, c.kin,
+                     kf.n, kOptJoints);
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    // The transmission: arm 1's of a capture's init packet, or the one c4g-sim's arm plant
+    // sends (the manual's figure 10.1).
+    c4g_init_t init;
+    std::string why;
+    if (c.init[0] != '\0' && !read_init(c.init, &init, &why)) {
+        std::fprintf(stderr, "%s: --init %s\n", spec.tool, why.c_str());
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if ((c.init[0] == '\0' && c4gsim_fig10_1(&init) != C4G_OK) || c4g_kin_from_init(&init, 0, &s->kin) != C4G_OK ||
+        c4g_kin_matrices(&s->kin, &s->mx) != C4G_OK) {
+        std::fprintf(stderr, "%s: %s%s: no transmission of arm 1 there\n", spec.tool, c.init[0] ? "--init " : "",
+                     c.init[0] ? c.init : "figure 10.1");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        if (!(std::fabs(s->mx.kr[k][k]) > 0.0)) {
+            std::fprintf(stderr, "%s: --init %s: arm 1 axis %u has no transmission ratio\n", spec.tool, c.init, k + 1);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+    }
+    OptProblem &p = s->p;
+    p.chain = kf.chain;
+    p.f0 = o.f0;
+    p.harmonics = static_cast<int>(o.harmonics);
+    p.seed = o.seed;
+    p.evals = static_cast<int>(o.evals);
+    p.samples = std::max(100, 12 * p.harmonics);  // 12 a cycle of the highest harmonic at least
+    p.use = kMargin;
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        for (unsigned j = 0; j < kOptJoints; j++) p.kr[k][j] = s->mx.kr[k][j];
+        p.kt[k] = kf.j[k].kt;
+    }
+    return opt_limits(spec, c, s);
+}
+
+// The start pose and the joints' limits (defaults, then the options); as opt_setup.
+int opt_limits(const c4gh_cli_spec_t &spec, const ExCli &c, OptSetup *s)
+{
+    OptProblem &p = s->p;
+    std::vector<double> v;
+    const double zero[kOptJoints] = {};
+    if (c.start[0] != '\0') {
+        if (!list_n(c.start, kOptJoints, -100.0, 100.0, &v) || split_commas(c.start).size() != kOptJoints) {
+            c4gh_cli_error(&spec, "--start: bad value '%s' (%u joint angles [rad])", c.start, kOptJoints);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+        std::copy(v.begin(), v.end(), p.start);
+    } else if (c4g_kin_motor_to_link(&s->kin, zero, kOptJoints, p.start) != C4G_OK) {
+        std::fprintf(stderr, "%s: the start pose could not be computed\n", spec.tool);
+        return C4GH_CLI_EXIT_RUNTIME;
+    }
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        OptLimit &L = p.lim[j];
+        L.q_min = p.start[j] - kReach[j];
+        L.q_max = p.start[j] + kReach[j];
+        L.qd_max = kMargin * 2.0 * M_PI * s->vm[j] / std::fabs(s->mx.kr[j][j]);
+        L.qdd_max = kMargin * 2.0 * M_PI * s->am[j] / std::fabs(s->mx.kr[j][j]);
+    }
+    struct LimOpt {
+        const char *name, *text;
+        int which;
+    };
+    const LimOpt lo[] = {{"--q-min", c.q_min, 0}, {"--q-max", c.q_max, 1}, {"--qd-max", c.qd_max, 2}, {"--qdd-max", c.qdd_max, 3}};
+    for (const LimOpt &x : lo) {
+        if (x.text[0] == '\0') continue;
+        const bool pos = x.which >= 2;
+        if (!list_n(x.text, kOptJoints, pos ? 1e-9 : -100.0, pos ? 1e6 : 100.0, &v)) {
+            c4gh_cli_error(&spec, "%s: bad value '%s' (one %s or %u)", x.name, x.text,
+                           pos ? "positive number" : "angle [rad]", kOptJoints);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+        for (unsigned j = 0; j < kOptJoints; j++) {
+            double *f[4] = {&p.lim[j].q_min, &p.lim[j].q_max, &p.lim[j].qd_max, &p.lim[j].qdd_max};
+            *f[x.which] = v[j];
+        }
+    }
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        if (!(p.lim[j].q_min < p.start[j] && p.start[j] < p.lim[j].q_max)) {
+            c4gh_cli_error(&spec, "joint %u: the start pose %.6g rad is not inside --q-min %.6g .. --q-max %.6g", j + 1,
+                           p.start[j], p.lim[j].q_min, p.lim[j].q_max);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+    }
+    return -1;
+}
+
+// What the report says.
+struct OptReport {
+    Conditioning co, cp;            // optimised, plain
+    OptResult res;
+    double pp[kOptJoints][4] = {};  // the plain excitation's joint peaks
+    double mpk[kOptJoints][4] = {}; // motors along the file: offset min, max [turn], |speed|, |accel|
+    double plain_s = 0.0, secs = 0.0;
+    std::size_t base = 0;
+};
+
+// The trajectory file, and what the motors do along it (every row); false after an error
+// (said on stderr).
+bool opt_write(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o, const OptSetup &s, const JointPath &opt,
+               OptReport *R)
+{
+    FILE *out = std::fopen(c.out, "w");
+    if (out == nullptr) {
+        c4gh_cli_file_error(spec.tool, "--out", c.out, errno);
+        return false;
+    }
+    double m_start[kOptJoints];
+    bool bad = c4g_kin_link_to_motor(&s.kin, s.p.start, kOptJoints, m_start) != C4G_OK;
+    std::fprintf(out, "# c4g-ident excite --optimize: a Fourier series per joint (%u harmonics of %.6g Hz, seed %u),\n"
+                      "# %u period(s), %.6g s, rows every %.6g ms; offsets [motor turns] from the mode-entry\n"
+                      "# position (c4g-server --traj). Base regressor condition number %.6g (plain excite %.6g).\n",
+                 o.harmonics, o.f0, o.seed, o.periods, s.T, o.period, R->co.cond, R->cp.cond);
+    std::fprintf(out, "t");
+    for (unsigned k = 0; k < kOptJoints; k++) std::fprintf(out, ",ax%u", k + 1);
+    std::fputc('\n', out);
+    for (long i = 0; i <= s.rows && !bad; i++) {
+        const double t = static_cast<double>(i) * s.dt;
+        double q[kOptJoints], qd[kOptJoints], qdd[kOptJoints], m[kOptJoints];
+        opt(t, q, qd, qdd);
+        bad = c4g_kin_link_to_motor(&s.kin, q, kOptJoints, m) != C4G_OK;
+        std::fprintf(out, "%.6f", t);
+        for (unsigned k = 0; k < kOptJoints; k++) {
+            // the first and last rows are the start pose: 0 exactly, as --traj wants
+            const double off = (i == 0 || i == s.rows) ? 0.0 : m[k] - m_start[k];
+            double sv = 0.0, sa = 0.0;
+            for (unsigned j = 0; j < kOptJoints; j++) {
+                sv += s.mx.kr[k][j] * qd[j];
+                sa += s.mx.kr[k][j] * qdd[j];
+            }
+            double *pk = R->mpk[k];
+            pk[0] = std::min(pk[0], off);
+            pk[1] = std::max(pk[1], off);
+            pk[2] = std::max(pk[2], std::fabs(sv) / (2.0 * M_PI));
+            pk[3] = std::max(pk[3], std::fabs(sa) / (2.0 * M_PI));
+            std::fprintf(out, ",%.9g", off);
+        }
+        std::fputc('\n', out);
+    }
+    if (std::fclose(out) != 0 || bad) {
+        c4gh_cli_error(&spec, "--out %s: %s", c.out, bad ? "a pose outside the transmission's range" : "write error");
+        return false;
+    }
+    return true;
+}
+
+// Share of each limit joint @p j uses with peaks @p pk: position (the nearer side), speed, acceleration.
+void limit_share(const OptProblem &p, unsigned j, const double pk[4], double *sq, double *sv, double *sa)
+{
+    const OptLimit &L = p.lim[j];
+    *sq = std::max((pk[1] - p.start[j]) / (L.q_max - p.start[j]), (p.start[j] - pk[0]) / (p.start[j] - L.q_min));
+    *sv = pk[2] / L.qd_max;
+    *sa = pk[3] / L.qdd_max;
+}
+
+void opt_report_json(const ExCli &c, const OptCli &o, const OptSetup &s, const OptReport &R)
+{
+    const OptProblem &p = s.p;
+    json_t *root = json_object();
+    json_object_set_new(root, "trajectory", json_string(c.out));
+    json_object_set_new(root, "kinematics", json_string(c.kin));
+    json_object_set_new(root, "transmission", json_string(c.init[0] ? c.init : "figure 10.1"));
+    json_object_set_new(root, "joints", json_integer(kOptJoints));
+    json_object_set_new(root, "harmonics", json_integer(o.harmonics));
+    json_object_set_new(root, "f0_hz", json_real(o.f0));
+    json_object_set_new(root, "periods", json_integer(o.periods));
+    json_object_set_new(root, "duration_s", json_real(s.T));
+    json_object_set_new(root, "rows", json_integer(s.rows + 1));
+    json_object_set_new(root, "row_ms", json_real(o.period));
+    json_object_set_new(root, "seed", json_integer(o.seed));
+    json_object_set_new(root, "evals", json_integer(R.res.evals));
+    json_object_set_new(root, "seconds", json_real(R.secs));
+    json_object_set_new(root, "base_parameters", json_integer(static_cast<json_int_t>(R.base)));
+    json_object_set_new(root, "columns", json_integer(R.co.cols));
+    json_t *cond = json_object();
+    json_object_set_new(cond, "optimized", json_real(R.co.cond));
+    json_object_set_new(cond, "plain", json_real(R.cp.cond));
+    json_object_set_new(cond, "ratio", json_real(R.cp.cond / R.co.cond));
+    json_object_set_new(cond, "sample_ms", json_real(kSampleMs));
+    json_object_set_new(cond, "plain_duration_s", json_real(R.plain_s));
+    json_object_set_new(root, "condition", cond);
+    json_t *lims = json_array();
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        const OptLimit &L = p.lim[j];
+        const double *pk = R.res.peak[j];
+        double sq, sv, sa;
+        limit_share(p, j, pk, &sq, &sv, &sa);
+        json_array_append_new(
+            lims, json_pack("{s:i,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:f,s:{s:f,s:f,s:f},s:{s:f,s:f,s:f,s:f}}", "joint",
+                            static_cast<int>(j + 1), "start", p.start[j], "q_min", L.q_min, "q_max", L.q_max, "qd_max",
+                            L.qd_max, "qdd_max", L.qdd_max, "q_lo", pk[0], "q_hi", pk[1], "qd_peak", pk[2], "qdd_peak",
+                            pk[3], "margin", "q", 1.0 - sq, "qd", 1.0 - sv, "qdd", 1.0 - sa, "plain", "q_lo", R.pp[j][0],
+                            "q_hi", R.pp[j][1], "qd_peak", R.pp[j][2], "qdd_peak", R.pp[j][3]));
+    }
+    json_object_set_new(root, "limits", lims);
+    json_t *mot = json_array();
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        json_array_append_new(mot, json_pack("{s:i,s:f,s:f,s:f,s:f}", "axis", static_cast<int>(k + 1), "stroke_min",
+                                             R.mpk[k][0], "stroke_max", R.mpk[k][1], "speed_peak", R.mpk[k][2],
+                                             "acc_peak", R.mpk[k][3]));
+    }
+    json_object_set_new(root, "motors", mot);
+    json_t *weak = json_array();
+    for (const Conditioning::Weak &w : R.co.weakest) {
+        json_t *mem = json_array();
+        for (const auto &m : w.members) json_array_append_new(mem, json_pack("{s:s,s:f}", "name", m.first.c_str(), "weight", m.second));
+        json_array_append_new(weak, json_pack("{s:f,s:b,s:o}", "relative_sigma", w.rel, "unidentifiable",
+                                              w.rel < kUnidentifiable, "members", mem));
+    }
+    json_object_set_new(root, "weakest", weak);
+    json_dumpf(root, stdout, JSON_INDENT(2) | JSON_REAL_PRECISION(9));
+    std::fputc('\n', stdout);
+    json_decref(root);
+}
+
+void opt_report_text(const ExCli &c, const OptCli &o, const OptSetup &s, const OptReport &R)
+{
+    const OptProblem &p = s.p;
+    std::printf("c4g-ident excite --optimize: %s written: %u joints, %u harmonics of %.6g Hz, %u period(s) = %.6g s, "
+                "%ld rows every %.6g ms\n", c.out, kOptJoints, o.harmonics, o.f0, o.periods, s.T, s.rows + 1, o.period);
+    std::printf("transmission: %s (arm 1)\n", c.init[0] ? c.init : "figure 10.1, the arm plant's");
+    std::printf("search: %d condition numbers from %d seeded starts (seed %u) in %.1f s\n", R.res.evals, p.restarts, o.seed,
+                R.secs);
+    std::printf("base regressor: %zu rigid-body base parameters + %u friction columns (Fv, Fc, off per motor), "
+                "sampled every %.0f ms\n", R.base, 3 * kOptJoints, kSampleMs);
+    std::printf("  condition number, optimised:   %.6g\n", R.co.cond);
+    std::printf("  condition number, plain excite: %.6g (its defaults, %.6g s; %.3gx the optimised)\n", R.cp.cond,
+                R.plain_s, R.cp.cond / R.co.cond);
+    std::printf("limits (share used; margin = 1 - share):\n"
+                "  joint  start    q range [rad]            limits [rad]             |qd| [rad/s]      |qdd| [rad/s^2]\n");
+    for (unsigned j = 0; j < kOptJoints; j++) {
+        const OptLimit &L = p.lim[j];
+        const double *pk = R.res.peak[j];
+        double sq, sv, sa;
+        limit_share(p, j, pk, &sq, &sv, &sa);
+        std::printf("  %u  %8.4f  %8.4f .. %8.4f  %8.4f .. %8.4f  %.4f/%.4f %3.0f%%  %.4f/%.4f %3.0f%%  (q %3.0f%%)\n", j + 1,
+                    p.start[j], pk[0], pk[1], L.q_min, L.q_max, pk[2], L.qd_max, 100.0 * sv, pk[3], L.qdd_max, 100.0 * sa,
+                    100.0 * sq);
+    }
+    std::printf("motors (for c4g-server --stroke, --max-step):\n"
+                "  axis  offset range [turn]      |speed| [turn/s]  |accel| [turn/s^2]\n");
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        std::printf("  %u  %9.4f .. %9.4f  %8.4f  %9.3f\n", k + 1, R.mpk[k][0], R.mpk[k][1], R.mpk[k][2], R.mpk[k][3]);
+    }
+    std::printf("least determined directions of the base parameters (singular value / largest; members' weights):\n");
+    for (const Conditioning::Weak &w : R.co.weakest) {
+        std::printf("  %.3g%s:", w.rel, w.rel < kUnidentifiable ? " UNIDENTIFIABLE" : "");
+        const char *sep = " ";
+        for (const auto &m : w.members) {
+            std::printf("%s%+.2f [%s]", sep, m.second, m.first.c_str());
+            sep = ", ";
+        }
+        std::putchar('\n');
+    }
+}
+
+int run_optimize(const c4gh_cli_spec_t &spec, const ExCli &c, const OptCli &o)
+{
+    OptSetup s;
+    const int rc = opt_setup(spec, c, o, &s);
+    if (rc >= 0) return rc;
+    if (c4gh_cli_check_output(spec.tool, "--out", c.out) != 0) return C4GH_CLI_EXIT_RUNTIME;
+    const OptProblem &p = s.p;
+    const auto t0 = std::chrono::steady_clock::now();
+    OptModel model;
+    std::string why;
+    if (!model.init(p, &why)) {
+        std::fprintf(stderr, "%s: --kin %s: %s\n", spec.tool, c.kin, why.c_str());
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    OptReport R;
+    if (!optimize(p, model, &R.res, &why)) {
+        std::fprintf(stderr, "%s: %s\n", spec.tool, why.c_str());
+        return C4GH_CLI_EXIT_RUNTIME;
+    }
+    R.secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    R.base = model.base().base.size();
+    const std::vector<Series> &S = R.res.joint;
+    const JointPath opt = [&S](double t, double *q, double *qd, double *qdd) {
+        for (unsigned j = 0; j < kOptJoints; j++) S[j].eval(t, &q[j], &qd[j], &qdd[j]);
+    };
+    // The plain excitation with its defaults (and these --vmax, --amax) on every axis, in
+    // joint terms: q = start + Kr^-1 2 pi offset.
+    ExciteOptions eo;
+    eo.duration = 38.0;
+    R.plain_s = eo.duration;
+    std::vector<ExciteAxis> ax(kOptJoints);
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        ax[k].vmax = s.vm[k];
+        ax[k].amax = s.am[k];
+    }
+    const Excitation plain_ex(eo, ax);
+    Eigen::Matrix<double, kOptJoints, kOptJoints> kr;
+    for (unsigned k = 0; k < kOptJoints; k++) {
+        for (unsigned j = 0; j < kOptJoints; j++) kr(k, j) = s.mx.kr[k][j];
+    }
+    const Eigen::Matrix<double, kOptJoints, kOptJoints> kinv = kr.inverse();
+    const double *st = p.start;
+    const JointPath plain = [&plain_ex, &kinv, st](double t, double *q, double *qd, double *qdd) {
+        Eigen::Matrix<double, kOptJoints, 1> m0, m1, m2;
+        for (unsigned k = 0; k < kOptJoints; k++) plain_ex.eval(k, t, &m0(k), &m1(k), &m2(k));
+        const Eigen::Matrix<double, kOptJoints, 1> a = kinv * (2.0 * M_PI * m0), b = kinv * (2.0 * M_PI * m1),
+                                                   c2 = kinv * (2.0 * M_PI * m2);
+        for (unsigned j = 0; j < kOptJoints; j++) {
+            q[j] = st[j] + a(j);
+            qd[j] = b(j);
+            qdd[j] = c2(j);
+        }
+    };
+    auto times = [](double len) {
+        std::vector<double> t;
+        const long n = std::lround(len / (kSampleMs * 1e-3));
+        for (long i = 0; i < n; i++) t.push_back(static_cast<double>(i) * kSampleMs * 1e-3);
+        return t;
+    };
+    if (!conditioning(model, opt, times(s.T), 3, &R.co, &why) ||
+        !conditioning(model, plain, times(eo.duration), 0, &R.cp, &why)) {
+        std::fprintf(stderr, "%s: %s\n", spec.tool, why.c_str());
+        return C4GH_CLI_EXIT_RUNTIME;
+    }
+    path_peaks(plain, kOptJoints, eo.duration, s.dt, R.pp);
+    if (!opt_write(spec, c, o, s, opt, &R)) return C4GH_CLI_EXIT_RUNTIME;
+    if (c.json) opt_report_json(c, o, s, R);
+    else opt_report_text(c, o, s, R);
     return C4GH_CLI_EXIT_OK;
 }
 

@@ -12,6 +12,14 @@
  * kernel arrival time, and may be given up to 8 times; --wrong-num-at N[,COUNT] puts a wrong
  * NUM (+5) in the replies to those cyclic packets only (--wrong-num: in every reply). Both
  * make captures of a misbehaving PC. */
+/* the kernel's receive stamp (SO_TIMESTAMPNS, SCM_TIMESTAMPNS) is not POSIX: the file asks
+ * for it itself, so that docs/c4g-sim.md's plain cc line builds it too */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE 1
+#endif
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L
+#endif
 #include <arpa/inet.h>
 #include <errno.h>
 #include <math.h>
