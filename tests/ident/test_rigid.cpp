@@ -13,6 +13,8 @@ extern "C" {
 #include <cmocka.h>
 }
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -235,6 +237,37 @@ void test_params_file_round_trip(void **)
         assert_true(std::strtod(A["Fc"].c_str(), nullptr) == r.params[nb + 3 * static_cast<std::size_t>(j) + 1].value);
         assert_true(std::strtod(A["off"].c_str(), nullptr) == r.params[nb + 3 * static_cast<std::size_t>(j) + 2].value);
         assert_true(std::strtod(A["eps"].c_str(), nullptr) == r.axes[static_cast<std::size_t>(j)].prep.eps);
+    }
+    // and through the file's own parser (what c4g-server --ff reads), from disk
+    char path[] = "/tmp/c4g-rigid-XXXXXX";
+    const int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    assert_int_equal(close(fd), 0);
+    c4gh_ffm_file_t ff;
+    const int rc = c4gh_ffm_load(path, &ff, err, sizeof err);
+    unlink(path);
+    if (rc != 0) fail_msg("%s", err);
+    assert_int_equal(ff.rigid, 1);
+    assert_int_equal(ff.arm, 1);
+    assert_true(ff.period_ms == 2.0);
+    assert_int_equal(ff.checksum, sum);
+    assert_int_equal(ff.consistent, 0);
+    assert_int_equal(ff.base_params, 40);
+    assert_int_equal(ff.kin.n, 6);
+    assert_memory_equal(&ff.kin.chain, &kf.chain, sizeof kf.chain);
+    for (int j = 0; j < 6; j++) {
+        for (int p = 0; p < 10; p++) assert_true(ff.pi[10 * j + p] == r.theta[static_cast<std::size_t>(10 * j + p)]);
+        assert_true(ff.ia[j] == r.theta[static_cast<std::size_t>(60 + j)]);
+        assert_true(ff.q_min[j] == r.q_min[j] && ff.q_max[j] == r.q_max[j]);
+        assert_true(ff.qd_max[j] == r.qd_max[j] && ff.qdd_max[j] == r.qdd_max[j]);
+        assert_true(ff.kin.j[j].kt == kf.j[j].kt);
+        const c4gh_ffm_axis_t &a = ff.ax[j];
+        assert_int_equal(a.set, 1);
+        assert_true(a.fv == r.params[nb + 3 * static_cast<std::size_t>(j)].value);
+        assert_true(a.fc == r.params[nb + 3 * static_cast<std::size_t>(j) + 1].value);
+        assert_true(a.off == r.params[nb + 3 * static_cast<std::size_t>(j) + 2].value);
+        assert_true(a.eps == r.axes[static_cast<std::size_t>(j)].prep.eps);
     }
     // the torques of the file's full vector are those of the base solution: W theta = W_b beta
     // (the base members carry their combinations, the others are 0)
