@@ -87,11 +87,11 @@ def test_ctrl_family_on_the_arm(build, ports, tmp_path):
 
 
 def test_ctrl_usage_refused(build, tmp_path):
-    """--model takes axis or ctrl; a variant of the other family is a usage error (exit 2)"""
+    """--model takes axis, ctrl or rigid; a variant of the other family is a usage error (exit 2)"""
     ident = str(build / "bin" / "c4g-ident")
     log = tmp_path / "none.pcap"
     log.write_bytes(b"")
-    for args, why in ((["--model", "joint"], "--model: bad value 'joint' (axis or ctrl)"),
+    for args, why in ((["--model", "joint"], "--model: bad value 'joint' (axis, ctrl or rigid)"),
                       (["--model", "ctrl", "--variant", "coulomb+gravity"],
                        "--variant coulomb+gravity is not a variant of --model ctrl"),
                       (["--variant", "ctrl+coulomb"], "--variant ctrl+coulomb is not a variant of --model axis")):

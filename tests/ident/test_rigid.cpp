@@ -1,16 +1,23 @@
 // SPDX-License-Identifier: MIT
 // c4g-ident's rigid-body model in-process (CMocka): the base parameters of known arms
 // (rigid_base.hpp), checked against their closed forms.
+#include "rigid.hpp"
 #include "rigid_base.hpp"
 
 extern "C" {
+#include "c4gh_ffmodel.h"
+#include "c4gh_textfile.h"
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
 }
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -141,6 +148,135 @@ void test_base_refused(void **)
     assert_false(rigid_base(ch, &B, &err));
 }
 
+// What the read-back of a rigid parameter file found: the kinematics through the kinematics
+// file's own key handler (as the file's parser takes them), every other key by section.
+struct ReadBack {
+    c4gh_kinfile_t kf{};
+    c4gh_kin_ctx_t kx{};
+    std::map<std::string, std::map<std::string, std::string>> keys;
+    const c4gh_tf_file_t *f = nullptr;
+};
+
+c4gh_tf_ini_rc_t on_key(void *user, const char *section, const char *name, const char *value, char *msg, size_t msglen)
+{
+    ReadBack *rb = static_cast<ReadBack *>(user);
+    const int rc = c4gh_kin_on_key(&rb->kx, section, name, value, rb->f->line, msg, msglen);
+    if (rc >= 0) return static_cast<c4gh_tf_ini_rc_t>(rc);
+    rb->keys[section][name] = value;
+    return C4GH_TF_INI_OK;
+}
+
+// The file the rigid fit writes, read back: checksum, kinematics verbatim, the full vector,
+// ranges and friction exactly as written (17 digits: doubles round-trip).
+void test_params_file_round_trip(void **)
+{
+    c4gh_kinfile_t kf;
+    char err[512];
+    assert_int_equal(c4gh_kin_load(FIXTURES_DIR "/ident/smart-six.kin", &kf, err, sizeof err), 0);
+    RigidResult r;
+    r.n = 6;
+    r.arm = 1;
+    r.period = 0.002;
+    std::string why;
+    assert_true(rigid_base(kf.chain, &r.base, &why));
+    const std::size_t nb = r.base.base.size();
+    r.theta.assign(static_cast<std::size_t>(r.base.nfull), 0.0);
+    for (std::size_t k = 0; k < nb; k++) r.theta[static_cast<std::size_t>(r.base.base[k])] = 0.1 * static_cast<double>(k + 1) / 3.0;
+    for (std::size_t k = 0; k < nb + 18; k++) {
+        RigidParam p;
+        p.value = (k < nb) ? r.theta[static_cast<std::size_t>(r.base.base[k])] : 1.0 / static_cast<double>(k + 7);
+        r.params.push_back(p);
+    }
+    r.axes.resize(6);
+    for (int j = 0; j < 6; j++) {
+        r.q_min[j] = -0.5 - j / 7.0;
+        r.q_max[j] = 0.25 + j / 9.0;
+        r.qd_max[j] = 1.0 + j / 3.0;
+        r.qdd_max[j] = 10.0 + j / 3.0;
+        r.axes[static_cast<std::size_t>(j)].prep.eps = 0.03 + j / 1e3;
+    }
+    InputInfo in;
+    in.path = "run.pcap";
+    const std::string text = rigid_params_text(r, kf, {in}, "9.9.9");
+    uint64_t sum = 0;
+    assert_int_equal(c4gh_ffm_checksum_text(text.data(), text.size(), &sum), 0);
+    char want[25];
+    c4gh_ffm_checksum_format(sum, want);
+    assert_non_null(std::strstr(text.c_str(), (std::string("checksum = ") + want + "\n").c_str()));
+    ReadBack rb;
+    c4gh_kin_begin(&rb.kx, &rb.kf, "kinematics");
+    c4gh_tf_file_t f;
+    c4gh_tf_open_mem(&f, "rigid.ini", text.data(), text.size());
+    rb.f = &f;
+    assert_int_equal(c4gh_tf_ini_parse(&f, on_key, &rb, err, sizeof err), 0);
+    assert_int_equal(c4gh_kin_end(&rb.kx, "rigid.ini", err, sizeof err), 0);
+    // the kinematics: what the kinematics file says, and the same chain
+    assert_int_equal(rb.kf.n, 6);
+    assert_int_equal(rb.kf.conv, C4G_DYN_DH_MODIFIED);
+    assert_int_equal(rb.kf.deg, 1);
+    assert_memory_equal(&rb.kf.chain, &kf.chain, sizeof kf.chain);
+    for (int j = 0; j < 6; j++) assert_true(rb.kf.j[j].kt == kf.j[j].kt && rb.kf.j[j].alpha == kf.j[j].alpha);
+    auto &model = rb.keys["model"];
+    assert_string_equal(model["format"].c_str(), "c4g-ident 1");
+    assert_string_equal(model["model"].c_str(), "rigid-body-1");
+    assert_string_equal(model["range"].c_str(), "clamp");
+    assert_string_equal(model["base_params"].c_str(), "40");
+    assert_string_equal(model["source"].c_str(), "run.pcap");
+    assert_string_equal(model["created_by"].c_str(), "c4g-ident 9.9.9");
+    static const char *const pn[10] = {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+    for (int j = 0; j < 6; j++) {
+        auto &J = rb.keys["joint " + std::to_string(j + 1)];
+        for (int p = 0; p < 10; p++) assert_true(std::strtod(J[pn[p]].c_str(), nullptr) == r.theta[static_cast<std::size_t>(10 * j + p)]);
+        assert_true(std::strtod(J["ia"].c_str(), nullptr) == r.theta[static_cast<std::size_t>(60 + j)]);
+        assert_true(std::strtod(J["q_min"].c_str(), nullptr) == r.q_min[j]);
+        assert_true(std::strtod(J["q_max"].c_str(), nullptr) == r.q_max[j]);
+        assert_true(std::strtod(J["qd_max"].c_str(), nullptr) == r.qd_max[j]);
+        assert_true(std::strtod(J["qdd_max"].c_str(), nullptr) == r.qdd_max[j]);
+        auto &A = rb.keys["axis " + std::to_string(j + 1)];
+        assert_true(std::strtod(A["Fv"].c_str(), nullptr) == r.params[nb + 3 * static_cast<std::size_t>(j)].value);
+        assert_true(std::strtod(A["Fc"].c_str(), nullptr) == r.params[nb + 3 * static_cast<std::size_t>(j) + 1].value);
+        assert_true(std::strtod(A["off"].c_str(), nullptr) == r.params[nb + 3 * static_cast<std::size_t>(j) + 2].value);
+        assert_true(std::strtod(A["eps"].c_str(), nullptr) == r.axes[static_cast<std::size_t>(j)].prep.eps);
+    }
+    // and through the file's own parser (what c4g-server --ff reads), from disk
+    char path[] = "/tmp/c4g-rigid-XXXXXX";
+    const int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    assert_int_equal(close(fd), 0);
+    c4gh_ffm_file_t ff;
+    const int rc = c4gh_ffm_load(path, &ff, err, sizeof err);
+    unlink(path);
+    if (rc != 0) fail_msg("%s", err);
+    assert_int_equal(ff.rigid, 1);
+    assert_int_equal(ff.arm, 1);
+    assert_true(ff.period_ms == 2.0);
+    assert_int_equal(ff.checksum, sum);
+    assert_int_equal(ff.consistent, 0);
+    assert_int_equal(ff.base_params, 40);
+    assert_int_equal(ff.kin.n, 6);
+    assert_memory_equal(&ff.kin.chain, &kf.chain, sizeof kf.chain);
+    for (int j = 0; j < 6; j++) {
+        for (int p = 0; p < 10; p++) assert_true(ff.pi[10 * j + p] == r.theta[static_cast<std::size_t>(10 * j + p)]);
+        assert_true(ff.ia[j] == r.theta[static_cast<std::size_t>(60 + j)]);
+        assert_true(ff.q_min[j] == r.q_min[j] && ff.q_max[j] == r.q_max[j]);
+        assert_true(ff.qd_max[j] == r.qd_max[j] && ff.qdd_max[j] == r.qdd_max[j]);
+        assert_true(ff.kin.j[j].kt == kf.j[j].kt);
+        const c4gh_ffm_axis_t &a = ff.ax[j];
+        assert_int_equal(a.set, 1);
+        assert_true(a.fv == r.params[nb + 3 * static_cast<std::size_t>(j)].value);
+        assert_true(a.fc == r.params[nb + 3 * static_cast<std::size_t>(j) + 1].value);
+        assert_true(a.off == r.params[nb + 3 * static_cast<std::size_t>(j) + 2].value);
+        assert_true(a.eps == r.axes[static_cast<std::size_t>(j)].prep.eps);
+    }
+    // the torques of the file's full vector are those of the base solution: W theta = W_b beta
+    // (the base members carry their combinations, the others are 0)
+    Eigen::VectorXd th(66), beta(static_cast<Eigen::Index>(nb));
+    for (int k = 0; k < 66; k++) th(k) = r.theta[static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < nb; k++) beta(static_cast<Eigen::Index>(k)) = r.params[k].value;
+    assert_true((r.base.P * th - beta).norm() < 1e-12);
+}
+
 }  // namespace
 
 int main(void)
@@ -151,6 +287,7 @@ int main(void)
         cmocka_unit_test(test_base_map_exact),
         cmocka_unit_test(test_base_smart_six),
         cmocka_unit_test(test_base_refused),
+        cmocka_unit_test(test_params_file_round_trip),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

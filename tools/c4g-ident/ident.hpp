@@ -26,6 +26,7 @@ struct AxisLog {
     double az_lim = 0.0;    // A, 0 unknown
     const char *az_from = "none";  // where az_lim came from: "init packet", "--az-lim", "none"
     bool have_q = false;    // q is the link angle
+    bool lean = false;      // t, d1, d2, e1, e2 not kept (Selection::lean)
     std::vector<int64_t> tick;
     std::vector<double> t;  // s
     std::vector<float> d1, d2, d3, d4, d5, e1, e2;
@@ -124,6 +125,18 @@ constexpr double kDelayMax = 3.0;
 double estimate_delay(const AxisLog &log, const Options &o, double eps, double *sd = nullptr, bool *at_bound = nullptr);
 // Robust sigma of D5's noise from its second differences (model-free).
 double noise_floor(const AxisLog &log);
+
+// The rigid family (rigid.hpp) filters every axis of the arm at one delay and keeps each
+// tick's state: v, a [turn/s, turn/s^2] and q [rad] at D5's time, ok (the filter's window
+// inside the segment: the state is known) and use (prepare's rules for this axis' current).
+struct Track {
+    std::vector<float> v, a, q;
+    std::vector<unsigned char> ok, use;
+};
+// eps, the noise floor and this axis' own delay estimate, as prepare() finds them.
+Prep prepare_rigid_axis(const AxisLog &log, const Options &o);
+// The track of @p log at @p delay; counts kept and dropped ticks into @p pr (eps from it).
+void track(const AxisLog &log, const Options &o, double delay, Prep *pr, Track *out);
 
 struct ParamStat {
     // sigma: the larger of the white-noise and the block-robust figures (and the delay's

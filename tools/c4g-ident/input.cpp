@@ -85,6 +85,7 @@ struct Collector {
     std::vector<AxisLog> *logs;
     std::map<unsigned, std::size_t> index;  // logical axis (1-based) -> logs slot
     double t_first = NAN;
+    std::size_t reserve = 0;  // ticks a lean log is reserved for
     explicit Collector(const Selection &s, std::vector<AxisLog> *l) : sel(s), logs(l) {}
     AxisLog *axis(unsigned logical, unsigned open, double period, double az)
     {
@@ -97,6 +98,14 @@ struct Collector {
             L.open = open;
             L.period = period;
             L.az_lim = az;
+            L.lean = sel.lean;
+            if (sel.lean && reserve > 0) {
+                L.tick.reserve(reserve);
+                L.d3.reserve(reserve);
+                L.d4.reserve(reserve);
+                L.d5.reserve(reserve);
+                L.q.reserve(reserve);
+            }
             if (az > 0.0) {
                 L.az_from = "init packet";
             } else if (logical >= 1U && logical <= kMaxAxes && sel.az_lim[logical - 1U] > 0.0) {
@@ -104,7 +113,7 @@ struct Collector {
                 L.az_lim = sel.az_lim[logical - 1U];
                 L.az_from = "--az-lim";
             }
-            logs->push_back(L);
+            logs->push_back(std::move(L));  // a copy would drop the reservation
             it = index.emplace(logical, logs->size() - 1).first;
         }
         return &(*logs)[it->second];
@@ -138,15 +147,16 @@ struct Collector {
             }
         }
         L->tick.push_back(tick);
-        L->t.push_back(t);
-        L->d1.push_back(f[0]);
-        L->d2.push_back(f[1]);
         L->d3.push_back(f[2]);
         L->d4.push_back(f[3]);
         L->d5.push_back(f[4]);
+        L->q.push_back(q);
+        if (L->lean) return true;
+        L->t.push_back(t);
+        L->d1.push_back(f[0]);
+        L->d2.push_back(f[1]);
         L->e1.push_back(f[5]);
         L->e2.push_back(f[6]);
-        L->q.push_back(q);
         return true;
     }
 };
@@ -172,6 +182,10 @@ void on_exchange(void *vp, const c4gh_an_exchange_t *x)
         c->info->sessions++;
         c->nt = NumTicks();
         c->kin_ok = s->have_init && c4g_kin_from_init(&s->init, arm, &c->kin) == C4G_OK;
+        if (c->kin_ok && !c->info->have_init_kin) {
+            c->info->have_init_kin = true;
+            c->info->kin = c->kin;
+        }
     }
     c->info->ticks++;
     int64_t tick = 0;
@@ -219,6 +233,9 @@ int read_capture(const std::string &path, Collector &col, InputInfo *info, std::
         *err = e;
         return -1;
     }
+    // a tick takes a controller packet and its reply, over 256 bytes with their headers for
+    // the axes of an arm: an upper bound of the ticks, so the logs never move while growing
+    if (col.sel.lean && c4gh_cap_size(c) > 0) col.reserve = static_cast<std::size_t>(c4gh_cap_size(c) / 256U) + 1024U;
     c4gh_an_options_t o;
     c4gh_an_options_default(&o);
     CapCtx ctx;

@@ -5,6 +5,7 @@
 #define C4G_IDENT_INPUT_HPP
 
 #include "c4gopen_wire.h"
+#include "c4gopen_engine.h"
 #include "ident.hpp"
 
 #include <string>
@@ -21,6 +22,9 @@ struct Selection {
     unsigned session = 0;        // captures: 0 = all
     bool progress = false;       // progress on stderr
     bool keep_late = false;      // keep the ticks after a late or missing PC reply
+    // keep only what the rigid family reads (tick, D3, D4, D5, q): t, D1, D2, EXT1, EXT2
+    // stay empty, and a capture's logs are reserved from its size (untouched pages cost no memory)
+    bool lean = false;
     // --az-lim: the DSA current limit [A] of logical axis k+1 for logs that do not carry it
     // (CSV); 0 = not given. Captures read it from their init packet.
     double az_lim[kMaxAxes] = {};
@@ -31,6 +35,10 @@ struct InputInfo {
     uint64_t ticks = 0;          // controller ticks read
     uint64_t sessions = 0;
     bool have_kin = false;
+    // the arm's transmission from the first session's init packet (have_init_kin): the rigid
+    // family needs Kr, which a CSV does not carry
+    bool have_init_kin = false;
+    c4g_kin_t kin{};
     bool reply_times = false;    // the input says when each PC reply came (capture, export CSV)
     // the controller's NUM sequence: gaps (packets missing from the log), how many packets
     // they miss in all, and packets dropped as repeated or out of order

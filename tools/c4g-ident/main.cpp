@@ -8,6 +8,7 @@
 #include "optexcite.hpp"
 #include "input.hpp"
 #include "output.hpp"
+#include "rigid.hpp"
 
 extern "C" {
 #include "c4gh_cli.h"
@@ -86,7 +87,9 @@ struct FitCli {
     char plot[1024] = "";
     char samples[1024] = "";
     char validate[1024] = "";
-    int json = 0, quiet = 0, no_gravity = 0, keep_late = 0;
+    char kin[1024] = "";
+    int json = 0, quiet = 0, no_gravity = 0, keep_late = 0, consistent = 0;
+    bool rigid = false;        // --model rigid
 };
 
 int fit_axes(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
@@ -136,11 +139,13 @@ int fit_loss(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t
 
 int fit_model(void *ctx, const c4gh_cli_opt_t *, const char *v, char *why, size_t whylen)
 {
-    Options &o = static_cast<FitCli *>(ctx)->opt;
-    if (std::strcmp(v, "axis") == 0) o.ctrl = false;
-    else if (std::strcmp(v, "ctrl") == 0) o.ctrl = true;
-    else {
-        std::snprintf(why, whylen, "axis or ctrl");
+    FitCli &c = *static_cast<FitCli *>(ctx);
+    c.rigid = false;
+    c.opt.ctrl = false;
+    if (std::strcmp(v, "ctrl") == 0) c.opt.ctrl = true;
+    else if (std::strcmp(v, "rigid") == 0) c.rigid = true;
+    else if (std::strcmp(v, "axis") != 0) {
+        std::snprintf(why, whylen, "axis, ctrl or rigid");
         return -1;
     }
     return 0;
@@ -199,6 +204,36 @@ bool plot_dir_writable(const char *tool, const char *dir)
     return c4gh_cli_check_output(tool, "--plot", dir) == 0;
 }
 
+// --model rigid once the logs are read: one fit of the whole arm, its report and file.
+int run_rigid(const FitCli &c, const c4gh_kinfile_t &kf, const Job &job, std::vector<AxisLog> &logs,
+              std::vector<AxisLog> *vlogs, std::chrono::steady_clock::time_point t0)
+{
+    const bool tty = isatty(2);
+    if (tty) std::fprintf(stderr, "\r%s: fitting the rigid-body model of arm %u\033[K", kTool, c.sel.arm);
+    RigidResult r = identify_rigid(logs, job.inputs.front().kin, kf, vlogs, c.opt, c.consistent != 0);
+    if (tty) std::fprintf(stderr, "\r\033[K");
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!c.quiet) {
+        if (c.json) rigid_report_json(stdout, r, job.inputs, c.opt, c.kin, job.validate_path);
+        else rigid_report_text(stdout, r, job.inputs, c.opt, c.kin, job.validate_path);
+    }
+    if (!r.identifiable) {
+        if (c.out[0] != '\0') std::fprintf(stderr, "%s: the arm is not identified (%s): --out %s not written\n", kTool,
+                                           r.why_not.c_str(), c.out);
+        return 3;
+    }
+    if (c.out[0] != '\0') {
+        const std::string text = rigid_params_text(r, kf, job.inputs, C4G_VERSION_STRING);
+        FILE *f = std::fopen(c.out, "w");
+        const bool ok = f != nullptr && std::fwrite(text.data(), 1, text.size(), f) == text.size();
+        if (f == nullptr || std::fclose(f) != 0 || !ok) {
+            std::fprintf(stderr, "%s: %s: %s\n", kTool, c.out, f == nullptr ? std::strerror(errno) : "write error");
+            return C4GH_CLI_EXIT_RUNTIME;
+        }
+    }
+    return C4GH_CLI_EXIT_OK;
+}
+
 int run_fit(int argc, char **argv)
 {
     FitCli c;
@@ -212,7 +247,9 @@ int run_fit(int argc, char **argv)
         {"session", 0, C4GH_CLI_UINT, "N", "captures: only session N (default all)", &session, 0, 1, 1e6, nullptr, 0},
         {"validate", 0, C4GH_CLI_STRING, "LOG", "validate on a second log instead of the last 20 %", c.validate, sizeof c.validate, 0, 0, nullptr, 0},
         {"holdout", 0, C4GH_CLI_DOUBLE, "F", "share held out at the end for validation (default 0.2)", &holdout, 0, 0.05, 0.5, nullptr, 0},
-        {"model", 0, C4GH_CLI_CALL, "FAMILY", "axis (default: Ja*a + friction + gravity) or ctrl (k1*EXT1 + k2*EXT2 inertia + friction: corrects the controller's own model)", nullptr, 0, 0, 0, fit_model, 0},
+        {"model", 0, C4GH_CLI_CALL, "FAMILY", "axis (default: Ja*a + friction + gravity), ctrl (k1*EXT1 + k2*EXT2 inertia + friction: corrects the controller's own model) or rigid (the arm's rigid-body model: needs --kin and a capture)", nullptr, 0, 0, 0, fit_model, 0},
+        {"kin", 0, C4GH_CLI_STRING, "FILE", "--model rigid: the arm's kinematics file (DH parameters, gravity, kt)", c.kin, sizeof c.kin, 0, 0, nullptr, 0},
+        {"consistent", 0, C4GH_CLI_FLAG, nullptr, "--model rigid: also the physically consistent fit (every link's pseudo-inertia positive definite)", &c.consistent, 0, 0, 0, nullptr, 0},
         {"variant", 0, C4GH_CLI_CALL, "NAME", "auto (default: chosen on held-out data), coulomb, stribeck, ...+gravity; ctrl+coulomb, ctrl+stribeck", nullptr, 0, 0, 0, fit_variant, 0},
         {"keep-late", 0, C4GH_CLI_FLAG, nullptr, "keep the ticks after a late or missing PC reply (a moni CSV cannot tell them)", &c.keep_late, 0, 0, 0, nullptr, 0},
         {"az-lim", 0, C4GH_CLI_CALL, "A|AXIS:A,...", "CSV logs: the DSA current limit (AzLim) of every axis or of each; ticks at 98 % of it are dropped", nullptr, 0, 0, 0, fit_az_lim, 0},
@@ -237,13 +274,16 @@ int run_fit(int argc, char **argv)
         "c4g-ident fit --arm 1 moni.csv          # c4g-server --moni-type 0 CSV",
         "c4g-ident fit --az-lim 1:24.5,4:9.5 moni.csv   # AzLim as c4g-replay summary shows it",
         "c4g-ident fit --model ctrl --axes 1-3 arm.pcap -o arm1-ctrl.ini   # correct EXT1/EXT2",
+        "c4g-ident fit --model rigid --kin fixtures/ident/smart-six.kin arm.pcap -o arm1-rigid.ini",
         nullptr};
     c4gh_cli_spec_t spec = {"c4g-ident fit", C4G_VERSION_STRING,
                        "Usage: c4g-ident fit [OPTIONS] LOG...\n"
                        "Fits each axis' inertia, friction (viscous, Coulomb, Stribeck), offset and gravity from\n"
                        "logged runs: captures (pcap, pcapng), c4g-server --moni CSV (--moni-type 0) or\n"
                        "c4g-replay export CSV. Several LOGs are fitted together. Only drive-on ticks outside\n"
-                       "special modes are used; the report says how many were kept and why the rest were not.",
+                       "special modes are used; the report says how many were kept and why the rest were not.\n"
+                       "--model rigid --kin FILE fits the whole arm's rigid-body model (base parameters, each\n"
+                       "motor's friction and offset) from captures: their init packet gives the transmission.",
                        opts, sizeof opts / sizeof opts[0], examples,
                        "Exit status: 0 every selected axis identified; 1 a file could not be written; 2 bad\n"
                        "usage or an unreadable log; 3 an axis could not be identified (reported, not fitted;\n"
@@ -276,6 +316,24 @@ int run_fit(int argc, char **argv)
                        c.opt.ctrl ? "ctrl" : "axis");
         return C4GH_CLI_EXIT_USAGE;
     }
+    if ((c.kin[0] != '\0' || c.consistent) && !c.rigid) {
+        c4gh_cli_error(&spec, "%s applies to --model rigid", c.kin[0] != '\0' ? "--kin" : "--consistent");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (c.rigid && c.kin[0] == '\0') {
+        c4gh_cli_error(&spec, "--model rigid needs the arm's kinematics: --kin FILE (docs/c4g-ident.md)");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (c.rigid && (c.plot[0] != '\0' || c.samples[0] != '\0')) {
+        c4gh_cli_error(&spec, "--%s does not apply to --model rigid (its report and --json say what the fit found)",
+                       c.plot[0] != '\0' ? "plot" : "samples");
+        return C4GH_CLI_EXIT_USAGE;
+    }
+    if (c.rigid && (c.sel.axes != 0 || c.opt.force_variant >= 0 || c.no_gravity)) {
+        c4gh_cli_error(&spec, "--model rigid fits every joint of the kinematics file with its own friction: --%s does not apply",
+                       c.sel.axes != 0 ? "axes" : (c.no_gravity ? "no-gravity" : "variant"));
+        return C4GH_CLI_EXIT_USAGE;
+    }
     if (to >= 0.0 && to <= from) {
         c4gh_cli_error(&spec, "--to %g must be after --from %g", to, from);
         return C4GH_CLI_EXIT_USAGE;
@@ -286,6 +344,16 @@ int run_fit(int argc, char **argv)
     }
     if (c.plot[0] != '\0' && !plot_dir_writable(spec.tool, c.plot)) {
         return C4GH_CLI_EXIT_RUNTIME;
+    }
+    c4gh_kinfile_t kf{};
+    if (c.rigid) {
+        char kerr[512];
+        if (c4gh_kin_load(c.kin, &kf, kerr, sizeof kerr) != 0) {
+            std::fprintf(stderr, "%s: --kin %s\n", kTool, kerr);
+            return C4GH_CLI_EXIT_USAGE;
+        }
+        c.sel.axes = 0;
+        c.sel.lean = true;
     }
     const auto t0 = std::chrono::steady_clock::now();
     Job job;
@@ -299,6 +367,14 @@ int run_fit(int argc, char **argv)
             std::fprintf(stderr, "%s: %s\n", kTool, err.c_str());
             return C4GH_CLI_EXIT_USAGE;
         }
+        if (c.rigid && !info.have_init_kin) {
+            // the rigid model maps joint torques to motor currents through Kr (wrist coupling
+            // included), which only a capture's initialization packet carries
+            std::fprintf(stderr, "%s: --model rigid: %s: %s without the init packet's transmission (Kr): the rigid model "
+                                 "needs a capture (pcap, pcapng) that holds the initialization packet\n",
+                         kTool, argv[i], info.format.c_str());
+            return C4GH_CLI_EXIT_USAGE;
+        }
         job.inputs.push_back(info);
         // several logs: one run after another, never filtered across the seam
         for (AxisLog &L : logs) {
@@ -307,17 +383,19 @@ int run_fit(int argc, char **argv)
                 if (M.axis == L.axis) dst = &M;
             }
             if (dst == nullptr) {
-                merged.push_back(L);
+                merged.push_back(std::move(L));  // a copy would double the samples' memory
                 continue;
             }
             const int64_t shift = (dst->tick.empty() ? 0 : dst->tick.back() + 1000) - (L.tick.empty() ? 0 : L.tick.front());
             const double tshift = (dst->t.empty() ? 0 : dst->t.back() + 1.0) - (L.t.empty() ? 0 : L.t.front());
             for (std::size_t k = 0; k < L.tick.size(); k++) {
                 dst->tick.push_back(L.tick[k] + shift);
+                dst->d3.push_back(L.d3[k]); dst->d4.push_back(L.d4[k]); dst->d5.push_back(L.d5[k]);
+                dst->q.push_back(L.q[k]);
+                if (L.lean) continue;
                 dst->t.push_back(L.t[k] + tshift);
-                dst->d1.push_back(L.d1[k]); dst->d2.push_back(L.d2[k]); dst->d3.push_back(L.d3[k]);
-                dst->d4.push_back(L.d4[k]); dst->d5.push_back(L.d5[k]); dst->e1.push_back(L.e1[k]);
-                dst->e2.push_back(L.e2[k]); dst->q.push_back(L.q[k]);
+                dst->d1.push_back(L.d1[k]); dst->d2.push_back(L.d2[k]);
+                dst->e1.push_back(L.e1[k]); dst->e2.push_back(L.e2[k]);
             }
             for (int64_t lt : L.late_ticks) dst->late_ticks.push_back(lt + shift);
             dst->have_q = dst->have_q && L.have_q;
@@ -354,6 +432,7 @@ int run_fit(int argc, char **argv)
         }
         job.validate_path = c.validate;
     }
+    if (c.rigid) return run_rigid(c, kf, job, merged, c.validate[0] != '\0' ? &vlogs : nullptr, t0);
     const bool tty = isatty(2);
     bool all_ok = true;
     // Axes are independent: --threads workers take them in turn, each fit single-threaded

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "output.hpp"
+#include "rigid.hpp"
 
 extern "C" {
 #include "c4gh_ffmodel.h"
@@ -375,6 +376,212 @@ int write_plots(const std::string &dir, const Job &j, std::string *err)
         }
     }
     return 0;
+}
+
+// ---------------------------------------------------------------- the rigid family
+
+namespace {
+
+void rigid_inputs_text(FILE *out, const std::vector<InputInfo> &inputs)
+{
+    for (const InputInfo &in : inputs) {
+        std::fprintf(out, "input %s: %s, %llu controller ticks, %llu session(s)%s\n", in.path.c_str(), in.format.c_str(),
+                     static_cast<unsigned long long>(in.ticks), static_cast<unsigned long long>(in.sessions),
+                     in.have_init_kin ? ", transmission from the init packet" : "");
+        if (in.num_gaps > 0 || in.num_dups > 0) {
+            std::fprintf(out, "  NUM sequence: %llu gap(s), %llu controller packet(s) missing; %llu repeated or out-of-order "
+                              "packet(s) dropped\n",
+                         static_cast<unsigned long long>(in.num_gaps), static_cast<unsigned long long>(in.num_missing),
+                         static_cast<unsigned long long>(in.num_dups));
+        }
+    }
+}
+
+}  // namespace
+
+void rigid_report_text(FILE *out, const RigidResult &r, const std::vector<InputInfo> &inputs, const Options &o,
+                       const std::string &kin_path, const std::string &validate_path)
+{
+    rigid_inputs_text(out, inputs);
+    std::fprintf(out, "model: rigid: i_k = sum_j (Kr^-T)_kj (Y_j(q,qd,qdd) theta + ia_j qdd_j) / kt_k + Fv_k*v_k + Fc_k*tanh(v_k/eps_k) + off_k\n");
+    std::fprintf(out, "kinematics: %s, %d joints; transmission Kr from the init packet\n", kin_path.c_str(), r.n);
+    std::fprintf(out, "fit: %s loss (scale %.3g sigma) in one weighted pass over the normal equations, Savitzky-Golay %d/%d, "
+                      "validation: %s\n",
+                 o.loss == LOSS_HUBER ? "huber" : (o.loss == LOSS_CAUCHY ? "cauchy" : "none"), o.loss_k, 2 * o.sg_half + 1,
+                 o.sg_order,
+                 validate_path.empty() ? (std::to_string(static_cast<int>(o.holdout * 100)) + " % held out at the end").c_str()
+                                       : validate_path.c_str());
+    std::fprintf(out, "ticks: %zu logged, %zu with every joint's state known\n", r.ticks, r.states);
+    for (const RigidAxis &a : r.axes) {
+        std::fprintf(out, "  axis %u: %zu currents used; dropped %llu standstill/reversal, %llu near a late PC reply, %llu near a "
+                          "NUM gap, %llu saturated, %llu filter edges; eps %.4g turn/s, own delay %+.2f ticks%s\n",
+                     a.axis, a.rows, static_cast<unsigned long long>(a.prep.dropped_still),
+                     static_cast<unsigned long long>(a.prep.dropped_late), static_cast<unsigned long long>(a.prep.dropped_gap),
+                     static_cast<unsigned long long>(a.prep.dropped_sat), static_cast<unsigned long long>(a.prep.dropped_edge),
+                     a.prep.eps, a.prep.delay, a.prep.delay_at_bound ? " (at the end of its search: not used)" : "");
+    }
+    if (r.base.n == 0) {
+        std::fprintf(out, "UNIDENTIFIABLE: %s\n", r.why_not.c_str());
+        return;
+    }
+    std::fprintf(out, "delay of D5 after D4: %+.3f ticks (every axis)\n", r.delay);
+    std::fprintf(out, "base parameters: %zu of %d (the others cannot be told apart by any motion: folded into the first "
+                      "member of each combination)\n", r.base.base.size(), r.base.nfull);
+    if (r.params.empty()) {
+        std::fprintf(out, "UNIDENTIFIABLE: %s\n", r.why_not.c_str());
+        return;
+    }
+    std::fprintf(out, "  %-3s %-44s %14s %12s %9s %s%s\n", "#", "parameter", "value", "+-95 %", "sigma %", "unit",
+                 r.consistent ? "  consistent" : "");
+    for (std::size_t k = 0; k < r.params.size(); k++) {
+        const RigidParam &p = r.params[k];
+        char pct[32];
+        if (p.pct < 1e299) std::snprintf(pct, sizeof pct, "%9.3f", p.pct);
+        else std::snprintf(pct, sizeof pct, "%9s", "-");
+        std::fprintf(out, "  %-3zu %-44s %14.7g %12.4g %s %s%s", k + 1, p.name.c_str(), p.value, p.ci95, pct, p.unit.c_str(),
+                     p.pinned ? "" : "  NOT PINNED");
+        if (r.consistent) std::fprintf(out, "  %.7g", p.consistent);
+        std::fputc('\n', out);
+    }
+    std::fprintf(out, "intervals: t(%d) x sigma, sigma the larger of white-noise and block-robust (%d spans)\n",
+                 r.blocks > 1 ? r.blocks - 1 : 0, r.blocks);
+    std::fprintf(out, "normal matrix condition number %.4g (columns scaled); %.3f s\n", r.cond, r.seconds);
+    if (r.consistent) {
+        std::fprintf(out, "consistent fit (every link's pseudo-inertia positive definite, log-Cholesky): the predicted currents "
+                          "moved by %.3g noise sigmas RMS from the least-squares fit; the file holds the consistent values\n", r.moved);
+    }
+    std::fprintf(out, "per axis: %-8s %10s %12s %12s %10s\n", "axis", "sigma [A]", "noise [A]", "held-out [A]", "x noise");
+    for (const RigidAxis &a : r.axes) {
+        std::fprintf(out, "          %-8u %10.4g %12.4g %12.4g %10.3f", a.axis, a.sigma, a.prep.noise_floor, a.val.rms_inlier,
+                     a.val.x_noise);
+        if (r.consistent) std::fprintf(out, "  (least squares %.3f)", a.val_lin.x_noise);
+        std::fputc('\n', out);
+    }
+    std::fprintf(out, "fitted range:\n");
+    for (int j = 0; j < r.n; j++) {
+        std::fprintf(out, "  joint %d: q %.4g .. %.4g rad, |qd| <= %.4g rad/s, |qdd| <= %.4g rad/s^2\n", j + 1, r.q_min[j],
+                     r.q_max[j], r.qd_max[j], r.qdd_max[j]);
+    }
+    if (!r.identifiable) std::fprintf(out, "UNIDENTIFIABLE: %s\n", r.why_not.c_str());
+    for (const std::string &w : r.warnings) std::fprintf(out, "warning: %s\n", w.c_str());
+}
+
+int rigid_report_json(FILE *out, const RigidResult &r, const std::vector<InputInfo> &inputs, const Options &o,
+                      const std::string &kin_path, const std::string &validate_path)
+{
+    json_t *root = json_object();
+    json_t *ins = json_array();
+    for (const InputInfo &in : inputs) {
+        json_array_append_new(ins, json_pack("{s:s,s:s,s:I,s:I,s:I}", "path", in.path.c_str(), "format", in.format.c_str(),
+                                             "ticks", static_cast<json_int_t>(in.ticks), "num_gaps",
+                                             static_cast<json_int_t>(in.num_gaps), "num_missing",
+                                             static_cast<json_int_t>(in.num_missing)));
+    }
+    json_object_set_new(root, "inputs", ins);
+    json_object_set_new(root, "model", json_string("rigid"));
+    json_object_set_new(root, "kinematics", json_string(kin_path.c_str()));
+    json_object_set_new(root, "validation", json_string(validate_path.empty() ? "holdout" : validate_path.c_str()));
+    json_object_set_new(root, "holdout", json_real(o.holdout));
+    json_object_set_new(root, "identifiable", json_boolean(r.identifiable));
+    if (!r.why_not.empty()) json_object_set_new(root, "why", json_string(r.why_not.c_str()));
+    json_object_set_new(root, "arm", json_integer(r.arm));
+    json_object_set_new(root, "joints", json_integer(r.n));
+    json_object_set_new(root, "delay_ticks", json_real(r.delay));
+    json_object_set_new(root, "ticks", json_integer(static_cast<json_int_t>(r.ticks)));
+    json_object_set_new(root, "states", json_integer(static_cast<json_int_t>(r.states)));
+    json_object_set_new(root, "full_params", json_integer(r.base.nfull));
+    json_object_set_new(root, "base_params", json_integer(static_cast<json_int_t>(r.base.base.size())));
+    json_object_set_new(root, "covariance_blocks", json_integer(r.blocks));
+    json_object_set_new(root, "condition", json_real(r.cond));
+    json_object_set_new(root, "seconds", json_real(r.seconds));
+    json_object_set_new(root, "consistent", json_boolean(r.consistent));
+    if (r.consistent) json_object_set_new(root, "consistent_moved", json_real(r.moved));
+    json_t *ps = json_array();
+    for (const RigidParam &p : r.params) {
+        json_t *po = json_pack("{s:s,s:f,s:f,s:f,s:f,s:s,s:b}", "name", p.name.c_str(), "value", p.value, "sigma", p.sigma,
+                               "sigma_white", p.sigma_white, "ci95", p.ci95, "unit", p.unit.c_str(), "pinned", p.pinned);
+        json_object_set_new(po, "reach", json_real(p.reach));
+        json_object_set_new(po, "reach_axis", json_integer(p.reach_axis));
+        if (r.consistent) json_object_set_new(po, "consistent", json_real(p.consistent));
+        json_array_append_new(ps, po);
+    }
+    json_object_set_new(root, "parameters", ps);
+    json_t *axes = json_array();
+    for (const RigidAxis &a : r.axes) {
+        json_t *ao = json_pack("{s:I,s:I,s:f,s:f,s:f,s:f}", "axis", static_cast<json_int_t>(a.axis), "rows",
+                               static_cast<json_int_t>(a.rows), "sigma", a.sigma, "noise_floor", a.prep.noise_floor, "eps",
+                               a.prep.eps, "own_delay_ticks", a.prep.delay);
+        json_object_set_new(ao, "dropped", json_pack("{s:I,s:I,s:I,s:I,s:I}", "standstill",
+                                                     static_cast<json_int_t>(a.prep.dropped_still), "late_reply",
+                                                     static_cast<json_int_t>(a.prep.dropped_late), "num_gap",
+                                                     static_cast<json_int_t>(a.prep.dropped_gap), "saturated",
+                                                     static_cast<json_int_t>(a.prep.dropped_sat), "edges",
+                                                     static_cast<json_int_t>(a.prep.dropped_edge)));
+        json_object_set_new(ao, "validation", json_pack("{s:I,s:f,s:f,s:f,s:f}", "samples", static_cast<json_int_t>(a.val.n),
+                                                        "rms", a.val.rms, "rms_inlier", a.val.rms_inlier, "pct_peak",
+                                                        a.val.pct_peak, "x_noise", a.val.x_noise));
+        if (r.consistent) {
+            json_object_set_new(ao, "validation_least_squares", json_pack("{s:f,s:f}", "rms_inlier", a.val_lin.rms_inlier,
+                                                                          "x_noise", a.val_lin.x_noise));
+        }
+        json_array_append_new(axes, ao);
+    }
+    json_object_set_new(root, "axes", axes);
+    json_t *w = json_array();
+    for (const std::string &s : r.warnings) json_array_append_new(w, json_string(s.c_str()));
+    json_object_set_new(root, "warnings", w);
+    const int rc = json_dumpf(root, out, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+    std::fputc('\n', out);
+    json_decref(root);
+    return rc;
+}
+
+std::string rigid_params_text(const RigidResult &r, const c4gh_kinfile_t &kf, const std::vector<InputInfo> &inputs,
+                              const std::string &version)
+{
+    std::ostringstream o;
+    o.precision(17);
+    o << "# c4g-ident parameter file: the rigid-body model of one arm (c4g-ident fit --model rigid).\n"
+         "# i_k = sum_j (Kr^-T)_kj (tau_j) / kt_k + Fv*v + (Fc + (Fs-Fc)*exp(-(v/vs)^2))*tanh(v/eps) + off,\n"
+         "# tau = RNEA(q, qd, qdd; [joint N] m..Izz) + ia*qdd, Kr from the init packet. Link parameters\n"
+         "# about each link frame's origin [kg, kg m, kg m^2]: the base-parameter solution with the members\n"
+         "# no motion separates set to 0 (the torques are exact, the single values need not be physical).\n"
+         "# Friction in A per motor as model = axis. Edit nothing: the checksum covers every other line.\n"
+         "[model]\nformat = c4g-ident 1\nmodel = rigid-body-1\n";
+    o << "arm = " << r.arm << "\nperiod_ms = " << r.period * 1e3 << "\n";
+    o << "source = ";
+    for (std::size_t k = 0; k < inputs.size(); k++) o << (k ? " " : "") << inputs[k].path;
+    o << "\ncreated_by = c4g-ident " << version << "\n";
+    std::ostringstream body;
+    body.precision(17);
+    body << "range = clamp\nconsistent = " << (r.consistent ? 1 : 0) << "\nbase_params = " << r.base.base.size() << "\n";
+    body << "\n[kinematics]\nconvention = " << (kf.conv == C4G_DYN_DH_MODIFIED ? "modified" : "standard")
+         << "\nangles = " << (kf.deg ? "deg" : "rad") << "\ngravity = " << kf.gravity[0] << " " << kf.gravity[1] << " "
+         << kf.gravity[2] << "\n";
+    static const char *const pn[kRigidPerLink] = {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+    for (int j = 0; j < r.n; j++) {
+        const c4gh_kin_joint_t &J = kf.j[j];
+        body << "\n[joint " << j + 1 << "]\na = " << J.a << "\nalpha = " << J.alpha << "\nd = " << J.d << "\ntheta0 = " << J.theta0
+             << "\nkt = " << J.kt << "\n";
+        const std::vector<double> &th = r.consistent ? r.theta_consistent : r.theta;
+        for (int p = 0; p < kRigidPerLink; p++) body << pn[p] << " = " << th[static_cast<std::size_t>(kRigidPerLink * j + p)] << "\n";
+        body << "ia = " << th[static_cast<std::size_t>(kRigidPerLink * r.n + j)] << "\n";
+        body << "q_min = " << r.q_min[j] << "\nq_max = " << r.q_max[j] << "\nqd_max = " << r.qd_max[j] << "\nqdd_max = "
+             << r.qdd_max[j] << "\n";
+    }
+    const std::size_t nb = r.base.base.size();
+    for (int k = 0; k < r.n; k++) {
+        const RigidAxis &a = r.axes[static_cast<std::size_t>(k)];
+        const std::size_t f = nb + 3 * static_cast<std::size_t>(k);
+        auto v = [&](std::size_t i) { return r.consistent ? r.params[i].consistent : r.params[i].value; };
+        body << "\n[axis " << k + 1 << "]\nFv = " << v(f) << "\nFc = " << v(f + 1) << "\noff = " << v(f + 2) << "\neps = " << a.prep.eps
+             << "\n";
+    }
+    const std::string without = o.str() + body.str();
+    const uint64_t sum = c4gh_ffm_fnv1a64(without.data(), without.size(), C4GH_FFM_FNV_BASIS);
+    char line[64];
+    std::snprintf(line, sizeof line, "checksum = fnv1a64:%016llx\n", static_cast<unsigned long long>(sum));
+    return o.str() + line + body.str();
 }
 
 }  // namespace ident

@@ -360,10 +360,12 @@ AxisLog thin_blocks(const AxisLog &L, std::size_t max)
     d.d5.clear(); d.e1.clear(); d.e2.clear(); d.q.clear();
     for (std::size_t b = 0; b * blk < n; b += k) {
         for (std::size_t j = b * blk; j < std::min(n, (b + 1) * blk); j++) {
-            d.tick.push_back(L.tick[j]); d.t.push_back(L.t[j]);
-            d.d1.push_back(L.d1[j]); d.d2.push_back(L.d2[j]); d.d3.push_back(L.d3[j]);
-            d.d4.push_back(L.d4[j]); d.d5.push_back(L.d5[j]); d.e1.push_back(L.e1[j]);
-            d.e2.push_back(L.e2[j]);
+            d.tick.push_back(L.tick[j]);
+            d.d3.push_back(L.d3[j]); d.d4.push_back(L.d4[j]); d.d5.push_back(L.d5[j]);
+            if (!L.lean) {
+                d.t.push_back(L.t[j]); d.d1.push_back(L.d1[j]); d.d2.push_back(L.d2[j]);
+                d.e1.push_back(L.e1[j]); d.e2.push_back(L.e2[j]);
+            }
             if (j < L.q.size()) d.q.push_back(L.q[j]);
         }
     }
@@ -561,6 +563,42 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
         }
     }
     return pr;
+}
+
+Prep prepare_rigid_axis(const AxisLog &L, const Options &o)
+{
+    Prep pr;
+    double vmax = 0.0;
+    const double eps_auto = auto_eps(L, o, &pr.vnoise, &vmax);
+    pr.eps = (o.eps > 0.0) ? o.eps : eps_auto;
+    pr.noise_floor = noise_floor(L);
+    if (o.delay_auto) pr.delay = estimate_delay(L, o, pr.eps, &pr.delay_sd, &pr.delay_at_bound);
+    else pr.delay = o.delay;
+    return pr;
+}
+
+void track(const AxisLog &L, const Options &o, double delay, Prep *pr, Track *out)
+{
+    Filtered f;
+    filter(L, o, delay + 0.5, 1, &f);
+    const std::vector<unsigned char> use = usable(L, f, pr->eps, o.sg_half, pr, true);
+    const std::size_t n = L.tick.size();
+    out->v.resize(n);
+    out->a.resize(n);
+    out->q.resize(n);
+    out->ok = f.ok;
+    out->use = use;
+    for (std::size_t k = 0; k < n; k++) {
+        out->v[k] = static_cast<float>(f.v[k]);
+        out->a[k] = static_cast<float>(f.a[k]);
+        out->q[k] = L.have_q ? static_cast<float>(q_at(L, k, delay)) : 0.0F;
+        if (use[k]) {
+            pr->kept++;
+            pr->vmax = std::max(pr->vmax, std::fabs(f.v[k]));
+            pr->amax = std::max(pr->amax, std::fabs(f.a[k]));
+            pr->ipeak = std::max(pr->ipeak, std::fabs(static_cast<double>(L.d5[k])));
+        }
+    }
 }
 
 }  // namespace ident
