@@ -19,7 +19,7 @@ def session(build, port, out, name, scn, *srv_opts):
     """one c4g-server + c4g-sim session on the arm plant, captured by c4g-sim"""
     err = out / (name + ".srv.err")
     with open(err, "w") as e:
-        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "-c", "127.0.0.1",
+        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "--controller", "127.0.0.1",
                                 "--idle-timeout", "5", "--max-seconds", "90"] + [str(o) for o in srv_opts],
                                stdout=subprocess.DEVNULL, stderr=e)
     try:
