@@ -65,8 +65,8 @@ session() {
 }
 
 echo "== 1. excitations"
-"$ID" excite --optimize --kin "$KIN" --vmax 20 --amax 200 -o "$O/opt.csv" --json >"$O/excite.json" || exit 1
-"$ID" excite --axes 1,2,3,4,5,6 --vmax 20 --amax 200 --duration 20 --seed 7 -o "$O/val.csv" >/dev/null || exit 1
+"$ID" excite --optimize --kin "$KIN" --vmax 20 --amax 200 -T 1 --f0 0.125 --periods 2 -o "$O/opt.csv" --json >"$O/excite.json" || exit 1
+"$ID" excite --axes 1,2,3,4,5,6 --vmax 20 --amax 200 -T 1 --duration 19 --seed 7 -o "$O/val.csv" >/dev/null || exit 1
 echo "== 2. recordings (mode 4, 1 kHz, arm plant)"
 session ident ident.scn --traj "$O/opt.csv" || exit 1
 session val ident.scn --traj "$O/val.csv" || exit 1
