@@ -310,7 +310,10 @@ static void log_moni(srv_host_t *H, uint64_t t, const c4g_ctrl_packet_t *rx, con
 }
 
 /* The send stamp of the datagram just sent, from the error queue (the clock read after
- * sendto when the kernel has none for it). */
+ * sendto when the kernel has none for it). The read stops at the stamp of this send: one
+ * recvmsg a packet, not a second one to find the queue empty. Older stamps still queued
+ * come out first; a stamp that comes after its read stays queued until the next send's
+ * read (a queued stamp does not wake the blocking recvfrom, which waits for data only). */
 static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
 {
     static uint8_t buf[64];
@@ -319,8 +322,9 @@ static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
     c4gh_udp_msg_t m;
     unsigned guard = 0U;
     while (guard++ < 64U && c4gh_udp_recv(fd, 1, H->kstamp_off, buf, sizeof buf, &m) >= 0) {
-        if (m.has_key && m.key == key && m.stamp_ns != 0U) {
+        if (m.has_key && m.key == key) {
             t = m.stamp_ns;
+            break;
         }
     }
     return (t != 0U && t <= t_tx) ? t : t_tx;
