@@ -157,11 +157,112 @@ static void test_loss_at_deadline(void **state)
     assert_true(t_end - t_last < 1000U * 1000000ULL);
 }
 
+/* One packet of the start-up and cyclic sequence of test_loss_at_deadline (NUM @p num) to
+ * @p to, and its reply read. */
+static void send_tick(int fd, const struct sockaddr_in *to, int num)
+{
+    uint8_t b[C4G_INIT_SIZE], r[1400];
+    size_t len;
+    if (num == 10) {
+        memcpy(b, th_fig, sizeof th_fig);
+        th_put_u32(b, (uint32_t)num);
+        len = sizeof th_fig;
+    } else if (num < 13) {
+        memset(b, 0, sizeof b);
+        th_put_u32(b, (uint32_t)num);
+        len = C4G_CYCLIC_SIZE(6U);
+    } else {
+        len = th_ctrl_bytes(b, sizeof b, num, 6U, C4G_MODE_0);
+    }
+    assert_int_equal(sendto(fd, b, len, 0, (const struct sockaddr *)to, sizeof *to), (ssize_t)len);
+    assert_true(recv(fd, r, sizeof r, 0) > 0);
+}
+
+/* A client socket for the server on @p port (replies within 1 s) and its address. */
+static int client(const char *port, struct sockaddr_in *to)
+{
+    struct timeval tv = {1, 0};
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    assert_true(fd >= 0);
+    (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    memset(to, 0, sizeof *to);
+    to->sin_family = AF_INET;
+    to->sin_port = htons((uint16_t)atoi(port));
+    to->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    return fd;
+}
+
+/* The loop blocks in recvfrom with the deadline timer armed: SIGTERM in the middle of a
+ * stream (the timer firing early and being re-armed meanwhile) still ends the run at once
+ * with exit code 5, and every packet before it was answered. */
+static void test_signal_under_stream(void **state)
+{
+    char port[16];
+    char *argv[] = {"c4g-server", "-p", port, "-c", "127.0.0.1", "-q", "--idle-timeout", "5", NULL};
+    struct sockaddr_in to;
+    pid_t pid;
+    int fd, num, code;
+    uint64_t t_sig;
+    (void)state;
+    (void)snprintf(port, sizeof port, "%u", test_port(3U));
+    pid = spawn_server(argv, 8);
+    sleep_ms(200U);
+    fd = client(port, &to);
+    for (num = 1; num <= 120; num++) { /* well past the 10-period silence threshold */
+        send_tick(fd, &to, num);
+        sleep_ms(1U);
+    }
+    t_sig = now_ns();
+    assert_int_equal(kill(pid, SIGTERM), 0);
+    code = wait_exit(pid, 2000U);
+    print_message("stopped %.1f ms after SIGTERM\n", (double)(now_ns() - t_sig) * 1e-6);
+    close(fd);
+    assert_int_equal(code, EXIT_SIGNAL);
+    assert_true(now_ns() - t_sig < 500U * 1000000ULL);
+}
+
+/* A silence shorter than the loss timeout in the middle of a stream: the timer, re-armed
+ * early while packets came, wakes the loop at the silence threshold; the session rides the
+ * silence out and counts it (JSON summary), and the stream goes on being answered. */
+static void test_silence_counted(void **state)
+{
+    char port[16], json[64], text[4096];
+    char *argv[] = {"c4g-server", "-p", port, "-c", "127.0.0.1", "-q", "--idle-timeout", "5",
+                    "--json", json, NULL};
+    struct sockaddr_in to;
+    pid_t pid;
+    int fd, num;
+    FILE *f;
+    size_t n;
+    (void)state;
+    (void)snprintf(port, sizeof port, "%u", test_port(4U));
+    (void)snprintf(json, sizeof json, "/tmp/c4g-wait-%d.json", (int)getpid());
+    pid = spawn_server(argv, 10);
+    sleep_ms(200U);
+    fd = client(port, &to);
+    for (num = 1; num <= 80; num++) {
+        send_tick(fd, &to, num);
+        sleep_ms(num == 50 ? 200U : 1U); /* 200 ms: past 10 periods, short of the 1 s loss */
+    }
+    assert_int_equal(kill(pid, SIGTERM), 0);
+    assert_int_equal(wait_exit(pid, 2000U), EXIT_SIGNAL);
+    close(fd);
+    f = fopen(json, "r");
+    assert_non_null(f);
+    n = fread(text, 1U, sizeof text - 1U, f);
+    text[n] = '\0';
+    fclose(f);
+    (void)remove(json);
+    assert_non_null(strstr(text, "\"silences\":1,"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_idle_server_sleeps),
         cmocka_unit_test(test_loss_at_deadline),
+        cmocka_unit_test(test_signal_under_stream),
+        cmocka_unit_test(test_silence_counted),
     };
     return cmocka_run_group_tests(tests, th_load_fig, NULL);
 }

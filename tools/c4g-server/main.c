@@ -11,8 +11,18 @@
  * counters) -> sendto -> srv_sent. This file holds the socket source of that loop: the
  * socket, the clock, the wait, the active-freezing pause, the kernel's address filter and
  * the outputs. Nothing on that path allocates or does file I/O: logs, pcap and moni rows
- * go through a lock-free ring (lib/host/c4gh_rtlog.h) to a writer thread. */
-#define _GNU_SOURCE /* ppoll: the wait that unblocks SIGINT/SIGTERM atomically */
+ * go through a lock-free ring (lib/host/c4gh_rtlog.h) to a writer thread.
+ *
+ * The wait costs no system call of its own: the loop blocks in recvfrom itself, as a bare
+ * echo loop does. The core's next deadline is a POSIX timer on the monotonic clock (a
+ * high-resolution timer, not the socket's jiffy-grained SO_RCVTIMEO), armed only when the
+ * deadline comes earlier than the armed one or after it fired: while datagrams keep coming,
+ * the deadline moves later and the timer fires once per silence threshold, not per packet.
+ * The timer's signal and SIGINT/SIGTERM interrupt recvfrom (no SA_RESTART); a signal that
+ * lands between the loop's checks and the call is not lost either, because its handler
+ * also switches the socket to O_NONBLOCK, so that recvfrom returns at once; the loop
+ * switches it back after the failed read, before it checks again. */
+#define _GNU_SOURCE /* ppoll: the active-freezing pause that unblocks SIGINT/SIGTERM atomically */
 #include "srv.h"
 #include "srv_capture.h"
 #include "c4gh_cli.h"
@@ -21,6 +31,7 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <poll.h>
 #include <pthread.h>
@@ -38,15 +49,78 @@ enum { SRV_NEXT = -1, SRV_CAPTURE = -4 }; /* configure(): go on with the socket 
 static srv_host_t g_host; /* static: large, and locked by mlockall */
 static srv_config_t g_cfg;
 static volatile sig_atomic_t g_stop;
-/* The signal mask inside the blocking wait: SIGINT and SIGTERM are blocked everywhere else
- * (in every thread), so a signal that comes between the g_stop check and the wait still
- * ends the wait (ppoll unblocks them atomically) instead of waiting for the next deadline,
- * which may be none. */
+/* The real-time thread's signal mask, SIGINT, SIGTERM and SIG_DEADLINE unblocked (the
+ * writer thread runs with them blocked). */
 static sigset_t g_waitmask;
+/* The blocking wait (no --spin, no --poll-us): the socket and its blocking file flags for
+ * the handlers, the deadline timer, the deadline it is armed for (0: none), and what the
+ * handlers did (g_fired: the timer expired; g_nonblock: the socket is O_NONBLOCK). */
+static int g_fd = -1;
+static int g_fl;
+static timer_t g_timer;
+static volatile uint64_t g_armed;
+static volatile sig_atomic_t g_fired;
+static volatile sig_atomic_t g_nonblock;
+/* The deadline the loop waits for, for the timer's handler (same thread: g_due_busy marks
+ * a store in progress, which a 32-bit target splits in two). */
+static volatile uint64_t g_due = C4G_NO_DEADLINE;
+static volatile sig_atomic_t g_due_busy;
+#define SIG_DEADLINE SIGRTMIN
+
+/* Arm the deadline timer for @p due (monotonic ns; async-signal-safe). */
+static void arm_timer(uint64_t due)
+{
+    struct itimerspec it;
+    memset(&it, 0, sizeof it);
+    it.it_value.tv_sec = (time_t)(due / 1000000000ULL);
+    it.it_value.tv_nsec = (long)(due % 1000000000ULL);
+    (void)timer_settime(g_timer, TIMER_ABSTIME, &it, NULL);
+    g_armed = due;
+}
+
+/* Make a recvfrom that is about to start return at once (one that is blocked already
+ * returns EINTR). fcntl is async-signal-safe; errno is kept for the interrupted code. */
+static void wake_recv(void)
+{
+    const int e = errno;
+    if (g_fd >= 0) {
+        g_nonblock = 1;
+        (void)fcntl(g_fd, F_SETFL, g_fl | O_NONBLOCK);
+    }
+    errno = e;
+}
 
 static void on_signal(int sig)
 {
     g_stop = sig;
+    wake_recv();
+}
+
+/* The deadline timer expired. Early (datagrams moved the deadline on since it was armed):
+ * re-arm it for the deadline the loop published and let recvfrom go on (SA_RESTART), so a
+ * steady stream costs one timer_settime per silence threshold and never a trip round the
+ * loop. Due (or the deadline being published just now): wake the loop. */
+static void on_deadline(int sig)
+{
+    const int e = errno;
+    struct timespec ts;
+    (void)sig;
+    if (!g_due_busy) {
+        const uint64_t due = g_due;
+        if (due == C4G_NO_DEADLINE) {
+            g_armed = 0U; /* nothing to wait for: stays disarmed */
+            return;
+        }
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        if ((uint64_t)ts.tv_sec * 1000000000ULL + (uint64_t)ts.tv_nsec < due) {
+            arm_timer(due);
+            errno = e;
+            return;
+        }
+    }
+    errno = e;
+    g_fired = 1;
+    wake_recv();
 }
 
 static uint64_t now_ns(void)
@@ -131,49 +205,74 @@ static struct timespec *until(uint64_t due, struct timespec *ts)
     return ts;
 }
 
-/* Wait until the socket is readable or @p due (monotonic ns) came; 1 readable, 0 not (the
- * deadline, a signal). --spin and --poll-us poll the socket; else one ppoll, woken by the
- * datagram, the deadline or a signal. */
+/* --spin and --poll-us: poll the socket until it is readable (1) or @p due (monotonic ns)
+ * came or a signal was taken (0). */
 static int wait_readable(const srv_t *S, int fd, uint64_t due)
 {
-    if (S->cfg.spin || S->cfg.poll_us > 0U) {
-        struct timespec next;
-        char b;
-        clock_gettime(CLOCK_MONOTONIC, &next);
-        for (;;) {
-            const ssize_t n = recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT);
-            if (n >= 0) {
-                return 1;
-            }
-            if (g_stop || now_ns() >= due) {
-                return 0;
-            }
-            if (S->cfg.poll_us > 0U) {
-                next.tv_nsec += (long)S->cfg.poll_us * 1000L;
-                while (next.tv_nsec >= 1000000000L) {
-                    next.tv_nsec -= 1000000000L;
-                    next.tv_sec++;
-                }
-                (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
-            }
+    struct timespec next;
+    char b;
+    clock_gettime(CLOCK_MONOTONIC, &next);
+    for (;;) {
+        const ssize_t n = recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT);
+        if (n >= 0) {
+            return 1;
         }
-    } else {
-        struct pollfd p;
-        struct timespec ts;
-        p.fd = fd;
-        p.events = POLLIN;
-        p.revents = 0;
-        return (ppoll(&p, 1, until(due, &ts), &g_waitmask) > 0) ? 1 : 0;
+        if (g_stop || now_ns() >= due) {
+            return 0;
+        }
+        if (S->cfg.poll_us > 0U) {
+            next.tv_nsec += (long)S->cfg.poll_us * 1000L;
+            while (next.tv_nsec >= 1000000000L) {
+                next.tv_nsec -= 1000000000L;
+                next.tv_sec++;
+            }
+            (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
+        }
     }
 }
 
-/* The active-freezing pause; a signal ends it. */
+/* The active-freezing pause; a signal ends it. SIGINT and SIGTERM are blocked around the
+ * check of g_stop and unblocked only inside ppoll, so one that comes in between ends the
+ * pause too. */
 static void pause_ms(double ms)
 {
     const uint64_t due = now_ns() + (uint64_t)(ms * 1e6);
     struct timespec ts;
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    (void)pthread_sigmask(SIG_BLOCK, &block, &old);
     while (!g_stop && now_ns() < due) {
-        (void)ppoll(NULL, 0, until(due, &ts), &g_waitmask);
+        (void)ppoll(NULL, 0, until(due, &ts), &old);
+    }
+    (void)pthread_sigmask(SIG_SETMASK, &old, NULL);
+}
+
+/* Publish @p due for the timer's handler and arm the timer when it must fire earlier than
+ * it is armed for, or it fired. A later deadline (the usual case: every datagram moves the
+ * silence check on) is armed only once the armed expiry is nearer than a quarter of the way
+ * to it: at 1 kHz with the 10-period silence threshold one timer_settime every 7 or 8
+ * packets, and the timer does not fire (no signal, no wake-up) while the stream goes on. If
+ * no packet came in that quarter, it fires early and its handler re-arms it. */
+static void arm_deadline(uint64_t due)
+{
+    uint64_t now;
+    g_due_busy = 1;
+    g_due = due;
+    g_due_busy = 0;
+    if (due == C4G_NO_DEADLINE) {
+        g_fired = 0; /* one still armed fires and finds nothing due */
+        return;
+    }
+    if (g_fired || g_armed == 0U || due < g_armed) {
+        g_fired = 0;
+        arm_timer(due);
+        return;
+    }
+    now = now_ns();
+    if (due > g_armed && g_armed > now && g_armed - now < (due - now) / 4U) {
+        arm_timer(due);
     }
 }
 
@@ -221,7 +320,10 @@ static void log_moni(srv_host_t *H, uint64_t t, const c4g_ctrl_packet_t *rx, con
 }
 
 /* The send stamp of the datagram just sent, from the error queue (the clock read after
- * sendto when the kernel has none for it). */
+ * sendto when the kernel has none for it). The read stops at the stamp of this send: one
+ * recvmsg a packet, not a second one to find the queue empty. Older stamps still queued
+ * come out first; a stamp that comes after its read stays queued until the next send's
+ * read (a queued stamp does not wake the blocking recvfrom, which waits for data only). */
 static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
 {
     static uint8_t buf[64];
@@ -230,8 +332,9 @@ static uint64_t sent_stamp(srv_host_t *H, int fd, uint64_t t_tx)
     c4gh_udp_msg_t m;
     unsigned guard = 0U;
     while (guard++ < 64U && c4gh_udp_recv(fd, 1, H->kstamp_off, buf, sizeof buf, &m) >= 0) {
-        if (m.has_key && m.key == key && m.stamp_ns != 0U) {
+        if (m.has_key && m.key == key) {
             t = m.stamp_ns;
+            break;
         }
     }
     return (t != 0U && t <= t_tx) ? t : t_tx;
@@ -250,8 +353,9 @@ static uint64_t sock_now(void *ctx)
     return now_ns();
 }
 
-/* One recvfrom into @p d (non-blocking; @p stamped: the kernel's receive time in t_cap). */
-static int sock_recv(sock_src_t *X, srv_dgram_t *d, int stamped)
+/* One recvfrom into @p d (@p flags: MSG_DONTWAIT or 0, blocking; @p stamped: the kernel's
+ * receive time in t_cap). */
+static int sock_recv(sock_src_t *X, srv_dgram_t *d, int stamped, int flags)
 {
     struct sockaddr_in peer;
     socklen_t plen = sizeof peer;
@@ -259,13 +363,13 @@ static int sock_recv(sock_src_t *X, srv_dgram_t *d, int stamped)
     d->t_cap = 0U;
     if (stamped) {
         c4gh_udp_msg_t m;
-        n = c4gh_udp_recv_flags(X->fd, MSG_TRUNC | MSG_DONTWAIT, X->H->kstamp_off, d->buf, d->cap, &m);
+        n = c4gh_udp_recv_flags(X->fd, MSG_TRUNC | flags, X->H->kstamp_off, d->buf, d->cap, &m);
         if (n >= 0) {
             peer = m.from;
             d->t_cap = m.stamp_ns;
         }
     } else {
-        n = recvfrom(X->fd, d->buf, d->cap, MSG_TRUNC | MSG_DONTWAIT, (struct sockaddr *)&peer, &plen);
+        n = recvfrom(X->fd, d->buf, d->cap, MSG_TRUNC | flags, (struct sockaddr *)&peer, &plen);
     }
     d->t_rx = now_ns();
     d->t_cap = (stamped && d->t_cap != 0U && d->t_cap <= d->t_rx) ? d->t_cap : d->t_rx;
@@ -278,18 +382,31 @@ static int sock_recv(sock_src_t *X, srv_dgram_t *d, int stamped)
     return SRV_SRC_HAVE;
 }
 
+/* The next datagram, or SRV_SRC_NONE at the deadline or a signal. Blocking: recvfrom
+ * itself waits (see the top of the file); after a read that a handler cut short the socket
+ * blocks again before the loop checks g_stop and the deadline, so no signal goes unseen. */
 static int sock_next(void *ctx, uint64_t due, srv_dgram_t *d)
 {
     sock_src_t *X = ctx;
-    if (!wait_readable(&X->H->s, X->fd, due)) {
-        return SRV_SRC_NONE;
+    int r;
+    if (g_fd < 0) { /* --spin, --poll-us */
+        if (!wait_readable(&X->H->s, X->fd, due)) {
+            return SRV_SRC_NONE;
+        }
+        return sock_recv(X, d, X->H->kstamp, MSG_DONTWAIT);
     }
-    return sock_recv(X, d, X->H->kstamp);
+    arm_deadline(due);
+    r = sock_recv(X, d, X->H->kstamp, 0);
+    if (r != SRV_SRC_HAVE && g_nonblock) {
+        g_nonblock = 0;
+        (void)fcntl(X->fd, F_SETFL, g_fl);
+    }
+    return r;
 }
 
 static int sock_queued(void *ctx, srv_dgram_t *d)
 {
-    return sock_recv((sock_src_t *)ctx, d, 0);
+    return sock_recv((sock_src_t *)ctx, d, 0, MSG_DONTWAIT);
 }
 
 static void sock_accepted(void *ctx, const srv_dgram_t *d)
@@ -412,6 +529,7 @@ static int start(srv_host_t *H, int *fd)
 {
     const srv_config_t *cfg = &H->s.cfg;
     struct sigaction sa;
+    sigset_t block;
     *fd = open_socket(H);
     if (*fd < 0) {
         return (*fd == -1) ? EXIT_USAGE : EXIT_SETUP;
@@ -421,29 +539,44 @@ static int start(srv_host_t *H, int *fd)
         close(*fd);
         return EXIT_SETUP;
     }
-    /* SIGINT and SIGTERM blocked from here in this thread and in the writer thread it
-     * starts: only the wait (ppoll with g_waitmask) takes them, so none is lost between
-     * the check of g_stop and the wait. --spin and --poll-us check g_stop as they poll. */
-    if (!cfg->spin && cfg->poll_us == 0U) {
-        sigset_t block;
-        sigemptyset(&block);
-        sigaddset(&block, SIGINT);
-        sigaddset(&block, SIGTERM);
-        (void)pthread_sigmask(SIG_BLOCK, &block, &g_waitmask);
-    } else {
-        (void)pthread_sigmask(SIG_BLOCK, NULL, &g_waitmask);
-    }
+    /* SIGINT, SIGTERM and the deadline timer's signal blocked in the writer thread (it
+     * inherits this mask) and unblocked again in this one below: they interrupt only the
+     * real-time loop's recvfrom. --spin and --poll-us check g_stop as they poll. */
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIG_DEADLINE);
+    (void)pthread_sigmask(SIG_BLOCK, &block, &g_waitmask);
     c4gh_rtlog_init(&H->log, srv_sink, H);
     if (c4gh_rtlog_start(&H->log) != 0) {
         fprintf(stderr, "c4g-server: cannot start the log writer thread\n");
         close(*fd);
         return EXIT_SETUP;
     }
-    memset(&sa, 0, sizeof sa);
+    memset(&sa, 0, sizeof sa); /* no SA_RESTART: a signal ends the blocked recvfrom */
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+    if (!cfg->spin && cfg->poll_us == 0U) {
+        struct sigevent ev;
+        memset(&ev, 0, sizeof ev);
+        ev.sigev_notify = SIGEV_SIGNAL;
+        ev.sigev_signo = SIG_DEADLINE;
+        sa.sa_handler = on_deadline;
+        sa.sa_flags = SA_RESTART; /* an early expiry goes unnoticed by recvfrom */
+        sigaction(SIG_DEADLINE, &sa, NULL);
+        g_fl = fcntl(*fd, F_GETFL);
+        if (g_fl < 0 || timer_create(CLOCK_MONOTONIC, &ev, &g_timer) != 0) {
+            fprintf(stderr, "c4g-server: cannot create the deadline timer: %s\n", strerror(errno));
+            c4gh_rtlog_stop(&H->log);
+            close(*fd);
+            return EXIT_SETUP;
+        }
+        g_fl &= ~O_NONBLOCK;
+        g_fd = *fd;
+    }
+    (void)pthread_sigmask(SIG_SETMASK, &g_waitmask, NULL);
     /* RT settings last: the writer thread stays SCHED_OTHER; memory is locked from here */
     if (srv_rt_setup(cfg, stderr) != 0) {
         c4gh_rtlog_stop(&H->log);
@@ -523,6 +656,20 @@ int main(int argc, char **argv)
     src.after = sock_after;
     H->stop = &g_stop;
     code = srv_serve(H, &src);
+    /* blocked again for the rest: a second Ctrl-C does not cut the files and the report
+     * short (the loop is over, nothing waits for it any more) */
+    {
+        sigset_t block;
+        sigemptyset(&block);
+        sigaddset(&block, SIGINT);
+        sigaddset(&block, SIGTERM);
+        sigaddset(&block, SIG_DEADLINE);
+        (void)pthread_sigmask(SIG_BLOCK, &block, NULL);
+    }
+    if (g_fd >= 0) {
+        g_fd = -1;
+        (void)timer_delete(g_timer);
+    }
     c4gh_rtlog_stop(&H->log);
     close(fd);
     return finish(H, code);
