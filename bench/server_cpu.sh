@@ -89,7 +89,7 @@ for arms in 6 10,10; do
         "$echo_bin" "$port" & bpid=$!
         run_one "echo$n" >>"$tmp/e$n"
         # shellcheck disable=SC2086
-        "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
+        "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
             ${SERVER_OPTS:-} & bpid=$!
         run_one "srv$n" >>"$tmp/s$n"
         r=$((r + 1))
@@ -108,13 +108,13 @@ for arms in 6 10,10; do
         "$echo_bin" "$port" & bpid=$!
         e_sys=$(sys_one "esys$n")
         # shellcheck disable=SC2086
-        "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 10 --max-seconds 60 ${SERVER_OPTS:-} & bpid=$!
+        "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds 60 ${SERVER_OPTS:-} & bpid=$!
         s_sys=$(sys_one "ssys$n")
     fi
     if [ "$have_vg" = 1 ]; then
         e_ir=$(ir_one "eir$n" main "$echo_bin" "$port")
         # shellcheck disable=SC2086
-        s_ir=$(ir_one "sir$n" srv_serve "$srv" -p "$port" -c 127.0.0.1 -q --idle-timeout 30 \
+        s_ir=$(ir_one "sir$n" srv_serve "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 30 \
             --max-seconds 120 ${SERVER_OPTS:-})
     fi
     awk -v n="$n" -v es="$e_sys" -v ss="$s_sys" -v ei="$e_ir" -v si="$s_ir" -v e="$e_cpu" 'BEGIN {

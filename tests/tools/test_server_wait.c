@@ -194,7 +194,7 @@ static int client(const char *port, struct sockaddr_in *to)
 
 /* The loop blocks in recvfrom with the deadline timer armed: SIGTERM in the middle of a
  * stream (the timer firing early and being re-armed meanwhile) still ends the run at once
- * with exit code 5, and every packet before it was answered. */
+ * with exit code 0 (a service stopped), and every packet before it was answered. */
 static void test_signal_under_stream(void **state)
 {
     char port[16];
@@ -217,7 +217,7 @@ static void test_signal_under_stream(void **state)
     code = wait_exit(pid, 2000U);
     print_message("stopped %.1f ms after SIGTERM\n", (double)(now_ns() - t_sig) * 1e-6);
     close(fd);
-    assert_int_equal(code, EXIT_SIGNAL);
+    assert_int_equal(code, 0); /* SIGTERM: a service stopped (docs/cli.md) */
     assert_true(now_ns() - t_sig < 500U * 1000000ULL);
 }
 
@@ -245,7 +245,7 @@ static void test_silence_counted(void **state)
         sleep_ms(num == 50 ? 200U : 1U); /* 200 ms: past 10 periods, short of the 1 s loss */
     }
     assert_int_equal(kill(pid, SIGTERM), 0);
-    assert_int_equal(wait_exit(pid, 2000U), EXIT_SIGNAL);
+    assert_int_equal(wait_exit(pid, 2000U), 0);
     close(fd);
     f = fopen(json, "r");
     assert_non_null(f);
