@@ -441,7 +441,7 @@ static void test_rerun_argv_every_option(void **state)
     static const char *const want[] = {
         "c4g-server", "--replay-rerun", "--capture", "a b.pcap", "--session", "3", "--behaviour", "echo",
         "--tolerance", "9.9999999999999995e-07", "--list", "1000000000", "--capture-ports", "46104,1000",
-        "--json", "-", "--no-progress", "--", "--sine", "0.2,1", NULL};
+        "--json-out", "-", "--no-progress", "--", "--sine", "0.2,1", NULL};
     int n;
     (void)state;
     memset(&R, 0, sizeof R);

@@ -74,7 +74,7 @@ int rp_rerun_argv(const rp_rerun_t *R, const char *srv, char **argv, size_t cap,
         bad |= rp_argv_put_opt(argv, cap, &n, "--capture-ports", R->ports);
     }
     if (R->json) {
-        bad |= rp_argv_put_opt(argv, cap, &n, "--json", "-");
+        bad |= rp_argv_put_opt(argv, cap, &n, "--json-out", "-");
     }
     if (R->no_progress) {
         bad |= rp_argv_put_opt(argv, cap, &n, "--no-progress", NULL);
