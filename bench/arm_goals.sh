@@ -13,12 +13,13 @@
 #      parameters (tests/e2e/helpers/arm_exact: the plant's model file, for this comparison
 #      only); c4g-replay follow gives the following error RMS per axis (goals: rigid at least
 #      10x below mode 0, and within 1.3x of the exact file).
-# Usage: sh bench/arm_goals.sh BUILD_DIR OUT_DIR [PORT]
-# OUT_DIR receives the trajectories, captures, parameter files, the fits' JSON, follow.json
-# and goals.txt. Needs `make all e2e-helpers`. About 4 minutes.
+# Usage: sh bench/arm_goals.sh BUILD_DIR [OUT_DIR [PORT]]   (make bench runs it)
+# OUT_DIR (default BUILD_DIR/arm-goals) receives the trajectories, captures, parameter files,
+# the fits' JSON, follow.json and goals.txt. About 3 minutes; on a busy host mode-9 moves
+# with late PC replies are run again (they measure the host, not the model).
 set -u
-B=${1:?usage: sh bench/arm_goals.sh BUILD_DIR OUT_DIR [PORT]}
-O=${2:?usage: sh bench/arm_goals.sh BUILD_DIR OUT_DIR [PORT]}
+B=${1:?usage: sh bench/arm_goals.sh BUILD_DIR [OUT_DIR [PORT]]}
+O=${2:-$B/arm-goals}
 PORT=${3:-41710}
 SRV=$B/bin/c4g-server
 SIM=$B/bin/c4g-sim
@@ -28,7 +29,7 @@ EXACT=$B/e2e/arm_exact
 KIN=fixtures/ident/smart-six.kin
 PLANT=fixtures/sim/smart-six.xml
 CFG=fixtures/ident/arm-1khz.ini
-[ -x "$EXACT" ] || { echo "arm_goals: $EXACT missing: make e2e-helpers" >&2; exit 2; }
+[ -x "$EXACT" ] || ${MAKE:-make} --no-print-directory e2e-helpers BUILD="$B" >/dev/null || exit 1
 RT=''
 chrt -f 70 true 2>/dev/null && RT='chrt -f 70'
 mkdir -p "$O"
