@@ -6,35 +6,18 @@ with the ctrl file (c4g-server --ff, --ff-ext1 for an axis the fit refused): the
 must follow better than mode 0."""
 import json
 import subprocess
-import time
 
+from armlib import arm_session
 from e2elib import host_disturbed
 
-PLANT = "fixtures/sim/smart-six.xml"
+
 
 
 def session(build, port, out, name, scn, *srv_opts):
-    """one c4g-server + c4g-sim session on the arm plant, captured by c4g-sim"""
-    err = out / (name + ".srv.err")
-    with open(err, "w") as e:
-        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "--controller", "127.0.0.1",
-                                "--idle-timeout", "5", "--max-seconds", "60"] + [str(o) for o in srv_opts],
-                               stdout=subprocess.DEVNULL, stderr=e)
-    try:
-        end = time.monotonic() + 5
-        while "listening on" not in err.read_text() and time.monotonic() < end:
-            time.sleep(0.05)
-        pcap = out / (name + ".pcap")
-        r = subprocess.run([str(build / "bin" / "c4g-sim"), "-p", str(port), "-c", "fixtures/ident/sim-truth.ini",
-                            "-S", "fixtures/scenarios/" + scn, "--max-miss", "100000", "--pcap", str(pcap), "-q",
-                            "--plant", PLANT], capture_output=True, text=True, timeout=60)
-        assert r.returncode == 0, "c4g-sim %s: exit %d: %s" % (name, r.returncode, r.stderr[-2000:])
-        srv.wait(timeout=15)
-    finally:
-        if srv.poll() is None:
-            srv.kill()
-            srv.wait()
-    return pcap, err.read_text()
+    """one arm-plant session on the decoupled-truth axes: (pcap, server log)"""
+    pcap, log, _ = arm_session(build / "bin" / "c4g-server", build / "bin" / "c4g-sim", port, out, name, scn, srv_opts,
+                               "fixtures/ident/sim-truth.ini")
+    return pcap, log
 
 
 def follow(build, *pcaps):

@@ -7,36 +7,19 @@ same recordings beside it. The parameter file is read back (checksum, sections, 
 a CSV input and a kinematics file with an error are refused with their reasons."""
 import json
 import subprocess
-import time
 
 import pytest
 
-PLANT = "fixtures/sim/smart-six.xml"
+from armlib import arm_session
+
 KIN = "fixtures/ident/smart-six.kin"
 
 
+
 def session(build, port, out, name, scn, *srv_opts):
-    """one c4g-server + c4g-sim session on the arm plant, captured by c4g-sim"""
-    err = out / (name + ".srv.err")
-    with open(err, "w") as e:
-        srv = subprocess.Popen([str(build / "bin" / "c4g-server"), "-p", str(port), "--controller", "127.0.0.1",
-                                "--idle-timeout", "5", "--max-seconds", "90"] + [str(o) for o in srv_opts],
-                               stdout=subprocess.DEVNULL, stderr=e)
-    try:
-        end = time.monotonic() + 5
-        while "listening on" not in err.read_text() and time.monotonic() < end:
-            time.sleep(0.05)
-        pcap = out / (name + ".pcap")
-        r = subprocess.run([str(build / "bin" / "c4g-sim"), "-p", str(port), "-c", "fixtures/ident/sim-truth.ini",
-                            "-S", "fixtures/scenarios/" + scn, "--max-miss", "100000", "--pcap", str(pcap), "-q",
-                            "--plant", PLANT], capture_output=True, text=True, timeout=90)
-        assert r.returncode == 0, "c4g-sim %s: exit %d: %s" % (name, r.returncode, r.stderr[-2000:])
-        srv.wait(timeout=15)
-    finally:
-        if srv.poll() is None:
-            srv.kill()
-            srv.wait()
-    return pcap
+    """one arm-plant session, its capture"""
+    return arm_session(build / "bin" / "c4g-server", build / "bin" / "c4g-sim", port, out, name, scn, srv_opts,
+                       "fixtures/ident/sim-truth.ini", max_seconds=90)[0]
 
 
 def excite(build, path, seed, vmax, amax, duration):

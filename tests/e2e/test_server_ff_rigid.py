@@ -7,37 +7,17 @@ whose range the move leaves is clamped and says so once per axis; a bad file is 
 with FILE:LINE."""
 import json
 import subprocess
-import time
 
+from armlib import arm_session
 from e2elib import host_disturbed
 
-PLANT = "fixtures/sim/smart-six.xml"
+
 
 
 def session(bins, port, out, name, scn, *srv_opts):
-    """one c4g-server + c4g-sim session on the arm plant (c4g-sim's default axes: the ones
-    arm_exact writes), captured by c4g-sim; the server's log and its --json summary"""
-    err = out / (name + ".srv.err")
-    js = out / (name + ".json")
-    with open(err, "w") as e:
-        srv = subprocess.Popen([str(bins.server), "-p", str(port), "--controller", "127.0.0.1", "--idle-timeout", "5",
-                                "--max-seconds", "60", "--json-out", str(js)] + [str(o) for o in srv_opts],
-                               stdout=subprocess.DEVNULL, stderr=e)
-    try:
-        end = time.monotonic() + 5
-        while "listening on" not in err.read_text() and time.monotonic() < end:
-            time.sleep(0.05)
-        pcap = out / (name + ".pcap")
-        r = subprocess.run([str(bins.sim), "-p", str(port), "-S", "fixtures/scenarios/" + scn, "--max-miss",
-                            "100000", "--pcap", str(pcap), "-q", "--plant", PLANT],
-                           capture_output=True, text=True, timeout=60)
-        assert r.returncode == 0, "c4g-sim %s: exit %d: %s" % (name, r.returncode, r.stderr[-2000:])
-        srv.wait(timeout=15)
-    finally:
-        if srv.poll() is None:
-            srv.kill()
-            srv.wait()
-    return pcap, err.read_text(), json.loads(js.read_text())
+    """one arm-plant session on c4g-sim's default axes (the ones arm_exact writes): (pcap,
+    server log, its JSON summary)"""
+    return arm_session(bins.server, bins.sim, port, out, name, scn, srv_opts, json_out=True)
 
 
 def follow(bins, *pcaps):
