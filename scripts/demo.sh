@@ -88,19 +88,23 @@ left = ["%d (%s)" % (a["axis"], a.get("why", "")) for a in F.get("axes", []) if 
 worst = max((a.get("validation", {}).get("x_noise") or 0.0) for a in axes) if axes else 0.0
 print("identify  the arm plant (MuJoCo, 6 coupled axes): 20 s excitation on axes 1-3 in mode 4, captured,")
 print("          fitted by c4g-ident --model ctrl (a per-axis correction of the controller's own model,"
-      " EXT1/EXT2):\n          %d axes identified, held-out current error at most %.2fx the noise floor"
-      " (%s/fit.txt)" % (len(axes), worst, o))
+      " EXT1/EXT2):\n          %s identified, held-out current error at most %.2fx the noise floor"
+      " (%s/fit.txt)" % (("axes " + ", ".join(str(a["axis"]) for a in axes)) if len(axes) != 1
+                         else "axis %d" % axes[0]["axis"], worst, o))
 for l in left:
     print("          axis %s: left out of the file; mode 9 gives it the controller's model (--ff-ext1)" % l)
 try:
     C = json.load(open(o + "/follow.json"))["captures"]
 except (OSError, ValueError, KeyError):
     C = []
+def than(x, ref):
+    """x against mode 0's figure, in the words that read right either way"""
+    return ("%.1fx smaller" % (ref / max(x, 1e-12))) if x <= ref else ("%.1fx larger" % (x / max(ref, 1e-12)))
 if len(C) == 3:
     m0, m9, w9 = (c["follow_rms"] for c in C)
     print("move      the same fast move, following error RMS: mode 0 (the controller's own model as feedforward)"
-          " %.3g turn,\n          mode 9 with the fitted file %.3g (%.1fx smaller), with a deliberately wrong file"
-          " (inertia x2.5, friction x2) %.3g (%.1fx)" % (m0, m9, m0 / max(m9, 1e-12), w9, m0 / max(w9, 1e-12)))
+          " %.3g turn,\n          mode 9 with the fitted file %.3g (%s), with a deliberately wrong file"
+          " (inertia x2.5, friction x2) %.3g (%s)" % (m0, m9, than(m9, m0), w9, than(w9, m0)))
     if m9 > m0 / 2.0:
         print("          mode 9 is not clearly better than the controller's own model here: see the fit's"
               " refusals and\n          warnings in %s/loop.txt, and docs/c4g-ident.md on the two families" % o)
