@@ -45,7 +45,10 @@ EOT
     done
     # bytes of peak RSS per tick and axis (1 kHz, 6 axes)
     awk -v m="$m" -v s="$size" -v w="$best" -v u="$user" -v r="$rss" 'BEGIN {
-        printf "%-8s %8d %10.2f %10.2f %10.1f %10.1f B\n", m, s / 1e6, w, u, r / 1024, r * 1024 / (m * 60000 * 6) }'
+        printf "%-8s %8d %10.2f %10.2f %10.1f %10.1f B", m, s / 1e6, w, u, r / 1024, r * 1024 / (m * 60000 * 6)
+        # the goal is stated for 10 minutes; shorter captures print their figures only
+        if (m == 10) printf "   %s", (w <= 10 && r / 1024 <= 300) ? "met" : "NOT"
+        printf "\n" }'
     rm -f "$tmp/cap.pcap"
 done
 echo "goal: 10 minutes in <= 10 s wall, <= 300 MB peak RSS"
