@@ -80,6 +80,45 @@ static int wait_exit(pid_t pid, unsigned ms)
     return -1;
 }
 
+/* One packet of a start-up and cyclic sequence (NUM @p num: zeros, the figure 10.1 init
+ * packet at 10, mode-0 cyclic packets from 13) to @p to, and its reply read. Returns the
+ * time just before the send (the server receives the packet after it). */
+static uint64_t send_tick(int fd, const struct sockaddr_in *to, int num)
+{
+    uint64_t t_sent;
+    uint8_t b[C4G_INIT_SIZE], r[1400];
+    size_t len;
+    if (num == 10) {
+        memcpy(b, th_fig, sizeof th_fig);
+        th_put_u32(b, (uint32_t)num);
+        len = sizeof th_fig;
+    } else if (num < 13) {
+        memset(b, 0, sizeof b);
+        th_put_u32(b, (uint32_t)num);
+        len = C4G_CYCLIC_SIZE(6U);
+    } else {
+        len = th_ctrl_bytes(b, sizeof b, num, 6U, C4G_MODE_0);
+    }
+    t_sent = now_ns();
+    assert_int_equal(sendto(fd, b, len, 0, (const struct sockaddr *)to, sizeof *to), (ssize_t)len);
+    assert_true(recv(fd, r, sizeof r, 0) > 0); /* every packet of the start-up is answered */
+    return t_sent;
+}
+
+/* A client socket for the server on @p port (replies within 1 s) and its address. */
+static int client(const char *port, struct sockaddr_in *to)
+{
+    struct timeval tv = {1, 0};
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    assert_true(fd >= 0);
+    (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    memset(to, 0, sizeof *to);
+    to->sin_family = AF_INET;
+    to->sin_port = htons((uint16_t)atoi(port));
+    to->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    return fd;
+}
+
 /* Waiting for a first controller with no deadline at all: the server does not wake (the old
  * 1 ms receive timeout woke it about 1000 times a second), and SIGTERM still ends the wait
  * at once with exit code 0 (a service stopped: docs/cli.md). */
@@ -112,8 +151,6 @@ static void test_loss_at_deadline(void **state)
     char *argv[] = {"c4g-server", "-p", port, "--controller", "127.0.0.1", "-q", "--lost-timeout-ms",
                     "150", "--idle-timeout", "5", NULL};
     struct sockaddr_in to;
-    uint8_t b[C4G_INIT_SIZE], r[1400];
-    struct timeval tv = {1, 0};
     pid_t pid;
     int fd, num, code;
     uint64_t t_last = 0U, t_end;
@@ -121,29 +158,9 @@ static void test_loss_at_deadline(void **state)
     (void)snprintf(port, sizeof port, "%u", test_port(2U));
     pid = spawn_server(argv, 10);
     sleep_ms(200U);
-    fd = socket(AF_INET, SOCK_DGRAM, 0);
-    assert_true(fd >= 0);
-    (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    memset(&to, 0, sizeof to);
-    to.sin_family = AF_INET;
-    to.sin_port = htons((uint16_t)atoi(port));
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    fd = client(port, &to);
     for (num = 1; num <= 40; num++) {
-        size_t len;
-        if (num == 10) {
-            memcpy(b, th_fig, sizeof th_fig);
-            th_put_u32(b, (uint32_t)num);
-            len = sizeof th_fig;
-        } else if (num < 13) {
-            memset(b, 0, sizeof b);
-            th_put_u32(b, (uint32_t)num);
-            len = C4G_CYCLIC_SIZE(6U);
-        } else {
-            len = th_ctrl_bytes(b, sizeof b, num, 6U, C4G_MODE_0);
-        }
-        t_last = now_ns(); /* the server receives the packet after this */
-        assert_int_equal(sendto(fd, b, len, 0, (struct sockaddr *)&to, sizeof to), (ssize_t)len);
-        assert_true(recv(fd, r, sizeof r, 0) > 0); /* every packet of the start-up is answered */
+        t_last = send_tick(fd, &to, num);
         sleep_ms(2U);
     }
     code = wait_exit(pid, 2000U);
@@ -155,41 +172,6 @@ static void test_loss_at_deadline(void **state)
     /* not long after: far below the 5 s idle timeout and any fixed long sleep; the margin
      * over 150 ms absorbs a loaded host (this test also runs under valgrind beside others) */
     assert_true(t_end - t_last < 1000U * 1000000ULL);
-}
-
-/* One packet of the start-up and cyclic sequence of test_loss_at_deadline (NUM @p num) to
- * @p to, and its reply read. */
-static void send_tick(int fd, const struct sockaddr_in *to, int num)
-{
-    uint8_t b[C4G_INIT_SIZE], r[1400];
-    size_t len;
-    if (num == 10) {
-        memcpy(b, th_fig, sizeof th_fig);
-        th_put_u32(b, (uint32_t)num);
-        len = sizeof th_fig;
-    } else if (num < 13) {
-        memset(b, 0, sizeof b);
-        th_put_u32(b, (uint32_t)num);
-        len = C4G_CYCLIC_SIZE(6U);
-    } else {
-        len = th_ctrl_bytes(b, sizeof b, num, 6U, C4G_MODE_0);
-    }
-    assert_int_equal(sendto(fd, b, len, 0, (const struct sockaddr *)to, sizeof *to), (ssize_t)len);
-    assert_true(recv(fd, r, sizeof r, 0) > 0);
-}
-
-/* A client socket for the server on @p port (replies within 1 s) and its address. */
-static int client(const char *port, struct sockaddr_in *to)
-{
-    struct timeval tv = {1, 0};
-    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-    assert_true(fd >= 0);
-    (void)setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    memset(to, 0, sizeof *to);
-    to->sin_family = AF_INET;
-    to->sin_port = htons((uint16_t)atoi(port));
-    to->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    return fd;
 }
 
 /* The loop blocks in recvfrom with the deadline timer armed: SIGTERM in the middle of a
@@ -209,7 +191,7 @@ static void test_signal_under_stream(void **state)
     sleep_ms(200U);
     fd = client(port, &to);
     for (num = 1; num <= 120; num++) { /* well past the 10-period silence threshold */
-        send_tick(fd, &to, num);
+        (void)send_tick(fd, &to, num);
         sleep_ms(1U);
     }
     t_sig = now_ns();
@@ -241,7 +223,7 @@ static void test_silence_counted(void **state)
     sleep_ms(200U);
     fd = client(port, &to);
     for (num = 1; num <= 80; num++) {
-        send_tick(fd, &to, num);
+        (void)send_tick(fd, &to, num);
         sleep_ms(num == 50 ? 200U : 1U); /* 200 ms: past 10 periods, short of the 1 s loss */
     }
     assert_int_equal(kill(pid, SIGTERM), 0);
