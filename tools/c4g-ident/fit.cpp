@@ -81,15 +81,6 @@ std::vector<int> active(Variant v)
     return idx;
 }
 
-double median_abs(std::vector<double> x)
-{
-    if (x.empty()) return 0.0;
-    for (double &y : x) y = std::fabs(y);
-    const std::size_t m = x.size() / 2;
-    std::nth_element(x.begin(), x.begin() + static_cast<long>(m), x.end());
-    return x[m];
-}
-
 // rho(s) for s = r^2 and the robust residual sqrt(rho) with its slope d(rt)/dr.
 inline void robust(Loss loss, double c, double r, double *rt, double *slope)
 {
@@ -289,13 +280,6 @@ double scaled_cond(const Eigen::MatrixXd &M)
 
 // Blocks the scores are summed over for the block-robust covariance.
 constexpr int kHacBlocks = 30;
-
-// 97.5 % quantile of Student's t with @p df degrees of freedom (Cornish-Fisher, 1e-3 at df 5).
-double t975(int df)
-{
-    const double z = 1.959964, n = std::max(1, df);
-    return z + (z * z * z + z) / (4.0 * n) + (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
-}
 
 // Block-robust ("sandwich") covariance of the free parameters: H^-1 M H^-1 with H the robust
 // normal matrix and M the sum over kHacBlocks equal spans of ticks of the outer products of

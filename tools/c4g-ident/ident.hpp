@@ -123,6 +123,10 @@ constexpr double kDelayMax = 3.0;
 // standard deviation (white-noise figure from the cost's curvature) in @p sd, and whether it
 // ended at the range's end in @p at_bound.
 double estimate_delay(const AxisLog &log, const Options &o, double eps, double *sd = nullptr, bool *at_bound = nullptr);
+// The median of |x| (robust scales: 1.4826 times it is a normal sigma).
+double median_abs(std::vector<double> x);
+// 97.5 % quantile of Student's t with @p df degrees of freedom (Cornish-Fisher, 1e-3 at df 5).
+double t975(int df);
 // Robust sigma of D5's noise from its second differences (model-free).
 double noise_floor(const AxisLog &log);
 
@@ -133,8 +137,9 @@ struct Track {
     std::vector<float> v, a, q;
     std::vector<unsigned char> ok, use;
 };
-// eps, the noise floor and this axis' own delay estimate, as prepare() finds them.
-Prep prepare_rigid_axis(const AxisLog &log, const Options &o);
+// eps, the noise floor and this axis' own delay estimate: the start of prepare(), and all
+// the rigid family takes per axis.
+Prep prepare_axis(const AxisLog &log, const Options &o);
 // The track of @p log at @p delay; counts kept and dropped ticks into @p pr (eps from it).
 void track(const AxisLog &log, const Options &o, double delay, Prep *pr, Track *out);
 

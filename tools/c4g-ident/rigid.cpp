@@ -25,21 +25,6 @@ constexpr int kBuf = 256;            // rows per rank update
 
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-double t975(int df)
-{
-    const double z = 1.959964, n = std::max(1, df);
-    return z + (z * z * z + z) / (4.0 * n) + (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
-}
-
-double median_abs(std::vector<double> x)
-{
-    if (x.empty()) return 0.0;
-    for (double &y : x) y = std::fabs(y);
-    const std::size_t m = x.size() / 2;
-    std::nth_element(x.begin(), x.begin() + static_cast<long>(m), x.end());
-    return x[m];
-}
-
 // Weight of a residual r at scale s under the loss (IRLS: psi(r)/r).
 double robust_w(Loss loss, double k, double r, double s)
 {
@@ -472,7 +457,7 @@ RigidResult identify_rigid(std::vector<AxisLog> &logs, const c4g_kin_t &kin, con
             for (int a = next++; a < n; a = next++) {
                 RigidAxis &A = R.axes[static_cast<std::size_t>(a)];
                 A.axis = static_cast<unsigned>(a + 1);
-                A.prep = prepare_rigid_axis(*run.L[static_cast<std::size_t>(a)], o);
+                A.prep = prepare_axis(*run.L[static_cast<std::size_t>(a)], o);
             }
         };
         std::vector<std::thread> pool;

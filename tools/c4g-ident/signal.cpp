@@ -9,8 +9,24 @@
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 
 namespace ident {
+
+double median_abs(std::vector<double> x)
+{
+    if (x.empty()) return 0.0;
+    for (double &y : x) y = std::fabs(y);
+    const std::size_t m = x.size() / 2;
+    std::nth_element(x.begin(), x.begin() + static_cast<long>(m), x.end());
+    return x[m];
+}
+
+double t975(int df)
+{
+    const double z = 1.959964, n = std::max(1, df);
+    return z + (z * z * z + z) / (4.0 * n) + (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
+}
 
 std::vector<double> sg_weights(int half, int order, int deriv, double x)
 {
@@ -56,15 +72,6 @@ void segments(const AxisLog &L, std::vector<std::size_t> *lo, std::vector<std::s
         (*hi)[k] = e;
         if (k > 0 && L.tick[k] != L.tick[k - 1] + 1) e = k;
     }
-}
-
-double median_abs(std::vector<double> &x)
-{
-    if (x.empty()) return 0.0;
-    for (double &y : x) y = std::fabs(y);
-    const std::size_t m = x.size() / 2;
-    std::nth_element(x.begin(), x.begin() + static_cast<long>(m), x.end());
-    return x[m];
 }
 
 // Link angle at tick k + d (|d| <= 1): linear between neighbouring ticks of the same segment.
@@ -237,8 +244,7 @@ double delay_cost(const AxisLog &L, const Options &o, double x, double eps, std:
     for (std::size_t k = 0; k < s.n(); k++) {
         r[k] = s.i[k] - model_eval(p, eps, s.v[k], s.a[k], s.cq[k], s.sq[k], nullptr);
     }
-    std::vector<double> tmp = r;
-    const double c = 3.0 * 1.4826 * median_abs(tmp);
+    const double c = 3.0 * 1.4826 * median_abs(r);
     double sum = 0.0;
     for (double e : r) sum += std::min(e * e, c * c);
     return sum / static_cast<double>(r.size());
@@ -273,8 +279,7 @@ std::vector<unsigned char> outlier_mask(const AxisLog &L, const Options &o, doub
     for (std::size_t k = 0; k < s.n(); k++) {
         r[k] = s.i[k] - model_eval(p, eps, s.v[k], s.a[k], s.cq[k], s.sq[k], nullptr);
     }
-    std::vector<double> tmp = r;
-    const double c = 3.0 * 1.4826 * median_abs(tmp);
+    const double c = 3.0 * 1.4826 * median_abs(r);
     mask.assign(L.tick.size(), 0);
     for (std::size_t k = 0; k < s.n(); k++) {
         if (std::fabs(r[k]) > c) mask[at[k]] = 1;
@@ -293,7 +298,7 @@ double auto_eps(const AxisLog &L, const Options &o, double *vnoise, double *vmax
         r.push_back(static_cast<double>(L.d4[k]) / L.period - f.v[k]);
         vm = std::max(vm, std::fabs(f.v[k]));
     }
-    const double sd_raw = 1.4826 * median_abs(r);
+    const double sd_raw = 1.4826 * median_abs(std::move(r));
     const std::vector<double> w0 = sg_weights(o.sg_half, o.sg_order, 0, 0.0);
     double g = 0.0;
     for (double w : w0) g += w * w;
@@ -313,7 +318,7 @@ double noise_floor(const AxisLog &L)
         d.push_back(static_cast<double>(L.d5[k]) - 2.0 * static_cast<double>(L.d5[k - 1]) +
                     static_cast<double>(L.d5[k - 2]));
     }
-    return 1.4826 * median_abs(d) / std::sqrt(6.0);
+    return 1.4826 * median_abs(std::move(d)) / std::sqrt(6.0);
 }
 
 namespace {
@@ -517,13 +522,7 @@ double ctrl_scale(const Samples &s)
 
 Prep prepare(const AxisLog &L, const Options &o, Samples *out)
 {
-    Prep pr;
-    double vmax = 0.0;
-    const double eps_auto = auto_eps(L, o, &pr.vnoise, &vmax);
-    pr.eps = (o.eps > 0.0) ? o.eps : eps_auto;
-    pr.noise_floor = noise_floor(L);
-    if (o.delay_auto) pr.delay = estimate_delay(L, o, pr.eps, &pr.delay_sd, &pr.delay_at_bound);
-    else pr.delay = o.delay;
+    Prep pr = prepare_axis(L, o);
     Filtered f;
     filter(L, o, pr.delay + 0.5, 1, &f);
     const std::vector<unsigned char> use = usable(L, f, pr.eps, o.sg_half, &pr, true);
@@ -565,7 +564,7 @@ Prep prepare(const AxisLog &L, const Options &o, Samples *out)
     return pr;
 }
 
-Prep prepare_rigid_axis(const AxisLog &L, const Options &o)
+Prep prepare_axis(const AxisLog &L, const Options &o)
 {
     Prep pr;
     double vmax = 0.0;
