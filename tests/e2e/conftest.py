@@ -15,8 +15,9 @@ import pytest
 import e2elib
 
 ROOT = e2elib.ROOT
-# the fixture srv (c4g-server against a controller) of the test_server_* modules
-pytest_plugins = ["srvlib"]
+# the fixture srv (c4g-server against a controller) of the test_server_* modules, and
+# arm_recordings (the arm plant's excitations, recorded once a run) of the arm modules
+pytest_plugins = ["srvlib", "armlib"]
 
 
 def pytest_addoption(parser):

@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: MIT
 """c4g-ident's ctrl family end to end on c4g-sim's arm plant (fixtures/sim/smart-six.xml):
-an excitation recorded in mode 4, `c4g-ident fit --model ctrl`, then the fast move of
+an excitation recorded in mode 4 (the six axes' 15 s "val" excitation of armlib.EXCITATIONS,
+which test_ident_rigid validates on: recorded once a run), `c4g-ident fit --model ctrl
+--axes 1,2,3`, then the fast move of
 fixtures/scenarios/ident-move9.scn in mode 0 (the controller's own model) and in mode 9
 with the ctrl file (c4g-server --ff, --ff-ext1 for an axis the fit refused): the ctrl file
 must follow better than mode 0."""
@@ -27,15 +29,12 @@ def follow(build, *pcaps):
     return json.loads(r.stdout)["captures"]
 
 
-def test_ctrl_family_on_the_arm(build, ports, tmp_path):
+def test_ctrl_family_on_the_arm(build, ports, arm_recordings, tmp_path):
     """fit --model ctrl on the arm plant: k1, k2 near 1, the family in the report, the JSON
     and the file; mode 9 with the file follows the fast move better than mode 0"""
     port = ports.udp()
-    ex = tmp_path / "excite.csv"
     ident = [str(build / "bin" / "c4g-ident")]
-    subprocess.run(ident + ["excite", "--axes", "1,2,3", "--vmax", "30", "--amax", "300", "--duration", "20",
-                            "-o", str(ex)], check=True, capture_output=True, timeout=30)
-    rec, _ = session(build, port, tmp_path, "ident", "ident.scn", "--traj", ex)
+    rec = arm_recordings.get("val")
     ini = tmp_path / "ctrl.ini"
     r = subprocess.run(ident + ["fit", "--model", "ctrl", "--axes", "1,2,3", str(rec), "-o", str(ini), "--json"],
                        capture_output=True, text=True, timeout=120)

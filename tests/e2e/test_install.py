@@ -1,12 +1,16 @@
 # SPDX-License-Identifier: MIT
-"""make install into a DESTDIR, a program built against it with pkg-config (static and
-shared) and run; the README's compile line on the shipped example; man pages and bash
-completions installed; make uninstall removes every installed file."""
+"""make install into a DESTDIR (once, for the tests that read it), a program built against it
+with pkg-config (static and shared) and run; the README's compile line on the shipped
+example; man pages and bash completions installed; the installed pages work where they are;
+make uninstall removes every installed file."""
 import glob
 import os
 import re
 import shutil
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
+
+import pytest
 
 APP = r'''#include <c4gopen.h>
 #include <stdio.h>
@@ -34,10 +38,17 @@ def sh(args, **kw):
     return r.stdout
 
 
-def test_install_uninstall(build, tmp_path):
-    root = tmp_path / "root"
-    pre = root / "opt" / "c4g"
+@pytest.fixture(scope="module")
+def installed(build, tmp_path_factory):
+    """one make install into a DESTDIR, PREFIX /opt/c4g, for the module's tests: (DESTDIR,
+    the prefix in it); test_uninstall, after the tests that read it, removes it"""
+    root = tmp_path_factory.mktemp("install") / "root"
     sh(["make", "-s", "BUILD=%s" % build, "install", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
+    return root, root / "opt" / "c4g"
+
+
+def test_install(build, installed):
+    root, pre = installed
     assert (pre / "include" / "c4gopen.h").is_file()
     assert (pre / "lib" / "libc4gopen.a").is_file()
     soname = re.search(r"SONAME.*\[(.*)\]", sh(["readelf", "-d", pre / "lib" / "libc4gopen.so"])).group(1)
@@ -87,18 +98,18 @@ def test_install_uninstall(build, tmp_path):
     for t in ("c4g-server", "c4g-sim", "c4g-replay", "c4g-ident", "cell-cli", "cell-sim"):
         assert os.access(comp / t, os.R_OK), "no completion for " + t
     assert "complete -F _c4gopen" in (comp / "cell-cli").read_text()
-    sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
-    left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
-    assert left == [], "files left after uninstall: %s" % left
 
 
-def test_installed_docs(build, tmp_path):
-    """make install into a DESTDIR: the installed pages work where they are (see
-    check_installed_docs), and make uninstall removes the pictures and fixtures too."""
-    root = tmp_path / "root"
-    pre = root / "opt" / "c4g"
-    sh(["make", "-s", "BUILD=%s" % build, "install", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
-    check_installed_docs(root, pre)
+def test_installed_docs(installed):
+    """the installed pages work where they are (see check_installed_docs)"""
+    check_installed_docs(*installed)
+
+
+def test_uninstall(build, installed):
+    """make uninstall removes every file make install wrote: the library, tools, man pages,
+    completions, the pages with their pictures, the fixtures"""
+    root, pre = installed
+    assert (pre / "share" / "c4gopen" / "fixtures").is_dir() and (pre / "share" / "doc" / "libc4gopen" / "img").is_dir()
     sh(["make", "-s", "BUILD=%s" % build, "uninstall", "DESTDIR=%s" % root, "PREFIX=/opt/c4g"])
     left = [p for p in (root / "opt").rglob("*") if p.is_file() or p.is_symlink()]
     assert left == [], "files left after uninstall: %s" % left[:10]
@@ -133,13 +144,16 @@ def check_installed_docs(root, pre):
 def test_install_ldconfig(build):
     """ldconfig only for root into a default prefix of the system without DESTDIR; another
     prefix is told the two variables (make -n: the commands install would run)"""
-    def plan(*args):
+    def plan(args):
         return sh(["make", "-n", "BUILD=%s" % build, "install", "LDCONFIG=/sbin/ldconfig"] + list(args)).splitlines()
+    # the four plans at once (make -n reads the Makefile and writes nothing)
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        usr_local, usr, staged, other = pool.map(plan, (["PREFIX=/usr/local"], ["PREFIX=/usr"],
+                                                        ["PREFIX=/usr/local", "DESTDIR=/tmp/stage"], ["PREFIX=/opt/c4g"]))
     root = os.getuid() == 0
-    assert ("/sbin/ldconfig" in plan("PREFIX=/usr/local")) == root
-    assert ("/sbin/ldconfig" in plan("PREFIX=/usr")) == root
-    assert "/sbin/ldconfig" not in plan("PREFIX=/usr/local", "DESTDIR=/tmp/stage")
-    other = plan("PREFIX=/opt/c4g")
+    assert ("/sbin/ldconfig" in usr_local) == root
+    assert ("/sbin/ldconfig" in usr) == root
+    assert "/sbin/ldconfig" not in staged
     assert "/sbin/ldconfig" not in other
     assert any("export PKG_CONFIG_PATH=/opt/c4g/lib/pkgconfig LD_LIBRARY_PATH=/opt/c4g/lib" in line for line in other), other[-3:]
 
