@@ -2,10 +2,13 @@
 # The rigid-body identification on the arm plant at 1 kHz, end to end, with the figures the
 # identification's goals are stated in (docs/benchmarks.md, "The arm plant's goals"):
 #   1. c4g-ident excite --optimize writes the excitation (--vmax 20 --amax 200: the range the
-#      production move below needs), and a plain excite a held-out trajectory;
-#   2. both are played by c4g-server (mode 4) against c4g-sim --plant (fixtures/ident/
+#      production move below needs), a plain excite (seed 8) a second one that runs every
+#      axis both ways (the optimised series keeps joint 4 on one side of its start, and the
+#      server clamps the model to the angles the fit saw: the move's wrist angles must be
+#      in them), and a plain excite (seed 7) a held-out trajectory;
+#   2. all three are played by c4g-server (mode 4) against c4g-sim --plant (fixtures/ident/
 #      arm-1khz.ini: 1 kHz, 20 mA of D5 noise) and captured;
-#   3. c4g-ident fit --model rigid, axis and ctrl on the excitation's capture, each validated
+#   3. c4g-ident fit --model rigid, axis and ctrl on the excitations' captures, each validated
 #      on the held-out captures (the plain excitation, and the production move in mode 0):
 #      the held-out current RMS per axis against the D5 noise floor (goal: rigid <= 2x);
 #   4. the production move (fixtures/scenarios/arm-six-move*.scn: all six axes, large on 2
@@ -76,19 +79,21 @@ session() {
 
 echo "== 1. excitations"
 "$ID" excite --optimize --kin "$KIN" --vmax 20 --amax 200 -T 1 --f0 0.125 --periods 2 -o "$O/opt.csv" --json >"$O/excite.json" || exit 1
+"$ID" excite --axes 1,2,3,4,5,6 --vmax 20 --amax 200 -T 1 --duration 19 --seed 8 -o "$O/both.csv" >/dev/null || exit 1
 "$ID" excite --axes 1,2,3,4,5,6 --vmax 20 --amax 200 -T 1 --duration 19 --seed 7 -o "$O/val.csv" >/dev/null || exit 1
 echo "== 2. recordings (mode 4, 1 kHz, arm plant)"
 session ident ident.scn --traj "$O/opt.csv" || exit 1
+session both ident.scn --traj "$O/both.csv" || exit 1
 session val ident.scn --traj "$O/val.csv" || exit 1
 session move0 arm-six-move0.scn || exit 1
 echo "== 3. fits, validated on the held-out recordings"
 t0=$(date +%s.%N)
-"$ID" fit --model rigid --kin "$KIN" --validate "$O/val.pcap" "$O/ident.pcap" -o "$O/rigid.ini" --json >"$O/rigid.json"
+"$ID" fit --model rigid --kin "$KIN" --validate "$O/val.pcap" "$O/ident.pcap" "$O/both.pcap" -o "$O/rigid.ini" --json >"$O/rigid.json"
 echo "rigid fit exit $? in $(echo "$(date +%s.%N) - $t0" | bc) s"
-"$ID" fit --model rigid --kin "$KIN" --validate "$O/move0.pcap" "$O/ident.pcap" --json >"$O/rigid-move.json"
+"$ID" fit --model rigid --kin "$KIN" --validate "$O/move0.pcap" "$O/ident.pcap" "$O/both.pcap" --json >"$O/rigid-move.json"
 for fam in axis ctrl; do
-  "$ID" fit --model $fam --validate "$O/val.pcap" "$O/ident.pcap" --json >"$O/$fam.json"
-  "$ID" fit --model $fam --validate "$O/move0.pcap" "$O/ident.pcap" --json >"$O/$fam-move.json"
+  "$ID" fit --model $fam --validate "$O/val.pcap" "$O/ident.pcap" "$O/both.pcap" --json >"$O/$fam.json"
+  "$ID" fit --model $fam --validate "$O/move0.pcap" "$O/ident.pcap" "$O/both.pcap" --json >"$O/$fam-move.json"
 done
 "$EXACT" --out "$O/exact.ini" || exit 1
 echo "== 4. the production move: mode 0, mode 9 rigid, mode 9 exact; lockstep, then real time"
