@@ -37,13 +37,20 @@ def follow(bins, *args):
 
 def from_export(bins, pcap, ms):
     """(late ticks, moving axis-ticks kept, FE RMS over them) from the export CSV: a late tick
-    is a mode-9 tick whose reply did not come by the next tick or was not in mode 9"""
+    is a mode-9 tick whose reply did not come by the controller's next packet (one period
+    when that one came more than 1.5 periods later) or was not in mode 9"""
     r = subprocess.run([str(bins.replay), "export", str(pcap)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     rows = list(csv.DictReader(io.StringIO(r.stdout)))
-    late = [float(x["time"]) for x in rows
-            if any(x["c%d_mode" % a] == "9" and (x["latency_us"] == "" or x["p%d_mode" % a] != "9")
-                   for a in range(1, 7))]
+    late = []
+    for i, x in enumerate(rows):
+        t = float(x["time"])
+        # the controller's deadline: its next packet, or one period when that came much later
+        nxt = float(rows[i + 1]["time"]) if i + 1 < len(rows) else t + 1e-3
+        deadline = nxt if nxt - t <= 1.5e-3 else t + 1e-3
+        in_time = x["latency_us"] != "" and t + float(x["latency_us"]) * 1e-6 <= deadline + 1e-7
+        if any(x["c%d_mode" % a] == "9" and not (in_time and x["p%d_mode" % a] == "9") for a in range(1, 7)):
+            late.append(t)
     fe, n = 0.0, 0
     for x in rows:
         t = float(x["time"])
