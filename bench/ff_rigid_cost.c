@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Cost of mode 9's rigid-body model per tick (c4gh_ffr_current: the controller's motor
- * targets to the link side, the clamp, c4g_dyn_rnea with the rotors, Kr^-T, the currents
+ * targets to the link side, the clamp, c4g_dyn_model_rnea with the rotors, Kr^-T, the currents
  * and friction of every motor) on the arm plant's exact file
  * (fixtures/server/ff_rigid_example.ini, 6 axes), over 1000 precomputed states of a
  * six-axis move. bench/tick_cost.sh runs it under callgrind with N and 2N ticks and prints

@@ -80,6 +80,41 @@ C4G_NODISCARD c4g_status_t c4g_dyn_chain_dh(c4g_dyn_chain_t *ch, uint32_t n, c4g
 C4G_NODISCARD c4g_status_t c4g_dyn_rnea(const c4g_dyn_chain_t *ch, const double *q, const double *qd,
                                         const double *qdd, const double *pi, const double *ia, double *tau);
 
+/** c4g_dyn_model_t.checked once c4g_dyn_model_init accepted the model. */
+#define C4G_DYN_CHECKED 0x44594e31U
+
+/**
+ * A chain with its link parameters and rotor inertias, checked once by c4g_dyn_model_init
+ * for c4g_dyn_model_rnea: parameters that are constant after a file is loaded are not
+ * checked again on every tick (c4g_dyn_rnea checks its 10 n + n values on each call).
+ * Members are read-only: a change after c4g_dyn_model_init voids its check.
+ */
+typedef struct c4g_dyn_model {
+    c4g_dyn_chain_t chain;
+    double pi[C4G_DYN_MAX_LINKS * C4G_DYN_PARAMS]; /**< n x C4G_DYN_PARAMS, row per link */
+    double ia[C4G_DYN_MAX_LINKS];                  /**< rotor inertias, 0 for none */
+    uint32_t checked;                              /**< C4G_DYN_CHECKED once checked */
+} c4g_dyn_model_t;
+
+/**
+ * Check @p ch, the link parameters @p pi (ch->n x C4G_DYN_PARAMS) and the rotor inertias
+ * @p ia (ch->n, or NULL for none) once, and copy them into @p m.
+ * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_ARG (chain n out of range); C4G_ERR_NONFINITE
+ * (a parameter, a rotor inertia or the gravity). On an error @p m is not usable
+ * (checked is 0).
+ */
+C4G_NODISCARD c4g_status_t c4g_dyn_model_init(c4g_dyn_model_t *m, const c4g_dyn_chain_t *ch, const double *pi,
+                                              const double *ia);
+
+/**
+ * c4g_dyn_rnea on a model c4g_dyn_model_init checked: only the motion is checked. The
+ * same torques.
+ * @return C4G_OK; C4G_ERR_NULL; C4G_ERR_STATE (@p m not checked by c4g_dyn_model_init);
+ * C4G_ERR_NONFINITE (an input or the result).
+ */
+C4G_NODISCARD c4g_status_t c4g_dyn_model_rnea(const c4g_dyn_model_t *m, const double *q, const double *qd,
+                                              const double *qdd, double *tau);
+
 /**
  * The regressor: @p y (n rows x n*C4G_DYN_PARAMS columns, row-major, row stride
  * n*C4G_DYN_PARAMS, @p cap entries at least n*n*C4G_DYN_PARAMS) with

@@ -253,6 +253,46 @@ c4g_status_t c4g_dyn_rnea(const c4g_dyn_chain_t *ch, const double *q, const doub
     return rc;
 }
 
+c4g_status_t c4g_dyn_model_init(c4g_dyn_model_t *m, const c4g_dyn_chain_t *ch, const double *pi, const double *ia)
+{
+    c4g_status_t rc = C4G_OK;
+    if ((m == NULL) || (ch == NULL) || (pi == NULL)) {
+        rc = C4G_ERR_NULL;
+    } else {
+        m->checked = 0U;
+        if ((ch->n == 0U) || (ch->n > C4G_DYN_MAX_LINKS)) {
+            rc = C4G_ERR_ARG;
+        } else if ((dyn_all_finite(pi, ch->n * C4G_DYN_PARAMS) == 0) ||
+                   ((ia != NULL) && (dyn_all_finite(ia, ch->n) == 0)) || (dyn_finite3(ch->gravity) == 0)) {
+            rc = C4G_ERR_NONFINITE;
+        } else {
+            uint32_t i;
+            m->chain = *ch;
+            for (i = 0U; i < (C4G_DYN_MAX_LINKS * C4G_DYN_PARAMS); i++) {
+                m->pi[i] = (i < (ch->n * C4G_DYN_PARAMS)) ? pi[i] : 0.0;
+            }
+            for (i = 0U; i < C4G_DYN_MAX_LINKS; i++) {
+                m->ia[i] = ((ia != NULL) && (i < ch->n)) ? ia[i] : 0.0;
+            }
+            m->checked = C4G_DYN_CHECKED;
+        }
+    }
+    return rc;
+}
+
+c4g_status_t c4g_dyn_model_rnea(const c4g_dyn_model_t *m, const double *q, const double *qd, const double *qdd,
+                                double *tau)
+{
+    c4g_status_t rc = C4G_ERR_NULL;
+    if ((m != NULL) && (tau != NULL)) {
+        rc = (m->checked == C4G_DYN_CHECKED) ? check_motion(&m->chain, q, qd, qdd) : C4G_ERR_STATE;
+    }
+    if (rc == C4G_OK) {
+        rc = rnea_passes(&m->chain, q, qd, qdd, m->pi, m->ia, tau);
+    }
+    return rc;
+}
+
 /* The validated body of c4g_dyn_rnea. */
 static c4g_status_t rnea_passes(const c4g_dyn_chain_t *ch, const double *q, const double *qd, const double *qdd,
                                 const double *pi, const double *ia, double *tau)

@@ -122,6 +122,7 @@ typedef struct c4gh_ffr {
     uint32_t n;                 /* joints = motors 1..n */
     double kr[C4G_DYN_MAX_LINKS][C4G_DYN_MAX_LINKS];   /* motor rad per joint rad, [motor][joint] */
     double kinv[C4G_DYN_MAX_LINKS][C4G_DYN_MAX_LINKS]; /* joint rad per motor rad, [joint][motor] */
+    c4g_dyn_model_t dyn;        /* the file's chain and parameters, checked once */
 } c4gh_ffr_t;
 
 /* What was clamped on a joint (c4gh_ffr_out_t.clamped). */
@@ -137,8 +138,10 @@ typedef struct c4gh_ffr_out {
 } c4gh_ffr_out_t;
 
 /* Prepare @p r for the rigid file @p m (m->rigid) on the arm of kinematics @p kin: Kr and
- * its inverse for motors 1..n through the library's velocity conversions. 0, or -1 (not a
- * rigid file, a period <= 0, a transmission that is singular or not finite). */
+ * its inverse for motors 1..n through the library's velocity conversions, and the file's
+ * link parameters checked once (c4g_dyn_model_init: not again on every tick). 0, or -1
+ * (not a rigid file, a period <= 0, a transmission that is singular or not finite,
+ * parameters not finite). */
 int c4gh_ffr_setup(c4gh_ffr_t *r, const c4gh_ffm_file_t *m, const c4g_kin_t *kin);
 
 /* The currents of motors 1..n for motor positions @p qm [turns, with the calibration

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* model = rigid-body-1's evaluation (c4gh_ffmodel.h): the controller's motor-side target
  * through the arm's transmission to the link side, clamped to the range the fit holds
- * in, the rigid-body torques (c4g_dyn_rnea) plus the rotors, back to motor torques and
- * currents, plus each motor's friction and offset. No allocation, no I/O; every loop is
+ * in, the rigid-body torques (c4g_dyn_model_rnea, on the parameters checked once at
+ * setup) plus the rotors, back to motor torques and currents, plus each motor's friction
+ * and offset. No allocation, no I/O; every loop is
  * bounded by C4G_DYN_MAX_LINKS. */
 #include "c4gh_ffmodel.h"
 
@@ -17,6 +18,10 @@ int c4gh_ffr_setup(c4gh_ffr_t *r, const c4gh_ffm_file_t *m, const c4g_kin_t *kin
     uint32_t i, j;
     memset(r, 0, sizeof *r);
     if (!m->rigid || m->kin.n < 1U || m->kin.n > C4G_DYN_MAX_LINKS || !(T > 0.0)) {
+        return -1;
+    }
+    /* the parameters are constant: checked here, once, not by every tick's rnea */
+    if (c4g_dyn_model_init(&r->dyn, &m->kin.chain, m->pi, m->ia) != C4G_OK) {
         return -1;
     }
     r->m = m;
@@ -85,7 +90,7 @@ int c4gh_ffr_current(const c4gh_ffr_t *r, const double *qm, const double *vm, co
         qdd[i] = ffr_clamp(o->qdd[i], -m->qdd_max[i], m->qdd_max[i], C4GH_FFR_QDD, &o->clamped[i]);
         any |= o->clamped[i];
     }
-    if (c4g_dyn_rnea(&m->kin.chain, q, qd, qdd, m->pi, m->ia, o->tau) != C4G_OK) {
+    if (c4g_dyn_model_rnea(&r->dyn, q, qd, qdd, o->tau) != C4G_OK) {
         memset(o->tau, 0, sizeof o->tau);
         return -1;
     }

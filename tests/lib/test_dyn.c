@@ -325,6 +325,77 @@ static void test_errors(void **state)
     assert_int_equal(c4g_dyn_params_from_com(1.0, c, ic, pi), C4G_ERR_NONFINITE);
 }
 
+/* The once-checked model gives c4g_dyn_rnea's torques (with and without rotors), refuses
+ * what c4g_dyn_rnea refuses per call at init instead, and will not run unchecked. */
+static void test_model_checked_once(void **state)
+{
+    c4g_dyn_chain_t ch;
+    c4g_dyn_model_t m, m0;
+    double pi[60];
+    double ia[6] = {0.1, 0.2, 0.05, 0.01, 0.02, 0.003};
+    double tau[6], want[6];
+    const double z6[6] = {0, 0, 0, 0, 0, 0};
+    uint32_t seed = 29U;
+    int t, k;
+    (void)state;
+    six_link(&ch);
+    random_params(&seed, pi);
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_OK);
+    assert_int_equal(m.checked, C4G_DYN_CHECKED);
+    assert_int_equal(c4g_dyn_model_init(&m0, &ch, pi, NULL), C4G_OK);
+    for (t = 0; t < 20; t++) {
+        double q[6], qd[6], qdd[6];
+        for (k = 0; k < 6; k++) {
+            q[k] = 3.0 * rnd(&seed);
+            qd[k] = 2.0 * rnd(&seed);
+            qdd[k] = 8.0 * rnd(&seed);
+        }
+        assert_int_equal(c4g_dyn_rnea(&ch, q, qd, qdd, pi, ia, want), C4G_OK);
+        assert_int_equal(c4g_dyn_model_rnea(&m, q, qd, qdd, tau), C4G_OK);
+        assert_memory_equal(tau, want, sizeof tau);
+        assert_int_equal(c4g_dyn_rnea(&ch, q, qd, qdd, pi, NULL, want), C4G_OK);
+        assert_int_equal(c4g_dyn_model_rnea(&m0, q, qd, qdd, tau), C4G_OK);
+        for (k = 0; k < 6; k++) {
+            assert_true(tau[k] == want[k]);
+        }
+    }
+    /* the motion is still checked on every call */
+    {
+        double q[6] = {0, 0, NAN, 0, 0, 0};
+        assert_int_equal(c4g_dyn_model_rnea(&m, q, z6, z6, tau), C4G_ERR_NONFINITE);
+        assert_int_equal(c4g_dyn_model_rnea(&m, z6, z6, NULL, tau), C4G_ERR_NULL);
+    }
+    assert_int_equal(c4g_dyn_model_rnea(NULL, z6, z6, z6, tau), C4G_ERR_NULL);
+    assert_int_equal(c4g_dyn_model_rnea(&m, z6, z6, z6, NULL), C4G_ERR_NULL);
+    /* refused at init: what the per-call check would refuse */
+    assert_int_equal(c4g_dyn_model_init(NULL, &ch, pi, ia), C4G_ERR_NULL);
+    assert_int_equal(c4g_dyn_model_init(&m, NULL, pi, ia), C4G_ERR_NULL);
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, NULL, ia), C4G_ERR_NULL);
+    pi[37] = NAN;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_ERR_NONFINITE);
+    assert_int_equal(m.checked, 0U);
+    assert_int_equal(c4g_dyn_model_rnea(&m, z6, z6, z6, tau), C4G_ERR_STATE);
+    pi[37] = 0.5;
+    ia[4] = INFINITY;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_ERR_NONFINITE);
+    ia[4] = 0.02;
+    ch.gravity[1] = NAN;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_ERR_NONFINITE);
+    ch.gravity[1] = 0.0;
+    ch.n = 8U;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_ERR_ARG);
+    ch.n = 0U;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_ERR_ARG);
+    ch.n = 6U;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, ia), C4G_OK);
+    /* a torque that overflows is still refused */
+    pi[0] = 1e308;
+    pi[10] = 1e308;
+    ch.gravity[2] = -50.0;
+    assert_int_equal(c4g_dyn_model_init(&m, &ch, pi, NULL), C4G_OK);
+    assert_int_equal(c4g_dyn_model_rnea(&m, z6, z6, z6, tau), C4G_ERR_NONFINITE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -333,6 +404,7 @@ int main(void)
         cmocka_unit_test(test_regressor_equals_rnea),
         cmocka_unit_test(test_power_balance),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_model_checked_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

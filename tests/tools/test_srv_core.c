@@ -464,6 +464,15 @@ static void test_mode9_rigid(void **state)
     assert_true(da > 1e-4); /* 0.44 mA: far above D5's float resolution here (< 1e-5 A) */
     assert_true(g_srv.stats.ff_model_ticks == 5U * N9);
     assert_true(g_srv.stats.ff_model_clamped == 0U);
+    /* the link parameters are checked once, at setup (not on every tick): one that is not
+     * finite refuses the setup; the model set up before keeps its own checked copy */
+    m.pi[13] = NAN;
+    {
+        c4gh_ffr_t bad;
+        assert_int_equal(c4gh_ffr_setup(&bad, &m, &kin), -1);
+    }
+    assert_int_equal(r.dyn.checked, C4G_DYN_CHECKED);
+    assert_true(isfinite(r.dyn.pi[13]));
 }
 
 int main(void)

@@ -545,14 +545,15 @@ int run_excite(int argc, char **argv)
 {
     ExCli c;
     // -1 / 0: not given (the defaults differ with --optimize, and some options do not apply)
-    double duration = -1.0, period = 2.0, f0 = 0.1, stair = -1.0;
+    double duration = -1.0, period = -1.0, f0 = 0.1, stair = -1.0;
     unsigned harmonics = 0, seed = 1, periods = 0, evals = 0;
     const c4gh_cli_opt_t opts[] = {
         {"axes", 'x', C4GH_CLI_CALL, "LIST", "logical axes to excite (default 1,2,3,4,5,6)", nullptr, 0, 0, 0, ex_axes, 0},
         {"vmax", 0, C4GH_CLI_STRING, "V[,V...]", "velocity limit [motor turn/s], one or one per axis (default 10)", c.vmax, sizeof c.vmax, 0, 0, nullptr, 0},
         {"amax", 0, C4GH_CLI_STRING, "A[,A...]", "acceleration limit [motor turn/s^2] (default 200)", c.amax, sizeof c.amax, 0, 0, nullptr, 0},
         {"duration", 'd', C4GH_CLI_DOUBLE, "S", "length [s] (default 38: 19000 rows at 2 ms)", &duration, 0, 2, 36000, nullptr, 0},
-        {"period", 'T', C4GH_CLI_DOUBLE, "MS", "row spacing [ms] (default 2, the SMP+ period)", &period, 0, 0.1, 100, nullptr, 0},
+        {"period", 'T', C4GH_CLI_DOUBLE, "MS", "row spacing [ms]: the controller's period (-T 1 at 1 kHz); default 2, or "
+         "--init's period", &period, 0, 0.1, 100, nullptr, 0},
         {"f0", 0, C4GH_CLI_DOUBLE, "HZ", "multi-sine fundamental, or the Fourier series' base frequency (default 0.1)", &f0, 0, 0.001, 100, nullptr, 0},
         {"harmonics", 0, C4GH_CLI_UINT, "N", "multi-sine harmonics (default 16), or the series' (with --optimize: default 8, 2..20)", &harmonics, 0, 1, 200, nullptr, 0},
         {"stair", 0, C4GH_CLI_DOUBLE, "F", "share of the time in constant-speed runs (default 0.3)", &stair, 0, 0, 0.9, nullptr, 0},
@@ -584,6 +585,10 @@ int run_excite(int argc, char **argv)
                        "whose coefficients minimise the condition number of the rigid-body model's base\n"
                        "regressor within the joints' limits; the report (stdout) compares it with the plain one.",
                        opts, sizeof opts / sizeof opts[0], examples,
+                       "Rows: give -T the period of the controller that plays the file (-T 1 at 1 kHz):\n"
+                       "c4g-server interpolates rows of another spacing linearly, and the kink at each row\n"
+                       "is a current ripple at the row rate that no model predicts. With --optimize --init\n"
+                       "CAPTURE the default is the capture's period (its init packet's).\n"
                        "Exit status: 0 written; 1 the file could not be written; 2 bad usage or kinematics file.", 0, 0, 1, nullptr};
     int first = 0;
     const c4gh_cli_result_t r = c4gh_cli_parse(&spec, &c, argc, argv, &first);
@@ -594,6 +599,13 @@ int run_excite(int argc, char **argv)
         if (na != nullptr) {
             c4gh_cli_error(&spec, "%s does not apply to --optimize (it moves every joint, for --periods periods)", na);
             return C4GH_CLI_EXIT_USAGE;
+        }
+        if (period < 0.0) {
+            // rows at the controller's period: c4g-server interpolates coarser rows linearly,
+            // and the kinks each row leaves are a current ripple no model predicts
+            c4g_init_t init;
+            std::string why;
+            period = (c.init[0] != '\0' && read_init(c.init, &init, &why)) ? static_cast<double>(init.period_ms) : 2.0;
         }
         OptCli o{f0, period, harmonics == 0U ? 8U : harmonics, seed, periods == 0U ? 3U : periods, evals == 0U ? 2000U : evals};
         return run_optimize(spec, c, o);
@@ -608,6 +620,7 @@ int run_excite(int argc, char **argv)
         }
     }
     if (c.axes == 0U) c.axes = 0x3F;
+    if (period < 0.0) period = 2.0;
     if (duration < 0.0) duration = 38.0;
     if (stair < 0.0) stair = 0.3;
     if (harmonics == 0U) harmonics = 16;

@@ -68,6 +68,8 @@ typedef struct app_opts {
     unsigned delay_us;
     unsigned long pause_at, pause_len;
     int entry_fault; /* --entry-fault: 0 none, 1 drop, 2 truncate */
+    int lockstep;    /* --lockstep: wait for each reply (not what a C4G does) */
+    unsigned lockstep_wait_ms; /* --lockstep-wait: how long at most (default 500) */
     cap_opts_t cap;  /* --capture and its options */
 } app_opts_t;
 
@@ -78,6 +80,8 @@ typedef struct app_stats {
     unsigned long paused_ticks;
     unsigned long overruns;
     uint64_t overrun_max;
+    unsigned long lockstep_waits;  /* --lockstep: replies the next packet waited for */
+    uint64_t lockstep_wait_max;    /* the longest such wait past the nominal tick [ns] */
 } app_stats_t;
 
 typedef struct app {
@@ -128,6 +132,8 @@ int raw_send(app_t *a, const uint8_t *buf, size_t len, uint32_t *key);
 long net_sendto(app_t *a, const uint8_t *buf, size_t len, uint32_t *key);
 void drain(app_t *a);
 void window(app_t *a, uint64_t until);
+/* Receive until the outstanding packet's reply came or @p until; 1 if it came. */
+int wait_own_reply(app_t *a, uint64_t until);
 
 /* faults.c */
 int send_packet(app_t *a, const uint8_t *pkt, size_t len, uint32_t *key);

@@ -70,6 +70,11 @@ int main(int argc, char **argv)
     if (done) {
         return code;
     }
+    if (a->o.cap.path != NULL && a->o.lockstep) {
+        fprintf(stderr, "c4g-sim: --lockstep is for the model; a played capture keeps its own times "
+                "(--topspeed sends each packet as soon as the last reply came)\n");
+        return EXIT_USAGE;
+    }
     if (a->o.cap.path != NULL) {
         return capture_main(a); /* a recorded controller plays instead of the model */
     }

@@ -162,16 +162,20 @@ static uint64_t release_pending(app_t *a, uint64_t t, uint64_t until)
     return wake;
 }
 
-/* Receive (and release delayed packets) until @p until. */
-void window(app_t *a, uint64_t until)
+/* Receive (and release delayed packets) until @p until, or (@p reply) until the outstanding
+ * packet's reply came: 1 if it did. */
+static int receive(app_t *a, uint64_t until, int reply)
 {
     for (;;) {
         const uint64_t t = now_ns();
         const uint64_t wake = release_pending(a, t, until);
         fd_set rf;
         struct timeval tv;
+        if (reply && a->cs.out.got) {
+            return 1;
+        }
         if (t >= until || g_stop) {
-            break;
+            return 0;
         }
         FD_ZERO(&rf);
         FD_SET(a->fd, &rf);
@@ -182,3 +186,7 @@ void window(app_t *a, uint64_t until)
         }
     }
 }
+
+void window(app_t *a, uint64_t until) { (void)receive(a, until, 0); }
+
+int wait_own_reply(app_t *a, uint64_t until) { return receive(a, until, 1); }

@@ -325,7 +325,7 @@ static const char *const examples[] = {
     "c4g-sim -p 41000 --plant fixtures/sim/smart-six.xml --payload 6@0,0,0.05 -S fixtures/scenarios/mode0.scn",
     "c4g-sim -p 41000 --capture fixtures/replay/mode4.pcap --num-policy plus-one --json", NULL};
 
-#define N_ROWS 44
+#define N_ROWS 46
 
 /* The rows point into this app, so they are built at run time. */
 static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
@@ -382,6 +382,10 @@ static void opt_rows(app_t *a, c4gh_cli_opt_t *rows)
                  opt_fault, F_DELAY),
         ROW_CALL("pause", 0, "TICK:N", "stall: send nothing for N ticks from cyclic tick TICK",
                  opt_pause, 0),
+        {"lockstep", 0, C4GH_CLI_FLAG, NULL, "wait for each reply and count it on time (not what a "
+         "real C4G does: measures a model apart from the host's latency)", &a->o.lockstep, 0, 0, 0, NULL, 0},
+        {"lockstep-wait", 0, C4GH_CLI_UINT, "MS", "--lockstep: a reply later than MS past its tick is missing "
+         "(default 500)", &a->o.lockstep_wait_ms, 0, 1, 60000, NULL, 0},
         ROW_CALL("entry-fault", 0, "drop|truncate", "lose or cut the packet that opens each new mode",
                  opt_entry, 0),
         ROW_CALL("csv", 0, "FILE", "per-tick records (moni-style)", opt_path, P_CSV),
@@ -441,6 +445,7 @@ static void opt_defaults(app_t *a)
 {
     memset(&a->o, 0, sizeof a->o);
     a->o.delay_us = 300U;
+    a->o.lockstep_wait_ms = 500U;
     a->o.cap.spin_us = CAP_SPIN_UNSET;
     sim_config_default(&a->cfg);
 }

@@ -150,6 +150,9 @@ static void json_faults_errors(json_t *o, const app_t *a)
     put_f(o, "overrun_max_us", (double)a->st.overrun_max / 1000.0);
     json_object_set_new(o, "timestamps", json_string(a->kstamp ? "kernel" : "user"));
     put_u(o, "paused_ticks", a->st.paused_ticks);
+    json_object_set_new(o, "lockstep", json_boolean(a->o.lockstep));
+    put_u(o, "lockstep_waits", a->st.lockstep_waits);
+    put_f(o, "lockstep_wait_max_us", (double)a->st.lockstep_wait_max / 1000.0);
     put_u(o, "mode_rejected", s->mode_rejected);
     put_u(o, "mode_mismatch", s->mode_mismatch);
     for (i = 0; i < F_COUNT; i++) {
@@ -308,6 +311,10 @@ static void summary_text(const app_t *a, int code, const char *result, double cp
     }
     printf("  own overruns %lu (worst %.1f us after the tick), %s timestamps\n", a->st.overruns,
            (double)a->st.overrun_max / 1000.0, a->kstamp ? "kernel" : "user-space");
+    if (a->o.lockstep) {
+        printf("  lockstep: %lu replies waited for past their tick (longest %.1f us past it)\n",
+               a->st.lockstep_waits, (double)a->st.lockstep_wait_max / 1000.0);
+    }
     printf("  reply latency us: min %.1f avg %.1f p50 %.0f p99 %.0f p99.9 %.0f max %.1f; max consecutive missing %lu\n",
            g.lat_min, g.lat_avg, g.p50, g.p99, g.p999, g.lat_max, n->max_consecutive);
     printf("  faults:");

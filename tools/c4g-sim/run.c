@@ -281,6 +281,37 @@ static void check_overrun(app_t *a, loop_t *L)
     }
 }
 
+/* --lockstep: a packet whose reply is checked is outstanding (sync, init or cyclic: a
+ * start-up reply the host delayed would cost a restart as surely as a cyclic one). */
+static int lockstep_due(const app_t *a)
+{
+    const c4g_ctrl_outstanding_t *o = &a->cs.out;
+    return a->o.lockstep && o->active && o->check;
+}
+
+/* --lockstep (a real C4G does not do this): the reply is awaited past the tick, up to
+ * --lockstep-wait, and counts as on time; a reply that came after the tick sends the next
+ * packet at once and the grid restarts there. Simulated time is one period per packet
+ * whatever the wall clock did, so the plant sees the PC as always on time, and a model's
+ * figures are apart from the host's scheduling. */
+static void lockstep_wait(app_t *a, loop_t *L)
+{
+    const uint64_t bound = L->deadline + (uint64_t)a->o.lockstep_wait_ms * 1000000U;
+    (void)c4g_ctrl_set_deadline(&a->cs, bound); /* lockstep_due: outstanding */
+    window(a, L->deadline);
+    if (!a->cs.out.got && !g_stop) {
+        const int came = wait_own_reply(a, bound);
+        const uint64_t t = now_ns();
+        if (came) {
+            a->st.lockstep_waits++;
+            if (t - L->deadline > a->st.lockstep_wait_max) {
+                a->st.lockstep_wait_max = t - L->deadline;
+            }
+        }
+        L->deadline = t; /* never earlier than the period; after a wait, at once */
+    }
+}
+
 /* Once a second on a terminal: where the run is (ticks of --ticks, replies, missing). */
 static void progress(const app_t *a, const loop_t *L, unsigned long *shown)
 {
@@ -333,8 +364,12 @@ void app_run(app_t *a)
             progress(a, &L, &shown);
         }
         L.deadline += (uint64_t)a->cfg.period_ms * 1000000U;
-        (void)c4g_ctrl_set_deadline(&a->cs, L.deadline); /* C4G_ERR_STATE: nothing outstanding */
-        window(a, L.deadline);
+        if (lockstep_due(a)) {
+            lockstep_wait(a, &L);
+        } else {
+            (void)c4g_ctrl_set_deadline(&a->cs, L.deadline); /* C4G_ERR_STATE: nothing outstanding */
+            window(a, L.deadline);
+        }
         c4gh_udp_sleep_until(L.deadline, &g_stop);
     }
     if (show && shown > 0) {
