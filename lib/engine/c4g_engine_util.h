@@ -13,6 +13,14 @@
 #define CTL_COLD
 #endif
 
+/* The per-axis rules, inlined where the caller passes a mode's rules as a constant (the
+ * compiler folds every rule test away; plain inline elsewhere). */
+#if defined(__GNUC__) || defined(__clang__)
+#define CTL_INLINE inline __attribute__((always_inline))
+#else
+#define CTL_INLINE inline
+#endif
+
 /* Bit 31 set iff @p f is NaN or infinite (exponent all ones carries into the sign bit):
  * OR several of these and test once. */
 static inline uint32_t eng_nonfinite_bit(float f)
