@@ -346,6 +346,10 @@ $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(fuzz_ARCH) $(wildcard tests/fuzz/*.h
 	@echo "  FUZZLD  $@"; $(CLANG) $(FUZZ_CFLAGS) $(ARCH_INC) $(TOOL_INC) -fsanitize=fuzzer -o $@ $< \
 	  -Wl,--start-group $(fuzz_ARCH) -Wl,--end-group $(TOOL_LIB_LIBS)
 
+# the differential test's reference and drive are headers of tests/lib (every flavour)
+REF_HDRS := tests/lib/ref_safety.h tests/lib/ref_drive.h
+$(BUILD)/tests/test_ref_safety $(BUILD)/san/tests/test_ref_safety $(BUILD)/cov/tests/test_ref_safety \
+  $(BUILD)/fuzz/fuzz_safety_ref: $(REF_HDRS)
 fuzz-build: $(FUZZ_NAMES:%=$(BUILD)/fuzz/%)
 # one target per run, so `make -jN fuzz` runs N fuzzers at a time
 fuzz: $(FUZZ_NAMES:%=fuzz-run-%)

@@ -294,6 +294,8 @@ typedef struct c4g_engine_priv {
     uint32_t anchor_set[C4G_MAX_AXES];  /**< anchor[] holds a value */
     uint32_t stepped;                   /**< step done, finish expected */
     int32_t step_num;                   /**< NUM of the stepped packet */
+    uint32_t uni_rules;                 /**< prep_rules of every axis when equal, else a marker */
+    uint32_t fe_any;                    /**< some fe_latch[] is set */
 } c4g_engine_priv_t;
 
 /** PC-side control context: one per session. The public members are read-only for the

@@ -332,9 +332,12 @@ static void step_arms(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, const arm_
             (void)c4g_arm_sm_update(sm, &eng->cfg, v[a].mode, v[a].mixed,
                                     c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns, &ev);
             if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
+                uint32_t any = 0U;
                 for (i = 0U; i < eng->map.n_axes; i++) {
                     eng->priv.fe_latch[i] = (eng->map.arm_of[i] == a) ? 0U : eng->priv.fe_latch[i];
+                    any |= eng->priv.fe_latch[i];
                 }
+                eng->priv.fe_any = any;
             }
             r->arm_events[a] = ev;
             r->events |= ev;
@@ -349,6 +352,7 @@ static inline void step_prepare(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
     const uint32_t n = axes_in(rx->n_axes);
     int32_t over[C4G_ARMS];
     uint32_t some;
+    uint32_t same = 1U;
     uint32_t i;
     tx->num = rx->num;
     tx->infpar = 0U;
@@ -357,7 +361,10 @@ static inline void step_prepare(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
     some = arm_overlays(eng, over);
     for (i = 0U; i < n; i++) {
         prepare_axis(eng, over, some, &rx->ax[i], i, &tx->ax[i]);
+        same &= c4g_flag(eng->priv.prep_rules[i] == eng->priv.prep_rules[0]);
     }
+    /* one rule word for every axis: the filter's loop for that mode (c4g_safety.c) */
+    eng->priv.uni_rules = (same != 0U) ? eng->priv.prep_rules[0] : R_MIXED;
     eng->priv.stepped = 1U;
     eng->priv.step_num = rx->num;
 }

@@ -25,6 +25,17 @@ static inline uint32_t axes_in(uint32_t n)
  * reply carries none and the arm is sent 505. */
 #define R_NORULE 0x80000U
 /* The rules that give some PC field a meaning the filter bounds. */
+/* c4g_engine_priv_t.uni_rules when the axes' rules differ (no mode's rules have this bit). */
+#define R_MIXED 0x80000000U
+/* The rule words of the modes a PC drives (mode_rules: the table's rules and PC fields). */
+#define R_MODE_1 (C4G_MR_ABS | C4G_MR_VEL | C4G_MR_VADD | C4G_MR_CUR | C4G_MR_FE | C4G_PCF_D1 | \
+                  C4G_PCF_D2 | C4G_PCF_D4 | C4G_PCF_D5)
+#define R_MODE_2 (C4G_MR_VADD | C4G_MR_CUR | C4G_MR_FE | C4G_PCF_D4 | C4G_PCF_D5)
+#define R_MODE_4 (C4G_MR_ABS | C4G_MR_VEL | C4G_MR_FE | C4G_PCF_D1 | C4G_PCF_D2)
+#define R_MODE_5 (C4G_MR_INT_D2 | C4G_MR_VEL | C4G_MR_FE | C4G_PCF_D1 | C4G_PCF_D2)
+#define R_MODE_7 (C4G_MR_INT_D1 | C4G_MR_FE | C4G_PCF_D1)
+#define R_MODE_8 (C4G_MR_INT_D4 | C4G_MR_VADD | C4G_MR_FE | C4G_PCF_D4)
+#define R_MODE_9 (C4G_MR_DCUR | C4G_MR_FE | C4G_PCF_D5)
 #define R_FIELD_RULES (C4G_MR_ABS | R_INT | C4G_MR_VEL | C4G_MR_VADD | C4G_MR_CUR | \
                        C4G_MR_DCUR | C4G_MR_COPY)
 
@@ -113,18 +124,14 @@ static inline uint32_t arm_overlays(const c4g_engine_t *eng, int32_t over[C4G_AR
 {
     uint32_t some = 0U;
     uint32_t a;
-    uint32_t i;
     for (a = 0U; a < C4G_ARMS; a++) {
         over[a] = arm_overlay(&eng->arm[a]);
         if (over[a] != 0) {
             some = 1U;
         }
     }
-    /* the whole array (zero past the open axes): a fixed count the compiler can vectorize */
-    for (i = 0U; i < C4G_MAX_AXES; i++) {
-        some |= eng->priv.fe_latch[i];
-    }
-    return (some != 0U) ? 1U : 0U;
+    /* fe_any: some fe_latch[] set (kept by the filter and the step) */
+    return ((some | eng->priv.fe_any) != 0U) ? 1U : 0U;
 }
 
 #endif /* C4G_ENGINE_RULES_H */

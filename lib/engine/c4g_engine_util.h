@@ -13,6 +13,15 @@
 #define CTL_COLD
 #endif
 
+/* The per-axis rules, inlined where the caller passes a mode's rules as a constant (the
+ * compiler folds every rule test away). Only when optimising: an -O0 build (the coverage
+ * gate's) keeps one copy of each, whose lines and branches gcov then counts once. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__OPTIMIZE__)
+#define CTL_INLINE inline __attribute__((always_inline))
+#else
+#define CTL_INLINE inline
+#endif
+
 /* Bit 31 set iff @p f is NaN or infinite (exponent all ones carries into the sign bit):
  * OR several of these and test once. */
 static inline uint32_t eng_nonfinite_bit(float f)

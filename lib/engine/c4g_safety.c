@@ -25,7 +25,7 @@ static inline uint32_t value_check(float f, uint32_t required)
 }
 
 /* @p fields: C4G_PCF_* whose unset marker means MISSING (the others: NONFINITE). */
-static inline uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t fields)
+static CTL_INLINE uint32_t axis_data_check(const c4g_pc_axis_t *tx, uint32_t fields)
 {
     const uint32_t carry = eng_exp_carry(tx->target_pos) | eng_exp_carry(tx->target_vel) |
                            eng_exp_carry(tx->measure) | eng_exp_carry(tx->vel_add) |
@@ -50,14 +50,14 @@ static CTL_COLD uint32_t axis_data_slow(float d1, float d2, float d3, float d4, 
 }
 
 /* What the filter rewrote, checked again: an overflow is never sent. */
-static inline uint32_t rewritten_check(const c4g_pc_axis_t *tx)
+static CTL_INLINE uint32_t rewritten_check(const c4g_pc_axis_t *tx)
 {
     return value_check(tx->target_pos, 0U) | value_check(tx->target_vel, 0U) |
            value_check(tx->vel_add, 0U) | value_check(tx->current_add, 0U);
 }
 
 /* The field the controller integrates in this mode (R_INT_*). */
-static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
+static CTL_INLINE float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
 {
     float *f = &tx->target_pos;
     if ((rules & C4G_MR_INT_D2) != 0U) {
@@ -77,7 +77,7 @@ static inline float *int_field(uint32_t rules, c4g_pc_axis_t *tx)
  * integrating mode D1 advanced by its own target velocity D2 (the worst case, which may
  * count the PC's last step once more). Both checks only shrink d towards 0: the filter
  * never creates a motion, even back into the stroke. */
-static inline uint32_t filter_targets(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
+static CTL_INLINE uint32_t filter_targets(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &eng->lim[i];
@@ -119,7 +119,7 @@ static inline float int_value(uint32_t rules, const c4g_pc_axis_t *tx)
     return v;
 }
 
-static inline uint32_t filter_axis(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
+static CTL_INLINE uint32_t filter_axis(const c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                    const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx)
 {
     const c4g_axis_limits_t *l = &eng->lim[i];
@@ -149,7 +149,7 @@ static inline uint32_t filter_axis(const c4g_engine_t *eng, uint32_t i, uint32_t
 }
 
 /* Following error (15.7) on the final targets: the axis carries 508 (field library). */
-static inline uint32_t filter_fe(c4g_engine_t *eng, uint32_t i, uint32_t rules,
+static CTL_INLINE uint32_t filter_fe(c4g_engine_t *eng, uint32_t i, uint32_t rules,
                                  const c4g_ctrl_axis_t *rx, const c4g_pc_axis_t *tx,
                                  float *fe_out)
 {
@@ -159,6 +159,7 @@ static inline uint32_t filter_fe(c4g_engine_t *eng, uint32_t i, uint32_t rules,
         f = sfc_follow_error(ref, rx->actual_pos, eng->lim[i].follow_error, fe_out);
         if ((f & C4G_SF_FOLLOW_ERROR) != 0U) {
             eng->priv.fe_latch[i] = 1U;
+            eng->priv.fe_any = 1U;
             eng->arm[eng->map.arm_of[i]].latch |= C4G_LATCH_AXIS_FE;
         }
     }
@@ -330,7 +331,7 @@ static uint32_t finish_fe(c4g_engine_t *eng, uint32_t i, const c4g_ctrl_axis_t *
 
 /* The data fields of a mode without field rules, zeroed; a mode the C4G does not have is
  * flagged whatever the PC wrote (its arm is sent 505). */
-static inline uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
+static CTL_INLINE uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
 {
     tx->target_pos = 0.0F;
     tx->target_vel = 0.0F;
@@ -342,11 +343,11 @@ static inline uint32_t no_rule_fields(uint32_t rules, c4g_pc_axis_t *tx)
 
 /* Mode rules, copy back, required fields and the per-axis filter of one axis (@p tx: a copy
  * of the reply data, written back by the caller). */
-static inline uint32_t finish_axis(c4g_engine_t *eng, uint32_t i, int32_t shown,
-                                   const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx, float *fe_out)
+static CTL_INLINE uint32_t finish_axis_r(c4g_engine_t *eng, uint32_t i, int32_t shown,
+                                       const c4g_ctrl_axis_t *rx, c4g_pc_axis_t *tx,
+                                       float *fe_out, uint32_t rules)
 {
     const int32_t m = eng->priv.prep_mode[i];
-    const uint32_t rules = eng->priv.prep_rules[i];
     uint32_t f = 0U;
     if ((tx->mode != m) && (tx->mode != shown)) {
         f = C4G_SF_MODE_RESTORED; /* only the request API changes modes */
@@ -381,10 +382,11 @@ static inline uint32_t finish_axis(c4g_engine_t *eng, uint32_t i, int32_t shown,
     return f;
 }
 
+
 /* Field by field: the reply was just written with 4-byte stores, and a struct copy's wide
  * loads would stall on store forwarding (it cost 15 % of c4g_safety_filter); the per-tick filter
  * works on such a copy in registers. */
-static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
+static CTL_INLINE void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 {
     dst->mode = src->mode;
     dst->target_pos = src->target_pos;
@@ -399,7 +401,7 @@ static inline void keep_axis(c4g_pc_axis_t *dst, const c4g_pc_axis_t *src)
 
 /* Final mode of one axis (latches, freezing) and its report. Idempotent except for the
  * n_filtered count. (latch_sent: c4g_safety_filter.) */
-static inline void record_axis(const c4g_engine_t *eng, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
+static CTL_INLINE void record_axis(const c4g_engine_t *eng, uint32_t i, int32_t shown, c4g_pc_axis_t *tx,
                                c4g_engine_report_t *r)
 {
     const uint32_t arm = eng->map.arm_of[i];
@@ -446,30 +448,66 @@ static CTL_COLD void stroke_stops(c4g_engine_t *eng, uint32_t n, const c4g_engin
 
 /* The per-axis pass: mode rules, filter and (while the overlays cannot change any more)
  * the record of each axis. Returns the OR of the axis flags; clears *rec when the axes
- * must be recorded again once the overlays are final. */
+ * must be recorded again once the overlays are final. @p uni: the rules of every axis when
+ * they are all the same and no overlay applies (@p some 0), passed as a constant by
+ * finish_axes so that the compiler drops the rule tests and the overlays; 0 otherwise. */
+static CTL_INLINE uint32_t finish_axes_r(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
+                                         c4g_pc_packet_t *tx, c4g_engine_report_t *r,
+                                         uint32_t n, uint32_t *rec, uint32_t some,
+                                         const int32_t over[C4G_ARMS], uint32_t uni)
+{
+    uint32_t any = 0U;
+    uint32_t keep = *rec;
+    uint32_t i;
+    for (i = 0U; i < n; i++) {
+        const int32_t m = eng->priv.prep_mode[i];
+        const int32_t shown = (some != 0U) ? overlay_mode(eng, over, i, m) : m;
+        const uint32_t rules = (uni != R_MIXED) ? uni : eng->priv.prep_rules[i];
+        c4g_pc_axis_t d;
+        keep_axis(&d, &tx->ax[i]);
+        r->follow_err[i] = 0.0F;
+        r->axis_flags[i] |= finish_axis_r(eng, i, shown, &rx->ax[i], &d, &r->follow_err[i], rules);
+        any |= r->axis_flags[i];
+        if ((any & REDO_FLAGS) != 0U) {
+            keep = 0U;
+        }
+        if (keep != 0U) {
+            record_axis(eng, i, shown, &d, r);
+        }
+        keep_axis(&tx->ax[i], &d);
+    }
+    *rec = keep;
+    return any;
+}
+
+/* finish_axes_r with the rules as a constant when every axis is in the same mode, one of the
+ * modes a PC drives or mode 0, and no overlay applies (same code, same results). */
 static inline uint32_t finish_axes(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
                                    c4g_pc_packet_t *tx, c4g_engine_report_t *r, uint32_t n,
                                    uint32_t *rec)
 {
     int32_t over[C4G_ARMS];
     const uint32_t some = arm_overlays(eng, over);
-    uint32_t any = 0U;
-    uint32_t i;
-    for (i = 0U; i < n; i++) {
-        const int32_t shown = (some != 0U) ? overlay_mode(eng, over, i, eng->priv.prep_mode[i])
-                                           : eng->priv.prep_mode[i];
-        c4g_pc_axis_t d;
-        keep_axis(&d, &tx->ax[i]);
-        r->follow_err[i] = 0.0F;
-        r->axis_flags[i] |= finish_axis(eng, i, shown, &rx->ax[i], &d, &r->follow_err[i]);
-        any |= r->axis_flags[i];
-        if ((any & REDO_FLAGS) != 0U) {
-            *rec = 0U;
-        }
-        if (*rec != 0U) {
-            record_axis(eng, i, shown, &d, r);
-        }
-        keep_axis(&tx->ax[i], &d);
+    const uint32_t uni = (some == 0U) ? eng->priv.uni_rules : R_MIXED;
+    uint32_t any;
+    if (uni == R_MODE_4) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_4);
+    } else if (uni == 0U) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, 0U);
+    } else if (uni == R_MODE_1) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_1);
+    } else if (uni == R_MODE_5) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_5);
+    } else if (uni == R_MODE_7) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_7);
+    } else if (uni == R_MODE_8) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_8);
+    } else if (uni == R_MODE_9) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_9);
+    } else if (uni == R_MODE_2) {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, 0U, over, R_MODE_2);
+    } else {
+        any = finish_axes_r(eng, rx, tx, r, n, rec, some, over, R_MIXED);
     }
     return any;
 }
@@ -535,7 +573,14 @@ static c4g_status_t finish_packet(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx
      * otherwise every axis is recorded again once the overlays are final. */
     uint32_t rec = c4g_flag((eng->priv.joint_on[0] | eng->priv.joint_on[1] | eng->priv.joint_on[2] |
                              eng->priv.joint_on[3]) == 0U);
-    tx->infpar = exit_bytes(eng, r);
+    uint32_t exits = 0U;
+    uint32_t latched = 0U;
+    uint32_t a;
+    for (a = 0U; a < C4G_ARMS; a++) {
+        exits |= eng->arm[a].exit_req;
+        latched |= eng->arm[a].latch;
+    }
+    tx->infpar = (exits != 0U) ? exit_bytes(eng, r) : 0U;
     any = finish_axes(eng, rx, tx, r, n, &rec);
     if (rec == 0U) {
         int32_t over[C4G_ARMS];
@@ -548,7 +593,11 @@ static c4g_status_t finish_packet(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx
     if ((st == C4G_OK) && ((any & C4G_SF_MODE_RESTORED) != 0U)) {
         st = C4G_ERR_MODE_RESTORED; /* a fault's status comes first */
     }
-    latches_sent(eng);
+    /* only the pass that records again (rec 0) latches an arm: without a latch before it and
+     * without that pass, no latch was sent */
+    if ((latched != 0U) || (rec == 0U)) {
+        latches_sent(eng);
+    }
     eng->priv.stepped = 0U;
     return st;
 }
