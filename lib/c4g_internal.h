@@ -281,6 +281,11 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
     }
 }
 
+/* c4g_init_decode that also returns the packet's axis maps (as c4g_axis_map_build builds
+ * them; valid when C4G_OK): the session's decode of an initialization packet, one pass. */
+C4G_INTERNAL c4g_status_t c4g_init_decode_map(const uint8_t *buf, size_t len, c4g_init_t *out,
+                                              c4g_axis_map_t *map, c4g_diag_t *diag);
+
 /* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
  * decoder checked every value and mode of it, so the step does not check them again. */
 C4G_INTERNAL c4g_status_t c4g_engine_step_decoded(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,

@@ -228,10 +228,12 @@ static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
     uint32_t off = C4G_INIT_SIZE;
     uint32_t i;
     int r = 0;
-    /* from NUM on: the decoder has checked NUM (10) already */
-    for (i = C4G_INIT_SIZE; i > 4U; i--) {
-        if (buf[i - 1U] != s->priv.init_raw[i - 1U]) {
-            off = i - 1U;
+    /* from NUM on: the decoder has checked NUM (10) already; the first differing byte */
+    if (memcmp(&buf[4], &s->priv.init_raw[4], (size_t)C4G_INIT_SIZE - 4U) != 0) {
+        for (i = 4U; (i < C4G_INIT_SIZE) && (off == C4G_INIT_SIZE); i++) {
+            if (buf[i] != s->priv.init_raw[i]) {
+                off = i;
+            }
         }
     }
     if (off < C4G_INIT_SIZE) {
@@ -274,10 +276,7 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         st = C4G_ERR_STATE;
     }
     if (st == C4G_OK) {
-        st = c4g_init_decode(buf, len, &init, &res->diag);
-        if (st == C4G_OK) {
-            st = c4g_axis_map_build(&init, &map, &res->diag);
-        }
+        st = c4g_init_decode_map(buf, len, &init, &map, &res->diag);
         if (st != C4G_OK) {
             count_malformed(s, st, res);
         }
