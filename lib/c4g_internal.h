@@ -36,6 +36,17 @@ static inline int32_t c4g_num_wrap_delta(int32_t from, int32_t to)
     return (int32_t)d;
 }
 
+/* The reply NUM of @p num under @p policy (c4g_reply_num, inline for the per-tick reply). */
+static inline int32_t c4g_reply_num_inline(int32_t num, c4g_num_policy_t policy)
+{
+    int32_t r = num;
+    if (policy == C4G_NUM_PLUS_ONE) {
+        /* Field library: NUM + 1, 0x7FFF wraps to 1 (never 0). */
+        r = ((num >= C4G_NUM_MAX) || (num < 0)) ? 1 : (num + 1);
+    }
+    return r;
+}
+
 static inline void c4g_put_le(uint8_t *p, uint32_t v, uint32_t bytes)
 {
     uint32_t i;

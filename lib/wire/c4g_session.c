@@ -373,11 +373,13 @@ static uint32_t drive_mask(uint32_t infpar)
            (c4g_flag((infpar >> 24U) == C4G_STS_MOVING) << 3U);
 }
 
-/* Session-level modes (>= 500) of an accepted packet. One mode on every axis, the usual
- * case, is one comparison. */
-static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
+/* Session-level modes (>= 500) of an accepted packet: their events, which are also added
+ * to @p res. One mode on every axis, the usual case, is one comparison; a packet without
+ * such a mode changes nothing. */
+static uint32_t scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
 {
     const uint32_t n = (s->priv.rx_mixed_modes != 0U) ? p->n_axes : 1U;
+    uint32_t ev = 0U;
     uint32_t i;
     for (i = 0U; i < n; i++) {
         if (p->ax[i].mode < C4G_MODE_FREEZING_A) {
@@ -385,34 +387,38 @@ static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g
         }
         switch (p->ax[i].mode) {
         case C4G_MODE_EXIT_OPEN:
-            res->events |= C4G_EV_END;
+            ev |= C4G_EV_END;
             break;
         case C4G_MODE_SVR_RESTART:
-            res->events |= C4G_EV_RESTART;
+            ev |= C4G_EV_RESTART;
             break;
         case C4G_MODE_FREEZING_P_IN:
-            res->events |= C4G_EV_FREEZE_IN;
+            ev |= C4G_EV_FREEZE_IN;
             break;
         case C4G_MODE_FREEZING_P_OUT:
-            res->events |= C4G_EV_FREEZE_OUT;
+            ev |= C4G_EV_FREEZE_OUT;
             break;
         default:
             /* not a session-level mode */
             break;
         }
     }
-    if ((res->events & C4G_EV_FREEZE_IN) != 0U) {
-        s->priv.frozen = 1U;
+    if (ev != 0U) {
+        res->events |= ev;
+        if ((ev & C4G_EV_FREEZE_IN) != 0U) {
+            s->priv.frozen = 1U;
+        }
+        if ((ev & C4G_EV_FREEZE_OUT) != 0U) {
+            s->priv.frozen = 0U;
+        }
+        if ((ev & C4G_EV_RESTART) != 0U) {
+            s->priv.restart_pending = 1U;
+        }
+        if ((ev & C4G_EV_END) != 0U) {
+            s->phase = C4G_PHASE_ENDED;
+        }
     }
-    if ((res->events & C4G_EV_FREEZE_OUT) != 0U) {
-        s->priv.frozen = 0U;
-    }
-    if ((res->events & C4G_EV_RESTART) != 0U) {
-        s->priv.restart_pending = 1U;
-    }
-    if ((res->events & C4G_EV_END) != 0U) {
-        s->phase = C4G_PHASE_ENDED;
-    }
+    return ev;
 }
 
 /* Manual 15.4: 504 is sent with the system preset to mode 0. A 504 whose previous packet
@@ -485,8 +491,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         }
         s->priv.last_cyclic_ns = now_ns;
         s->priv.have_cyclic_time = 1U;
-        scan_special_modes(s, p, res);
-        if (((res->events & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
+        if (((scan_special_modes(s, p, res) & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
             end_in_procedure(s, &s->priv.rx[prev], res);
         }
         res->kind = C4G_RX_CYCLIC;
@@ -497,7 +502,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
 
 /* Silence check shared by rx and poll; freezing suspends it. A silence is reported once,
  * past the silence threshold; the session ends past the loss timeout. */
-static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
+static inline uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->priv.last_rx_ns) &&
@@ -898,7 +903,7 @@ static c4g_status_t session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, u
             st = reply_bytes(s, tx, neutral, buf, cap, &n);
         }
         if (st == C4G_OK) {
-            c4g_put_i32le(buf, c4g_reply_num(s->priv.pending_num, s->cfg.num_policy));
+            c4g_put_i32le(buf, c4g_reply_num_inline(s->priv.pending_num, s->cfg.num_policy));
             *out_len = n;
             s->counters.tx++;
             if (s->priv.pending_kind != C4G_RX_CYCLIC) {
@@ -917,10 +922,43 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
     return session_reply(s, tx, 0U, buf, cap, out_len);
 }
 
+/* The usual neutral reply in one step: a cyclic packet pending, of one mode whose hold is
+ * zero data and whose template is built, the buffer large enough. What session_reply and
+ * neutral_bytes do for it, without their dispatch; 0 (nothing written) when another case. */
+static uint32_t neutral_fast(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *out_len)
+{
+    const c4g_ctrl_packet_t *p = &s->priv.rx[s->priv.cur];
+    const uint32_t axes = p->n_axes;
+    const int32_t first = p->ax[0].mode;
+    uint32_t done = 0U;
+    if ((s->priv.pending_kind == C4G_RX_CYCLIC) && (s->priv.pending_num >= 0) &&
+        (s->priv.rx_mixed_modes == 0U) && (s->priv.neutral_data == 0U) &&
+        (s->priv.neutral_n == axes) && (s->priv.neutral_mode == first) &&
+        (cap >= C4G_CYCLIC_SIZE(axes))) {
+        c4g_put_i32le(buf, c4g_reply_num_inline(s->priv.pending_num, s->cfg.num_policy));
+        c4g_put_u32le(&buf[4], 0U);
+        c4g_put_u32le(&buf[8], 0U);
+        (void)memcpy(&buf[C4G_HEADER_SIZE], s->priv.neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
+        if (first == C4G_MODE_FREEZING_A) {
+            s->priv.frozen_active = 1U;
+        }
+        *out_len = C4G_CYCLIC_SIZE((size_t)axes);
+        s->counters.tx++;
+        s->priv.pending_kind = C4G_RX_DROPPED; /* answered, cycle time pending */
+        done = 1U;
+    }
+    return done;
+}
+
 c4g_status_t c4g_session_reply_neutral(c4g_session_t *s, uint8_t *buf, size_t cap,
                                        size_t *out_len)
 {
-    return session_reply(s, NULL, 1U, buf, cap, out_len);
+    c4g_status_t st = C4G_OK;
+    if ((s == NULL) || (buf == NULL) || (out_len == NULL) ||
+        (neutral_fast(s, buf, cap, out_len) == 0U)) {
+        st = session_reply(s, NULL, 1U, buf, cap, out_len);
+    }
+    return st;
 }
 
 c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)
