@@ -422,15 +422,17 @@ static uint32_t rnd(void)
     return (uint32_t)(g_rng >> 16);
 }
 
+static const uint32_t specials[] = {
+    0x7FC00000U, 0xFFC00001U, 0x7F800000U, 0xFF800000U, 0x7F7FFFFFU, 0x00000001U,
+    0x80000000U, 0xBF800000U, 0x3F800000U, 0x41200000U, 0x47000000U, 0U, 1U, 2U, 3U,
+    4U, 5U, 9U, 10U, 11U, 12U, 17U, 18U, 19U, 20U, 21U, 39U, 40U, 0xFFU, 0xFEU,
+    0xFFFFFFFFU, 500U, 501U, 502U, 503U, 504U, 505U, 506U, 507U, 999U, 1000U, 1001U,
+    0x7FFFU, 0x8000U, 0x7FFEU, 0x05050505U, 0x06060606U, 0x01000000U, 0x40A00000U,
+    0x41A00000U, 0x00800000U, 0x807FFFFFU, 0x7F7FFFFFU, 0x3F000000U, 13U, 16U};
+
 static uint32_t special(void)
 {
-    static const uint32_t v[] = {
-        0x7FC00000U, 0xFFC00001U, 0x7F800000U, 0xFF800000U, 0x7F7FFFFFU, 0x00000001U,
-        0x80000000U, 0xBF800000U, 0x3F800000U, 0x41200000U, 0x47000000U, 0U, 1U, 2U, 3U,
-        4U, 5U, 9U, 10U, 11U, 12U, 17U, 18U, 19U, 20U, 21U, 39U, 40U, 0xFFU, 0xFEU,
-        0xFFFFFFFFU, 500U, 501U, 502U, 503U, 504U, 505U, 506U, 507U, 999U, 1000U, 1001U,
-        0x7FFFU, 0x8000U, 0x7FFEU, 0x05050505U, 0x06060606U, 0x01000000U};
-    return v[rnd() % (sizeof v / sizeof v[0])];
+    return specials[rnd() % (sizeof specials / sizeof specials[0])];
 }
 
 /* One variant of @p d (length @p n) into @p m; returns its length. */
@@ -528,6 +530,23 @@ int main(int argc, char **argv)
         }
         printf("== %s\n", argv[a]);
         one(data, n);
+        if (n == C4G_INIT_SIZE) {
+            /* every word of an initialization packet set to every special value in turn */
+            static uint8_t b[C4G_INIT_SIZE];
+            size_t off;
+            for (off = 0U; off < C4G_INIT_SIZE; off += 4U) {
+                size_t v;
+                for (v = 0U; v < sizeof specials / sizeof specials[0]; v++) {
+                    memcpy(b, data, sizeof b);
+                    b[off] = (uint8_t)specials[v];
+                    b[off + 1U] = (uint8_t)(specials[v] >> 8U);
+                    b[off + 2U] = (uint8_t)(specials[v] >> 16U);
+                    b[off + 3U] = (uint8_t)(specials[v] >> 24U);
+                    printf("== %s @%zu=%08x\n", argv[a], off, (unsigned)specials[v]);
+                    init_checks(b);
+                }
+            }
+        }
         for (k = 0; k < mutations; k++) {
             const size_t m = mutate(data, n, mut, sizeof mut);
             printf("== %s ~%d\n", argv[a], k);
