@@ -204,10 +204,15 @@ static uint32_t init_ok_fast(const c4g_init_t *in, c4g_axis_map_t *map)
                           c4g_axes_carry((const uint8_t *)in->follow_error, PER_BLOCK_WORDS, 0U)) != 0U);
         for (arm = 0U; (arm < C4G_ARMS) && (carry == 0U); arm++) {
             for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+                bad |= c4g_flag(in->az_lim[arm][ax] < 0.0F) |
+                       c4g_flag(in->follow_error[arm][ax] < 0.0F);
+            }
+        }
+        for (arm = 0U; (arm < C4G_ARMS) && (carry == 0U); arm++) {
+            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
                 const int32_t v = in->open_ax[arm][ax];
                 const int32_t m = in->open_mask[arm][ax];
                 const float a = in->az_lim[arm][ax];
-                bad |= c4g_flag((a < 0.0F) || (in->follow_error[arm][ax] < 0.0F));
                 if (v != C4G_OPEN_AX_NONE) {
                     if ((v < 0) || (v >= in->n_ax_open) || (used[v] != 0U) ||
                         (a <= 0.0F) || ((m != C4G_OPEN_AX_NONE) && (mode_unknown_fast(m) != 0U))) {

@@ -128,10 +128,13 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
     s->priv.pending_rx_ns = now_ns;
     s->priv.pending_len = 0U;
     if ((kind != C4G_RX_CYCLIC) && (buf != NULL)) { /* (a decoded datagram has bytes) */
-        /* Sync replies echo at most 732 bytes; the init echo is the full 1200. */
+        /* Sync replies echo at most 732 bytes; the init echo is the full 1200, from
+         * init_raw (which holds the accepted packet's bytes). */
         const size_t keep = (kind == C4G_RX_INIT) ? C4G_INIT_SIZE
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
-        (void)memcpy(s->priv.pending_raw, buf, keep);
+        if (kind != C4G_RX_INIT) {
+            (void)memcpy(s->priv.pending_raw, buf, keep);
+        }
         s->priv.pending_len = (uint32_t)keep;
         s->priv.pending_reply_len = (kind == C4G_RX_INIT) ? (uint32_t)C4G_INIT_SIZE
                                                      : (uint32_t)C4G_SYNC_REPLY_SIZE;
@@ -175,12 +178,22 @@ static c4g_field_t init_field_at(uint32_t off, int32_t *arm, int32_t *axis)
 
 /* The PC's ceilings on the limits an initialization packet may set (open axes only; a
  * FollowError of 0 is the controller's "no threshold" and stays accepted). */
-static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in, c4g_diag_t *diag)
+static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in,
+                                   const c4g_axis_map_t *map, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_OK;
+    uint32_t over = 0U;
     uint32_t arm;
     uint32_t ax;
-    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+    uint32_t i;
+    /* the open axes through the map first: the ordered pass below only names a refusal */
+    for (i = 0U; i < map->n_axes; i++) {
+        const uint32_t a = map->arm_of[i] & 3U;
+        const uint32_t x = map->logical_of[i] % C4G_AXES_PER_ARM;
+        over |= c4g_flag((in->az_lim[a][x] > s->cfg.az_lim_max) ||
+                         (in->follow_error[a][x] > s->cfg.follow_error_max));
+    }
+    for (arm = 0U; (over != 0U) && (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
         for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
             const uint32_t at = (arm * C4G_AXES_PER_ARM * 4U) + (ax * 4U);
             const float a = in->az_lim[arm][ax];
@@ -282,7 +295,7 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         }
     }
     if (st == C4G_OK) {
-        st = check_ceilings(s, &init, &res->diag);
+        st = check_ceilings(s, &init, &map, &res->diag);
         if (st != C4G_OK) {
             s->counters.malformed[C4G_MAL_CEILING]++;
             s->counters.malformed_total++;
@@ -883,7 +896,9 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
         *n = s->priv.pending_reply_len;
         st = C4G_ERR_CAPACITY;
         if (cap >= *n) {
-            (void)memcpy(buf, s->priv.pending_raw, s->priv.pending_len);
+            const uint8_t *raw = (s->priv.pending_kind == C4G_RX_INIT) ? s->priv.init_raw
+                                                                        : s->priv.pending_raw;
+            (void)memcpy(buf, raw, s->priv.pending_len);
             (void)memset(&buf[s->priv.pending_len], 0, *n - s->priv.pending_len);
             st = C4G_OK;
         }
