@@ -175,63 +175,79 @@ static c4g_status_t check_open_ax(const c4g_init_t *in, c4g_axis_map_t *map, c4g
     return st;
 }
 
-/* Every check of c4g_init_validate in one pass over the 40 logical axes, without naming
- * the first failure: 1 when the packet passes them all (and @p map is its axis maps, as
- * check_open_ax builds them), 0 when one fails (c4g_init_validate then runs the checks in
- * their order and names the first). The float limits are compared as floats only once
- * every float is known finite, as the ordered checks do. */
+/* 1 when every float of the packet is finite, AzLim and FollowError >= 0 (the checks of
+ * check_floats): the NaN/infinity pass on 64-bit lanes (see c4g_axes_carry), then the
+ * signs compared as floats, as the ordered checks do once the values are finite. */
+static uint32_t floats_ok(const c4g_init_t *in)
+{
+    uint32_t ok = 0U;
+    if ((c4g_axes_carry((const uint8_t *)in->cal_data, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->az_lim, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->ax_info, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->tx_rate, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->follow_error, PER_BLOCK_WORDS, 0U)) == 0U) {
+        uint32_t neg = 0U;
+        uint32_t arm;
+        uint32_t ax;
+        for (arm = 0U; arm < C4G_ARMS; arm++) {
+            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+                neg |= c4g_flag(in->az_lim[arm][ax] < 0.0F) |
+                       c4g_flag(in->follow_error[arm][ax] < 0.0F);
+            }
+        }
+        ok = neg ^ 1U;
+    }
+    return ok;
+}
+
+/* 1 when every open axis has a valid, unused OPEN index below nAxOpen, a known start-up
+ * mode or 0xFF, an AzLim above 0, and nAxOpen of them are open (check_modes, check_open_ax,
+ * check_az_lim); @p map is then the axis maps, as check_open_ax builds them. */
+static uint32_t open_axes_ok(const c4g_init_t *in, c4g_axis_map_t *map)
+{
+    uint8_t used[C4G_MAX_AXES];
+    uint32_t bad = 0U;
+    uint32_t count = 0U;
+    uint32_t arm;
+    uint32_t ax;
+    (void)memset(used, 0, sizeof used);
+    (void)memset(map, 0, sizeof *map);
+    (void)memset(map->open_of, C4G_OPEN_AX_NONE, sizeof map->open_of);
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            const int32_t v = in->open_ax[arm][ax];
+            const int32_t m = in->open_mask[arm][ax];
+            if (v == C4G_OPEN_AX_NONE) {
+                continue;
+            }
+            if ((v < 0) || (v >= in->n_ax_open) || (used[v] != 0U) || (in->az_lim[arm][ax] <= 0.0F) ||
+                ((m != C4G_OPEN_AX_NONE) && (mode_unknown_fast(m) != 0U))) {
+                bad = 1U;
+            } else {
+                used[v] = 1U;
+                count++;
+                map->arm_of[v] = (uint8_t)arm;
+                map->logical_of[v] = (uint8_t)ax;
+                map->open_of[arm][ax] = (uint8_t)v;
+                map->n_axes_arm[arm]++;
+            }
+        }
+    }
+    map->n_axes = count;
+    return c4g_flag((bad == 0U) && (count == (uint32_t)in->n_ax_open));
+}
+
+/* Every check of c4g_init_validate, without naming the first failure: 1 when the packet
+ * passes them all (and @p map is its axis maps), 0 when one fails (c4g_init_validate then
+ * runs the checks in their order and names the first). */
 static uint32_t init_ok_fast(const c4g_init_t *in, c4g_axis_map_t *map)
 {
     uint32_t ok = 0U;
     if ((in->num == C4G_INIT_NUM) && (in->n_field_pck == C4G_FIELDS_PER_PACKET) &&
         (in->n_field_ax == C4G_FIELDS_PER_AXIS) && (in->n_ax_open >= 1) &&
         (in->n_ax_open <= (int32_t)C4G_MAX_AXES) && (in->period_ms >= 1) &&
-        (in->period_ms <= MAX_PERIOD_MS)) {
-        uint8_t used[C4G_MAX_AXES];
-        uint32_t carry = 0U;
-        uint32_t bad = 0U;
-        uint32_t count = 0U;
-        uint32_t arm;
-        uint32_t ax;
-        (void)memset(used, 0, sizeof used);
-        (void)memset(map, 0, sizeof *map);
-        (void)memset(map->open_of, C4G_OPEN_AX_NONE, sizeof map->open_of);
-        /* the float blocks' NaN/infinity pass on 64-bit lanes (see c4g_axes_carry) */
-        carry = c4g_flag((c4g_axes_carry((const uint8_t *)in->cal_data, PER_BLOCK_WORDS, 0U) |
-                          c4g_axes_carry((const uint8_t *)in->az_lim, PER_BLOCK_WORDS, 0U) |
-                          c4g_axes_carry((const uint8_t *)in->ax_info, PER_BLOCK_WORDS, 0U) |
-                          c4g_axes_carry((const uint8_t *)in->tx_rate, PER_BLOCK_WORDS, 0U) |
-                          c4g_axes_carry((const uint8_t *)in->follow_error, PER_BLOCK_WORDS, 0U)) != 0U);
-        for (arm = 0U; (arm < C4G_ARMS) && (carry == 0U); arm++) {
-            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
-                bad |= c4g_flag(in->az_lim[arm][ax] < 0.0F) |
-                       c4g_flag(in->follow_error[arm][ax] < 0.0F);
-            }
-        }
-        for (arm = 0U; (arm < C4G_ARMS) && (carry == 0U); arm++) {
-            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
-                const int32_t v = in->open_ax[arm][ax];
-                const int32_t m = in->open_mask[arm][ax];
-                const float a = in->az_lim[arm][ax];
-                if (v != C4G_OPEN_AX_NONE) {
-                    if ((v < 0) || (v >= in->n_ax_open) || (used[v] != 0U) ||
-                        (a <= 0.0F) || ((m != C4G_OPEN_AX_NONE) && (mode_unknown_fast(m) != 0U))) {
-                        bad = 1U;
-                    } else {
-                        used[v] = 1U;
-                        count++;
-                        map->arm_of[v] = (uint8_t)arm;
-                        map->logical_of[v] = (uint8_t)ax;
-                        map->open_of[arm][ax] = (uint8_t)v;
-                        map->n_axes_arm[arm]++;
-                    }
-                }
-            }
-        }
-        if ((carry == 0U) && (bad == 0U) && (count == (uint32_t)in->n_ax_open)) {
-            map->n_axes = count;
-            ok = 1U;
-        }
+        (in->period_ms <= MAX_PERIOD_MS) && (floats_ok(in) != 0U)) {
+        ok = open_axes_ok(in, map);
     }
     return ok;
 }

@@ -239,10 +239,10 @@ static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
                        c4g_rx_result_t *res)
 {
     uint32_t off = C4G_INIT_SIZE;
-    uint32_t i;
     int r = 0;
     /* from NUM on: the decoder has checked NUM (10) already; the first differing byte */
     if (memcmp(&buf[4], &s->priv.init_raw[4], (size_t)C4G_INIT_SIZE - 4U) != 0) {
+        uint32_t i;
         for (i = 4U; (i < C4G_INIT_SIZE) && (off == C4G_INIT_SIZE); i++) {
             if (buf[i] != s->priv.init_raw[i]) {
                 off = i;
