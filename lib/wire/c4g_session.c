@@ -938,7 +938,8 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
 }
 
 /* The usual neutral reply in one step: a cyclic packet pending, of one mode whose hold is
- * zero data and whose template is built, the buffer large enough. What session_reply and
+ * zero data and whose template is built (not 500, which starts active freezing), the
+ * buffer large enough. What session_reply and
  * neutral_bytes do for it, without their dispatch; 0 (nothing written) when another case. */
 static uint32_t neutral_fast(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *out_len)
 {
@@ -949,14 +950,11 @@ static uint32_t neutral_fast(c4g_session_t *s, uint8_t *buf, size_t cap, size_t 
     if ((s->priv.pending_kind == C4G_RX_CYCLIC) && (s->priv.pending_num >= 0) &&
         (s->priv.rx_mixed_modes == 0U) && (s->priv.neutral_data == 0U) &&
         (s->priv.neutral_n == axes) && (s->priv.neutral_mode == first) &&
-        (cap >= C4G_CYCLIC_SIZE(axes))) {
+        (first != C4G_MODE_FREEZING_A) && (cap >= C4G_CYCLIC_SIZE(axes))) {
         c4g_put_i32le(buf, c4g_reply_num_inline(s->priv.pending_num, s->cfg.num_policy));
         c4g_put_u32le(&buf[4], 0U);
         c4g_put_u32le(&buf[8], 0U);
         (void)memcpy(&buf[C4G_HEADER_SIZE], s->priv.neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
-        if (first == C4G_MODE_FREEZING_A) {
-            s->priv.frozen_active = 1U;
-        }
         *out_len = C4G_CYCLIC_SIZE((size_t)axes);
         s->counters.tx++;
         s->priv.pending_kind = C4G_RX_DROPPED; /* answered, cycle time pending */
