@@ -11,6 +11,9 @@ set -eu
 build=${1:?usage: sh bench/wire_diff.sh BUILD_DIR [REF [MUTATIONS]]}
 ref=${2:-HEAD}
 muts=${3:-40}
+# (make bench runs it against HEAD: uncommitted changes of lib/ are what it compares)
+git rev-parse --verify -q "$ref^{commit}" >/dev/null 2>&1 ||
+  { echo "wire_diff: no git revision '$ref' here (a source tree without .git?), skipped"; exit 0; }
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/c4g-wire-diff.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cc=${CC:-cc}
