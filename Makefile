@@ -389,10 +389,10 @@ qemu-smoke: | $(DEPS_STAMP)
 	  -DFIXTURE_INIT='"$(CURDIR)/fixtures/vectors/init-fig10-1.bin"' \
 	  -Ilib/sim tests/target/target_smoke.c $(LIB_SRCS) $(SIM_SRCS) -o $(BUILD)/qemu/target_smoke.elf -lm
 	qemu-arm $(BUILD)/qemu/target_smoke.elf
-	$(ARM_CC) -std=c99 -O2 -Iinclude -marm -mcpu=cortex-r5 -mbig-endian -mbe8 -ffreestanding -nostdlib \
+	$(ARM_CC) -std=c99 -O2 -Iinclude -marm -mcpu=cortex-r5 -mfpu=vfpv3-d16 -mfloat-abi=hard -mbig-endian -mbe8 -ffreestanding -nostdlib \
 	  -static -Wl,--be8 tests/target/target_be_codec.c lib/wire/c4g_codec.c lib/wire/c4g_modes.c \
-	  -o $(BUILD)/qemu/target_be_codec.elf
-	qemu-armeb $(BUILD)/qemu/target_be_codec.elf && echo "qemu-smoke: big-endian codec OK (qemu-armeb)"
+	  lib/wire/c4g_init.c -o $(BUILD)/qemu/target_be_codec.elf
+	qemu-armeb $(BUILD)/qemu/target_be_codec.elf && echo "qemu-smoke: big-endian codec and init packet OK (qemu-armeb)"
 
 # ---- static analysis
 cppcheck: | $(DEPS_STAMP)

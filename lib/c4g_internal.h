@@ -36,6 +36,17 @@ static inline int32_t c4g_num_wrap_delta(int32_t from, int32_t to)
     return (int32_t)d;
 }
 
+/* The reply NUM of @p num under @p policy (c4g_reply_num, inline for the per-tick reply). */
+static inline int32_t c4g_reply_num_inline(int32_t num, c4g_num_policy_t policy)
+{
+    int32_t r = num;
+    if (policy == C4G_NUM_PLUS_ONE) {
+        /* Field library: NUM + 1, 0x7FFF wraps to 1 (never 0). */
+        r = ((num >= C4G_NUM_MAX) || (num < 0)) ? 1 : (num + 1);
+    }
+    return r;
+}
+
 static inline void c4g_put_le(uint8_t *p, uint32_t v, uint32_t bytes)
 {
     uint32_t i;
@@ -280,6 +291,11 @@ static inline void c4g_diag_set(c4g_diag_t *d, c4g_status_t st, c4g_field_t fiel
         d->value = value;
     }
 }
+
+/* c4g_init_decode that also returns the packet's axis maps (as c4g_axis_map_build builds
+ * them; valid when C4G_OK): the session's decode of an initialization packet, one pass. */
+C4G_INTERNAL c4g_status_t c4g_init_decode_map(const uint8_t *buf, size_t len, c4g_init_t *out,
+                                              c4g_axis_map_t *map, c4g_diag_t *diag);
 
 /* c4g_engine_step for a packet c4g_ctrl_decode produced (the loop object's path): the
  * decoder checked every value and mode of it, so the step does not check them again. */

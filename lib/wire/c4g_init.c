@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* Initialization packet (1200 bytes, 300 little-endian fields) and the axis index maps. */
 #include "../c4g_internal.h"
+#include "c4g_wire_hot.h"
 
 #define PER_ARM_BYTES (4U * C4G_AXES_PER_ARM)
 #define MAX_PERIOD_MS 1000
+#define PER_BLOCK_WORDS ((size_t)C4G_ARMS * C4G_AXES_PER_ARM) /* a block of 40 values */
 
 typedef int32_t arm_ints_t[C4G_ARMS][C4G_AXES_PER_ARM];
 typedef float arm_floats_t[C4G_ARMS][C4G_AXES_PER_ARM];
@@ -11,28 +13,6 @@ typedef float arm_floats_t[C4G_ARMS][C4G_AXES_PER_ARM];
 static uint32_t block_off(uint32_t base, uint32_t arm, uint32_t axis)
 {
     return base + (arm * PER_ARM_BYTES) + (4U * axis);
-}
-
-static void get_ints(const uint8_t *buf, uint32_t base, arm_ints_t dst)
-{
-    uint32_t arm;
-    uint32_t ax;
-    for (arm = 0U; arm < C4G_ARMS; arm++) {
-        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
-            dst[arm][ax] = c4g_get_i32le(&buf[block_off(base, arm, ax)]);
-        }
-    }
-}
-
-static void get_floats(const uint8_t *buf, uint32_t base, arm_floats_t dst)
-{
-    uint32_t arm;
-    uint32_t ax;
-    for (arm = 0U; arm < C4G_ARMS; arm++) {
-        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
-            dst[arm][ax] = c4g_get_f32le(&buf[block_off(base, arm, ax)]);
-        }
-    }
 }
 
 static void put_ints(uint8_t *buf, uint32_t base, const arm_ints_t src)
@@ -195,7 +175,85 @@ static c4g_status_t check_open_ax(const c4g_init_t *in, c4g_axis_map_t *map, c4g
     return st;
 }
 
-c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag)
+/* 1 when every float of the packet is finite, AzLim and FollowError >= 0 (the checks of
+ * check_floats): the NaN/infinity pass on 64-bit lanes (see c4g_axes_carry), then the
+ * signs compared as floats, as the ordered checks do once the values are finite. */
+static uint32_t floats_ok(const c4g_init_t *in)
+{
+    uint32_t ok = 0U;
+    if ((c4g_axes_carry((const uint8_t *)in->cal_data, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->az_lim, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->ax_info, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->tx_rate, PER_BLOCK_WORDS, 0U) |
+         c4g_axes_carry((const uint8_t *)in->follow_error, PER_BLOCK_WORDS, 0U)) == 0U) {
+        uint32_t neg = 0U;
+        uint32_t arm;
+        uint32_t ax;
+        for (arm = 0U; arm < C4G_ARMS; arm++) {
+            for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+                neg |= c4g_flag(in->az_lim[arm][ax] < 0.0F) |
+                       c4g_flag(in->follow_error[arm][ax] < 0.0F);
+            }
+        }
+        ok = neg ^ 1U;
+    }
+    return ok;
+}
+
+/* 1 when every open axis has a valid, unused OPEN index below nAxOpen, a known start-up
+ * mode or 0xFF, an AzLim above 0, and nAxOpen of them are open (check_modes, check_open_ax,
+ * check_az_lim); @p map is then the axis maps, as check_open_ax builds them. */
+static uint32_t open_axes_ok(const c4g_init_t *in, c4g_axis_map_t *map)
+{
+    uint8_t used[C4G_MAX_AXES];
+    uint32_t bad = 0U;
+    uint32_t count = 0U;
+    uint32_t arm;
+    uint32_t ax;
+    (void)memset(used, 0, sizeof used);
+    (void)memset(map, 0, sizeof *map);
+    (void)memset(map->open_of, C4G_OPEN_AX_NONE, sizeof map->open_of);
+    for (arm = 0U; arm < C4G_ARMS; arm++) {
+        for (ax = 0U; ax < C4G_AXES_PER_ARM; ax++) {
+            const int32_t v = in->open_ax[arm][ax];
+            const int32_t m = in->open_mask[arm][ax];
+            if (v == C4G_OPEN_AX_NONE) {
+                continue;
+            }
+            if ((v < 0) || (v >= in->n_ax_open) || (used[v] != 0U) || (in->az_lim[arm][ax] <= 0.0F) ||
+                ((m != C4G_OPEN_AX_NONE) && (mode_unknown_fast(m) != 0U))) {
+                bad = 1U;
+            } else {
+                used[v] = 1U;
+                count++;
+                map->arm_of[v] = (uint8_t)arm;
+                map->logical_of[v] = (uint8_t)ax;
+                map->open_of[arm][ax] = (uint8_t)v;
+                map->n_axes_arm[arm]++;
+            }
+        }
+    }
+    map->n_axes = count;
+    return c4g_flag((bad == 0U) && (count == (uint32_t)in->n_ax_open));
+}
+
+/* Every check of c4g_init_validate, without naming the first failure: 1 when the packet
+ * passes them all (and @p map is its axis maps), 0 when one fails (c4g_init_validate then
+ * runs the checks in their order and names the first). */
+static uint32_t init_ok_fast(const c4g_init_t *in, c4g_axis_map_t *map)
+{
+    uint32_t ok = 0U;
+    if ((in->num == C4G_INIT_NUM) && (in->n_field_pck == C4G_FIELDS_PER_PACKET) &&
+        (in->n_field_ax == C4G_FIELDS_PER_AXIS) && (in->n_ax_open >= 1) &&
+        (in->n_ax_open <= (int32_t)C4G_MAX_AXES) && (in->period_ms >= 1) &&
+        (in->period_ms <= MAX_PERIOD_MS) && (floats_ok(in) != 0U)) {
+        ok = open_axes_ok(in, map);
+    }
+    return ok;
+}
+
+/* The checks in their order, the first failure named (every check of init_ok_fast). */
+static c4g_status_t init_validate_ordered(const c4g_init_t *init, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_ERR_NULL;
     c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
@@ -232,39 +290,51 @@ c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag)
     return st;
 }
 
-c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out, c4g_diag_t *diag)
+c4g_status_t c4g_init_validate(const c4g_init_t *init, c4g_diag_t *diag)
+{
+    c4g_status_t st = C4G_ERR_NULL;
+    c4g_axis_map_t map;
+    if ((init != NULL) && (init_ok_fast(init, &map) != 0U)) {
+        st = C4G_OK;
+        c4g_diag_set(diag, C4G_OK, C4G_FIELD_NONE, 0U, -1, -1, 0);
+    } else {
+        st = init_validate_ordered(init, diag);
+    }
+    return st;
+}
+
+/* c4g_init_t holds the packet's 300 words in the packet's order, 4 bytes each without
+ * padding (tests/lib/test_init.c checks every block's offset): the packet is one copy into
+ * host order, then one pass of checks that also builds the axis maps. */
+c4g_status_t c4g_init_decode_map(const uint8_t *buf, size_t len, c4g_init_t *out,
+                                 c4g_axis_map_t *map, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_ERR_NULL;
     c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
     if ((buf != NULL) && (out != NULL)) {
-        (void)memset(out, 0, sizeof *out);
         if (len != C4G_INIT_SIZE) {
+            (void)memset(out, 0, sizeof *out);
             st = C4G_ERR_LENGTH;
             c4g_diag_set(diag, st, C4G_FIELD_LENGTH, 0U, -1, -1, (int64_t)len);
         } else {
-            uint32_t k;
-            out->num = c4g_get_i32le(&buf[0]);
-            out->n_field_pck = c4g_get_i32le(&buf[4]);
-            out->n_field_ax = c4g_get_i32le(&buf[8]);
-            out->n_ax_open = c4g_get_i32le(&buf[12]);
-            get_ints(buf, C4G_INIT_OFF_OPENMASK, out->open_mask);
-            for (k = 0U; k < C4G_N_FIELD_TYPES; k++) {
-                out->field_type[k] = c4g_get_i32le(&buf[C4G_INIT_OFF_TYPES + (4U * k)]);
+            /* Deviation D-02 (MISRA 21.15): the packet's words into the struct of them. */
+            /* cppcheck-suppress misra-c2012-21.15 */
+            c4g_words_le((uint8_t *)out, buf, (size_t)C4G_INIT_SIZE / 4U, c4g_host_big_endian());
+            if (init_ok_fast(out, map) != 0U) {
+                st = C4G_OK;
+                c4g_diag_set(diag, st, C4G_FIELD_NONE, 0U, -1, -1, 0);
+            } else {
+                st = init_validate_ordered(out, diag);
             }
-            out->period_ms = c4g_get_i32le(&buf[C4G_INIT_OFF_PERIOD]);
-            get_ints(buf, C4G_INIT_OFF_OPENAX, out->open_ax);
-            get_floats(buf, C4G_INIT_OFF_CALDATA, out->cal_data);
-            get_floats(buf, C4G_INIT_OFF_AZLIM, out->az_lim);
-            out->version_major = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION]);
-            out->version_minor = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION + 4U]);
-            out->version_build = c4g_get_i32le(&buf[C4G_INIT_OFF_VERSION + 8U]);
-            get_floats(buf, C4G_INIT_OFF_AXINFO, out->ax_info);
-            get_floats(buf, C4G_INIT_OFF_TXRATE, out->tx_rate);
-            get_floats(buf, C4G_INIT_OFF_FOLLOWERROR, out->follow_error);
-            st = c4g_init_validate(out, diag);
         }
     }
     return st;
+}
+
+c4g_status_t c4g_init_decode(const uint8_t *buf, size_t len, c4g_init_t *out, c4g_diag_t *diag)
+{
+    c4g_axis_map_t map;
+    return c4g_init_decode_map(buf, len, out, &map, diag);
 }
 
 c4g_status_t c4g_init_encode(const c4g_init_t *init, uint8_t *buf, size_t cap, size_t *out_len)

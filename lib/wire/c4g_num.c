@@ -7,12 +7,7 @@
 
 int32_t c4g_reply_num(int32_t num, c4g_num_policy_t policy)
 {
-    int32_t r = num;
-    if (policy == C4G_NUM_PLUS_ONE) {
-        /* Field library: NUM + 1, 0x7FFF wraps to 1 (never 0). */
-        r = ((num >= C4G_NUM_MAX) || (num < 0)) ? 1 : (num + 1);
-    }
-    return r;
+    return c4g_reply_num_inline(num, policy);
 }
 
 int32_t c4g_num_next(int32_t num)

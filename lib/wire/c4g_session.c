@@ -128,10 +128,13 @@ static void arm_reply(c4g_session_t *s, c4g_rx_kind_t kind, int32_t num, const u
     s->priv.pending_rx_ns = now_ns;
     s->priv.pending_len = 0U;
     if ((kind != C4G_RX_CYCLIC) && (buf != NULL)) { /* (a decoded datagram has bytes) */
-        /* Sync replies echo at most 732 bytes; the init echo is the full 1200. */
+        /* Sync replies echo at most 732 bytes; the init echo is the full 1200, from
+         * init_raw (which holds the accepted packet's bytes). */
         const size_t keep = (kind == C4G_RX_INIT) ? C4G_INIT_SIZE
                             : ((len < C4G_SYNC_REPLY_SIZE) ? len : C4G_SYNC_REPLY_SIZE);
-        (void)memcpy(s->priv.pending_raw, buf, keep);
+        if (kind != C4G_RX_INIT) {
+            (void)memcpy(s->priv.pending_raw, buf, keep);
+        }
         s->priv.pending_len = (uint32_t)keep;
         s->priv.pending_reply_len = (kind == C4G_RX_INIT) ? (uint32_t)C4G_INIT_SIZE
                                                      : (uint32_t)C4G_SYNC_REPLY_SIZE;
@@ -175,12 +178,22 @@ static c4g_field_t init_field_at(uint32_t off, int32_t *arm, int32_t *axis)
 
 /* The PC's ceilings on the limits an initialization packet may set (open axes only; a
  * FollowError of 0 is the controller's "no threshold" and stays accepted). */
-static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in, c4g_diag_t *diag)
+static c4g_status_t check_ceilings(const c4g_session_t *s, const c4g_init_t *in,
+                                   const c4g_axis_map_t *map, c4g_diag_t *diag)
 {
     c4g_status_t st = C4G_OK;
+    uint32_t over = 0U;
     uint32_t arm;
     uint32_t ax;
-    for (arm = 0U; (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
+    uint32_t i;
+    /* the open axes through the map first: the ordered pass below only names a refusal */
+    for (i = 0U; i < map->n_axes; i++) {
+        const uint32_t a = map->arm_of[i] & 3U;
+        const uint32_t x = map->logical_of[i] % C4G_AXES_PER_ARM;
+        over |= c4g_flag((in->az_lim[a][x] > s->cfg.az_lim_max) ||
+                         (in->follow_error[a][x] > s->cfg.follow_error_max));
+    }
+    for (arm = 0U; (over != 0U) && (arm < C4G_ARMS) && (st == C4G_OK); arm++) {
         for (ax = 0U; (ax < C4G_AXES_PER_ARM) && (st == C4G_OK); ax++) {
             const uint32_t at = (arm * C4G_AXES_PER_ARM * 4U) + (ax * 4U);
             const float a = in->az_lim[arm][ax];
@@ -226,12 +239,14 @@ static int second_init(c4g_session_t *s, const uint8_t *buf, uint64_t now_ns,
                        c4g_rx_result_t *res)
 {
     uint32_t off = C4G_INIT_SIZE;
-    uint32_t i;
     int r = 0;
-    /* from NUM on: the decoder has checked NUM (10) already */
-    for (i = C4G_INIT_SIZE; i > 4U; i--) {
-        if (buf[i - 1U] != s->priv.init_raw[i - 1U]) {
-            off = i - 1U;
+    /* from NUM on: the decoder has checked NUM (10) already; the first differing byte */
+    if (memcmp(&buf[4], &s->priv.init_raw[4], (size_t)C4G_INIT_SIZE - 4U) != 0) {
+        uint32_t i;
+        for (i = 4U; (i < C4G_INIT_SIZE) && (off == C4G_INIT_SIZE); i++) {
+            if (buf[i] != s->priv.init_raw[i]) {
+                off = i;
+            }
         }
     }
     if (off < C4G_INIT_SIZE) {
@@ -274,16 +289,13 @@ static void on_init(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t n
         st = C4G_ERR_STATE;
     }
     if (st == C4G_OK) {
-        st = c4g_init_decode(buf, len, &init, &res->diag);
-        if (st == C4G_OK) {
-            st = c4g_axis_map_build(&init, &map, &res->diag);
-        }
+        st = c4g_init_decode_map(buf, len, &init, &map, &res->diag);
         if (st != C4G_OK) {
             count_malformed(s, st, res);
         }
     }
     if (st == C4G_OK) {
-        st = check_ceilings(s, &init, &res->diag);
+        st = check_ceilings(s, &init, &map, &res->diag);
         if (st != C4G_OK) {
             s->counters.malformed[C4G_MAL_CEILING]++;
             s->counters.malformed_total++;
@@ -374,11 +386,13 @@ static uint32_t drive_mask(uint32_t infpar)
            (c4g_flag((infpar >> 24U) == C4G_STS_MOVING) << 3U);
 }
 
-/* Session-level modes (>= 500) of an accepted packet. One mode on every axis, the usual
- * case, is one comparison. */
-static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
+/* Session-level modes (>= 500) of an accepted packet: their events, which are also added
+ * to @p res. One mode on every axis, the usual case, is one comparison; a packet without
+ * such a mode changes nothing. */
+static uint32_t scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g_rx_result_t *res)
 {
     const uint32_t n = (s->priv.rx_mixed_modes != 0U) ? p->n_axes : 1U;
+    uint32_t ev = 0U;
     uint32_t i;
     for (i = 0U; i < n; i++) {
         if (p->ax[i].mode < C4G_MODE_FREEZING_A) {
@@ -386,34 +400,38 @@ static void scan_special_modes(c4g_session_t *s, const c4g_ctrl_packet_t *p, c4g
         }
         switch (p->ax[i].mode) {
         case C4G_MODE_EXIT_OPEN:
-            res->events |= C4G_EV_END;
+            ev |= C4G_EV_END;
             break;
         case C4G_MODE_SVR_RESTART:
-            res->events |= C4G_EV_RESTART;
+            ev |= C4G_EV_RESTART;
             break;
         case C4G_MODE_FREEZING_P_IN:
-            res->events |= C4G_EV_FREEZE_IN;
+            ev |= C4G_EV_FREEZE_IN;
             break;
         case C4G_MODE_FREEZING_P_OUT:
-            res->events |= C4G_EV_FREEZE_OUT;
+            ev |= C4G_EV_FREEZE_OUT;
             break;
         default:
             /* not a session-level mode */
             break;
         }
     }
-    if ((res->events & C4G_EV_FREEZE_IN) != 0U) {
-        s->priv.frozen = 1U;
+    if (ev != 0U) {
+        res->events |= ev;
+        if ((ev & C4G_EV_FREEZE_IN) != 0U) {
+            s->priv.frozen = 1U;
+        }
+        if ((ev & C4G_EV_FREEZE_OUT) != 0U) {
+            s->priv.frozen = 0U;
+        }
+        if ((ev & C4G_EV_RESTART) != 0U) {
+            s->priv.restart_pending = 1U;
+        }
+        if ((ev & C4G_EV_END) != 0U) {
+            s->phase = C4G_PHASE_ENDED;
+        }
     }
-    if ((res->events & C4G_EV_FREEZE_OUT) != 0U) {
-        s->priv.frozen = 0U;
-    }
-    if ((res->events & C4G_EV_RESTART) != 0U) {
-        s->priv.restart_pending = 1U;
-    }
-    if ((res->events & C4G_EV_END) != 0U) {
-        s->phase = C4G_PHASE_ENDED;
-    }
+    return ev;
 }
 
 /* Manual 15.4: 504 is sent with the system preset to mode 0. A 504 whose previous packet
@@ -486,8 +504,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
         }
         s->priv.last_cyclic_ns = now_ns;
         s->priv.have_cyclic_time = 1U;
-        scan_special_modes(s, p, res);
-        if (((res->events & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
+        if (((scan_special_modes(s, p, res) & C4G_EV_END) != 0U) && (s->counters.cyclic > 1U)) {
             end_in_procedure(s, &s->priv.rx[prev], res);
         }
         res->kind = C4G_RX_CYCLIC;
@@ -498,7 +515,7 @@ static void on_cyclic(c4g_session_t *s, const uint8_t *buf, size_t len, uint64_t
 
 /* Silence check shared by rx and poll; freezing suspends it. A silence is reported once,
  * past the silence threshold; the session ends past the loss timeout. */
-static uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
+static inline uint32_t check_lost(c4g_session_t *s, uint64_t now_ns)
 {
     uint32_t ev = 0U;
     if ((s->phase == C4G_PHASE_REFUSED) && (now_ns > s->priv.last_rx_ns) &&
@@ -879,7 +896,9 @@ static c4g_status_t reply_bytes(c4g_session_t *s, const c4g_pc_packet_t *tx, uin
         *n = s->priv.pending_reply_len;
         st = C4G_ERR_CAPACITY;
         if (cap >= *n) {
-            (void)memcpy(buf, s->priv.pending_raw, s->priv.pending_len);
+            const uint8_t *raw = (s->priv.pending_kind == C4G_RX_INIT) ? s->priv.init_raw
+                                                                        : s->priv.pending_raw;
+            (void)memcpy(buf, raw, s->priv.pending_len);
             (void)memset(&buf[s->priv.pending_len], 0, *n - s->priv.pending_len);
             st = C4G_OK;
         }
@@ -899,7 +918,7 @@ static c4g_status_t session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, u
             st = reply_bytes(s, tx, neutral, buf, cap, &n);
         }
         if (st == C4G_OK) {
-            c4g_put_i32le(buf, c4g_reply_num(s->priv.pending_num, s->cfg.num_policy));
+            c4g_put_i32le(buf, c4g_reply_num_inline(s->priv.pending_num, s->cfg.num_policy));
             *out_len = n;
             s->counters.tx++;
             if (s->priv.pending_kind != C4G_RX_CYCLIC) {
@@ -918,10 +937,41 @@ c4g_status_t c4g_session_reply(c4g_session_t *s, const c4g_pc_packet_t *tx, uint
     return session_reply(s, tx, 0U, buf, cap, out_len);
 }
 
+/* The usual neutral reply in one step: a cyclic packet pending, of one mode whose hold is
+ * zero data and whose template is built (not 500, which starts active freezing), the
+ * buffer large enough. What session_reply and
+ * neutral_bytes do for it, without their dispatch; 0 (nothing written) when another case. */
+static uint32_t neutral_fast(c4g_session_t *s, uint8_t *buf, size_t cap, size_t *out_len)
+{
+    const c4g_ctrl_packet_t *p = &s->priv.rx[s->priv.cur];
+    const uint32_t axes = p->n_axes;
+    const int32_t first = p->ax[0].mode;
+    uint32_t done = 0U;
+    if ((s->priv.pending_kind == C4G_RX_CYCLIC) && (s->priv.pending_num >= 0) &&
+        (s->priv.rx_mixed_modes == 0U) && (s->priv.neutral_data == 0U) &&
+        (s->priv.neutral_n == axes) && (s->priv.neutral_mode == first) &&
+        (first != C4G_MODE_FREEZING_A) && (cap >= C4G_CYCLIC_SIZE(axes))) {
+        c4g_put_i32le(buf, c4g_reply_num_inline(s->priv.pending_num, s->cfg.num_policy));
+        c4g_put_u32le(&buf[4], 0U);
+        c4g_put_u32le(&buf[8], 0U);
+        (void)memcpy(&buf[C4G_HEADER_SIZE], s->priv.neutral_axes, (size_t)axes * C4G_AXIS_SIZE);
+        *out_len = C4G_CYCLIC_SIZE((size_t)axes);
+        s->counters.tx++;
+        s->priv.pending_kind = C4G_RX_DROPPED; /* answered, cycle time pending */
+        done = 1U;
+    }
+    return done;
+}
+
 c4g_status_t c4g_session_reply_neutral(c4g_session_t *s, uint8_t *buf, size_t cap,
                                        size_t *out_len)
 {
-    return session_reply(s, NULL, 1U, buf, cap, out_len);
+    c4g_status_t st = C4G_OK;
+    if ((s == NULL) || (buf == NULL) || (out_len == NULL) ||
+        (neutral_fast(s, buf, cap, out_len) == 0U)) {
+        st = session_reply(s, NULL, 1U, buf, cap, out_len);
+    }
+    return st;
 }
 
 c4g_status_t c4g_session_sent(c4g_session_t *s, uint64_t now_ns)

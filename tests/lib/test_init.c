@@ -252,6 +252,56 @@ static void test_every_length(void **state)
     }
 }
 
+/* The decoder copies the packet's 300 words into c4g_init_t in one piece: the struct must
+ * hold them in the packet's order, 4 bytes each, no padding. */
+static void test_struct_is_wire_layout(void **state)
+{
+    (void)state;
+    assert_int_equal(sizeof(c4g_init_t), C4G_INIT_SIZE);
+    assert_int_equal(offsetof(c4g_init_t, n_ax_open), 12);
+    assert_int_equal(offsetof(c4g_init_t, open_mask), C4G_INIT_OFF_OPENMASK);
+    assert_int_equal(offsetof(c4g_init_t, field_type), C4G_INIT_OFF_TYPES);
+    assert_int_equal(offsetof(c4g_init_t, period_ms), C4G_INIT_OFF_PERIOD);
+    assert_int_equal(offsetof(c4g_init_t, open_ax), C4G_INIT_OFF_OPENAX);
+    assert_int_equal(offsetof(c4g_init_t, cal_data), C4G_INIT_OFF_CALDATA);
+    assert_int_equal(offsetof(c4g_init_t, az_lim), C4G_INIT_OFF_AZLIM);
+    assert_int_equal(offsetof(c4g_init_t, version_major), C4G_INIT_OFF_VERSION);
+    assert_int_equal(offsetof(c4g_init_t, version_build), C4G_INIT_OFF_VERSION + 8U);
+    assert_int_equal(offsetof(c4g_init_t, ax_info), C4G_INIT_OFF_AXINFO);
+    assert_int_equal(offsetof(c4g_init_t, tx_rate), C4G_INIT_OFF_TXRATE);
+    assert_int_equal(offsetof(c4g_init_t, follow_error), C4G_INIT_OFF_FOLLOWERROR);
+}
+
+/* c4g_init_validate on a decoded struct refuses what the decoder refuses, with the same
+ * diagnostic (its one-pass check and the ordered one agree), and accepts the vector. */
+static void test_validate_agrees_with_decode(void **state)
+{
+    static const uint32_t vals[] = {0U, 1U, 6U, 20U, 21U, 0xFFU, 0xFFFFFFFFU, 507U, 1000U,
+                                    0x7FC00000U, 0x7F800000U, 0xBF800000U, 0x80000000U,
+                                    0x80000001U, 0x00000001U};
+    uint32_t off, k;
+    (void)state;
+    for (off = 0U; off < C4G_INIT_SIZE; off += 4U) {
+        for (k = 0U; k < sizeof vals / sizeof vals[0]; k++) {
+            uint8_t b[1200];
+            c4g_init_t in;
+            c4g_diag_t d1, d2;
+            c4g_status_t s1, s2;
+            memcpy(b, th_fig, sizeof b);
+            th_put_u32(&b[off], vals[k]);
+            s1 = c4g_init_decode(b, sizeof b, &in, &d1); /* in: the values, refused or not */
+            s2 = c4g_init_validate(&in, &d2);
+            assert_int_equal(s1, s2);
+            assert_int_equal(d1.status, d2.status);
+            assert_int_equal(d1.field, d2.field);
+            assert_int_equal(d1.offset, d2.offset);
+            assert_int_equal(d1.arm, d2.arm);
+            assert_int_equal(d1.axis, d2.axis);
+            assert_true(d1.value == d2.value);
+        }
+    }
+}
+
 static void test_nulls_and_encode_validation(void **state)
 {
     c4g_init_t in;
@@ -283,6 +333,8 @@ int main(void)
         cmocka_unit_test(test_diag_names_arm_axis),
         cmocka_unit_test(test_every_length),
         cmocka_unit_test(test_nulls_and_encode_validation),
+        cmocka_unit_test(test_struct_is_wire_layout),
+        cmocka_unit_test(test_validate_agrees_with_decode),
     };
     return cmocka_run_group_tests_name("init", tests, th_load_fig, NULL);
 }

@@ -1125,6 +1125,59 @@ static void test_init_ceilings(void **state)
     assert_int_equal(feed_from(&f, th_fig, sizeof th_fig, &ctl), C4G_RX_INIT);
 }
 
+/* A ceiling refusal on an arm after axes that are not open: the diagnostic names the arm
+ * and the logical axis of the first axis over the ceiling in the packet's order (the
+ * session checks the open axes through its axis maps first, then names the refusal). */
+static void test_init_ceiling_on_second_arm(void **state)
+{
+    fx_t f;
+    const c4g_endpoint_t ctl = ep(1, 3600);
+    c4g_init_t in;
+    uint8_t b[C4G_INIT_SIZE];
+    size_t n = 0;
+    uint32_t x;
+    (void)state;
+    assert_int_equal(c4gsim_fig10_1(&in), C4G_OK);
+    for (x = 0; x < 10U; x++) {
+        in.open_ax[0][x] = C4G_OPEN_AX_NONE;
+        in.open_ax[1][x] = (x < 6U) ? (int32_t)x : C4G_OPEN_AX_NONE;
+        in.open_mask[1][x] = 0;
+        in.az_lim[1][x] = 10.0f;
+        in.follow_error[1][x] = 1.0f;
+    }
+    in.az_lim[1][5] = 1e6f;        /* over the default ceiling, and */
+    in.follow_error[1][3] = 60.0f; /* before it in the packet: FollowError comes later */
+    in.az_lim[0][0] = 1e6f;        /* not open: no limit of the controller's */
+    assert_int_equal(c4g_init_encode(&in, b, sizeof b, &n), C4G_OK);
+    memset(&f, 0, sizeof f);
+    assert_int_equal(c4g_session_init(&f.s, NULL), C4G_OK);
+    f.t = 1000 * MS;
+    nine_syncs(&f, &ctl);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.status, C4G_ERR_RANGE);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_FOLLOWERROR);
+    assert_int_equal(f.r.diag.arm, 1);
+    assert_int_equal(f.r.diag.axis, 3);
+    assert_int_equal(f.r.diag.offset, C4G_INIT_OFF_FOLLOWERROR + 40U + 12U);
+    assert_int_equal(f.r.diag.value, f_bits(60.0f));
+    assert_int_equal(f.s.counters.malformed[C4G_MAL_CEILING], 1);
+    /* the FollowError within its ceiling: the AzLim of axis 5 is named */
+    in.follow_error[1][3] = 1.0f;
+    assert_int_equal(c4g_init_encode(&in, b, sizeof b, &n), C4G_OK);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_DROPPED);
+    assert_int_equal(f.r.diag.field, C4G_FIELD_AZLIM);
+    assert_int_equal(f.r.diag.arm, 1);
+    assert_int_equal(f.r.diag.axis, 5);
+    assert_int_equal(f.r.diag.offset, C4G_INIT_OFF_AZLIM + 40U + 20U);
+    /* within every ceiling: accepted, the maps on arm 1 */
+    in.az_lim[1][5] = 10.0f;
+    assert_int_equal(c4g_init_encode(&in, b, sizeof b, &n), C4G_OK);
+    assert_int_equal(feed_from(&f, b, sizeof b, &ctl), C4G_RX_INIT);
+    assert_int_equal(f.s.map.n_axes, 6);
+    assert_int_equal(f.s.map.arm_of[5], 1);
+    assert_int_equal(f.s.map.logical_of[5], 5);
+}
+
 /* An init packet injected between the controller's last sync and its own init (a sender
  * that spoofs the controller's address and port): the real one differs, and both are
  * refused. Either order. Then nothing is answered until the controller gives up. */
@@ -1389,6 +1442,7 @@ int main(void)
         cmocka_unit_test(test_fewer_axes_after_restart),
         cmocka_unit_test(test_init_ceilings),
         cmocka_unit_test(test_second_init_conflict),
+        cmocka_unit_test(test_init_ceiling_on_second_arm),
         cmocka_unit_test(test_restart_init_must_match),
         cmocka_unit_test(test_sync_reply_bounded),
         cmocka_unit_test(test_contended_startup),

@@ -2,7 +2,8 @@
 /* Runs on a big-endian 32-bit ARM under qemu-armeb (Linux user mode, no C library: the
  * toolchain has no big-endian newlib): the cyclic codec's byte-order path. A little-endian
  * wire packet is decoded and its values checked, encoded back byte for byte, and a NaN and
- * an unknown mode are refused. Exit status: 0, or the number of the first failed check. */
+ * an unknown mode are refused; an initialization packet (one copy of its words into
+ * c4g_init_t, reversed word by word here) likewise. Exit status: 0, or the number of the first failed check. */
 #include "c4gopen.h"
 
 #include <stddef.h>
@@ -96,6 +97,50 @@ static uint32_t bits(float f)
     return u;
 }
 
+static uint8_t init_wire[C4G_INIT_SIZE];
+static uint8_t init_out[C4G_INIT_SIZE];
+static c4g_init_t init;
+
+/* An initialization packet of two open axes on arm 0: decoded values, diagnostics, the
+ * encoder's bytes. */
+static int run_init(void)
+{
+    c4g_diag_t d;
+    size_t n = 0U;
+    uint32_t k;
+    put_le(init_wire, 10U);
+    put_le(&init_wire[4], 3U);
+    put_le(&init_wire[8], 9U);
+    put_le(&init_wire[12], 2U);
+    put_le(&init_wire[C4G_INIT_OFF_PERIOD], 2U);
+    for (k = 0U; k < 40U; k++) {
+        put_le(&init_wire[C4G_INIT_OFF_OPENAX + (4U * k)], (k < 2U) ? k : 0xFFU);
+        put_le(&init_wire[C4G_INIT_OFF_AZLIM + (4U * k)], (k < 2U) ? 0x41200000U : 0U); /* 10 A */
+    }
+    put_le(&init_wire[C4G_INIT_OFF_CALDATA + 4U], 0x3FC00000U); /* 1.5 */
+    put_le(&init_wire[C4G_INIT_OFF_VERSION + 8U], 115U);
+    if ((c4g_init_decode(init_wire, sizeof init_wire, &init, &d) != C4G_OK) || (init.n_ax_open != 2) ||
+        (init.open_ax[0][1] != 1) || (init.open_ax[0][2] != 0xFF) || (init.period_ms != 2) ||
+        (bits(init.cal_data[0][1]) != 0x3FC00000U) || (bits(init.az_lim[0][1]) != 0x41200000U) ||
+        (init.version_build != 115)) {
+        return 10;
+    }
+    if ((c4g_init_encode(&init, init_out, sizeof init_out, &n) != C4G_OK) || (n != C4G_INIT_SIZE) ||
+        (memcmp(init_out, init_wire, C4G_INIT_SIZE) != 0)) {
+        return 11;
+    }
+    put_le(&init_wire[C4G_INIT_OFF_AZLIM + 4U], 0x7FC00000U); /* NaN: arm 0, axis 1 */
+    if ((c4g_init_decode(init_wire, sizeof init_wire, &init, &d) != C4G_ERR_NONFINITE) ||
+        (d.field != C4G_FIELD_AZLIM) || (d.axis != 1) || (d.offset != C4G_INIT_OFF_AZLIM + 4U)) {
+        return 12;
+    }
+    put_le(&init_wire[C4G_INIT_OFF_AZLIM + 4U], 0U); /* an open axis without current */
+    if ((c4g_init_decode(init_wire, sizeof init_wire, &init, &d) != C4G_ERR_RANGE) || (d.axis != 1)) {
+        return 13;
+    }
+    return 0;
+}
+
 static int run(void)
 {
     c4g_diag_t d;
@@ -156,5 +201,6 @@ static int run(void)
 
 void _start(void)
 {
-    sys_exit(run());
+    int r = run();
+    sys_exit((r != 0) ? r : run_init());
 }
