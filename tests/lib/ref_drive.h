@@ -157,6 +157,10 @@ static inline int ref_world_init(ref_world_t *w, ref_src_t *s)
     uint32_t i;
     int ok = 1;
     memset(w, 0, sizeof *w);
+    /* the engine keeps a copy of the configuration, padding included, and the state is
+     * compared byte for byte: no byte of it may be left undefined (valgrind) */
+    memset(&in, 0, sizeof in);
+    memset(&cfg, 0, sizeof cfg);
     w->n = 1U + ref_below(s, 20U);
     (void)c4gsim_fig10_1(&in);
     in.n_ax_open = (int32_t)w->n;
