@@ -481,8 +481,8 @@ docs-commands: all e2e-helpers
 	@E2E_ONLY=docs_commands sh scripts/run-e2e.sh $(BUILD)
 
 # ---- the two README commands
-# The gates after "--" only compute: they run beside the e2e gate, in place of its busy
-# loops, while it waits on real-time sessions (scripts/check.sh says how).
+# The gates after "--" only compute: they run at nice 19 beside the others, mostly while the
+# e2e gate waits on real-time sessions (scripts/check.sh says how).
 CHECK_GATES := all unit ident-accuracy sanitize valgrind coverage e2e \
   -- audit cross qemu-smoke docs-examples static-analysis fuzz
 # Each gate builds with one job per core unless the caller chose -j; the fuzz gate replays

@@ -2,11 +2,11 @@
 # make check: every gate in turn, each one run even when an earlier one failed (but none
 # after a failed build), then one line a CI reader recognises: "check: N passed, M failed".
 #   scripts/check.sh MAKE GATE... [-- BESIDE_GATE...]
-# The gates after "--" only compute (static analysis, cross builds, fuzzing): they run beside
-# the e2e gate, in the time it spends waiting on real-time sessions, at normal priority and
-# one make job per core. They take the place of the e2e gate's busy loops (one per core,
-# which play another job on the host and keep the vCPUs awake), and become those loops when
-# done. Their output is printed when each is collected, after the foreground gates.
+# The gates after "--" only compute (static analysis, cross builds, fuzzing): they start once
+# the build passed and run at nice 19 beside the others, in the time the e2e gate spends
+# waiting on real-time sessions. They take the place of one of its busy loops, which keep
+# the vCPUs awake (an idle vCPU wakes late), and become a busy loop themselves when done. Their
+# output is printed when each is collected, after the foreground gates.
 set -u
 make_cmd=$1
 shift
@@ -22,9 +22,9 @@ logdir=''; bgpid=''
 start_beside() {
   [ -n "$beside" ] || return 0
   logdir=$(mktemp -d "${TMPDIR:-/tmp}/c4g-check.XXXXXX")
-  echo "== check: beside the e2e gate, in place of its busy loops:$beside"
+  echo "== check: beside the other gates, at nice 19:$beside"
   # shellcheck disable=SC2086
-  sh -c '
+  nice -n 19 sh -c '
     logdir=$1; make_cmd=$2; shift 2
     spin=""
     trap "[ -n \"\$spin\" ] && kill \$spin 2>/dev/null; exit 0" TERM
@@ -34,8 +34,7 @@ start_beside() {
       echo "$g $r $(( $(date +%s) - t0 ))" >> "$logdir/status"
     done
     : > "$logdir/done"
-    n=$(nproc 2>/dev/null || echo 2); i=0
-    while [ $i -lt "$n" ]; do timeout 3600 sh -c "while :; do :; done" & spin="$spin $!"; i=$((i + 1)); done
+    timeout 3600 sh -c "while :; do :; done" & spin=$!
     wait
   ' check-beside "$logdir" "$make_cmd" $beside &
   bgpid=$!
@@ -45,7 +44,7 @@ collect_beside() {
   while [ ! -e "$logdir/done" ] && kill -0 "$bgpid" 2>/dev/null; do sleep 1; done
   kill "$bgpid" 2>/dev/null; wait "$bgpid" 2>/dev/null
   for g in $beside; do
-    echo "== check: $g (ran beside the e2e gate)"
+    echo "== check: $g (ran beside the other gates)"
     [ -f "$logdir/$g.log" ] && cat "$logdir/$g.log"
     line=$(grep "^$g " "$logdir/status" 2>/dev/null)
     set -- $line
@@ -64,10 +63,9 @@ for gate in $fg; do
   echo "== check: $gate"
   t0=$(date +%s)
   load=''
-  if [ "$gate" = e2e ]; then
-    start_beside
-    # the gates beside are (or become) the busy loops
-    [ -n "$bgpid" ] && load="E2E_LOAD=0"
+  if [ "$gate" = e2e ] && [ -n "$bgpid" ]; then
+    # one busy loop fewer: the gates beside are (or become) the other
+    load="E2E_LOAD=$(( $(nproc 2>/dev/null || echo 2) - 1 ))"
   fi
   # shellcheck disable=SC2086
   if env $load $make_cmd "$gate"; then
@@ -80,12 +78,10 @@ for gate in $fg; do
       break # nothing else can run without the build
     fi
   fi
+  if [ "$gate" = all ]; then
+    start_beside
+  fi
 done
-# without an e2e gate they run here (after a failed build, not at all)
-case " $failed " in
-  *" all "*) ;;
-  *) [ -n "$bgpid" ] || start_beside ;;
-esac
 collect_beside
 [ -n "$failed" ] && echo "check: failed gates:$failed"
 echo "check: $pass passed, $fail failed"
