@@ -9,6 +9,7 @@ import io
 import json
 import math
 import subprocess
+from decimal import Decimal
 
 from simlib import start_pc, stop_pc
 
@@ -42,19 +43,21 @@ def from_export(bins, pcap, ms):
     r = subprocess.run([str(bins.replay), "export", str(pcap)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    # times in integer ns, as the capture has them: a tick exactly MS from a late one is near
+    # it, which float seconds would decide either way
+    ns = [int(Decimal(x["time"]) * 10**9) for x in rows]
     late = []
     for i, x in enumerate(rows):
-        t = float(x["time"])
+        t = ns[i]
         # the controller's deadline: its next packet, or one period when that came much later
-        nxt = float(rows[i + 1]["time"]) if i + 1 < len(rows) else t + 1e-3
-        deadline = nxt if nxt - t <= 1.5e-3 else t + 1e-3
-        in_time = x["latency_us"] != "" and t + float(x["latency_us"]) * 1e-6 <= deadline + 1e-7
+        nxt = ns[i + 1] if i + 1 < len(rows) else t + 1000000
+        deadline = nxt if nxt - t <= 1500000 else t + 1000000
+        in_time = x["latency_us"] != "" and t + int(Decimal(x["latency_us"]) * 1000) <= deadline
         if any(x["c%d_mode" % a] == "9" and not (in_time and x["p%d_mode" % a] == "9") for a in range(1, 7)):
             late.append(t)
     fe, n = 0.0, 0
-    for x in rows:
-        t = float(x["time"])
-        if any(abs(t - u) <= ms * 1e-3 for u in late):
+    for i, x in enumerate(rows):
+        if any(abs(ns[i] - u) <= ms * 1000000 for u in late):
             continue
         for a in range(1, 7):
             if abs(float(x["c%d_d2" % a])) > 1e-6:
