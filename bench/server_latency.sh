@@ -3,7 +3,7 @@
 # axes, on loopback:
 #   - round-trip latency seen by the controller (the e2e controller stub: send -> reply,
 #     p50 / p99 / p99.9 / max, replies later than 500 us = T_CYCLE1),
-#   - the server's own cycle time (rx -> sent, its --json summary) and its late replies,
+#   - the server's own cycle time (rx -> sent, its --json-out summary) and its late replies,
 #   - an in-run baseline: a bare UDP echo loop (tests/e2e/helpers/udp_echo.c) measured
 #     the same way in the same run, so the numbers separate the machine from the server,
 #   - the latency seen by c4g-sim itself (min / avg / p50 / p99 / p99.9 / max), 6 and 20 axes.
@@ -47,7 +47,7 @@ for arms in 6 10,10; do
     # c4g-server
     # shellcheck disable=SC2086
     "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
-        --json "$tmp/srv$n.json" ${SERVER_OPTS:-} & bpid=$!
+        --json-out "$tmp/srv$n.json" ${SERVER_OPTS:-} & bpid=$!
     sleep 0.3
     "$stub" --port "$port" --period-ms 1 --arms "$arms" --reply-us 900 --quiet \
         --script "0:$ticks,504:1" >"$tmp/stub$n" 2>/dev/null
@@ -59,7 +59,7 @@ if [ -x "$sim" ]; then
     for axes in 6 10,10; do
         # shellcheck disable=SC2086
         "$srv" -p "$port" --controller 127.0.0.1 -q --idle-timeout 10 --max-seconds $((secs + 30)) \
-            --json "$tmp/srvsim.json" ${SERVER_OPTS:-} & bpid=$!
+            --json-out "$tmp/srvsim.json" ${SERVER_OPTS:-} & bpid=$!
         sleep 0.3
         "$sim" -p "$port" -T 1 --axes "$axes" -n "$ticks" --json -q >"$tmp/sim.json" 2>/dev/null
         kill "$bpid" 2>/dev/null; wait "$bpid" 2>/dev/null; bpid=""
