@@ -26,5 +26,5 @@ done
 # the pipeline's status is tee's: a failed bench leaves its mark in the log
 if grep -q '^bench: FAILED' "$log"; then failed=1; else failed=0; fi
 echo "== goals (every line above with met or NOT)"
-awk '/^== / { b = $2 } /(^|[^A-Za-z])(met|NOT)([^A-Za-z]|$)/ && !/^== / { printf "%-18s %s\n", b, $0 }' "$log"
+awk '/^== [a-z_]+$/ { b = $2 } /(^|[^A-Za-z])(met|NOT)([^A-Za-z]|$)/ && !/^== / { printf "%-18s %s\n", b, $0 }' "$log"
 exit $failed
