@@ -26,7 +26,14 @@ static double period_s(const srv_t *S)
     return (p > 0) ? (double)p * 1e-3 : 1e-3;
 }
 
-static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in);
+static void axis_in_of(const srv_t *S, const c4g_axis_map_t *m, const c4g_init_t *init, double dt,
+                       uint32_t i, ctlr_in_t *in);
+
+/* The controller's inputs for OPEN axis i. */
+static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
+{
+    axis_in_of(S, srv_map(S), srv_init_packet(S), period_s(S), i, in);
+}
 
 /* Which model axis i's mode 9 evaluates, once per entry: rigid (the arm's rigid-body
  * file), axis, ctrl, the line format, or only EXT1 (--ff-ext1). */
@@ -185,18 +192,19 @@ void srv_behave_init(srv_t *S, uint64_t t_ns)
     ff_rigid_init(S, t_ns);
 }
 
-/* The controller's inputs for OPEN axis i. */
-static void axis_in(const srv_t *S, uint32_t i, ctlr_in_t *in)
+/* The controller's inputs for OPEN axis i, from the session's map, init packet and period
+ * (run_axes looks them up once a tick, not once an axis). */
+static void axis_in_of(const srv_t *S, const c4g_axis_map_t *m, const c4g_init_t *init, double dt,
+                       uint32_t i, ctlr_in_t *in)
 {
-    const c4g_axis_map_t *m = srv_map(S);
     const uint32_t arm = m->arm_of[i];
     const uint32_t lax = m->logical_of[i];
     in->cfg = &S->cfg.arm[arm];
     in->traj = &srv_traj[arm];
     in->ff = &S->cfg.ff[arm][lax];
     in->lax = lax;
-    in->dt = period_s(S);
-    in->az_lim = (double)srv_init_packet(S)->az_lim[arm][lax];
+    in->dt = dt;
+    in->az_lim = (double)init->az_lim[arm][lax];
     in->driven = ((S->cfg.arm[arm].axes >> lax) & 1U) != 0U;
     in->q_link = 0.0;
     in->have_q = 0;
@@ -338,13 +346,16 @@ static void rigid_current(srv_t *S, uint32_t i, const link_cache_t *lc,
 static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx, uint64_t t_ns,
                      uint32_t arm_open[C4G_ARMS], uint32_t arm_done[C4G_ARMS])
 {
+    const c4g_axis_map_t *m = srv_map(S);
+    const c4g_init_t *init = srv_init_packet(S);
+    const double dt = period_s(S);
     link_cache_t lc;
     uint32_t i;
     memset(lc.state, 0, sizeof lc.state);
     memset(lc.rstate, 0, sizeof lc.rstate);
     /* the rigid models first: they read every axis's previous D2, which ctlr_step updates */
     for (i = 0U; i < rx->n_axes; i++) {
-        const uint32_t arm = srv_map(S)->arm_of[i];
+        const uint32_t arm = m->arm_of[i];
         if (tx->ax[i].mode == C4G_MODE_9 && S->ffr_ok[arm] > 0 && lc.rstate[arm] == 0) {
             lc.rstate[arm] = (rigid_arm(S, rx, arm, &lc.rout[arm]) == 0) ? 1 : -1;
         }
@@ -357,7 +368,7 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
         if (r->mode != X->mode) {
             enter_mode(S, i, r->mode, r, t_ns);
         }
-        axis_in(S, i, &in);
+        axis_in_of(S, m, init, dt, i, &in);
         if (tx->ax[i].mode == C4G_MODE_9 && in.ff->set != 0 && in.ff->kind == CTLR_FF_MODEL &&
             !in.ff->model.ctrl) {
             model_angle(S, rx, i, &lc, &in);
@@ -373,9 +384,9 @@ static void run_axes(srv_t *S, const c4g_ctrl_packet_t *rx, c4g_pc_packet_t *tx,
         if (!ctlr_is_open_mode(r->mode) || r->mode == C4G_MODE_2) {
             continue;
         }
-        arm_open[srv_map(S)->arm_of[i]] = 1U;
+        arm_open[m->arm_of[i]] = 1U;
         if (!done) {
-            arm_done[srv_map(S)->arm_of[i]] = 0U;
+            arm_done[m->arm_of[i]] = 0U;
         } else if (!X->done) {
             X->done = 1;
             if (in.lax == 0U || S->cfg.verbose) {

@@ -206,10 +206,17 @@ static void diag_axis(const c4g_diag_t *d, char *buf, size_t cap)
 static int refusals(srv_t *S, size_t len, const c4g_endpoint_t *from, uint64_t t,
                     const c4g_loop_event_t *ev, bool ceiling)
 {
-    const c4g_loop_state_t s = srv_state(S);
-    const c4g_counters_t *c = srv_counters(S);
     const uint32_t e = ev->events;
+    const c4g_counters_t *c;
+    c4g_loop_state_t s;
     char v[48], ax[40], a[64], p[64];
+    /* every answered packet comes here: nothing is formatted or copied unless one is due */
+    if (!ceiling && (e & (C4G_EV_INIT_CONFLICT | C4G_EV_CONTENDED | C4G_EV_SYNC_EXCESS |
+                          C4G_EV_REFUSED)) == 0U) {
+        return 0;
+    }
+    s = srv_state(S);
+    c = srv_counters(S);
     diag_value(&ev->diag, v, sizeof v);
     diag_axis(&ev->diag, ax, sizeof ax);
     if (ceiling) {
