@@ -3,7 +3,6 @@
  * CPU time (user + system) from wait4's rusage to the microsecond. A small C parent, so that
  * the child's peak RSS before its exec is this program's, not an interpreter's. Exit status:
  * COMMAND's, 127 when it could not run. */
-#define _DEFAULT_SOURCE
 #include <stdio.h>
 #include <sys/resource.h>
 #include <sys/time.h>
