@@ -299,20 +299,17 @@ static inline void prepare_axis(c4g_engine_t *eng, const int32_t over[C4G_ARMS],
     /* The anchor: the controller's reference where the axis's current mode began (every
      * packet of mode 0 or 0'), whichever packet of the mode arrives first. After a passive
      * freezing or a stand-by the mode begins again where the axis stands, not in mode 0. */
+    if ((mode != eng->priv.prep_mode[i]) || (mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
+        (eng->priv.anchor_set[i] == 0U)) {
+        eng->priv.anchor[i] = rx->target_pos;
+        eng->priv.anchor_set[i] = 1U;
+    }
     /* prep_mode / prep_rules / prep_tx start consistent (mode 0, no rules, zero data):
      * look up on change only */
     if (mode != eng->priv.prep_mode[i]) {
-        eng->priv.anchor[i] = rx->target_pos;
-        eng->priv.anchor_set[i] = 1U;
         eng->priv.prep_mode[i] = mode;
         eng->priv.prep_rules[i] = mode_rules(mode);
         prep_template(eng->priv.prep_rules[i], mode, &eng->priv.prep_tx[i]);
-    } else if ((mode == C4G_MODE_0) || (mode == C4G_MODE_0_DEBUG) ||
-               (eng->priv.anchor_set[i] == 0U)) {
-        eng->priv.anchor[i] = rx->target_pos;
-        eng->priv.anchor_set[i] = 1U;
-    } else {
-        /* the anchor of the running mode stays */
     }
     shown = (some != 0U) ? overlay_mode(eng, over, i, mode) : mode;
     if (shown != mode) {
