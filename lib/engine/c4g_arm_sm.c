@@ -35,16 +35,17 @@ c4g_status_t c4g_arm_sm_init(c4g_arm_sm_t *sm, uint32_t n_axes)
     return st;
 }
 
-static c4g_fsm_state_t infer_fsm(const c4g_arm_sm_t *sm)
+/* @p row: the table row of sm->mode (the caller looked it up once for the whole update). */
+static c4g_fsm_state_t infer_fsm(const c4g_arm_sm_t *sm, const c4g_mode_info_t *row)
 {
     c4g_fsm_state_t s = C4G_FSM_UNKNOWN;
     const int32_t m = sm->mode;
-    if ((sm->drive_on == 0U) || (c4g_mode_is_special(m))) {
+    if ((sm->drive_on == 0U) || ((row->flags & C4G_MF_SPECIAL) != 0U)) {
         s = C4G_FSM_UNKNOWN;
     } else if (idle_mode(m)) {
         s = (sm->moving != 0U) ? C4G_FSM_S10 : C4G_FSM_S00;
     } else {
-        const int32_t op = c4g_mode_operating(m);
+        const int32_t op = row->operating;
         /* OPEN TYPE A: no SMP+ trajectory (1, 4, 5); TYPE B when SMP+ moves too. */
         if ((op == C4G_MODE_1) || (op == C4G_MODE_4) || (op == C4G_MODE_5)) {
             s = C4G_FSM_S01;
@@ -226,9 +227,11 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg,
 {
     c4g_status_t st = C4G_ERR_NULL;
     if ((sm != NULL) && (cfg != NULL) && (events != NULL)) {
+        /* one table lookup per tick: the known-mode check and the FSM's flags */
+        const c4g_mode_info_t *row = c4g_mode_find(mode);
         *events = 0U;
         st = C4G_ERR_MODE;
-        if (c4g_mode_is_known(mode)) {
+        if (row != NULL) {
             const uint32_t drive_on = c4g_flag(drive_byte == (uint8_t)C4G_STS_MOVING);
             uint32_t ev = arm_flags(sm, mixed, drive_on, moving);
             if ((sm->started == 0U) || (mode != sm->mode)) {
@@ -239,7 +242,7 @@ c4g_status_t c4g_arm_sm_update(c4g_arm_sm_t *sm, const c4g_engine_config_t *cfg,
             sm->started = 1U;
             sm->driving_on = c4g_flag(mode == C4G_MODE_DRIVING_ON);
             ev |= latch_end(sm);
-            sm->fsm = infer_fsm(sm);
+            sm->fsm = infer_fsm(sm, row); /* sm->mode == mode here */
             *events = ev;
             st = C4G_OK;
         }

@@ -242,17 +242,22 @@ static uint32_t rx_scan(const c4g_engine_t *eng, const c4g_ctrl_packet_t *rx,
     uint32_t unknown = 0U;
     uint32_t i;
     (void)memset(v, 0, sizeof(arm_view_t) * C4G_ARMS);
+    /* the value and mode checks in a pass of their own: the decoded path's view loop then
+     * carries no per-axis test of @p check */
+    if (check != 0U) {
+        for (i = 0U; i < n; i++) {
+            const c4g_ctrl_axis_t *a = &rx->ax[i];
+            carry |= rx_axis_carry(a);
+            /* the mode prepared last tick is known: skip the lookup when it repeats */
+            if ((a->mode != eng->priv.prep_mode[i]) && (!c4g_mode_is_known(a->mode))) {
+                unknown = 1U;
+            }
+        }
+    }
     for (i = 0U; i < n; i++) {
         const c4g_ctrl_axis_t *a = &rx->ax[i];
         arm_view_t *w = &v[eng->map.arm_of[i]];
         const int32_t am = a->mode;
-        if (check != 0U) {
-            carry |= rx_axis_carry(a);
-            /* the mode prepared last tick is known: skip the lookup when it repeats */
-            if ((am != eng->priv.prep_mode[i]) && (!c4g_mode_is_known(am))) {
-                unknown = 1U;
-            }
-        }
         if (w->seen == 0U) {
             w->first = am;
             w->mode = am;
@@ -329,8 +334,10 @@ static void step_arms(c4g_engine_t *eng, const c4g_ctrl_packet_t *rx, const arm_
         c4g_arm_sm_t *sm = &eng->arm[a];
         if (sm->n_axes > 0U) {
             uint32_t ev = 0U;
-            (void)c4g_arm_sm_update(sm, &eng->cfg, v[a].mode, v[a].mixed,
-                                    c4g_arm_byte(rx->infpar, a), v[a].moving, now_ns, &ev);
+            /* the arm's INFPAR byte (byte a, as c4g_arm_byte), shifted here: no call per arm */
+            const uint8_t drive = (uint8_t)((rx->infpar >> (a * 8U)) & 0xFFU);
+            (void)c4g_arm_sm_update(sm, &eng->cfg, v[a].mode, v[a].mixed, drive, v[a].moving,
+                                    now_ns, &ev);
             if ((ev & C4G_CEV_LATCH_CLEARED) != 0U) {
                 uint32_t any = 0U;
                 for (i = 0U; i < eng->map.n_axes; i++) {
