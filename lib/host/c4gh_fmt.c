@@ -164,23 +164,34 @@ static unsigned count_digits(uint32_t m)
 
 static const uint32_t p10_u32[] = {1U, 10U, 100U, 1000U, 10000U, 100000U, 1000000U, 10000000U, 100000000U};
 
-/* The 9 digits of v (10^8 <= v < 10^9) into d[0..8], left to right without a division:
+/* The 9 digits of v (10^8 <= v < 10^9) into d[0..8], left to right without a division,
+ * and how many there are without the trailing zeros (the zero pairs, then one digit):
  * the first digit is v 1441151881 / 2^57, the other eight are v mod 10^8 as a 48-bit
  * fraction of 10^6 (times ceil(2^48 / 10^6)) whose integer part, times 100 each step,
  * gives two digits at a time. Both are exact for every v below 10^9 (a loop over all of
  * them, against / and %, takes a second); bench/fmt_exhaustive.c checks every float. */
-static void nine_digits(uint32_t v, char *d)
+static unsigned nine_digits(uint32_t v, char *d)
 {
     const uint32_t h = (uint32_t)(((uint64_t)v * UINT64_C(1441151881)) >> 57);
     const uint64_t y0 = (uint64_t)(v - h * 100000000U) * UINT64_C(281474977);
     const uint64_t y1 = (y0 & FRAC48) * 100U;
     const uint64_t y2 = (y1 & FRAC48) * 100U;
     const uint64_t y3 = (y2 & FRAC48) * 100U;
+    const uint32_t p0 = (uint32_t)(y0 >> 48), p1 = (uint32_t)(y1 >> 48);
+    const uint32_t p2 = (uint32_t)(y2 >> 48), p3 = (uint32_t)(y3 >> 48);
+    unsigned n = 9U;
     d[0] = (char)('0' + h);
-    (void)memcpy(d + 1, two_digits + 2U * (y0 >> 48), 2U);
-    (void)memcpy(d + 3, two_digits + 2U * (y1 >> 48), 2U);
-    (void)memcpy(d + 5, two_digits + 2U * (y2 >> 48), 2U);
-    (void)memcpy(d + 7, two_digits + 2U * (y3 >> 48), 2U);
+    (void)memcpy(d + 1, two_digits + 2U * p0, 2U);
+    (void)memcpy(d + 3, two_digits + 2U * p1, 2U);
+    (void)memcpy(d + 5, two_digits + 2U * p2, 2U);
+    (void)memcpy(d + 7, two_digits + 2U * p3, 2U);
+    if (p3 == 0U) {
+        n = (p2 != 0U) ? 7U : ((p1 != 0U) ? 5U : ((p0 != 0U) ? 3U : 1U));
+    }
+    if (d[n - 1U] == '0') { /* d[0] is not '0' */
+        n--;
+    }
+    return n;
 }
 
 /* f 10^e as %g would print f's digits: 0 < f < 10^9. The digits are made once, as the
@@ -191,13 +202,10 @@ static size_t to_chars(uint32_t f, int32_t e, char *out)
     char d[16];
     const unsigned n0 = count_digits(f);
     const int32_t x = e + (int32_t)n0 - 1; /* the decimal exponent of the first digit */
-    unsigned n = 9U;
+    unsigned n; /* significant digits: the shortest text has no trailing zero */
     size_t len;
     (void)memcpy(d + 8U, "00000000", 8U); /* d[9..15]: read by the copies below, never shown */
-    nine_digits(f * p10_u32[9U - n0], d);
-    while (d[n - 1U] == '0') { /* the shortest text has no trailing zero; d[0] is not '0' */
-        n--;
-    }
+    n = nine_digits(f * p10_u32[9U - n0], d);
     if ((x < -4) || (x >= 9)) {
         unsigned ax;
         out[0] = d[0]; /* d.ddd */

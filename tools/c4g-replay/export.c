@@ -62,84 +62,87 @@ static void csv_header(ex_ctx_t *e, unsigned n)
 
 /* The CSV row is built in memory and written with one fwrite: the fields are short and
  * many (108 floats a row at 6 axes), so stdio's per-call work and printf's format parsing
- * would cost more than the digits. Floats are their shortest text (c4gh_fmt.h). */
+ * would cost more than the digits. Floats are their shortest text (c4gh_fmt.h). Every
+ * writer takes and returns a local cursor: a store through a char pointer may alias a
+ * count kept in memory, which would then be reloaded and stored at every character. */
 #define ROW_CAP (200U + 2U * C4G_MAX_AXES * (12U + 8U * C4GH_F32_TEXT_MAX))
 
-typedef struct row_buf {
-    char b[ROW_CAP];
-    size_t n;
-} row_buf_t;
+static const char two_digits[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
 
-static void put_lit(row_buf_t *r, const char *s, size_t len)
-{
-    memcpy(r->b + r->n, s, len);
-    r->n += len;
-}
-
-static void put_u64(row_buf_t *r, uint64_t v)
+static char *put_u64(char *p, uint64_t v)
 {
     char t[20];
     size_t k = sizeof t;
     if (v < 10U) { /* modes, session numbers */
-        r->b[r->n++] = (char)('0' + v);
-        return;
+        *p = (char)('0' + v);
+        return p + 1;
     }
-    do {
-        t[--k] = (char)('0' + (v % 10U));
-        v /= 10U;
-    } while (v != 0U);
-    put_lit(r, t + k, sizeof t - k);
+    while (v >= 100U) { /* two digits a step: ticks and frame numbers have five or more */
+        const unsigned d2 = (unsigned)(v % 100U);
+        v /= 100U;
+        k -= 2U;
+        memcpy(t + k, two_digits + 2U * d2, 2U);
+    }
+    if (v >= 10U) {
+        k -= 2U;
+        memcpy(t + k, two_digits + 2U * v, 2U);
+    } else {
+        t[--k] = (char)('0' + v);
+    }
+    memcpy(p, t + k, sizeof t - k);
+    return p + (sizeof t - k);
 }
 
-static void put_i64(row_buf_t *r, int64_t v)
+static char *put_i64(char *p, int64_t v)
 {
     if (v < 0) {
-        r->b[r->n++] = '-';
-        put_u64(r, (uint64_t)(-(v + 1)) + 1U);
-    } else {
-        put_u64(r, (uint64_t)v);
+        *p = '-';
+        return put_u64(p + 1, (uint64_t)(-(v + 1)) + 1U);
     }
+    return put_u64(p, (uint64_t)v);
 }
 
-static void put_hex32(row_buf_t *r, uint32_t v)
+static char *put_hex32(char *p, uint32_t v)
 {
     static const char hex[] = "0123456789abcdef";
     unsigned k;
-    r->b[r->n++] = '0';
-    r->b[r->n++] = 'x';
+    p[0] = '0';
+    p[1] = 'x';
     for (k = 0U; k < 8U; k++) {
-        r->b[r->n++] = hex[(v >> (28U - 4U * k)) & 0xFU];
+        p[2U + k] = hex[(v >> (28U - 4U * k)) & 0xFU];
     }
+    return p + 10;
 }
 
 /* v / 10^decimals with exactly @p decimals digits after the point, v an exact integer
  * (ns or us): what %.9f / %.3f print for v * 1e-9 / v * 1e-3 while the double's error stays
  * far below half a last digit (|v| < 10^15 here; beyond, printf itself). */
-static void put_fixed(row_buf_t *r, int64_t v, unsigned decimals, double as_double)
+static char *put_fixed(char *p, int64_t v, unsigned decimals, double as_double)
 {
     static const uint64_t p10[] = {1U, 10U, 100U, 1000U, 10000U, 100000U, 1000000U, 10000000U,
                                    100000000U, 1000000000U};
     uint64_t m, frac;
-    char t[10];
     unsigned k;
     if (v <= -INT64_C(1000000000000000) || v >= INT64_C(1000000000000000)) {
-        r->n += (size_t)snprintf(r->b + r->n, 40U, "%.*f", (int)decimals, as_double);
-        return;
+        return p + snprintf(p, 40U, "%.*f", (int)decimals, as_double);
     }
     if (v < 0) {
-        r->b[r->n++] = '-';
+        *p++ = '-';
         m = (uint64_t)(-v);
     } else {
         m = (uint64_t)v;
     }
-    put_u64(r, m / p10[decimals]);
-    r->b[r->n++] = '.';
+    p = put_u64(p, m / p10[decimals]);
+    *p++ = '.';
     frac = m % p10[decimals];
     for (k = decimals; k > 0U; k--) {
-        t[k - 1U] = (char)('0' + (frac % 10U));
+        p[k - 1U] = (char)('0' + (frac % 10U));
         frac /= 10U;
     }
-    put_lit(r, t, decimals);
+    return p + decimals;
 }
 
 /* c4g_le_u32, inlined: a call per field is a tenth of the row's cost. */
@@ -148,89 +151,93 @@ static uint32_t le_u32(const uint8_t *p)
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
 }
 
-static void csv_side(const ex_ctx_t *e, row_buf_t *r, const uint8_t *d, size_t len, unsigned n)
+static char *csv_side(const ex_ctx_t *e, char *p, const uint8_t *d, size_t len, unsigned n)
 {
     const unsigned have = (d != NULL) ? axes_in(len) : 0U;
     unsigned i, k;
     for (i = 0U; i < n; i++) {
         const uint8_t *a;
+        uint32_t mode;
         if (!axis_on(e, i)) {
             continue;
         }
         if (i >= have) {
-            put_lit(r, ",,,,,,,,,", 9U);
+            memcpy(p, ",,,,,,,,,", 9U);
+            p += 9;
             continue;
         }
         a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
-        r->b[r->n++] = ',';
-        if (le_u32(a) < 10U) { /* the modes there are: one digit, no call */
-            r->b[r->n++] = (char)('0' + le_u32(a));
+        mode = le_u32(a);
+        *p++ = ',';
+        if (mode < 10U) { /* the modes there are: one digit, no call */
+            *p++ = (char)('0' + mode);
         } else {
-            put_i64(r, c4g_le_i32(a));
+            p = put_i64(p, c4g_le_i32(a));
         }
         for (k = 0U; k < 8U; k++) {
             /* +0 is "0" (c4gh_fmt.h) without the call: the fields a mode leaves unused
              * are zeros, half of a row or more */
             const uint32_t bits = le_u32(a + 4U + 4U * k);
-            r->b[r->n++] = ',';
+            *p++ = ',';
             if (bits == 0U) {
-                r->b[r->n++] = '0';
+                *p++ = '0';
             } else {
                 float f;
                 memcpy(&f, &bits, sizeof f);
-                r->n += c4gh_fmt_f32(f, r->b + r->n);
+                p += c4gh_fmt_f32(f, p);
             }
         }
     }
+    return p;
 }
 
 static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
-    static row_buf_t r;
+    static char row[ROW_CAP];
+    char *p = row;
     const unsigned n = axes_in(x->ctrl_len);
     if (!e->header_done || n != e->last_header_axes) {
         csv_header(e, n);
         e->header_done = 1U;
         e->last_header_axes = n;
     }
-    r.n = 0U;
-    put_u64(&r, x->s->id);
-    r.b[r.n++] = ',';
-    put_u64(&r, x->tick);
-    r.b[r.n++] = ',';
-    put_fixed(&r, x->ctrl_ns - x->s->first_ns, 9U, t);
-    r.b[r.n++] = ',';
-    put_u64(&r, x->ctrl_frame);
-    r.b[r.n++] = ',';
+    p = put_u64(p, x->s->id);
+    *p++ = ',';
+    p = put_u64(p, x->tick);
+    *p++ = ',';
+    p = put_fixed(p, x->ctrl_ns - x->s->first_ns, 9U, t);
+    *p++ = ',';
+    p = put_u64(p, x->ctrl_frame);
+    *p++ = ',';
     if (x->reply != NULL) {
-        put_u64(&r, x->reply_frame);
+        p = put_u64(p, x->reply_frame);
     }
-    r.b[r.n++] = ',';
-    put_i64(&r, c4g_le_i32(x->ctrl));
-    r.b[r.n++] = ',';
+    *p++ = ',';
+    p = put_i64(p, c4g_le_i32(x->ctrl));
+    *p++ = ',';
     if (x->reply != NULL && x->reply_len >= 4U) {
-        put_i64(&r, c4g_le_i32(x->reply));
-        r.b[r.n++] = ',';
-        put_fixed(&r, x->reply_ns - x->ctrl_ns, 3U, (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        p = put_i64(p, c4g_le_i32(x->reply));
+        *p++ = ',';
+        p = put_fixed(p, x->reply_ns - x->ctrl_ns, 3U, (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
-        r.b[r.n++] = ',';
+        *p++ = ',';
     }
-    r.b[r.n++] = ',';
-    put_hex32(&r, c4g_le_u32(x->ctrl + 4));
-    r.b[r.n++] = ',';
-    put_hex32(&r, c4g_le_u32(x->ctrl + 8));
-    r.b[r.n++] = ',';
+    *p++ = ',';
+    p = put_hex32(p, le_u32(x->ctrl + 4));
+    *p++ = ',';
+    p = put_hex32(p, le_u32(x->ctrl + 8));
+    *p++ = ',';
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        put_hex32(&r, c4g_le_u32(x->reply + 4));
-        r.b[r.n++] = ',';
-        put_hex32(&r, c4g_le_u32(x->reply + 8));
+        p = put_hex32(p, le_u32(x->reply + 4));
+        *p++ = ',';
+        p = put_hex32(p, le_u32(x->reply + 8));
     } else {
-        r.b[r.n++] = ',';
+        *p++ = ',';
     }
-    csv_side(e, &r, x->ctrl, x->ctrl_len, n);
-    csv_side(e, &r, x->reply, x->reply_len, n);
-    r.b[r.n++] = '\n';
-    (void)fwrite(r.b, 1U, r.n, e->out);
+    p = csv_side(e, p, x->ctrl, x->ctrl_len, n);
+    p = csv_side(e, p, x->reply, x->reply_len, n);
+    *p++ = '\n';
+    (void)fwrite(row, 1U, (size_t)(p - row), e->out);
 }
 
 /* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
