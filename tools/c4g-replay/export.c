@@ -26,6 +26,9 @@ typedef struct ex_ctx {
     unsigned header_done;
     uint64_t rows;
     FILE *out;
+    char *csv;                /* the CSV text not written yet (csv_flush) */
+    size_t csv_n, csv_cap;
+    int write_failed;
 } ex_ctx_t;
 
 static unsigned axes_in(size_t len)
@@ -40,29 +43,36 @@ static int axis_on(const ex_ctx_t *e, unsigned i) { return e->axes == 0U || (e->
 
 static const char *const fnames[8] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
 
-static void csv_header(ex_ctx_t *e, unsigned n)
+/* The longest header: the 12 fixed columns, then ",c16_mode" and 8 of ",c16_ext1" a side. */
+#define HEADER_CAP (128U + 2U * C4G_MAX_AXES * 9U * 9U)
+
+static size_t csv_header(const ex_ctx_t *e, unsigned n, char *out)
 {
+    static const char fixed[] = "session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,"
+                                "ctrl_infpar,ctrl_cmd,pc_infpar,pc_cmd";
+    size_t len = sizeof fixed - 1U;
     unsigned i, k;
     char side;
-    fprintf(e->out, "session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,ctrl_infpar,ctrl_cmd,"
-            "pc_infpar,pc_cmd");
+    memcpy(out, fixed, len);
     for (side = 'c'; side != 0; side = (side == 'c') ? 'p' : 0) {
         for (i = 0U; i < n; i++) {
             if (!axis_on(e, i)) {
                 continue;
             }
-            fprintf(e->out, ",%c%u_mode", side, i + 1U);
+            len += (size_t)snprintf(out + len, HEADER_CAP - len, ",%c%u_mode", side, i + 1U);
             for (k = 0U; k < 8U; k++) {
-                fprintf(e->out, ",%c%u_%s", side, i + 1U, fnames[k]);
+                len += (size_t)snprintf(out + len, HEADER_CAP - len, ",%c%u_%s", side, i + 1U, fnames[k]);
             }
         }
     }
-    fputc('\n', e->out);
+    out[len++] = '\n';
+    return len;
 }
 
-/* The CSV row is built in memory and written with one fwrite: the fields are short and
- * many (108 floats a row at 6 axes), so stdio's per-call work and printf's format parsing
- * would cost more than the digits. Floats are their shortest text (c4gh_fmt.h). Every
+/* The CSV rows are built in memory and written with one fwrite a megabyte, stdout
+ * unbuffered (no copy into stdio's buffer): the fields are short and many (108 floats a
+ * row at 6 axes), so stdio's per-call work and printf's format parsing would cost more
+ * than the digits. Floats are their shortest text (c4gh_fmt.h). Every
  * writer takes and returns a local cursor: a store through a char pointer may alias a
  * count kept in memory, which would then be reloaded and stored at every character. */
 #define ROW_CAP (200U + 2U * C4G_MAX_AXES * (12U + 8U * C4GH_F32_TEXT_MAX))
@@ -72,28 +82,36 @@ static const char two_digits[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
+/* The digits of v, the last at end[-1], two at a time. */
+static void digits_back(uint64_t v, char *end)
+{
+    while (v >= 100U) {
+        const unsigned d2 = (unsigned)(v % 100U);
+        v /= 100U;
+        end -= 2;
+        memcpy(end, two_digits + 2U * d2, 2U);
+    }
+    if (v >= 10U) {
+        memcpy(end - 2, two_digits + 2U * v, 2U);
+    } else {
+        end[-1] = (char)('0' + v);
+    }
+}
+
 static char *put_u64(char *p, uint64_t v)
 {
-    char t[20];
-    size_t k = sizeof t;
+    uint64_t x = v;
+    size_t n = 1U;
     if (v < 10U) { /* modes, session numbers */
         *p = (char)('0' + v);
         return p + 1;
     }
-    while (v >= 100U) { /* two digits a step: ticks and frame numbers have five or more */
-        const unsigned d2 = (unsigned)(v % 100U);
-        v /= 100U;
-        k -= 2U;
-        memcpy(t + k, two_digits + 2U * d2, 2U);
+    while (x >= 10U) {
+        x /= 10U;
+        n++;
     }
-    if (v >= 10U) {
-        k -= 2U;
-        memcpy(t + k, two_digits + 2U * v, 2U);
-    } else {
-        t[--k] = (char)('0' + v);
-    }
-    memcpy(p, t + k, sizeof t - k);
-    return p + (sizeof t - k);
+    digits_back(v, p + n);
+    return p + n;
 }
 
 static char *put_i64(char *p, int64_t v)
@@ -105,14 +123,17 @@ static char *put_i64(char *p, int64_t v)
     return put_u64(p, (uint64_t)v);
 }
 
+/* Two hex digits a byte from a table. */
 static char *put_hex32(char *p, uint32_t v)
 {
     static const char hex[] = "0123456789abcdef";
     unsigned k;
     p[0] = '0';
     p[1] = 'x';
-    for (k = 0U; k < 8U; k++) {
-        p[2U + k] = hex[(v >> (28U - 4U * k)) & 0xFU];
+    for (k = 0U; k < 4U; k++) {
+        const unsigned byte = (v >> (24U - 8U * k)) & 0xFFU;
+        p[2U + 2U * k] = hex[byte >> 4];
+        p[3U + 2U * k] = hex[byte & 0xFU];
     }
     return p + 10;
 }
@@ -138,9 +159,12 @@ static char *put_fixed(char *p, int64_t v, unsigned decimals, double as_double)
     p = put_u64(p, m / p10[decimals]);
     *p++ = '.';
     frac = m % p10[decimals];
-    for (k = decimals; k > 0U; k--) {
-        p[k - 1U] = (char)('0' + (frac % 10U));
-        frac /= 10U;
+    /* the leading zeros first, then the digits of frac up to the last place */
+    for (k = 0U; k < decimals; k++) {
+        p[k] = '0';
+    }
+    if (frac != 0U) {
+        digits_back(frac, p + decimals);
     }
     return p + decimals;
 }
@@ -191,13 +215,24 @@ static char *csv_side(const ex_ctx_t *e, char *p, const uint8_t *d, size_t len, 
     return p;
 }
 
+static void csv_flush(ex_ctx_t *e)
+{
+    if (e->csv_n != 0U && fwrite(e->csv, 1U, e->csv_n, e->out) != e->csv_n) {
+        e->write_failed = 1;
+    }
+    e->csv_n = 0U;
+}
+
 static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
-    static char row[ROW_CAP];
-    char *p = row;
     const unsigned n = axes_in(x->ctrl_len);
+    char *p;
+    if (e->csv_n > e->csv_cap - (HEADER_CAP + ROW_CAP)) {
+        csv_flush(e);
+    }
+    p = e->csv + e->csv_n;
     if (!e->header_done || n != e->last_header_axes) {
-        csv_header(e, n);
+        p += csv_header(e, n, p);
         e->header_done = 1U;
         e->last_header_axes = n;
     }
@@ -237,7 +272,7 @@ static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
     p = csv_side(e, p, x->ctrl, x->ctrl_len, n);
     p = csv_side(e, p, x->reply, x->reply_len, n);
     *p++ = '\n';
-    (void)fwrite(row, 1U, (size_t)(p - row), e->out);
+    e->csv_n = (size_t)(p - e->csv);
 }
 
 /* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
@@ -470,9 +505,16 @@ int rp_cmd_export(int argc, char **argv)
         return C4GH_CLI_EXIT_USAGE;
     }
     /* 1 MiB at a time: 4 KiB writes were a system call every 40 floats (glibc takes the
-     * size only with a buffer given) */
+     * size only with a buffer given). The CSV has its own buffer, written unbuffered. */
     static char out_buf[1U << 20];
-    (void)setvbuf(stdout, out_buf, _IOFBF, sizeof out_buf);
+    static char csv_buf[1U << 20];
+    e.csv = csv_buf;
+    e.csv_cap = sizeof csv_buf;
+    if (e.moni == 0U && !e.json_lines && !e.ticks) {
+        (void)setvbuf(stdout, NULL, _IONBF, 0U);
+    } else {
+        (void)setvbuf(stdout, out_buf, _IOFBF, sizeof out_buf);
+    }
     e.c.an.on_exchange = on_exchange;
     e.c.an.ctx = &e;
     if (c4gh_an_init(&a, &e.c.an) != 0) {
@@ -481,7 +523,8 @@ int rp_cmd_export(int argc, char **argv)
     }
     rc = rp_read(&a, argv[first], &file, !e.c.no_progress);
     c4gh_an_free(&a);
-    if (fflush(stdout) != 0) {
+    csv_flush(&e);
+    if (fflush(stdout) != 0 || e.write_failed || ferror(stdout)) {
         fprintf(stderr, RP_TOOL ": writing the export failed\n");
         return C4GH_CLI_EXIT_RUNTIME;
     }
