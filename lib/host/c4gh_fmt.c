@@ -5,9 +5,9 @@
  * one multiple of ten units (the shorter text) and at least one unit, is computed with one
  * 64 x 64-bit multiplication per bound against a table of 63-bit powers of ten (rounded
  * up, with a sticky bit: exact enough to decide every comparison the method makes, which
- * the exhaustive test in bench/fmt_exhaustive.c checks over all 2^32 floats). No division,
- * no loop over digits but the one that writes them: about 20 ns a float, where glibc's
- * %.9g takes ten times that. */
+ * the exhaustive test in bench/fmt_exhaustive.c checks over all 2^32 floats). No division
+ * and no loop over digits (nine_digits): about 200 instructions a float, where glibc's
+ * %.9g takes ten times the time. */
 #include "c4gh_fmt.h"
 
 #include <stdint.h>
@@ -18,6 +18,7 @@
 #define C_MIN (1U << 23)     /* smallest normal significand */
 #define K_MIN (-45)          /* the table's first power: 10^45 */
 #define MASK32 UINT64_C(0xFFFFFFFF)
+#define FRAC48 UINT64_C(0xFFFFFFFFFFFF)
 
 /* g(k) = floor(10^-k 2^(62 - r)), r = floor(log2 10^-k), k = -45..31: 2^62 <= g < 2^63.
  * scripts/gen-f32-table.py computes it with exact integers (and checks the logarithm
@@ -149,99 +150,97 @@ static const char two_digits[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Number of decimal digits of m (0 < m < 10^10): a few comparisons, no loop. */
+/* Number of decimal digits of m (0 < m < 10^9): a few comparisons, no loop. */
 static unsigned count_digits(uint32_t m)
 {
     unsigned n;
     if (m < 100000U) {
         n = (m < 100U) ? ((m < 10U) ? 1U : 2U) : ((m < 1000U) ? 3U : ((m < 10000U) ? 4U : 5U));
     } else {
-        n = (m < 10000000U) ? ((m < 1000000U) ? 6U : 7U)
-                            : ((m < 100000000U) ? 8U : ((m < 1000000000U) ? 9U : 10U));
+        n = (m < 10000000U) ? ((m < 1000000U) ? 6U : 7U) : ((m < 100000000U) ? 8U : 9U);
     }
     return n;
 }
 
-/* The digits of m written backwards so that the last one lands at end[-1]; two at a time
- * from the table, each copy of a constant size (no call into memcpy). */
-static void digits_back(uint32_t m, char *end)
+static const uint32_t p10_u32[] = {1U, 10U, 100U, 1000U, 10000U, 100000U, 1000000U, 10000000U, 100000000U};
+
+/* The 9 digits of v (10^8 <= v < 10^9) into d[0..8], left to right without a division,
+ * and how many there are without the trailing zeros (the zero pairs, then one digit):
+ * the first digit is v 1441151881 / 2^57, the other eight are v mod 10^8 as a 48-bit
+ * fraction of 10^6 (times ceil(2^48 / 10^6)) whose integer part, times 100 each step,
+ * gives two digits at a time. Both are exact for every v below 10^9 (a loop over all of
+ * them, against / and %, takes a second); bench/fmt_exhaustive.c checks every float. */
+static unsigned nine_digits(uint32_t v, char *d)
 {
-    char *p = end;
-    uint32_t x = m;
-    while (x >= 100U) {
-        const uint32_t r = x % 100U;
-        x /= 100U;
-        p -= 2;
-        p[0] = two_digits[2U * r];
-        p[1] = two_digits[2U * r + 1U];
+    const uint32_t h = (uint32_t)(((uint64_t)v * UINT64_C(1441151881)) >> 57);
+    const uint64_t y0 = (uint64_t)(v - h * 100000000U) * UINT64_C(281474977);
+    const uint64_t y1 = (y0 & FRAC48) * 100U;
+    const uint64_t y2 = (y1 & FRAC48) * 100U;
+    const uint64_t y3 = (y2 & FRAC48) * 100U;
+    const uint32_t p0 = (uint32_t)(y0 >> 48), p1 = (uint32_t)(y1 >> 48);
+    const uint32_t p2 = (uint32_t)(y2 >> 48), p3 = (uint32_t)(y3 >> 48);
+    unsigned n = 9U;
+    d[0] = (char)('0' + h);
+    (void)memcpy(d + 1, two_digits + 2U * p0, 2U);
+    (void)memcpy(d + 3, two_digits + 2U * p1, 2U);
+    (void)memcpy(d + 5, two_digits + 2U * p2, 2U);
+    (void)memcpy(d + 7, two_digits + 2U * p3, 2U);
+    if (p3 == 0U) {
+        n = (p2 != 0U) ? 7U : ((p1 != 0U) ? 5U : ((p0 != 0U) ? 3U : 1U));
     }
-    if (x >= 10U) {
-        p -= 2;
-        p[0] = two_digits[2U * x];
-        p[1] = two_digits[2U * x + 1U];
-    } else {
-        p[-1] = (char)('0' + x);
+    if (d[n - 1U] == '0') { /* d[0] is not '0' */
+        n--;
     }
+    return n;
 }
 
-/* f 10^e as %g would print f's digits: f > 0, at most 9 digits. */
+/* f 10^e as %g would print f's digits: 0 < f < 10^9. The digits are made once, as the
+ * 9-digit f 10^(9 - n0) (so the zeros an integer needs come with them), and put in place
+ * with copies of a constant size: no loop over digits, no call into memcpy. */
 static size_t to_chars(uint32_t f, int32_t e, char *out)
 {
-    uint32_t m = f;
-    int32_t x;
-    unsigned n, k;
+    char d[16];
+    const unsigned n0 = count_digits(f);
+    const int32_t x = e + (int32_t)n0 - 1; /* the decimal exponent of the first digit */
+    unsigned n; /* significant digits: the shortest text has no trailing zero */
     size_t len;
-    while ((m % 10U) == 0U) { /* the shortest text has no trailing zero */
-        m /= 10U;
-        e++;
-    }
-    n = count_digits(m);
-    x = e + (int32_t)n - 1; /* the decimal exponent of the first digit */
+    (void)memcpy(d + 8U, "00000000", 8U); /* d[9..15]: read by the copies below, never shown */
+    n = nine_digits(f * p10_u32[9U - n0], d);
     if ((x < -4) || (x >= 9)) {
         unsigned ax;
-        digits_back(m, out + 1 + n); /* d.ddd: the digits at 1..n, the first moved to 0 */
-        out[0] = out[1];
-        len = 1U;
-        if (n > 1U) {
-            out[1] = '.';
-            len = n + 1U;
-        }
+        out[0] = d[0]; /* d.ddd */
+        out[1] = '.';
+        (void)memcpy(out + 2, d + 1, 8U);
+        len = (n > 1U) ? (size_t)n + 1U : 1U;
         out[len++] = 'e';
         out[len++] = (x < 0) ? '-' : '+';
         ax = (unsigned)((x < 0) ? -x : x); /* |x| <= 45 */
         out[len++] = two_digits[2U * ax];
         out[len++] = two_digits[2U * ax + 1U];
     } else if (x < 0) {
-        const unsigned z = (unsigned)(-x - 1); /* 0.000ddd */
-        out[0] = '0';
-        out[1] = '.';
-        for (k = 0U; k < z; k++) {
-            out[2U + k] = '0';
-        }
+        const unsigned z = (unsigned)(-x - 1); /* 0.000ddd, z <= 3 zeros */
+        (void)memcpy(out, "0.000", 5U);
+        (void)memcpy(out + 2U + z, d, 9U);
         len = 2U + z + n;
-        digits_back(m, out + len);
-    } else if ((unsigned)x + 1U >= n) { /* an integer: zeros up to the point */
+    } else if ((unsigned)x + 1U >= n) { /* an integer: d holds the zeros up to the point */
+        (void)memcpy(out, d, 9U);
         len = (size_t)x + 1U;
-        digits_back(m, out + n);
-        for (k = n; k < len; k++) {
-            out[k] = '0';
-        }
     } else {
-        const unsigned ip = (unsigned)x + 1U; /* ddd.ddd: written whole, the point let in */
-        digits_back(m, out + n + 1U);
-        for (k = 0U; k < ip; k++) {
-            out[k] = out[k + 1U];
-        }
-        out[ip] = '.';
+        const unsigned ip = (unsigned)x + 1U; /* ddd.ddd, 1 <= ip <= 8 */
+        char t[24];
+        (void)memcpy(t, d, 8U);
+        (void)memcpy(t + ip + 1U, d + ip, 8U);
+        t[ip] = '.';
+        (void)memcpy(out, t, 10U);
         len = n + 1U;
     }
     out[len] = '\0';
     return len;
 }
 
-/* The shortest decimal of c 2^q (c > 0), nearest among the shortest; the names follow the
- * paper: vb, vbl, vbr are 4 v, and the interval's ends, scaled by 10^-k. */
-static size_t to_decimal(int32_t q, uint32_t c, char *out)
+/* The shortest decimal of c 2^q (c > 0), nearest among the shortest, as f 10^*e; the names
+ * follow the paper: vb, vbl, vbr are 4 v, and the interval's ends, scaled by 10^-k. */
+static uint32_t to_decimal(int32_t q, uint32_t c, int32_t *e)
 {
     const uint32_t odd = c & 1U; /* an even significand owns its interval's ends */
     const uint64_t cb = (uint64_t)c << 2;
@@ -264,6 +263,7 @@ static size_t to_decimal(int32_t q, uint32_t c, char *out)
     vbl = round_odd(g, cbl << h);
     vbr = round_odd(g, cbr << h);
     s = vb >> 2;
+    *e = k;
     {
         /* One digit fewer: the multiples of ten around s (the interval holds at most one).
          * Java asks for two digits at least and skips this below s = 100; the shortest text
@@ -273,7 +273,7 @@ static size_t to_decimal(int32_t q, uint32_t c, char *out)
         const int upin = (sp10 != 0U) && ((vbl + odd) <= (sp10 << 2));
         const int wpin = ((tp10 << 2) + odd) <= vbr;
         if (upin != wpin) {
-            return to_chars(upin ? sp10 : tp10, k, out);
+            return upin ? sp10 : tp10;
         }
     }
     t = s + 1U;
@@ -281,17 +281,18 @@ static size_t to_decimal(int32_t q, uint32_t c, char *out)
         const int uin = (vbl + odd) <= (s << 2);
         const int win = ((t << 2) + odd) <= vbr;
         if (uin != win) {
-            return to_chars(uin ? s : t, k, out);
+            return uin ? s : t;
         }
     }
     /* both in the interval: the nearer, the even one on a tie */
     cmp = (int32_t)vb - (int32_t)((s + t) << 1);
-    return to_chars(((cmp < 0) || ((cmp == 0) && ((s & 1U) == 0U))) ? s : t, k, out);
+    return ((cmp < 0) || ((cmp == 0) && ((s & 1U) == 0U))) ? s : t;
 }
 
 size_t c4gh_fmt_f32(float v, char *buf)
 {
-    uint32_t bits, frac, be;
+    uint32_t bits, frac, be, c, f;
+    int32_t mq, e = 0;
     size_t sign = 0U;
     memcpy(&bits, &v, sizeof bits);
     frac = bits & 0x7FFFFFU;
@@ -312,18 +313,23 @@ size_t c4gh_fmt_f32(float v, char *buf)
         buf[0] = '-';
         sign = 1U;
     }
+    if ((be | frac) == 0U) {
+        buf[sign] = '0';
+        buf[sign + 1U] = '\0';
+        return sign + 1U;
+    }
+    /* v = c 2^-mq; one call of to_decimal and of to_chars each, so that both are inlined */
     if (be != 0U) {
-        const int32_t mq = -Q_MIN + 1 - (int32_t)be; /* v = c 2^-mq */
-        const uint32_t c = C_MIN | frac;
-        if ((mq > 0) && (mq < P_BITS) && (((c >> mq) << mq) == c)) {
-            return sign + to_chars(c >> mq, 0, buf + sign); /* an integer below 2^24 */
-        }
-        return sign + to_decimal(-mq, c, buf + sign);
+        mq = -Q_MIN + 1 - (int32_t)be;
+        c = C_MIN | frac;
+    } else {
+        mq = -Q_MIN; /* subnormal */
+        c = frac;
     }
-    if (frac != 0U) {
-        return sign + to_decimal(Q_MIN, frac, buf + sign); /* subnormal */
+    if ((mq > 0) && (mq < P_BITS) && (((c >> mq) << mq) == c)) {
+        f = c >> mq; /* an integer below 2^24 */
+    } else {
+        f = to_decimal(-mq, c, &e);
     }
-    buf[sign] = '0';
-    buf[sign + 1U] = '\0';
-    return sign + 1U;
+    return sign + to_chars(f, e, buf + sign);
 }

@@ -13,7 +13,8 @@
 /** Room for the longest text and its NUL ("-1.17549435e-38"). */
 #define C4GH_F32_TEXT_MAX 16U
 
-/** Writes the shortest text of @p v and a NUL into @p buf (C4GH_F32_TEXT_MAX bytes).
+/** Writes the shortest text of @p v and a NUL into @p buf (C4GH_F32_TEXT_MAX bytes; the
+ *  bytes after the NUL may be overwritten too, never past C4GH_F32_TEXT_MAX).
  *  @return the text's length, without the NUL. */
 size_t c4gh_fmt_f32(float v, char *buf);
 

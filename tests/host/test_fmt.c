@@ -133,6 +133,40 @@ static void test_fmt_longest(void **state)
     assert_string_equal(buf, "-0.000114440925");
 }
 
+/* Each layout the digits are put into, with the trailing zeros the digit pairs end on
+ * (none, a whole pair, half a pair, all eight), either sign: the text, and nothing
+ * written past C4GH_F32_TEXT_MAX (the digits are copied in blocks of a constant size). */
+static void test_fmt_layouts(void **state)
+{
+    static const struct {
+        float v;
+        const char *text;
+    } cases[] = {
+        {1.5e-05f, "1.5e-05"},         {1e-05f, "1e-05"},           {1.17549435e-38f, "1.1754944e-38"},
+        {3.4028235e+38f, "3.4028235e+38"}, {1e+09f, "1e+09"},       {0.000123f, "0.000123"},
+        {0.00012345678f, "0.00012345678"}, {0.1f, "0.1"},            {0.123456789f, "0.12345679"},
+        {100000000.0f, "100000000"},   {12340000.0f, "12340000"},   {7.0f, "7"},
+        {8388607.5f, "8388607.5"},     {1.25f, "1.25"},             {123.4f, "123.4"},
+        {12.000001f, "12.000001"},     {1000.5f, "1000.5"},         {10.000001f, "10.000001"},
+    };
+    char buf[C4GH_F32_TEXT_MAX + 8];
+    char neg[C4GH_F32_TEXT_MAX + 1];
+    size_t i, k;
+    (void)state;
+    for (i = 0U; i < sizeof cases / sizeof cases[0]; i++) {
+        memset(buf, 'x', sizeof buf);
+        assert_int_equal(c4gh_fmt_f32(cases[i].v, buf), strlen(cases[i].text));
+        assert_string_equal(buf, cases[i].text);
+        memset(buf, 'x', sizeof buf);
+        (void)snprintf(neg, sizeof neg, "-%s", cases[i].text);
+        assert_int_equal(c4gh_fmt_f32(-cases[i].v, buf), strlen(neg));
+        assert_string_equal(buf, neg);
+        for (k = C4GH_F32_TEXT_MAX; k < sizeof buf; k++) {
+            assert_true(buf[k] == 'x');
+        }
+    }
+}
+
 static void test_fmt_edges(void **state)
 {
     uint32_t e, m;
@@ -177,6 +211,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fmt_cases),
         cmocka_unit_test(test_fmt_longest),
+        cmocka_unit_test(test_fmt_layouts),
         cmocka_unit_test(test_fmt_edges),
         cmocka_unit_test(test_fmt_random),
     };

@@ -26,6 +26,9 @@ typedef struct ex_ctx {
     unsigned header_done;
     uint64_t rows;
     FILE *out;
+    char *csv;                /* the CSV text not written yet (csv_flush) */
+    size_t csv_n, csv_cap;
+    int write_failed;
 } ex_ctx_t;
 
 static unsigned axes_in(size_t len)
@@ -40,187 +43,236 @@ static int axis_on(const ex_ctx_t *e, unsigned i) { return e->axes == 0U || (e->
 
 static const char *const fnames[8] = {"d1", "d2", "d3", "d4", "d5", "ext1", "ext2", "ext3"};
 
-static void csv_header(ex_ctx_t *e, unsigned n)
+/* The longest header: the 12 fixed columns, then ",c16_mode" and 8 of ",c16_ext1" a side. */
+#define HEADER_CAP (128U + 2U * C4G_MAX_AXES * 9U * 9U)
+
+static size_t csv_header(const ex_ctx_t *e, unsigned n, char *out)
 {
+    static const char fixed[] = "session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,"
+                                "ctrl_infpar,ctrl_cmd,pc_infpar,pc_cmd";
+    size_t len = sizeof fixed - 1U;
     unsigned i, k;
     char side;
-    fprintf(e->out, "session,tick,time,ctrl_frame,pc_frame,ctrl_num,pc_num,latency_us,ctrl_infpar,ctrl_cmd,"
-            "pc_infpar,pc_cmd");
+    memcpy(out, fixed, len);
     for (side = 'c'; side != 0; side = (side == 'c') ? 'p' : 0) {
         for (i = 0U; i < n; i++) {
             if (!axis_on(e, i)) {
                 continue;
             }
-            fprintf(e->out, ",%c%u_mode", side, i + 1U);
+            len += (size_t)snprintf(out + len, HEADER_CAP - len, ",%c%u_mode", side, i + 1U);
             for (k = 0U; k < 8U; k++) {
-                fprintf(e->out, ",%c%u_%s", side, i + 1U, fnames[k]);
+                len += (size_t)snprintf(out + len, HEADER_CAP - len, ",%c%u_%s", side, i + 1U, fnames[k]);
             }
         }
     }
-    fputc('\n', e->out);
+    out[len++] = '\n';
+    return len;
 }
 
-/* The CSV row is built in memory and written with one fwrite: the fields are short and
- * many (108 floats a row at 6 axes), so stdio's per-call work and printf's format parsing
- * would cost more than the digits. Floats are their shortest text (c4gh_fmt.h). */
+/* The CSV rows are built in memory and written with one fwrite a megabyte, stdout
+ * unbuffered (no copy into stdio's buffer): the fields are short and many (108 floats a
+ * row at 6 axes), so stdio's per-call work and printf's format parsing would cost more
+ * than the digits. Floats are their shortest text (c4gh_fmt.h). Every
+ * writer takes and returns a local cursor: a store through a char pointer may alias a
+ * count kept in memory, which would then be reloaded and stored at every character. */
 #define ROW_CAP (200U + 2U * C4G_MAX_AXES * (12U + 8U * C4GH_F32_TEXT_MAX))
 
-typedef struct row_buf {
-    char b[ROW_CAP];
-    size_t n;
-} row_buf_t;
+static const char two_digits[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
 
-static void put_lit(row_buf_t *r, const char *s, size_t len)
+/* The digits of v, the last at end[-1], two at a time. */
+static void digits_back(uint64_t v, char *end)
 {
-    memcpy(r->b + r->n, s, len);
-    r->n += len;
-}
-
-static void put_u64(row_buf_t *r, uint64_t v)
-{
-    char t[20];
-    size_t k = sizeof t;
-    if (v < 10U) { /* modes, session numbers */
-        r->b[r->n++] = (char)('0' + v);
-        return;
+    while (v >= 100U) {
+        const unsigned d2 = (unsigned)(v % 100U);
+        v /= 100U;
+        end -= 2;
+        memcpy(end, two_digits + 2U * d2, 2U);
     }
-    do {
-        t[--k] = (char)('0' + (v % 10U));
-        v /= 10U;
-    } while (v != 0U);
-    put_lit(r, t + k, sizeof t - k);
+    if (v >= 10U) {
+        memcpy(end - 2, two_digits + 2U * v, 2U);
+    } else {
+        end[-1] = (char)('0' + v);
+    }
 }
 
-static void put_i64(row_buf_t *r, int64_t v)
+static char *put_u64(char *p, uint64_t v)
+{
+    uint64_t x = v;
+    size_t n = 1U;
+    if (v < 10U) { /* modes, session numbers */
+        *p = (char)('0' + v);
+        return p + 1;
+    }
+    while (x >= 10U) {
+        x /= 10U;
+        n++;
+    }
+    digits_back(v, p + n);
+    return p + n;
+}
+
+static char *put_i64(char *p, int64_t v)
 {
     if (v < 0) {
-        r->b[r->n++] = '-';
-        put_u64(r, (uint64_t)(-(v + 1)) + 1U);
-    } else {
-        put_u64(r, (uint64_t)v);
+        *p = '-';
+        return put_u64(p + 1, (uint64_t)(-(v + 1)) + 1U);
     }
+    return put_u64(p, (uint64_t)v);
 }
 
-static void put_hex32(row_buf_t *r, uint32_t v)
+/* Two hex digits a byte from a table. */
+static char *put_hex32(char *p, uint32_t v)
 {
     static const char hex[] = "0123456789abcdef";
     unsigned k;
-    r->b[r->n++] = '0';
-    r->b[r->n++] = 'x';
-    for (k = 0U; k < 8U; k++) {
-        r->b[r->n++] = hex[(v >> (28U - 4U * k)) & 0xFU];
+    p[0] = '0';
+    p[1] = 'x';
+    for (k = 0U; k < 4U; k++) {
+        const unsigned byte = (v >> (24U - 8U * k)) & 0xFFU;
+        p[2U + 2U * k] = hex[byte >> 4];
+        p[3U + 2U * k] = hex[byte & 0xFU];
     }
+    return p + 10;
 }
 
 /* v / 10^decimals with exactly @p decimals digits after the point, v an exact integer
  * (ns or us): what %.9f / %.3f print for v * 1e-9 / v * 1e-3 while the double's error stays
  * far below half a last digit (|v| < 10^15 here; beyond, printf itself). */
-static void put_fixed(row_buf_t *r, int64_t v, unsigned decimals, double as_double)
+static char *put_fixed(char *p, int64_t v, unsigned decimals, double as_double)
 {
     static const uint64_t p10[] = {1U, 10U, 100U, 1000U, 10000U, 100000U, 1000000U, 10000000U,
                                    100000000U, 1000000000U};
     uint64_t m, frac;
-    char t[10];
     unsigned k;
     if (v <= -INT64_C(1000000000000000) || v >= INT64_C(1000000000000000)) {
-        r->n += (size_t)snprintf(r->b + r->n, 40U, "%.*f", (int)decimals, as_double);
-        return;
+        return p + snprintf(p, 40U, "%.*f", (int)decimals, as_double);
     }
     if (v < 0) {
-        r->b[r->n++] = '-';
+        *p++ = '-';
         m = (uint64_t)(-v);
     } else {
         m = (uint64_t)v;
     }
-    put_u64(r, m / p10[decimals]);
-    r->b[r->n++] = '.';
+    p = put_u64(p, m / p10[decimals]);
+    *p++ = '.';
     frac = m % p10[decimals];
-    for (k = decimals; k > 0U; k--) {
-        t[k - 1U] = (char)('0' + (frac % 10U));
-        frac /= 10U;
+    /* the leading zeros first, then the digits of frac up to the last place */
+    for (k = 0U; k < decimals; k++) {
+        p[k] = '0';
     }
-    put_lit(r, t, decimals);
+    if (frac != 0U) {
+        digits_back(frac, p + decimals);
+    }
+    return p + decimals;
 }
 
-/* c4g_le_f32, inlined: a call per field is a tenth of the row's cost. */
-static float le_f32(const uint8_t *p)
+/* c4g_le_u32, inlined: a call per field is a tenth of the row's cost. */
+static uint32_t le_u32(const uint8_t *p)
 {
-    const uint32_t u = (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
 }
 
-static void csv_side(const ex_ctx_t *e, row_buf_t *r, const uint8_t *d, size_t len, unsigned n)
+static char *csv_side(const ex_ctx_t *e, char *p, const uint8_t *d, size_t len, unsigned n)
 {
     const unsigned have = (d != NULL) ? axes_in(len) : 0U;
     unsigned i, k;
     for (i = 0U; i < n; i++) {
         const uint8_t *a;
+        uint32_t mode;
         if (!axis_on(e, i)) {
             continue;
         }
         if (i >= have) {
-            put_lit(r, ",,,,,,,,,", 9U);
+            memcpy(p, ",,,,,,,,,", 9U);
+            p += 9;
             continue;
         }
         a = d + C4G_HEADER_SIZE + i * C4G_AXIS_SIZE;
-        r->b[r->n++] = ',';
-        put_i64(r, c4g_le_i32(a));
+        mode = le_u32(a);
+        *p++ = ',';
+        if (mode < 10U) { /* the modes there are: one digit, no call */
+            *p++ = (char)('0' + mode);
+        } else {
+            p = put_i64(p, c4g_le_i32(a));
+        }
         for (k = 0U; k < 8U; k++) {
-            r->b[r->n++] = ',';
-            r->n += c4gh_fmt_f32(le_f32(a + 4U + 4U * k), r->b + r->n);
+            /* +0 is "0" (c4gh_fmt.h) without the call: the fields a mode leaves unused
+             * are zeros, half of a row or more */
+            const uint32_t bits = le_u32(a + 4U + 4U * k);
+            *p++ = ',';
+            if (bits == 0U) {
+                *p++ = '0';
+            } else {
+                float f;
+                memcpy(&f, &bits, sizeof f);
+                p += c4gh_fmt_f32(f, p);
+            }
         }
     }
+    return p;
+}
+
+static void csv_flush(ex_ctx_t *e)
+{
+    if (e->csv_n != 0U && fwrite(e->csv, 1U, e->csv_n, e->out) != e->csv_n) {
+        e->write_failed = 1;
+    }
+    e->csv_n = 0U;
 }
 
 static void csv_row(ex_ctx_t *e, const c4gh_an_exchange_t *x, double t)
 {
-    static row_buf_t r;
     const unsigned n = axes_in(x->ctrl_len);
+    char *p;
+    if (e->csv_n > e->csv_cap - (HEADER_CAP + ROW_CAP)) {
+        csv_flush(e);
+    }
+    p = e->csv + e->csv_n;
     if (!e->header_done || n != e->last_header_axes) {
-        csv_header(e, n);
+        p += csv_header(e, n, p);
         e->header_done = 1U;
         e->last_header_axes = n;
     }
-    r.n = 0U;
-    put_u64(&r, x->s->id);
-    r.b[r.n++] = ',';
-    put_u64(&r, x->tick);
-    r.b[r.n++] = ',';
-    put_fixed(&r, x->ctrl_ns - x->s->first_ns, 9U, t);
-    r.b[r.n++] = ',';
-    put_u64(&r, x->ctrl_frame);
-    r.b[r.n++] = ',';
+    p = put_u64(p, x->s->id);
+    *p++ = ',';
+    p = put_u64(p, x->tick);
+    *p++ = ',';
+    p = put_fixed(p, x->ctrl_ns - x->s->first_ns, 9U, t);
+    *p++ = ',';
+    p = put_u64(p, x->ctrl_frame);
+    *p++ = ',';
     if (x->reply != NULL) {
-        put_u64(&r, x->reply_frame);
+        p = put_u64(p, x->reply_frame);
     }
-    r.b[r.n++] = ',';
-    put_i64(&r, c4g_le_i32(x->ctrl));
-    r.b[r.n++] = ',';
+    *p++ = ',';
+    p = put_i64(p, c4g_le_i32(x->ctrl));
+    *p++ = ',';
     if (x->reply != NULL && x->reply_len >= 4U) {
-        put_i64(&r, c4g_le_i32(x->reply));
-        r.b[r.n++] = ',';
-        put_fixed(&r, x->reply_ns - x->ctrl_ns, 3U, (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
+        p = put_i64(p, c4g_le_i32(x->reply));
+        *p++ = ',';
+        p = put_fixed(p, x->reply_ns - x->ctrl_ns, 3U, (double)(x->reply_ns - x->ctrl_ns) * 1e-3);
     } else {
-        r.b[r.n++] = ',';
+        *p++ = ',';
     }
-    r.b[r.n++] = ',';
-    put_hex32(&r, c4g_le_u32(x->ctrl + 4));
-    r.b[r.n++] = ',';
-    put_hex32(&r, c4g_le_u32(x->ctrl + 8));
-    r.b[r.n++] = ',';
+    *p++ = ',';
+    p = put_hex32(p, le_u32(x->ctrl + 4));
+    *p++ = ',';
+    p = put_hex32(p, le_u32(x->ctrl + 8));
+    *p++ = ',';
     if (x->reply != NULL && x->reply_len >= C4G_HEADER_SIZE) {
-        put_hex32(&r, c4g_le_u32(x->reply + 4));
-        r.b[r.n++] = ',';
-        put_hex32(&r, c4g_le_u32(x->reply + 8));
+        p = put_hex32(p, le_u32(x->reply + 4));
+        *p++ = ',';
+        p = put_hex32(p, le_u32(x->reply + 8));
     } else {
-        r.b[r.n++] = ',';
+        *p++ = ',';
     }
-    csv_side(e, &r, x->ctrl, x->ctrl_len, n);
-    csv_side(e, &r, x->reply, x->reply_len, n);
-    r.b[r.n++] = '\n';
-    (void)fwrite(r.b, 1U, r.n, e->out);
+    p = csv_side(e, p, x->ctrl, x->ctrl_len, n);
+    p = csv_side(e, p, x->reply, x->reply_len, n);
+    *p++ = '\n';
+    e->csv_n = (size_t)(p - e->csv);
 }
 
 /* A float field: null when it is not finite (JSON has no NaN); as its 9-digit decimal,
@@ -453,9 +505,16 @@ int rp_cmd_export(int argc, char **argv)
         return C4GH_CLI_EXIT_USAGE;
     }
     /* 1 MiB at a time: 4 KiB writes were a system call every 40 floats (glibc takes the
-     * size only with a buffer given) */
+     * size only with a buffer given). The CSV has its own buffer, written unbuffered. */
     static char out_buf[1U << 20];
-    (void)setvbuf(stdout, out_buf, _IOFBF, sizeof out_buf);
+    static char csv_buf[1U << 20];
+    e.csv = csv_buf;
+    e.csv_cap = sizeof csv_buf;
+    if (e.moni == 0U && !e.json_lines && !e.ticks) {
+        (void)setvbuf(stdout, NULL, _IONBF, 0U);
+    } else {
+        (void)setvbuf(stdout, out_buf, _IOFBF, sizeof out_buf);
+    }
     e.c.an.on_exchange = on_exchange;
     e.c.an.ctx = &e;
     if (c4gh_an_init(&a, &e.c.an) != 0) {
@@ -464,7 +523,8 @@ int rp_cmd_export(int argc, char **argv)
     }
     rc = rp_read(&a, argv[first], &file, !e.c.no_progress);
     c4gh_an_free(&a);
-    if (fflush(stdout) != 0) {
+    csv_flush(&e);
+    if (fflush(stdout) != 0 || e.write_failed || ferror(stdout)) {
         fprintf(stderr, RP_TOOL ": writing the export failed\n");
         return C4GH_CLI_EXIT_RUNTIME;
     }
