@@ -75,12 +75,14 @@ def test_skip_late_leaves_out_the_ticks_near_late_replies(procs, bins, ports, tm
     assert c["mode9_late"] == 0 and c["skip_late"]["late_ticks"] == 0 and c["skip_late"]["left_out"] == 0
     assert c["skip_late"]["follow_rms"] == c["follow_rms"] and c["skip_late"]["ticks"] == c["ticks"]
     # the held replies: late mode-9 ticks inside the move (a loaded host may add some), and
-    # their neighbours left out: 10 ms around each, 6 moving axes
+    # their neighbours left out: the ticks within 5 ms of each, 6 moving axes. How many ticks
+    # a 10 ms window holds depends on the simulator's own timing on a loaded host (its ticks
+    # come late and bunch up): the count is checked exactly against the export below
     assert l["mode9_late"] >= 12, l  # 2 ticks x 6 moving axes at least
     k = l["skip_late"]
     assert k["late_ticks"] >= 2 and k["ms"] == 5.0, k
     assert k["mode9_late"] == 0, k  # a late tick is within 0 ms of itself
-    assert k["left_out"] == l["ticks"] - k["ticks"] and k["left_out"] >= 60, k
+    assert k["left_out"] == l["ticks"] - k["ticks"] and k["left_out"] >= 12, k
     n_late, n, fe = from_export(bins, late, 5)
     assert k["late_ticks"] == n_late
     assert k["ticks"] == n, (k["ticks"], n)
